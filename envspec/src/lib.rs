@@ -1,0 +1,1 @@
+//! envc spec language.

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# One-time set-up on a fresh machine: a project virtualenv with the Python reference (gymnasium,
+# mujoco, numpy, pinned in tests/reference/requirements.txt) and MuJoCo 3.17.0's C library taken
+# from the `mujoco` wheel, placed where .cargo/config.toml and the build scripts expect it.
+# Idempotent: re-running it only checks that everything is in place.
+set -euo pipefail
+MJ_VERSION=3.17.0
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="$ROOT/.venv"
+PY="$VENV/bin/python"
+REQ="$ROOT/tests/reference/requirements.txt"
+STAMP="$VENV/.envc-requirements"
+
+if [ ! -x "$PY" ]; then
+  python3 -m venv "$VENV"
+fi
+if ! cmp -s "$REQ" "$STAMP" 2>/dev/null; then
+  "$PY" -m pip install -q --disable-pip-version-check -r "$REQ"
+  cp "$REQ" "$STAMP"
+fi
+
+MJDIR="$("$PY" -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))')"
+DEST="$ROOT/third_party/mujoco"
+mkdir -p "$DEST/lib"
+cp -f "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/"
+ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-rs's build script looks for
+rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
+echo "envc setup: MuJoCo $MJ_VERSION in $DEST, reference venv in $VENV"
