@@ -1,1 +1,33 @@
-//! envc spec language.
+//! The envc spec language.
+//!
+//! A spec is a TOML file describing one environment: its MuJoCo model, parameters with defaults,
+//! observation segments, reward terms, health checks, reset distributions and info entries. This
+//! crate reads it with locations ([`Spec`]), checks it, and resolves it against the model's MJCF
+//! into the IR ([`ResolvedSpec`]) that the runtime executes and the code generator describes.
+//! It links no MuJoCo and has no proc-macro dependency.
+//!
+//! The language reference is `docs/spec-reference.md`; error codes are in `docs/errors.md`.
+//!
+//! ```no_run
+//! use envspec::{load, Override};
+//! let spec = load("specs/gymnasium/ant.toml".as_ref(), &[Override::text("ctrl_cost_weight", "0.1")])?;
+//! assert_eq!(spec.obs_dim, 105);
+//! # Ok::<(), envspec::Diagnostics>(())
+//! ```
+
+pub mod diagnostic;
+pub mod ir;
+pub mod mjcf;
+pub mod params;
+pub mod resolve;
+pub mod selector;
+pub mod syntax;
+pub mod value;
+
+pub use diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile};
+pub use ir::ResolvedSpec;
+pub use mjcf::ModelInfo;
+pub use params::{Override, OverrideValue, Param, ParamType, ParamValue};
+pub use resolve::{load, resolve};
+pub use selector::{Field, Selection};
+pub use syntax::Spec;

@@ -1,0 +1,256 @@
+//! Errors for people: every problem carries a stable code, the file, line and column, the offending
+//! line with a caret, what was expected, and (where one exists) a near-miss suggestion.
+//!
+//! Rendering is done here rather than with a snippet crate: we need one primary span per
+//! diagnostic and a fixed, test-pinned format, which is a few dozen lines.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A spec (or model) file held in memory so errors can quote it.
+#[derive(Debug)]
+pub struct SourceFile {
+    pub path: PathBuf,
+    pub text: String,
+    line_starts: Vec<usize>,
+}
+
+impl SourceFile {
+    pub fn new(path: impl Into<PathBuf>, text: String) -> Arc<Self> {
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Arc::new(SourceFile { path: path.into(), text, line_starts })
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
+        let start = self.line_starts[line];
+        let col = self.text[start..offset].chars().count() + 1;
+        (line + 1, col)
+    }
+
+    fn line_text(&self, line: usize) -> &str {
+        let start = self.line_starts[line - 1];
+        let end = self.line_starts.get(line).copied().unwrap_or(self.text.len());
+        self.text[start..end].trim_end_matches(['\n', '\r'])
+    }
+}
+
+/// A location: a byte range in a source file.
+#[derive(Clone, Debug)]
+pub struct Location {
+    pub file: Arc<SourceFile>,
+    pub span: Range<usize>,
+}
+
+impl Location {
+    pub fn new(file: &Arc<SourceFile>, span: Range<usize>) -> Self {
+        Location { file: Arc::clone(file), span }
+    }
+
+    /// `path:line:col`
+    pub fn position(&self) -> String {
+        let (line, col) = self.file.line_col(self.span.start);
+        format!("{}:{line}:{col}", self.file.path.display())
+    }
+}
+
+/// Stable error codes. Documented in `docs/errors.md`; never renumber.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Code {
+    /// The file is not valid TOML.
+    E0100,
+    /// A key that the schema does not know.
+    E0101,
+    /// A value of the wrong type.
+    E0102,
+    /// A required key is missing.
+    E0103,
+    /// A value of the right type but not allowed (out of range, unknown kind, ...).
+    E0104,
+    /// A reference to a parameter that the spec does not declare.
+    E0201,
+    /// An override names a parameter that the spec does not declare.
+    E0202,
+    /// An override value has the wrong type for its parameter.
+    E0203,
+    /// The model file does not exist or cannot be read.
+    E0301,
+    /// The model file is not well-formed MJCF.
+    E0302,
+    /// A name (body, joint, site, ...) that the model does not have.
+    E0303,
+    /// An index outside the bounds of a model array.
+    E0304,
+    /// A selector expression that does not parse.
+    E0401,
+    /// An unknown data field in a selector.
+    E0402,
+    /// Sizes that do not fit together (e.g. `minus` of another length).
+    E0403,
+    /// The reward `sum` does not use every term exactly once.
+    E0501,
+    /// The spec file itself cannot be read.
+    E0600,
+    /// MuJoCo failed to compile the model.
+    E1001,
+    /// The compiled model disagrees with what the spec resolved from the MJCF.
+    E1002,
+    /// An action of the wrong length.
+    E1101,
+    /// An action with a NaN or infinite entry.
+    E1102,
+    /// `step` before the first `reset`.
+    E1103,
+}
+
+impl fmt::Display for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self, f)
+    }
+}
+
+/// One problem found in a spec, a model or an override.
+#[derive(Clone, Debug)]
+pub struct Diagnostic {
+    pub code: Code,
+    pub message: String,
+    pub location: Option<Location>,
+    /// What was expected, shown under the caret.
+    pub label: Option<String>,
+    /// A suggestion, e.g. "did you mean `healthy_reward`?".
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn new(code: Code, message: impl Into<String>) -> Self {
+        Diagnostic { code, message: message.into(), location: None, label: None, help: None }
+    }
+    pub fn at(mut self, location: Location) -> Self {
+        self.location = Some(location);
+        self
+    }
+    pub fn at_opt(mut self, location: Option<Location>) -> Self {
+        self.location = location;
+        self
+    }
+    pub fn label(mut self, label: impl Into<String>) -> Self {
+        self.label = Some(label.into());
+        self
+    }
+    pub fn help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+    pub fn help_opt(mut self, help: Option<String>) -> Self {
+        if help.is_some() {
+            self.help = help;
+        }
+        self
+    }
+
+    /// `path:line:col` when the diagnostic has a location.
+    pub fn position(&self) -> Option<String> {
+        self.location.as_ref().map(Location::position)
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "error[{}]: {}", self.code, self.message)?;
+        if let Some(loc) = &self.location {
+            let (line, col) = loc.file.line_col(loc.span.start);
+            let text = loc.file.line_text(line);
+            let gutter = line.to_string().len();
+            let pad = " ".repeat(gutter);
+            writeln!(f, "{pad}--> {}", loc.position())?;
+            writeln!(f, "{pad} |")?;
+            writeln!(f, "{line} | {text}")?;
+            let line_end = loc.file.line_starts.get(line).copied().unwrap_or(loc.file.text.len());
+            let end = loc.span.end.min(line_end).max(loc.span.start);
+            let width = loc.file.text[loc.span.start..end].trim_end().chars().count().max(1);
+            let lead: String =
+                text.chars().take(col - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+            write!(f, "{pad} | {lead}{}", "^".repeat(width))?;
+            match &self.label {
+                Some(label) => writeln!(f, " {label}")?,
+                None => writeln!(f)?,
+            }
+        } else if let Some(label) = &self.label {
+            writeln!(f, "  = expected: {label}")?;
+        }
+        if let Some(help) = &self.help {
+            writeln!(f, "  = help: {help}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Every diagnostic found in one pass (a spec reports all its errors at once).
+#[derive(Clone, Debug, Default)]
+pub struct Diagnostics(pub Vec<Diagnostic>);
+
+impl Diagnostics {
+    pub fn push(&mut self, d: Diagnostic) {
+        self.0.push(d);
+    }
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+    pub fn iter(&self) -> impl Iterator<Item = &Diagnostic> {
+        self.0.iter()
+    }
+    pub fn codes(&self) -> Vec<Code> {
+        self.0.iter().map(|d| d.code).collect()
+    }
+    /// Ok(value) when nothing was reported.
+    pub fn into_result<T>(self, value: T) -> Result<T, Diagnostics> {
+        if self.0.is_empty() { Ok(value) } else { Err(self) }
+    }
+}
+
+impl fmt::Display for Diagnostics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, d) in self.0.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{d}")?;
+        }
+        let n = self.0.len();
+        write!(f, "\n{n} error{} found", if n == 1 { "" } else { "s" })
+    }
+}
+
+impl std::error::Error for Diagnostics {}
+
+impl From<Diagnostic> for Diagnostics {
+    fn from(d: Diagnostic) -> Self {
+        Diagnostics(vec![d])
+    }
+}
+
+/// The closest candidate to `name` (by Jaro-Winkler similarity), as a "did you mean" help text.
+pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    let mut best: Option<(f64, &str)> = None;
+    for c in candidates {
+        let score = strsim::jaro_winkler(name, c);
+        if score > 0.8 && best.is_none_or(|(s, _)| score > s) {
+            best = Some((score, c));
+        }
+    }
+    best.map(|(_, c)| format!("did you mean `{c}`?"))
+}
+
+/// Display helper for paths in messages.
+pub fn show_path(p: &Path) -> String {
+    p.display().to_string()
+}

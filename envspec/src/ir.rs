@@ -1,0 +1,237 @@
+//! The resolved spec (the IR): every name turned into indices, every parameter reference into its
+//! value, sizes and the observation layout computed. The runtime executes exactly this; the code
+//! generator and `envc show` describe exactly this.
+
+use std::path::PathBuf;
+
+use crate::mjcf::ModelInfo;
+use crate::params::{Param, ParamValue};
+use crate::selector::Selection;
+
+#[derive(Clone, Debug)]
+pub struct ResolvedSpec {
+    pub id: String,
+    pub description: String,
+    pub spec_path: PathBuf,
+    pub reward_threshold: Option<f64>,
+    pub params: Vec<Param>,
+    /// The model file (absolute or relative to the current directory).
+    pub model_path: PathBuf,
+    pub model: ModelInfo,
+    pub frame_skip: u32,
+    /// None: no time limit.
+    pub max_episode_steps: Option<u64>,
+    pub observation: Vec<Segment>,
+    pub obs_dim: usize,
+    pub reward: Vec<RewardTerm>,
+    /// How term values are added up (the grouping decides the last bit).
+    pub reward_sum: SumNode,
+    pub health: Vec<HealthCheck>,
+    /// Whether an unhealthy state ends the episode.
+    pub terminate_when_unhealthy: bool,
+    /// Applied in order at reset (the order is the RNG draw order).
+    pub reset: Vec<ResetStep>,
+    /// Info entries in order; reward terms with an `info` key come after the `[info]` entries.
+    pub info: Vec<InfoItem>,
+    /// Whether `mj_rnePostConstraint` must run after the physics steps (contact forces are read).
+    pub needs_rne_post_constraint: bool,
+}
+
+impl ResolvedSpec {
+    pub fn param(&self, name: &str) -> Option<&ParamValue> {
+        self.params.iter().find(|p| p.name == name).map(|p| &p.value)
+    }
+    pub fn act_dim(&self) -> usize {
+        self.model.nu()
+    }
+    /// `timestep × frame_skip`, as Gymnasium computes it (from the XML timestep).
+    pub fn dt(&self) -> f64 {
+        self.model.timestep * self.frame_skip as f64
+    }
+    /// Names of the observation elements, in order.
+    pub fn obs_names(&self) -> Vec<String> {
+        self.observation.iter().flat_map(|s| s.element_names()).collect()
+    }
+    /// Info entries present after `reset` (no velocities, no reward terms).
+    pub fn reset_info(&self) -> impl Iterator<Item = &InfoItem> {
+        self.info.iter().filter(|i| i.at_reset)
+    }
+}
+
+/// Elementwise function applied to an observation segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Apply {
+    Sin,
+    Cos,
+}
+
+/// One named observation segment.
+#[derive(Clone, Debug)]
+pub struct Segment {
+    pub name: String,
+    pub doc: String,
+    pub source: Selection,
+    pub minus: Option<Selection>,
+    pub apply: Option<Apply>,
+    pub clip: Option<(f64, f64)>,
+    /// Start index in the observation vector.
+    pub offset: usize,
+}
+
+impl Segment {
+    pub fn len(&self) -> usize {
+        self.source.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.source.is_empty()
+    }
+    pub fn element_names(&self) -> Vec<String> {
+        (0..self.len())
+            .map(|i| {
+                let mut n = self.source.names[i].clone();
+                if let Some(m) = &self.minus {
+                    n = format!("{n} - {}", m.names[i]);
+                }
+                match self.apply {
+                    Some(Apply::Sin) => format!("sin({n})"),
+                    Some(Apply::Cos) => format!("cos({n})"),
+                    None => n,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Divisor of a `value` term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Divisor {
+    /// The model's physics timestep.
+    Timestep,
+    /// The env's control step `timestep × frame_skip`.
+    Dt,
+}
+
+#[derive(Clone, Debug)]
+pub enum TermKind {
+    /// `(x_after − x_before) / dt` of one number.
+    Velocity { source: Selection },
+    /// 1 when healthy, else 0.
+    Healthy,
+    /// `clip(Σ clip_input(x)², clip)` with numpy's pairwise summation.
+    SumSquares { source: Selection, clip_input: Option<(f64, f64)>, clip: Option<(f64, f64)> },
+    /// `‖x − minus‖₂` (a fused multiply-add dot product, as OpenBLAS computes it).
+    Norm { source: Selection, minus: Option<Selection> },
+    /// `Σᵢ coefᵢ · pow(xᵢ − targetᵢ, 2)`, left to right.
+    Quadratic { source: Selection, coefs: Vec<f64>, targets: Vec<f64> },
+    /// `x / divisor` of one number.
+    Value { source: Selection, divide_by: Option<Divisor> },
+    /// 1.
+    Constant,
+}
+
+/// A reward term: `value = weight × kernel`; the reward adds `value`, or `−value` for a cost.
+#[derive(Clone, Debug)]
+pub struct RewardTerm {
+    pub name: String,
+    pub doc: String,
+    pub kind: TermKind,
+    pub weight: f64,
+    pub cost: bool,
+    pub info: Option<String>,
+}
+
+impl RewardTerm {
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            TermKind::Velocity { .. } => "velocity",
+            TermKind::Healthy => "healthy",
+            TermKind::SumSquares { .. } => "sum_squares",
+            TermKind::Norm { .. } => "norm",
+            TermKind::Quadratic { .. } => "quadratic",
+            TermKind::Value { .. } => "value",
+            TermKind::Constant => "constant",
+        }
+    }
+}
+
+/// How the signed term values are added: a list is summed left to right, nested lists first.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SumNode {
+    Term(usize),
+    Sum(Vec<SumNode>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CmpOp {
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+#[derive(Clone, Debug)]
+pub enum CheckKind {
+    /// Every element is finite.
+    Finite,
+    /// Every element is in the range: `lo ≤ x ≤ hi` when closed, `lo < x < hi` when open.
+    /// NaN is never in range.
+    InRange { lo: f64, hi: f64, closed: bool },
+    /// Unhealthy when `x op value` for any element (a NaN compares false: healthy).
+    FailsIf { op: CmpOp, value: f64 },
+}
+
+#[derive(Clone, Debug)]
+pub struct HealthCheck {
+    pub name: String,
+    pub doc: String,
+    pub kind: CheckKind,
+    pub sources: Vec<Selection>,
+}
+
+#[derive(Clone, Debug)]
+pub enum Distribution {
+    /// numpy `uniform(low, high)` per element.
+    Uniform { low: Vec<f64>, high: Vec<f64> },
+    /// `scale × standard_normal()` per element.
+    Normal { scale: f64 },
+    Constant { value: f64 },
+}
+
+/// Redraw the whole block until its norm satisfies the condition.
+#[derive(Clone, Copy, Debug)]
+pub enum Until {
+    NormBelow(f64),
+    NormAbove(f64),
+}
+
+#[derive(Clone, Debug)]
+pub struct ResetStep {
+    pub name: String,
+    pub doc: String,
+    /// A selection of `qpos` or `qvel`.
+    pub target: Selection,
+    pub dist: Distribution,
+    /// true: the draw replaces the value; false: it is added to the initial value.
+    pub set: bool,
+    pub resample_until: Option<Until>,
+}
+
+#[derive(Clone, Debug)]
+pub enum InfoKind {
+    Value { source: Selection, minus: Option<Selection> },
+    Norm { source: Selection },
+    Velocity { source: Selection },
+    /// The signed value of reward term `i`.
+    Term(usize),
+}
+
+#[derive(Clone, Debug)]
+pub struct InfoItem {
+    pub key: String,
+    pub doc: String,
+    pub kind: InfoKind,
+    /// Number of values (1 for scalars).
+    pub len: usize,
+    /// Whether the key is also in the reset info.
+    pub at_reset: bool,
+}

@@ -1,0 +1,352 @@
+//! What the resolver needs to know about a MuJoCo model, read from its MJCF with roxmltree (no
+//! MuJoCo linking): element names and their ids in MuJoCo's numbering, joint types and the qpos /
+//! dof addresses they imply, sizes and the physics timestep. The runtime checks these against the
+//! compiled `mjModel` and refuses to run on any disagreement.
+//!
+//! MuJoCo numbers bodies in depth-first pre-order of the tree; joints and sites body by body, in
+//! document order within a body; actuators and tendons in document order.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::diagnostic::{Code, Diagnostic};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    Free,
+    Ball,
+    Slide,
+    Hinge,
+}
+
+impl JointKind {
+    pub fn nq(self) -> usize {
+        match self {
+            JointKind::Free => 7,
+            JointKind::Ball => 4,
+            JointKind::Slide | JointKind::Hinge => 1,
+        }
+    }
+    pub fn nv(self) -> usize {
+        match self {
+            JointKind::Free => 6,
+            JointKind::Ball => 3,
+            JointKind::Slide | JointKind::Hinge => 1,
+        }
+    }
+    /// Names of the qpos components, for layout tables.
+    pub fn qpos_parts(self) -> &'static [&'static str] {
+        match self {
+            JointKind::Free => &["x", "y", "z", "qw", "qx", "qy", "qz"],
+            JointKind::Ball => &["qw", "qx", "qy", "qz"],
+            _ => &[""],
+        }
+    }
+    /// Names of the dof components, for layout tables.
+    pub fn dof_parts(self) -> &'static [&'static str] {
+        match self {
+            JointKind::Free => &["vx", "vy", "vz", "wx", "wy", "wz"],
+            JointKind::Ball => &["wx", "wy", "wz"],
+            _ => &[""],
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Joint {
+    pub name: String,
+    pub kind: JointKind,
+    pub body: usize,
+    pub qposadr: usize,
+    pub dofadr: usize,
+}
+
+#[derive(Clone, Debug)]
+pub struct Actuator {
+    pub name: String,
+    /// The joint (or tendon/site/body) the actuator drives, as written in the MJCF.
+    pub target: Option<String>,
+}
+
+/// Names and numbering of a model, as MuJoCo will compile it.
+#[derive(Clone, Debug)]
+pub struct ModelInfo {
+    pub path: PathBuf,
+    /// `<option timestep>` (MuJoCo's default 0.002 when absent).
+    pub timestep: f64,
+    /// Body names by id; id 0 is `world`. Unnamed bodies have an empty name.
+    pub bodies: Vec<String>,
+    pub joints: Vec<Joint>,
+    pub sites: Vec<String>,
+    pub actuators: Vec<Actuator>,
+    pub tendons: Vec<String>,
+    pub nq: usize,
+    pub nv: usize,
+}
+
+impl ModelInfo {
+    pub fn nbody(&self) -> usize {
+        self.bodies.len()
+    }
+    pub fn nu(&self) -> usize {
+        self.actuators.len()
+    }
+    pub fn body_id(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b == name)
+    }
+    pub fn joint(&self, name: &str) -> Option<&Joint> {
+        self.joints.iter().find(|j| j.name == name)
+    }
+
+    /// Read an MJCF file (following `<include>`s).
+    pub fn from_mjcf(path: &Path) -> Result<ModelInfo, Diagnostic> {
+        let mut reader = Reader {
+            info: ModelInfo {
+                path: path.to_path_buf(),
+                timestep: 0.002,
+                bodies: vec!["world".into()],
+                joints: vec![],
+                sites: vec![],
+                actuators: vec![],
+                tendons: vec![],
+                nq: 0,
+                nv: 0,
+            },
+            defaults: HashMap::new(),
+            world_children: vec![],
+            depth: 0,
+        };
+        reader.read_file(path)?;
+        reader.build_tree()?;
+        Ok(reader.info)
+    }
+}
+
+/// A body of the kinematic tree, gathered before numbering (includes may add to `<worldbody>`).
+struct BodyNode {
+    name: String,
+    joints: Vec<(String, JointKind)>,
+    sites: Vec<String>,
+    children: Vec<BodyNode>,
+}
+
+struct Reader {
+    info: ModelInfo,
+    /// default class -> (parent class, joint type set in that class)
+    defaults: HashMap<String, (Option<String>, Option<JointKind>)>,
+    /// The world body's own joints are not allowed; its sites and child bodies are kept here.
+    world_children: Vec<BodyNode>,
+    depth: usize,
+}
+
+fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
+    Diagnostic::new(Code::E0302, format!("{}: {}", path.display(), msg.into()))
+        .label("expected well-formed MJCF")
+}
+
+fn parse_kind(s: &str) -> Option<JointKind> {
+    match s {
+        "free" => Some(JointKind::Free),
+        "ball" => Some(JointKind::Ball),
+        "slide" => Some(JointKind::Slide),
+        "hinge" => Some(JointKind::Hinge),
+        _ => None,
+    }
+}
+
+impl Reader {
+    fn read_file(&mut self, path: &Path) -> Result<(), Diagnostic> {
+        self.depth += 1;
+        if self.depth > 32 {
+            return Err(malformed(path, "<include> nesting deeper than 32 (a cycle?)"));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Diagnostic::new(Code::E0301, format!("cannot read model file {}: {e}", path.display()))
+                .label("expected an existing, readable MJCF file")
+        })?;
+        let doc = roxmltree::Document::parse(&text)
+            .map_err(|e| malformed(path, format!("not well-formed XML: {e}")))?;
+        let root = doc.root_element();
+        match root.tag_name().name() {
+            "mujoco" => {}
+            "robot" => {
+                return Err(malformed(path, "URDF models are not supported by the spec resolver yet")
+                    .help("convert it to MJCF first (MuJoCo's `compile` sample or mjSpec save_xml)"));
+            }
+            other => return Err(malformed(path, format!("root element is <{other}>, not <mujoco>"))),
+        }
+        let dir = path.parent().unwrap_or(Path::new("."));
+        for section in root.children().filter(|n| n.is_element()) {
+            self.read_section(path, dir, section)?;
+        }
+        self.depth -= 1;
+        Ok(())
+    }
+
+    fn read_section(&mut self, path: &Path, dir: &Path, node: roxmltree::Node) -> Result<(), Diagnostic> {
+        match node.tag_name().name() {
+            "include" => {
+                let file = node.attribute("file").ok_or_else(|| malformed(path, "<include> without file"))?;
+                self.read_file(&dir.join(file))?;
+            }
+            "option" => {
+                if let Some(ts) = node.attribute("timestep") {
+                    self.info.timestep = ts
+                        .trim()
+                        .parse()
+                        .map_err(|_| malformed(path, format!("option timestep `{ts}` is not a number")))?;
+                }
+            }
+            "default" => self.read_default(path, node, None)?,
+            "worldbody" => {
+                for child in node.children().filter(|n| n.is_element()) {
+                    match child.tag_name().name() {
+                        "body" => {
+                            let b = self.read_body(path, child, None)?;
+                            self.world_children.push(b);
+                        }
+                        "site" => self.info.sites.push(child.attribute("name").unwrap_or("").into()),
+                        "frame" => {
+                            let mut holder =
+                                BodyNode { name: String::new(), joints: vec![], sites: vec![], children: vec![] };
+                            self.read_body_content(path, child, None, &mut holder)?;
+                            if !holder.joints.is_empty() {
+                                return Err(malformed(path, "joints in the world body"));
+                            }
+                            self.info.sites.extend(holder.sites);
+                            self.world_children.extend(holder.children);
+                        }
+                        "joint" | "freejoint" => return Err(malformed(path, "joints in the world body")),
+                        tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
+                            return Err(malformed(path, format!("<{tag}> is not supported by the spec resolver yet")));
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            "actuator" => {
+                for a in node.children().filter(|n| n.is_element()) {
+                    let target = ["joint", "jointinparent", "tendon", "site", "body", "cranksite"]
+                        .iter()
+                        .find_map(|k| a.attribute(*k))
+                        .map(str::to_string);
+                    self.info.actuators.push(Actuator { name: a.attribute("name").unwrap_or("").into(), target });
+                }
+            }
+            "tendon" => {
+                for t in node.children().filter(|n| n.is_element()) {
+                    self.info.tendons.push(t.attribute("name").unwrap_or("").into());
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn read_default(&mut self, path: &Path, node: roxmltree::Node, parent: Option<String>) -> Result<(), Diagnostic> {
+        let class = match (node.attribute("class"), &parent) {
+            (Some(c), _) => c.to_string(),
+            (None, None) => "main".to_string(),
+            (None, Some(_)) => return Err(malformed(path, "nested <default> without class")),
+        };
+        let mut kind = None;
+        for child in node.children().filter(|n| n.is_element()) {
+            match child.tag_name().name() {
+                "joint" => {
+                    if let Some(t) = child.attribute("type") {
+                        kind = Some(parse_kind(t).ok_or_else(|| malformed(path, format!("unknown joint type `{t}`")))?);
+                    }
+                }
+                "default" => self.read_default(path, child, Some(class.clone()))?,
+                _ => {}
+            }
+        }
+        self.defaults.insert(class, (parent, kind));
+        Ok(())
+    }
+
+    fn joint_kind_from_class(&self, class: &str) -> JointKind {
+        let mut cur = Some(class.to_string());
+        while let Some(c) = cur {
+            match self.defaults.get(&c) {
+                Some((parent, kind)) => {
+                    if let Some(k) = kind {
+                        return *k;
+                    }
+                    cur = parent.clone().or_else(|| (c != "main").then(|| "main".into()));
+                }
+                None => cur = (c != "main").then(|| "main".into()),
+            }
+        }
+        JointKind::Hinge
+    }
+
+    fn read_body(&self, path: &Path, node: roxmltree::Node, childclass: Option<&str>) -> Result<BodyNode, Diagnostic> {
+        let childclass = node.attribute("childclass").or(childclass);
+        let mut body = BodyNode {
+            name: node.attribute("name").unwrap_or("").into(),
+            joints: vec![],
+            sites: vec![],
+            children: vec![],
+        };
+        self.read_body_content(path, node, childclass, &mut body)?;
+        Ok(body)
+    }
+
+    /// Children of a body (or of a `<frame>`, whose content belongs to the enclosing body).
+    fn read_body_content(
+        &self,
+        path: &Path,
+        node: roxmltree::Node,
+        childclass: Option<&str>,
+        body: &mut BodyNode,
+    ) -> Result<(), Diagnostic> {
+        for child in node.children().filter(|n| n.is_element()) {
+            match child.tag_name().name() {
+                "joint" => {
+                    let kind = match child.attribute("type") {
+                        Some(t) => parse_kind(t).ok_or_else(|| malformed(path, format!("unknown joint type `{t}`")))?,
+                        None => self.joint_kind_from_class(child.attribute("class").or(childclass).unwrap_or("main")),
+                    };
+                    body.joints.push((child.attribute("name").unwrap_or("").into(), kind));
+                }
+                "freejoint" => body.joints.push((child.attribute("name").unwrap_or("").into(), JointKind::Free)),
+                "site" => body.sites.push(child.attribute("name").unwrap_or("").into()),
+                "body" => body.children.push(self.read_body(path, child, childclass)?),
+                "frame" => {
+                    let cc = child.attribute("childclass").or(childclass);
+                    self.read_body_content(path, child, cc, body)?;
+                }
+                tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
+                    return Err(malformed(path, format!("<{tag}> is not supported by the spec resolver yet")));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Number bodies, joints and sites as MuJoCo does.
+    fn build_tree(&mut self) -> Result<(), Diagnostic> {
+        let roots = std::mem::take(&mut self.world_children);
+        let mut stack: Vec<&BodyNode> = roots.iter().rev().collect();
+        while let Some(b) = stack.pop() {
+            let id = self.info.bodies.len();
+            self.info.bodies.push(b.name.clone());
+            for (name, kind) in &b.joints {
+                self.info.joints.push(Joint {
+                    name: name.clone(),
+                    kind: *kind,
+                    body: id,
+                    qposadr: self.info.nq,
+                    dofadr: self.info.nv,
+                });
+                self.info.nq += kind.nq();
+                self.info.nv += kind.nv();
+            }
+            self.info.sites.extend(b.sites.iter().cloned());
+            stack.extend(b.children.iter().rev());
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,267 @@
+//! Parameters: typed values with defaults from the spec, overridable at construction
+//! (`Override::parse("healthy_z_range=[0.3, 1.0]")`, the typed builder, the CLI's `--set`).
+//! Overrides are validated like the spec itself.
+
+use std::fmt;
+
+use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location, SourceFile};
+use crate::syntax::{ParamDecl, Spec};
+use crate::value::{format_float, parse_literal, Val, ValKind};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParamType {
+    Bool,
+    Int,
+    Float,
+    /// A pair `[low, high]` of floats (either may be `inf`).
+    Range,
+    String,
+    /// A file path; relative paths in the spec resolve against the spec's directory, relative
+    /// paths in overrides against the current directory.
+    Path,
+    /// A body, by id (integer) or name (string).
+    Body,
+    /// An opaque table (e.g. viewer camera settings).
+    Table,
+}
+
+impl ParamType {
+    pub fn name(self) -> &'static str {
+        match self {
+            ParamType::Bool => "bool",
+            ParamType::Int => "int",
+            ParamType::Float => "float",
+            ParamType::Range => "range",
+            ParamType::String => "string",
+            ParamType::Path => "path",
+            ParamType::Body => "body",
+            ParamType::Table => "table",
+        }
+    }
+    fn from_name(s: &str) -> ParamType {
+        match s {
+            "bool" => ParamType::Bool,
+            "int" => ParamType::Int,
+            "range" => ParamType::Range,
+            "string" => ParamType::String,
+            "path" => ParamType::Path,
+            "body" => ParamType::Body,
+            "table" => ParamType::Table,
+            _ => ParamType::Float,
+        }
+    }
+    fn expected(self) -> &'static str {
+        match self {
+            ParamType::Bool => "true or false",
+            ParamType::Int => "an integer",
+            ParamType::Float => "a number",
+            ParamType::Range => "a range [low, high]",
+            ParamType::String => "a string",
+            ParamType::Path => "a file path",
+            ParamType::Body => "a body id (integer) or name (string)",
+            ParamType::Table => "a table",
+        }
+    }
+}
+
+/// A parameter value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamValue {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Range(f64, f64),
+    Str(String),
+    /// A table, kept as its TOML text.
+    Table(String),
+}
+
+impl fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamValue::Bool(b) => write!(f, "{b}"),
+            ParamValue::Int(i) => write!(f, "{i}"),
+            ParamValue::Float(x) => f.write_str(&format_float(*x)),
+            ParamValue::Range(a, b) => write!(f, "[{}, {}]", format_float(*a), format_float(*b)),
+            ParamValue::Str(s) => write!(f, "{s:?}"),
+            ParamValue::Table(t) => f.write_str(t),
+        }
+    }
+}
+
+/// Where a parameter's value came from.
+#[derive(Clone, Debug)]
+pub enum Origin {
+    Default(Location),
+    Override(String),
+}
+
+/// A parameter with its final value.
+#[derive(Clone, Debug)]
+pub struct Param {
+    pub name: String,
+    pub ty: ParamType,
+    pub value: ParamValue,
+    pub default: ParamValue,
+    pub doc: String,
+    pub origin: Origin,
+}
+
+/// A request to change a parameter.
+#[derive(Clone, Debug)]
+pub struct Override {
+    pub name: String,
+    pub value: OverrideValue,
+}
+
+#[derive(Clone, Debug)]
+pub enum OverrideValue {
+    /// TOML literal text, e.g. `[0.3, 1.0]`, `false`, `"torso"`. Bare words are taken as strings
+    /// for string, path and body parameters.
+    Text(String),
+    Value(ParamValue),
+}
+
+impl Override {
+    /// `name=value` as given on a command line.
+    pub fn parse(s: &str) -> Result<Override, Diagnostic> {
+        match s.split_once('=') {
+            Some((k, v)) if !k.trim().is_empty() => Ok(Override::text(k.trim(), v.trim())),
+            _ => Err(Diagnostic::new(Code::E0202, format!("override `{s}` is not of the form name=value"))
+                .label("expected name=value, e.g. ctrl_cost_weight=0.1")),
+        }
+    }
+    pub fn text(name: &str, value: &str) -> Override {
+        Override { name: name.to_string(), value: OverrideValue::Text(value.to_string()) }
+    }
+    pub fn value(name: &str, value: ParamValue) -> Override {
+        Override { name: name.to_string(), value: OverrideValue::Value(value) }
+    }
+}
+
+/// Infer the type of a declared parameter.
+pub fn decl_type(p: &ParamDecl) -> ParamType {
+    if let Some((t, _)) = &p.ty {
+        return ParamType::from_name(t);
+    }
+    match p.name.as_str() {
+        "xml_file" => return ParamType::Path,
+        "frame_skip" | "max_episode_steps" => return ParamType::Int,
+        _ => {}
+    }
+    match &p.default.kind {
+        ValKind::Bool(_) => ParamType::Bool,
+        ValKind::Int(_) => ParamType::Int,
+        ValKind::Float(_) => ParamType::Float,
+        ValKind::Str(_) => ParamType::String,
+        ValKind::Array(_) => ParamType::Range,
+        ValKind::Table(_) => ParamType::Table,
+    }
+}
+
+/// Convert a written value to a parameter type.
+pub fn convert(v: &Val, ty: ParamType) -> Option<ParamValue> {
+    match (ty, &v.kind) {
+        (ParamType::Bool, ValKind::Bool(b)) => Some(ParamValue::Bool(*b)),
+        (ParamType::Int, ValKind::Int(i)) => Some(ParamValue::Int(*i)),
+        (ParamType::Float, ValKind::Int(i)) => Some(ParamValue::Float(*i as f64)),
+        (ParamType::Float, ValKind::Float(x)) => Some(ParamValue::Float(*x)),
+        (ParamType::Range, ValKind::Array(a)) if a.len() == 2 => {
+            Some(ParamValue::Range(a[0].as_f64()?, a[1].as_f64()?))
+        }
+        (ParamType::String | ParamType::Path, ValKind::Str(s)) => Some(ParamValue::Str(s.clone())),
+        (ParamType::Body, ValKind::Int(i)) => Some(ParamValue::Int(*i)),
+        (ParamType::Body, ValKind::Str(s)) => Some(ParamValue::Str(s.clone())),
+        (ParamType::Table, ValKind::Table(_)) => Some(ParamValue::Table(v.to_toml())),
+        _ => None,
+    }
+}
+
+fn type_ok(value: &ParamValue, ty: ParamType) -> bool {
+    matches!(
+        (ty, value),
+        (ParamType::Bool, ParamValue::Bool(_))
+            | (ParamType::Int, ParamValue::Int(_))
+            | (ParamType::Float, ParamValue::Float(_))
+            | (ParamType::Range, ParamValue::Range(..))
+            | (ParamType::String | ParamType::Path, ParamValue::Str(_))
+            | (ParamType::Body, ParamValue::Int(_) | ParamValue::Str(_))
+            | (ParamType::Table, ParamValue::Table(_))
+    )
+}
+
+/// Defaults from the spec, then the overrides, each checked. All problems are reported together.
+pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>, Diagnostics> {
+    let mut d = Diagnostics::default();
+    let mut params = vec![];
+    for p in &spec.params {
+        let ty = decl_type(p);
+        match convert(&p.default, ty) {
+            Some(value) => params.push(Param {
+                name: p.name.clone(),
+                ty,
+                default: value.clone(),
+                value,
+                doc: p.doc.clone(),
+                origin: Origin::Default(p.default.loc.clone()),
+            }),
+            None => d.push(
+                Diagnostic::new(Code::E0102, format!("default of parameter `{}` is not {}", p.name, ty.expected()))
+                    .at(p.default.loc.clone())
+                    .label(format!("expected {} (type {})", ty.expected(), ty.name())),
+            ),
+        }
+    }
+    for o in overrides {
+        let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
+            d.push(
+                Diagnostic::new(Code::E0202, format!("unknown parameter `{}` for {}", o.name, spec.id))
+                    .label(format!(
+                        "expected one of: {}",
+                        spec.params.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                    ))
+                    .help_opt(suggest(&o.name, spec.params.iter().map(|p| p.name.as_str()))),
+            );
+            continue;
+        };
+        let (value, loc) = match &o.value {
+            OverrideValue::Value(v) => {
+                // Integers are acceptable floats.
+                let v = match (param.ty, v) {
+                    (ParamType::Float, ParamValue::Int(i)) => ParamValue::Float(*i as f64),
+                    _ => v.clone(),
+                };
+                (type_ok(&v, param.ty).then_some(v), None)
+            }
+            OverrideValue::Text(text) => {
+                let file = SourceFile::new(format!("<override {}>", o.name), text.clone());
+                let loc = Location::new(&file, 0..text.len());
+                let parsed = parse_literal(&file);
+                let v = match (&parsed, param.ty) {
+                    (Some(v), ty) => convert(v, ty),
+                    (None, ParamType::String | ParamType::Path | ParamType::Body) => {
+                        Some(ParamValue::Str(text.clone()))
+                    }
+                    (None, _) => None,
+                };
+                (v, Some(loc))
+            }
+        };
+        match value {
+            Some(v) => {
+                param.value = v;
+                param.origin = Origin::Override(o.name.clone());
+            }
+            None => d.push(
+                Diagnostic::new(
+                    Code::E0203,
+                    format!("override of `{}` is not {} (type {})", o.name, param.ty.expected(), param.ty.name()),
+                )
+                .at_opt(loc)
+                .label(format!("expected {}; the default is {}", param.ty.expected(), param.default)),
+            ),
+        }
+    }
+    d.into_result(params)
+}
+

@@ -1,0 +1,745 @@
+//! Spec + parameter values + model → the IR. Every problem is collected; nothing stops at the first.
+
+use std::path::{Path, PathBuf};
+
+use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location};
+use crate::ir::*;
+use crate::mjcf::ModelInfo;
+use crate::params::{resolve_params, Origin, Override, Param, ParamValue};
+use crate::selector::{self, Field, ParamIndex, Selection};
+use crate::syntax::{Section, Spec};
+use crate::value::{Val, ValKind};
+
+struct Ctx<'a> {
+    spec: &'a Spec,
+    params: &'a [Param],
+    model: &'a ModelInfo,
+    d: Diagnostics,
+}
+
+/// Resolve a checked spec with parameter overrides against its model.
+pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diagnostics> {
+    let params = resolve_params(spec, overrides)?;
+    let param = |n: &str| params.iter().find(|p| p.name == n);
+
+    let xml = param("xml_file").expect("checked by syntax");
+    let model_path = match (&xml.value, &xml.origin) {
+        (ParamValue::Str(s), Origin::Default(_)) => spec.dir().join(s),
+        (ParamValue::Str(s), Origin::Override(_)) => PathBuf::from(s),
+        _ => unreachable!("xml_file is a path parameter"),
+    };
+    let model = ModelInfo::from_mjcf(&model_path).map_err(|e| {
+        let at = match &xml.origin {
+            Origin::Default(loc) => Some(loc.clone()),
+            Origin::Override(_) => None,
+        };
+        let help = format!("xml_file resolved to {}", model_path.display());
+        Diagnostics::from(e.at_opt(at).help(help))
+    })?;
+
+    let mut cx = Ctx { spec, params: &params, model: &model, d: Diagnostics::default() };
+
+    let frame_skip = match param("frame_skip").map(|p| &p.value) {
+        Some(ParamValue::Int(n)) if *n >= 1 && *n <= u32::MAX as i64 => *n as u32,
+        _ => {
+            cx.d.push(cx.param_error("frame_skip", "frame_skip must be a positive integer"));
+            1
+        }
+    };
+    let max_episode_steps = match param("max_episode_steps").map(|p| &p.value) {
+        Some(ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
+        _ => None,
+    };
+
+    let observation = cx.observation();
+    let obs_dim = observation.iter().map(Segment::len).sum();
+    let reward = cx.reward_terms();
+    let reward_sum = cx.reward_sum(&reward);
+    let terminate_when_unhealthy = match &spec.health_terminate {
+        Some(v) => cx.flag(v, "health.terminate").unwrap_or(true),
+        None => true,
+    };
+    let health = cx.health();
+    let reset = cx.reset();
+    let mut info = cx.info();
+    for (i, t) in reward.iter().enumerate() {
+        if let Some(key) = &t.info {
+            info.push(InfoItem { key: key.clone(), doc: t.doc.clone(), kind: InfoKind::Term(i), len: 1, at_reset: false });
+        }
+    }
+    cx.check_info_keys(&info);
+
+    let mut fields: Vec<Field> = observation.iter().flat_map(|s| [Some(s.source.field), s.minus.as_ref().map(|m| m.field)]).flatten().collect();
+    for t in &reward {
+        match &t.kind {
+            TermKind::Velocity { source }
+            | TermKind::SumSquares { source, .. }
+            | TermKind::Quadratic { source, .. }
+            | TermKind::Value { source, .. } => fields.push(source.field),
+            TermKind::Norm { source, minus } => {
+                fields.push(source.field);
+                fields.extend(minus.iter().map(|m| m.field));
+            }
+            TermKind::Healthy | TermKind::Constant => {}
+        }
+    }
+    fields.extend(health.iter().flat_map(|h| h.sources.iter().map(|s| s.field)));
+    for i in &info {
+        match &i.kind {
+            InfoKind::Value { source, minus } => {
+                fields.push(source.field);
+                fields.extend(minus.iter().map(|m| m.field));
+            }
+            InfoKind::Norm { source } | InfoKind::Velocity { source } => fields.push(source.field),
+            InfoKind::Term(_) => {}
+        }
+    }
+    let needs_rne_post_constraint = fields.iter().any(|f| f.needs_rne_post_constraint());
+
+    let Ctx { d, .. } = cx;
+    d.into_result(ResolvedSpec {
+        id: spec.id.clone(),
+        description: spec.description.clone(),
+        spec_path: spec.path().to_path_buf(),
+        reward_threshold: spec.reward_threshold,
+        params: params.clone(),
+        model_path,
+        model: model.clone(),
+        frame_skip,
+        max_episode_steps,
+        observation,
+        obs_dim,
+        reward,
+        reward_sum,
+        health,
+        terminate_when_unhealthy,
+        reset,
+        info,
+        needs_rne_post_constraint,
+    })
+}
+
+/// Load, check and resolve a spec file in one call.
+pub fn load(path: &Path, overrides: &[Override]) -> Result<ResolvedSpec, Diagnostics> {
+    let spec = Spec::load(path)?;
+    resolve(&spec, overrides)
+}
+
+impl Ctx<'_> {
+    fn param(&self, name: &str) -> Option<&Param> {
+        self.params.iter().find(|p| p.name == name)
+    }
+
+    fn param_error(&self, name: &str, msg: &str) -> Diagnostic {
+        let loc = self.param(name).and_then(|p| match &p.origin {
+            Origin::Default(l) => Some(l.clone()),
+            Origin::Override(_) => None,
+        });
+        Diagnostic::new(Code::E0104, msg.to_string()).at_opt(loc).label("invalid value")
+    }
+
+    fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {
+        Diagnostic::new(Code::E0201, format!("`{name}` is not a parameter of this spec"))
+            .at(loc.clone())
+            .label(format!("expected {expected} or the name of a parameter in [params]"))
+            .help_opt(suggest(name, self.params.iter().map(|p| p.name.as_str())))
+    }
+
+    /// A parameter looked up by a reference in the spec.
+    fn lookup(&mut self, name: &str, loc: &Location, expected: &str) -> Option<ParamValue> {
+        match self.param(name) {
+            Some(p) => Some(p.value.clone()),
+            None => {
+                let e = self.unknown_param(name, loc, expected);
+                self.d.push(e);
+                None
+            }
+        }
+    }
+
+    fn wrong_param_type(&mut self, name: &str, loc: &Location, expected: &str, got: &ParamValue) {
+        self.d.push(
+            Diagnostic::new(Code::E0102, format!("parameter `{name}` is {got}, not {expected}"))
+                .at(loc.clone())
+                .label(format!("expected {expected}")),
+        );
+    }
+
+    /// A number, or the name of a numeric parameter.
+    fn num(&mut self, v: &Val, what: &str) -> Option<f64> {
+        match &v.kind {
+            ValKind::Int(i) => Some(*i as f64),
+            ValKind::Float(x) => Some(*x),
+            ValKind::Str(name) => match self.lookup(name, &v.loc, "a number")? {
+                ParamValue::Float(x) => Some(x),
+                ParamValue::Int(i) => Some(i as f64),
+                other => {
+                    self.wrong_param_type(name, &v.loc, "a number", &other);
+                    None
+                }
+            },
+            _ => {
+                self.d.push(v.type_error(what, "a number or a parameter name"));
+                None
+            }
+        }
+    }
+
+    /// `[low, high]`, or the name of a range parameter.
+    fn range(&mut self, v: &Val, what: &str) -> Option<(f64, f64)> {
+        let r = match &v.kind {
+            ValKind::Array(a) if a.len() == 2 => Some((self.num(&a[0], what)?, self.num(&a[1], what)?)),
+            ValKind::Str(name) => match self.lookup(name, &v.loc, "a range")? {
+                ParamValue::Range(a, b) => Some((a, b)),
+                other => {
+                    self.wrong_param_type(name, &v.loc, "a range [low, high]", &other);
+                    None
+                }
+            },
+            _ => {
+                self.d.push(v.type_error(what, "[low, high] or a parameter name"));
+                None
+            }
+        }?;
+        if r.0 > r.1 {
+            self.d.push(
+                Diagnostic::new(Code::E0104, format!("{what}: low {} is above high {}", r.0, r.1))
+                    .at(v.loc.clone())
+                    .label("expected low <= high"),
+            );
+        }
+        Some(r)
+    }
+
+    /// `true`/`false`, or a bool parameter's name, optionally negated with `!`.
+    fn flag(&mut self, v: &Val, what: &str) -> Option<bool> {
+        match &v.kind {
+            ValKind::Bool(b) => Some(*b),
+            ValKind::Str(s) => {
+                let (neg, name) = match s.strip_prefix('!') {
+                    Some(n) => (true, n.trim()),
+                    None => (false, s.as_str()),
+                };
+                match self.lookup(name, &v.loc, "true, false")? {
+                    ParamValue::Bool(b) => Some(b != neg),
+                    other => {
+                        self.wrong_param_type(name, &v.loc, "a bool", &other);
+                        None
+                    }
+                }
+            }
+            _ => {
+                self.d.push(v.type_error(what, "true, false or a bool parameter name"));
+                None
+            }
+        }
+    }
+
+    fn selection(&mut self, v: &Val, what: &str) -> Option<Selection> {
+        let Some(text) = v.as_str() else {
+            self.d.push(v.type_error(what, "a selector string such as \"qpos[2:]\""));
+            return None;
+        };
+        let params = self.params;
+        let lookup = |name: &str| -> Result<ParamIndex, Diagnostic> {
+            match params.iter().find(|p| p.name == name).map(|p| &p.value) {
+                Some(ParamValue::Int(i)) => Ok(ParamIndex::Int(*i)),
+                Some(ParamValue::Str(s)) => Ok(ParamIndex::Name(s.clone())),
+                Some(other) => Err(Diagnostic::new(Code::E0102, format!("parameter `{name}` is {other}, not an index or name"))
+                    .at(v.loc.clone())
+                    .label("expected an integer or string parameter")),
+                None => Err(self.unknown_param(name, &v.loc, "an index")),
+            }
+        };
+        match selector::resolve(text, &v.loc, self.model, &lookup) {
+            Ok(s) => Some(s),
+            Err(e) => {
+                self.d.push(e);
+                None
+            }
+        }
+    }
+
+    fn sel_key(&mut self, s: &Section, key: &str) -> Option<Selection> {
+        let v = s.get(key)?;
+        self.selection(v, key)
+    }
+
+    fn same_len(&mut self, a: &Selection, b: &Selection, loc: &Location) -> bool {
+        if a.len() != b.len() {
+            self.d.push(
+                Diagnostic::new(Code::E0403, format!("`{}` has {} elements but `{}` has {}", a.text, a.len(), b.text, b.len()))
+                    .at(loc.clone())
+                    .label("expected selections of equal length"),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn scalar(&mut self, s: &Selection, loc: &Location, what: &str) -> bool {
+        if s.len() != 1 {
+            self.d.push(
+                Diagnostic::new(Code::E0403, format!("{what} needs one number, `{}` selects {}", s.text, s.len()))
+                    .at(loc.clone())
+                    .label("expected a selector of exactly one element, e.g. `qpos[0]`"),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn observation(&mut self) -> Vec<Segment> {
+        let mut out = vec![];
+        let mut offset = 0;
+        for s in &self.spec.observation {
+            if let Some(w) = s.get("when") {
+                if !self.flag(w, "when").unwrap_or(true) {
+                    continue;
+                }
+            }
+            let Some(mut source) = self.sel_key(s, "source") else { continue };
+            let mut minus = self.sel_key(s, "minus");
+            if let Some(m) = &minus {
+                if !self.same_len(&source, m, &s.get("minus").unwrap().loc) {
+                    minus = None;
+                }
+            }
+            if let Some(df) = s.get("drop_first") {
+                if let Some(n) = self.drop_first(df) {
+                    source.drop_first(n);
+                    if let Some(m) = &mut minus {
+                        m.drop_first(n);
+                    }
+                }
+            }
+            let apply = match s.get("apply") {
+                None => None,
+                Some(v) => match v.as_str() {
+                    Some("sin") => Some(Apply::Sin),
+                    Some("cos") => Some(Apply::Cos),
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown function in `apply`")
+                                .at(v.loc.clone())
+                                .label("expected \"sin\" or \"cos\""),
+                        );
+                        None
+                    }
+                },
+            };
+            let clip = s.get("clip").and_then(|v| self.range(v, "clip"));
+            let seg = Segment { name: s.name.clone(), doc: s.doc(), source, minus, apply, clip, offset };
+            offset += seg.len();
+            out.push(seg);
+        }
+        out
+    }
+
+    /// `drop_first = 2` or `drop_first = { count = 2, when = "flag" }`.
+    fn drop_first(&mut self, v: &Val) -> Option<usize> {
+        match &v.kind {
+            ValKind::Int(n) if *n >= 0 => Some(*n as usize),
+            ValKind::Table(t) => {
+                for e in t {
+                    if e.key != "count" && e.key != "when" {
+                        self.d.push(
+                            Diagnostic::new(Code::E0101, format!("unknown key `{}` in drop_first", e.key))
+                                .at(e.key_loc.clone())
+                                .label("expected count, when")
+                                .help_opt(suggest(&e.key, ["count", "when"])),
+                        );
+                    }
+                }
+                let count = t.iter().find(|e| e.key == "count");
+                let Some(count) = count else {
+                    self.d.push(
+                        Diagnostic::new(Code::E0103, "missing `count` in drop_first").at(v.loc.clone()).label("expected count = N"),
+                    );
+                    return None;
+                };
+                let n = match count.value.kind {
+                    ValKind::Int(n) if n >= 0 => n as usize,
+                    _ => {
+                        self.d.push(count.value.type_error("drop_first.count", "a non-negative integer"));
+                        return None;
+                    }
+                };
+                let on = match t.iter().find(|e| e.key == "when") {
+                    Some(w) => self.flag(&w.value, "drop_first.when")?,
+                    None => true,
+                };
+                Some(if on { n } else { 0 })
+            }
+            _ => {
+                self.d.push(v.type_error("drop_first", "a count or { count, when }"));
+                None
+            }
+        }
+    }
+
+    fn reward_terms(&mut self) -> Vec<RewardTerm> {
+        let mut out = vec![];
+        for s in &self.spec.reward {
+            let weight = match s.get("weight") {
+                Some(w) => self.num(w, "weight").unwrap_or(f64::NAN),
+                None => 1.0,
+            };
+            let cost = match s.get("cost") {
+                Some(v) => self.flag(v, "cost").unwrap_or(false),
+                None => false,
+            };
+            let info = match s.get("info") {
+                Some(v) => match v.as_str() {
+                    Some(k) => Some(k.to_string()),
+                    None => {
+                        self.d.push(v.type_error("info", "a key name"));
+                        None
+                    }
+                },
+                None => None,
+            };
+            let kind = match s.kind("") {
+                "velocity" => self.need_sel(s, "source").and_then(|src| {
+                    self.scalar(&src, &s.get("source").unwrap().loc, "a velocity").then_some(TermKind::Velocity { source: src })
+                }),
+                "healthy" => Some(TermKind::Healthy),
+                "sum_squares" => self.need_sel(s, "source").map(|source| TermKind::SumSquares {
+                    source,
+                    clip_input: s.get("clip_input").and_then(|v| self.range(v, "clip_input")),
+                    clip: s.get("clip").and_then(|v| self.range(v, "clip")),
+                }),
+                "norm" => self.need_sel(s, "source").map(|source| {
+                    let minus = self.sel_key(s, "minus").filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
+                    TermKind::Norm { source, minus }
+                }),
+                "quadratic" => self.need_sel(s, "source").and_then(|source| {
+                    let n = source.len();
+                    let coefs = self.num_list(s, "coefs", n, 1.0)?;
+                    let targets = self.num_list(s, "targets", n, 0.0)?;
+                    Some(TermKind::Quadratic { source, coefs, targets })
+                }),
+                "value" => self.need_sel(s, "source").and_then(|source| {
+                    if !self.scalar(&source, &s.get("source").unwrap().loc, "a value term") {
+                        return None;
+                    }
+                    let divide_by = match s.get("divide_by") {
+                        None => None,
+                        Some(v) => match v.as_str() {
+                            Some("timestep") => Some(Divisor::Timestep),
+                            Some("dt") => Some(Divisor::Dt),
+                            _ => {
+                                self.d.push(
+                                    Diagnostic::new(Code::E0104, "unknown divisor")
+                                        .at(v.loc.clone())
+                                        .label("expected \"timestep\" or \"dt\""),
+                                );
+                                None
+                            }
+                        },
+                    };
+                    Some(TermKind::Value { source, divide_by })
+                }),
+                "constant" => Some(TermKind::Constant),
+                _ => None, // reported by the syntax check
+            };
+            if let Some(kind) = kind {
+                out.push(RewardTerm { name: s.name.clone(), doc: s.doc(), kind, weight, cost, info });
+            }
+        }
+        out
+    }
+
+    fn need_sel(&mut self, s: &Section, key: &str) -> Option<Selection> {
+        if s.get(key).is_none() {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `{key}` in [{}]", s.name))
+                    .at(s.name_loc.clone())
+                    .label(format!("expected a `{key}` selector")),
+            );
+            return None;
+        }
+        self.sel_key(s, key)
+    }
+
+    /// A list of `n` numbers (default: all `default`).
+    fn num_list(&mut self, s: &Section, key: &str, n: usize, default: f64) -> Option<Vec<f64>> {
+        let Some(v) = s.get(key) else { return Some(vec![default; n]) };
+        match &v.kind {
+            ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, key)).collect(),
+            _ => {
+                self.d.push(v.type_error(key, &format!("an array of {n} numbers (one per selected element)")));
+                None
+            }
+        }
+    }
+
+    fn reward_sum(&mut self, terms: &[RewardTerm]) -> SumNode {
+        let Some(v) = self.spec.reward_sum.clone() else {
+            return SumNode::Sum((0..terms.len()).map(SumNode::Term).collect());
+        };
+        let mut used = vec![0usize; terms.len()];
+        let node = self.sum_node(&v, terms, &mut used).unwrap_or(SumNode::Sum(vec![]));
+        let all_known = self.spec.reward.len() == terms.len();
+        for (i, n) in used.iter().enumerate() {
+            if *n != 1 && all_known {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0501,
+                        format!("reward term `{}` is used {n} times in `sum`", terms[i].name),
+                    )
+                    .at(v.loc.clone())
+                    .label("expected every term exactly once"),
+                );
+            }
+        }
+        node
+    }
+
+    fn sum_node(&mut self, v: &Val, terms: &[RewardTerm], used: &mut [usize]) -> Option<SumNode> {
+        match &v.kind {
+            ValKind::Str(name) => match terms.iter().position(|t| &t.name == name) {
+                Some(i) => {
+                    used[i] += 1;
+                    Some(SumNode::Term(i))
+                }
+                None => {
+                    if self.spec.reward.iter().all(|s| &s.name != name) {
+                        self.d.push(
+                            Diagnostic::new(Code::E0501, format!("`{name}` in `sum` is not a reward term"))
+                                .at(v.loc.clone())
+                                .label("expected the name of a [reward.<name>] table")
+                                .help_opt(suggest(name, terms.iter().map(|t| t.name.as_str()))),
+                        );
+                    }
+                    None
+                }
+            },
+            ValKind::Array(a) if !a.is_empty() => {
+                let nodes: Vec<SumNode> = a.iter().filter_map(|x| self.sum_node(x, terms, used)).collect();
+                Some(SumNode::Sum(nodes))
+            }
+            _ => {
+                self.d.push(v.type_error("reward.sum", "a (nested) list of term names"));
+                None
+            }
+        }
+    }
+
+    fn health(&mut self) -> Vec<HealthCheck> {
+        let mut out = vec![];
+        for s in &self.spec.health {
+            let Some(src) = s.get("source") else { continue };
+            let srcs: Vec<Val> = match &src.kind {
+                ValKind::Array(a) => a.clone(),
+                _ => vec![src.clone()],
+            };
+            let sources: Vec<Selection> = srcs.iter().filter_map(|v| self.selection(v, "source")).collect();
+            if sources.len() != srcs.len() {
+                continue;
+            }
+            let kind = match s.kind("") {
+                "finite" => CheckKind::Finite,
+                "in_range" => {
+                    let Some(r) = s.get("range") else {
+                        self.d.push(
+                            Diagnostic::new(Code::E0103, format!("missing `range` in [health.{}]", s.name))
+                                .at(s.name_loc.clone())
+                                .label("expected range = [low, high] or a parameter name"),
+                        );
+                        continue;
+                    };
+                    let Some((lo, hi)) = self.range(r, "range") else { continue };
+                    let closed = match s.get("bounds") {
+                        None => false,
+                        Some(b) => match b.as_str() {
+                            Some("closed") => true,
+                            Some("open") => false,
+                            _ => {
+                                self.d.push(
+                                    Diagnostic::new(Code::E0104, "unknown bounds")
+                                        .at(b.loc.clone())
+                                        .label("expected \"open\" (lo < x < hi) or \"closed\" (lo <= x <= hi)"),
+                                );
+                                false
+                            }
+                        },
+                    };
+                    CheckKind::InRange { lo, hi, closed }
+                }
+                "fails_if" => {
+                    let op = match s.get("op").and_then(Val::as_str) {
+                        Some("<") => CmpOp::Lt,
+                        Some("<=") => CmpOp::Le,
+                        Some(">") => CmpOp::Gt,
+                        Some(">=") => CmpOp::Ge,
+                        _ => {
+                            self.d.push(
+                                Diagnostic::new(Code::E0104, format!("missing or unknown `op` in [health.{}]", s.name))
+                                    .at(s.get("op").map(|v| v.loc.clone()).unwrap_or(s.name_loc.clone()))
+                                    .label("expected op = \"<\", \"<=\", \">\" or \">=\""),
+                            );
+                            continue;
+                        }
+                    };
+                    let Some(value) = s.get("value").and_then(|v| self.num(v, "value")) else {
+                        if s.get("value").is_none() {
+                            self.d.push(
+                                Diagnostic::new(Code::E0103, format!("missing `value` in [health.{}]", s.name))
+                                    .at(s.name_loc.clone())
+                                    .label("expected value = a number or parameter name"),
+                            );
+                        }
+                        continue;
+                    };
+                    CheckKind::FailsIf { op, value }
+                }
+                _ => continue,
+            };
+            out.push(HealthCheck { name: s.name.clone(), doc: s.doc(), kind, sources });
+        }
+        out
+    }
+
+    fn reset(&mut self) -> Vec<ResetStep> {
+        let mut out = vec![];
+        for s in &self.spec.reset {
+            let Some(target) = self.sel_key(s, "target") else { continue };
+            if !matches!(target.field, Field::Qpos | Field::Qvel) {
+                self.d.push(
+                    Diagnostic::new(Code::E0104, format!("reset target `{}` is not qpos or qvel", target.text))
+                        .at(s.get("target").unwrap().loc.clone())
+                        .label("expected a selection of qpos or qvel"),
+                );
+                continue;
+            }
+            let n = target.len();
+            let kind = s.kind("");
+            let dist = match kind {
+                "uniform" => {
+                    if let Some(scale) = s.get("scale") {
+                        let Some(sc) = self.num(scale, "scale") else { continue };
+                        Distribution::Uniform { low: vec![-sc; n], high: vec![sc; n] }
+                    } else {
+                        let low = self.bound(s, "low", n);
+                        let high = self.bound(s, "high", n);
+                        let (Some(low), Some(high)) = (low, high) else { continue };
+                        Distribution::Uniform { low, high }
+                    }
+                }
+                "normal" => {
+                    let Some(scale) = s.get("scale").map(|v| self.num(v, "scale")).unwrap_or(Some(1.0)) else { continue };
+                    Distribution::Normal { scale }
+                }
+                "constant" => {
+                    let Some(value) = s.get("value").map(|v| self.num(v, "value")).unwrap_or(Some(0.0)) else { continue };
+                    Distribution::Constant { value }
+                }
+                _ => continue,
+            };
+            let set = match s.get("mode") {
+                None => kind == "constant",
+                Some(m) => match m.as_str() {
+                    Some("add") => false,
+                    Some("set") => true,
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown reset mode")
+                                .at(m.loc.clone())
+                                .label("expected \"add\" (initial value + draw) or \"set\" (the draw)"),
+                        );
+                        false
+                    }
+                },
+            };
+            let resample_until = s.get("resample_until").and_then(|v| self.until(v));
+            out.push(ResetStep { name: s.name.clone(), doc: s.doc(), target, dist, set, resample_until });
+        }
+        out
+    }
+
+    /// `low`/`high` of a uniform: one number for all elements, or one per element.
+    fn bound(&mut self, s: &Section, key: &str, n: usize) -> Option<Vec<f64>> {
+        let Some(v) = s.get(key) else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `{key}` in [reset.{}]", s.name))
+                    .at(s.name_loc.clone())
+                    .label("expected `scale`, or both `low` and `high`"),
+            );
+            return None;
+        };
+        match &v.kind {
+            ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, key)).collect(),
+            ValKind::Array(_) => {
+                self.d.push(v.type_error(key, &format!("a number or an array of {n} numbers")));
+                None
+            }
+            _ => self.num(v, key).map(|x| vec![x; n]),
+        }
+    }
+
+    fn until(&mut self, v: &Val) -> Option<Until> {
+        let t = v.as_table().filter(|t| t.len() == 1);
+        let Some(e) = t.map(|t| &t[0]) else {
+            self.d.push(v.type_error("resample_until", "{ norm_below = x } or { norm_above = x }"));
+            return None;
+        };
+        let x = self.num(&e.value, &e.key)?;
+        match e.key.as_str() {
+            "norm_below" => Some(Until::NormBelow(x)),
+            "norm_above" => Some(Until::NormAbove(x)),
+            k => {
+                self.d.push(
+                    Diagnostic::new(Code::E0101, format!("unknown condition `{k}` in resample_until"))
+                        .at(e.key_loc.clone())
+                        .label("expected norm_below or norm_above")
+                        .help_opt(suggest(k, ["norm_below", "norm_above"])),
+                );
+                None
+            }
+        }
+    }
+
+    fn info(&mut self) -> Vec<InfoItem> {
+        let mut out = vec![];
+        for s in &self.spec.info {
+            let Some(source) = self.sel_key(s, "source") else { continue };
+            let len = source.len();
+            let (kind, len, at_reset) = match s.kind("value") {
+                "value" => {
+                    let minus = self.sel_key(s, "minus").filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
+                    (InfoKind::Value { source, minus }, len, true)
+                }
+                "norm" => (InfoKind::Norm { source }, 1, true),
+                "velocity" => {
+                    if !self.scalar(&source, &s.get("source").unwrap().loc, "a velocity") {
+                        continue;
+                    }
+                    (InfoKind::Velocity { source }, 1, false)
+                }
+                _ => continue,
+            };
+            out.push(InfoItem { key: s.name.clone(), doc: s.doc(), kind, len, at_reset });
+        }
+        out
+    }
+
+    fn check_info_keys(&mut self, info: &[InfoItem]) {
+        for (i, item) in info.iter().enumerate() {
+            if info[..i].iter().any(|o| o.key == item.key) {
+                let loc = self
+                    .spec
+                    .reward
+                    .iter()
+                    .find(|s| s.str("info") == Some(item.key.as_str()))
+                    .and_then(|s| s.get("info"))
+                    .map(|v| v.loc.clone());
+                self.d.push(
+                    Diagnostic::new(Code::E0104, format!("info key `{}` is defined twice", item.key))
+                        .at_opt(loc)
+                        .label("expected unique info keys"),
+                );
+            }
+        }
+    }
+}

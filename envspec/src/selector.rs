@@ -1,0 +1,366 @@
+//! Selectors: how a spec names numbers in the simulation, e.g. `qpos[2:]`, `cfrc_ext[1:]`,
+//! `xpos[$main_body][0:2]`, `site_xpos[tip][0,2]`, `qvel[hip_1]`.
+//!
+//! ```text
+//! selector := field ( "[" index "]" )?  ( "[" index "]" )?     -- rows, then columns
+//! index    := int | int? ":" int? | int ("," int)+ | name | "$" param
+//! ```
+//! Integers may be negative (counted from the end, as in Python). A name selects the rows of the
+//! named model element (a joint's qpos or dof entries for joint-indexed fields). `$param` takes the
+//! index or name from a spec parameter.
+
+use crate::diagnostic::{suggest, Code, Diagnostic, Location};
+use crate::mjcf::ModelInfo;
+
+/// A mjData / mjModel array (or a derived quantity) that specs can read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Field {
+    Qpos,
+    Qvel,
+    /// The model's reference configuration `qpos0` (what Gymnasium calls `init_qpos`).
+    Qpos0,
+    /// The action passed to `step`, as given (before MuJoCo clamps it to ctrlrange).
+    Action,
+    Ctrl,
+    QfrcActuator,
+    QfrcConstraint,
+    CfrcExt,
+    CfrcInt,
+    Cacc,
+    Cinert,
+    Cvel,
+    Xpos,
+    Xipos,
+    SiteXpos,
+    TenLength,
+    TenVelocity,
+    /// Mass-weighted mean of `xipos` over all bodies, summed sequentially (numpy's einsum order)
+    /// and divided by the pairwise sum of `body_mass`.
+    MassCenter,
+}
+
+/// What the rows of a field are indexed by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rows {
+    Qpos,
+    Dof,
+    Body,
+    Site,
+    Tendon,
+    Actuator,
+    Xyz,
+}
+
+pub const FIELDS: &[(&str, Field)] = &[
+    ("qpos", Field::Qpos),
+    ("qvel", Field::Qvel),
+    ("qpos0", Field::Qpos0),
+    ("action", Field::Action),
+    ("ctrl", Field::Ctrl),
+    ("qfrc_actuator", Field::QfrcActuator),
+    ("qfrc_constraint", Field::QfrcConstraint),
+    ("cfrc_ext", Field::CfrcExt),
+    ("cfrc_int", Field::CfrcInt),
+    ("cacc", Field::Cacc),
+    ("cinert", Field::Cinert),
+    ("cvel", Field::Cvel),
+    ("xpos", Field::Xpos),
+    ("xipos", Field::Xipos),
+    ("site_xpos", Field::SiteXpos),
+    ("ten_length", Field::TenLength),
+    ("ten_velocity", Field::TenVelocity),
+    ("mass_center", Field::MassCenter),
+];
+
+impl Field {
+    pub fn name(self) -> &'static str {
+        FIELDS.iter().find(|(_, f)| *f == self).map(|(n, _)| *n).unwrap_or("?")
+    }
+    pub fn rows(self) -> Rows {
+        match self {
+            Field::Qpos | Field::Qpos0 => Rows::Qpos,
+            Field::Qvel | Field::QfrcActuator | Field::QfrcConstraint => Rows::Dof,
+            Field::Action | Field::Ctrl => Rows::Actuator,
+            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cinert | Field::Cvel | Field::Xpos | Field::Xipos => {
+                Rows::Body
+            }
+            Field::SiteXpos => Rows::Site,
+            Field::TenLength | Field::TenVelocity => Rows::Tendon,
+            Field::MassCenter => Rows::Xyz,
+        }
+    }
+    /// Entries per row (1 for vector fields).
+    pub fn cols(self) -> usize {
+        match self {
+            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => 6,
+            Field::Cinert => 10,
+            Field::Xpos | Field::Xipos | Field::SiteXpos => 3,
+            _ => 1,
+        }
+    }
+    /// Whether reading the field needs `mj_rnePostConstraint` after the physics steps.
+    pub fn needs_rne_post_constraint(self) -> bool {
+        matches!(self, Field::CfrcExt | Field::CfrcInt | Field::Cacc)
+    }
+    fn col_names(self) -> &'static [&'static str] {
+        match self {
+            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => &["rx", "ry", "rz", "tx", "ty", "tz"],
+            Field::Cinert => &["i0", "i1", "i2", "i3", "i4", "i5", "mx", "my", "mz", "m"],
+            Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
+            _ => &[""],
+        }
+    }
+}
+
+/// A resolved selector: flat indices into the field, one name per element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Selection {
+    pub field: Field,
+    /// Indices into the field's row-major flattened array.
+    pub indices: Vec<usize>,
+    /// One readable name per selected element, e.g. `qpos[hip_1]`, `cfrc_ext[torso].rx`.
+    pub names: Vec<String>,
+    /// The selector as written.
+    pub text: String,
+}
+
+impl Selection {
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.indices.is_empty()
+    }
+    /// Drop the first `n` elements (e.g. Gymnasium's excluded x/y positions).
+    pub fn drop_first(&mut self, n: usize) {
+        let n = n.min(self.indices.len());
+        self.indices.drain(..n);
+        self.names.drain(..n);
+    }
+}
+
+/// How `$param` indices are looked up.
+pub enum ParamIndex {
+    Int(i64),
+    Name(String),
+}
+
+#[derive(Debug)]
+enum Index {
+    Int(i64),
+    Slice(Option<i64>, Option<i64>),
+    List(Vec<i64>),
+    Name(String),
+    Param(String),
+}
+
+fn syntax_error(loc: &Location, msg: &str) -> Diagnostic {
+    Diagnostic::new(Code::E0401, format!("cannot read selector: {msg}"))
+        .at(loc.clone())
+        .label("expected field[rows][cols], e.g. `qpos[2:]` or `xpos[torso][0:2]`")
+}
+
+fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic> {
+    let text = text.trim();
+    let (field, mut rest) = match text.find('[') {
+        Some(i) => (&text[..i], &text[i..]),
+        None => (text, ""),
+    };
+    let mut indices = vec![];
+    while !rest.is_empty() {
+        let close = rest.find(']').ok_or_else(|| syntax_error(loc, "missing `]`"))?;
+        if !rest.starts_with('[') {
+            return Err(syntax_error(loc, "expected `[` after `]`"));
+        }
+        let inner = rest[1..close].trim();
+        rest = rest[close + 1..].trim_start();
+        let int = |s: &str| -> Result<i64, Diagnostic> {
+            s.trim().parse::<i64>().map_err(|_| syntax_error(loc, &format!("`{s}` is not an integer")))
+        };
+        let idx = if let Some(p) = inner.strip_prefix('$') {
+            Index::Param(p.trim().to_string())
+        } else if let Some((a, b)) = inner.split_once(':') {
+            let a = if a.trim().is_empty() { None } else { Some(int(a)?) };
+            let b = if b.trim().is_empty() { None } else { Some(int(b)?) };
+            Index::Slice(a, b)
+        } else if inner.contains(',') {
+            Index::List(inner.split(',').map(int).collect::<Result<_, _>>()?)
+        } else if let Ok(i) = inner.parse::<i64>() {
+            Index::Int(i)
+        } else if inner.is_empty() {
+            return Err(syntax_error(loc, "empty `[]`"));
+        } else {
+            Index::Name(inner.to_string())
+        };
+        indices.push(idx);
+    }
+    if indices.len() > 2 {
+        return Err(syntax_error(loc, "at most two indices (rows, then columns)"));
+    }
+    Ok((field.trim().to_string(), indices))
+}
+
+/// Resolve a selector against a model. `param` looks up `$name` indices.
+pub fn resolve(
+    text: &str,
+    loc: &Location,
+    model: &ModelInfo,
+    param: &dyn Fn(&str) -> Result<ParamIndex, Diagnostic>,
+) -> Result<Selection, Diagnostic> {
+    let (field_name, idx) = parse(text, loc)?;
+    let field = FIELDS.iter().find(|(n, _)| *n == field_name).map(|(_, f)| *f).ok_or_else(|| {
+        Diagnostic::new(Code::E0402, format!("unknown field `{field_name}` in selector `{text}`"))
+            .at(loc.clone())
+            .label(format!(
+                "expected one of: {}",
+                FIELDS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+            ))
+            .help_opt(suggest(&field_name, FIELDS.iter().map(|(n, _)| *n)))
+    })?;
+    let cols = field.cols();
+    if cols == 1 && idx.len() > 1 {
+        return Err(syntax_error(loc, &format!("`{field_name}` is a vector: one index only")));
+    }
+    let row_names = row_names(field, model);
+    let nrows = row_names.len();
+
+    let rows: Vec<usize> = match idx.first() {
+        None => (0..nrows).collect(),
+        Some(i) => select_rows(i, field, model, nrows, loc, param)?,
+    };
+    let col_ids: Vec<usize> = match idx.get(1) {
+        None => (0..cols).collect(),
+        Some(Index::Name(n)) | Some(Index::Param(n)) => {
+            return Err(Diagnostic::new(Code::E0401, format!("columns are selected by number, not by name (`{n}`)"))
+                .at(loc.clone())
+                .label(format!("expected a column index below {cols}")));
+        }
+        Some(i) => select_ints(i, cols, loc)?,
+    };
+    let mut indices = vec![];
+    let mut names = vec![];
+    for &r in &rows {
+        for &c in &col_ids {
+            indices.push(r * cols + c);
+            let col = field.col_names()[c];
+            names.push(if col.is_empty() {
+                format!("{}[{}]", field.name(), row_names[r])
+            } else {
+                format!("{}[{}].{col}", field.name(), row_names[r])
+            });
+        }
+    }
+    Ok(Selection { field, indices, names, text: text.to_string() })
+}
+
+/// Readable names of a field's rows.
+fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
+    let or_id = |name: &str, prefix: &str, i: usize| {
+        if name.is_empty() { format!("{prefix}{i}") } else { name.to_string() }
+    };
+    match field.rows() {
+        Rows::Qpos | Rows::Dof => {
+            let mut out = vec![];
+            for (j, joint) in model.joints.iter().enumerate() {
+                let parts = if field.rows() == Rows::Qpos { joint.kind.qpos_parts() } else { joint.kind.dof_parts() };
+                let base = or_id(&joint.name, "joint", j);
+                for p in parts {
+                    out.push(if p.is_empty() { base.clone() } else { format!("{base}:{p}") });
+                }
+            }
+            out
+        }
+        Rows::Body => model.bodies.iter().enumerate().map(|(i, b)| or_id(b, "body", i)).collect(),
+        Rows::Site => model.sites.iter().enumerate().map(|(i, s)| or_id(s, "site", i)).collect(),
+        Rows::Tendon => model.tendons.iter().enumerate().map(|(i, s)| or_id(s, "tendon", i)).collect(),
+        Rows::Actuator => model.actuators.iter().enumerate().map(|(i, a)| or_id(&a.name, "actuator", i)).collect(),
+        Rows::Xyz => vec!["x".into(), "y".into(), "z".into()],
+    }
+}
+
+fn select_rows(
+    idx: &Index,
+    field: Field,
+    model: &ModelInfo,
+    nrows: usize,
+    loc: &Location,
+    param: &dyn Fn(&str) -> Result<ParamIndex, Diagnostic>,
+) -> Result<Vec<usize>, Diagnostic> {
+    let by_name = |name: &str| -> Result<Vec<usize>, Diagnostic> { rows_by_name(name, field, model, loc) };
+    match idx {
+        Index::Name(n) => by_name(n),
+        Index::Param(p) => match param(p)? {
+            ParamIndex::Name(n) => by_name(&n),
+            ParamIndex::Int(i) => select_ints(&Index::Int(i), nrows, loc),
+        },
+        other => select_ints(other, nrows, loc),
+    }
+}
+
+fn rows_by_name(name: &str, field: Field, model: &ModelInfo, loc: &Location) -> Result<Vec<usize>, Diagnostic> {
+    let (what, candidates, found): (&str, Vec<&str>, Option<Vec<usize>>) = match field.rows() {
+        Rows::Qpos | Rows::Dof => {
+            let found = model.joint(name).map(|j| {
+                if field.rows() == Rows::Qpos {
+                    (j.qposadr..j.qposadr + j.kind.nq()).collect()
+                } else {
+                    (j.dofadr..j.dofadr + j.kind.nv()).collect()
+                }
+            });
+            ("joint", model.joints.iter().map(|j| j.name.as_str()).collect(), found)
+        }
+        Rows::Body => ("body", model.bodies.iter().map(String::as_str).collect(), model.body_id(name).map(|i| vec![i])),
+        Rows::Site => (
+            "site",
+            model.sites.iter().map(String::as_str).collect(),
+            model.sites.iter().position(|s| s == name).map(|i| vec![i]),
+        ),
+        Rows::Tendon => (
+            "tendon",
+            model.tendons.iter().map(String::as_str).collect(),
+            model.tendons.iter().position(|s| s == name).map(|i| vec![i]),
+        ),
+        Rows::Actuator => (
+            "actuator",
+            model.actuators.iter().map(|a| a.name.as_str()).collect(),
+            model.actuators.iter().position(|a| a.name == name).map(|i| vec![i]),
+        ),
+        Rows::Xyz => ("component", vec!["x", "y", "z"], ["x", "y", "z"].iter().position(|c| *c == name).map(|i| vec![i])),
+    };
+    found.ok_or_else(|| {
+        let named: Vec<&str> = candidates.iter().copied().filter(|c| !c.is_empty()).collect();
+        Diagnostic::new(
+            Code::E0303,
+            format!("the model {} has no {what} named `{name}`", model.path.display()),
+        )
+        .at(loc.clone())
+        .label(format!("expected a {what} name of the model ({} of them)", named.len()))
+        .help_opt(suggest(name, named.iter().copied()))
+    })
+}
+
+fn select_ints(idx: &Index, n: usize, loc: &Location) -> Result<Vec<usize>, Diagnostic> {
+    let n_i = n as i64;
+    let one = |i: i64| -> Result<usize, Diagnostic> {
+        let j = if i < 0 { i + n_i } else { i };
+        if j < 0 || j >= n_i {
+            Err(Diagnostic::new(Code::E0304, format!("index {i} is out of range for {n} entries"))
+                .at(loc.clone())
+                .label(format!("expected an index in -{n}..{n}")))
+        } else {
+            Ok(j as usize)
+        }
+    };
+    match idx {
+        Index::Int(i) => Ok(vec![one(*i)?]),
+        Index::List(l) => l.iter().map(|&i| one(i)).collect(),
+        Index::Slice(a, b) => {
+            // Python slice semantics: clamp, negative counts from the end.
+            let clamp = |v: i64| -> i64 { if v < 0 { (v + n_i).max(0) } else { v.min(n_i) } };
+            let a = a.map(clamp).unwrap_or(0);
+            let b = b.map(clamp).unwrap_or(n_i);
+            Ok((a..b.max(a)).map(|i| i as usize).collect())
+        }
+        Index::Name(_) | Index::Param(_) => unreachable!("names are resolved by the caller"),
+    }
+}

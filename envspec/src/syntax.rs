@@ -1,0 +1,404 @@
+//! The spec as written: sections and named tables with their locations, checked for unknown keys,
+//! missing keys and unknown kinds. Typed interpretation (parameters, selectors, model names) is the
+//! resolver's job; this layer needs no model.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location, SourceFile};
+use crate::value::{parse_document, Entry, Val, ValKind};
+
+/// A named table such as `[reward.ctrl]`.
+#[derive(Clone, Debug)]
+pub struct Section {
+    pub name: String,
+    pub name_loc: Location,
+    pub loc: Location,
+    pub entries: Vec<Entry>,
+}
+
+impl Section {
+    pub fn get(&self, key: &str) -> Option<&Val> {
+        self.entries.iter().find(|e| e.key == key).map(|e| &e.value)
+    }
+    pub fn str(&self, key: &str) -> Option<&str> {
+        self.get(key).and_then(Val::as_str)
+    }
+    /// The `kind` key (or the section's default kind).
+    pub fn kind<'a>(&'a self, default: &'a str) -> &'a str {
+        self.str("kind").unwrap_or(default)
+    }
+    pub fn doc(&self) -> String {
+        self.str("doc").unwrap_or("").to_string()
+    }
+}
+
+/// A declared parameter.
+#[derive(Clone, Debug)]
+pub struct ParamDecl {
+    pub name: String,
+    pub name_loc: Location,
+    pub default: Val,
+    pub doc: String,
+    /// Explicit `type = "..."` from the long form.
+    pub ty: Option<(String, Location)>,
+}
+
+/// A parsed, key-checked spec file.
+#[derive(Clone, Debug)]
+pub struct Spec {
+    pub file: Arc<SourceFile>,
+    pub id: String,
+    pub id_loc: Location,
+    pub description: String,
+    pub reward_threshold: Option<f64>,
+    pub params: Vec<ParamDecl>,
+    pub observation: Vec<Section>,
+    pub reward_sum: Option<Val>,
+    pub reward: Vec<Section>,
+    pub health_terminate: Option<Val>,
+    pub health: Vec<Section>,
+    pub reset: Vec<Section>,
+    pub info: Vec<Section>,
+}
+
+impl Spec {
+    pub fn path(&self) -> &Path {
+        &self.file.path
+    }
+    pub fn dir(&self) -> PathBuf {
+        self.file.path.parent().map(Path::to_path_buf).unwrap_or_default()
+    }
+    pub fn param(&self, name: &str) -> Option<&ParamDecl> {
+        self.params.iter().find(|p| p.name == name)
+    }
+
+    /// Read and check a spec file.
+    pub fn load(path: &Path) -> Result<Spec, Diagnostics> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Diagnostic::new(Code::E0600, format!("cannot read spec {}: {e}", path.display()))
+                .label("expected a readable TOML spec file")
+        })?;
+        Spec::parse(path, text)
+    }
+
+    /// Check a spec given as text (`path` is used for messages and relative model paths).
+    pub fn parse(path: &Path, text: String) -> Result<Spec, Diagnostics> {
+        let file = SourceFile::new(path, text);
+        let root = parse_document(&file)?;
+        let mut d = Diagnostics::default();
+        let spec = read_spec(&file, &root, &mut d);
+        d.into_result(spec)
+    }
+}
+
+pub(crate) const TOP_KEYS: &[&str] = &["env", "params", "observation", "reward", "health", "reset", "info", "agents", "maze"];
+const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold"];
+const PARAM_KEYS: &[&str] = &["default", "doc", "type"];
+pub(crate) const PARAM_TYPES: &[&str] = &["bool", "int", "float", "range", "string", "path", "body", "table"];
+const SEGMENT_KEYS: &[&str] = &["source", "minus", "apply", "clip", "when", "drop_first", "doc"];
+
+/// Term kinds of `[reward.*]` with the keys each accepts besides kind, weight, cost, info, doc.
+pub const REWARD_KINDS: &[(&str, &[&str])] = &[
+    ("velocity", &["source"]),
+    ("healthy", &[]),
+    ("sum_squares", &["source", "clip_input", "clip"]),
+    ("norm", &["source", "minus"]),
+    ("quadratic", &["source", "coefs", "targets"]),
+    ("value", &["source", "divide_by"]),
+    ("constant", &[]),
+];
+const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "doc"];
+
+/// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
+pub const HEALTH_KINDS: &[(&str, &[&str])] =
+    &[("finite", &[]), ("in_range", &["range", "bounds"]), ("fails_if", &["op", "value"])];
+
+/// Distributions of `[reset.*]` with the keys each accepts besides target, kind, mode, doc.
+pub const RESET_KINDS: &[(&str, &[&str])] = &[
+    ("uniform", &["scale", "low", "high", "resample_until"]),
+    ("normal", &["scale"]),
+    ("constant", &["value"]),
+];
+
+/// Info kinds of `[info.*]` with the keys each accepts besides kind, source, doc.
+pub const INFO_KINDS: &[(&str, &[&str])] = &[("value", &["minus"]), ("norm", &[]), ("velocity", &[])];
+
+fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
+    Diagnostic::new(Code::E0101, format!("unknown key `{}` in {context}", entry.key))
+        .at(entry.key_loc.clone())
+        .label(format!("expected one of: {}", allowed.join(", ")))
+        .help_opt(suggest(&entry.key, allowed.iter().copied()))
+}
+
+fn check_keys(entries: &[Entry], allowed: &[&str], context: &str, d: &mut Diagnostics) {
+    for e in entries {
+        if !allowed.contains(&e.key.as_str()) {
+            d.push(unknown_key(e, context, allowed));
+        }
+    }
+}
+
+fn table<'a>(v: &'a Val, what: &str, d: &mut Diagnostics) -> Option<&'a [Entry]> {
+    match v.as_table() {
+        Some(t) => Some(t),
+        None => {
+            d.push(v.type_error(what, "a table"));
+            None
+        }
+    }
+}
+
+fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
+    let top = root.as_table().unwrap_or(&[]);
+    check_keys(top, TOP_KEYS, "the spec (top level)", d);
+    let get = |k: &str| top.iter().find(|e| e.key == k);
+    let whole = Location::new(file, 0..0);
+
+    let mut spec = Spec {
+        file: Arc::clone(file),
+        id: String::new(),
+        id_loc: whole.clone(),
+        description: String::new(),
+        reward_threshold: None,
+        params: vec![],
+        observation: vec![],
+        reward_sum: None,
+        reward: vec![],
+        health_terminate: None,
+        health: vec![],
+        reset: vec![],
+        info: vec![],
+    };
+
+    for reserved in ["agents", "maze"] {
+        if let Some(e) = get(reserved) {
+            d.push(
+                Diagnostic::new(Code::E0104, format!("`[{reserved}]` is reserved for a later envc version"))
+                    .at(e.key_loc.clone())
+                    .label("not supported yet"),
+            );
+        }
+    }
+
+    match get("env") {
+        None => d.push(
+            Diagnostic::new(Code::E0103, "missing `[env]` table")
+                .at(whole.clone())
+                .label("expected an [env] table with at least `id`"),
+        ),
+        Some(e) => {
+            if let Some(t) = table(&e.value, "[env]", d) {
+                check_keys(t, ENV_KEYS, "[env]", d);
+                match t.iter().find(|e| e.key == "id") {
+                    Some(idv) => match idv.value.as_str() {
+                        Some(s) => {
+                            spec.id = s.to_string();
+                            spec.id_loc = idv.value.loc.clone();
+                        }
+                        None => d.push(idv.value.type_error("env.id", "a string")),
+                    },
+                    None => d.push(
+                        Diagnostic::new(Code::E0103, "missing `id` in [env]")
+                            .at(e.key_loc.clone())
+                            .label("expected `id = \"Name-v0\"`"),
+                    ),
+                }
+                if let Some(v) = t.iter().find(|e| e.key == "description") {
+                    match v.value.as_str() {
+                        Some(s) => spec.description = s.to_string(),
+                        None => d.push(v.value.type_error("env.description", "a string")),
+                    }
+                }
+                if let Some(v) = t.iter().find(|e| e.key == "reward_threshold") {
+                    match v.value.as_f64() {
+                        Some(x) => spec.reward_threshold = Some(x),
+                        None => d.push(v.value.type_error("env.reward_threshold", "a number")),
+                    }
+                }
+            }
+        }
+    }
+
+    if let Some(e) = get("params") {
+        if let Some(t) = table(&e.value, "[params]", d) {
+            for p in t {
+                spec.params.push(read_param(p, d));
+            }
+        }
+    }
+    for required in ["xml_file", "frame_skip", "max_episode_steps"] {
+        if spec.param(required).is_none() {
+            d.push(
+                Diagnostic::new(Code::E0103, format!("missing parameter `{required}` in [params]"))
+                    .at_opt(get("params").map(|e| e.key_loc.clone()).or(Some(whole.clone())))
+                    .label(format!("every spec declares `{required}`")),
+            );
+        }
+    }
+
+    spec.observation = sections(get("observation"), "observation", &[], d);
+    for s in &spec.observation {
+        check_keys(&s.entries, SEGMENT_KEYS, &format!("[observation.{}]", s.name), d);
+        require(s, "source", &format!("[observation.{}]", s.name), d);
+    }
+
+    spec.reward = sections(get("reward"), "reward", &["sum"], d);
+    if let Some(t) = get("reward").and_then(|e| e.value.as_table()) {
+        spec.reward_sum = t.iter().find(|e| e.key == "sum").map(|e| e.value.clone());
+    }
+    for s in &spec.reward {
+        check_kinded(s, "reward", None, REWARD_KINDS, REWARD_COMMON, d);
+    }
+
+    spec.health = sections(get("health"), "health", &["terminate"], d);
+    if let Some(t) = get("health").and_then(|e| e.value.as_table()) {
+        spec.health_terminate = t.iter().find(|e| e.key == "terminate").map(|e| e.value.clone());
+    }
+    for s in &spec.health {
+        check_kinded(s, "health", None, HEALTH_KINDS, &["kind", "source", "doc"], d);
+        require(s, "source", &format!("[health.{}]", s.name), d);
+    }
+
+    spec.reset = sections(get("reset"), "reset", &[], d);
+    for s in &spec.reset {
+        check_kinded(s, "reset", None, RESET_KINDS, &["target", "kind", "mode", "doc"], d);
+        require(s, "target", &format!("[reset.{}]", s.name), d);
+    }
+
+    spec.info = sections(get("info"), "info", &[], d);
+    for s in &spec.info {
+        check_kinded(s, "info", Some("value"), INFO_KINDS, &["kind", "source", "doc"], d);
+        require(s, "source", &format!("[info.{}]", s.name), d);
+    }
+    spec
+}
+
+fn read_param(p: &Entry, d: &mut Diagnostics) -> ParamDecl {
+    let mut decl = ParamDecl {
+        name: p.key.clone(),
+        name_loc: p.key_loc.clone(),
+        default: p.value.clone(),
+        doc: String::new(),
+        ty: None,
+    };
+    // Long form: a table with a `default` key. A table without one is a table-valued parameter
+    // only when it says so with `type = "table"`; otherwise it is an error.
+    if let ValKind::Table(t) = &p.value.kind {
+        if let Some(def) = t.iter().find(|e| e.key == "default") {
+            check_keys(t, PARAM_KEYS, &format!("parameter `{}`", p.key), d);
+            decl.default = def.value.clone();
+            if let Some(doc) = t.iter().find(|e| e.key == "doc") {
+                match doc.value.as_str() {
+                    Some(s) => decl.doc = s.to_string(),
+                    None => d.push(doc.value.type_error("doc", "a string")),
+                }
+            }
+            if let Some(ty) = t.iter().find(|e| e.key == "type") {
+                match ty.value.as_str() {
+                    Some(s) if PARAM_TYPES.contains(&s) => decl.ty = Some((s.to_string(), ty.value.loc.clone())),
+                    Some(s) => d.push(
+                        Diagnostic::new(Code::E0104, format!("unknown parameter type `{s}`"))
+                            .at(ty.value.loc.clone())
+                            .label(format!("expected one of: {}", PARAM_TYPES.join(", ")))
+                            .help_opt(suggest(s, PARAM_TYPES.iter().copied())),
+                    ),
+                    None => d.push(ty.value.type_error("type", "a string")),
+                }
+            }
+        } else {
+            d.push(
+                Diagnostic::new(Code::E0103, format!("parameter `{}` is a table without `default`", p.key))
+                    .at(p.key_loc.clone())
+                    .label("expected `name = value` or `name = { default = value, doc = \"...\" }`"),
+            );
+        }
+    }
+    decl
+}
+
+fn sections(entry: Option<&Entry>, kind: &str, reserved: &[&str], d: &mut Diagnostics) -> Vec<Section> {
+    let Some(entry) = entry else { return vec![] };
+    let Some(t) = table(&entry.value, &format!("[{kind}]"), d) else { return vec![] };
+    let mut out = vec![];
+    for e in t {
+        if reserved.contains(&e.key.as_str()) {
+            continue;
+        }
+        match &e.value.kind {
+            ValKind::Table(entries) => out.push(Section {
+                name: e.key.clone(),
+                name_loc: e.key_loc.clone(),
+                loc: e.value.loc.clone(),
+                entries: entries.clone(),
+            }),
+            _ => d.push(
+                Diagnostic::new(Code::E0102, format!("`{kind}.{}` must be a table", e.key))
+                    .at(e.key_loc.clone())
+                    .label(if reserved.is_empty() {
+                        format!("expected [{kind}.{}] with its keys", e.key)
+                    } else {
+                        format!("expected [{kind}.{}] or one of: {}", e.key, reserved.join(", "))
+                    })
+                    .help_opt(suggest(&e.key, reserved.iter().copied())),
+            ),
+        }
+    }
+    out
+}
+
+fn require(s: &Section, key: &str, context: &str, d: &mut Diagnostics) {
+    if s.get(key).is_none() {
+        d.push(
+            Diagnostic::new(Code::E0103, format!("missing `{key}` in {context}"))
+                .at(s.name_loc.clone())
+                .label(format!("expected a `{key}` key")),
+        );
+    }
+}
+
+/// Check `kind` against the known kinds and the keys against that kind's keys.
+fn check_kinded(
+    s: &Section,
+    section: &str,
+    default_kind: Option<&str>,
+    kinds: &[(&str, &[&str])],
+    common: &[&str],
+    d: &mut Diagnostics,
+) {
+    let context = format!("[{section}.{}]", s.name);
+    let names: Vec<&str> = kinds.iter().map(|(k, _)| *k).collect();
+    let kind = match (s.get("kind"), default_kind) {
+        (Some(v), _) => match v.as_str() {
+            Some(k) => match kinds.iter().find(|(n, _)| *n == k) {
+                Some(found) => Some(found),
+                None => {
+                    d.push(
+                        Diagnostic::new(Code::E0104, format!("unknown {section} kind `{k}` in {context}"))
+                            .at(v.loc.clone())
+                            .label(format!("expected one of: {}", names.join(", ")))
+                            .help_opt(suggest(k, names.iter().copied())),
+                    );
+                    None
+                }
+            },
+            None => {
+                d.push(v.type_error("kind", "a string"));
+                None
+            }
+        },
+        (None, Some(def)) => kinds.iter().find(|(n, _)| *n == def),
+        (None, None) => {
+            d.push(
+                Diagnostic::new(Code::E0103, format!("missing `kind` in {context}"))
+                    .at(s.name_loc.clone())
+                    .label(format!("expected kind = one of: {}", names.join(", "))),
+            );
+            None
+        }
+    };
+    if let Some((_, extra)) = kind {
+        let allowed: Vec<&str> = common.iter().chain(extra.iter()).copied().collect();
+        check_keys(&s.entries, &allowed, &context, d);
+    }
+}

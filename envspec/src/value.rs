@@ -1,0 +1,194 @@
+//! TOML values with their locations, converted once from the `toml` crate's spanned parse tree, so
+//! every later stage can point at the exact text it is complaining about.
+
+use std::sync::Arc;
+
+use toml::de::{DeTable, DeValue};
+
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile};
+
+/// A TOML value and where it was written.
+#[derive(Clone, Debug)]
+pub struct Val {
+    pub kind: ValKind,
+    pub loc: Location,
+}
+
+#[derive(Clone, Debug)]
+pub enum ValKind {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    Array(Vec<Val>),
+    /// Entries in document order, each with the location of its key.
+    Table(Vec<Entry>),
+}
+
+#[derive(Clone, Debug)]
+pub struct Entry {
+    pub key: String,
+    pub key_loc: Location,
+    pub value: Val,
+}
+
+impl Val {
+    pub fn type_name(&self) -> &'static str {
+        match self.kind {
+            ValKind::Bool(_) => "boolean",
+            ValKind::Int(_) => "integer",
+            ValKind::Float(_) => "float",
+            ValKind::Str(_) => "string",
+            ValKind::Array(_) => "array",
+            ValKind::Table(_) => "table",
+        }
+    }
+    pub fn as_str(&self) -> Option<&str> {
+        match &self.kind {
+            ValKind::Str(s) => Some(s),
+            _ => None,
+        }
+    }
+    pub fn as_f64(&self) -> Option<f64> {
+        match self.kind {
+            ValKind::Float(x) => Some(x),
+            ValKind::Int(i) => Some(i as f64),
+            _ => None,
+        }
+    }
+    pub fn as_table(&self) -> Option<&[Entry]> {
+        match &self.kind {
+            ValKind::Table(t) => Some(t),
+            _ => None,
+        }
+    }
+    /// An error saying this value has the wrong type.
+    pub fn type_error(&self, what: &str, expected: &str) -> Diagnostic {
+        Diagnostic::new(Code::E0102, format!("{what} must be {expected}, found {}", self.type_name()))
+            .at(self.loc.clone())
+            .label(format!("expected {expected}"))
+    }
+    /// The value rendered back as a TOML literal (for reports and `envc show`).
+    pub fn to_toml(&self) -> String {
+        match &self.kind {
+            ValKind::Bool(b) => b.to_string(),
+            ValKind::Int(i) => i.to_string(),
+            ValKind::Float(x) => format_float(*x),
+            ValKind::Str(s) => format!("{s:?}"),
+            ValKind::Array(a) => {
+                format!("[{}]", a.iter().map(Val::to_toml).collect::<Vec<_>>().join(", "))
+            }
+            ValKind::Table(t) => format!(
+                "{{ {} }}",
+                t.iter().map(|e| format!("{} = {}", e.key, e.value.to_toml())).collect::<Vec<_>>().join(", ")
+            ),
+        }
+    }
+}
+
+/// A float as TOML writes it (`inf`, `-inf`, `nan`, and always with a `.` or exponent).
+pub fn format_float(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf".into() } else { "-inf".into() }
+    } else {
+        let s = format!("{x:?}");
+        if s.contains(['.', 'e', 'E']) { s } else { format!("{s}.0") }
+    }
+}
+
+/// Parse a whole TOML document. Syntax errors are reported with their location.
+pub fn parse_document(file: &Arc<SourceFile>) -> Result<Val, Diagnostics> {
+    let (table, errors) = DeTable::parse_recoverable(&file.text);
+    if !errors.is_empty() {
+        let mut diags = Diagnostics::default();
+        for e in errors {
+            let span = e.span().unwrap_or(0..0);
+            diags.push(
+                Diagnostic::new(Code::E0100, format!("invalid TOML: {}", e.message().trim()))
+                    .at(Location::new(file, span))
+                    .label("TOML syntax error"),
+            );
+        }
+        return Err(diags);
+    }
+    let span = 0..file.text.len();
+    let mut diags = Diagnostics::default();
+    let entries = convert_table(file, table.get_ref(), &mut diags);
+    diags.into_result(Val { kind: ValKind::Table(entries), loc: Location::new(file, span) })
+}
+
+/// Parse one TOML value written on its own, e.g. the right-hand side of `--set key=value`.
+/// Returns None when the text is not a TOML value (callers may treat it as a bare string).
+pub fn parse_literal(file: &Arc<SourceFile>) -> Option<Val> {
+    let value = DeValue::parse(&file.text).ok()?;
+    let mut diags = Diagnostics::default();
+    let v = convert(file, value.get_ref(), value.span(), &mut diags);
+    diags.is_empty().then_some(v)
+}
+
+fn convert_table(file: &Arc<SourceFile>, t: &DeTable<'_>, diags: &mut Diagnostics) -> Vec<Entry> {
+    t.iter()
+        .map(|(k, v)| Entry {
+            key: k.get_ref().to_string(),
+            key_loc: Location::new(file, k.span()),
+            value: convert(file, v.get_ref(), v.span(), diags),
+        })
+        .collect()
+}
+
+fn convert(
+    file: &Arc<SourceFile>,
+    v: &DeValue<'_>,
+    span: std::ops::Range<usize>,
+    diags: &mut Diagnostics,
+) -> Val {
+    let loc = Location::new(file, span);
+    let kind = match v {
+        DeValue::Boolean(b) => ValKind::Bool(*b),
+        DeValue::String(s) => ValKind::Str(s.to_string()),
+        DeValue::Integer(i) => {
+            let digits: String = i.as_str().chars().filter(|&c| c != '_').collect();
+            let digits = digits.trim_start_matches("0x").trim_start_matches("0o").trim_start_matches("0b");
+            match i64::from_str_radix(digits, i.radix()) {
+                Ok(n) => ValKind::Int(n),
+                Err(_) => {
+                    diags.push(
+                        Diagnostic::new(Code::E0104, "integer does not fit in 64 bits")
+                            .at(loc.clone())
+                            .label("expected a 64-bit integer"),
+                    );
+                    ValKind::Int(0)
+                }
+            }
+        }
+        DeValue::Float(x) => {
+            let text: String = x.as_str().chars().filter(|&c| c != '_').collect();
+            match text.parse::<f64>() {
+                Ok(f) => ValKind::Float(f),
+                Err(_) => {
+                    diags.push(
+                        Diagnostic::new(Code::E0104, format!("cannot read float `{text}`"))
+                            .at(loc.clone())
+                            .label("expected a float"),
+                    );
+                    ValKind::Float(f64::NAN)
+                }
+            }
+        }
+        DeValue::Datetime(_) => {
+            diags.push(
+                Diagnostic::new(Code::E0102, "dates and times have no meaning in a spec")
+                    .at(loc.clone())
+                    .label("expected a number, string, boolean, array or table"),
+            );
+            ValKind::Str(String::new())
+        }
+        DeValue::Array(a) => {
+            ValKind::Array(a.iter().map(|e| convert(file, e.get_ref(), e.span(), diags)).collect())
+        }
+        DeValue::Table(t) => ValKind::Table(convert_table(file, t, diags)),
+    };
+    Val { kind, loc }
+}
