@@ -1,1 +1,23 @@
-//! envc runtime.
+//! envc runtime: executes resolved envc specs over MuJoCo 3.17.0 with Gymnasium semantics.
+//!
+//! ```no_run
+//! use envc::Env;
+//! let mut env = Env::from_spec_file("specs/gymnasium/hopper.toml", &[])?;
+//! let (obs, _info) = env.reset(Some(0));
+//! assert_eq!(obs.len(), 11);
+//! let step = env.step(&[0.1, -0.2, 0.3])?;
+//! println!("reward {} terminated {}", step.reward, step.terminated);
+//! # Ok::<(), envc::EnvError>(())
+//! ```
+
+pub mod env;
+pub mod error;
+mod mujoco_log;
+pub mod numerics;
+pub mod registry;
+pub mod rng;
+
+pub use env::{BoxSpace, Env, Info, Step};
+pub use envspec;
+pub use envspec::{Override, ParamValue, ResolvedSpec};
+pub use error::EnvError;

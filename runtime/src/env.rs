@@ -1,0 +1,696 @@
+//! The env core: executes a [`ResolvedSpec`] over MuJoCo with Gymnasium semantics.
+//!
+//! `reset(seed)`: reseed (or continue the stream) → `mj_resetData` → reset draws in spec order →
+//! write qpos/qvel → `mj_forward` → observation and reset info.
+//! `step(action)`: read "before" values → ctrl = action → `frame_skip × mj_step` →
+//! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation, info,
+//! TimeLimit truncation. No `mj_forward` after stepping: derived quantities are "lagged", exactly
+//! as in the reference. Nothing allocates after construction.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use envspec::ir::*;
+use envspec::{Field, Override, ResolvedSpec, Selection};
+use mujoco_rs::mujoco_c::{mjData, mjModel};
+use mujoco_rs::prelude::{MjData, MjModel};
+
+use crate::error::EnvError;
+use crate::mujoco_log;
+use crate::numerics::{clip, norm, pairwise_sum, square_pow};
+use crate::rng::NumpyRng;
+
+/// A box space: per-element bounds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxSpace {
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+}
+
+impl BoxSpace {
+    pub fn dim(&self) -> usize {
+        self.low.len()
+    }
+    pub fn contains(&self, x: &[f64]) -> bool {
+        x.len() == self.low.len() && x.iter().zip(&self.low).zip(&self.high).all(|((v, l), h)| l <= v && v <= h)
+    }
+}
+
+/// Where one info key's values sit in the info buffer.
+#[derive(Clone, Debug)]
+struct InfoSlot {
+    key: String,
+    offset: usize,
+    len: usize,
+}
+
+/// Read-only view of an info dict: keys in spec order, each with one or more f64 values.
+#[derive(Clone, Copy, Debug)]
+pub struct Info<'a> {
+    slots: &'a [InfoSlot],
+    values: &'a [f64],
+}
+
+impl<'a> Info<'a> {
+    pub fn get(&self, key: &str) -> Option<&'a [f64]> {
+        self.slots.iter().find(|s| s.key == key).map(|s| &self.values[s.offset..s.offset + s.len])
+    }
+    /// The value of a scalar key.
+    pub fn scalar(&self, key: &str) -> Option<f64> {
+        self.get(key).and_then(|v| (v.len() == 1).then(|| v[0]))
+    }
+    pub fn iter(&self) -> impl Iterator<Item = (&'a str, &'a [f64])> + 'a {
+        let values = self.values;
+        self.slots.iter().map(move |s| (s.key.as_str(), &values[s.offset..s.offset + s.len]))
+    }
+    pub fn len(&self) -> usize {
+        self.slots.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.slots.is_empty()
+    }
+    pub fn keys(&self) -> impl Iterator<Item = &'a str> + 'a {
+        self.slots.iter().map(|s| s.key.as_str())
+    }
+}
+
+/// What `step` returns; borrows the env's buffers (no allocation per step).
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    pub obs: &'a [f64],
+    pub reward: f64,
+    pub terminated: bool,
+    pub truncated: bool,
+    pub info: Info<'a>,
+}
+
+/// The simulation and the values specs can read from it.
+struct Sim {
+    model: Arc<MjModel>,
+    data: MjData<Arc<MjModel>>,
+    action: Vec<f64>,
+    mass_center: [f64; 3],
+    /// numpy's pairwise `body_mass.sum()`, computed once.
+    mass_sum: f64,
+    nq: usize,
+    nv: usize,
+    nu: usize,
+    nbody: usize,
+    nsite: usize,
+    ntendon: usize,
+}
+
+/// # Safety
+/// `ptr` must point to at least `len` initialised f64 that outlive the returned slice.
+unsafe fn view<'a>(ptr: *const f64, len: usize) -> &'a [f64] {
+    if len == 0 { &[] } else { unsafe { std::slice::from_raw_parts(ptr, len) } }
+}
+
+impl Sim {
+    fn m(&self) -> &mjModel {
+        self.model.ffi()
+    }
+    fn d(&self) -> &mjData {
+        self.data.ffi()
+    }
+
+    /// The current contents of a field, flattened row-major.
+    fn field(&self, f: Field) -> &[f64] {
+        let (m, d) = (self.m(), self.d());
+        // SAFETY: every mjData/mjModel array below has the length given by the model's sizes and
+        // lives as long as `self.data` / `self.model`.
+        unsafe {
+            match f {
+                Field::Qpos => view(d.qpos, self.nq),
+                Field::Qvel => view(d.qvel, self.nv),
+                Field::Qpos0 => view(m.qpos0, self.nq),
+                Field::Action => &self.action,
+                Field::Ctrl => view(d.ctrl, self.nu),
+                Field::QfrcActuator => view(d.qfrc_actuator, self.nv),
+                Field::QfrcConstraint => view(d.qfrc_constraint, self.nv),
+                Field::CfrcExt => view(d.cfrc_ext, self.nbody * 6),
+                Field::CfrcInt => view(d.cfrc_int, self.nbody * 6),
+                Field::Cacc => view(d.cacc, self.nbody * 6),
+                Field::Cinert => view(d.cinert, self.nbody * 10),
+                Field::Cvel => view(d.cvel, self.nbody * 6),
+                Field::Xpos => view(d.xpos, self.nbody * 3),
+                Field::Xipos => view(d.xipos, self.nbody * 3),
+                Field::SiteXpos => view(d.site_xpos, self.nsite * 3),
+                Field::TenLength => view(d.ten_length, self.ntendon),
+                Field::TenVelocity => view(d.ten_velocity, self.ntendon),
+                Field::MassCenter => &self.mass_center,
+            }
+        }
+    }
+
+    fn get(&self, s: &Selection, k: usize) -> f64 {
+        self.field(s.field)[s.indices[k]]
+    }
+
+    /// `einsum("b,bj->j", body_mass, xipos) / body_mass.sum()`: sequential products and sums.
+    fn update_mass_center(&mut self) {
+        // SAFETY: body_mass has nbody entries, xipos nbody×3.
+        let (mass, xipos) = unsafe { (view(self.m().body_mass, self.nbody), view(self.d().xipos, self.nbody * 3)) };
+        let mut c = [0.0f64; 3];
+        for (b, &mb) in mass.iter().enumerate() {
+            for (j, cj) in c.iter_mut().enumerate() {
+                *cj += mb * xipos[b * 3 + j];
+            }
+        }
+        self.mass_center = c.map(|x| x / self.mass_sum);
+    }
+}
+
+/// An environment built from a spec.
+pub struct Env {
+    spec: Arc<ResolvedSpec>,
+    sim: Sim,
+    rng: Option<NumpyRng>,
+    dt: f64,
+    timestep: f64,
+    uses_mass_center: bool,
+    /// One scalar source per velocity term / velocity info entry.
+    velocity_sources: Vec<Selection>,
+    before: Vec<f64>,
+    term_slot: Vec<Option<usize>>,
+    info_slot: Vec<Option<usize>>,
+    term_values: Vec<f64>,
+    obs: Vec<f64>,
+    step_info: Vec<InfoSlot>,
+    step_info_values: Vec<f64>,
+    reset_info: Vec<InfoSlot>,
+    reset_info_values: Vec<f64>,
+    qpos_init: Vec<f64>,
+    qvel_init: Vec<f64>,
+    draw: Vec<f64>,
+    elapsed: u64,
+    has_reset: bool,
+    warnings: Vec<String>,
+    observation_space: BoxSpace,
+    action_space: BoxSpace,
+}
+
+impl Env {
+    /// Load a spec file with parameter overrides and build the env.
+    pub fn from_spec_file(path: impl AsRef<Path>, overrides: &[Override]) -> Result<Env, EnvError> {
+        let spec = envspec::load(path.as_ref(), overrides)?;
+        Env::new(Arc::new(spec))
+    }
+
+    /// A bundled env by id (e.g. `"Ant-v5"`) or a spec file path, with overrides.
+    pub fn make(id_or_path: &str, overrides: &[Override]) -> Result<Env, EnvError> {
+        Env::from_spec_file(crate::registry::find(id_or_path)?, overrides)
+    }
+
+    /// Build an env from a resolved spec (compiles the model).
+    pub fn new(spec: Arc<ResolvedSpec>) -> Result<Env, EnvError> {
+        let model = Arc::new(compile(&spec)?);
+        Env::with_model(spec, model)
+    }
+
+    /// Build an env sharing an already compiled model (vectorized envs share one).
+    pub fn with_model(spec: Arc<ResolvedSpec>, model: Arc<MjModel>) -> Result<Env, EnvError> {
+        mujoco_log::install();
+        check_model(&spec, &model)?;
+        let data = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
+            path: spec.model_path.clone(),
+            message: format!("cannot allocate mjData: {e}"),
+        })?;
+        let m = model.ffi();
+        let size = |x: i64| x as usize;
+        let mut sim = Sim {
+            nq: size(m.nq),
+            nv: size(m.nv),
+            nu: size(m.nu),
+            nbody: size(m.nbody),
+            nsite: size(m.nsite),
+            ntendon: size(m.ntendon),
+            action: vec![0.0; size(m.nu)],
+            mass_center: [0.0; 3],
+            mass_sum: 0.0,
+            model: Arc::clone(&model),
+            data,
+        };
+        // SAFETY: body_mass has nbody entries.
+        let mass = unsafe { view(m.body_mass, sim.nbody) };
+        sim.mass_sum = pairwise_sum(mass.len(), &|i| mass[i]);
+        let timestep = m.opt.timestep;
+        let dt = timestep * spec.frame_skip as f64;
+
+        let mut velocity_sources = vec![];
+        let term_slot = spec
+            .reward
+            .iter()
+            .map(|t| match &t.kind {
+                TermKind::Velocity { source } => {
+                    velocity_sources.push(source.clone());
+                    Some(velocity_sources.len() - 1)
+                }
+                _ => None,
+            })
+            .collect();
+        let info_slot = spec
+            .info
+            .iter()
+            .map(|i| match &i.kind {
+                InfoKind::Velocity { source } => {
+                    velocity_sources.push(source.clone());
+                    Some(velocity_sources.len() - 1)
+                }
+                _ => None,
+            })
+            .collect();
+        let uses_mass_center = uses_field(&spec, Field::MassCenter);
+
+        let layout = |items: &mut dyn Iterator<Item = &InfoItem>| {
+            let mut off = 0;
+            items
+                .map(|i| {
+                    let s = InfoSlot { key: i.key.clone(), offset: off, len: i.len };
+                    off += i.len;
+                    s
+                })
+                .collect::<Vec<_>>()
+        };
+        let step_info = layout(&mut spec.info.iter());
+        let reset_info = layout(&mut spec.reset_info());
+        let total = |l: &[InfoSlot]| l.iter().map(|s| s.len).sum::<usize>();
+
+        // SAFETY: qpos0 has nq entries; ctrlrange nu×2.
+        let qpos_init = unsafe { view(m.qpos0, sim.nq) }.to_vec();
+        let ctrlrange = unsafe { view(m.actuator_ctrlrange, sim.nu * 2) };
+        // Gymnasium: Box(ctrlrange.astype(float32)); the bounds are the float32-rounded values.
+        let action_space = BoxSpace {
+            low: (0..sim.nu).map(|i| ctrlrange[2 * i] as f32 as f64).collect(),
+            high: (0..sim.nu).map(|i| ctrlrange[2 * i + 1] as f32 as f64).collect(),
+        };
+        let observation_space =
+            BoxSpace { low: vec![f64::NEG_INFINITY; spec.obs_dim], high: vec![f64::INFINITY; spec.obs_dim] };
+        let max_draw = spec.reset.iter().map(|r| r.target.len()).max().unwrap_or(0);
+
+        let mut warnings = vec![];
+        mujoco_log::drain_into(&mut warnings);
+        Ok(Env {
+            before: vec![0.0; velocity_sources.len()],
+            velocity_sources,
+            term_slot,
+            info_slot,
+            term_values: vec![0.0; spec.reward.len()],
+            obs: vec![0.0; spec.obs_dim],
+            step_info_values: vec![0.0; total(&step_info)],
+            reset_info_values: vec![0.0; total(&reset_info)],
+            step_info,
+            reset_info,
+            qvel_init: vec![0.0; sim.nv],
+            qpos_init,
+            draw: vec![0.0; max_draw],
+            sim,
+            rng: None,
+            dt,
+            timestep,
+            uses_mass_center,
+            elapsed: 0,
+            has_reset: false,
+            warnings,
+            observation_space,
+            action_space,
+            spec,
+        })
+    }
+
+    pub fn spec(&self) -> &Arc<ResolvedSpec> {
+        &self.spec
+    }
+    pub fn model(&self) -> &Arc<MjModel> {
+        &self.sim.model
+    }
+    pub fn observation_space(&self) -> &BoxSpace {
+        &self.observation_space
+    }
+    pub fn action_space(&self) -> &BoxSpace {
+        &self.action_space
+    }
+    pub fn obs_dim(&self) -> usize {
+        self.spec.obs_dim
+    }
+    pub fn act_dim(&self) -> usize {
+        self.sim.nu
+    }
+    /// `timestep × frame_skip` of the compiled model.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    /// Steps taken since the last reset.
+    pub fn elapsed_steps(&self) -> u64 {
+        self.elapsed
+    }
+    /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+    pub fn clear_warnings(&mut self) {
+        self.warnings.clear();
+    }
+    /// The current observation (after the last reset or step).
+    pub fn obs(&self) -> &[f64] {
+        &self.obs
+    }
+    /// Current `qpos` and `qvel`.
+    pub fn state(&self) -> (&[f64], &[f64]) {
+        (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
+    }
+
+    /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
+    /// PCG64); without one the stream continues (the first reset without any seed draws OS entropy).
+    pub fn reset(&mut self, seed: Option<u64>) -> (&[f64], Info<'_>) {
+        match seed {
+            Some(s) => self.rng = Some(NumpyRng::from_seed(s)),
+            None if self.rng.is_none() => self.rng = Some(NumpyRng::from_entropy()),
+            None => {}
+        }
+        let rng = self.rng.as_mut().expect("set above");
+        // SAFETY: plain MuJoCo calls on our own model/data pair.
+        unsafe { mujoco_rs::mujoco_c::mj_resetData(self.sim.model.ffi(), self.sim.data.ffi_mut()) };
+
+        let (nq, nv) = (self.sim.nq, self.sim.nv);
+        // SAFETY: qpos/qvel have nq/nv entries; no other borrow of them is alive.
+        let (qpos, qvel) = unsafe {
+            let d = self.sim.data.ffi_mut();
+            (std::slice::from_raw_parts_mut(d.qpos, nq), std::slice::from_raw_parts_mut(d.qvel, nv))
+        };
+        qpos.copy_from_slice(&self.qpos_init);
+        qvel.copy_from_slice(&self.qvel_init);
+        for step in &self.spec.reset {
+            let n = step.target.len();
+            let draw = &mut self.draw[..n];
+            loop {
+                match &step.dist {
+                    Distribution::Uniform { low, high } => {
+                        for i in 0..n {
+                            draw[i] = rng.uniform(low[i], high[i]);
+                        }
+                    }
+                    Distribution::Normal { scale } => {
+                        for d in draw.iter_mut() {
+                            *d = scale * rng.standard_normal();
+                        }
+                    }
+                    Distribution::Constant { value } => draw.fill(*value),
+                }
+                let done = match step.resample_until {
+                    None => true,
+                    Some(Until::NormBelow(x)) => norm(n, &|i| draw[i]) < x,
+                    Some(Until::NormAbove(x)) => norm(n, &|i| draw[i]) > x,
+                };
+                if done {
+                    break;
+                }
+            }
+            let target: &mut [f64] = if step.target.field == Field::Qpos { qpos } else { qvel };
+            for (k, &i) in step.target.indices.iter().enumerate() {
+                target[i] = if step.set { draw[k] } else { target[i] + draw[k] };
+            }
+        }
+        // Gymnasium's set_state: qpos, qvel, then mj_forward.
+        self.sim.data.forward();
+        if self.uses_mass_center {
+            self.sim.update_mass_center();
+        }
+        self.elapsed = 0;
+        self.has_reset = true;
+        self.write_obs();
+        let spec = Arc::clone(&self.spec);
+        let mut off = 0;
+        for item in spec.reset_info() {
+            self.write_info(item, None, off, true);
+            off += item.len;
+        }
+        mujoco_log::drain_into(&mut self.warnings);
+        (&self.obs, Info { slots: &self.reset_info, values: &self.reset_info_values })
+    }
+
+    /// Advance one control step. The action is used as given (MuJoCo clamps it to ctrlrange inside
+    /// the dynamics; costs see the raw values), as in the reference.
+    pub fn step(&mut self, action: &[f64]) -> Result<Step<'_>, EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        if action.len() != self.sim.nu {
+            return Err(EnvError::ActionLength { env: self.spec.id.clone(), expected: self.sim.nu, got: action.len() });
+        }
+        if let Some(index) = action.iter().position(|a| !a.is_finite()) {
+            return Err(EnvError::NonFiniteAction { index, value: action[index] });
+        }
+        self.sim.action.copy_from_slice(action);
+        for (k, s) in self.velocity_sources.iter().enumerate() {
+            self.before[k] = self.sim.get(s, 0);
+        }
+        // SAFETY: ctrl has nu entries.
+        unsafe {
+            let d = self.sim.data.ffi_mut();
+            std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu).copy_from_slice(action);
+        }
+        for _ in 0..self.spec.frame_skip {
+            self.sim.data.step();
+        }
+        if self.spec.needs_rne_post_constraint {
+            self.sim.data.rne_post_constraint();
+        }
+        if self.uses_mass_center {
+            self.sim.update_mass_center();
+        }
+
+        let healthy = self.spec.health.iter().all(|c| self.check(c));
+        for (i, t) in self.spec.reward.iter().enumerate() {
+            let v = self.term(t, self.term_slot[i], healthy);
+            self.term_values[i] = if t.cost { -v } else { v };
+        }
+        let reward = self.sum(&self.spec.reward_sum);
+        self.write_obs();
+        let spec = Arc::clone(&self.spec);
+        let mut off = 0;
+        for (j, item) in spec.info.iter().enumerate() {
+            self.write_info(item, self.info_slot[j], off, false);
+            off += item.len;
+        }
+        self.elapsed += 1;
+        let terminated = !healthy && self.spec.terminate_when_unhealthy;
+        let truncated = self.spec.max_episode_steps.is_some_and(|m| self.elapsed >= m);
+        mujoco_log::drain_into(&mut self.warnings);
+        Ok(Step {
+            obs: &self.obs,
+            reward,
+            terminated,
+            truncated,
+            info: Info { slots: &self.step_info, values: &self.step_info_values },
+        })
+    }
+
+    fn check(&self, c: &HealthCheck) -> bool {
+        c.sources.iter().all(|s| {
+            let f = self.sim.field(s.field);
+            s.indices.iter().all(|&i| {
+                let x = f[i];
+                match c.kind {
+                    CheckKind::Finite => x.is_finite(),
+                    CheckKind::InRange { lo, hi, closed: true } => lo <= x && x <= hi,
+                    CheckKind::InRange { lo, hi, closed: false } => lo < x && x < hi,
+                    CheckKind::FailsIf { op, value } => !match op {
+                        CmpOp::Lt => x < value,
+                        CmpOp::Le => x <= value,
+                        CmpOp::Gt => x > value,
+                        CmpOp::Ge => x >= value,
+                    },
+                }
+            })
+        })
+    }
+
+    /// `weight × kernel` of one term (unsigned).
+    fn term(&self, t: &RewardTerm, slot: Option<usize>, healthy: bool) -> f64 {
+        let sim = &self.sim;
+        let kernel = match &t.kind {
+            TermKind::Velocity { source } => {
+                let k = slot.expect("velocity terms have a slot");
+                (sim.get(source, 0) - self.before[k]) / self.dt
+            }
+            TermKind::Healthy => healthy as u8 as f64,
+            TermKind::SumSquares { source, clip_input, clip: out_clip } => {
+                let f = sim.field(source.field);
+                let s = pairwise_sum(source.len(), &|k| {
+                    let x = f[source.indices[k]];
+                    let x = match clip_input {
+                        Some((lo, hi)) => clip(x, *lo, *hi),
+                        None => x,
+                    };
+                    x * x
+                });
+                let v = t.weight * s;
+                return match out_clip {
+                    Some((lo, hi)) => clip(v, *lo, *hi),
+                    None => v,
+                };
+            }
+            TermKind::Norm { source, minus } => {
+                let f = sim.field(source.field);
+                match minus {
+                    Some(m) => {
+                        let g = sim.field(m.field);
+                        norm(source.len(), &|k| f[source.indices[k]] - g[m.indices[k]])
+                    }
+                    None => norm(source.len(), &|k| f[source.indices[k]]),
+                }
+            }
+            TermKind::Quadratic { source, coefs, targets } => {
+                let f = sim.field(source.field);
+                let mut acc = 0.0;
+                for k in 0..source.len() {
+                    let q = coefs[k] * square_pow(f[source.indices[k]] - targets[k]);
+                    acc = if k == 0 { q } else { acc + q };
+                }
+                acc
+            }
+            TermKind::Value { source, divide_by } => {
+                let x = sim.get(source, 0);
+                match divide_by {
+                    Some(Divisor::Timestep) => x / self.timestep,
+                    Some(Divisor::Dt) => x / self.dt,
+                    None => x,
+                }
+            }
+            TermKind::Constant => return t.weight,
+        };
+        t.weight * kernel
+    }
+
+    fn sum(&self, node: &SumNode) -> f64 {
+        match node {
+            SumNode::Term(i) => self.term_values[*i],
+            SumNode::Sum(children) => {
+                let mut it = children.iter();
+                let Some(first) = it.next() else { return 0.0 };
+                it.fold(self.sum(first), |acc, c| acc + self.sum(c))
+            }
+        }
+    }
+
+    fn write_obs(&mut self) {
+        let sim = &self.sim;
+        for seg in &self.spec.observation {
+            let f = sim.field(seg.source.field);
+            let g = seg.minus.as_ref().map(|m| sim.field(m.field));
+            let out = &mut self.obs[seg.offset..seg.offset + seg.len()];
+            for (k, o) in out.iter_mut().enumerate() {
+                let mut x = f[seg.source.indices[k]];
+                if let (Some(g), Some(m)) = (g, &seg.minus) {
+                    x -= g[m.indices[k]];
+                }
+                x = match seg.apply {
+                    Some(Apply::Sin) => x.sin(),
+                    Some(Apply::Cos) => x.cos(),
+                    None => x,
+                };
+                if let Some((lo, hi)) = seg.clip {
+                    x = clip(x, lo, hi);
+                }
+                *o = x;
+            }
+        }
+    }
+
+    fn write_info(&mut self, item: &InfoItem, slot: Option<usize>, off: usize, at_reset: bool) {
+        let sim = &self.sim;
+        let out = if at_reset {
+            &mut self.reset_info_values[off..off + item.len]
+        } else {
+            &mut self.step_info_values[off..off + item.len]
+        };
+        match &item.kind {
+            InfoKind::Value { source, minus } => {
+                let f = sim.field(source.field);
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o = f[source.indices[k]];
+                    if let Some(m) = minus {
+                        *o -= sim.field(m.field)[m.indices[k]];
+                    }
+                }
+            }
+            InfoKind::Norm { source } => {
+                let f = sim.field(source.field);
+                out[0] = norm(source.len(), &|k| f[source.indices[k]]);
+            }
+            InfoKind::Velocity { source } => {
+                let k = slot.expect("velocity infos have a slot");
+                out[0] = (sim.get(source, 0) - self.before[k]) / self.dt;
+            }
+            InfoKind::Term(i) => out[0] = self.term_values[*i],
+        }
+    }
+}
+
+/// Compile the spec's model with MuJoCo, capturing its messages.
+pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
+    mujoco_log::install();
+    let path = &spec.model_path;
+    let bad = |message: String| EnvError::Compile { path: path.clone(), message };
+    let s = path.to_str().ok_or_else(|| bad("the path is not valid UTF-8".into()))?;
+    if s.contains('\0') {
+        return Err(bad("the path contains a NUL byte".into()));
+    }
+    MjModel::from_xml(path).map_err(|e| bad(e.to_string()))
+}
+
+fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
+    let sel = |s: &Selection| s.field == field;
+    spec.observation.iter().any(|s| sel(&s.source))
+        || spec.reward.iter().any(|t| match &t.kind {
+            TermKind::Velocity { source }
+            | TermKind::SumSquares { source, .. }
+            | TermKind::Quadratic { source, .. }
+            | TermKind::Value { source, .. }
+            | TermKind::Norm { source, .. } => sel(source),
+            _ => false,
+        })
+        || spec.info.iter().any(|i| match &i.kind {
+            InfoKind::Value { source, .. } | InfoKind::Norm { source } | InfoKind::Velocity { source } => sel(source),
+            InfoKind::Term(_) => false,
+        })
+}
+
+/// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in
+/// the spec would point at the wrong elements).
+fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
+    let m = model.ffi();
+    let info = &spec.model;
+    let mismatch = |what: String| EnvError::ModelMismatch { path: spec.model_path.clone(), what };
+    let sizes = [
+        ("nq", m.nq as usize, info.nq),
+        ("nv", m.nv as usize, info.nv),
+        ("nu", m.nu as usize, info.nu()),
+        ("nbody", m.nbody as usize, info.nbody()),
+        ("njnt", m.njnt as usize, info.joints.len()),
+        ("nsite", m.nsite as usize, info.sites.len()),
+        ("ntendon", m.ntendon as usize, info.tendons.len()),
+    ];
+    for (name, compiled, read) in sizes {
+        if compiled != read {
+            return Err(mismatch(format!("{name} is {compiled} compiled but {read} from the MJCF")));
+        }
+    }
+    // SAFETY: jnt_qposadr/jnt_dofadr have njnt entries.
+    let (qadr, dadr) = unsafe {
+        (
+            std::slice::from_raw_parts(m.jnt_qposadr, info.joints.len()),
+            std::slice::from_raw_parts(m.jnt_dofadr, info.joints.len()),
+        )
+    };
+    for (j, joint) in info.joints.iter().enumerate() {
+        if qadr[j] as usize != joint.qposadr || dadr[j] as usize != joint.dofadr {
+            return Err(mismatch(format!("joint {j} (`{}`) has different addresses", joint.name)));
+        }
+    }
+    if m.opt.timestep != info.timestep {
+        return Err(mismatch(format!("timestep is {} compiled but {} from the MJCF", m.opt.timestep, info.timestep)));
+    }
+    Ok(())
+}

@@ -1,0 +1,37 @@
+//! Runtime errors. Spec problems keep their envspec diagnostics; everything else has a stable code
+//! from the same table (`docs/errors.md`).
+
+use std::path::PathBuf;
+
+use envspec::{Code, Diagnostics};
+
+#[derive(Debug, thiserror::Error)]
+pub enum EnvError {
+    /// The spec, an override or the model's MJCF did not check out.
+    #[error("{0}")]
+    Spec(#[from] Diagnostics),
+    #[error("error[E1001]: MuJoCo could not compile {}: {message}", path.display())]
+    Compile { path: PathBuf, message: String },
+    #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {what}", path.display())]
+    ModelMismatch { path: PathBuf, what: String },
+    #[error("error[E1101]: action has {got} entries but {env} expects {expected}")]
+    ActionLength { env: String, expected: usize, got: usize },
+    #[error("error[E1102]: action[{index}] is {value}; actions must be finite")]
+    NonFiniteAction { index: usize, value: f64 },
+    #[error("error[E1103]: step() called before the first reset()")]
+    NotReset,
+}
+
+impl EnvError {
+    /// The stable code (the first one for a list of spec diagnostics).
+    pub fn code(&self) -> Code {
+        match self {
+            EnvError::Spec(d) => d.0.first().map(|d| d.code).unwrap_or(Code::E0104),
+            EnvError::Compile { .. } => Code::E1001,
+            EnvError::ModelMismatch { .. } => Code::E1002,
+            EnvError::ActionLength { .. } => Code::E1101,
+            EnvError::NonFiniteAction { .. } => Code::E1102,
+            EnvError::NotReset => Code::E1103,
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! The floating-point operations whose exact order decides the last bit, written to match what
+//! numpy and OpenBLAS do in the reference (reference doc §4). Nothing here may be "simplified":
+//! a different association order or a fused multiply-add changes results.
+
+/// numpy's pairwise sum of `n` values `f(0..n)` (float64, contiguous, `np.sum` / `.sum()`).
+///
+/// n < 8: sequential from −0.0. 8 ≤ n ≤ 128: eight interleaved accumulators, combined as
+/// `((r0+r1)+(r2+r3)) + ((r4+r5)+(r6+r7))`, then the leftovers in order. Larger n: split at
+/// `n/2` rounded down to a multiple of 8 and add the halves.
+pub fn pairwise_sum(n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+    pairwise(0, n, f)
+}
+
+fn pairwise(start: usize, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+    if n < 8 {
+        let mut res = -0.0;
+        for i in 0..n {
+            res += f(start + i);
+        }
+        res
+    } else if n <= 128 {
+        let mut r = [0.0f64; 8];
+        for (j, r) in r.iter_mut().enumerate() {
+            *r = f(start + j);
+        }
+        let mut i = 8;
+        while i < n - n % 8 {
+            for (j, r) in r.iter_mut().enumerate() {
+                *r += f(start + i + j);
+            }
+            i += 8;
+        }
+        let mut res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+        while i < n {
+            res += f(start + i);
+            i += 1;
+        }
+        res
+    } else {
+        let mut n2 = n / 2;
+        n2 -= n2 % 8;
+        pairwise(start, n2, f) + pairwise(start + n2, n - n2, f)
+    }
+}
+
+/// `np.linalg.norm(v)` for a small float64 vector: OpenBLAS `ddot` with fused multiply-adds in
+/// index order, then `sqrt`.
+pub fn norm(n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+    let mut acc = 0.0f64;
+    for i in 0..n {
+        let v = f(i);
+        acc = v.mul_add(v, acc);
+    }
+    acc.sqrt()
+}
+
+unsafe extern "C" {
+    /// glibc's `pow`. Called directly because the compiler rewrites `powf(x, 2.0)` into `x * x`,
+    /// which differs from `pow` in the last bit (reference trap T5: numpy's `x**2` on a float64
+    /// scalar is libm `pow`).
+    fn pow(x: f64, y: f64) -> f64;
+}
+
+/// `x**2` as numpy computes it for a float64 scalar.
+pub fn square_pow(x: f64) -> f64 {
+    // SAFETY: `pow` is a pure libm function.
+    unsafe { pow(x, std::hint::black_box(2.0)) }
+}
+
+/// `np.clip`: NaN stays NaN (unlike `f64::clamp`, which also panics on bad bounds).
+pub fn clip(x: f64, lo: f64, hi: f64) -> f64 {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairwise_groups_like_numpy() {
+        // With 1e16-scale values, left-to-right and pairwise orders give different results.
+        let v = [1e16, 1.0, -1e16, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0];
+        let s = pairwise_sum(v.len(), &|i| v[i]);
+        // r = v[0..8]; leftovers v[8], v[9] added after the tree:
+        let tree = ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+        assert_eq!(s, tree + v[8] + v[9]);
+        assert_ne!(s, v.iter().sum::<f64>());
+    }
+
+    #[test]
+    fn small_sums_start_from_negative_zero() {
+        assert!(pairwise_sum(0, &|_| 0.0).is_sign_negative());
+        assert!(pairwise_sum(2, &|_| -0.0).is_sign_negative());
+    }
+
+    #[test]
+    fn clip_keeps_nan() {
+        assert!(clip(f64::NAN, -1.0, 1.0).is_nan());
+        assert_eq!(clip(3.0, -1.0, 1.0), 1.0);
+    }
+}

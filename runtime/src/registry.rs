@@ -1,0 +1,51 @@
+//! The bundled specs (`specs/` of the envc source tree), looked up by env id.
+
+use std::path::{Path, PathBuf};
+
+use envspec::{Code, Diagnostic, Spec};
+
+use crate::error::EnvError;
+
+/// The directory holding the bundled specs.
+pub fn specs_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("specs")
+}
+
+/// Every bundled spec as (env id, path), sorted by id.
+pub fn bundled() -> Vec<(String, PathBuf)> {
+    let mut out = vec![];
+    let mut dirs = vec![specs_dir()];
+    while let Some(dir) = dirs.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|x| x == "toml") {
+                if let Ok(spec) = Spec::load(&p) {
+                    out.push((spec.id, p));
+                }
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A bundled env id (e.g. `Ant-v5`) or a path to a spec file.
+pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
+    let p = Path::new(id_or_path);
+    if p.extension().is_some_and(|x| x == "toml") || p.is_file() {
+        return Ok(p.to_path_buf());
+    }
+    let all = bundled();
+    match all.iter().find(|(id, _)| id == id_or_path) {
+        Some((_, path)) => Ok(path.clone()),
+        None => Err(EnvError::Spec(
+            Diagnostic::new(Code::E0600, format!("no bundled env `{id_or_path}` and no such spec file"))
+                .label(format!("expected a spec path or one of: {}", all.iter().map(|(i, _)| i.as_str()).collect::<Vec<_>>().join(", ")))
+                .help_opt(envspec::diagnostic::suggest(id_or_path, all.iter().map(|(i, _)| i.as_str())))
+                .into(),
+        )),
+    }
+}

@@ -1,0 +1,194 @@
+//! Shared helpers of envc's integration tests: reading the reference fixtures and replaying them.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use envc::{Env, Override};
+use ndarray::{ArrayD, IxDyn};
+use ndarray_npy::NpzReader;
+use serde::Deserialize;
+
+/// `tests/reference/fixtures`, or `$ENVC_PARITY_DIR` (a live recording made by CI).
+pub fn fixtures_dir() -> PathBuf {
+    match std::env::var_os("ENVC_PARITY_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference").join("fixtures"),
+    }
+}
+
+#[derive(Deserialize, Debug)]
+pub struct Manifest {
+    pub gymnasium: String,
+    pub mujoco: String,
+    pub cases: Vec<Case>,
+}
+
+#[derive(Deserialize, Debug)]
+pub struct Case {
+    pub name: String,
+    pub env_id: String,
+    pub file: String,
+    pub overrides: BTreeMap<String, String>,
+    pub steps: usize,
+    pub step_info_keys: Vec<String>,
+    pub reset_info_keys: Vec<String>,
+}
+
+impl Case {
+    pub fn overrides(&self) -> Vec<Override> {
+        self.overrides.iter().map(|(k, v)| Override::text(k, v)).collect()
+    }
+}
+
+pub fn manifest(dir: &Path) -> Manifest {
+    let text = std::fs::read_to_string(dir.join("manifest.json")).expect("fixture manifest");
+    serde_json::from_str(&text).expect("manifest.json format")
+}
+
+/// One recorded trajectory.
+pub struct Recording {
+    pub arrays: BTreeMap<String, ArrayD<f64>>,
+    pub bools: BTreeMap<String, ArrayD<bool>>,
+    pub reset_step: Vec<i64>,
+    pub reset_seed: Vec<i64>,
+}
+
+impl Recording {
+    pub fn load(path: &Path, case: &Case) -> Recording {
+        let mut npz = NpzReader::new(File::open(path).expect("fixture file")).expect("npz");
+        let mut arrays = BTreeMap::new();
+        let mut f64s = vec!["actions".to_string(), "obs".into(), "reward".into(), "reset_obs".into()];
+        f64s.extend(case.step_info_keys.iter().map(|k| format!("info.{k}")));
+        f64s.extend(case.reset_info_keys.iter().map(|k| format!("reset_info.{k}")));
+        for name in f64s {
+            let a: ArrayD<f64> = npz.by_name(&name).unwrap_or_else(|e| panic!("{}: {name}: {e}", path.display()));
+            arrays.insert(name, a);
+        }
+        let mut bools = BTreeMap::new();
+        for name in ["terminated", "truncated"] {
+            let a: ArrayD<bool> = npz.by_name(name).expect("bool array");
+            bools.insert(name.to_string(), a);
+        }
+        let ints = |npz: &mut NpzReader<File>, n: &str| -> Vec<i64> {
+            let a: ArrayD<i64> = npz.by_name(n).expect("int array");
+            a.iter().copied().collect()
+        };
+        let reset_step = ints(&mut npz, "reset_step");
+        let reset_seed = ints(&mut npz, "reset_seed");
+        Recording { arrays, bools, reset_step, reset_seed }
+    }
+
+    /// Row `t` of a recorded array, flattened.
+    pub fn row(&self, name: &str, t: usize) -> Vec<f64> {
+        let a = &self.arrays[name];
+        let row = a.index_axis(ndarray::Axis(0), t);
+        row.iter().copied().collect()
+    }
+
+    pub fn flag(&self, name: &str, t: usize) -> bool {
+        self.bools[name][IxDyn(&[t])]
+    }
+}
+
+/// Distance in units in the last place between two doubles of the same sign (u64::MAX otherwise).
+pub fn ulps(a: f64, b: f64) -> u64 {
+    if a.to_bits() == b.to_bits() {
+        return 0;
+    }
+    if a.is_sign_negative() != b.is_sign_negative() || a.is_nan() || b.is_nan() {
+        return u64::MAX;
+    }
+    a.to_bits().abs_diff(b.to_bits())
+}
+
+/// Collects the first mismatches of a replay.
+#[derive(Default)]
+pub struct Mismatches {
+    pub lines: Vec<String>,
+    pub count: usize,
+}
+
+impl Mismatches {
+    pub fn values(&mut self, what: &str, ours: &[f64], theirs: &[f64]) {
+        if ours.len() != theirs.len() {
+            self.push(format!("{what}: length {} vs reference {}", ours.len(), theirs.len()));
+            return;
+        }
+        for (i, (a, b)) in ours.iter().zip(theirs).enumerate() {
+            if a.to_bits() != b.to_bits() {
+                self.push(format!("{what}[{i}]: {a:?} vs reference {b:?} ({} ulp)", ulps(*a, *b)));
+                return;
+            }
+        }
+    }
+    pub fn push(&mut self, line: String) {
+        self.count += 1;
+        if self.lines.len() < 20 {
+            self.lines.push(line);
+        }
+    }
+}
+
+/// Replay one recorded case against envc: every reset and step, every value compared bit for bit.
+pub fn replay(dir: &Path, case: &Case) -> Mismatches {
+    let rec = Recording::load(&dir.join(&case.file), case);
+    let mut mm = Mismatches::default();
+    let mut env = match Env::make(&case.env_id, &case.overrides()) {
+        Ok(e) => e,
+        Err(e) => {
+            mm.push(format!("cannot build {}: {e}", case.env_id));
+            return mm;
+        }
+    };
+    // Loading may warn (HalfCheetah's deprecated settotalmass, as in the reference); running must not.
+    env.clear_warnings();
+    let mut r = 0;
+    for t in 0..case.steps {
+        if r < rec.reset_step.len() && rec.reset_step[r] as usize == t {
+            let seed = (rec.reset_seed[r] >= 0).then(|| rec.reset_seed[r] as u64);
+            let (obs, info) = env.reset(seed);
+            mm.values(&format!("reset {r} (step {t}) obs"), obs, &rec.row("reset_obs", r));
+            let keys: Vec<&str> = info.keys().collect();
+            if keys != case.reset_info_keys {
+                mm.push(format!("reset {r} info keys {keys:?} vs reference {:?}", case.reset_info_keys));
+            }
+            for k in &case.reset_info_keys {
+                match info.get(k) {
+                    Some(v) => mm.values(&format!("reset {r} info.{k}"), v, &rec.row(&format!("reset_info.{k}"), r)),
+                    None => mm.push(format!("reset {r}: missing info.{k}")),
+                }
+            }
+            r += 1;
+        }
+        let action = rec.row("actions", t);
+        let step = match env.step(&action) {
+            Ok(s) => s,
+            Err(e) => {
+                mm.push(format!("step {t}: {e}"));
+                return mm;
+            }
+        };
+        mm.values(&format!("step {t} obs"), step.obs, &rec.row("obs", t));
+        mm.values(&format!("step {t} reward"), &[step.reward], &rec.row("reward", t));
+        for (name, ours) in [("terminated", step.terminated), ("truncated", step.truncated)] {
+            if ours != rec.flag(name, t) {
+                mm.push(format!("step {t} {name}: {ours} vs reference {}", rec.flag(name, t)));
+            }
+        }
+        let keys: Vec<&str> = step.info.keys().collect();
+        if keys != case.step_info_keys {
+            mm.push(format!("step {t} info keys {keys:?} vs reference {:?}", case.step_info_keys));
+        }
+        for k in &case.step_info_keys {
+            match step.info.get(k) {
+                Some(v) => mm.values(&format!("step {t} info.{k}"), v, &rec.row(&format!("info.{k}"), t)),
+                None => mm.push(format!("step {t}: missing info.{k}")),
+            }
+        }
+    }
+    if !env.warnings().is_empty() {
+        mm.push(format!("unexpected MuJoCo warnings: {:?}", env.warnings()));
+    }
+    mm
+}
