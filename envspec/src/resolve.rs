@@ -637,6 +637,21 @@ impl Ctx<'_> {
                 }
                 _ => continue,
             };
+            if let Distribution::Uniform { low, high } = &dist {
+                // numpy refuses these (and so would reset); report them with the spec's location.
+                if let Some(i) = (0..n).find(|&i| !(low[i] <= high[i]) || !(high[i] - low[i]).is_finite()) {
+                    let at = s.get("scale").or(s.get("low")).map(|v| v.loc.clone()).unwrap_or(s.name_loc.clone());
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!("[reset.{}]: uniform bounds [{}, {}) are empty or infinite", s.name, low[i], high[i]),
+                        )
+                        .at(at)
+                        .label("expected low <= high with a finite width (scale >= 0)"),
+                    );
+                    continue;
+                }
+            }
             let set = match s.get("mode") {
                 None => kind == "constant",
                 Some(m) => match m.as_str() {

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
+#   1. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py);
+#   2. the installed reference still gives the published golden values (record.py --verify-golden);
+#   3. the Rust tests, including the parity replay of the committed fixtures;
+#   4. a live cross-check: the Python reference records fresh trajectories under a new random seed
+#      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+bash scripts/setup.sh
+PY="$ROOT/.venv/bin/python"
+
+"$PY" tests/reference/check_models.py
+"$PY" tests/reference/record.py --verify-golden
+
+cargo test --workspace
+
+LIVE="$(mktemp -d)"
+trap 'rm -rf "$LIVE"' EXIT
+SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
+echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
+"$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden
+ENVC_PARITY_DIR="$LIVE" cargo test -p envc-tests --test parity

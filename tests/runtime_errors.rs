@@ -1,0 +1,153 @@
+//! Bad input at run time is an error value with a stable code, never a panic or an abort, and
+//! MuJoCo's messages are captured instead of printed or logged to MUJOCO_LOG.TXT.
+
+use std::path::{Path, PathBuf};
+
+use envc::envspec::Code;
+use envc::{Env, EnvError, Override};
+
+fn spec(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/gymnasium").join(file)
+}
+
+fn tempdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("envc-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn wrong_action_length_is_an_error_and_changes_nothing() {
+    let mut env = Env::make("Hopper-v5", &[]).unwrap();
+    let obs0 = env.reset(Some(3)).0.to_vec();
+    let e = env.step(&[0.1, 0.2]).unwrap_err();
+    assert_eq!(e.code(), Code::E1101);
+    assert_eq!(e.to_string(), "error[E1101]: action has 2 entries but Hopper-v5 expects 3");
+    assert_eq!(env.obs(), &obs0[..]);
+    assert_eq!(env.elapsed_steps(), 0);
+    assert!(env.step(&[0.1, 0.2, 0.3]).is_ok());
+}
+
+#[test]
+fn non_finite_actions_are_rejected() {
+    let mut env = Env::make("Ant-v5", &[]).unwrap();
+    env.reset(Some(0));
+    let mut a = vec![0.0; 8];
+    a[5] = f64::NAN;
+    let e = env.step(&a).unwrap_err();
+    assert_eq!(e.code(), Code::E1102);
+    assert!(e.to_string().contains("action[5] is NaN"), "{e}");
+    a[5] = f64::NEG_INFINITY;
+    assert_eq!(env.step(&a).unwrap_err().code(), Code::E1102);
+    assert_eq!(env.elapsed_steps(), 0);
+}
+
+#[test]
+fn step_before_reset_is_an_error() {
+    let mut env = Env::make("Swimmer-v5", &[]).unwrap();
+    assert_eq!(env.step(&[0.0, 0.0]).unwrap_err().code(), Code::E1103);
+}
+
+#[test]
+fn unknown_override_and_bad_override_type() {
+    let e = Env::make("Ant-v5", &[Override::text("ctrl_cost_wieght", "0.1")]).err().unwrap();
+    assert_eq!(e.code(), Code::E0202);
+    assert!(e.to_string().contains("did you mean `ctrl_cost_weight`?"), "{e}");
+    let e = Env::make("Ant-v5", &[Override::text("healthy_z_range", "0.5")]).err().unwrap();
+    assert_eq!(e.code(), Code::E0203);
+}
+
+#[test]
+fn unknown_env_id_suggests_the_closest() {
+    let e = Env::make("Hoper-v5", &[]).err().unwrap();
+    assert!(e.to_string().contains("did you mean `Hopper-v5`?"), "{e}");
+}
+
+#[test]
+fn missing_model_file() {
+    let e = Env::from_spec_file(spec("ant.toml"), &[Override::text("xml_file", "/nonexistent/ant.xml")]).err().unwrap();
+    assert_eq!(e.code(), Code::E0301);
+    assert!(e.to_string().contains("/nonexistent/ant.xml"), "{e}");
+}
+
+#[test]
+fn a_model_mujoco_rejects_is_a_compile_error() {
+    // Well-formed MJCF that envspec can read, but MuJoCo refuses (a sphere with a negative size).
+    let dir = tempdir("badmodel");
+    let xml = dir.join("bad.xml");
+    std::fs::write(
+        &xml,
+        r#"<mujoco><worldbody><body name="b"><joint name="j" type="hinge"/><geom type="sphere" size="-1"/></body></worldbody>
+           <actuator><motor joint="j"/></actuator></mujoco>"#,
+    )
+    .unwrap();
+    let toml = dir.join("bad.toml");
+    std::fs::write(
+        &toml,
+        format!(
+            "[env]\nid = \"Bad-v0\"\n[params]\nxml_file = {:?}\nframe_skip = 1\nmax_episode_steps = 10\n[observation.qpos]\nsource = \"qpos\"\n",
+            xml.display().to_string()
+        ),
+    )
+    .unwrap();
+    let e = Env::from_spec_file(&toml, &[]).err().unwrap();
+    assert_eq!(e.code(), Code::E1001, "{e}");
+    assert!(e.to_string().contains("bad.xml"), "{e}");
+}
+
+#[test]
+fn mujoco_warnings_are_captured_not_logged() {
+    // HalfCheetah's model uses the deprecated settotalmass, which MuJoCo warns about at load
+    // (the reference prints it and appends it to MUJOCO_LOG.TXT in the working directory).
+    let dir = tempdir("cwd");
+    let before = std::env::current_dir().unwrap();
+    std::env::set_current_dir(&dir).unwrap();
+    let env = Env::from_spec_file(spec("half_cheetah.toml"), &[]);
+    std::env::set_current_dir(before).unwrap();
+    let env = env.unwrap();
+    assert!(env.warnings().iter().any(|w| w.contains("settotalmass")), "{:?}", env.warnings());
+    assert!(!dir.join("MUJOCO_LOG.TXT").exists());
+}
+
+#[test]
+fn instability_warnings_are_retrievable() {
+    // A stiff spring integrated with a huge timestep blows up; MuJoCo warns (and resets the state).
+    let dir = tempdir("unstable");
+    let xml = dir.join("unstable.xml");
+    std::fs::write(
+        &xml,
+        r#"<mujoco><option timestep="10"/><worldbody><body name="b"><joint name="j" type="slide" stiffness="1e9"/>
+           <geom type="sphere" size="0.1"/></body></worldbody><actuator><motor joint="j" gear="1e6"/></actuator></mujoco>"#,
+    )
+    .unwrap();
+    let toml = dir.join("unstable.toml");
+    std::fs::write(
+        &toml,
+        format!(
+            "[env]\nid = \"Unstable-v0\"\n[params]\nxml_file = {:?}\nframe_skip = 5\nmax_episode_steps = 10\n[observation.qpos]\nsource = \"qpos\"\n[reset.qpos]\ntarget = \"qpos\"\nkind = \"uniform\"\nscale = 1.0\n",
+            xml.display().to_string()
+        ),
+    )
+    .unwrap();
+    let mut env = Env::from_spec_file(&toml, &[]).unwrap();
+    env.reset(Some(1));
+    for _ in 0..5 {
+        env.step(&[1.0]).unwrap();
+    }
+    assert!(env.warnings().iter().any(|w| w.contains("Nan, Inf or huge value")), "{:?}", env.warnings());
+}
+
+#[test]
+fn errors_are_values_of_one_type() {
+    fn code(r: Result<Env, EnvError>) -> Code {
+        r.err().unwrap().code()
+    }
+    assert_eq!(code(Env::make("Ant-v5", &[Override::text("frame_skip", "0")])), Code::E0104);
+}
+
+#[test]
+fn negative_reset_noise_is_a_spec_error_not_a_panic() {
+    let e = Env::make("Hopper-v5", &[Override::text("reset_noise_scale", "-0.1")]).err().unwrap();
+    assert_eq!(e.code(), Code::E0104);
+    assert!(e.to_string().contains("[reset.qpos]"), "{e}");
+}
