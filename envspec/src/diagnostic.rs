@@ -185,7 +185,11 @@ impl fmt::Display for Diagnostic {
             writeln!(f, "  = expected: {label}")?;
         }
         if let Some(help) = &self.help {
-            writeln!(f, "  = help: {help}")?;
+            let pad = match &self.location {
+                Some(loc) => " ".repeat(loc.file.line_col(loc.span.start).0.to_string().len()),
+                None => " ".into(),
+            };
+            writeln!(f, "{pad} = help: {help}")?;
         }
         Ok(())
     }

@@ -49,3 +49,22 @@ pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
         )),
     }
 }
+
+/// The README's table of bundled envs (id, observation and action sizes, dt, episode limit),
+/// generated from the specs. `tests/readme.rs` keeps the README in sync with it.
+pub fn env_table_markdown() -> Result<String, EnvError> {
+    let mut out = String::from("| id | obs dim | action dim | dt (s) | max steps | spec |\n|---|---:|---:|---:|---:|---|\n");
+    let root = specs_dir();
+    for (id, path) in bundled() {
+        let spec = envspec::load(&path, &[])?;
+        let rel = path.strip_prefix(&root).unwrap_or(&path).display().to_string();
+        let max = spec.max_episode_steps.map(|m| m.to_string()).unwrap_or_else(|| "none".into());
+        out.push_str(&format!(
+            "| {id} | {} | {} | {} | {max} | `specs/{rel}` |\n",
+            spec.obs_dim,
+            spec.act_dim(),
+            spec.dt()
+        ));
+    }
+    Ok(out)
+}
