@@ -185,6 +185,8 @@ pub struct Env {
     draw: Vec<f64>,
     elapsed: u64,
     has_reset: bool,
+    /// The current step's action came as float32 (numpy then computes action costs in float32).
+    action_f32: bool,
     warnings: Vec<String>,
     observation_space: BoxSpace,
     action_space: BoxSpace,
@@ -311,6 +313,7 @@ impl Env {
             uses_mass_center,
             elapsed: 0,
             has_reset: false,
+            action_f32: false,
             warnings,
             observation_space,
             action_space,
@@ -432,23 +435,47 @@ impl Env {
     /// Advance one control step. The action is used as given (MuJoCo clamps it to ctrlrange inside
     /// the dynamics; costs see the raw values), as in the reference.
     pub fn step(&mut self, action: &[f64]) -> Result<Step<'_>, EnvError> {
+        self.check_action(action.len(), |i| action[i])?;
+        self.sim.action.copy_from_slice(action);
+        self.action_f32 = false;
+        self.advance()
+    }
+
+    /// `step` with a float32 action, as a float32 policy calls the reference: the dynamics are
+    /// the same (the conversion to float64 is exact), but costs computed from `action` are
+    /// computed in float32 as numpy does (square, pairwise sum and weight in float32; reference
+    /// trap T3), so their info values are float32 numbers.
+    pub fn step_f32(&mut self, action: &[f32]) -> Result<Step<'_>, EnvError> {
+        self.check_action(action.len(), |i| action[i] as f64)?;
+        for (a, &x) in self.sim.action.iter_mut().zip(action) {
+            *a = x as f64;
+        }
+        self.action_f32 = true;
+        self.advance()
+    }
+
+    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
         if !self.has_reset {
             return Err(EnvError::NotReset);
         }
-        if action.len() != self.sim.nu {
-            return Err(EnvError::ActionLength { env: self.spec.id.clone(), expected: self.sim.nu, got: action.len() });
+        if len != self.sim.nu {
+            return Err(EnvError::ActionLength { env: self.spec.id.clone(), expected: self.sim.nu, got: len });
         }
-        if let Some(index) = action.iter().position(|a| !a.is_finite()) {
-            return Err(EnvError::NonFiniteAction { index, value: action[index] });
+        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
+            return Err(EnvError::NonFiniteAction { index, value: value(index) });
         }
-        self.sim.action.copy_from_slice(action);
+        Ok(())
+    }
+
+    /// The step proper, with the action already in `sim.action`.
+    fn advance(&mut self) -> Result<Step<'_>, EnvError> {
         for (k, s) in self.velocity_sources.iter().enumerate() {
             self.before[k] = self.sim.get(s, 0);
         }
         // SAFETY: ctrl has nu entries.
         unsafe {
             let d = self.sim.data.ffi_mut();
-            std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu).copy_from_slice(action);
+            std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu).copy_from_slice(&self.sim.action);
         }
         for _ in 0..self.spec.frame_skip {
             self.sim.data.step();
@@ -515,6 +542,21 @@ impl Env {
                 (sim.get(source, 0) - self.before[k]) / self.dt
             }
             TermKind::Healthy => healthy as u8 as f64,
+            TermKind::SumSquares { source, clip_input: None, clip: out_clip }
+                if self.action_f32 && source.field == Field::Action =>
+            {
+                // numpy: float32 square and pairwise sum; the weight is rounded to float32 (NEP 50).
+                let f = sim.field(source.field);
+                let s = pairwise_sum(source.len(), &|k| {
+                    let x = f[source.indices[k]] as f32;
+                    x * x
+                });
+                let v = ((t.weight as f32) * s) as f64;
+                return match out_clip {
+                    Some((lo, hi)) => clip(v, *lo, *hi),
+                    None => v,
+                };
+            }
             TermKind::SumSquares { source, clip_input, clip: out_clip } => {
                 let f = sim.field(source.field);
                 let s = pairwise_sum(source.len(), &|k| {

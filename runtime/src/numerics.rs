@@ -2,24 +2,35 @@
 //! numpy and OpenBLAS do in the reference (reference doc §4). Nothing here may be "simplified":
 //! a different association order or a fused multiply-add changes results.
 
-/// numpy's pairwise sum of `n` values `f(0..n)` (float64, contiguous, `np.sum` / `.sum()`).
+/// The float types numpy sums in (float64, and float32 for float32 actions).
+pub trait Real: Copy + std::ops::Add<Output = Self> + std::ops::AddAssign {
+    const NEG_ZERO: Self;
+}
+impl Real for f64 {
+    const NEG_ZERO: f64 = -0.0;
+}
+impl Real for f32 {
+    const NEG_ZERO: f32 = -0.0;
+}
+
+/// numpy's pairwise sum of `n` values `f(0..n)` (contiguous, `np.sum` / `.sum()`), in `T`.
 ///
 /// n < 8: sequential from −0.0. 8 ≤ n ≤ 128: eight interleaved accumulators, combined as
 /// `((r0+r1)+(r2+r3)) + ((r4+r5)+(r6+r7))`, then the leftovers in order. Larger n: split at
 /// `n/2` rounded down to a multiple of 8 and add the halves.
-pub fn pairwise_sum(n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+pub fn pairwise_sum<T: Real>(n: usize, f: &dyn Fn(usize) -> T) -> T {
     pairwise(0, n, f)
 }
 
-fn pairwise(start: usize, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+fn pairwise<T: Real>(start: usize, n: usize, f: &dyn Fn(usize) -> T) -> T {
     if n < 8 {
-        let mut res = -0.0;
+        let mut res = T::NEG_ZERO;
         for i in 0..n {
             res += f(start + i);
         }
         res
     } else if n <= 128 {
-        let mut r = [0.0f64; 8];
+        let mut r = [T::NEG_ZERO; 8];
         for (j, r) in r.iter_mut().enumerate() {
             *r = f(start + j);
         }
@@ -95,8 +106,8 @@ mod tests {
 
     #[test]
     fn small_sums_start_from_negative_zero() {
-        assert!(pairwise_sum(0, &|_| 0.0).is_sign_negative());
-        assert!(pairwise_sum(2, &|_| -0.0).is_sign_negative());
+        assert!(pairwise_sum(0, &|_| 0.0f64).is_sign_negative());
+        assert!(pairwise_sum(2, &|_| -0.0f64).is_sign_negative());
     }
 
     #[test]
