@@ -129,10 +129,18 @@ impl SeedSequence {
             .collect()
     }
 
-    /// The four words PCG64 is seeded from (`generate_state(4, np.uint64)`).
+    /// The four words PCG64 is seeded from (`generate_state(4, np.uint64)`), without allocating
+    /// (envs reseed inside `reset`, which must not allocate).
     pub(crate) fn pcg64_seed_words(&self) -> [u64; 4] {
-        let v = self.generate_state_u64(4);
-        [v[0], v[1], v[2], v[3]]
+        let mut hash_const = INIT_B;
+        let mut words = [0u32; 8];
+        for (i, w) in words.iter_mut().enumerate() {
+            let mut v = self.pool[i % POOL_SIZE] ^ hash_const;
+            hash_const = hash_const.wrapping_mul(MULT_B);
+            v = v.wrapping_mul(hash_const);
+            *w = v ^ (v >> XSHIFT);
+        }
+        std::array::from_fn(|i| u64::from(words[2 * i]) | (u64::from(words[2 * i + 1]) << 32))
     }
 }
 
@@ -198,6 +206,7 @@ mod tests {
             ]
         );
         assert_eq!(ss.entropy(), 0);
+        assert_eq!(ss.pcg64_seed_words().to_vec(), ss.generate_state_u64(4));
     }
 
     #[test]

@@ -1,0 +1,58 @@
+//! `step` and `reset` allocate nothing after construction (counted with a per-thread counting
+//! allocator, so other test threads do not interfere).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new: usize) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+fn allocations(f: impl FnOnce()) -> u64 {
+    let before = COUNT.with(Cell::get);
+    f();
+    COUNT.with(Cell::get) - before
+}
+
+#[test]
+fn step_and_reset_do_not_allocate() {
+    for (id, path) in envc::registry::bundled() {
+        let mut env = envc::Env::from_spec_file(&path, &[]).unwrap();
+        env.reset(Some(0));
+        let a = vec![0.1; env.act_dim()];
+        let a32 = vec![0.1f32; env.act_dim()];
+        let n = allocations(|| {
+            for i in 0..200 {
+                let s = if i % 2 == 0 { env.step(&a).unwrap() } else { env.step_f32(&a32).unwrap() };
+                let (done, r) = (s.terminated || s.truncated, s.reward);
+                std::hint::black_box(r);
+                if done {
+                    env.reset(None);
+                }
+                if i % 50 == 0 {
+                    env.reset(Some(i));
+                }
+            }
+        });
+        assert_eq!(n, 0, "{id}: {n} allocations in 200 steps");
+    }
+}
