@@ -14,10 +14,12 @@ fn sha(obs: &[f64]) -> String {
     h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect()
 }
 
+/// (id, sha(obs0), obs0[0], reward at t=0, steps, Σ reward, sha(last obs), terminated)
+type Row = (&'static str, &'static str, f64, f64, usize, f64, &'static str, bool);
+
 #[test]
 fn golden_table_of_the_reference_doc() {
-    // (id, sha(obs0), obs0[0], reward at t=0, steps, Σ reward, sha(last obs), terminated)
-    let table: [(&str, &str, f64, f64, usize, f64, &str, bool); 11] = [
+    let table: [Row; 11] = [
         ("Ant-v5", "6d2a57d259c8e2f3", 0.658194704787239, -0.5333905414870339, 50, -44.73110757129683, "2e156614fb3cf0bf", false),
         ("HalfCheetah-v5", "3893de29648ab677", -0.04604265724722594, -0.5318076279428017, 50, -126.27466179588382, "df9290393c4bd624", false),
         ("Hopper-v5", "1615db91f7b6b239", 1.2476978671376386, 0.9367581717518246, 19, 17.31894978108758, "8e0d6c280f122bed", true),

@@ -293,26 +293,23 @@ impl Ctx<'_> {
         let mut out = vec![];
         let mut offset = 0;
         for s in &self.spec.observation {
-            if let Some(w) = s.get("when") {
-                if !self.flag(w, "when").unwrap_or(true) {
+            if let Some(w) = s.get("when")
+                && !self.flag(w, "when").unwrap_or(true) {
                     continue;
                 }
-            }
             let Some(mut source) = self.sel_key(s, "source") else { continue };
             let mut minus = self.sel_key(s, "minus");
-            if let Some(m) = &minus {
-                if !self.same_len(&source, m, &s.get("minus").unwrap().loc) {
+            if let Some(m) = &minus
+                && !self.same_len(&source, m, &s.get("minus").unwrap().loc) {
                     minus = None;
                 }
-            }
-            if let Some(df) = s.get("drop_first") {
-                if let Some(n) = self.drop_first(df) {
+            if let Some(df) = s.get("drop_first")
+                && let Some(n) = self.drop_first(df) {
                     source.drop_first(n);
                     if let Some(m) = &mut minus {
                         m.drop_first(n);
                     }
                 }
-            }
             let apply = match s.get("apply") {
                 None => None,
                 Some(v) => match v.as_str() {
@@ -639,7 +636,7 @@ impl Ctx<'_> {
             };
             if let Distribution::Uniform { low, high } = &dist {
                 // numpy refuses these (and so would reset); report them with the spec's location.
-                if let Some(i) = (0..n).find(|&i| !(low[i] <= high[i]) || !(high[i] - low[i]).is_finite()) {
+                if let Some(i) = (0..n).find(|&i| low[i].partial_cmp(&high[i]).is_none_or(|o| o.is_gt()) || !(high[i] - low[i]).is_finite()) {
                     let at = s.get("scale").or(s.get("low")).map(|v| v.loc.clone()).unwrap_or(s.name_loc.clone());
                     self.d.push(
                         Diagnostic::new(

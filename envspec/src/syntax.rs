@@ -220,13 +220,12 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         }
     }
 
-    if let Some(e) = get("params") {
-        if let Some(t) = table(&e.value, "[params]", d) {
+    if let Some(e) = get("params")
+        && let Some(t) = table(&e.value, "[params]", d) {
             for p in t {
                 spec.params.push(read_param(p, d));
             }
         }
-    }
     for required in ["xml_file", "frame_skip", "max_episode_steps"] {
         if spec.param(required).is_none() {
             d.push(

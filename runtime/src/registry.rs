@@ -21,11 +21,10 @@ pub fn bundled() -> Vec<(String, PathBuf)> {
             let p = e.path();
             if p.is_dir() {
                 dirs.push(p);
-            } else if p.extension().is_some_and(|x| x == "toml") {
-                if let Ok(spec) = Spec::load(&p) {
+            } else if p.extension().is_some_and(|x| x == "toml")
+                && let Ok(spec) = Spec::load(&p) {
                     out.push((spec.id, p));
                 }
-            }
         }
     }
     out.sort();
