@@ -1,8 +1,8 @@
 //! One invariant matrix over every bundled spec (in the spirit of dm_control's suite tests): the
 //! properties every env must have, whatever its robot and terms.
 
-use envc::registry::bundled;
 use envc::Env;
+use envc::registry::bundled;
 
 fn each_env(f: impl Fn(&str, Env)) {
     let all = bundled();
@@ -16,7 +16,13 @@ fn each_env(f: impl Fn(&str, Env)) {
 fn actions(env: &Env, n: usize, seed: u64) -> Vec<Vec<f64>> {
     let mut rng = envc::rng::NumpyRng::from_seed(seed);
     let sp = env.action_space().clone();
-    (0..n).map(|_| (0..sp.dim()).map(|i| rng.uniform(1.5 * sp.low[i], 1.5 * sp.high[i])).collect()).collect()
+    (0..n)
+        .map(|_| {
+            (0..sp.dim())
+                .map(|i| rng.uniform(1.5 * sp.low[i], 1.5 * sp.high[i]))
+                .collect()
+        })
+        .collect()
 }
 
 #[test]
@@ -57,7 +63,13 @@ fn same_seed_same_trajectory() {
         };
         let first = run(&mut env);
         let second = run(&mut env);
-        assert!(first.iter().zip(&second).all(|(a, b)| a.to_bits() == b.to_bits()), "{id}: reset(seed) must restart everything");
+        assert!(
+            first
+                .iter()
+                .zip(&second)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{id}: reset(seed) must restart everything"
+        );
     });
 }
 
@@ -68,7 +80,12 @@ fn reset_without_seed_continues_the_stream() {
         let b = env.reset(None).0.to_vec();
         let a2 = env.reset(Some(11)).0.to_vec();
         assert_eq!(a, a2, "{id}");
-        if env.spec().reset.iter().any(|r| !matches!(r.dist, envc::envspec::ir::Distribution::Constant { .. })) {
+        if env
+            .spec()
+            .reset
+            .iter()
+            .any(|r| !matches!(r.dist, envc::envspec::ir::Distribution::Constant { .. }))
+        {
             assert_ne!(a, b, "{id}: a reset without seed draws new noise");
         }
     });
@@ -79,11 +96,26 @@ fn info_keys_are_stable_and_reset_keys_are_step_keys() {
     each_env(|id, mut env| {
         let reset_keys: Vec<String> = env.reset(Some(0)).1.keys().map(String::from).collect();
         let a = vec![0.0; env.act_dim()];
-        let step_keys: Vec<String> = env.step(&a).unwrap().info.keys().map(String::from).collect();
+        let step_keys: Vec<String> = env
+            .step(&a)
+            .unwrap()
+            .info
+            .keys()
+            .map(String::from)
+            .collect();
         for k in &reset_keys {
-            assert!(step_keys.contains(k), "{id}: reset key {k} missing after step");
+            assert!(
+                step_keys.contains(k),
+                "{id}: reset key {k} missing after step"
+            );
         }
-        let again: Vec<String> = env.step(&a).unwrap().info.keys().map(String::from).collect();
+        let again: Vec<String> = env
+            .step(&a)
+            .unwrap()
+            .info
+            .keys()
+            .map(String::from)
+            .collect();
         assert_eq!(step_keys, again, "{id}");
     });
 }
@@ -92,7 +124,8 @@ fn info_keys_are_stable_and_reset_keys_are_step_keys() {
 fn truncation_at_max_episode_steps() {
     each_env(|id, env| {
         let path = env.spec().spec_path.clone();
-        let mut env3 = Env::from_spec_file(&path, &[envc::Override::text("max_episode_steps", "3")]).unwrap();
+        let mut env3 =
+            Env::from_spec_file(&path, &[envc::Override::text("max_episode_steps", "3")]).unwrap();
         env3.reset(Some(0));
         let a = vec![0.0; env3.act_dim()];
         let flags: Vec<bool> = (0..3).map(|_| env3.step(&a).unwrap().truncated).collect();
@@ -106,5 +139,11 @@ fn action_space_is_the_float32_ctrlrange() {
     assert_eq!(env.action_space().high[0], 0.4f32 as f64);
     assert_eq!(env.action_space().low[0], -0.4f32 as f64);
     let env = Env::make("InvertedPendulum-v5", &[]).unwrap();
-    assert_eq!((env.action_space().low.clone(), env.action_space().high.clone()), (vec![-3.0], vec![3.0]));
+    assert_eq!(
+        (
+            env.action_space().low.clone(),
+            env.action_space().high.clone()
+        ),
+        (vec![-3.0], vec![3.0])
+    );
 }

@@ -42,7 +42,11 @@ fn step_and_reset_do_not_allocate() {
         let a32 = vec![0.1f32; env.act_dim()];
         let n = allocations(|| {
             for i in 0..200 {
-                let s = if i % 2 == 0 { env.step(&a).unwrap() } else { env.step_f32(&a32).unwrap() };
+                let s = if i % 2 == 0 {
+                    env.step(&a).unwrap()
+                } else {
+                    env.step_f32(&a32).unwrap()
+                };
                 let (done, r) = (s.terminated || s.truncated, s.reward);
                 std::hint::black_box(r);
                 if done {

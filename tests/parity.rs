@@ -8,17 +8,39 @@ use envc_tests::{fixtures_dir, manifest, replay};
 fn every_recorded_case_is_bit_identical() {
     let dir = fixtures_dir();
     let m = manifest(&dir);
-    assert_eq!((m.gymnasium.as_str(), m.mujoco.as_str()), ("1.4.0", "3.17.0"));
-    assert!(m.cases.len() >= 33, "expected at least 3 cases per env, found {}", m.cases.len());
+    assert_eq!(
+        (m.gymnasium.as_str(), m.mujoco.as_str()),
+        ("1.4.0", "3.17.0")
+    );
+    assert!(
+        m.cases.len() >= 33,
+        "expected at least 3 cases per env, found {}",
+        m.cases.len()
+    );
     let mut failed = vec![];
     let mut steps = 0;
     for case in &m.cases {
         let mm = replay(&dir, case);
         steps += case.steps;
         if mm.count > 0 {
-            failed.push(format!("{} ({}): {} mismatches\n    {}", case.name, case.env_id, mm.count, mm.lines.join("\n    ")));
+            failed.push(format!(
+                "{} ({}): {} mismatches\n    {}",
+                case.name,
+                case.env_id,
+                mm.count,
+                mm.lines.join("\n    ")
+            ));
         }
     }
-    assert!(failed.is_empty(), "{} of {} cases differ from the reference:\n{}", failed.len(), m.cases.len(), failed.join("\n"));
-    eprintln!("{} cases, {steps} steps: bit-identical to the reference", m.cases.len());
+    assert!(
+        failed.is_empty(),
+        "{} of {} cases differ from the reference:\n{}",
+        failed.len(),
+        m.cases.len(),
+        failed.join("\n")
+    );
+    eprintln!(
+        "{} cases, {steps} steps: bit-identical to the reference",
+        m.cases.len()
+    );
 }

@@ -7,7 +7,9 @@ use envc::envspec::Code;
 use envc::{Env, EnvError, Override};
 
 fn spec(file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/gymnasium").join(file)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../specs/gymnasium")
+        .join(file)
 }
 
 fn tempdir(name: &str) -> PathBuf {
@@ -22,7 +24,10 @@ fn wrong_action_length_is_an_error_and_changes_nothing() {
     let obs0 = env.reset(Some(3)).0.to_vec();
     let e = env.step(&[0.1, 0.2]).unwrap_err();
     assert_eq!(e.code(), Code::E1101);
-    assert_eq!(e.to_string(), "error[E1101]: action has 2 entries but Hopper-v5 expects 3");
+    assert_eq!(
+        e.to_string(),
+        "error[E1101]: action has 2 entries but Hopper-v5 expects 3"
+    );
     assert_eq!(env.obs(), &obs0[..]);
     assert_eq!(env.elapsed_steps(), 0);
     assert!(env.step(&[0.1, 0.2, 0.3]).is_ok());
@@ -50,10 +55,17 @@ fn step_before_reset_is_an_error() {
 
 #[test]
 fn unknown_override_and_bad_override_type() {
-    let e = Env::make("Ant-v5", &[Override::text("ctrl_cost_wieght", "0.1")]).err().unwrap();
+    let e = Env::make("Ant-v5", &[Override::text("ctrl_cost_wieght", "0.1")])
+        .err()
+        .unwrap();
     assert_eq!(e.code(), Code::E0202);
-    assert!(e.to_string().contains("did you mean `ctrl_cost_weight`?"), "{e}");
-    let e = Env::make("Ant-v5", &[Override::text("healthy_z_range", "0.5")]).err().unwrap();
+    assert!(
+        e.to_string().contains("did you mean `ctrl_cost_weight`?"),
+        "{e}"
+    );
+    let e = Env::make("Ant-v5", &[Override::text("healthy_z_range", "0.5")])
+        .err()
+        .unwrap();
     assert_eq!(e.code(), Code::E0203);
 }
 
@@ -65,7 +77,12 @@ fn unknown_env_id_suggests_the_closest() {
 
 #[test]
 fn missing_model_file() {
-    let e = Env::from_spec_file(spec("ant.toml"), &[Override::text("xml_file", "/nonexistent/ant.xml")]).err().unwrap();
+    let e = Env::from_spec_file(
+        spec("ant.toml"),
+        &[Override::text("xml_file", "/nonexistent/ant.xml")],
+    )
+    .err()
+    .unwrap();
     assert_eq!(e.code(), Code::E0301);
     assert!(e.to_string().contains("/nonexistent/ant.xml"), "{e}");
 }
@@ -105,7 +122,11 @@ fn mujoco_warnings_are_captured_not_logged() {
     let env = Env::from_spec_file(spec("half_cheetah.toml"), &[]);
     std::env::set_current_dir(before).unwrap();
     let env = env.unwrap();
-    assert!(env.warnings().iter().any(|w| w.contains("settotalmass")), "{:?}", env.warnings());
+    assert!(
+        env.warnings().iter().any(|w| w.contains("settotalmass")),
+        "{:?}",
+        env.warnings()
+    );
     assert!(!dir.join("MUJOCO_LOG.TXT").exists());
 }
 
@@ -134,7 +155,13 @@ fn instability_warnings_are_retrievable() {
     for _ in 0..5 {
         env.step(&[1.0]).unwrap();
     }
-    assert!(env.warnings().iter().any(|w| w.contains("Nan, Inf or huge value")), "{:?}", env.warnings());
+    assert!(
+        env.warnings()
+            .iter()
+            .any(|w| w.contains("Nan, Inf or huge value")),
+        "{:?}",
+        env.warnings()
+    );
 }
 
 #[test]
@@ -142,12 +169,17 @@ fn errors_are_values_of_one_type() {
     fn code(r: Result<Env, EnvError>) -> Code {
         r.err().unwrap().code()
     }
-    assert_eq!(code(Env::make("Ant-v5", &[Override::text("frame_skip", "0")])), Code::E0104);
+    assert_eq!(
+        code(Env::make("Ant-v5", &[Override::text("frame_skip", "0")])),
+        Code::E0104
+    );
 }
 
 #[test]
 fn negative_reset_noise_is_a_spec_error_not_a_panic() {
-    let e = Env::make("Hopper-v5", &[Override::text("reset_noise_scale", "-0.1")]).err().unwrap();
+    let e = Env::make("Hopper-v5", &[Override::text("reset_noise_scale", "-0.1")])
+        .err()
+        .unwrap();
     assert_eq!(e.code(), Code::E0104);
     assert!(e.to_string().contains("[reset.qpos]"), "{e}");
 }

@@ -22,7 +22,11 @@ impl SourceFile {
         let line_starts = std::iter::once(0)
             .chain(text.match_indices('\n').map(|(i, _)| i + 1))
             .collect();
-        Arc::new(SourceFile { path: path.into(), text, line_starts })
+        Arc::new(SourceFile {
+            path: path.into(),
+            text,
+            line_starts,
+        })
     }
 
     /// 1-based line and column (in characters) of a byte offset.
@@ -36,7 +40,11 @@ impl SourceFile {
 
     fn line_text(&self, line: usize) -> &str {
         let start = self.line_starts[line - 1];
-        let end = self.line_starts.get(line).copied().unwrap_or(self.text.len());
+        let end = self
+            .line_starts
+            .get(line)
+            .copied()
+            .unwrap_or(self.text.len());
         self.text[start..end].trim_end_matches(['\n', '\r'])
     }
 }
@@ -50,7 +58,10 @@ pub struct Location {
 
 impl Location {
     pub fn new(file: &Arc<SourceFile>, span: Range<usize>) -> Self {
-        Location { file: Arc::clone(file), span }
+        Location {
+            file: Arc::clone(file),
+            span,
+        }
     }
 
     /// `path:line:col`
@@ -129,7 +140,13 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn new(code: Code, message: impl Into<String>) -> Self {
-        Diagnostic { code, message: message.into(), location: None, label: None, help: None }
+        Diagnostic {
+            code,
+            message: message.into(),
+            location: None,
+            label: None,
+            help: None,
+        }
     }
     pub fn at(mut self, location: Location) -> Self {
         self.location = Some(location);
@@ -171,18 +188,30 @@ impl fmt::Display for Diagnostic {
             writeln!(f, "{pad}--> {}", loc.position())?;
             writeln!(f, "{pad} |")?;
             writeln!(f, "{line} | {text}")?;
-            let line_end = loc.file.line_starts.get(line).copied().unwrap_or(loc.file.text.len());
+            let line_end = loc
+                .file
+                .line_starts
+                .get(line)
+                .copied()
+                .unwrap_or(loc.file.text.len());
             let end = loc.span.end.min(line_end).max(loc.span.start);
-            let width = loc.file.text[loc.span.start..end].trim_end().chars().count().max(1);
-            let lead: String =
-                text.chars().take(col - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+            let width = loc.file.text[loc.span.start..end]
+                .trim_end()
+                .chars()
+                .count()
+                .max(1);
+            let lead: String = text
+                .chars()
+                .take(col - 1)
+                .map(|c| if c == '\t' { '\t' } else { ' ' })
+                .collect();
             write!(f, "{pad} | {lead}{}", "^".repeat(width))?;
             match &self.label {
                 Some(label) => writeln!(f, " {label}")?,
                 None => writeln!(f)?,
             }
         } else if let Some(label) = &self.label {
-            writeln!(f, "  = expected: {label}")?;
+            writeln!(f, "  = note: {label}")?;
         }
         if let Some(help) = &self.help {
             let pad = match &self.location {
@@ -217,7 +246,11 @@ impl Diagnostics {
     }
     /// Ok(value) when nothing was reported.
     pub fn into_result<T>(self, value: T) -> Result<T, Diagnostics> {
-        if self.0.is_empty() { Ok(value) } else { Err(self) }
+        if self.0.is_empty() {
+            Ok(value)
+        } else {
+            Err(self)
+        }
     }
 }
 

@@ -39,7 +39,10 @@ pub struct ResolvedSpec {
 
 impl ResolvedSpec {
     pub fn param(&self, name: &str) -> Option<&ParamValue> {
-        self.params.iter().find(|p| p.name == name).map(|p| &p.value)
+        self.params
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| &p.value)
     }
     pub fn act_dim(&self) -> usize {
         self.model.nu()
@@ -50,7 +53,10 @@ impl ResolvedSpec {
     }
     /// Names of the observation elements, in order.
     pub fn obs_names(&self) -> Vec<String> {
-        self.observation.iter().flat_map(|s| s.element_names()).collect()
+        self.observation
+            .iter()
+            .flat_map(|s| s.element_names())
+            .collect()
     }
     /// Info entries present after `reset` (no velocities, no reward terms).
     pub fn reset_info(&self) -> impl Iterator<Item = &InfoItem> {
@@ -117,19 +123,35 @@ pub enum TermKind {
     Velocity { source: Selection },
     /// 1 when healthy, else 0.
     Healthy,
-    /// `clip(Σ clip_input(x)², clip)` with numpy's pairwise summation.
-    SumSquares { source: Selection, clip_input: Option<(f64, f64)>, clip: Option<(f64, f64)> },
+    /// `Σ clip_input(x)²` with numpy's pairwise summation. The output `clip` applies to the weighted
+    /// value: the term's value is `clip(weight × Σ, clip)` (Humanoid's contact cost).
+    SumSquares {
+        source: Selection,
+        clip_input: Option<(f64, f64)>,
+        clip: Option<(f64, f64)>,
+    },
     /// `‖x − minus‖₂` (a fused multiply-add dot product, as OpenBLAS computes it).
-    Norm { source: Selection, minus: Option<Selection> },
+    Norm {
+        source: Selection,
+        minus: Option<Selection>,
+    },
     /// `Σᵢ coefᵢ · pow(xᵢ − targetᵢ, 2)`, left to right.
-    Quadratic { source: Selection, coefs: Vec<f64>, targets: Vec<f64> },
+    Quadratic {
+        source: Selection,
+        coefs: Vec<f64>,
+        targets: Vec<f64>,
+    },
     /// `x / divisor` of one number.
-    Value { source: Selection, divide_by: Option<Divisor> },
+    Value {
+        source: Selection,
+        divide_by: Option<Divisor>,
+    },
     /// 1.
     Constant,
 }
 
-/// A reward term: `value = weight × kernel`; the reward adds `value`, or `−value` for a cost.
+/// A reward term: `value = weight × kernel` (except `SumSquares` with `clip`, see there, and `Constant`,
+/// whose value is exactly `weight`); the reward adds `value`, or `−value` for a cost.
 #[derive(Clone, Debug)]
 pub struct RewardTerm {
     pub name: String,
@@ -191,10 +213,17 @@ pub struct HealthCheck {
 #[derive(Clone, Debug)]
 pub enum Distribution {
     /// numpy `uniform(low, high)` per element.
-    Uniform { low: Vec<f64>, high: Vec<f64> },
+    Uniform {
+        low: Vec<f64>,
+        high: Vec<f64>,
+    },
     /// `scale × standard_normal()` per element.
-    Normal { scale: f64 },
-    Constant { value: f64 },
+    Normal {
+        scale: f64,
+    },
+    Constant {
+        value: f64,
+    },
 }
 
 /// Redraw the whole block until its norm satisfies the condition.
@@ -218,9 +247,16 @@ pub struct ResetStep {
 
 #[derive(Clone, Debug)]
 pub enum InfoKind {
-    Value { source: Selection, minus: Option<Selection> },
-    Norm { source: Selection },
-    Velocity { source: Selection },
+    Value {
+        source: Selection,
+        minus: Option<Selection>,
+    },
+    Norm {
+        source: Selection,
+    },
+    Velocity {
+        source: Selection,
+    },
     /// The signed value of reward term `i`.
     Term(usize),
 }

@@ -158,11 +158,17 @@ impl Reader {
     fn read_file(&mut self, path: &Path) -> Result<(), Diagnostic> {
         self.depth += 1;
         if self.depth > 32 {
-            return Err(malformed(path, "<include> nesting deeper than 32 (a cycle?)"));
+            return Err(malformed(
+                path,
+                "<include> nesting deeper than 32 (a cycle?)",
+            ));
         }
         let text = std::fs::read_to_string(path).map_err(|e| {
-            Diagnostic::new(Code::E0301, format!("cannot read model file {}: {e}", path.display()))
-                .label("expected an existing, readable MJCF file")
+            Diagnostic::new(
+                Code::E0301,
+                format!("cannot read model file {}: {e}", path.display()),
+            )
+            .label("expected an existing, readable MJCF file")
         })?;
         let doc = roxmltree::Document::parse(&text)
             .map_err(|e| malformed(path, format!("not well-formed XML: {e}")))?;
@@ -170,10 +176,18 @@ impl Reader {
         match root.tag_name().name() {
             "mujoco" => {}
             "robot" => {
-                return Err(malformed(path, "URDF models are not supported by the spec resolver yet")
-                    .help("convert it to MJCF first (MuJoCo's `compile` sample or mjSpec save_xml)"));
+                return Err(malformed(
+                    path,
+                    "URDF models are not supported by the spec resolver yet",
+                )
+                .help("convert it to MJCF first (MuJoCo's `compile` sample or mjSpec save_xml)"));
             }
-            other => return Err(malformed(path, format!("root element is <{other}>, not <mujoco>"))),
+            other => {
+                return Err(malformed(
+                    path,
+                    format!("root element is <{other}>, not <mujoco>"),
+                ));
+            }
         }
         let dir = path.parent().unwrap_or(Path::new("."));
         for section in root.children().filter(|n| n.is_element()) {
@@ -183,18 +197,24 @@ impl Reader {
         Ok(())
     }
 
-    fn read_section(&mut self, path: &Path, dir: &Path, node: roxmltree::Node) -> Result<(), Diagnostic> {
+    fn read_section(
+        &mut self,
+        path: &Path,
+        dir: &Path,
+        node: roxmltree::Node,
+    ) -> Result<(), Diagnostic> {
         match node.tag_name().name() {
             "include" => {
-                let file = node.attribute("file").ok_or_else(|| malformed(path, "<include> without file"))?;
+                let file = node
+                    .attribute("file")
+                    .ok_or_else(|| malformed(path, "<include> without file"))?;
                 self.read_file(&dir.join(file))?;
             }
             "option" => {
                 if let Some(ts) = node.attribute("timestep") {
-                    self.info.timestep = ts
-                        .trim()
-                        .parse()
-                        .map_err(|_| malformed(path, format!("option timestep `{ts}` is not a number")))?;
+                    self.info.timestep = ts.trim().parse().map_err(|_| {
+                        malformed(path, format!("option timestep `{ts}` is not a number"))
+                    })?;
                 }
             }
             "default" => self.read_default(path, node, None)?,
@@ -205,10 +225,17 @@ impl Reader {
                             let b = self.read_body(path, child, None)?;
                             self.world_children.push(b);
                         }
-                        "site" => self.info.sites.push(child.attribute("name").unwrap_or("").into()),
+                        "site" => self
+                            .info
+                            .sites
+                            .push(child.attribute("name").unwrap_or("").into()),
                         "frame" => {
-                            let mut holder =
-                                BodyNode { name: String::new(), joints: vec![], sites: vec![], children: vec![] };
+                            let mut holder = BodyNode {
+                                name: String::new(),
+                                joints: vec![],
+                                sites: vec![],
+                                children: vec![],
+                            };
                             self.read_body_content(path, child, None, &mut holder)?;
                             if !holder.joints.is_empty() {
                                 return Err(malformed(path, "joints in the world body"));
@@ -216,9 +243,14 @@ impl Reader {
                             self.info.sites.extend(holder.sites);
                             self.world_children.extend(holder.children);
                         }
-                        "joint" | "freejoint" => return Err(malformed(path, "joints in the world body")),
+                        "joint" | "freejoint" => {
+                            return Err(malformed(path, "joints in the world body"));
+                        }
                         tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
-                            return Err(malformed(path, format!("<{tag}> is not supported by the spec resolver yet")));
+                            return Err(malformed(
+                                path,
+                                format!("<{tag}> is not supported by the spec resolver yet"),
+                            ));
                         }
                         _ => {}
                     }
@@ -226,16 +258,28 @@ impl Reader {
             }
             "actuator" => {
                 for a in node.children().filter(|n| n.is_element()) {
-                    let target = ["joint", "jointinparent", "tendon", "site", "body", "cranksite"]
-                        .iter()
-                        .find_map(|k| a.attribute(*k))
-                        .map(str::to_string);
-                    self.info.actuators.push(Actuator { name: a.attribute("name").unwrap_or("").into(), target });
+                    let target = [
+                        "joint",
+                        "jointinparent",
+                        "tendon",
+                        "site",
+                        "body",
+                        "cranksite",
+                    ]
+                    .iter()
+                    .find_map(|k| a.attribute(*k))
+                    .map(str::to_string);
+                    self.info.actuators.push(Actuator {
+                        name: a.attribute("name").unwrap_or("").into(),
+                        target,
+                    });
                 }
             }
             "tendon" => {
                 for t in node.children().filter(|n| n.is_element()) {
-                    self.info.tendons.push(t.attribute("name").unwrap_or("").into());
+                    self.info
+                        .tendons
+                        .push(t.attribute("name").unwrap_or("").into());
                 }
             }
             _ => {}
@@ -243,7 +287,12 @@ impl Reader {
         Ok(())
     }
 
-    fn read_default(&mut self, path: &Path, node: roxmltree::Node, parent: Option<String>) -> Result<(), Diagnostic> {
+    fn read_default(
+        &mut self,
+        path: &Path,
+        node: roxmltree::Node,
+        parent: Option<String>,
+    ) -> Result<(), Diagnostic> {
         let class = match (node.attribute("class"), &parent) {
             (Some(c), _) => c.to_string(),
             (None, None) => "main".to_string(),
@@ -254,7 +303,10 @@ impl Reader {
             match child.tag_name().name() {
                 "joint" => {
                     if let Some(t) = child.attribute("type") {
-                        kind = Some(parse_kind(t).ok_or_else(|| malformed(path, format!("unknown joint type `{t}`")))?);
+                        kind =
+                            Some(parse_kind(t).ok_or_else(|| {
+                                malformed(path, format!("unknown joint type `{t}`"))
+                            })?);
                     }
                 }
                 "default" => self.read_default(path, child, Some(class.clone()))?,
@@ -273,7 +325,9 @@ impl Reader {
                     if let Some(k) = kind {
                         return *k;
                     }
-                    cur = parent.clone().or_else(|| (c != "main").then(|| "main".into()));
+                    cur = parent
+                        .clone()
+                        .or_else(|| (c != "main").then(|| "main".into()));
                 }
                 None => cur = (c != "main").then(|| "main".into()),
             }
@@ -281,7 +335,12 @@ impl Reader {
         JointKind::Hinge
     }
 
-    fn read_body(&self, path: &Path, node: roxmltree::Node, childclass: Option<&str>) -> Result<BodyNode, Diagnostic> {
+    fn read_body(
+        &self,
+        path: &Path,
+        node: roxmltree::Node,
+        childclass: Option<&str>,
+    ) -> Result<BodyNode, Diagnostic> {
         let childclass = node.attribute("childclass").or(childclass);
         let mut body = BodyNode {
             name: node.attribute("name").unwrap_or("").into(),
@@ -305,20 +364,32 @@ impl Reader {
             match child.tag_name().name() {
                 "joint" => {
                     let kind = match child.attribute("type") {
-                        Some(t) => parse_kind(t).ok_or_else(|| malformed(path, format!("unknown joint type `{t}`")))?,
-                        None => self.joint_kind_from_class(child.attribute("class").or(childclass).unwrap_or("main")),
+                        Some(t) => parse_kind(t)
+                            .ok_or_else(|| malformed(path, format!("unknown joint type `{t}`")))?,
+                        None => self.joint_kind_from_class(
+                            child.attribute("class").or(childclass).unwrap_or("main"),
+                        ),
                     };
-                    body.joints.push((child.attribute("name").unwrap_or("").into(), kind));
+                    body.joints
+                        .push((child.attribute("name").unwrap_or("").into(), kind));
                 }
-                "freejoint" => body.joints.push((child.attribute("name").unwrap_or("").into(), JointKind::Free)),
-                "site" => body.sites.push(child.attribute("name").unwrap_or("").into()),
+                "freejoint" => body.joints.push((
+                    child.attribute("name").unwrap_or("").into(),
+                    JointKind::Free,
+                )),
+                "site" => body
+                    .sites
+                    .push(child.attribute("name").unwrap_or("").into()),
                 "body" => body.children.push(self.read_body(path, child, childclass)?),
                 "frame" => {
                     let cc = child.attribute("childclass").or(childclass);
                     self.read_body_content(path, child, cc, body)?;
                 }
                 tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
-                    return Err(malformed(path, format!("<{tag}> is not supported by the spec resolver yet")));
+                    return Err(malformed(
+                        path,
+                        format!("<{tag}> is not supported by the spec resolver yet"),
+                    ));
                 }
                 _ => {}
             }

@@ -4,9 +4,9 @@
 
 use std::fmt;
 
-use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location, SourceFile};
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, suggest};
 use crate::syntax::{ParamDecl, Spec};
-use crate::value::{format_float, parse_literal, Val, ValKind};
+use crate::value::{Val, ValKind, format_float, parse_literal};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ParamType {
@@ -127,27 +127,38 @@ impl Override {
     pub fn parse(s: &str) -> Result<Override, Diagnostic> {
         match s.split_once('=') {
             Some((k, v)) if !k.trim().is_empty() => Ok(Override::text(k.trim(), v.trim())),
-            _ => Err(Diagnostic::new(Code::E0202, format!("override `{s}` is not of the form name=value"))
-                .label("expected name=value, e.g. ctrl_cost_weight=0.1")),
+            _ => Err(Diagnostic::new(
+                Code::E0202,
+                format!("override `{s}` is not of the form name=value"),
+            )
+            .label("expected name=value, e.g. ctrl_cost_weight=0.1")),
         }
     }
     pub fn text(name: &str, value: &str) -> Override {
-        Override { name: name.to_string(), value: OverrideValue::Text(value.to_string()) }
+        Override {
+            name: name.to_string(),
+            value: OverrideValue::Text(value.to_string()),
+        }
     }
     pub fn value(name: &str, value: ParamValue) -> Override {
-        Override { name: name.to_string(), value: OverrideValue::Value(value) }
+        Override {
+            name: name.to_string(),
+            value: OverrideValue::Value(value),
+        }
     }
 }
 
 /// Infer the type of a declared parameter.
 pub fn decl_type(p: &ParamDecl) -> ParamType {
-    if let Some((t, _)) = &p.ty {
-        return ParamType::from_name(t);
-    }
+    // The required parameters have fixed types; a conflicting `type` makes the default fail to
+    // convert (E0102) instead of reaching the resolver with a value it cannot use.
     match p.name.as_str() {
         "xml_file" => return ParamType::Path,
         "frame_skip" | "max_episode_steps" => return ParamType::Int,
         _ => {}
+    }
+    if let Some((t, _)) = &p.ty {
+        return ParamType::from_name(t);
     }
     match &p.default.kind {
         ValKind::Bool(_) => ParamType::Bool,
@@ -206,21 +217,34 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
                 origin: Origin::Default(p.default.loc.clone()),
             }),
             None => d.push(
-                Diagnostic::new(Code::E0102, format!("default of parameter `{}` is not {}", p.name, ty.expected()))
-                    .at(p.default.loc.clone())
-                    .label(format!("expected {} (type {})", ty.expected(), ty.name())),
+                Diagnostic::new(
+                    Code::E0102,
+                    format!("default of parameter `{}` is not {}", p.name, ty.expected()),
+                )
+                .at(p.default.loc.clone())
+                .label(format!("expected {} (type {})", ty.expected(), ty.name())),
             ),
         }
     }
     for o in overrides {
         let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
             d.push(
-                Diagnostic::new(Code::E0202, format!("unknown parameter `{}` for {}", o.name, spec.id))
-                    .label(format!(
-                        "expected one of: {}",
-                        spec.params.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
-                    ))
-                    .help_opt(suggest(&o.name, spec.params.iter().map(|p| p.name.as_str()))),
+                Diagnostic::new(
+                    Code::E0202,
+                    format!("unknown parameter `{}` for {}", o.name, spec.id),
+                )
+                .label(format!(
+                    "expected one of: {}",
+                    spec.params
+                        .iter()
+                        .map(|p| p.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+                .help_opt(suggest(
+                    &o.name,
+                    spec.params.iter().map(|p| p.name.as_str()),
+                )),
             );
             continue;
         };
@@ -255,13 +279,21 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             None => d.push(
                 Diagnostic::new(
                     Code::E0203,
-                    format!("override of `{}` is not {} (type {})", o.name, param.ty.expected(), param.ty.name()),
+                    format!(
+                        "override of `{}` is not {} (type {})",
+                        o.name,
+                        param.ty.expected(),
+                        param.ty.name()
+                    ),
                 )
                 .at_opt(loc)
-                .label(format!("expected {}; the default is {}", param.ty.expected(), param.default)),
+                .label(format!(
+                    "expected {}; the default is {}",
+                    param.ty.expected(),
+                    param.default
+                )),
             ),
         }
     }
     d.into_result(params)
 }
-

@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location};
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, suggest};
 use crate::ir::*;
 use crate::mjcf::ModelInfo;
-use crate::params::{resolve_params, Origin, Override, Param, ParamValue};
+use crate::params::{Origin, Override, Param, ParamValue, resolve_params};
 use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
@@ -37,7 +37,12 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         Diagnostics::from(e.at_opt(at).help(help))
     })?;
 
-    let mut cx = Ctx { spec, params: &params, model: &model, d: Diagnostics::default() };
+    let mut cx = Ctx {
+        spec,
+        params: &params,
+        model: &model,
+        d: Diagnostics::default(),
+    };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
         Some(ParamValue::Int(n)) if *n >= 1 && *n <= u32::MAX as i64 => *n as u32,
@@ -64,12 +69,22 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let mut info = cx.info();
     for (i, t) in reward.iter().enumerate() {
         if let Some(key) = &t.info {
-            info.push(InfoItem { key: key.clone(), doc: t.doc.clone(), kind: InfoKind::Term(i), len: 1, at_reset: false });
+            info.push(InfoItem {
+                key: key.clone(),
+                doc: t.doc.clone(),
+                kind: InfoKind::Term(i),
+                len: 1,
+                at_reset: false,
+            });
         }
     }
-    cx.check_info_keys(&info);
+    cx.check_info_keys(&info, &reward);
 
-    let mut fields: Vec<Field> = observation.iter().flat_map(|s| [Some(s.source.field), s.minus.as_ref().map(|m| m.field)]).flatten().collect();
+    let mut fields: Vec<Field> = observation
+        .iter()
+        .flat_map(|s| [Some(s.source.field), s.minus.as_ref().map(|m| m.field)])
+        .flatten()
+        .collect();
     for t in &reward {
         match &t.kind {
             TermKind::Velocity { source }
@@ -83,7 +98,11 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
             TermKind::Healthy | TermKind::Constant => {}
         }
     }
-    fields.extend(health.iter().flat_map(|h| h.sources.iter().map(|s| s.field)));
+    fields.extend(
+        health
+            .iter()
+            .flat_map(|h| h.sources.iter().map(|s| s.field)),
+    );
     for i in &info {
         match &i.kind {
             InfoKind::Value { source, minus } => {
@@ -135,14 +154,21 @@ impl Ctx<'_> {
             Origin::Default(l) => Some(l.clone()),
             Origin::Override(_) => None,
         });
-        Diagnostic::new(Code::E0104, msg.to_string()).at_opt(loc).label("invalid value")
+        Diagnostic::new(Code::E0104, msg.to_string())
+            .at_opt(loc)
+            .label("invalid value")
     }
 
     fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {
-        Diagnostic::new(Code::E0201, format!("`{name}` is not a parameter of this spec"))
-            .at(loc.clone())
-            .label(format!("expected {expected} or the name of a parameter in [params]"))
-            .help_opt(suggest(name, self.params.iter().map(|p| p.name.as_str())))
+        Diagnostic::new(
+            Code::E0201,
+            format!("`{name}` is not a parameter of this spec"),
+        )
+        .at(loc.clone())
+        .label(format!(
+            "expected {expected} or the name of a parameter in [params]"
+        ))
+        .help_opt(suggest(name, self.params.iter().map(|p| p.name.as_str())))
     }
 
     /// A parameter looked up by a reference in the spec.
@@ -159,9 +185,12 @@ impl Ctx<'_> {
 
     fn wrong_param_type(&mut self, name: &str, loc: &Location, expected: &str, got: &ParamValue) {
         self.d.push(
-            Diagnostic::new(Code::E0102, format!("parameter `{name}` is {got}, not {expected}"))
-                .at(loc.clone())
-                .label(format!("expected {expected}")),
+            Diagnostic::new(
+                Code::E0102,
+                format!("parameter `{name}` is {got}, not {expected}"),
+            )
+            .at(loc.clone())
+            .label(format!("expected {expected}")),
         );
     }
 
@@ -179,7 +208,8 @@ impl Ctx<'_> {
                 }
             },
             _ => {
-                self.d.push(v.type_error(what, "a number or a parameter name"));
+                self.d
+                    .push(v.type_error(what, "a number or a parameter name"));
                 None
             }
         }
@@ -188,7 +218,9 @@ impl Ctx<'_> {
     /// `[low, high]`, or the name of a range parameter.
     fn range(&mut self, v: &Val, what: &str) -> Option<(f64, f64)> {
         let r = match &v.kind {
-            ValKind::Array(a) if a.len() == 2 => Some((self.num(&a[0], what)?, self.num(&a[1], what)?)),
+            ValKind::Array(a) if a.len() == 2 => {
+                Some((self.num(&a[0], what)?, self.num(&a[1], what)?))
+            }
             ValKind::Str(name) => match self.lookup(name, &v.loc, "a range")? {
                 ParamValue::Range(a, b) => Some((a, b)),
                 other => {
@@ -197,15 +229,19 @@ impl Ctx<'_> {
                 }
             },
             _ => {
-                self.d.push(v.type_error(what, "[low, high] or a parameter name"));
+                self.d
+                    .push(v.type_error(what, "[low, high] or a parameter name"));
                 None
             }
         }?;
         if r.0 > r.1 {
             self.d.push(
-                Diagnostic::new(Code::E0104, format!("{what}: low {} is above high {}", r.0, r.1))
-                    .at(v.loc.clone())
-                    .label("expected low <= high"),
+                Diagnostic::new(
+                    Code::E0104,
+                    format!("{what}: low {} is above high {}", r.0, r.1),
+                )
+                .at(v.loc.clone())
+                .label("expected low <= high"),
             );
         }
         Some(r)
@@ -229,7 +265,8 @@ impl Ctx<'_> {
                 }
             }
             _ => {
-                self.d.push(v.type_error(what, "true, false or a bool parameter name"));
+                self.d
+                    .push(v.type_error(what, "true, false or a bool parameter name"));
                 None
             }
         }
@@ -237,7 +274,8 @@ impl Ctx<'_> {
 
     fn selection(&mut self, v: &Val, what: &str) -> Option<Selection> {
         let Some(text) = v.as_str() else {
-            self.d.push(v.type_error(what, "a selector string such as \"qpos[2:]\""));
+            self.d
+                .push(v.type_error(what, "a selector string such as \"qpos[2:]\""));
             return None;
         };
         let params = self.params;
@@ -245,9 +283,12 @@ impl Ctx<'_> {
             match params.iter().find(|p| p.name == name).map(|p| &p.value) {
                 Some(ParamValue::Int(i)) => Ok(ParamIndex::Int(*i)),
                 Some(ParamValue::Str(s)) => Ok(ParamIndex::Name(s.clone())),
-                Some(other) => Err(Diagnostic::new(Code::E0102, format!("parameter `{name}` is {other}, not an index or name"))
-                    .at(v.loc.clone())
-                    .label("expected an integer or string parameter")),
+                Some(other) => Err(Diagnostic::new(
+                    Code::E0102,
+                    format!("parameter `{name}` is {other}, not an index or name"),
+                )
+                .at(v.loc.clone())
+                .label("expected an integer or string parameter")),
                 None => Err(self.unknown_param(name, &v.loc, "an index")),
             }
         };
@@ -268,9 +309,18 @@ impl Ctx<'_> {
     fn same_len(&mut self, a: &Selection, b: &Selection, loc: &Location) -> bool {
         if a.len() != b.len() {
             self.d.push(
-                Diagnostic::new(Code::E0403, format!("`{}` has {} elements but `{}` has {}", a.text, a.len(), b.text, b.len()))
-                    .at(loc.clone())
-                    .label("expected selections of equal length"),
+                Diagnostic::new(
+                    Code::E0403,
+                    format!(
+                        "`{}` has {} elements but `{}` has {}",
+                        a.text,
+                        a.len(),
+                        b.text,
+                        b.len()
+                    ),
+                )
+                .at(loc.clone())
+                .label("expected selections of equal length"),
             );
             return false;
         }
@@ -280,9 +330,12 @@ impl Ctx<'_> {
     fn scalar(&mut self, s: &Selection, loc: &Location, what: &str) -> bool {
         if s.len() != 1 {
             self.d.push(
-                Diagnostic::new(Code::E0403, format!("{what} needs one number, `{}` selects {}", s.text, s.len()))
-                    .at(loc.clone())
-                    .label("expected a selector of exactly one element, e.g. `qpos[0]`"),
+                Diagnostic::new(
+                    Code::E0403,
+                    format!("{what} needs one number, `{}` selects {}", s.text, s.len()),
+                )
+                .at(loc.clone())
+                .label("expected a selector of exactly one element, e.g. `qpos[0]`"),
             );
             return false;
         }
@@ -293,23 +346,28 @@ impl Ctx<'_> {
         let mut out = vec![];
         let mut offset = 0;
         for s in &self.spec.observation {
-            if let Some(w) = s.get("when")
-                && !self.flag(w, "when").unwrap_or(true) {
-                    continue;
-                }
-            let Some(mut source) = self.sel_key(s, "source") else { continue };
+            // A segment switched off by `when` is still checked: an override must not reveal errors.
+            let enabled = match s.get("when") {
+                Some(w) => self.flag(w, "when").unwrap_or(true),
+                None => true,
+            };
+            let Some(mut source) = self.sel_key(s, "source") else {
+                continue;
+            };
             let mut minus = self.sel_key(s, "minus");
             if let Some(m) = &minus
-                && !self.same_len(&source, m, &s.get("minus").unwrap().loc) {
-                    minus = None;
-                }
+                && !self.same_len(&source, m, &s.get("minus").unwrap().loc)
+            {
+                minus = None;
+            }
             if let Some(df) = s.get("drop_first")
-                && let Some(n) = self.drop_first(df) {
-                    source.drop_first(n);
-                    if let Some(m) = &mut minus {
-                        m.drop_first(n);
-                    }
+                && let Some(n) = self.drop_first(df)
+            {
+                source.drop_first(n);
+                if let Some(m) = &mut minus {
+                    m.drop_first(n);
                 }
+            }
             let apply = match s.get("apply") {
                 None => None,
                 Some(v) => match v.as_str() {
@@ -326,7 +384,18 @@ impl Ctx<'_> {
                 },
             };
             let clip = s.get("clip").and_then(|v| self.range(v, "clip"));
-            let seg = Segment { name: s.name.clone(), doc: s.doc(), source, minus, apply, clip, offset };
+            let seg = Segment {
+                name: s.name.clone(),
+                doc: s.doc(),
+                source,
+                minus,
+                apply,
+                clip,
+                offset,
+            };
+            if !enabled {
+                continue;
+            }
             offset += seg.len();
             out.push(seg);
         }
@@ -341,24 +410,33 @@ impl Ctx<'_> {
                 for e in t {
                     if e.key != "count" && e.key != "when" {
                         self.d.push(
-                            Diagnostic::new(Code::E0101, format!("unknown key `{}` in drop_first", e.key))
-                                .at(e.key_loc.clone())
-                                .label("expected count, when")
-                                .help_opt(suggest(&e.key, ["count", "when"])),
+                            Diagnostic::new(
+                                Code::E0101,
+                                format!("unknown key `{}` in drop_first", e.key),
+                            )
+                            .at(e.key_loc.clone())
+                            .label("expected count, when")
+                            .help_opt(suggest(&e.key, ["count", "when"])),
                         );
                     }
                 }
                 let count = t.iter().find(|e| e.key == "count");
                 let Some(count) = count else {
                     self.d.push(
-                        Diagnostic::new(Code::E0103, "missing `count` in drop_first").at(v.loc.clone()).label("expected count = N"),
+                        Diagnostic::new(Code::E0103, "missing `count` in drop_first")
+                            .at(v.loc.clone())
+                            .label("expected count = N"),
                     );
                     return None;
                 };
                 let n = match count.value.kind {
                     ValKind::Int(n) if n >= 0 => n as usize,
                     _ => {
-                        self.d.push(count.value.type_error("drop_first.count", "a non-negative integer"));
+                        self.d.push(
+                            count
+                                .value
+                                .type_error("drop_first.count", "a non-negative integer"),
+                        );
                         return None;
                     }
                 };
@@ -369,7 +447,8 @@ impl Ctx<'_> {
                 Some(if on { n } else { 0 })
             }
             _ => {
-                self.d.push(v.type_error("drop_first", "a count or { count, when }"));
+                self.d
+                    .push(v.type_error("drop_first", "a count or { count, when }"));
                 None
             }
         }
@@ -398,23 +477,34 @@ impl Ctx<'_> {
             };
             let kind = match s.kind("") {
                 "velocity" => self.need_sel(s, "source").and_then(|src| {
-                    self.scalar(&src, &s.get("source").unwrap().loc, "a velocity").then_some(TermKind::Velocity { source: src })
+                    self.scalar(&src, &s.get("source").unwrap().loc, "a velocity")
+                        .then_some(TermKind::Velocity { source: src })
                 }),
                 "healthy" => Some(TermKind::Healthy),
-                "sum_squares" => self.need_sel(s, "source").map(|source| TermKind::SumSquares {
-                    source,
-                    clip_input: s.get("clip_input").and_then(|v| self.range(v, "clip_input")),
-                    clip: s.get("clip").and_then(|v| self.range(v, "clip")),
-                }),
+                "sum_squares" => self
+                    .need_sel(s, "source")
+                    .map(|source| TermKind::SumSquares {
+                        source,
+                        clip_input: s
+                            .get("clip_input")
+                            .and_then(|v| self.range(v, "clip_input")),
+                        clip: s.get("clip").and_then(|v| self.range(v, "clip")),
+                    }),
                 "norm" => self.need_sel(s, "source").map(|source| {
-                    let minus = self.sel_key(s, "minus").filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
+                    let minus = self
+                        .sel_key(s, "minus")
+                        .filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
                     TermKind::Norm { source, minus }
                 }),
                 "quadratic" => self.need_sel(s, "source").and_then(|source| {
                     let n = source.len();
                     let coefs = self.num_list(s, "coefs", n, 1.0)?;
                     let targets = self.num_list(s, "targets", n, 0.0)?;
-                    Some(TermKind::Quadratic { source, coefs, targets })
+                    Some(TermKind::Quadratic {
+                        source,
+                        coefs,
+                        targets,
+                    })
                 }),
                 "value" => self.need_sel(s, "source").and_then(|source| {
                     if !self.scalar(&source, &s.get("source").unwrap().loc, "a value term") {
@@ -441,7 +531,14 @@ impl Ctx<'_> {
                 _ => None, // reported by the syntax check
             };
             if let Some(kind) = kind {
-                out.push(RewardTerm { name: s.name.clone(), doc: s.doc(), kind, weight, cost, info });
+                out.push(RewardTerm {
+                    name: s.name.clone(),
+                    doc: s.doc(),
+                    kind,
+                    weight,
+                    cost,
+                    info,
+                });
             }
         }
         out
@@ -450,9 +547,12 @@ impl Ctx<'_> {
     fn need_sel(&mut self, s: &Section, key: &str) -> Option<Selection> {
         if s.get(key).is_none() {
             self.d.push(
-                Diagnostic::new(Code::E0103, format!("missing `{key}` in [{}]", s.name))
-                    .at(s.name_loc.clone())
-                    .label(format!("expected a `{key}` selector")),
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("missing `{key}` in [reward.{}]", s.name),
+                )
+                .at(s.name_loc.clone())
+                .label(format!("expected a `{key}` selector")),
             );
             return None;
         }
@@ -461,11 +561,16 @@ impl Ctx<'_> {
 
     /// A list of `n` numbers (default: all `default`).
     fn num_list(&mut self, s: &Section, key: &str, n: usize, default: f64) -> Option<Vec<f64>> {
-        let Some(v) = s.get(key) else { return Some(vec![default; n]) };
+        let Some(v) = s.get(key) else {
+            return Some(vec![default; n]);
+        };
         match &v.kind {
             ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, key)).collect(),
             _ => {
-                self.d.push(v.type_error(key, &format!("an array of {n} numbers (one per selected element)")));
+                self.d.push(v.type_error(
+                    key,
+                    &format!("an array of {n} numbers (one per selected element)"),
+                ));
                 None
             }
         }
@@ -476,17 +581,20 @@ impl Ctx<'_> {
             return SumNode::Sum((0..terms.len()).map(SumNode::Term).collect());
         };
         let mut used = vec![0usize; terms.len()];
-        let node = self.sum_node(&v, terms, &mut used).unwrap_or(SumNode::Sum(vec![]));
-        let all_known = self.spec.reward.len() == terms.len();
+        let node = self
+            .sum_node(&v, terms, &mut used)
+            .unwrap_or(SumNode::Sum(vec![]));
+        // `used` counts only the terms that resolved; a term that failed was reported where it failed.
         for (i, n) in used.iter().enumerate() {
-            if *n != 1 && all_known {
+            if *n != 1 {
+                let msg = match n {
+                    0 => format!("reward term `{}` is missing from `sum`", terms[i].name),
+                    _ => format!("reward term `{}` is used {n} times in `sum`", terms[i].name),
+                };
                 self.d.push(
-                    Diagnostic::new(
-                        Code::E0501,
-                        format!("reward term `{}` is used {n} times in `sum`", terms[i].name),
-                    )
-                    .at(v.loc.clone())
-                    .label("expected every term exactly once"),
+                    Diagnostic::new(Code::E0501, msg)
+                        .at(v.loc.clone())
+                        .label("expected every term exactly once"),
                 );
             }
         }
@@ -503,21 +611,28 @@ impl Ctx<'_> {
                 None => {
                     if self.spec.reward.iter().all(|s| &s.name != name) {
                         self.d.push(
-                            Diagnostic::new(Code::E0501, format!("`{name}` in `sum` is not a reward term"))
-                                .at(v.loc.clone())
-                                .label("expected the name of a [reward.<name>] table")
-                                .help_opt(suggest(name, terms.iter().map(|t| t.name.as_str()))),
+                            Diagnostic::new(
+                                Code::E0501,
+                                format!("`{name}` in `sum` is not a reward term"),
+                            )
+                            .at(v.loc.clone())
+                            .label("expected the name of a [reward.<name>] table")
+                            .help_opt(suggest(name, terms.iter().map(|t| t.name.as_str()))),
                         );
                     }
                     None
                 }
             },
             ValKind::Array(a) if !a.is_empty() => {
-                let nodes: Vec<SumNode> = a.iter().filter_map(|x| self.sum_node(x, terms, used)).collect();
+                let nodes: Vec<SumNode> = a
+                    .iter()
+                    .filter_map(|x| self.sum_node(x, terms, used))
+                    .collect();
                 Some(SumNode::Sum(nodes))
             }
             _ => {
-                self.d.push(v.type_error("reward.sum", "a (nested) list of term names"));
+                self.d
+                    .push(v.type_error("reward.sum", "a (nested) list of term names"));
                 None
             }
         }
@@ -531,7 +646,10 @@ impl Ctx<'_> {
                 ValKind::Array(a) => a.clone(),
                 _ => vec![src.clone()],
             };
-            let sources: Vec<Selection> = srcs.iter().filter_map(|v| self.selection(v, "source")).collect();
+            let sources: Vec<Selection> = srcs
+                .iter()
+                .filter_map(|v| self.selection(v, "source"))
+                .collect();
             if sources.len() != srcs.len() {
                 continue;
             }
@@ -540,13 +658,18 @@ impl Ctx<'_> {
                 "in_range" => {
                     let Some(r) = s.get("range") else {
                         self.d.push(
-                            Diagnostic::new(Code::E0103, format!("missing `range` in [health.{}]", s.name))
-                                .at(s.name_loc.clone())
-                                .label("expected range = [low, high] or a parameter name"),
+                            Diagnostic::new(
+                                Code::E0103,
+                                format!("missing `range` in [health.{}]", s.name),
+                            )
+                            .at(s.name_loc.clone())
+                            .label("expected range = [low, high] or a parameter name"),
                         );
                         continue;
                     };
-                    let Some((lo, hi)) = self.range(r, "range") else { continue };
+                    let Some((lo, hi)) = self.range(r, "range") else {
+                        continue;
+                    };
                     let closed = match s.get("bounds") {
                         None => false,
                         Some(b) => match b.as_str() {
@@ -572,9 +695,15 @@ impl Ctx<'_> {
                         Some(">=") => CmpOp::Ge,
                         _ => {
                             self.d.push(
-                                Diagnostic::new(Code::E0104, format!("missing or unknown `op` in [health.{}]", s.name))
-                                    .at(s.get("op").map(|v| v.loc.clone()).unwrap_or(s.name_loc.clone()))
-                                    .label("expected op = \"<\", \"<=\", \">\" or \">=\""),
+                                Diagnostic::new(
+                                    Code::E0104,
+                                    format!("missing or unknown `op` in [health.{}]", s.name),
+                                )
+                                .at(s
+                                    .get("op")
+                                    .map(|v| v.loc.clone())
+                                    .unwrap_or(s.name_loc.clone()))
+                                .label("expected op = \"<\", \"<=\", \">\" or \">=\""),
                             );
                             continue;
                         }
@@ -582,9 +711,12 @@ impl Ctx<'_> {
                     let Some(value) = s.get("value").and_then(|v| self.num(v, "value")) else {
                         if s.get("value").is_none() {
                             self.d.push(
-                                Diagnostic::new(Code::E0103, format!("missing `value` in [health.{}]", s.name))
-                                    .at(s.name_loc.clone())
-                                    .label("expected value = a number or parameter name"),
+                                Diagnostic::new(
+                                    Code::E0103,
+                                    format!("missing `value` in [health.{}]", s.name),
+                                )
+                                .at(s.name_loc.clone())
+                                .label("expected value = a number or parameter name"),
                             );
                         }
                         continue;
@@ -593,7 +725,12 @@ impl Ctx<'_> {
                 }
                 _ => continue,
             };
-            out.push(HealthCheck { name: s.name.clone(), doc: s.doc(), kind, sources });
+            out.push(HealthCheck {
+                name: s.name.clone(),
+                doc: s.doc(),
+                kind,
+                sources,
+            });
         }
         out
     }
@@ -601,12 +738,17 @@ impl Ctx<'_> {
     fn reset(&mut self) -> Vec<ResetStep> {
         let mut out = vec![];
         for s in &self.spec.reset {
-            let Some(target) = self.sel_key(s, "target") else { continue };
+            let Some(target) = self.sel_key(s, "target") else {
+                continue;
+            };
             if !matches!(target.field, Field::Qpos | Field::Qvel) {
                 self.d.push(
-                    Diagnostic::new(Code::E0104, format!("reset target `{}` is not qpos or qvel", target.text))
-                        .at(s.get("target").unwrap().loc.clone())
-                        .label("expected a selection of qpos or qvel"),
+                    Diagnostic::new(
+                        Code::E0104,
+                        format!("reset target `{}` is not qpos or qvel", target.text),
+                    )
+                    .at(s.get("target").unwrap().loc.clone())
+                    .label("expected a selection of qpos or qvel"),
                 );
                 continue;
             }
@@ -615,33 +757,62 @@ impl Ctx<'_> {
             let dist = match kind {
                 "uniform" => {
                     if let Some(scale) = s.get("scale") {
-                        let Some(sc) = self.num(scale, "scale") else { continue };
-                        Distribution::Uniform { low: vec![-sc; n], high: vec![sc; n] }
+                        let Some(sc) = self.num(scale, "scale") else {
+                            continue;
+                        };
+                        Distribution::Uniform {
+                            low: vec![-sc; n],
+                            high: vec![sc; n],
+                        }
                     } else {
                         let low = self.bound(s, "low", n);
                         let high = self.bound(s, "high", n);
-                        let (Some(low), Some(high)) = (low, high) else { continue };
+                        let (Some(low), Some(high)) = (low, high) else {
+                            continue;
+                        };
                         Distribution::Uniform { low, high }
                     }
                 }
                 "normal" => {
-                    let Some(scale) = s.get("scale").map(|v| self.num(v, "scale")).unwrap_or(Some(1.0)) else { continue };
+                    let Some(scale) = s
+                        .get("scale")
+                        .map(|v| self.num(v, "scale"))
+                        .unwrap_or(Some(1.0))
+                    else {
+                        continue;
+                    };
                     Distribution::Normal { scale }
                 }
                 "constant" => {
-                    let Some(value) = s.get("value").map(|v| self.num(v, "value")).unwrap_or(Some(0.0)) else { continue };
+                    let Some(value) = s
+                        .get("value")
+                        .map(|v| self.num(v, "value"))
+                        .unwrap_or(Some(0.0))
+                    else {
+                        continue;
+                    };
                     Distribution::Constant { value }
                 }
                 _ => continue,
             };
             if let Distribution::Uniform { low, high } = &dist {
                 // numpy refuses these (and so would reset); report them with the spec's location.
-                if let Some(i) = (0..n).find(|&i| low[i].partial_cmp(&high[i]).is_none_or(|o| o.is_gt()) || !(high[i] - low[i]).is_finite()) {
-                    let at = s.get("scale").or(s.get("low")).map(|v| v.loc.clone()).unwrap_or(s.name_loc.clone());
+                if let Some(i) = (0..n).find(|&i| {
+                    low[i].partial_cmp(&high[i]).is_none_or(|o| o.is_gt())
+                        || !(high[i] - low[i]).is_finite()
+                }) {
+                    let at = s
+                        .get("scale")
+                        .or(s.get("low"))
+                        .map(|v| v.loc.clone())
+                        .unwrap_or(s.name_loc.clone());
                     self.d.push(
                         Diagnostic::new(
                             Code::E0104,
-                            format!("[reset.{}]: uniform bounds [{}, {}) are empty or infinite", s.name, low[i], high[i]),
+                            format!(
+                                "[reset.{}]: uniform bounds [{}, {}) are empty or infinite",
+                                s.name, low[i], high[i]
+                            ),
                         )
                         .at(at)
                         .label("expected low <= high with a finite width (scale >= 0)"),
@@ -651,21 +822,30 @@ impl Ctx<'_> {
             }
             let set = match s.get("mode") {
                 None => kind == "constant",
-                Some(m) => match m.as_str() {
-                    Some("add") => false,
-                    Some("set") => true,
-                    _ => {
-                        self.d.push(
+                Some(m) => {
+                    match m.as_str() {
+                        Some("add") => false,
+                        Some("set") => true,
+                        _ => {
+                            self.d.push(
                             Diagnostic::new(Code::E0104, "unknown reset mode")
                                 .at(m.loc.clone())
                                 .label("expected \"add\" (initial value + draw) or \"set\" (the draw)"),
                         );
-                        false
+                            false
+                        }
                     }
-                },
+                }
             };
             let resample_until = s.get("resample_until").and_then(|v| self.until(v));
-            out.push(ResetStep { name: s.name.clone(), doc: s.doc(), target, dist, set, resample_until });
+            out.push(ResetStep {
+                name: s.name.clone(),
+                doc: s.doc(),
+                target,
+                dist,
+                set,
+                resample_until,
+            });
         }
         out
     }
@@ -674,16 +854,20 @@ impl Ctx<'_> {
     fn bound(&mut self, s: &Section, key: &str, n: usize) -> Option<Vec<f64>> {
         let Some(v) = s.get(key) else {
             self.d.push(
-                Diagnostic::new(Code::E0103, format!("missing `{key}` in [reset.{}]", s.name))
-                    .at(s.name_loc.clone())
-                    .label("expected `scale`, or both `low` and `high`"),
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("missing `{key}` in [reset.{}]", s.name),
+                )
+                .at(s.name_loc.clone())
+                .label("expected `scale`, or both `low` and `high`"),
             );
             return None;
         };
         match &v.kind {
             ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, key)).collect(),
             ValKind::Array(_) => {
-                self.d.push(v.type_error(key, &format!("a number or an array of {n} numbers")));
+                self.d
+                    .push(v.type_error(key, &format!("a number or an array of {n} numbers")));
                 None
             }
             _ => self.num(v, key).map(|x| vec![x; n]),
@@ -693,7 +877,8 @@ impl Ctx<'_> {
     fn until(&mut self, v: &Val) -> Option<Until> {
         let t = v.as_table().filter(|t| t.len() == 1);
         let Some(e) = t.map(|t| &t[0]) else {
-            self.d.push(v.type_error("resample_until", "{ norm_below = x } or { norm_above = x }"));
+            self.d
+                .push(v.type_error("resample_until", "{ norm_below = x } or { norm_above = x }"));
             return None;
         };
         let x = self.num(&e.value, &e.key)?;
@@ -702,10 +887,13 @@ impl Ctx<'_> {
             "norm_above" => Some(Until::NormAbove(x)),
             k => {
                 self.d.push(
-                    Diagnostic::new(Code::E0101, format!("unknown condition `{k}` in resample_until"))
-                        .at(e.key_loc.clone())
-                        .label("expected norm_below or norm_above")
-                        .help_opt(suggest(k, ["norm_below", "norm_above"])),
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("unknown condition `{k}` in resample_until"),
+                    )
+                    .at(e.key_loc.clone())
+                    .label("expected norm_below or norm_above")
+                    .help_opt(suggest(k, ["norm_below", "norm_above"])),
                 );
                 None
             }
@@ -715,11 +903,15 @@ impl Ctx<'_> {
     fn info(&mut self) -> Vec<InfoItem> {
         let mut out = vec![];
         for s in &self.spec.info {
-            let Some(source) = self.sel_key(s, "source") else { continue };
+            let Some(source) = self.sel_key(s, "source") else {
+                continue;
+            };
             let len = source.len();
             let (kind, len, at_reset) = match s.kind("value") {
                 "value" => {
-                    let minus = self.sel_key(s, "minus").filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
+                    let minus = self
+                        .sel_key(s, "minus")
+                        .filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
                     (InfoKind::Value { source, minus }, len, true)
                 }
                 "norm" => (InfoKind::Norm { source }, 1, true),
@@ -731,25 +923,34 @@ impl Ctx<'_> {
                 }
                 _ => continue,
             };
-            out.push(InfoItem { key: s.name.clone(), doc: s.doc(), kind, len, at_reset });
+            out.push(InfoItem {
+                key: s.name.clone(),
+                doc: s.doc(),
+                kind,
+                len,
+                at_reset,
+            });
         }
         out
     }
 
-    fn check_info_keys(&mut self, info: &[InfoItem]) {
+    fn check_info_keys(&mut self, info: &[InfoItem], terms: &[RewardTerm]) {
         for (i, item) in info.iter().enumerate() {
             if info[..i].iter().any(|o| o.key == item.key) {
-                let loc = self
-                    .spec
-                    .reward
-                    .iter()
-                    .find(|s| s.str("info") == Some(item.key.as_str()))
-                    .and_then(|s| s.get("info"))
-                    .map(|v| v.loc.clone());
+                // [info.*] keys are unique (TOML keys), so the later one is a reward term's `info`.
+                let loc = match item.kind {
+                    InfoKind::Term(t) => self.spec.reward.iter().find(|s| s.name == terms[t].name),
+                    _ => None,
+                }
+                .and_then(|s| s.get("info"))
+                .map(|v| v.loc.clone());
                 self.d.push(
-                    Diagnostic::new(Code::E0104, format!("info key `{}` is defined twice", item.key))
-                        .at_opt(loc)
-                        .label("expected unique info keys"),
+                    Diagnostic::new(
+                        Code::E0104,
+                        format!("info key `{}` is defined twice", item.key),
+                    )
+                    .at_opt(loc)
+                    .label("expected unique info keys"),
                 );
             }
         }

@@ -9,7 +9,7 @@
 //! named model element (a joint's qpos or dof entries for joint-indexed fields). `$param` takes the
 //! index or name from a spec parameter.
 
-use crate::diagnostic::{suggest, Code, Diagnostic, Location};
+use crate::diagnostic::{Code, Diagnostic, Location, suggest};
 use crate::mjcf::ModelInfo;
 
 /// A mjData / mjModel array (or a derived quantity) that specs can read.
@@ -74,16 +74,24 @@ pub const FIELDS: &[(&str, Field)] = &[
 
 impl Field {
     pub fn name(self) -> &'static str {
-        FIELDS.iter().find(|(_, f)| *f == self).map(|(n, _)| *n).unwrap_or("?")
+        FIELDS
+            .iter()
+            .find(|(_, f)| *f == self)
+            .map(|(n, _)| *n)
+            .unwrap_or("?")
     }
     pub fn rows(self) -> Rows {
         match self {
             Field::Qpos | Field::Qpos0 => Rows::Qpos,
             Field::Qvel | Field::QfrcActuator | Field::QfrcConstraint => Rows::Dof,
             Field::Action | Field::Ctrl => Rows::Actuator,
-            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cinert | Field::Cvel | Field::Xpos | Field::Xipos => {
-                Rows::Body
-            }
+            Field::CfrcExt
+            | Field::CfrcInt
+            | Field::Cacc
+            | Field::Cinert
+            | Field::Cvel
+            | Field::Xpos
+            | Field::Xipos => Rows::Body,
             Field::SiteXpos => Rows::Site,
             Field::TenLength | Field::TenVelocity => Rows::Tendon,
             Field::MassCenter => Rows::Xyz,
@@ -104,7 +112,9 @@ impl Field {
     }
     fn col_names(self) -> &'static [&'static str] {
         match self {
-            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => &["rx", "ry", "rz", "tx", "ty", "tz"],
+            Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => {
+                &["rx", "ry", "rz", "tx", "ty", "tz"]
+            }
             Field::Cinert => &["i0", "i1", "i2", "i3", "i4", "i5", "mx", "my", "mz", "m"],
             Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
             _ => &[""],
@@ -168,20 +178,32 @@ fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic>
     };
     let mut indices = vec![];
     while !rest.is_empty() {
-        let close = rest.find(']').ok_or_else(|| syntax_error(loc, "missing `]`"))?;
+        let close = rest
+            .find(']')
+            .ok_or_else(|| syntax_error(loc, "missing `]`"))?;
         if !rest.starts_with('[') {
             return Err(syntax_error(loc, "expected `[` after `]`"));
         }
         let inner = rest[1..close].trim();
         rest = rest[close + 1..].trim_start();
         let int = |s: &str| -> Result<i64, Diagnostic> {
-            s.trim().parse::<i64>().map_err(|_| syntax_error(loc, &format!("`{s}` is not an integer")))
+            s.trim()
+                .parse::<i64>()
+                .map_err(|_| syntax_error(loc, &format!("`{s}` is not an integer")))
         };
         let idx = if let Some(p) = inner.strip_prefix('$') {
             Index::Param(p.trim().to_string())
         } else if let Some((a, b)) = inner.split_once(':') {
-            let a = if a.trim().is_empty() { None } else { Some(int(a)?) };
-            let b = if b.trim().is_empty() { None } else { Some(int(b)?) };
+            let a = if a.trim().is_empty() {
+                None
+            } else {
+                Some(int(a)?)
+            };
+            let b = if b.trim().is_empty() {
+                None
+            } else {
+                Some(int(b)?)
+            };
             Index::Slice(a, b)
         } else if inner.contains(',') {
             Index::List(inner.split(',').map(int).collect::<Result<_, _>>()?)
@@ -195,7 +217,10 @@ fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic>
         indices.push(idx);
     }
     if indices.len() > 2 {
-        return Err(syntax_error(loc, "at most two indices (rows, then columns)"));
+        return Err(syntax_error(
+            loc,
+            "at most two indices (rows, then columns)",
+        ));
     }
     Ok((field.trim().to_string(), indices))
 }
@@ -208,18 +233,32 @@ pub fn resolve(
     param: &dyn Fn(&str) -> Result<ParamIndex, Diagnostic>,
 ) -> Result<Selection, Diagnostic> {
     let (field_name, idx) = parse(text, loc)?;
-    let field = FIELDS.iter().find(|(n, _)| *n == field_name).map(|(_, f)| *f).ok_or_else(|| {
-        Diagnostic::new(Code::E0402, format!("unknown field `{field_name}` in selector `{text}`"))
+    let field = FIELDS
+        .iter()
+        .find(|(n, _)| *n == field_name)
+        .map(|(_, f)| *f)
+        .ok_or_else(|| {
+            Diagnostic::new(
+                Code::E0402,
+                format!("unknown field `{field_name}` in selector `{text}`"),
+            )
             .at(loc.clone())
             .label(format!(
                 "expected one of: {}",
-                FIELDS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+                FIELDS
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))
             .help_opt(suggest(&field_name, FIELDS.iter().map(|(n, _)| *n)))
-    })?;
+        })?;
     let cols = field.cols();
     if cols == 1 && idx.len() > 1 {
-        return Err(syntax_error(loc, &format!("`{field_name}` is a vector: one index only")));
+        return Err(syntax_error(
+            loc,
+            &format!("`{field_name}` is a vector: one index only"),
+        ));
     }
     let row_names = row_names(field, model);
     let nrows = row_names.len();
@@ -231,9 +270,12 @@ pub fn resolve(
     let col_ids: Vec<usize> = match idx.get(1) {
         None => (0..cols).collect(),
         Some(Index::Name(n)) | Some(Index::Param(n)) => {
-            return Err(Diagnostic::new(Code::E0401, format!("columns are selected by number, not by name (`{n}`)"))
-                .at(loc.clone())
-                .label(format!("expected a column index below {cols}")));
+            return Err(Diagnostic::new(
+                Code::E0401,
+                format!("columns are selected by number, not by name (`{n}`)"),
+            )
+            .at(loc.clone())
+            .label(format!("expected a column index below {cols}")));
         }
         Some(i) => select_ints(i, cols, loc)?,
     };
@@ -250,30 +292,67 @@ pub fn resolve(
             });
         }
     }
-    Ok(Selection { field, indices, names, text: text.to_string() })
+    Ok(Selection {
+        field,
+        indices,
+        names,
+        text: text.to_string(),
+    })
 }
 
 /// Readable names of a field's rows.
 fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
     let or_id = |name: &str, prefix: &str, i: usize| {
-        if name.is_empty() { format!("{prefix}{i}") } else { name.to_string() }
+        if name.is_empty() {
+            format!("{prefix}{i}")
+        } else {
+            name.to_string()
+        }
     };
     match field.rows() {
         Rows::Qpos | Rows::Dof => {
             let mut out = vec![];
             for (j, joint) in model.joints.iter().enumerate() {
-                let parts = if field.rows() == Rows::Qpos { joint.kind.qpos_parts() } else { joint.kind.dof_parts() };
+                let parts = if field.rows() == Rows::Qpos {
+                    joint.kind.qpos_parts()
+                } else {
+                    joint.kind.dof_parts()
+                };
                 let base = or_id(&joint.name, "joint", j);
                 for p in parts {
-                    out.push(if p.is_empty() { base.clone() } else { format!("{base}:{p}") });
+                    out.push(if p.is_empty() {
+                        base.clone()
+                    } else {
+                        format!("{base}:{p}")
+                    });
                 }
             }
             out
         }
-        Rows::Body => model.bodies.iter().enumerate().map(|(i, b)| or_id(b, "body", i)).collect(),
-        Rows::Site => model.sites.iter().enumerate().map(|(i, s)| or_id(s, "site", i)).collect(),
-        Rows::Tendon => model.tendons.iter().enumerate().map(|(i, s)| or_id(s, "tendon", i)).collect(),
-        Rows::Actuator => model.actuators.iter().enumerate().map(|(i, a)| or_id(&a.name, "actuator", i)).collect(),
+        Rows::Body => model
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| or_id(b, "body", i))
+            .collect(),
+        Rows::Site => model
+            .sites
+            .iter()
+            .enumerate()
+            .map(|(i, s)| or_id(s, "site", i))
+            .collect(),
+        Rows::Tendon => model
+            .tendons
+            .iter()
+            .enumerate()
+            .map(|(i, s)| or_id(s, "tendon", i))
+            .collect(),
+        Rows::Actuator => model
+            .actuators
+            .iter()
+            .enumerate()
+            .map(|(i, a)| or_id(&a.name, "actuator", i))
+            .collect(),
         Rows::Xyz => vec!["x".into(), "y".into(), "z".into()],
     }
 }
@@ -286,7 +365,8 @@ fn select_rows(
     loc: &Location,
     param: &dyn Fn(&str) -> Result<ParamIndex, Diagnostic>,
 ) -> Result<Vec<usize>, Diagnostic> {
-    let by_name = |name: &str| -> Result<Vec<usize>, Diagnostic> { rows_by_name(name, field, model, loc) };
+    let by_name =
+        |name: &str| -> Result<Vec<usize>, Diagnostic> { rows_by_name(name, field, model, loc) };
     match idx {
         Index::Name(n) => by_name(n),
         Index::Param(p) => match param(p)? {
@@ -297,7 +377,12 @@ fn select_rows(
     }
 }
 
-fn rows_by_name(name: &str, field: Field, model: &ModelInfo, loc: &Location) -> Result<Vec<usize>, Diagnostic> {
+fn rows_by_name(
+    name: &str,
+    field: Field,
+    model: &ModelInfo,
+    loc: &Location,
+) -> Result<Vec<usize>, Diagnostic> {
     let (what, candidates, found): (&str, Vec<&str>, Option<Vec<usize>>) = match field.rows() {
         Rows::Qpos | Rows::Dof => {
             let found = model.joint(name).map(|j| {
@@ -307,9 +392,17 @@ fn rows_by_name(name: &str, field: Field, model: &ModelInfo, loc: &Location) -> 
                     (j.dofadr..j.dofadr + j.kind.nv()).collect()
                 }
             });
-            ("joint", model.joints.iter().map(|j| j.name.as_str()).collect(), found)
+            (
+                "joint",
+                model.joints.iter().map(|j| j.name.as_str()).collect(),
+                found,
+            )
         }
-        Rows::Body => ("body", model.bodies.iter().map(String::as_str).collect(), model.body_id(name).map(|i| vec![i])),
+        Rows::Body => (
+            "body",
+            model.bodies.iter().map(String::as_str).collect(),
+            model.body_id(name).map(|i| vec![i]),
+        ),
         Rows::Site => (
             "site",
             model.sites.iter().map(String::as_str).collect(),
@@ -318,23 +411,48 @@ fn rows_by_name(name: &str, field: Field, model: &ModelInfo, loc: &Location) -> 
         Rows::Tendon => (
             "tendon",
             model.tendons.iter().map(String::as_str).collect(),
-            model.tendons.iter().position(|s| s == name).map(|i| vec![i]),
+            model
+                .tendons
+                .iter()
+                .position(|s| s == name)
+                .map(|i| vec![i]),
         ),
         Rows::Actuator => (
             "actuator",
             model.actuators.iter().map(|a| a.name.as_str()).collect(),
-            model.actuators.iter().position(|a| a.name == name).map(|i| vec![i]),
+            model
+                .actuators
+                .iter()
+                .position(|a| a.name == name)
+                .map(|i| vec![i]),
         ),
-        Rows::Xyz => ("component", vec!["x", "y", "z"], ["x", "y", "z"].iter().position(|c| *c == name).map(|i| vec![i])),
+        Rows::Xyz => (
+            "component",
+            vec!["x", "y", "z"],
+            ["x", "y", "z"]
+                .iter()
+                .position(|c| *c == name)
+                .map(|i| vec![i]),
+        ),
     };
     found.ok_or_else(|| {
-        let named: Vec<&str> = candidates.iter().copied().filter(|c| !c.is_empty()).collect();
+        let named: Vec<&str> = candidates
+            .iter()
+            .copied()
+            .filter(|c| !c.is_empty())
+            .collect();
         Diagnostic::new(
             Code::E0303,
-            format!("the model {} has no {what} named `{name}`", model.path.display()),
+            format!(
+                "the model {} has no {what} named `{name}`",
+                model.path.display()
+            ),
         )
         .at(loc.clone())
-        .label(format!("expected a {what} name of the model ({} of them)", named.len()))
+        .label(format!(
+            "expected the name of a {what} of the model ({} named)",
+            named.len()
+        ))
         .help_opt(suggest(name, named.iter().copied()))
     })
 }
@@ -344,9 +462,12 @@ fn select_ints(idx: &Index, n: usize, loc: &Location) -> Result<Vec<usize>, Diag
     let one = |i: i64| -> Result<usize, Diagnostic> {
         let j = if i < 0 { i + n_i } else { i };
         if j < 0 || j >= n_i {
-            Err(Diagnostic::new(Code::E0304, format!("index {i} is out of range for {n} entries"))
-                .at(loc.clone())
-                .label(format!("expected an index in -{n}..{n}")))
+            Err(Diagnostic::new(
+                Code::E0304,
+                format!("index {i} is out of range for {n} entries"),
+            )
+            .at(loc.clone())
+            .label(format!("expected an index in -{n}..{n}")))
         } else {
             Ok(j as usize)
         }

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::diagnostic::{suggest, Code, Diagnostic, Diagnostics, Location, SourceFile};
-use crate::value::{parse_document, Entry, Val, ValKind};
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, suggest};
+use crate::value::{Entry, Val, ValKind, parse_document};
 
 /// A named table such as `[reward.ctrl]`.
 #[derive(Clone, Debug)]
@@ -67,7 +67,11 @@ impl Spec {
         &self.file.path
     }
     pub fn dir(&self) -> PathBuf {
-        self.file.path.parent().map(Path::to_path_buf).unwrap_or_default()
+        self.file
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
     }
     pub fn param(&self, name: &str) -> Option<&ParamDecl> {
         self.params.iter().find(|p| p.name == name)
@@ -76,8 +80,11 @@ impl Spec {
     /// Read and check a spec file.
     pub fn load(path: &Path) -> Result<Spec, Diagnostics> {
         let text = std::fs::read_to_string(path).map_err(|e| {
-            Diagnostic::new(Code::E0600, format!("cannot read spec {}: {e}", path.display()))
-                .label("expected a readable TOML spec file")
+            Diagnostic::new(
+                Code::E0600,
+                format!("cannot read spec {}: {e}", path.display()),
+            )
+            .label("expected a readable TOML spec file")
         })?;
         Spec::parse(path, text)
     }
@@ -92,11 +99,31 @@ impl Spec {
     }
 }
 
-pub(crate) const TOP_KEYS: &[&str] = &["env", "params", "observation", "reward", "health", "reset", "info", "agents", "maze"];
+pub(crate) const TOP_KEYS: &[&str] = &[
+    "env",
+    "params",
+    "observation",
+    "reward",
+    "health",
+    "reset",
+    "info",
+    "agents",
+    "maze",
+];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold"];
 const PARAM_KEYS: &[&str] = &["default", "doc", "type"];
-pub(crate) const PARAM_TYPES: &[&str] = &["bool", "int", "float", "range", "string", "path", "body", "table"];
-const SEGMENT_KEYS: &[&str] = &["source", "minus", "apply", "clip", "when", "drop_first", "doc"];
+pub(crate) const PARAM_TYPES: &[&str] = &[
+    "bool", "int", "float", "range", "string", "path", "body", "table",
+];
+const SEGMENT_KEYS: &[&str] = &[
+    "source",
+    "minus",
+    "apply",
+    "clip",
+    "when",
+    "drop_first",
+    "doc",
+];
 
 /// Term kinds of `[reward.*]` with the keys each accepts besides kind, weight, cost, info, doc.
 pub const REWARD_KINDS: &[(&str, &[&str])] = &[
@@ -111,8 +138,11 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
 const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "doc"];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
-pub const HEALTH_KINDS: &[(&str, &[&str])] =
-    &[("finite", &[]), ("in_range", &["range", "bounds"]), ("fails_if", &["op", "value"])];
+pub const HEALTH_KINDS: &[(&str, &[&str])] = &[
+    ("finite", &[]),
+    ("in_range", &["range", "bounds"]),
+    ("fails_if", &["op", "value"]),
+];
 
 /// Distributions of `[reset.*]` with the keys each accepts besides target, kind, mode, doc.
 pub const RESET_KINDS: &[(&str, &[&str])] = &[
@@ -122,13 +152,17 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
 ];
 
 /// Info kinds of `[info.*]` with the keys each accepts besides kind, source, doc.
-pub const INFO_KINDS: &[(&str, &[&str])] = &[("value", &["minus"]), ("norm", &[]), ("velocity", &[])];
+pub const INFO_KINDS: &[(&str, &[&str])] =
+    &[("value", &["minus"]), ("norm", &[]), ("velocity", &[])];
 
 fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
-    Diagnostic::new(Code::E0101, format!("unknown key `{}` in {context}", entry.key))
-        .at(entry.key_loc.clone())
-        .label(format!("expected one of: {}", allowed.join(", ")))
-        .help_opt(suggest(&entry.key, allowed.iter().copied()))
+    Diagnostic::new(
+        Code::E0101,
+        format!("unknown key `{}` in {context}", entry.key),
+    )
+    .at(entry.key_loc.clone())
+    .label(format!("expected one of: {}", allowed.join(", ")))
+    .help_opt(suggest(&entry.key, allowed.iter().copied()))
 }
 
 fn check_keys(entries: &[Entry], allowed: &[&str], context: &str, d: &mut Diagnostics) {
@@ -174,9 +208,12 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
     for reserved in ["agents", "maze"] {
         if let Some(e) = get(reserved) {
             d.push(
-                Diagnostic::new(Code::E0104, format!("`[{reserved}]` is reserved for a later envc version"))
-                    .at(e.key_loc.clone())
-                    .label("not supported yet"),
+                Diagnostic::new(
+                    Code::E0104,
+                    format!("`[{reserved}]` is reserved for a later envc version"),
+                )
+                .at(e.key_loc.clone())
+                .label("not supported yet"),
             );
         }
     }
@@ -221,24 +258,37 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
     }
 
     if let Some(e) = get("params")
-        && let Some(t) = table(&e.value, "[params]", d) {
-            for p in t {
-                spec.params.push(read_param(p, d));
-            }
+        && let Some(t) = table(&e.value, "[params]", d)
+    {
+        for p in t {
+            spec.params.push(read_param(p, d));
         }
+    }
     for required in ["xml_file", "frame_skip", "max_episode_steps"] {
         if spec.param(required).is_none() {
             d.push(
-                Diagnostic::new(Code::E0103, format!("missing parameter `{required}` in [params]"))
-                    .at_opt(get("params").map(|e| e.key_loc.clone()).or(Some(whole.clone())))
-                    .label(format!("every spec declares `{required}`")),
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("missing parameter `{required}` in [params]"),
+                )
+                .at_opt(
+                    get("params")
+                        .map(|e| e.key_loc.clone())
+                        .or(Some(whole.clone())),
+                )
+                .label(format!("every spec declares `{required}`")),
             );
         }
     }
 
     spec.observation = sections(get("observation"), "observation", &[], d);
     for s in &spec.observation {
-        check_keys(&s.entries, SEGMENT_KEYS, &format!("[observation.{}]", s.name), d);
+        check_keys(
+            &s.entries,
+            SEGMENT_KEYS,
+            &format!("[observation.{}]", s.name),
+            d,
+        );
         require(s, "source", &format!("[observation.{}]", s.name), d);
     }
 
@@ -252,22 +302,46 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
 
     spec.health = sections(get("health"), "health", &["terminate"], d);
     if let Some(t) = get("health").and_then(|e| e.value.as_table()) {
-        spec.health_terminate = t.iter().find(|e| e.key == "terminate").map(|e| e.value.clone());
+        spec.health_terminate = t
+            .iter()
+            .find(|e| e.key == "terminate")
+            .map(|e| e.value.clone());
     }
     for s in &spec.health {
-        check_kinded(s, "health", None, HEALTH_KINDS, &["kind", "source", "doc"], d);
+        check_kinded(
+            s,
+            "health",
+            None,
+            HEALTH_KINDS,
+            &["kind", "source", "doc"],
+            d,
+        );
         require(s, "source", &format!("[health.{}]", s.name), d);
     }
 
     spec.reset = sections(get("reset"), "reset", &[], d);
     for s in &spec.reset {
-        check_kinded(s, "reset", None, RESET_KINDS, &["target", "kind", "mode", "doc"], d);
+        check_kinded(
+            s,
+            "reset",
+            None,
+            RESET_KINDS,
+            &["target", "kind", "mode", "doc"],
+            d,
+        );
         require(s, "target", &format!("[reset.{}]", s.name), d);
     }
 
     spec.info = sections(get("info"), "info", &[], d);
     for s in &spec.info {
-        check_kinded(s, "info", Some("value"), INFO_KINDS, &["kind", "source", "doc"], d);
+        check_kinded(
+            s,
+            "info",
+            Some("value"),
+            INFO_KINDS,
+            &["kind", "source", "doc"],
+            d,
+        );
         require(s, "source", &format!("[info.{}]", s.name), d);
     }
     spec
@@ -295,7 +369,9 @@ fn read_param(p: &Entry, d: &mut Diagnostics) -> ParamDecl {
             }
             if let Some(ty) = t.iter().find(|e| e.key == "type") {
                 match ty.value.as_str() {
-                    Some(s) if PARAM_TYPES.contains(&s) => decl.ty = Some((s.to_string(), ty.value.loc.clone())),
+                    Some(s) if PARAM_TYPES.contains(&s) => {
+                        decl.ty = Some((s.to_string(), ty.value.loc.clone()))
+                    }
                     Some(s) => d.push(
                         Diagnostic::new(Code::E0104, format!("unknown parameter type `{s}`"))
                             .at(ty.value.loc.clone())
@@ -307,18 +383,28 @@ fn read_param(p: &Entry, d: &mut Diagnostics) -> ParamDecl {
             }
         } else {
             d.push(
-                Diagnostic::new(Code::E0103, format!("parameter `{}` is a table without `default`", p.key))
-                    .at(p.key_loc.clone())
-                    .label("expected `name = value` or `name = { default = value, doc = \"...\" }`"),
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("parameter `{}` is a table without `default`", p.key),
+                )
+                .at(p.key_loc.clone())
+                .label("expected `name = value` or `name = { default = value, doc = \"...\" }`"),
             );
         }
     }
     decl
 }
 
-fn sections(entry: Option<&Entry>, kind: &str, reserved: &[&str], d: &mut Diagnostics) -> Vec<Section> {
+fn sections(
+    entry: Option<&Entry>,
+    kind: &str,
+    reserved: &[&str],
+    d: &mut Diagnostics,
+) -> Vec<Section> {
     let Some(entry) = entry else { return vec![] };
-    let Some(t) = table(&entry.value, &format!("[{kind}]"), d) else { return vec![] };
+    let Some(t) = table(&entry.value, &format!("[{kind}]"), d) else {
+        return vec![];
+    };
     let mut out = vec![];
     for e in t {
         if reserved.contains(&e.key.as_str()) {
@@ -337,7 +423,11 @@ fn sections(entry: Option<&Entry>, kind: &str, reserved: &[&str], d: &mut Diagno
                     .label(if reserved.is_empty() {
                         format!("expected [{kind}.{}] with its keys", e.key)
                     } else {
-                        format!("expected [{kind}.{}] or one of: {}", e.key, reserved.join(", "))
+                        format!(
+                            "expected [{kind}.{}] or one of: {}",
+                            e.key,
+                            reserved.join(", ")
+                        )
                     })
                     .help_opt(suggest(&e.key, reserved.iter().copied())),
             ),
@@ -373,10 +463,13 @@ fn check_kinded(
                 Some(found) => Some(found),
                 None => {
                     d.push(
-                        Diagnostic::new(Code::E0104, format!("unknown {section} kind `{k}` in {context}"))
-                            .at(v.loc.clone())
-                            .label(format!("expected one of: {}", names.join(", ")))
-                            .help_opt(suggest(k, names.iter().copied())),
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!("unknown {section} kind `{k}` in {context}"),
+                        )
+                        .at(v.loc.clone())
+                        .label(format!("expected one of: {}", names.join(", ")))
+                        .help_opt(suggest(k, names.iter().copied())),
                     );
                     None
                 }

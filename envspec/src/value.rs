@@ -64,9 +64,12 @@ impl Val {
     }
     /// An error saying this value has the wrong type.
     pub fn type_error(&self, what: &str, expected: &str) -> Diagnostic {
-        Diagnostic::new(Code::E0102, format!("{what} must be {expected}, found {}", self.type_name()))
-            .at(self.loc.clone())
-            .label(format!("expected {expected}"))
+        Diagnostic::new(
+            Code::E0102,
+            format!("{what} must be {expected}, found {}", self.type_name()),
+        )
+        .at(self.loc.clone())
+        .label(format!("expected {expected}"))
     }
     /// The value rendered back as a TOML literal (for reports and `envc show`).
     pub fn to_toml(&self) -> String {
@@ -76,11 +79,17 @@ impl Val {
             ValKind::Float(x) => format_float(*x),
             ValKind::Str(s) => format!("{s:?}"),
             ValKind::Array(a) => {
-                format!("[{}]", a.iter().map(Val::to_toml).collect::<Vec<_>>().join(", "))
+                format!(
+                    "[{}]",
+                    a.iter().map(Val::to_toml).collect::<Vec<_>>().join(", ")
+                )
             }
             ValKind::Table(t) => format!(
                 "{{ {} }}",
-                t.iter().map(|e| format!("{} = {}", e.key, e.value.to_toml())).collect::<Vec<_>>().join(", ")
+                t.iter()
+                    .map(|e| format!("{} = {}", e.key, e.value.to_toml()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         }
     }
@@ -94,7 +103,11 @@ pub fn format_float(x: f64) -> String {
         if x > 0.0 { "inf".into() } else { "-inf".into() }
     } else {
         let s = format!("{x:?}");
-        if s.contains(['.', 'e', 'E']) { s } else { format!("{s}.0") }
+        if s.contains(['.', 'e', 'E']) {
+            s
+        } else {
+            format!("{s}.0")
+        }
     }
 }
 
@@ -116,7 +129,10 @@ pub fn parse_document(file: &Arc<SourceFile>) -> Result<Val, Diagnostics> {
     let span = 0..file.text.len();
     let mut diags = Diagnostics::default();
     let entries = convert_table(file, table.get_ref(), &mut diags);
-    diags.into_result(Val { kind: ValKind::Table(entries), loc: Location::new(file, span) })
+    diags.into_result(Val {
+        kind: ValKind::Table(entries),
+        loc: Location::new(file, span),
+    })
 }
 
 /// Parse one TOML value written on its own, e.g. the right-hand side of `--set key=value`.
@@ -150,7 +166,10 @@ fn convert(
         DeValue::String(s) => ValKind::Str(s.to_string()),
         DeValue::Integer(i) => {
             let digits: String = i.as_str().chars().filter(|&c| c != '_').collect();
-            let digits = digits.trim_start_matches("0x").trim_start_matches("0o").trim_start_matches("0b");
+            let digits = digits
+                .trim_start_matches("0x")
+                .trim_start_matches("0o")
+                .trim_start_matches("0b");
             match i64::from_str_radix(digits, i.radix()) {
                 Ok(n) => ValKind::Int(n),
                 Err(_) => {
@@ -185,9 +204,11 @@ fn convert(
             );
             ValKind::Str(String::new())
         }
-        DeValue::Array(a) => {
-            ValKind::Array(a.iter().map(|e| convert(file, e.get_ref(), e.span(), diags)).collect())
-        }
+        DeValue::Array(a) => ValKind::Array(
+            a.iter()
+                .map(|e| convert(file, e.get_ref(), e.span(), diags))
+                .collect(),
+        ),
         DeValue::Table(t) => ValKind::Table(convert_table(file, t, diags)),
     };
     Val { kind, loc }

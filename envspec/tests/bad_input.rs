@@ -7,11 +7,14 @@
 
 use std::path::{Path, PathBuf};
 
-use envspec::{load, Code, Diagnostic, Diagnostics, Override, ResolvedSpec, Spec};
+use envspec::{Code, Diagnostic, Diagnostics, Override, ResolvedSpec, Spec, load};
 
 /// `<repo>/assets/gymnasium`, absolute.
 fn assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").join("assets/gymnasium")
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .join("assets/gymnasium")
 }
 
 /// A per-test scratch directory under the system temp dir, removed when dropped.
@@ -19,7 +22,9 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("envspec-bad-input-{}", std::process::id())).join(test);
+        let dir = std::env::temp_dir()
+            .join(format!("envspec-bad-input-{}", std::process::id()))
+            .join(test);
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create scratch dir");
         Scratch(dir)
@@ -97,19 +102,33 @@ fn mini() -> String {
 
 /// `text` with the single occurrence of `from` replaced by `to`.
 fn with(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "`{from}` must occur exactly once in the spec");
+    assert_eq!(
+        text.matches(from).count(),
+        1,
+        "`{from}` must occur exactly once in the spec"
+    );
     text.replacen(from, to, 1)
 }
 
 /// A real bundled spec, with its model path made absolute so it can live in a scratch dir.
 fn real(file: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/gymnasium").join(file);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../specs/gymnasium")
+        .join(file);
     let text = std::fs::read_to_string(&path).expect("bundled spec");
-    text.replace("\"../../assets/gymnasium/", &format!("\"{}/", assets().display()))
+    text.replace(
+        "\"../../assets/gymnasium/",
+        &format!("\"{}/", assets().display()),
+    )
 }
 
 /// Write `text` as `<scratch>/<name>` and load it with `overrides`.
-fn load_text(s: &Scratch, name: &str, text: &str, overrides: &[Override]) -> (PathBuf, Result<ResolvedSpec, Diagnostics>) {
+fn load_text(
+    s: &Scratch,
+    name: &str,
+    text: &str,
+    overrides: &[Override],
+) -> (PathBuf, Result<ResolvedSpec, Diagnostics>) {
     let p = s.write(name, text);
     let r = load(&p, overrides);
     (p, r)
@@ -125,7 +144,9 @@ fn errors(r: Result<ResolvedSpec, Diagnostics>) -> Diagnostics {
 
 /// `line:col` of a diagnostic (the part of `position()` after the file path).
 fn lc(d: &Diagnostic) -> String {
-    let p = d.position().unwrap_or_else(|| panic!("no position for {d}"));
+    let p = d
+        .position()
+        .unwrap_or_else(|| panic!("no position for {d}"));
     let mut parts = p.rsplitn(3, ':');
     let col = parts.next().expect("col");
     let line = parts.next().expect("line");
@@ -138,7 +159,9 @@ fn help(d: &Diagnostic) -> Option<&str> {
 
 /// The position of the first occurrence of `needle` in `text`, as `line:col` (col in characters).
 fn find_lc(text: &str, needle: &str) -> String {
-    let at = text.find(needle).unwrap_or_else(|| panic!("`{needle}` not in text"));
+    let at = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("`{needle}` not in text"));
     let line = text[..at].matches('\n').count() + 1;
     let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
     format!("{line}:{}", text[start..at].chars().count() + 1)
@@ -166,25 +189,38 @@ fn the_base_spec_resolves() {
 #[test]
 fn unknown_key_suggests_the_near_miss() {
     let s = Scratch::new("unknown_key");
-    let text = with(&mini(), "weight = \"healthy_reward\"", "wieght = \"healthy_reward\"");
+    let text = with(
+        &mini(),
+        "weight = \"healthy_reward\"",
+        "wieght = \"healthy_reward\"",
+    );
     let (p, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0101]);
     assert_eq!(d.0[0].position().unwrap(), format!("{}:29:1", p.display()));
     assert_eq!(d.0[0].message, "unknown key `wieght` in [reward.healthy]");
     assert_eq!(help(&d.0[0]), Some("did you mean `weight`?"));
-    assert_eq!(d.0[0].label.as_deref(), Some("expected one of: kind, weight, cost, info, doc"));
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected one of: kind, weight, cost, info, doc")
+    );
 }
 
 #[test]
 fn unknown_top_level_and_section_keys_suggest_the_near_miss() {
     let s = Scratch::new("unknown_top");
-    let text = format!("{}\n[rewards.extra]\nkind = \"constant\"\n", with(&mini(), "clip = [", "clp = ["));
+    let text = format!(
+        "{}\n[rewards.extra]\nkind = \"constant\"\n",
+        with(&mini(), "clip = [", "clp = [")
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0101, Code::E0101]);
     // Top-level keys are checked first.
-    assert_eq!(d.0[0].message, "unknown key `rewards` in the spec (top level)");
+    assert_eq!(
+        d.0[0].message,
+        "unknown key `rewards` in the spec (top level)"
+    );
     assert_eq!(lc(&d.0[0]), "53:2");
     assert_eq!(help(&d.0[0]), Some("did you mean `reward`?"));
     assert_eq!(d.0[1].message, "unknown key `clp` in [observation.qvel]");
@@ -202,7 +238,10 @@ fn misspelt_parameter_declaration_is_caught_where_it_is_used() {
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0201]);
     assert_eq!(lc(&d.0[0]), "29:10");
-    assert_eq!(d.0[0].message, "`healthy_reward` is not a parameter of this spec");
+    assert_eq!(
+        d.0[0].message,
+        "`healthy_reward` is not a parameter of this spec"
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `helthy_reward`?"));
 }
 
@@ -213,7 +252,10 @@ fn unknown_override_suggests_the_parameter() {
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0202]);
     assert_eq!(d.0[0].position(), None, "overrides have no spec location");
-    assert_eq!(d.0[0].message, "unknown parameter `helthy_reward` for Mini-v0");
+    assert_eq!(
+        d.0[0].message,
+        "unknown parameter `helthy_reward` for Mini-v0"
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `healthy_reward`?"));
     assert_eq!(
         d.0[0].label.as_deref(),
@@ -232,7 +274,10 @@ fn unknown_reward_kind_suggests_the_near_miss() {
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0104]);
     assert_eq!(lc(&d.0[0]), "32:8");
-    assert_eq!(d.0[0].message, "unknown reward kind `sum_square` in [reward.ctrl]");
+    assert_eq!(
+        d.0[0].message,
+        "unknown reward kind `sum_square` in [reward.ctrl]"
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `sum_squares`?"));
     assert_eq!(
         d.0[0].label.as_deref(),
@@ -249,9 +294,18 @@ fn unknown_health_reset_and_info_kinds() {
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0104, Code::E0104, Code::E0104]);
-    assert_eq!((lc(&d.0[0]), help(&d.0[0])), ("41:8".into(), Some("did you mean `in_range`?")));
-    assert_eq!((lc(&d.0[1]), help(&d.0[1])), ("47:8".into(), Some("did you mean `uniform`?")));
-    assert_eq!((lc(&d.0[2]), help(&d.0[2])), ("54:8".into(), Some("did you mean `velocity`?")));
+    assert_eq!(
+        (lc(&d.0[0]), help(&d.0[0])),
+        ("41:8".into(), Some("did you mean `in_range`?"))
+    );
+    assert_eq!(
+        (lc(&d.0[1]), help(&d.0[1])),
+        ("47:8".into(), Some("did you mean `uniform`?"))
+    );
+    assert_eq!(
+        (lc(&d.0[2]), help(&d.0[2])),
+        ("54:8".into(), Some("did you mean `velocity`?"))
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -265,11 +319,21 @@ fn wrong_type_of_a_parameter_default() {
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0102]);
     assert_eq!(d.0[0].position().unwrap(), format!("{}:6:14", p.display()));
-    assert_eq!(d.0[0].message, "default of parameter `frame_skip` is not an integer");
-    assert_eq!(d.0[0].label.as_deref(), Some("expected an integer (type int)"));
+    assert_eq!(
+        d.0[0].message,
+        "default of parameter `frame_skip` is not an integer"
+    );
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected an integer (type int)")
+    );
 
     // Long form; columns count characters, not bytes.
-    let text = with(&mini(), "frame_skip = 4", "frame_skip = { doc = \"Schritte über\", default = \"five\" }");
+    let text = with(
+        &mini(),
+        "frame_skip = 4",
+        "frame_skip = { doc = \"Schritte über\", default = \"five\" }",
+    );
     let (_, r) = load_text(&s, "long.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0102]);
@@ -296,9 +360,15 @@ fn wrong_type_of_a_value_in_a_section() {
     let (_, r) = load_text(&s, "spec2.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0102, Code::E0102]);
-    assert_eq!(d.0[0].message, "source must be a selector string such as \"qpos[2:]\", found integer");
+    assert_eq!(
+        d.0[0].message,
+        "source must be a selector string such as \"qpos[2:]\", found integer"
+    );
     assert_eq!(lc(&d.0[0]), "17:10");
-    assert_eq!(d.0[1].message, "weight must be a number or a parameter name, found boolean");
+    assert_eq!(
+        d.0[1].message,
+        "weight must be a number or a parameter name, found boolean"
+    );
     assert_eq!(lc(&d.0[1]), "34:10");
 }
 
@@ -309,23 +379,48 @@ fn override_of_the_wrong_type() {
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0203]);
     // The override's own text is the "file" the error points into.
-    assert_eq!(d.0[0].position().as_deref(), Some("<override healthy_z_range>:1:1"));
-    assert_eq!(d.0[0].message, "override of `healthy_z_range` is not a range [low, high] (type range)");
-    assert_eq!(d.0[0].label.as_deref(), Some("expected a range [low, high]; the default is [0.7, inf]"));
+    assert_eq!(
+        d.0[0].position().as_deref(),
+        Some("<override healthy_z_range>:1:1")
+    );
+    assert_eq!(
+        d.0[0].message,
+        "override of `healthy_z_range` is not a range [low, high] (type range)"
+    );
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected a range [low, high]; the default is [0.7, inf]")
+    );
 }
 
 #[test]
 fn all_bad_overrides_are_reported_together() {
     let s = Scratch::new("overrides_together");
-    let overrides =
-        [set("terminate_when_unhealthy=True"), set("frame_skip=5.0"), set("ctrl_cost_wieght=0.1"), set("healthy_z_range=[1.0]")];
+    let overrides = [
+        set("terminate_when_unhealthy=True"),
+        set("frame_skip=5.0"),
+        set("ctrl_cost_wieght=0.1"),
+        set("healthy_z_range=[1.0]"),
+    ];
     let (_, r) = load_text(&s, "spec.toml", &mini(), &overrides);
     let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0203, Code::E0203, Code::E0202, Code::E0203]);
-    assert_eq!(d.0[0].label.as_deref(), Some("expected true or false; the default is true"));
-    assert_eq!(d.0[1].label.as_deref(), Some("expected an integer; the default is 4"));
+    assert_eq!(
+        d.codes(),
+        [Code::E0203, Code::E0203, Code::E0202, Code::E0203]
+    );
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected true or false; the default is true")
+    );
+    assert_eq!(
+        d.0[1].label.as_deref(),
+        Some("expected an integer; the default is 4")
+    );
     assert_eq!(help(&d.0[2]), Some("did you mean `ctrl_cost_weight`?"));
-    assert_eq!(d.0[3].position().as_deref(), Some("<override healthy_z_range>:1:1"));
+    assert_eq!(
+        d.0[3].position().as_deref(),
+        Some("<override healthy_z_range>:1:1")
+    );
 }
 
 #[test]
@@ -350,19 +445,30 @@ fn override_text_without_equals_sign() {
         Err(d) => d,
     };
     assert_eq!(d.code, Code::E0202);
-    assert_eq!(d.message, "override `ctrl_cost_weight` is not of the form name=value");
+    assert_eq!(
+        d.message,
+        "override `ctrl_cost_weight` is not of the form name=value"
+    );
     assert!(Override::parse("=1").is_err());
 }
 
 #[test]
 fn invalid_parameter_values() {
     let s = Scratch::new("param_values");
-    let text = with(&mini(), "healthy_z_range = [0.7, inf]", "healthy_z_range = [2.0, 1.0]");
+    let text = with(
+        &mini(),
+        "healthy_z_range = [0.7, inf]",
+        "healthy_z_range = [2.0, 1.0]",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[set("frame_skip=0")]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0104, Code::E0104]);
     assert_eq!(d.0[0].message, "frame_skip must be a positive integer");
-    assert_eq!(d.0[0].position(), None, "the bad value came from an override");
+    assert_eq!(
+        d.0[0].position(),
+        None,
+        "the bad value came from an override"
+    );
     assert_eq!(d.0[1].message, "range: low 2 is above high 1");
     assert_eq!(lc(&d.0[1]), "43:9", "reported where the range is used");
 }
@@ -373,20 +479,44 @@ fn invalid_parameter_values() {
 #[test]
 fn reference_to_an_undeclared_parameter() {
     let s = Scratch::new("undeclared");
-    let mut text = with(&mini(), "weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\"");
-    text = with(&text, "terminate = \"terminate_when_unhealthy\"", "terminate = \"!terminate_when_unhealty\"");
-    text = with(&text, "range = \"healthy_z_range\"", "range = \"healthy_range\"");
+    let mut text = with(
+        &mini(),
+        "weight = \"ctrl_cost_weight\"",
+        "weight = \"ctrl_cost_wieght\"",
+    );
+    text = with(
+        &text,
+        "terminate = \"terminate_when_unhealthy\"",
+        "terminate = \"!terminate_when_unhealty\"",
+    );
+    text = with(
+        &text,
+        "range = \"healthy_z_range\"",
+        "range = \"healthy_range\"",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0201, Code::E0201, Code::E0201]);
     assert_eq!(lc(&d.0[0]), "34:10");
-    assert_eq!(d.0[0].message, "`ctrl_cost_wieght` is not a parameter of this spec");
-    assert_eq!(d.0[0].label.as_deref(), Some("expected a number or the name of a parameter in [params]"));
+    assert_eq!(
+        d.0[0].message,
+        "`ctrl_cost_wieght` is not a parameter of this spec"
+    );
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected a number or the name of a parameter in [params]")
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `ctrl_cost_weight`?"));
     // `!name` negates a bool parameter; the name after `!` is what is looked up.
     assert_eq!(lc(&d.0[1]), "38:13");
-    assert_eq!(d.0[1].message, "`terminate_when_unhealty` is not a parameter of this spec");
-    assert_eq!(help(&d.0[1]), Some("did you mean `terminate_when_unhealthy`?"));
+    assert_eq!(
+        d.0[1].message,
+        "`terminate_when_unhealty` is not a parameter of this spec"
+    );
+    assert_eq!(
+        help(&d.0[1]),
+        Some("did you mean `terminate_when_unhealthy`?")
+    );
     assert_eq!(lc(&d.0[2]), "43:9");
     assert_eq!(help(&d.0[2]), Some("did you mean `healthy_z_range`?"));
 }
@@ -394,24 +524,45 @@ fn reference_to_an_undeclared_parameter() {
 #[test]
 fn reference_to_a_parameter_of_the_wrong_type() {
     let s = Scratch::new("param_ref_type");
-    let mut text = with(&mini(), "terminate = \"terminate_when_unhealthy\"", "terminate = \"!healthy_reward\"");
-    text = with(&text, "range = \"healthy_z_range\"", "range = \"ctrl_cost_weight\"");
+    let mut text = with(
+        &mini(),
+        "terminate = \"terminate_when_unhealthy\"",
+        "terminate = \"!healthy_reward\"",
+    );
+    text = with(
+        &text,
+        "range = \"healthy_z_range\"",
+        "range = \"ctrl_cost_weight\"",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0102, Code::E0102]);
-    assert_eq!(d.0[0].message, "parameter `healthy_reward` is 1.0, not a bool");
-    assert_eq!(d.0[1].message, "parameter `ctrl_cost_weight` is 0.001, not a range [low, high]");
+    assert_eq!(
+        d.0[0].message,
+        "parameter `healthy_reward` is 1.0, not a bool"
+    );
+    assert_eq!(
+        d.0[1].message,
+        "parameter `ctrl_cost_weight` is 0.001, not a range [low, high]"
+    );
 }
 
 #[test]
 fn dollar_parameter_in_a_selector() {
     let s = Scratch::new("dollar");
-    let text = with(&real("ant.toml"), "source = \"xpos[$main_body][0]\"\nweight", "source = \"xpos[$main_bdy][0]\"\nweight");
+    let text = with(
+        &real("ant.toml"),
+        "source = \"xpos[$main_body][0]\"\nweight",
+        "source = \"xpos[$main_bdy][0]\"\nweight",
+    );
     let (_, r) = load_text(&s, "ant.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0201]);
     assert_eq!(lc(&d.0[0]), find_lc(&text, "\"xpos[$main_bdy][0]\""));
-    assert_eq!(d.0[0].label.as_deref(), Some("expected an index or the name of a parameter in [params]"));
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected an index or the name of a parameter in [params]")
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `main_body`?"));
 }
 
@@ -421,16 +572,26 @@ fn dollar_parameter_in_a_selector() {
 #[test]
 fn body_name_not_in_the_model() {
     let s = Scratch::new("torsoo");
-    let text = with(&mini(), "source = \"qpos[0]\"\n\n[reward.healthy]", "source = \"xpos[torsoo][0]\"\n\n[reward.healthy]");
+    let text = with(
+        &mini(),
+        "source = \"qpos[0]\"\n\n[reward.healthy]",
+        "source = \"xpos[torsoo][0]\"\n\n[reward.healthy]",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0303]);
     assert_eq!(lc(&d.0[0]), "25:10");
     assert_eq!(
         d.0[0].message,
-        format!("the model {} has no body named `torsoo`", assets().join("hopper.xml").display())
+        format!(
+            "the model {} has no body named `torsoo`",
+            assets().join("hopper.xml").display()
+        )
     );
-    assert_eq!(d.0[0].label.as_deref(), Some("expected a body name of the model (5 of them)"));
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected the name of a body of the model (5 named)")
+    );
     assert_eq!(help(&d.0[0]), Some("did you mean `torso`?"));
 }
 
@@ -469,13 +630,26 @@ fn bad_selector_syntax() {
         ("qpos[1", "cannot read selector: missing `]`"),
         ("qpos[]", "cannot read selector: empty `[]`"),
         ("qpos[a:2]", "cannot read selector: `a` is not an integer"),
-        ("qpos[1][0]", "cannot read selector: `qpos` is a vector: one index only"),
-        ("xpos[torso][0][1]", "cannot read selector: at most two indices (rows, then columns)"),
-        ("xpos[torso][x]", "columns are selected by number, not by name (`x`)"),
+        (
+            "qpos[1][0]",
+            "cannot read selector: `qpos` is a vector: one index only",
+        ),
+        (
+            "xpos[torso][0][1]",
+            "cannot read selector: at most two indices (rows, then columns)",
+        ),
+        (
+            "xpos[torso][x]",
+            "columns are selected by number, not by name (`x`)",
+        ),
     ];
     let s = Scratch::new("selector_syntax");
     for (i, (sel, msg)) in cases.iter().enumerate() {
-        let text = with(&mini(), "source = \"qpos[1]\"", &format!("source = \"{sel}\""));
+        let text = with(
+            &mini(),
+            "source = \"qpos[1]\"",
+            &format!("source = \"{sel}\""),
+        );
         let (_, r) = load_text(&s, &format!("case{i}.toml"), &text, &[]);
         let d = errors(r);
         assert_eq!(d.codes(), [Code::E0401], "{sel}");
@@ -488,14 +662,34 @@ fn bad_selector_syntax() {
 fn index_out_of_range() {
     // (selector, message, label)
     let cases = [
-        ("qpos[7]", "index 7 is out of range for 6 entries", "expected an index in -6..6"),
-        ("qpos[-7]", "index -7 is out of range for 6 entries", "expected an index in -6..6"),
-        ("qpos[0,6]", "index 6 is out of range for 6 entries", "expected an index in -6..6"),
-        ("xpos[torso][3]", "index 3 is out of range for 3 entries", "expected an index in -3..3"),
+        (
+            "qpos[7]",
+            "index 7 is out of range for 6 entries",
+            "expected an index in -6..6",
+        ),
+        (
+            "qpos[-7]",
+            "index -7 is out of range for 6 entries",
+            "expected an index in -6..6",
+        ),
+        (
+            "qpos[0,6]",
+            "index 6 is out of range for 6 entries",
+            "expected an index in -6..6",
+        ),
+        (
+            "xpos[torso][3]",
+            "index 3 is out of range for 3 entries",
+            "expected an index in -3..3",
+        ),
     ];
     let s = Scratch::new("index_range");
     for (i, (sel, msg, label)) in cases.iter().enumerate() {
-        let text = with(&mini(), "source = \"qpos[1]\"", &format!("source = \"{sel}\""));
+        let text = with(
+            &mini(),
+            "source = \"qpos[1]\"",
+            &format!("source = \"{sel}\""),
+        );
         let (_, r) = load_text(&s, &format!("case{i}.toml"), &text, &[]);
         let d = errors(r);
         assert_eq!(d.codes(), [Code::E0304], "{sel}");
@@ -506,7 +700,10 @@ fn index_out_of_range() {
     // Slices clamp like Python's and are never out of range.
     let text = with(&mini(), "source = \"qpos[1]\"", "source = \"qpos[5:99]\"");
     let (_, r) = load_text(&s, "slice.toml", &text, &[]);
-    assert_eq!(r.unwrap_or_else(|e| panic!("{e}")).health[0].sources[0].indices, [5]);
+    assert_eq!(
+        r.unwrap_or_else(|e| panic!("{e}")).health[0].sources[0].indices,
+        [5]
+    );
 }
 
 #[test]
@@ -524,14 +721,24 @@ fn unknown_selector_field() {
 #[test]
 fn sizes_that_do_not_fit() {
     let s = Scratch::new("sizes");
-    let mut text = with(&mini(), "source = \"qpos[0]\"\n\n[reward.healthy]", "source = \"qpos[0:2]\"\n\n[reward.healthy]");
+    let mut text = with(
+        &mini(),
+        "source = \"qpos[0]\"\n\n[reward.healthy]",
+        "source = \"qpos[0:2]\"\n\n[reward.healthy]",
+    );
     text.push_str("minus = \"qpos0[0:2]\"\n");
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0403, Code::E0403]);
-    assert_eq!(d.0[0].message, "a velocity needs one number, `qpos[0:2]` selects 2");
+    assert_eq!(
+        d.0[0].message,
+        "a velocity needs one number, `qpos[0:2]` selects 2"
+    );
     assert_eq!(lc(&d.0[0]), "25:10");
-    assert_eq!(d.0[1].message, "`qpos[0]` has 1 elements but `qpos0[0:2]` has 2");
+    assert_eq!(
+        d.0[1].message,
+        "`qpos[0]` has 1 elements but `qpos0[0:2]` has 2"
+    );
     assert_eq!(lc(&d.0[1]), "52:9");
 }
 
@@ -542,48 +749,89 @@ fn sizes_that_do_not_fit() {
 fn missing_model_file() {
     let s = Scratch::new("missing_model");
     // A relative xml_file resolves against the spec's directory.
-    let text = with(&mini(), &format!("'{}/hopper.xml'", assets().display()), "'no_such_model.xml'");
+    let text = with(
+        &mini(),
+        &format!("'{}/hopper.xml'", assets().display()),
+        "'no_such_model.xml'",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0301]);
     assert_eq!(lc(&d.0[0]), "5:12");
     let model = s.0.join("no_such_model.xml");
-    assert!(d.0[0].message.starts_with(&format!("cannot read model file {}: ", model.display())), "{}", d.0[0].message);
-    assert_eq!(help(&d.0[0]), Some(format!("xml_file resolved to {}", model.display()).as_str()));
+    assert!(
+        d.0[0]
+            .message
+            .starts_with(&format!("cannot read model file {}: ", model.display())),
+        "{}",
+        d.0[0].message
+    );
+    assert_eq!(
+        help(&d.0[0]),
+        Some(format!("xml_file resolved to {}", model.display()).as_str())
+    );
 }
 
 #[test]
 fn missing_model_file_from_an_override() {
     let s = Scratch::new("missing_model_override");
-    let (_, r) = load_text(&s, "spec.toml", &mini(), &[set("xml_file=/nonexistent/model.xml")]);
+    let (_, r) = load_text(
+        &s,
+        "spec.toml",
+        &mini(),
+        &[set("xml_file=/nonexistent/model.xml")],
+    );
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0301]);
     assert_eq!(d.0[0].position(), None);
-    assert_eq!(help(&d.0[0]), Some("xml_file resolved to /nonexistent/model.xml"));
+    assert_eq!(
+        help(&d.0[0]),
+        Some("xml_file resolved to /nonexistent/model.xml")
+    );
 }
 
 #[test]
 fn malformed_model_file() {
     let s = Scratch::new("malformed_model");
-    let xml = s.write("broken.xml", "<mujoco>\n  <worldbody>\n    <body name='a'>\n  </worldbody>\n</mujoco>\n");
-    let text = with(&mini(), &format!("'{}/hopper.xml'", assets().display()), "'broken.xml'");
+    let xml = s.write(
+        "broken.xml",
+        "<mujoco>\n  <worldbody>\n    <body name='a'>\n  </worldbody>\n</mujoco>\n",
+    );
+    let text = with(
+        &mini(),
+        &format!("'{}/hopper.xml'", assets().display()),
+        "'broken.xml'",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0302]);
     assert_eq!(lc(&d.0[0]), "5:12");
     assert_eq!(
         d.0[0].message,
-        format!("{}: not well-formed XML: expected 'body' tag, not 'worldbody' at 4:3", xml.display())
+        format!(
+            "{}: not well-formed XML: expected 'body' tag, not 'worldbody' at 4:3",
+            xml.display()
+        )
     );
     assert_eq!(d.0[0].label.as_deref(), Some("expected well-formed MJCF"));
 
     // Well-formed XML that is not MJCF.
     s.write("robot.urdf", "<robot name='r'/>\n");
-    let text = with(&mini(), &format!("'{}/hopper.xml'", assets().display()), "'robot.urdf'");
+    let text = with(
+        &mini(),
+        &format!("'{}/hopper.xml'", assets().display()),
+        "'robot.urdf'",
+    );
     let (_, r) = load_text(&s, "urdf.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0302]);
-    assert!(d.0[0].message.ends_with("URDF models are not supported by the spec resolver yet"), "{}", d.0[0].message);
+    assert!(
+        d.0[0]
+            .message
+            .ends_with("URDF models are not supported by the spec resolver yet"),
+        "{}",
+        d.0[0].message
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -598,13 +846,20 @@ fn invalid_toml() {
     };
     assert_eq!(d.codes(), [Code::E0100]);
     assert_eq!(d.0[0].position().as_deref(), Some("mini.toml:2:14"));
-    assert_eq!(d.0[0].message, "invalid TOML: invalid basic string, expected `\"`");
+    assert_eq!(
+        d.0[0].message,
+        "invalid TOML: invalid basic string, expected `\"`"
+    );
 }
 
 #[test]
 fn invalid_toml_reports_only_syntax_errors() {
     // The TOML parser recovers and may report several errors for one mistake; all are E0100.
-    let text = with(&mini(), "frame_skip = 4", "frame_skip = { default = 4 doc = \"x\" }");
+    let text = with(
+        &mini(),
+        "frame_skip = 4",
+        "frame_skip = { default = 4 doc = \"x\" }",
+    );
     let d = match Spec::parse(Path::new("mini.toml"), text) {
         Ok(_) => panic!("parsed invalid TOML"),
         Err(d) => d,
@@ -612,7 +867,10 @@ fn invalid_toml_reports_only_syntax_errors() {
     assert!(!d.is_empty());
     assert!(d.iter().all(|e| e.code == Code::E0100), "{d}");
     assert_eq!(lc(&d.0[0]), "6:32");
-    assert_eq!(d.0[0].message, "invalid TOML: extra assignment between key-value pairs, expected `,`");
+    assert_eq!(
+        d.0[0].message,
+        "invalid TOML: extra assignment between key-value pairs, expected `,`"
+    );
 }
 
 #[test]
@@ -652,7 +910,10 @@ fn missing_env_table_and_required_parameters() {
             "missing parameter `max_episode_steps` in [params]",
         ]
     );
-    assert!(d.iter().all(|e| e.position().as_deref() == Some("empty.toml:1:1")));
+    assert!(
+        d.iter()
+            .all(|e| e.position().as_deref() == Some("empty.toml:1:1"))
+    );
 }
 
 #[test]
@@ -663,7 +924,10 @@ fn reserved_sections() {
         Err(d) => d,
     };
     assert_eq!(d.codes(), [Code::E0104]);
-    assert_eq!(d.0[0].message, "`[agents]` is reserved for a later envc version");
+    assert_eq!(
+        d.0[0].message,
+        "`[agents]` is reserved for a later envc version"
+    );
     assert_eq!(lc(&d.0[0]), "53:2");
 }
 
@@ -673,7 +937,11 @@ fn reserved_sections() {
 #[test]
 fn sum_names_an_unknown_term() {
     let s = Scratch::new("sum_unknown");
-    let text = with(&mini(), "sum = [[\"forward\", \"healthy\"], \"ctrl\"]", "sum = [[\"forward\", \"helthy\"], \"ctrl\"]");
+    let text = with(
+        &mini(),
+        "sum = [[\"forward\", \"healthy\"], \"ctrl\"]",
+        "sum = [[\"forward\", \"helthy\"], \"ctrl\"]",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     // The unknown name, and the term it was meant to be, which is then missing.
@@ -681,7 +949,10 @@ fn sum_names_an_unknown_term() {
     assert_eq!(d.0[0].message, "`helthy` in `sum` is not a reward term");
     assert_eq!(lc(&d.0[0]), "21:20");
     assert_eq!(help(&d.0[0]), Some("did you mean `healthy`?"));
-    assert_eq!(d.0[1].message, "reward term `healthy` is used 0 times in `sum`");
+    assert_eq!(
+        d.0[1].message,
+        "reward term `healthy` is missing from `sum`"
+    );
     assert_eq!(lc(&d.0[1]), "21:7");
 }
 
@@ -693,15 +964,28 @@ fn sum_leaves_a_term_out_or_uses_it_twice() {
     let (_, r) = load_text(&s, "out.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0501]);
-    assert_eq!(d.0[0].message, "reward term `healthy` is used 0 times in `sum`");
-    assert_eq!(d.0[0].label.as_deref(), Some("expected every term exactly once"));
+    assert_eq!(
+        d.0[0].message,
+        "reward term `healthy` is missing from `sum`"
+    );
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("expected every term exactly once")
+    );
     assert_eq!(lc(&d.0[0]), "21:7");
 
-    let text = with(&mini(), sum, "sum = [\"forward\", \"healthy\", \"ctrl\", \"ctrl\"]");
+    let text = with(
+        &mini(),
+        sum,
+        "sum = [\"forward\", \"healthy\", \"ctrl\", \"ctrl\"]",
+    );
     let (_, r) = load_text(&s, "twice.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0501]);
-    assert_eq!(d.0[0].message, "reward term `ctrl` is used 2 times in `sum`");
+    assert_eq!(
+        d.0[0].message,
+        "reward term `ctrl` is used 2 times in `sum`"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -712,7 +996,11 @@ fn three_independent_mistakes_give_three_diagnostics() {
     // Resolution: an unknown field, an undeclared parameter, an index out of range.
     let s = Scratch::new("three");
     let mut text = with(&mini(), "source = \"qvel\"", "source = \"qvell\"");
-    text = with(&text, "weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\"");
+    text = with(
+        &text,
+        "weight = \"ctrl_cost_weight\"",
+        "weight = \"ctrl_cost_wieght\"",
+    );
     text = with(&text, "source = \"qpos[1]\"", "source = \"qpos[7]\"");
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
@@ -726,7 +1014,11 @@ fn three_independent_mistakes_give_three_diagnostics() {
 fn three_independent_syntax_mistakes_give_three_diagnostics() {
     // Checked without the model: a missing id, an unknown key, an unknown kind.
     let mut text = with(&mini(), "id = \"Mini-v0\"\n", "");
-    text = with(&text, "weight = \"healthy_reward\"", "wieght = \"healthy_reward\"");
+    text = with(
+        &text,
+        "weight = \"healthy_reward\"",
+        "wieght = \"healthy_reward\"",
+    );
     text = with(&text, "kind = \"sum_squares\"", "kind = \"sum_square\"");
     let d = match Spec::parse(Path::new("mini.toml"), text) {
         Ok(_) => panic!("parsed"),
@@ -742,8 +1034,16 @@ fn three_mistakes_in_a_real_spec() {
     let s = Scratch::new("three_real");
     let mut text = real("hopper.toml");
     text = with(&text, "source = \"qpos[2]\"", "source = \"qpos[7]\"");
-    text = with(&text, "[observation.qvel]\nsource = \"qvel\"", "[observation.qvel]\nsource = \"qvell\"");
-    text = with(&text, "weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\"");
+    text = with(
+        &text,
+        "[observation.qvel]\nsource = \"qvel\"",
+        "[observation.qvel]\nsource = \"qvell\"",
+    );
+    text = with(
+        &text,
+        "weight = \"ctrl_cost_weight\"",
+        "weight = \"ctrl_cost_wieght\"",
+    );
     let (_, r) = load_text(&s, "hopper.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.len(), 3, "{d}");
@@ -769,7 +1069,7 @@ error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
    |
 32 | kind = \"sum_square\"
    |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant
-  = help: did you mean `sum_squares`?
+   = help: did you mean `sum_squares`?
 ";
     assert_eq!(d.0[0].to_string(), expected);
     assert_eq!(d.to_string(), format!("{expected}\n1 error found"));
@@ -783,29 +1083,43 @@ fn rendered_text_names_the_file_line_and_column() {
     let d = errors(r);
     let out = d.0[0].to_string();
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines[0], "error[E0402]: unknown field `qvell` in selector `qvell`");
+    assert_eq!(
+        lines[0],
+        "error[E0402]: unknown field `qvell` in selector `qvell`"
+    );
     assert_eq!(lines[1], format!("  --> {}:17:10", p.display()));
     assert_eq!(lines[3], "17 | source = \"qvell\"");
-    assert!(lines[4].starts_with("   |          ^^^^^^^ expected one of: qpos, qvel,"), "{out}");
-    assert_eq!(lines[5], "  = help: did you mean `qvel`?");
+    assert!(
+        lines[4].starts_with("   |          ^^^^^^^ expected one of: qpos, qvel,"),
+        "{out}"
+    );
+    assert_eq!(
+        lines[5], "   = help: did you mean `qvel`?",
+        "help is aligned with the gutter"
+    );
 }
 
 #[test]
 fn crlf_line_endings_give_the_same_positions() {
-    let text = with(&mini(), "kind = \"sum_squares\"", "kind = \"sum_square\"").replace('\n', "\r\n");
+    let text =
+        with(&mini(), "kind = \"sum_squares\"", "kind = \"sum_square\"").replace('\n', "\r\n");
     let d = match Spec::parse(Path::new("crlf.toml"), text) {
         Ok(_) => panic!("parsed"),
         Err(d) => d,
     };
     assert_eq!(lc(&d.0[0]), "32:8");
-    assert!(d.0[0].to_string().contains("\n32 | kind = \"sum_square\"\n"), "no carriage return in the quoted line");
+    assert!(
+        d.0[0]
+            .to_string()
+            .contains("\n32 | kind = \"sum_square\"\n"),
+        "no carriage return in the quoted line"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
 // Known problems (see the report that came with this file); un-ignore once fixed.
 
 #[test]
-#[ignore = "envspec bug: resolve() hits unreachable!() when xml_file is declared with a non-path type"]
 fn xml_file_with_a_non_path_type_is_an_error_not_a_panic() {
     let s = Scratch::new("xml_file_type");
     let text = with(
@@ -816,15 +1130,55 @@ fn xml_file_with_a_non_path_type_is_an_error_not_a_panic() {
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0102]);
-    assert_eq!(lc(&d.0[0]), "5:12");
+    assert_eq!(
+        d.0[0].message,
+        "default of parameter `xml_file` is not a file path"
+    );
+    assert_eq!(lc(&d.0[0]), "5:24");
 }
 
 #[test]
-#[ignore = "envspec gap: a segment switched off by `when` is not checked, so an override can reveal errors"]
 fn a_disabled_observation_segment_is_still_checked() {
     let s = Scratch::new("when_false");
-    let text = with(&mini(), "source = \"qvel\"", "source = \"qvell\"\nwhen = false");
+    let text = with(
+        &mini(),
+        "source = \"qvel\"",
+        "source = \"qvell\"\nwhen = false",
+    );
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0402]);
+}
+
+#[test]
+fn sum_is_checked_even_when_another_term_fails() {
+    let s = Scratch::new("sum_after_failure");
+    let mut text = with(
+        &mini(),
+        "sum = [[\"forward\", \"healthy\"], \"ctrl\"]",
+        "sum = [[\"forward\", \"healthy\"]]",
+    );
+    text = with(
+        &text,
+        "source = \"qpos[0]\"\n\n[reward.healthy]",
+        "source = \"qpos[9]\"\n\n[reward.healthy]",
+    );
+    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+    let d = errors(r);
+    // The bad index, and `ctrl` (which resolved) missing from `sum`.
+    assert_eq!(d.codes(), [Code::E0304, Code::E0501]);
+}
+
+#[test]
+fn empty_uniform_reset_bounds() {
+    let s = Scratch::new("uniform_bounds");
+    let text = with(&mini(), "scale = 5e-3", "scale = -5e-3");
+    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+    let d = errors(r);
+    assert_eq!(d.codes(), [Code::E0104]);
+    assert_eq!(
+        d.0[0].message,
+        "[reset.qpos]: uniform bounds [0.005, -0.005) are empty or infinite"
+    );
+    assert_eq!(lc(&d.0[0]), "48:9");
 }

@@ -1,10 +1,12 @@
 //! The bundled Gymnasium v5 specs resolve to the reference's sizes (reference doc §1.0).
 use std::path::PathBuf;
 
-use envspec::{load, Override};
+use envspec::{Override, load};
 
 fn spec(file: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../specs/gymnasium").join(file)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../specs/gymnasium")
+        .join(file)
 }
 
 #[test]
@@ -12,12 +14,52 @@ fn sizes_match_the_reference() {
     // (file, id, nq, nv, nu, nbody, obs dim, frame_skip, max steps)
     let table = [
         ("ant.toml", "Ant-v5", 15, 14, 8, 14, 105, 5, 1000),
-        ("half_cheetah.toml", "HalfCheetah-v5", 9, 9, 6, 8, 17, 5, 1000),
+        (
+            "half_cheetah.toml",
+            "HalfCheetah-v5",
+            9,
+            9,
+            6,
+            8,
+            17,
+            5,
+            1000,
+        ),
         ("hopper.toml", "Hopper-v5", 6, 6, 3, 5, 11, 4, 1000),
         ("humanoid.toml", "Humanoid-v5", 24, 23, 17, 14, 348, 5, 1000),
-        ("humanoidstandup.toml", "HumanoidStandup-v5", 24, 23, 17, 14, 348, 5, 1000),
-        ("inverted_pendulum.toml", "InvertedPendulum-v5", 2, 2, 1, 3, 4, 2, 1000),
-        ("inverted_double_pendulum.toml", "InvertedDoublePendulum-v5", 3, 3, 1, 4, 9, 5, 1000),
+        (
+            "humanoidstandup.toml",
+            "HumanoidStandup-v5",
+            24,
+            23,
+            17,
+            14,
+            348,
+            5,
+            1000,
+        ),
+        (
+            "inverted_pendulum.toml",
+            "InvertedPendulum-v5",
+            2,
+            2,
+            1,
+            3,
+            4,
+            2,
+            1000,
+        ),
+        (
+            "inverted_double_pendulum.toml",
+            "InvertedDoublePendulum-v5",
+            3,
+            3,
+            1,
+            4,
+            9,
+            5,
+            1000,
+        ),
         ("pusher.toml", "Pusher-v5", 11, 11, 7, 13, 23, 5, 100),
         ("reacher.toml", "Reacher-v5", 4, 4, 2, 5, 10, 2, 50),
         ("swimmer.toml", "Swimmer-v5", 5, 5, 2, 4, 8, 4, 1000),
@@ -26,7 +68,11 @@ fn sizes_match_the_reference() {
     for (file, id, nq, nv, nu, nbody, obs, fs, max) in table {
         let r = load(&spec(file), &[]).unwrap_or_else(|e| panic!("{file}:\n{e}"));
         assert_eq!(r.id, id);
-        assert_eq!((r.model.nq, r.model.nv, r.model.nu(), r.model.nbody()), (nq, nv, nu, nbody), "{id} sizes");
+        assert_eq!(
+            (r.model.nq, r.model.nv, r.model.nu(), r.model.nbody()),
+            (nq, nv, nu, nbody),
+            "{id} sizes"
+        );
         assert_eq!(r.obs_dim, obs, "{id} obs dim");
         assert_eq!(r.frame_skip, fs, "{id} frame_skip");
         assert_eq!(r.max_episode_steps, Some(max), "{id} max_episode_steps");
@@ -40,9 +86,16 @@ fn flags_change_the_layout_as_in_the_reference() {
         let o: Vec<Override> = o.iter().map(|(k, v)| Override::text(k, v)).collect();
         load(&spec("ant.toml"), &o).unwrap().obs_dim
     };
-    assert_eq!(ant(&[("exclude_current_positions_from_observation", "false")]), 107);
+    assert_eq!(
+        ant(&[("exclude_current_positions_from_observation", "false")]),
+        107
+    );
     assert_eq!(ant(&[("include_cfrc_ext_in_observation", "false")]), 27);
-    let hum = |k: &str| load(&spec("humanoid.toml"), &[Override::text(k, "false")]).unwrap().obs_dim;
+    let hum = |k: &str| {
+        load(&spec("humanoid.toml"), &[Override::text(k, "false")])
+            .unwrap()
+            .obs_dim
+    };
     assert_eq!(hum("exclude_current_positions_from_observation"), 350);
     assert_eq!(hum("include_cinert_in_observation"), 218);
     assert_eq!(hum("include_cvel_in_observation"), 270);

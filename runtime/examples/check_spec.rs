@@ -25,7 +25,12 @@ fn main() -> ExitCode {
     }
     match envc::envspec::load(path.as_ref(), &overrides) {
         Ok(spec) => {
-            println!("{}: ok (obs dim {}, action dim {})", spec.id, spec.obs_dim, spec.act_dim());
+            println!(
+                "{}: ok (obs dim {}, action dim {})",
+                spec.id,
+                spec.obs_dim,
+                spec.act_dim()
+            );
             ExitCode::SUCCESS
         }
         Err(d) => {

@@ -28,14 +28,25 @@ fn run() -> Result<(), String> {
     while let Some(a) = args.next() {
         let mut value = |name: &str| args.next().ok_or(format!("{name} needs a value"));
         match a.as_str() {
-            "--episodes" => episodes = value("--episodes")?.parse().map_err(|e| format!("--episodes: {e}"))?,
-            "--seed" => seed = value("--seed")?.parse().map_err(|e| format!("--seed: {e}"))?,
-            "--set" => overrides.push(Override::parse(&value("--set")?).map_err(|d| d.to_string())?),
+            "--episodes" => {
+                episodes = value("--episodes")?
+                    .parse()
+                    .map_err(|e| format!("--episodes: {e}"))?
+            }
+            "--seed" => {
+                seed = value("--seed")?
+                    .parse()
+                    .map_err(|e| format!("--seed: {e}"))?
+            }
+            "--set" => {
+                overrides.push(Override::parse(&value("--set")?).map_err(|d| d.to_string())?)
+            }
             _ if env_id.is_none() => env_id = Some(a),
             _ => return Err(format!("unexpected argument `{a}`")),
         }
     }
-    let env_id = env_id.ok_or("usage: run_env ENV_ID|SPEC [--episodes N] [--seed S] [--set key=value ...]")?;
+    let env_id = env_id
+        .ok_or("usage: run_env ENV_ID|SPEC [--episodes N] [--seed S] [--set key=value ...]")?;
     let mut env = Env::make(&env_id, &overrides).map_err(|e| e.to_string())?;
     let spec = env.spec().clone();
     println!(
@@ -46,7 +57,10 @@ fn run() -> Result<(), String> {
         env.dt(),
         spec.max_episode_steps
     );
-    let (low, high) = (env.action_space().low.clone(), env.action_space().high.clone());
+    let (low, high) = (
+        env.action_space().low.clone(),
+        env.action_space().high.clone(),
+    );
     let mut policy = NumpyRng::from_seed(seed ^ 0x5eed);
     let mut action = vec![0.0; env.act_dim()];
     let start = Instant::now();
@@ -62,7 +76,11 @@ fn run() -> Result<(), String> {
             ret += s.reward;
             len += 1;
             if s.terminated || s.truncated {
-                let how = if s.terminated { "terminated" } else { "truncated" };
+                let how = if s.terminated {
+                    "terminated"
+                } else {
+                    "truncated"
+                };
                 println!("episode {ep}: return {ret:.3}, length {len} ({how})");
                 break;
             }
@@ -70,7 +88,10 @@ fn run() -> Result<(), String> {
         total_steps += len;
     }
     let secs = start.elapsed().as_secs_f64();
-    println!("{total_steps} steps in {secs:.2} s ({:.0} steps/s)", total_steps as f64 / secs);
+    println!(
+        "{total_steps} steps in {secs:.2} s ({:.0} steps/s)",
+        total_steps as f64 / secs
+    );
     for w in env.warnings() {
         println!("MuJoCo warning: {w}");
     }

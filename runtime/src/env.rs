@@ -32,7 +32,11 @@ impl BoxSpace {
         self.low.len()
     }
     pub fn contains(&self, x: &[f64]) -> bool {
-        x.len() == self.low.len() && x.iter().zip(&self.low).zip(&self.high).all(|((v, l), h)| l <= v && v <= h)
+        x.len() == self.low.len()
+            && x.iter()
+                .zip(&self.low)
+                .zip(&self.high)
+                .all(|((v, l), h)| l <= v && v <= h)
     }
 }
 
@@ -53,7 +57,10 @@ pub struct Info<'a> {
 
 impl<'a> Info<'a> {
     pub fn get(&self, key: &str) -> Option<&'a [f64]> {
-        self.slots.iter().find(|s| s.key == key).map(|s| &self.values[s.offset..s.offset + s.len])
+        self.slots
+            .iter()
+            .find(|s| s.key == key)
+            .map(|s| &self.values[s.offset..s.offset + s.len])
     }
     /// The value of a scalar key.
     pub fn scalar(&self, key: &str) -> Option<f64> {
@@ -61,7 +68,9 @@ impl<'a> Info<'a> {
     }
     pub fn iter(&self) -> impl Iterator<Item = (&'a str, &'a [f64])> + 'a {
         let values = self.values;
-        self.slots.iter().map(move |s| (s.key.as_str(), &values[s.offset..s.offset + s.len]))
+        self.slots
+            .iter()
+            .map(move |s| (s.key.as_str(), &values[s.offset..s.offset + s.len]))
     }
     pub fn len(&self) -> usize {
         self.slots.len()
@@ -103,7 +112,11 @@ struct Sim {
 /// # Safety
 /// `ptr` must point to at least `len` initialised f64 that outlive the returned slice.
 unsafe fn view<'a>(ptr: *const f64, len: usize) -> &'a [f64] {
-    if len == 0 { &[] } else { unsafe { std::slice::from_raw_parts(ptr, len) } }
+    if len == 0 {
+        &[]
+    } else {
+        unsafe { std::slice::from_raw_parts(ptr, len) }
+    }
 }
 
 impl Sim {
@@ -150,7 +163,12 @@ impl Sim {
     /// `einsum("b,bj->j", body_mass, xipos) / body_mass.sum()`: sequential products and sums.
     fn update_mass_center(&mut self) {
         // SAFETY: body_mass has nbody entries, xipos nbody×3.
-        let (mass, xipos) = unsafe { (view(self.m().body_mass, self.nbody), view(self.d().xipos, self.nbody * 3)) };
+        let (mass, xipos) = unsafe {
+            (
+                view(self.m().body_mass, self.nbody),
+                view(self.d().xipos, self.nbody * 3),
+            )
+        };
         let mut c = [0.0f64; 3];
         for (b, &mb) in mass.iter().enumerate() {
             for (j, cj) in c.iter_mut().enumerate() {
@@ -268,7 +286,11 @@ impl Env {
             let mut off = 0;
             items
                 .map(|i| {
-                    let s = InfoSlot { key: i.key.clone(), offset: off, len: i.len };
+                    let s = InfoSlot {
+                        key: i.key.clone(),
+                        offset: off,
+                        len: i.len,
+                    };
                     off += i.len;
                     s
                 })
@@ -283,11 +305,17 @@ impl Env {
         let ctrlrange = unsafe { view(m.actuator_ctrlrange, sim.nu * 2) };
         // Gymnasium: Box(ctrlrange.astype(float32)); the bounds are the float32-rounded values.
         let action_space = BoxSpace {
-            low: (0..sim.nu).map(|i| ctrlrange[2 * i] as f32 as f64).collect(),
-            high: (0..sim.nu).map(|i| ctrlrange[2 * i + 1] as f32 as f64).collect(),
+            low: (0..sim.nu)
+                .map(|i| ctrlrange[2 * i] as f32 as f64)
+                .collect(),
+            high: (0..sim.nu)
+                .map(|i| ctrlrange[2 * i + 1] as f32 as f64)
+                .collect(),
         };
-        let observation_space =
-            BoxSpace { low: vec![f64::NEG_INFINITY; spec.obs_dim], high: vec![f64::INFINITY; spec.obs_dim] };
+        let observation_space = BoxSpace {
+            low: vec![f64::NEG_INFINITY; spec.obs_dim],
+            high: vec![f64::INFINITY; spec.obs_dim],
+        };
         let max_draw = spec.reset.iter().map(|r| r.target.len()).max().unwrap_or(0);
 
         let mut warnings = vec![];
@@ -379,7 +407,10 @@ impl Env {
         // SAFETY: qpos/qvel have nq/nv entries; no other borrow of them is alive.
         let (qpos, qvel) = unsafe {
             let d = self.sim.data.ffi_mut();
-            (std::slice::from_raw_parts_mut(d.qpos, nq), std::slice::from_raw_parts_mut(d.qvel, nv))
+            (
+                std::slice::from_raw_parts_mut(d.qpos, nq),
+                std::slice::from_raw_parts_mut(d.qvel, nv),
+            )
         };
         qpos.copy_from_slice(&self.qpos_init);
         qvel.copy_from_slice(&self.qvel_init);
@@ -409,9 +440,17 @@ impl Env {
                     break;
                 }
             }
-            let target: &mut [f64] = if step.target.field == Field::Qpos { qpos } else { qvel };
+            let target: &mut [f64] = if step.target.field == Field::Qpos {
+                qpos
+            } else {
+                qvel
+            };
             for (k, &i) in step.target.indices.iter().enumerate() {
-                target[i] = if step.set { draw[k] } else { target[i] + draw[k] };
+                target[i] = if step.set {
+                    draw[k]
+                } else {
+                    target[i] + draw[k]
+                };
             }
         }
         // Gymnasium's set_state: qpos, qvel, then mj_forward.
@@ -429,7 +468,13 @@ impl Env {
             off += item.len;
         }
         mujoco_log::drain_into(&mut self.warnings);
-        (&self.obs, Info { slots: &self.reset_info, values: &self.reset_info_values })
+        (
+            &self.obs,
+            Info {
+                slots: &self.reset_info,
+                values: &self.reset_info_values,
+            },
+        )
     }
 
     /// Advance one control step. The action is used as given (MuJoCo clamps it to ctrlrange inside
@@ -459,10 +504,17 @@ impl Env {
             return Err(EnvError::NotReset);
         }
         if len != self.sim.nu {
-            return Err(EnvError::ActionLength { env: self.spec.id.clone(), expected: self.sim.nu, got: len });
+            return Err(EnvError::ActionLength {
+                env: self.spec.id.clone(),
+                expected: self.sim.nu,
+                got: len,
+            });
         }
         if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
-            return Err(EnvError::NonFiniteAction { index, value: value(index) });
+            return Err(EnvError::NonFiniteAction {
+                index,
+                value: value(index),
+            });
         }
         Ok(())
     }
@@ -502,14 +554,20 @@ impl Env {
         }
         self.elapsed += 1;
         let terminated = !healthy && self.spec.terminate_when_unhealthy;
-        let truncated = self.spec.max_episode_steps.is_some_and(|m| self.elapsed >= m);
+        let truncated = self
+            .spec
+            .max_episode_steps
+            .is_some_and(|m| self.elapsed >= m);
         mujoco_log::drain_into(&mut self.warnings);
         Ok(Step {
             obs: &self.obs,
             reward,
             terminated,
             truncated,
-            info: Info { slots: &self.step_info, values: &self.step_info_values },
+            info: Info {
+                slots: &self.step_info,
+                values: &self.step_info_values,
+            },
         })
     }
 
@@ -520,8 +578,16 @@ impl Env {
                 let x = f[i];
                 match c.kind {
                     CheckKind::Finite => x.is_finite(),
-                    CheckKind::InRange { lo, hi, closed: true } => lo <= x && x <= hi,
-                    CheckKind::InRange { lo, hi, closed: false } => lo < x && x < hi,
+                    CheckKind::InRange {
+                        lo,
+                        hi,
+                        closed: true,
+                    } => lo <= x && x <= hi,
+                    CheckKind::InRange {
+                        lo,
+                        hi,
+                        closed: false,
+                    } => lo < x && x < hi,
                     CheckKind::FailsIf { op, value } => !match op {
                         CmpOp::Lt => x < value,
                         CmpOp::Le => x <= value,
@@ -542,9 +608,11 @@ impl Env {
                 (sim.get(source, 0) - self.before[k]) / self.dt
             }
             TermKind::Healthy => healthy as u8 as f64,
-            TermKind::SumSquares { source, clip_input: None, clip: out_clip }
-                if self.action_f32 && source.field == Field::Action =>
-            {
+            TermKind::SumSquares {
+                source,
+                clip_input: None,
+                clip: out_clip,
+            } if self.action_f32 && source.field == Field::Action => {
                 // numpy: float32 square and pairwise sum; the weight is rounded to float32 (NEP 50).
                 let f = sim.field(source.field);
                 let s = pairwise_sum(source.len(), &|k| {
@@ -557,7 +625,11 @@ impl Env {
                     None => v,
                 };
             }
-            TermKind::SumSquares { source, clip_input, clip: out_clip } => {
+            TermKind::SumSquares {
+                source,
+                clip_input,
+                clip: out_clip,
+            } => {
                 let f = sim.field(source.field);
                 let s = pairwise_sum(source.len(), &|k| {
                     let x = f[source.indices[k]];
@@ -583,7 +655,11 @@ impl Env {
                     None => norm(source.len(), &|k| f[source.indices[k]]),
                 }
             }
-            TermKind::Quadratic { source, coefs, targets } => {
+            TermKind::Quadratic {
+                source,
+                coefs,
+                targets,
+            } => {
                 let f = sim.field(source.field);
                 let mut acc = 0.0;
                 for k in 0..source.len() {
@@ -674,8 +750,13 @@ impl Env {
 pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     mujoco_log::install();
     let path = &spec.model_path;
-    let bad = |message: String| EnvError::Compile { path: path.clone(), message };
-    let s = path.to_str().ok_or_else(|| bad("the path is not valid UTF-8".into()))?;
+    let bad = |message: String| EnvError::Compile {
+        path: path.clone(),
+        message,
+    };
+    let s = path
+        .to_str()
+        .ok_or_else(|| bad("the path is not valid UTF-8".into()))?;
     if s.contains('\0') {
         return Err(bad("the path contains a NUL byte".into()));
     }
@@ -694,7 +775,9 @@ fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
             _ => false,
         })
         || spec.info.iter().any(|i| match &i.kind {
-            InfoKind::Value { source, .. } | InfoKind::Norm { source } | InfoKind::Velocity { source } => sel(source),
+            InfoKind::Value { source, .. }
+            | InfoKind::Norm { source }
+            | InfoKind::Velocity { source } => sel(source),
             InfoKind::Term(_) => false,
         })
 }
@@ -704,7 +787,10 @@ fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
 fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
     let m = model.ffi();
     let info = &spec.model;
-    let mismatch = |what: String| EnvError::ModelMismatch { path: spec.model_path.clone(), what };
+    let mismatch = |what: String| EnvError::ModelMismatch {
+        path: spec.model_path.clone(),
+        what,
+    };
     let sizes = [
         ("nq", m.nq as usize, info.nq),
         ("nv", m.nv as usize, info.nv),
@@ -716,7 +802,9 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
     ];
     for (name, compiled, read) in sizes {
         if compiled != read {
-            return Err(mismatch(format!("{name} is {compiled} compiled but {read} from the MJCF")));
+            return Err(mismatch(format!(
+                "{name} is {compiled} compiled but {read} from the MJCF"
+            )));
         }
     }
     // SAFETY: jnt_qposadr/jnt_dofadr have njnt entries.
@@ -728,11 +816,17 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
     };
     for (j, joint) in info.joints.iter().enumerate() {
         if qadr[j] as usize != joint.qposadr || dadr[j] as usize != joint.dofadr {
-            return Err(mismatch(format!("joint {j} (`{}`) has different addresses", joint.name)));
+            return Err(mismatch(format!(
+                "joint {j} (`{}`) has different addresses",
+                joint.name
+            )));
         }
     }
     if m.opt.timestep != info.timestep {
-        return Err(mismatch(format!("timestep is {} compiled but {} from the MJCF", m.opt.timestep, info.timestep)));
+        return Err(mismatch(format!(
+            "timestep is {} compiled but {} from the MJCF",
+            m.opt.timestep, info.timestep
+        )));
     }
     Ok(())
 }

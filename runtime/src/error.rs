@@ -15,7 +15,11 @@ pub enum EnvError {
     #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {what}", path.display())]
     ModelMismatch { path: PathBuf, what: String },
     #[error("error[E1101]: action has {got} entries but {env} expects {expected}")]
-    ActionLength { env: String, expected: usize, got: usize },
+    ActionLength {
+        env: String,
+        expected: usize,
+        got: usize,
+    },
     #[error("error[E1102]: action[{index}] is {value}; actions must be finite")]
     NonFiniteAction { index: usize, value: f64 },
     #[error("error[E1103]: step() called before the first reset()")]

@@ -3,7 +3,7 @@
 //! them in a per-thread buffer, from which each env moves them into its own list.
 
 use std::cell::RefCell;
-use std::ffi::{c_char, CStr};
+use std::ffi::{CStr, c_char};
 use std::sync::Once;
 
 thread_local! {
@@ -15,7 +15,9 @@ unsafe extern "C" fn on_warning(msg: *const c_char) {
         return;
     }
     // SAFETY: MuJoCo passes a NUL-terminated message that lives for the duration of the call.
-    let text = unsafe { CStr::from_ptr(msg) }.to_string_lossy().into_owned();
+    let text = unsafe { CStr::from_ptr(msg) }
+        .to_string_lossy()
+        .into_owned();
     // A warning raised while the buffer is borrowed (cannot happen: we never call MuJoCo while
     // holding it) would be dropped rather than panic across the C boundary.
     PENDING.with(|p| {

@@ -8,7 +8,9 @@ use crate::error::EnvError;
 
 /// The directory holding the bundled specs.
 pub fn specs_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("specs")
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join("specs")
 }
 
 /// Every bundled spec as (env id, path), sorted by id.
@@ -16,15 +18,18 @@ pub fn bundled() -> Vec<(String, PathBuf)> {
     let mut out = vec![];
     let mut dirs = vec![specs_dir()];
     while let Some(dir) = dirs.pop() {
-        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
         for e in entries.flatten() {
             let p = e.path();
             if p.is_dir() {
                 dirs.push(p);
             } else if p.extension().is_some_and(|x| x == "toml")
-                && let Ok(spec) = Spec::load(&p) {
-                    out.push((spec.id, p));
-                }
+                && let Ok(spec) = Spec::load(&p)
+            {
+                out.push((spec.id, p));
+            }
         }
     }
     out.sort();
@@ -41,10 +46,22 @@ pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
     match all.iter().find(|(id, _)| id == id_or_path) {
         Some((_, path)) => Ok(path.clone()),
         None => Err(EnvError::Spec(
-            Diagnostic::new(Code::E0600, format!("no bundled env `{id_or_path}` and no such spec file"))
-                .label(format!("expected a spec path or one of: {}", all.iter().map(|(i, _)| i.as_str()).collect::<Vec<_>>().join(", ")))
-                .help_opt(envspec::diagnostic::suggest(id_or_path, all.iter().map(|(i, _)| i.as_str())))
-                .into(),
+            Diagnostic::new(
+                Code::E0600,
+                format!("no bundled env `{id_or_path}` and no such spec file"),
+            )
+            .label(format!(
+                "expected a spec path or one of: {}",
+                all.iter()
+                    .map(|(i, _)| i.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+            .help_opt(envspec::diagnostic::suggest(
+                id_or_path,
+                all.iter().map(|(i, _)| i.as_str()),
+            ))
+            .into(),
         )),
     }
 }
@@ -52,12 +69,21 @@ pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
 /// The README's table of bundled envs (id, observation and action sizes, dt, episode limit),
 /// generated from the specs. `tests/readme.rs` keeps the README in sync with it.
 pub fn env_table_markdown() -> Result<String, EnvError> {
-    let mut out = String::from("| id | obs dim | action dim | dt (s) | max steps | spec |\n|---|---:|---:|---:|---:|---|\n");
+    let mut out = String::from(
+        "| id | obs dim | action dim | dt (s) | max steps | spec |\n|---|---:|---:|---:|---:|---|\n",
+    );
     let root = specs_dir();
     for (id, path) in bundled() {
         let spec = envspec::load(&path, &[])?;
-        let rel = path.strip_prefix(&root).unwrap_or(&path).display().to_string();
-        let max = spec.max_episode_steps.map(|m| m.to_string()).unwrap_or_else(|| "none".into());
+        let rel = path
+            .strip_prefix(&root)
+            .unwrap_or(&path)
+            .display()
+            .to_string();
+        let max = spec
+            .max_episode_steps
+            .map(|m| m.to_string())
+            .unwrap_or_else(|| "none".into());
         out.push_str(&format!(
             "| {id} | {} | {} | {} | {max} | `specs/{rel}` |\n",
             spec.obs_dim,

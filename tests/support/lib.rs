@@ -13,7 +13,9 @@ use serde::Deserialize;
 pub fn fixtures_dir() -> PathBuf {
     match std::env::var_os("ENVC_PARITY_DIR") {
         Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference").join("fixtures"),
+        None => Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reference")
+            .join("fixtures"),
     }
 }
 
@@ -37,7 +39,10 @@ pub struct Case {
 
 impl Case {
     pub fn overrides(&self) -> Vec<Override> {
-        self.overrides.iter().map(|(k, v)| Override::text(k, v)).collect()
+        self.overrides
+            .iter()
+            .map(|(k, v)| Override::text(k, v))
+            .collect()
     }
 }
 
@@ -58,11 +63,22 @@ impl Recording {
     pub fn load(path: &Path, case: &Case) -> Recording {
         let mut npz = NpzReader::new(File::open(path).expect("fixture file")).expect("npz");
         let mut arrays = BTreeMap::new();
-        let mut f64s = vec!["actions".to_string(), "obs".into(), "reward".into(), "reset_obs".into()];
+        let mut f64s = vec![
+            "actions".to_string(),
+            "obs".into(),
+            "reward".into(),
+            "reset_obs".into(),
+        ];
         f64s.extend(case.step_info_keys.iter().map(|k| format!("info.{k}")));
-        f64s.extend(case.reset_info_keys.iter().map(|k| format!("reset_info.{k}")));
+        f64s.extend(
+            case.reset_info_keys
+                .iter()
+                .map(|k| format!("reset_info.{k}")),
+        );
         for name in f64s {
-            let a: ArrayD<f64> = npz.by_name(&name).unwrap_or_else(|e| panic!("{}: {name}: {e}", path.display()));
+            let a: ArrayD<f64> = npz
+                .by_name(&name)
+                .unwrap_or_else(|e| panic!("{}: {name}: {e}", path.display()));
             arrays.insert(name, a);
         }
         let mut bools = BTreeMap::new();
@@ -76,7 +92,12 @@ impl Recording {
         };
         let reset_step = ints(&mut npz, "reset_step");
         let reset_seed = ints(&mut npz, "reset_seed");
-        Recording { arrays, bools, reset_step, reset_seed }
+        Recording {
+            arrays,
+            bools,
+            reset_step,
+            reset_seed,
+        }
     }
 
     /// Row `t` of a recorded array, flattened.
@@ -112,12 +133,19 @@ pub struct Mismatches {
 impl Mismatches {
     pub fn values(&mut self, what: &str, ours: &[f64], theirs: &[f64]) {
         if ours.len() != theirs.len() {
-            self.push(format!("{what}: length {} vs reference {}", ours.len(), theirs.len()));
+            self.push(format!(
+                "{what}: length {} vs reference {}",
+                ours.len(),
+                theirs.len()
+            ));
             return;
         }
         for (i, (a, b)) in ours.iter().zip(theirs).enumerate() {
             if a.to_bits() != b.to_bits() {
-                self.push(format!("{what}[{i}]: {a:?} vs reference {b:?} ({} ulp)", ulps(*a, *b)));
+                self.push(format!(
+                    "{what}[{i}]: {a:?} vs reference {b:?} ({} ulp)",
+                    ulps(*a, *b)
+                ));
                 return;
             }
         }
@@ -148,14 +176,25 @@ pub fn replay(dir: &Path, case: &Case) -> Mismatches {
         if r < rec.reset_step.len() && rec.reset_step[r] as usize == t {
             let seed = (rec.reset_seed[r] >= 0).then(|| rec.reset_seed[r] as u64);
             let (obs, info) = env.reset(seed);
-            mm.values(&format!("reset {r} (step {t}) obs"), obs, &rec.row("reset_obs", r));
+            mm.values(
+                &format!("reset {r} (step {t}) obs"),
+                obs,
+                &rec.row("reset_obs", r),
+            );
             let keys: Vec<&str> = info.keys().collect();
             if keys != case.reset_info_keys {
-                mm.push(format!("reset {r} info keys {keys:?} vs reference {:?}", case.reset_info_keys));
+                mm.push(format!(
+                    "reset {r} info keys {keys:?} vs reference {:?}",
+                    case.reset_info_keys
+                ));
             }
             for k in &case.reset_info_keys {
                 match info.get(k) {
-                    Some(v) => mm.values(&format!("reset {r} info.{k}"), v, &rec.row(&format!("reset_info.{k}"), r)),
+                    Some(v) => mm.values(
+                        &format!("reset {r} info.{k}"),
+                        v,
+                        &rec.row(&format!("reset_info.{k}"), r),
+                    ),
                     None => mm.push(format!("reset {r}: missing info.{k}")),
                 }
             }
@@ -170,19 +209,36 @@ pub fn replay(dir: &Path, case: &Case) -> Mismatches {
             }
         };
         mm.values(&format!("step {t} obs"), step.obs, &rec.row("obs", t));
-        mm.values(&format!("step {t} reward"), &[step.reward], &rec.row("reward", t));
-        for (name, ours) in [("terminated", step.terminated), ("truncated", step.truncated)] {
+        mm.values(
+            &format!("step {t} reward"),
+            &[step.reward],
+            &rec.row("reward", t),
+        );
+        for (name, ours) in [
+            ("terminated", step.terminated),
+            ("truncated", step.truncated),
+        ] {
             if ours != rec.flag(name, t) {
-                mm.push(format!("step {t} {name}: {ours} vs reference {}", rec.flag(name, t)));
+                mm.push(format!(
+                    "step {t} {name}: {ours} vs reference {}",
+                    rec.flag(name, t)
+                ));
             }
         }
         let keys: Vec<&str> = step.info.keys().collect();
         if keys != case.step_info_keys {
-            mm.push(format!("step {t} info keys {keys:?} vs reference {:?}", case.step_info_keys));
+            mm.push(format!(
+                "step {t} info keys {keys:?} vs reference {:?}",
+                case.step_info_keys
+            ));
         }
         for k in &case.step_info_keys {
             match step.info.get(k) {
-                Some(v) => mm.values(&format!("step {t} info.{k}"), v, &rec.row(&format!("info.{k}"), t)),
+                Some(v) => mm.values(
+                    &format!("step {t} info.{k}"),
+                    v,
+                    &rec.row(&format!("info.{k}"), t),
+                ),
                 None => mm.push(format!("step {t}: missing info.{k}")),
             }
         }
