@@ -11,6 +11,7 @@
 //! ```
 
 pub mod env;
+pub mod environment;
 pub mod error;
 mod mujoco_log;
 pub mod numerics;
@@ -18,6 +19,7 @@ pub mod registry;
 pub mod rng;
 
 pub use env::{BoxSpace, Env, Info, Step};
+pub use environment::Environment;
 pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;

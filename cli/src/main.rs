@@ -1,0 +1,50 @@
+//! `envc`: work with environment specs from a terminal and in pull requests.
+//!
+//! Exit status: 0 success; 1 the command ran and found problems (invalid spec, breaking diff, ...);
+//! 2 bad arguments, unknown ids or unreadable files.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod commands;
+mod target;
+
+#[derive(Parser)]
+#[command(name = "envc", version, about = "Compile, inspect, run and diff robot RL environment specs")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Every bundled env: id, obs dim, action dim, dt, max steps, source spec.
+    List(commands::list::Args),
+    /// Validate specs and the models they name.
+    Check(commands::check::Args),
+}
+
+/// How a command ended, mapped to the exit status.
+pub enum Outcome {
+    Ok,
+    /// The command ran and found problems (status 1).
+    Problems,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::List(a) => commands::list::run(a),
+        Command::Check(a) => commands::check::run(a),
+    };
+    match result {
+        Ok(Outcome::Ok) => ExitCode::SUCCESS,
+        Ok(Outcome::Problems) => ExitCode::from(1),
+        Err(e) => {
+            // One line naming the problem; spec diagnostics keep their multi-line rendering.
+            eprintln!("envc: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
