@@ -23,6 +23,8 @@ enum Command {
     List(commands::list::Args),
     /// Validate specs and the models they name.
     Check(commands::check::Args),
+    /// The fully resolved spec: parameters, observation layout, actions, reward, health, reset, info.
+    Show(commands::show::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::List(a) => commands::list::run(a),
         Command::Check(a) => commands::check::run(a),
+        Command::Show(a) => commands::show::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

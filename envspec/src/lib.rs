@@ -15,6 +15,7 @@
 //! # Ok::<(), envspec::Diagnostics>(())
 //! ```
 
+pub mod describe;
 pub mod diagnostic;
 pub mod ir;
 pub mod mjcf;

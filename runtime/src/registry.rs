@@ -8,9 +8,8 @@ use crate::error::EnvError;
 
 /// The directory holding the bundled specs.
 pub fn specs_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join("specs")
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("specs");
+    dir.canonicalize().unwrap_or(dir)
 }
 
 /// Every bundled spec as (env id, path), sorted by id.

@@ -1,0 +1,119 @@
+//! `envc show SPEC|ID [--set k=v ...]`: the fully resolved spec.
+
+use std::fmt::Write;
+
+use anyhow::Result;
+use envspec::describe;
+use envspec::params::Origin;
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Spec file or bundled env id.
+    spec: String,
+    /// Parameter overrides (`key=value`, TOML literal values).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+/// Comma-joined names wrapped to lines of at most `width` characters, each indented by `indent`.
+fn wrap(names: &[String], indent: usize, width: usize) -> String {
+    let mut out = String::new();
+    let mut line = String::new();
+    for n in names {
+        if !line.is_empty() && line.len() + n.len() + 2 > width {
+            let _ = writeln!(out, "{}{line},", " ".repeat(indent));
+            line.clear();
+        }
+        if !line.is_empty() {
+            line.push_str(", ");
+        }
+        line.push_str(n);
+    }
+    let _ = write!(out, "{}{line}", " ".repeat(indent));
+    out
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let env = crate::target::env(&args.spec, &args.set)?;
+    let spec = env.spec().clone();
+    let cwd = std::env::current_dir().unwrap_or_default();
+    let rel = |p: &std::path::Path| p.strip_prefix(&cwd).unwrap_or(p).display().to_string();
+    let mut o = String::new();
+    writeln!(o, "{}  ({})", spec.id, rel(&spec.spec_path))?;
+    if !spec.description.is_empty() {
+        writeln!(o, "  {}", spec.description)?;
+    }
+    let m = &spec.model;
+    writeln!(
+        o,
+        "model: {}  (nq {}, nv {}, nu {}, nbody {}; timestep {}, frame_skip {}, dt {})",
+        rel(&spec.model_path),
+        m.nq,
+        m.nv,
+        m.nu(),
+        m.nbody(),
+        m.timestep,
+        spec.frame_skip,
+        env.dt()
+    )?;
+    let max = spec.max_episode_steps.map(|n| n.to_string()).unwrap_or_else(|| "none".into());
+    writeln!(o, "episode: truncated after {max} steps; an unhealthy state ends it: {}", spec.terminate_when_unhealthy)?;
+    if let Some(t) = spec.reward_threshold {
+        writeln!(o, "reward threshold: {t}")?;
+    }
+
+    writeln!(o, "\nparameters:")?;
+    let w = spec.params.iter().map(|p| p.name.len()).max().unwrap_or(0);
+    for p in &spec.params {
+        let origin = match &p.origin {
+            Origin::Default(loc) => format!("default ({})", loc.position().replace(&format!("{}/", cwd.display()), "")),
+            Origin::Override(_) => format!("override (default {})", p.default),
+        };
+        writeln!(o, "  {:<w$}  {:<6} {:<24} {origin}", p.name, p.ty.name(), p.value.to_string())?;
+    }
+
+    writeln!(o, "\nobservation ({} float64):", spec.obs_dim)?;
+    for s in &spec.observation {
+        let mut how = vec![];
+        if let Some((lo, hi)) = s.clip {
+            how.push(format!("clipped to [{lo}, {hi}]"));
+        }
+        let how = if how.is_empty() { String::new() } else { format!("  ({})", how.join(", ")) };
+        writeln!(o, "  [{}:{}]  {}  = {}{how}", s.offset, s.offset + s.len(), s.name, s.source.text)?;
+        writeln!(o, "{}", wrap(&s.element_names(), 6, 100))?;
+    }
+
+    writeln!(o, "\naction ({} float64; float32 bounds as Gymnasium's Box):", env.act_dim())?;
+    let sp = env.action_space();
+    for (i, a) in m.actuators.iter().enumerate() {
+        let target = a.target.as_deref().unwrap_or("-");
+        let name = if a.name.is_empty() { "(unnamed)" } else { a.name.as_str() };
+        writeln!(o, "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]", sp.low[i], sp.high[i])?;
+    }
+
+    writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;
+    for t in &spec.reward {
+        let info = t.info.as_ref().map(|k| format!("   info `{k}`")).unwrap_or_default();
+        writeln!(o, "  {:<12} {:<12} {}{info}", t.name, t.kind_name(), describe::term(t))?;
+    }
+
+    writeln!(o, "\nhealth ({}):", if spec.health.is_empty() { "always healthy" } else { "healthy when every check passes" })?;
+    for c in &spec.health {
+        writeln!(o, "  {:<14} {}", c.name, describe::check(c))?;
+    }
+
+    writeln!(o, "\nreset (in RNG draw order; then mj_forward):")?;
+    for r in &spec.reset {
+        writeln!(o, "  {:<14} {}", r.name, describe::reset_step(r))?;
+    }
+
+    writeln!(o, "\ninfo:")?;
+    for i in &spec.info {
+        let when = if i.at_reset { "reset+step" } else { "step" };
+        writeln!(o, "  {:<24} {:<10} {}", i.key, when, describe::info(&spec, i))?;
+    }
+    print!("{o}");
+    Ok(Outcome::Ok)
+}

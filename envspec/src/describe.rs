@@ -1,0 +1,137 @@
+//! Human-readable formulas for the IR: one wording shared by `envc show`, generated rustdoc and
+//! `envc diff`, so a term reads the same everywhere.
+
+use crate::ir::*;
+use crate::selector::Selection;
+use crate::value::format_float;
+
+fn num(x: f64) -> String {
+    format_float(x)
+}
+
+fn range(lo: f64, hi: f64) -> String {
+    format!("[{}, {}]", num(lo), num(hi))
+}
+
+fn sel(s: &Selection) -> String {
+    s.text.clone()
+}
+
+/// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
+pub fn kernel(t: &RewardTerm) -> String {
+    match &t.kind {
+        TermKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
+        TermKind::Healthy => "1 if healthy else 0".into(),
+        TermKind::SumSquares { source, clip_input, clip } => {
+            let x = match clip_input {
+                Some((lo, hi)) => format!("clip({}, {})", sel(source), range(*lo, *hi)),
+                None => sel(source),
+            };
+            let s = format!("Σ {x}²");
+            match clip {
+                Some((lo, hi)) => format!("clip(weight × {s}, {})", range(*lo, *hi)),
+                None => s,
+            }
+        }
+        TermKind::Norm { source, minus } => match minus {
+            Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
+            None => format!("‖{}‖₂", sel(source)),
+        },
+        TermKind::Quadratic { source, coefs, targets } => {
+            let parts: Vec<String> = (0..source.len())
+                .map(|i| {
+                    let x = &source.names[i];
+                    let d = if targets[i] == 0.0 { x.clone() } else { format!("({x} − {})", num(targets[i])) };
+                    if coefs[i] == 1.0 { format!("{d}²") } else { format!("{}·{d}²", num(coefs[i])) }
+                })
+                .collect();
+            parts.join(" + ")
+        }
+        TermKind::Value { source, divide_by } => match divide_by {
+            Some(Divisor::Timestep) => format!("{} / timestep", sel(source)),
+            Some(Divisor::Dt) => format!("{} / dt", sel(source)),
+            None => sel(source),
+        },
+        TermKind::Constant => "1".into(),
+    }
+}
+
+/// The full contribution of a term to the reward, e.g. `−0.5 × Σ action²`.
+pub fn term(t: &RewardTerm) -> String {
+    let k = kernel(t);
+    let sign = if t.cost { "−" } else { "+" };
+    match &t.kind {
+        // The clip wraps the weighted value; the weight is already inside the kernel text.
+        TermKind::SumSquares { clip: Some(_), .. } => format!("{sign}{k}  (weight {})", num(t.weight)),
+        TermKind::Constant => format!("{sign}{}", num(t.weight)),
+        _ if t.weight == 1.0 => format!("{sign}{k}"),
+        _ => format!("{sign}{} × {k}", num(t.weight)),
+    }
+}
+
+/// The reward as a sum of term names with the grouping that decides rounding.
+pub fn reward_sum(spec: &ResolvedSpec) -> String {
+    fn go(n: &SumNode, spec: &ResolvedSpec, top: bool) -> String {
+        match n {
+            SumNode::Term(i) => spec.reward[*i].name.clone(),
+            SumNode::Sum(c) => {
+                let inner = c.iter().map(|x| go(x, spec, false)).collect::<Vec<_>>().join(" + ");
+                if top { inner } else { format!("({inner})") }
+            }
+        }
+    }
+    go(&spec.reward_sum, spec, true)
+}
+
+pub fn check(c: &HealthCheck) -> String {
+    let src = c.sources.iter().map(sel).collect::<Vec<_>>().join(", ");
+    match c.kind {
+        CheckKind::Finite => format!("every element of {src} is finite"),
+        CheckKind::InRange { lo, hi, closed: true } => format!("{} ≤ {src} ≤ {} (every element)", num(lo), num(hi)),
+        CheckKind::InRange { lo, hi, closed: false } => format!("{} < {src} < {} (every element)", num(lo), num(hi)),
+        CheckKind::FailsIf { op, value } => {
+            let op = match op {
+                CmpOp::Lt => "<",
+                CmpOp::Le => "≤",
+                CmpOp::Gt => ">",
+                CmpOp::Ge => "≥",
+            };
+            format!("unhealthy if {src} {op} {}", num(value))
+        }
+    }
+}
+
+pub fn reset_step(r: &ResetStep) -> String {
+    let dist = match &r.dist {
+        Distribution::Uniform { low, high } => {
+            let same = low.windows(2).all(|w| w[0] == w[1]) && high.windows(2).all(|w| w[0] == w[1]);
+            if same && !low.is_empty() {
+                format!("uniform[{}, {})", num(low[0]), num(high[0]))
+            } else {
+                let pairs: Vec<String> = low.iter().zip(high).map(|(l, h)| format!("[{}, {})", num(*l), num(*h))).collect();
+                format!("uniform per element {}", pairs.join(" "))
+            }
+        }
+        Distribution::Normal { scale } => format!("{} × normal(0, 1)", num(*scale)),
+        Distribution::Constant { value } => num(*value),
+    };
+    let op = if r.set { "=" } else { "= initial +" };
+    let until = match r.resample_until {
+        Some(Until::NormBelow(x)) => format!(", redrawn until ‖·‖ < {}", num(x)),
+        Some(Until::NormAbove(x)) => format!(", redrawn until ‖·‖ > {}", num(x)),
+        None => String::new(),
+    };
+    format!("{} {op} {dist}{until}", sel(&r.target))
+}
+
+pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
+    match &i.kind {
+        InfoKind::Value { source, minus } => match minus {
+            Some(m) => format!("{} − {}", sel(source), sel(m)),
+            None => sel(source),
+        },
+        InfoKind::Norm { source } => format!("‖{}‖₂", sel(source)),
+        InfoKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
+        InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
+    }
+}
