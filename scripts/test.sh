@@ -16,6 +16,10 @@ PY="$ROOT/.venv/bin/python"
 
 cargo test --workspace
 
+# `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds).
+cargo build -q -p envc-cli
+"$PY" tests/reference/check_rollout.py --envc target/debug/envc
+
 LIVE="$(mktemp -d)"
 trap 'rm -rf "$LIVE"' EXIT
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"

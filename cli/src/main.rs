@@ -25,6 +25,8 @@ enum Command {
     Check(commands::check::Args),
     /// The fully resolved spec: parameters, observation layout, actions, reward, health, reset, info.
     Show(commands::show::Args),
+    /// Run one action sequence from a .npy file and save the trajectory as .npz.
+    Rollout(commands::rollout::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -40,6 +42,7 @@ fn main() -> ExitCode {
         Command::List(a) => commands::list::run(a),
         Command::Check(a) => commands::check::run(a),
         Command::Show(a) => commands::show::run(a),
+        Command::Rollout(a) => commands::rollout::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

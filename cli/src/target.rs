@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
-use envc::{Env, Override, ResolvedSpec};
+use anyhow::Result;
+use envc::{Env, Override};
 
 /// Parse `--set key=value` arguments.
 pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
@@ -12,23 +12,23 @@ pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
 
 /// A bundled env id or a spec file path.
 pub fn spec_path(id_or_path: &str) -> Result<PathBuf> {
-    envc::registry::find(id_or_path).map_err(|e| anyhow::anyhow!("{}", first_line(&e.to_string())))
+    envc::registry::find(id_or_path).map_err(|e| match &e {
+        // One line: the message and the suggestion.
+        envc::EnvError::Spec(d) if !d.is_empty() => {
+            let d = &d.0[0];
+            match &d.help {
+                Some(h) => anyhow::anyhow!("{} ({h})", d.message),
+                None => anyhow::anyhow!("{}", d.message),
+            }
+        }
+        other => anyhow::anyhow!("{other}"),
+    })
 }
 
-/// Resolve a spec with overrides (errors keep their full rendering).
-pub fn resolve(id_or_path: &str, sets: &[String]) -> Result<ResolvedSpec> {
-    let path = spec_path(id_or_path)?;
-    let o = overrides(sets)?;
-    envspec::load(&path, &o).map_err(|d| anyhow::anyhow!("{d}")).with_context(|| format!("in {}", path.display()))
-}
 
 /// Build an env.
 pub fn env(id_or_path: &str, sets: &[String]) -> Result<Env> {
     let path = spec_path(id_or_path)?;
     let o = overrides(sets)?;
     Env::from_spec_file(&path, &o).map_err(|e| anyhow::anyhow!("{e}"))
-}
-
-fn first_line(s: &str) -> String {
-    s.lines().next().unwrap_or("").trim_start_matches("error[E0600]: ").to_string()
 }

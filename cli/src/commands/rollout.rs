@@ -1,0 +1,156 @@
+//! `envc rollout SPEC|ID --seed S --actions A.npy --out T.npz [--set k=v ...] [--auto-reset]`:
+//! run one action sequence and save the trajectory (format in the README, "Trajectory files").
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use ndarray::{Array, Array1, Array2, ArrayD, IxDyn};
+use ndarray_npy::{NpzWriter, ReadNpyExt};
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Spec file or bundled env id.
+    spec: String,
+    /// Seed of the first reset (omit for OS entropy, as `reset()` without a seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Actions: a `.npy` array [T, act_dim] of float64 (float32 is stepped as a float32 policy).
+    #[arg(long, value_name = "A.npy")]
+    actions: PathBuf,
+    /// Output `.npz` file.
+    #[arg(long, value_name = "T.npz")]
+    out: PathBuf,
+    /// Parameter overrides (`key=value`, TOML literal values).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// After an episode ends, `reset()` without a seed and go on through all actions.
+    #[arg(long)]
+    auto_reset: bool,
+}
+
+enum Actions {
+    F64(Array2<f64>),
+    F32(Array2<f32>),
+}
+
+fn read_actions(path: &PathBuf) -> Result<Actions> {
+    let open = || File::open(path).with_context(|| format!("cannot open {}", path.display()));
+    if let Ok(a) = Array2::<f64>::read_npy(open()?) {
+        return Ok(Actions::F64(a));
+    }
+    match Array2::<f32>::read_npy(open()?) {
+        Ok(a) => Ok(Actions::F32(a)),
+        Err(e) => bail!("{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]: {e}", path.display()),
+    }
+}
+
+/// Per-key info values collected over steps.
+#[derive(Default)]
+struct InfoColumns {
+    keys: Vec<(String, usize)>,
+    values: BTreeMap<String, Vec<f64>>,
+}
+
+impl InfoColumns {
+    fn push(&mut self, info: envc::Info<'_>) {
+        if self.keys.is_empty() {
+            self.keys = info.iter().map(|(k, v)| (k.to_string(), v.len())).collect();
+        }
+        for (k, v) in info.iter() {
+            self.values.entry(k.to_string()).or_default().extend_from_slice(v);
+        }
+    }
+    /// `[n]` for scalar keys, `[n, k]` for vector keys.
+    fn arrays(&self, prefix: &str) -> Result<Vec<(String, ArrayD<f64>)>> {
+        let mut out = vec![];
+        for (k, len) in &self.keys {
+            let v = self.values[k].clone();
+            let n = v.len() / len;
+            let shape = if *len == 1 { vec![n] } else { vec![n, *len] };
+            out.push((format!("{prefix}.{k}"), Array::from_shape_vec(IxDyn(&shape), v)?));
+        }
+        Ok(out)
+    }
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let actions = read_actions(&args.actions)?;
+    let mut env = crate::target::env(&args.spec, &args.set)?;
+    let (t_max, width) = match &actions {
+        Actions::F64(a) => a.dim(),
+        Actions::F32(a) => a.dim(),
+    };
+    if width != env.act_dim() {
+        bail!("{} has {width} columns but {} takes {} actions", args.actions.display(), env.spec().id, env.act_dim());
+    }
+    let obs_dim = env.obs_dim();
+
+    let mut obs: Vec<f64> = vec![];
+    let (mut reward, mut terminated, mut truncated) = (vec![], vec![], vec![]);
+    let mut step_info = InfoColumns::default();
+    let mut reset_obs: Vec<f64> = vec![];
+    let mut reset_at: Vec<i64> = vec![];
+    let mut first_reset = InfoColumns::default();
+
+    let (o, info) = env.reset(args.seed);
+    obs.extend_from_slice(o);
+    reset_obs.extend_from_slice(o);
+    reset_at.push(0);
+    first_reset.push(info);
+
+    for t in 0..t_max {
+        let s = match &actions {
+            Actions::F64(a) => env.step(a.row(t).as_slice().context("actions must be in C order")?),
+            Actions::F32(a) => env.step_f32(a.row(t).as_slice().context("actions must be in C order")?),
+        }
+        .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
+        obs.extend_from_slice(s.obs);
+        reward.push(s.reward);
+        terminated.push(s.terminated);
+        truncated.push(s.truncated);
+        let done = s.terminated || s.truncated;
+        step_info.push(s.info);
+        if done {
+            if !args.auto_reset {
+                break;
+            }
+            if t + 1 < t_max {
+                let (o, _) = env.reset(None);
+                reset_obs.extend_from_slice(o);
+                reset_at.push(t as i64 + 1);
+            }
+        }
+    }
+
+    let n = reward.len();
+    let file = File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    let mut npz = NpzWriter::new(file);
+    npz.add_array("obs", &Array2::from_shape_vec((n + 1, obs_dim), obs)?)?;
+    npz.add_array("reward", &Array1::from(reward))?;
+    npz.add_array("terminated", &Array1::from(terminated))?;
+    npz.add_array("truncated", &Array1::from(truncated))?;
+    for (name, a) in step_info.arrays("info")? {
+        npz.add_array(name.as_str(), &a)?;
+    }
+    for (name, a) in first_reset.arrays("reset_info")? {
+        // The first reset's info: one value per key ([] for scalars, [k] for vectors).
+        let a = a.index_axis_move(ndarray::Axis(0), 0);
+        npz.add_array(name.as_str(), &a)?;
+    }
+    if args.auto_reset {
+        let r = reset_at.len();
+        npz.add_array("reset_obs", &Array2::from_shape_vec((r, obs_dim), reset_obs)?)?;
+        npz.add_array("reset_at", &Array1::from(reset_at))?;
+    }
+    npz.finish()?;
+    let warnings = env.warnings();
+    for w in warnings {
+        eprintln!("MuJoCo warning: {w}");
+    }
+    eprintln!("{}: {n} steps written to {}", env.spec().id, args.out.display());
+    Ok(Outcome::Ok)
+}
