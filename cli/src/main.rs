@@ -27,6 +27,8 @@ enum Command {
     Show(commands::show::Args),
     /// Run one action sequence from a .npy file and save the trajectory as .npz.
     Rollout(commands::rollout::Args),
+    /// Run episodes with a zero or random policy and summarise returns, lengths and speed.
+    Run(commands::run::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
         Command::Check(a) => commands::check::run(a),
         Command::Show(a) => commands::show::run(a),
         Command::Rollout(a) => commands::rollout::run(a),
+        Command::Run(a) => commands::run::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
