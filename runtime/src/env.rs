@@ -386,6 +386,20 @@ impl Env {
     pub fn obs(&self) -> &[f64] {
         &self.obs
     }
+    /// The info of the last `step` (kept when a later `reset` fills the reset info).
+    pub fn step_info(&self) -> Info<'_> {
+        Info {
+            slots: &self.step_info,
+            values: &self.step_info_values,
+        }
+    }
+    /// The info of the last `reset`.
+    pub fn reset_info(&self) -> Info<'_> {
+        Info {
+            slots: &self.reset_info,
+            values: &self.reset_info_values,
+        }
+    }
     /// Current `qpos` and `qvel`.
     pub fn state(&self) -> (&[f64], &[f64]) {
         (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
@@ -461,10 +475,18 @@ impl Env {
         self.elapsed = 0;
         self.has_reset = true;
         self.write_obs();
-        let spec = Arc::clone(&self.spec);
         let mut off = 0;
-        for item in spec.reset_info() {
-            self.write_info(item, None, off, true);
+        for item in self.spec.reset_info() {
+            let out = &mut self.reset_info_values[off..off + item.len];
+            write_info(
+                &self.sim,
+                &self.before,
+                &self.term_values,
+                self.dt,
+                item,
+                None,
+                out,
+            );
             off += item.len;
         }
         mujoco_log::drain_into(&mut self.warnings);
@@ -546,10 +568,19 @@ impl Env {
         }
         let reward = self.sum(&self.spec.reward_sum);
         self.write_obs();
-        let spec = Arc::clone(&self.spec);
         let mut off = 0;
-        for (j, item) in spec.info.iter().enumerate() {
-            self.write_info(item, self.info_slot[j], off, false);
+        for (j, item) in self.spec.info.iter().enumerate() {
+            let out = &mut self.step_info_values[off..off + item.len];
+            let slot = self.info_slot[j];
+            write_info(
+                &self.sim,
+                &self.before,
+                &self.term_values,
+                self.dt,
+                item,
+                slot,
+                out,
+            );
             off += item.len;
         }
         self.elapsed += 1;
@@ -715,34 +746,38 @@ impl Env {
             }
         }
     }
+}
 
-    fn write_info(&mut self, item: &InfoItem, slot: Option<usize>, off: usize, at_reset: bool) {
-        let sim = &self.sim;
-        let out = if at_reset {
-            &mut self.reset_info_values[off..off + item.len]
-        } else {
-            &mut self.step_info_values[off..off + item.len]
-        };
-        match &item.kind {
-            InfoKind::Value { source, minus } => {
-                let f = sim.field(source.field);
-                for (k, o) in out.iter_mut().enumerate() {
-                    *o = f[source.indices[k]];
-                    if let Some(m) = minus {
-                        *o -= sim.field(m.field)[m.indices[k]];
-                    }
+/// One info item's values, written into `out` (a free function so the spec can stay borrowed
+/// while the env's buffers are written: no per-step `Arc` clone).
+fn write_info(
+    sim: &Sim,
+    before: &[f64],
+    term_values: &[f64],
+    dt: f64,
+    item: &InfoItem,
+    slot: Option<usize>,
+    out: &mut [f64],
+) {
+    match &item.kind {
+        InfoKind::Value { source, minus } => {
+            let f = sim.field(source.field);
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = f[source.indices[k]];
+                if let Some(m) = minus {
+                    *o -= sim.field(m.field)[m.indices[k]];
                 }
             }
-            InfoKind::Norm { source } => {
-                let f = sim.field(source.field);
-                out[0] = norm(source.len(), &|k| f[source.indices[k]]);
-            }
-            InfoKind::Velocity { source } => {
-                let k = slot.expect("velocity infos have a slot");
-                out[0] = (sim.get(source, 0) - self.before[k]) / self.dt;
-            }
-            InfoKind::Term(i) => out[0] = self.term_values[*i],
         }
+        InfoKind::Norm { source } => {
+            let f = sim.field(source.field);
+            out[0] = norm(source.len(), &|k| f[source.indices[k]]);
+        }
+        InfoKind::Velocity { source } => {
+            let k = slot.expect("velocity infos have a slot");
+            out[0] = (sim.get(source, 0) - before[k]) / dt;
+        }
+        InfoKind::Term(i) => out[0] = term_values[*i],
     }
 }
 
