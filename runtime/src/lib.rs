@@ -17,9 +17,11 @@ mod mujoco_log;
 pub mod numerics;
 pub mod registry;
 pub mod rng;
+pub mod vector;
 
 pub use env::{BoxSpace, Env, Info, Step};
 pub use environment::Environment;
 pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
+pub use vector::{Autoreset, VecEnv};

@@ -1,0 +1,516 @@
+//! Vectorized envs: N envs of one spec sharing one compiled model, stepped in parallel by a
+//! persistent pool, with Gymnasium 1.x `SyncVectorEnv` semantics.
+//!
+//! * `reset(Some(s))` seeds env i with `s + i`; `reset(None)` leaves each env's stream going.
+//! * Autoreset [`Autoreset::NextStep`] (Gymnasium's default): the step after an env ended resets it
+//!   (no seed) instead of stepping it, with reward 0 and both flags false. [`Autoreset::SameStep`]:
+//!   the ending step resets at once; the batch holds the reset obs, the ending obs goes to
+//!   [`VecEnv::final_obs`] and its info stays readable through [`VecEnv::final_info`].
+//! * Observations, rewards, terminated and truncated live in contiguous batch buffers
+//!   (env-major) that the caller reads in place.
+//!
+//! `threads = M` means M threads run envs: the caller plus M − 1 pool workers that live as long
+//! as the `VecEnv`. The caller works too, so a step costs one wake-up hand-off, not two. Envs are
+//! claimed one at a time from a shared counter (load balancing: episodes end and reset at
+//! different times), and every env writes only its own slots, so the results do not depend on M
+//! or on which thread ran which env.
+
+use std::any::Any;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use envspec::{Override, ResolvedSpec};
+
+use crate::env::{Env, Info, compile};
+use crate::error::EnvError;
+
+/// When an ended env is reset (Gymnasium's `AutoresetMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Autoreset {
+    /// On the next `step` call (Gymnasium 1.x's default).
+    #[default]
+    NextStep,
+    /// In the ending step itself; the ending observation goes to `final_obs`.
+    SameStep,
+}
+
+/// How long an idle thread spins before sleeping: a futex wake-up costs 25–35 µs on the
+/// development VM (performance_anchors.md), more than a whole cheap env step.
+const SPIN: Duration = Duration::from_micros(50);
+
+/// Raw views of the env array and batch buffers. Fixed at construction: the buffers are never
+/// resized, so the pointers stay valid while the `VecEnv` lives, however it moves.
+struct Job {
+    envs: *mut Env,
+    actions: *const f64,
+    obs: *mut f64,
+    rewards: *mut f64,
+    terminated: *mut bool,
+    truncated: *mut bool,
+    final_obs: *mut f64,
+    has_final: *mut bool,
+    /// Env i ended in the previous step (NextStep resets it now).
+    pending: *mut bool,
+    n: usize,
+    obs_dim: usize,
+    act_dim: usize,
+    mode: Autoreset,
+}
+
+// SAFETY: a Job is only dereferenced for env indices claimed from `Shared::next`, each claimed by
+// exactly one thread per step, and the caller touches the buffers only while no step runs.
+unsafe impl Send for Job {}
+unsafe impl Sync for Job {}
+
+struct Shared {
+    job: Job,
+    /// Next env index to claim in the current step.
+    next: AtomicUsize,
+    /// Envs finished in the current step.
+    done: AtomicUsize,
+    /// Bumped once per step to wake the workers.
+    epoch: AtomicU64,
+    shutdown: AtomicBool,
+    /// Workers asleep on `work`; the caller only pays for a notify when one is.
+    sleepers: AtomicUsize,
+    caller_asleep: AtomicBool,
+    lock: Mutex<()>,
+    work: Condvar,
+    finished: Condvar,
+    /// Test hook: a nonzero seed delays each env by a pseudo-random few µs, shuffling completion.
+    jitter: AtomicU64,
+    /// The first env error or panic of the step, by env index (both are internal bugs after the
+    /// caller's checks; kept so they surface on the caller, not on a worker).
+    failure: Mutex<Option<(usize, Failure)>>,
+}
+
+enum Failure {
+    Error(EnvError),
+    Panic(Box<dyn Any + Send>),
+}
+
+impl Shared {
+    /// Claim and run envs until none is left in this step.
+    fn work(&self) {
+        let n = self.job.n;
+        loop {
+            let i = self.next.fetch_add(1, AcqRel);
+            if i >= n {
+                return;
+            }
+            let jitter = self.jitter.load(Relaxed);
+            if jitter != 0 {
+                let h = splitmix(jitter ^ self.epoch.load(Relaxed) << 20 ^ i as u64);
+                std::thread::sleep(Duration::from_micros(h % 300));
+            }
+            // SAFETY: index i was claimed by this thread alone for this step.
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| unsafe {
+                run_one(&self.job, i)
+            }));
+            let failure = match r {
+                Ok(Ok(())) => None,
+                Ok(Err(e)) => Some(Failure::Error(e)),
+                Err(p) => Some(Failure::Panic(p)),
+            };
+            if let Some(f) = failure
+                && let Ok(mut slot) = self.failure.lock()
+                && slot.as_ref().is_none_or(|(j, _)| i < *j)
+            {
+                *slot = Some((i, f));
+            }
+            if self.done.fetch_add(1, SeqCst) + 1 == n && self.caller_asleep.load(SeqCst) {
+                let _g = self.lock.lock();
+                self.finished.notify_one();
+            }
+        }
+    }
+
+    fn worker_loop(&self) {
+        let mut seen = 0;
+        loop {
+            let start = Instant::now();
+            let mut spins = 0u32;
+            while self.epoch.load(Acquire) == seen && !self.shutdown.load(Acquire) {
+                std::hint::spin_loop();
+                spins += 1;
+                if spins.is_multiple_of(64) && start.elapsed() > SPIN {
+                    let Ok(mut g) = self.lock.lock() else { return };
+                    self.sleepers.fetch_add(1, SeqCst);
+                    while self.epoch.load(SeqCst) == seen && !self.shutdown.load(SeqCst) {
+                        g = match self.work.wait(g) {
+                            Ok(g) => g,
+                            Err(_) => return,
+                        };
+                    }
+                    self.sleepers.fetch_sub(1, SeqCst);
+                    break;
+                }
+            }
+            if self.shutdown.load(Acquire) {
+                return;
+            }
+            seen = self.epoch.load(Acquire);
+            self.work();
+        }
+    }
+}
+
+// The pool moves envs across threads.
+const _: () = {
+    const fn send<T: Send>() {}
+    send::<Env>();
+};
+
+fn splitmix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+/// Step (or autoreset) env i and write its slots of the batch buffers.
+///
+/// # Safety
+/// `i < job.n`, claimed by the calling thread alone, and the buffers are live.
+unsafe fn run_one(job: &Job, i: usize) -> Result<(), EnvError> {
+    let (od, ad) = (job.obs_dim, job.act_dim);
+    // SAFETY (all below): disjoint per-env slots of buffers sized n, n×obs_dim or n×act_dim.
+    let env = unsafe { &mut *job.envs.add(i) };
+    let obs = unsafe { std::slice::from_raw_parts_mut(job.obs.add(i * od), od) };
+    let pending = unsafe { &mut *job.pending.add(i) };
+    let (reward, terminated, truncated) = unsafe {
+        (
+            &mut *job.rewards.add(i),
+            &mut *job.terminated.add(i),
+            &mut *job.truncated.add(i),
+        )
+    };
+    if job.mode == Autoreset::NextStep && *pending {
+        obs.copy_from_slice(env.reset(None).0);
+        *reward = 0.0;
+        *terminated = false;
+        *truncated = false;
+        *pending = false;
+        return Ok(());
+    }
+    let action = unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) };
+    let s = env.step(action)?;
+    *reward = s.reward;
+    *terminated = s.terminated;
+    *truncated = s.truncated;
+    let ended = s.terminated || s.truncated;
+    match job.mode {
+        Autoreset::NextStep => {
+            obs.copy_from_slice(s.obs);
+            *pending = ended;
+        }
+        Autoreset::SameStep => {
+            let has_final = unsafe { &mut *job.has_final.add(i) };
+            *has_final = ended;
+            if ended {
+                unsafe { std::slice::from_raw_parts_mut(job.final_obs.add(i * od), od) }
+                    .copy_from_slice(s.obs);
+                obs.copy_from_slice(env.reset(None).0);
+            } else {
+                obs.copy_from_slice(s.obs);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// N envs of one spec, stepped in parallel.
+pub struct VecEnv {
+    shared: Arc<Shared>,
+    workers: Vec<JoinHandle<()>>,
+    // Written only through the `Job` pointers (`Vec::as_mut_ptr` keeps them valid alongside
+    // reads through the Vecs); never resized.
+    envs: Vec<Env>,
+    actions: Vec<f64>,
+    obs: Vec<f64>,
+    rewards: Vec<f64>,
+    terminated: Vec<bool>,
+    truncated: Vec<bool>,
+    final_obs: Vec<f64>,
+    has_final: Vec<bool>,
+    pending: Vec<bool>,
+    has_reset: bool,
+}
+
+impl VecEnv {
+    /// `num_envs` envs of a bundled id or spec path (with overrides), run on `threads` threads.
+    pub fn make(
+        id_or_path: &str,
+        overrides: &[Override],
+        num_envs: usize,
+        threads: usize,
+        mode: Autoreset,
+    ) -> Result<VecEnv, EnvError> {
+        let spec = envspec::load(&crate::registry::find(id_or_path)?, overrides)?;
+        VecEnv::new(Arc::new(spec), num_envs, threads, mode)
+    }
+
+    /// Compile the model once and build `num_envs` envs over it. `threads` is clamped to
+    /// `1..=num_envs` (more threads than envs would only idle).
+    pub fn new(
+        spec: Arc<ResolvedSpec>,
+        num_envs: usize,
+        threads: usize,
+        mode: Autoreset,
+    ) -> Result<VecEnv, EnvError> {
+        let model = Arc::new(compile(&spec)?);
+        let envs = (0..num_envs)
+            .map(|_| Env::with_model(Arc::clone(&spec), Arc::clone(&model)))
+            .collect::<Result<Vec<Env>, _>>()?;
+        let (n, od, ad) = (num_envs, spec.obs_dim, spec.act_dim());
+        let mut v = VecEnv {
+            shared: Arc::new(Shared {
+                job: Job {
+                    envs: std::ptr::null_mut(),
+                    actions: std::ptr::null(),
+                    obs: std::ptr::null_mut(),
+                    rewards: std::ptr::null_mut(),
+                    terminated: std::ptr::null_mut(),
+                    truncated: std::ptr::null_mut(),
+                    final_obs: std::ptr::null_mut(),
+                    has_final: std::ptr::null_mut(),
+                    pending: std::ptr::null_mut(),
+                    n,
+                    obs_dim: od,
+                    act_dim: ad,
+                    mode,
+                },
+                next: AtomicUsize::new(n),
+                done: AtomicUsize::new(0),
+                epoch: AtomicU64::new(0),
+                shutdown: AtomicBool::new(false),
+                sleepers: AtomicUsize::new(0),
+                caller_asleep: AtomicBool::new(false),
+                lock: Mutex::new(()),
+                work: Condvar::new(),
+                finished: Condvar::new(),
+                jitter: AtomicU64::new(0),
+                failure: Mutex::new(None),
+            }),
+            workers: vec![],
+            envs,
+            actions: vec![0.0; n * ad],
+            obs: vec![0.0; n * od],
+            rewards: vec![0.0; n],
+            terminated: vec![false; n],
+            truncated: vec![false; n],
+            final_obs: vec![0.0; n * od],
+            has_final: vec![false; n],
+            pending: vec![false; n],
+            has_reset: false,
+        };
+        // The Arc was just created and no worker holds it yet.
+        let job = &mut Arc::get_mut(&mut v.shared).expect("unshared").job;
+        job.envs = v.envs.as_mut_ptr();
+        job.actions = v.actions.as_mut_ptr();
+        job.obs = v.obs.as_mut_ptr();
+        job.rewards = v.rewards.as_mut_ptr();
+        job.terminated = v.terminated.as_mut_ptr();
+        job.truncated = v.truncated.as_mut_ptr();
+        job.final_obs = v.final_obs.as_mut_ptr();
+        job.has_final = v.has_final.as_mut_ptr();
+        job.pending = v.pending.as_mut_ptr();
+        for k in 1..threads.clamp(1, n.max(1)) {
+            let shared = Arc::clone(&v.shared);
+            let w = std::thread::Builder::new()
+                .name(format!("envc-vec-{k}"))
+                .spawn(move || shared.worker_loop())
+                .map_err(|e| EnvError::Compile {
+                    path: spec.model_path.clone(),
+                    message: format!("cannot start a vector env worker thread: {e}"),
+                })?;
+            v.workers.push(w);
+        }
+        Ok(v)
+    }
+
+    pub fn num_envs(&self) -> usize {
+        self.envs.len()
+    }
+    /// Threads running envs during `step` (the caller included).
+    pub fn threads(&self) -> usize {
+        self.workers.len() + 1
+    }
+    pub fn autoreset(&self) -> Autoreset {
+        self.shared.job.mode
+    }
+    pub fn obs_dim(&self) -> usize {
+        self.shared.job.obs_dim
+    }
+    pub fn act_dim(&self) -> usize {
+        self.shared.job.act_dim
+    }
+    pub fn spec(&self) -> Option<&Arc<ResolvedSpec>> {
+        self.envs.first().map(|e| e.spec())
+    }
+    /// The sub-envs (read-only: spaces, state, warnings).
+    pub fn envs(&self) -> &[Env] {
+        &self.envs
+    }
+
+    /// Gymnasium `reset(seed=s)`: env i gets `s + i`; `None` continues each env's stream.
+    pub fn reset(&mut self, seed: Option<u64>) -> &[f64] {
+        let seeds = (0..self.envs.len()).map(|i| seed.map(|s| s.wrapping_add(i as u64)));
+        self.reset_each(seeds)
+    }
+
+    /// Reset with one seed (or `None`) per env, like Gymnasium's `reset(seed=[...])`.
+    pub fn reset_each(&mut self, seeds: impl IntoIterator<Item = Option<u64>>) -> &[f64] {
+        let job = &self.shared.job;
+        let od = job.obs_dim;
+        for (i, seed) in seeds.into_iter().take(job.n).enumerate() {
+            // SAFETY: no step is running; i < n; slots sized as in `run_one`.
+            unsafe {
+                let (obs, _) = (*job.envs.add(i)).reset(seed);
+                std::ptr::copy_nonoverlapping(obs.as_ptr(), job.obs.add(i * od), od);
+            }
+        }
+        // SAFETY: as above; each buffer has n entries.
+        unsafe {
+            std::ptr::write_bytes(job.rewards, 0, job.n);
+            std::ptr::write_bytes(job.terminated, 0, job.n);
+            std::ptr::write_bytes(job.truncated, 0, job.n);
+            std::ptr::write_bytes(job.has_final, 0, job.n);
+            std::ptr::write_bytes(job.pending, 0, job.n);
+        }
+        self.has_reset = true;
+        &self.obs
+    }
+
+    /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
+    /// batch buffers hold the results.
+    pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        if actions.len() != self.actions.len() {
+            return Err(EnvError::ActionLength {
+                env: self.spec().map(|s| s.id.clone()).unwrap_or_default(),
+                expected: self.actions.len(),
+                got: actions.len(),
+            });
+        }
+        // Checked here so a bad action fails the whole batch before any env moves.
+        if let Some(index) = actions.iter().position(|a| !a.is_finite()) {
+            return Err(EnvError::NonFiniteAction {
+                index,
+                value: actions[index],
+            });
+        }
+        let s = &*self.shared;
+        // SAFETY: no step is running; the buffer has exactly actions.len() entries.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                actions.as_ptr(),
+                s.job.actions as *mut f64,
+                actions.len(),
+            )
+        };
+        s.done.store(0, SeqCst);
+        s.next.store(0, SeqCst);
+        if !self.workers.is_empty() {
+            s.epoch.fetch_add(1, SeqCst);
+            if s.sleepers.load(SeqCst) > 0 {
+                let _g = s.lock.lock();
+                s.work.notify_all();
+            }
+        }
+        s.work();
+        self.wait_done();
+        let failure = s.failure.lock().ok().and_then(|mut f| f.take());
+        match failure {
+            None => Ok(()),
+            Some((_, Failure::Error(e))) => Err(e),
+            Some((_, Failure::Panic(p))) => std::panic::resume_unwind(p),
+        }
+    }
+
+    fn wait_done(&self) {
+        let s = &*self.shared;
+        let n = s.job.n;
+        let start = Instant::now();
+        let mut spins = 0u32;
+        while s.done.load(Acquire) < n {
+            std::hint::spin_loop();
+            spins += 1;
+            if spins.is_multiple_of(64) && start.elapsed() > SPIN {
+                let Ok(mut g) = s.lock.lock() else { return };
+                s.caller_asleep.store(true, SeqCst);
+                while s.done.load(SeqCst) < n {
+                    g = match s.finished.wait(g) {
+                        Ok(g) => g,
+                        Err(_) => break,
+                    };
+                }
+                s.caller_asleep.store(false, SeqCst);
+                return;
+            }
+        }
+    }
+
+    /// Observations, `num_envs × obs_dim`, env-major.
+    pub fn obs(&self) -> &[f64] {
+        &self.obs
+    }
+    pub fn rewards(&self) -> &[f64] {
+        &self.rewards
+    }
+    pub fn terminated(&self) -> &[bool] {
+        &self.terminated
+    }
+    pub fn truncated(&self) -> &[bool] {
+        &self.truncated
+    }
+    /// SameStep: the observation each env ended on in the last step, valid where
+    /// [`VecEnv::has_final`] is true (`num_envs × obs_dim`).
+    pub fn final_obs(&self) -> &[f64] {
+        &self.final_obs
+    }
+    /// SameStep: which envs ended (and were reset) in the last step.
+    pub fn has_final(&self) -> &[bool] {
+        &self.has_final
+    }
+    /// Env i's info for the last call, as Gymnasium reports it: the reset info where the env was
+    /// (auto)reset, the step info otherwise.
+    pub fn info(&self, i: usize) -> Option<Info<'_>> {
+        let env = self.envs.get(i)?;
+        // Any (auto)reset leaves the env at 0 elapsed steps; a step never does.
+        Some(if env.elapsed_steps() == 0 {
+            env.reset_info()
+        } else {
+            env.step_info()
+        })
+    }
+    /// SameStep: the step info env i ended with (its `final_info`), where it ended.
+    pub fn final_info(&self, i: usize) -> Option<Info<'_>> {
+        (*self.has_final.get(i)?).then(|| self.envs[i].step_info())
+    }
+
+    #[doc(hidden)]
+    /// Test hook: delay each env by a pseudo-random 0–300 µs (seeded; 0 turns it off) so threads
+    /// finish in shuffled orders.
+    pub fn set_completion_jitter(&mut self, seed: u64) {
+        self.shared.jitter.store(seed, Relaxed);
+    }
+}
+
+impl Drop for VecEnv {
+    fn drop(&mut self) {
+        let s = &*self.shared;
+        s.shutdown.store(true, SeqCst);
+        {
+            let _g = s.lock.lock();
+            s.work.notify_all();
+        }
+        for w in self.workers.drain(..) {
+            let _ = w.join();
+        }
+    }
+}

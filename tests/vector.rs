@@ -1,0 +1,200 @@
+//! Vectorized envs: replays Gymnasium 1.4.0 `make_vec(..., vectorization_mode="sync")` recordings
+//! (tests/reference/record_vector.py; both autoreset modes) bit for bit, and checks that the batch
+//! buffers do not depend on the number of threads or on the order in which threads finish.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use envc::{Autoreset, Override, VecEnv};
+use ndarray::{ArrayD, Axis};
+use ndarray_npy::NpzReader;
+use serde::Deserialize;
+
+#[derive(Deserialize)]
+struct Manifest {
+    gymnasium: String,
+    mujoco: String,
+    cases: Vec<Case>,
+}
+
+#[derive(Deserialize)]
+struct Case {
+    name: String,
+    env_id: String,
+    num_envs: usize,
+    steps: usize,
+    mode: String,
+    seed: u64,
+    overrides: BTreeMap<String, String>,
+}
+
+fn dir() -> PathBuf {
+    match std::env::var_os("ENVC_VECTOR_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/vector"),
+    }
+}
+
+fn rows(a: &ArrayD<f64>, t: usize) -> Vec<f64> {
+    a.index_axis(Axis(0), t).iter().copied().collect()
+}
+
+fn flags(a: &ArrayD<bool>, t: usize) -> Vec<bool> {
+    a.index_axis(Axis(0), t).iter().copied().collect()
+}
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn replays_gymnasium_sync_vector_env_bit_for_bit() {
+    let dir = dir();
+    let text = std::fs::read_to_string(dir.join("manifest.json")).expect("vector manifest");
+    let m: Manifest = serde_json::from_str(&text).expect("manifest format");
+    assert_eq!(
+        (m.gymnasium.as_str(), m.mujoco.as_str()),
+        ("1.4.0", "3.17.0")
+    );
+    assert!(m.cases.iter().any(|c| c.mode == "same_step"));
+    let mut total_ends = 0;
+    for case in &m.cases {
+        let mut npz =
+            NpzReader::new(File::open(dir.join(format!("{}.npz", case.name))).unwrap()).unwrap();
+        let mut f = |k: &str| -> ArrayD<f64> { npz.by_name(k).unwrap() };
+        let (actions, obs0, obs, reward, final_obs) = (
+            f("actions"),
+            f("obs0"),
+            f("obs"),
+            f("reward"),
+            f("final_obs"),
+        );
+        let mut b = |k: &str| -> ArrayD<bool> { npz.by_name(k).unwrap() };
+        let (terminated, truncated, has_final) = (b("terminated"), b("truncated"), b("has_final"));
+        let mode = match case.mode.as_str() {
+            "next_step" => Autoreset::NextStep,
+            _ => Autoreset::SameStep,
+        };
+        let overrides: Vec<Override> = case
+            .overrides
+            .iter()
+            .map(|(k, v)| Override::text(k, v))
+            .collect();
+        let mut v = VecEnv::make(&case.env_id, &overrides, case.num_envs, 2, mode).unwrap();
+        let what = &case.name;
+        assert_eq!(
+            bits(v.reset(Some(case.seed))),
+            bits(obs0.as_slice().unwrap()),
+            "{what}: obs0"
+        );
+        for t in 0..case.steps {
+            v.step(&rows(&actions, t)).unwrap();
+            assert_eq!(
+                bits(v.obs()),
+                bits(&rows(&obs, t)),
+                "{what}: obs at step {t}"
+            );
+            assert_eq!(
+                bits(v.rewards()),
+                bits(&rows(&reward, t)),
+                "{what}: reward at {t}"
+            );
+            assert_eq!(
+                v.terminated(),
+                flags(&terminated, t),
+                "{what}: terminated at {t}"
+            );
+            assert_eq!(
+                v.truncated(),
+                flags(&truncated, t),
+                "{what}: truncated at {t}"
+            );
+            if mode == Autoreset::SameStep {
+                let hf = flags(&has_final, t);
+                assert_eq!(v.has_final(), hf, "{what}: final_obs mask at {t}");
+                let od = v.obs_dim();
+                let want = rows(&final_obs, t);
+                for (i, _) in hf.iter().enumerate().filter(|(_, h)| **h) {
+                    let r = i * od..(i + 1) * od;
+                    assert_eq!(
+                        bits(&v.final_obs()[r.clone()]),
+                        bits(&want[r]),
+                        "{what}: final_obs[{i}] at {t}"
+                    );
+                    assert!(v.final_info(i).is_some());
+                }
+            }
+            total_ends += v
+                .terminated()
+                .iter()
+                .chain(v.truncated())
+                .filter(|x| **x)
+                .count();
+        }
+    }
+    // The cases must exercise autoreset, not just plain stepping.
+    assert!(total_ends > 50, "only {total_ends} episode ends replayed");
+}
+
+/// Every batch buffer after every step, concatenated bitwise.
+fn run(id: &str, n: usize, threads: usize, mode: Autoreset, jitter: u64) -> Vec<u64> {
+    let mut v = VecEnv::make(id, &[], n, threads, mode).unwrap();
+    v.set_completion_jitter(jitter);
+    let mut out = bits(v.reset(Some(7)));
+    let ad = v.act_dim();
+    for t in 0..40 {
+        // Deterministic actions spanning beyond the bounds.
+        let a: Vec<f64> = (0..n * ad)
+            .map(|k| (((t * 31 + k * 17) % 13) as f64 - 6.0) / 5.0)
+            .collect();
+        v.step(&a).unwrap();
+        out.extend(bits(v.obs()));
+        out.extend(bits(v.rewards()));
+        out.extend(
+            v.terminated()
+                .iter()
+                .chain(v.truncated())
+                .chain(v.has_final())
+                .map(|&b| b as u64),
+        );
+        out.extend(bits(v.final_obs()));
+    }
+    out
+}
+
+#[test]
+fn results_do_not_depend_on_threads_or_completion_order() {
+    for (id, mode) in [
+        ("Hopper-v5", Autoreset::NextStep),
+        ("InvertedDoublePendulum-v5", Autoreset::SameStep),
+    ] {
+        let base = run(id, 7, 1, mode, 0);
+        for (threads, jitter) in [(2, 0), (3, 0), (2, 11), (3, 12), (3, 13)] {
+            assert!(
+                base == run(id, 7, threads, mode, jitter),
+                "{id} {mode:?}: {threads} threads (jitter {jitter}) differ from 1 thread"
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let mut v = VecEnv::make("Hopper-v5", &[], 3, 2, Autoreset::NextStep).unwrap();
+    let a = vec![0.0; 9];
+    assert_eq!(v.step(&a).unwrap_err().code(), envspec::Code::E1103);
+    v.reset(Some(0));
+    assert_eq!(v.step(&a[..8]).unwrap_err().code(), envspec::Code::E1101);
+    let mut bad = a.clone();
+    bad[5] = f64::NAN;
+    let e = v.step(&bad).unwrap_err();
+    assert_eq!(e.code(), envspec::Code::E1102);
+    // Nothing moved: the batch still holds the reset observations.
+    v.step(&a).unwrap();
+    assert!(v.envs().iter().all(|e| e.elapsed_steps() == 1));
+    assert!(VecEnv::make("Hoper-v5", &[], 2, 2, Autoreset::NextStep).is_err());
+    let mut empty = VecEnv::make("Hopper-v5", &[], 0, 4, Autoreset::NextStep).unwrap();
+    empty.reset(Some(0));
+    empty.step(&[]).unwrap();
+}
