@@ -10,13 +10,18 @@
 //! # Ok::<(), envc::EnvError>(())
 //! ```
 
+// Generated code names `::envc::…`; this makes those paths work inside envc itself.
+extern crate self as envc;
+
 pub mod env;
 pub mod environment;
 pub mod error;
+pub mod gymnasium;
 mod mujoco_log;
 pub mod numerics;
 pub mod registry;
 pub mod rng;
+pub mod typed;
 pub mod vector;
 
 pub use env::{BoxSpace, Env, Info, Step};
@@ -24,4 +29,6 @@ pub use environment::Environment;
 pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
+/// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
+pub use envc_codegen::env;
 pub use vector::{Autoreset, VecEnv};
