@@ -4,11 +4,38 @@
 use envc::Env;
 use envc::registry::bundled;
 
+/// Models of the example specs (not shipped with envc), passed as `xml_file` overrides.
+const EXAMPLE_MODELS: &[(&str, &str)] = &[(
+    "Go1-v0",
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/models/unitree_go1/scene.xml"
+    ),
+)];
+
 fn each_env(f: impl Fn(&str, Env)) {
     let all = bundled();
     assert!(all.len() >= 11);
     for (id, path) in all {
         let env = Env::from_spec_file(&path, &[]).unwrap_or_else(|e| panic!("{id}: {e}"));
+        f(&id, env);
+    }
+    let examples = envc::registry::examples();
+    assert_eq!(
+        examples.len(),
+        EXAMPLE_MODELS.len(),
+        "a model for every example spec"
+    );
+    for (id, path) in examples {
+        let model = EXAMPLE_MODELS
+            .iter()
+            .find(|(i, _)| *i == id)
+            .map(|(_, m)| *m);
+        let xml = envc::Override::text(
+            "xml_file",
+            model.unwrap_or_else(|| panic!("no model for {id}")),
+        );
+        let env = Env::from_spec_file(&path, &[xml]).unwrap_or_else(|e| panic!("{id}: {e}"));
         f(&id, env);
     }
 }
@@ -124,8 +151,13 @@ fn info_keys_are_stable_and_reset_keys_are_step_keys() {
 fn truncation_at_max_episode_steps() {
     each_env(|id, env| {
         let path = env.spec().spec_path.clone();
-        let mut env3 =
-            Env::from_spec_file(&path, &[envc::Override::text("max_episode_steps", "3")]).unwrap();
+        // Same model as `env` (example specs get theirs by override).
+        let xml = env.spec().model_path.display().to_string();
+        let overrides = [
+            envc::Override::text("max_episode_steps", "3"),
+            envc::Override::text("xml_file", &xml),
+        ];
+        let mut env3 = Env::from_spec_file(&path, &overrides).unwrap();
         env3.reset(Some(0));
         let a = vec![0.0; env3.act_dim()];
         let flags: Vec<bool> = (0..3).map(|_| env3.step(&a).unwrap().truncated).collect();

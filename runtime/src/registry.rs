@@ -8,14 +8,32 @@ use crate::error::EnvError;
 
 /// The directory holding the bundled specs.
 pub fn specs_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("specs");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join("specs");
     dir.canonicalize().unwrap_or(dir)
 }
 
-/// Every bundled spec as (env id, path), sorted by id.
+/// `specs/examples/`: example specs whose models are not shipped with envc (e.g. a robot from
+/// MuJoCo Menagerie); building them needs an `xml_file` override or the documented checkout.
+pub fn examples_dir() -> PathBuf {
+    specs_dir().join("examples")
+}
+
+/// Every bundled spec whose model ships with envc, as (env id, path), sorted by id.
 pub fn bundled() -> Vec<(String, PathBuf)> {
+    let examples = examples_dir();
+    scan(&specs_dir(), Some(&examples))
+}
+
+/// The example specs of `specs/examples/` (models not shipped), as (env id, path), sorted by id.
+pub fn examples() -> Vec<(String, PathBuf)> {
+    scan(&examples_dir(), None)
+}
+
+fn scan(root: &Path, skip: Option<&Path>) -> Vec<(String, PathBuf)> {
     let mut out = vec![];
-    let mut dirs = vec![specs_dir()];
+    let mut dirs = vec![root.to_path_buf()];
     while let Some(dir) = dirs.pop() {
         let Ok(entries) = std::fs::read_dir(&dir) else {
             continue;
@@ -23,7 +41,9 @@ pub fn bundled() -> Vec<(String, PathBuf)> {
         for e in entries.flatten() {
             let p = e.path();
             if p.is_dir() {
-                dirs.push(p);
+                if skip != Some(p.as_path()) {
+                    dirs.push(p);
+                }
             } else if p.extension().is_some_and(|x| x == "toml")
                 && let Ok(spec) = Spec::load(&p)
             {
@@ -41,7 +61,8 @@ pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
     if p.extension().is_some_and(|x| x == "toml") || p.is_file() {
         return Ok(p.to_path_buf());
     }
-    let all = bundled();
+    let mut all = bundled();
+    all.extend(examples());
     match all.iter().find(|(id, _)| id == id_or_path) {
         Some((_, path)) => Ok(path.clone()),
         None => Err(EnvError::Spec(
