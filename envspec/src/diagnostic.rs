@@ -106,6 +106,8 @@ pub enum Code {
     E0403,
     /// The reward `sum` does not use every term exactly once.
     E0501,
+    /// An info entry reports a reward term that does not exist or is switched off.
+    E0502,
     /// The spec file itself cannot be read.
     E0600,
     /// MuJoCo failed to compile the model.

@@ -23,6 +23,7 @@ pub struct ResolvedSpec {
     pub max_episode_steps: Option<u64>,
     pub observation: Vec<Segment>,
     pub obs_dim: usize,
+    /// The enabled reward terms (terms switched off by `when` are left out, also from the sum).
     pub reward: Vec<RewardTerm>,
     /// How term values are added up (the grouping decides the last bit).
     pub reward_sum: SumNode,
@@ -31,7 +32,8 @@ pub struct ResolvedSpec {
     pub terminate_when_unhealthy: bool,
     /// Applied in order at reset (the order is the RNG draw order).
     pub reset: Vec<ResetStep>,
-    /// Info entries in order; reward terms with an `info` key come after the `[info]` entries.
+    /// Info entries in order (switched-off entries left out); reward terms with an `info` key come
+    /// after the `[info]` entries.
     pub info: Vec<InfoItem>,
     /// Whether `mj_rnePostConstraint` must run after the physics steps (contact forces are read).
     pub needs_rne_post_constraint: bool,
@@ -160,6 +162,13 @@ pub struct RewardTerm {
     pub weight: f64,
     pub cost: bool,
     pub info: Option<String>,
+    /// Evaluated at the start of `step`, on the state before the action is applied (spec key
+    /// `at = "before"`; Gymnasium v4's Reacher and Pusher distances). Never for `velocity` or
+    /// `healthy`.
+    pub before: bool,
+    /// `healthy` terms only: the kernel is 1 also when unhealthy (spec key `paid_when_unhealthy`;
+    /// Gymnasium v4's `float(is_healthy or terminate_when_unhealthy)`).
+    pub paid_when_unhealthy: bool,
 }
 
 impl RewardTerm {
@@ -257,7 +266,7 @@ pub enum InfoKind {
     Velocity {
         source: Selection,
     },
-    /// The signed value of reward term `i`.
+    /// The signed value of reward term `i` (see [`InfoItem::unweighted`]).
     Term(usize),
 }
 
@@ -270,4 +279,7 @@ pub struct InfoItem {
     pub len: usize,
     /// Whether the key is also in the reset info.
     pub at_reset: bool,
+    /// `Term` items only: report the term's signed value computed with weight 1 (spec key
+    /// `unweighted = true`).
+    pub unweighted: bool,
 }

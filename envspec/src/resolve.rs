@@ -58,27 +58,46 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
 
     let observation = cx.observation();
     let obs_dim = observation.iter().map(Segment::len).sum();
-    let reward = cx.reward_terms();
-    let reward_sum = cx.reward_sum(&reward);
+    let terms = cx.reward_terms();
+    let all_terms: Vec<RewardTerm> = terms.iter().map(|(t, _)| t.clone()).collect();
+    // `sum` names every term, switched on or not; switched-off terms are then pruned from it.
+    let full_sum = cx.reward_sum(&all_terms);
+    let off: Vec<String> = terms
+        .iter()
+        .filter(|(_, on)| !on)
+        .map(|(t, _)| t.name.clone())
+        .collect();
+    let (reward, reward_sum) = prune_terms(terms, full_sum);
     let terminate_when_unhealthy = match &spec.health_terminate {
         Some(v) => cx.flag(v, "health.terminate").unwrap_or(true),
         None => true,
     };
     let health = cx.health();
     let reset = cx.reset();
-    let mut info = cx.info();
+    let mut info = cx.info(&reward, &off);
     for (i, t) in reward.iter().enumerate() {
         if let Some(key) = &t.info {
-            info.push(InfoItem {
-                key: key.clone(),
-                doc: t.doc.clone(),
-                kind: InfoKind::Term(i),
-                len: 1,
-                at_reset: false,
-            });
+            let loc = spec
+                .reward
+                .iter()
+                .find(|s| s.name == t.name)
+                .and_then(|s| s.get("info"))
+                .map(|v| v.loc.clone());
+            info.push((
+                InfoItem {
+                    key: key.clone(),
+                    doc: t.doc.clone(),
+                    kind: InfoKind::Term(i),
+                    len: 1,
+                    at_reset: false,
+                    unweighted: false,
+                },
+                loc,
+            ));
         }
     }
-    cx.check_info_keys(&info, &reward);
+    cx.check_info_keys(&info);
+    let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
 
     let mut fields: Vec<Field> = observation
         .iter()
@@ -138,13 +157,39 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     })
 }
 
+/// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the
+/// sum, where a list left empty disappears from its parent (the top level stays, summing to 0).
+fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>, SumNode) {
+    let mut map = Vec::with_capacity(terms.len());
+    let mut kept = vec![];
+    for (t, on) in terms {
+        map.push(on.then_some(kept.len()));
+        if on {
+            kept.push(t);
+        }
+    }
+    fn prune(n: SumNode, map: &[Option<usize>]) -> Option<SumNode> {
+        match n {
+            SumNode::Term(i) => map.get(i).copied().flatten().map(SumNode::Term),
+            SumNode::Sum(c) => {
+                let c: Vec<SumNode> = c.into_iter().filter_map(|x| prune(x, map)).collect();
+                (!c.is_empty()).then_some(SumNode::Sum(c))
+            }
+        }
+    }
+    let sum = prune(sum, &map).unwrap_or(SumNode::Sum(vec![]));
+    (kept, sum)
+}
+
 /// `a/b/../c` → `a/c`, lexically (the path may not exist yet; symlinks are not followed).
 fn normalize(p: &Path) -> PathBuf {
     use std::path::Component;
     let mut out = PathBuf::new();
     for c in p.components() {
         match c {
-            Component::ParentDir if matches!(out.components().next_back(), Some(Component::Normal(_))) => {
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
                 out.pop();
             }
             Component::CurDir => {}
@@ -470,9 +515,48 @@ impl Ctx<'_> {
         }
     }
 
-    fn reward_terms(&mut self) -> Vec<RewardTerm> {
+    /// Every term that resolves, with whether its `when` switches it on.
+    fn reward_terms(&mut self) -> Vec<(RewardTerm, bool)> {
         let mut out = vec![];
         for s in &self.spec.reward {
+            let enabled = match s.get("when") {
+                Some(w) => self.flag(w, "when").unwrap_or(true),
+                None => true,
+            };
+            let before = match s.get("at") {
+                None => false,
+                Some(v) => match v.as_str() {
+                    Some("after") => false,
+                    Some("before") if matches!(s.kind(""), "velocity" | "healthy") => {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0104,
+                                format!(
+                                    "a `{}` term cannot be evaluated before the step",
+                                    s.kind("")
+                                ),
+                            )
+                            .at(v.loc.clone())
+                            .label("expected \"after\" (velocity and healthy terms need the post-step state)"),
+                        );
+                        false
+                    }
+                    Some("before") => true,
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown `at`")
+                                .at(v.loc.clone())
+                                .label("expected \"after\" (the post-step state) or \"before\" (the state before the action)")
+                                .help_opt(v.as_str().and_then(|x| suggest(x, ["after", "before"]))),
+                        );
+                        false
+                    }
+                },
+            };
+            let paid_when_unhealthy = match s.get("paid_when_unhealthy") {
+                Some(v) => self.flag(v, "paid_when_unhealthy").unwrap_or(false),
+                None => false,
+            };
             let weight = match s.get("weight") {
                 Some(w) => self.num(w, "weight").unwrap_or(f64::NAN),
                 None => 1.0,
@@ -547,14 +631,19 @@ impl Ctx<'_> {
                 _ => None, // reported by the syntax check
             };
             if let Some(kind) = kind {
-                out.push(RewardTerm {
-                    name: s.name.clone(),
-                    doc: s.doc(),
-                    kind,
-                    weight,
-                    cost,
-                    info,
-                });
+                out.push((
+                    RewardTerm {
+                        name: s.name.clone(),
+                        doc: s.doc(),
+                        kind,
+                        weight,
+                        cost,
+                        info,
+                        before,
+                        paid_when_unhealthy,
+                    },
+                    enabled,
+                ));
             }
         }
         out
@@ -916,57 +1005,131 @@ impl Ctx<'_> {
         }
     }
 
-    fn info(&mut self) -> Vec<InfoItem> {
+    /// The `[info.*]` entries that are switched on, each with the location of its key.
+    /// `off`: the names of the reward terms switched off by `when`.
+    fn info(&mut self, terms: &[RewardTerm], off: &[String]) -> Vec<(InfoItem, Option<Location>)> {
         let mut out = vec![];
         for s in &self.spec.info {
-            let Some(source) = self.sel_key(s, "source") else {
-                continue;
+            let enabled = match s.get("when") {
+                Some(w) => self.flag(w, "when").unwrap_or(true),
+                None => true,
             };
-            let len = source.len();
-            let (kind, len, at_reset) = match s.kind("value") {
-                "value" => {
-                    let minus = self
-                        .sel_key(s, "minus")
-                        .filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
-                    (InfoKind::Value { source, minus }, len, true)
-                }
-                "norm" => (InfoKind::Norm { source }, 1, true),
-                "velocity" => {
-                    if !self.scalar(&source, &s.get("source").unwrap().loc, "a velocity") {
+            let key = match s.get("key") {
+                None => s.name.clone(),
+                Some(v) => match v.as_str() {
+                    Some(k) => k.to_string(),
+                    None => {
+                        self.d.push(v.type_error("key", "an info key (a string)"));
                         continue;
                     }
-                    (InfoKind::Velocity { source }, 1, false)
-                }
-                _ => continue,
+                },
             };
-            out.push(InfoItem {
-                key: s.name.clone(),
-                doc: s.doc(),
-                kind,
-                len,
-                at_reset,
-            });
+            let key_loc = s
+                .get("key")
+                .map(|v| v.loc.clone())
+                .unwrap_or(s.name_loc.clone());
+            let in_reset = match s.get("in_reset") {
+                Some(v) => self.flag(v, "in_reset").unwrap_or(true),
+                None => true,
+            };
+            let unweighted = match s.get("unweighted") {
+                Some(v) => self.flag(v, "unweighted").unwrap_or(false),
+                None => false,
+            };
+            let (kind, len, at_reset) = match s.kind("value") {
+                "term" => {
+                    let Some(v) = s.get("term") else { continue };
+                    let Some(name) = v.as_str() else {
+                        self.d
+                            .push(v.type_error("term", "the name of a reward term"));
+                        continue;
+                    };
+                    match terms.iter().position(|t| t.name == name) {
+                        Some(i) => (InfoKind::Term(i), 1, false),
+                        None => {
+                            let declared = self.spec.reward.iter().any(|r| r.name == name);
+                            if !declared {
+                                self.d.push(
+                                    Diagnostic::new(
+                                        Code::E0502,
+                                        format!("[info.{}] reports `{name}`, which is not a reward term", s.name),
+                                    )
+                                    .at(v.loc.clone())
+                                    .label("expected the name of a [reward.<name>] table")
+                                    .help_opt(suggest(
+                                        name,
+                                        self.spec.reward.iter().map(|r| r.name.as_str()),
+                                    )),
+                                );
+                            } else if enabled && off.iter().any(|o| o == name) {
+                                self.d.push(
+                                    Diagnostic::new(
+                                        Code::E0502,
+                                        format!(
+                                            "[info.{}] reports reward term `{name}`, which its `when` switches off",
+                                            s.name
+                                        ),
+                                    )
+                                    .at(v.loc.clone())
+                                    .label("expected a term that is switched on whenever this entry is (give the entry the same `when`)"),
+                                );
+                            }
+                            // A declared term that failed to resolve was reported where it failed.
+                            continue;
+                        }
+                    }
+                }
+                kind => {
+                    let Some(source) = self.sel_key(s, "source") else {
+                        continue;
+                    };
+                    let len = source.len();
+                    match kind {
+                        "value" => {
+                            let minus = self.sel_key(s, "minus").filter(|m| {
+                                self.same_len(&source, m, &s.get("minus").unwrap().loc)
+                            });
+                            (InfoKind::Value { source, minus }, len, in_reset)
+                        }
+                        "norm" => (InfoKind::Norm { source }, 1, in_reset),
+                        "velocity" => {
+                            if !self.scalar(&source, &s.get("source").unwrap().loc, "a velocity") {
+                                continue;
+                            }
+                            (InfoKind::Velocity { source }, 1, false)
+                        }
+                        _ => continue,
+                    }
+                }
+            };
+            if !enabled {
+                continue;
+            }
+            out.push((
+                InfoItem {
+                    key,
+                    doc: s.doc(),
+                    kind,
+                    len,
+                    at_reset,
+                    unweighted,
+                },
+                Some(key_loc),
+            ));
         }
         out
     }
 
-    fn check_info_keys(&mut self, info: &[InfoItem], terms: &[RewardTerm]) {
-        for (i, item) in info.iter().enumerate() {
-            if info[..i].iter().any(|o| o.key == item.key) {
-                // [info.*] keys are unique (TOML keys), so the later one is a reward term's `info`.
-                let loc = match item.kind {
-                    InfoKind::Term(t) => self.spec.reward.iter().find(|s| s.name == terms[t].name),
-                    _ => None,
-                }
-                .and_then(|s| s.get("info"))
-                .map(|v| v.loc.clone());
+    fn check_info_keys(&mut self, info: &[(InfoItem, Option<Location>)]) {
+        for (i, (item, loc)) in info.iter().enumerate() {
+            if info[..i].iter().any(|(o, _)| o.key == item.key) {
                 self.d.push(
                     Diagnostic::new(
                         Code::E0104,
                         format!("info key `{}` is defined twice", item.key),
                     )
-                    .at_opt(loc)
-                    .label("expected unique info keys"),
+                    .at_opt(loc.clone())
+                    .label("expected unique info keys (among the entries switched on)"),
                 );
             }
         }

@@ -128,14 +128,14 @@ const SEGMENT_KEYS: &[&str] = &[
 /// Term kinds of `[reward.*]` with the keys each accepts besides kind, weight, cost, info, doc.
 pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["source"]),
-    ("healthy", &[]),
+    ("healthy", &["paid_when_unhealthy"]),
     ("sum_squares", &["source", "clip_input", "clip"]),
     ("norm", &["source", "minus"]),
     ("quadratic", &["source", "coefs", "targets"]),
     ("value", &["source", "divide_by"]),
     ("constant", &[]),
 ];
-const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "doc"];
+const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "when", "at", "doc"];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
 pub const HEALTH_KINDS: &[(&str, &[&str])] = &[
@@ -151,9 +151,15 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
     ("constant", &["value"]),
 ];
 
-/// Info kinds of `[info.*]` with the keys each accepts besides kind, source, doc.
-pub const INFO_KINDS: &[(&str, &[&str])] =
-    &[("value", &["minus"]), ("norm", &[]), ("velocity", &[])];
+/// Info kinds of `[info.*]` with the keys each accepts besides the common ones (`INFO_COMMON`).
+/// `term` takes `term` (a reward term's name) instead of `source`.
+pub const INFO_KINDS: &[(&str, &[&str])] = &[
+    ("value", &["source", "minus", "in_reset"]),
+    ("norm", &["source", "in_reset"]),
+    ("velocity", &["source"]),
+    ("term", &["term", "unweighted"]),
+];
+const INFO_COMMON: &[&str] = &["kind", "key", "when", "doc"];
 
 fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
     Diagnostic::new(
@@ -334,15 +340,13 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
 
     spec.info = sections(get("info"), "info", &[], d);
     for s in &spec.info {
-        check_kinded(
-            s,
-            "info",
-            Some("value"),
-            INFO_KINDS,
-            &["kind", "source", "doc"],
-            d,
-        );
-        require(s, "source", &format!("[info.{}]", s.name), d);
+        check_kinded(s, "info", Some("value"), INFO_KINDS, INFO_COMMON, d);
+        let needs = if s.kind("value") == "term" {
+            "term"
+        } else {
+            "source"
+        };
+        require(s, needs, &format!("[info.{}]", s.name), d);
     }
     spec
 }

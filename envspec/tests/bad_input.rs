@@ -202,7 +202,7 @@ fn unknown_key_suggests_the_near_miss() {
     assert_eq!(help(&d.0[0]), Some("did you mean `weight`?"));
     assert_eq!(
         d.0[0].label.as_deref(),
-        Some("expected one of: kind, weight, cost, info, doc")
+        Some("expected one of: kind, weight, cost, info, when, at, doc, paid_when_unhealthy")
     );
 }
 

@@ -192,7 +192,11 @@ pub struct Env {
     before: Vec<f64>,
     term_slot: Vec<Option<usize>>,
     info_slot: Vec<Option<usize>>,
+    /// Signed term values, then (at `reward.len() + i`) the signed values computed with weight 1
+    /// for the terms an `unweighted` info entry reports.
     term_values: Vec<f64>,
+    /// Per term: whether its weight-1 value is needed.
+    unweighted_terms: Vec<bool>,
     obs: Vec<f64>,
     step_info: Vec<InfoSlot>,
     step_info_values: Vec<f64>,
@@ -325,7 +329,14 @@ impl Env {
             velocity_sources,
             term_slot,
             info_slot,
-            term_values: vec![0.0; spec.reward.len()],
+            term_values: vec![0.0; 2 * spec.reward.len()],
+            unweighted_terms: (0..spec.reward.len())
+                .map(|i| {
+                    spec.info
+                        .iter()
+                        .any(|it| it.unweighted && matches!(it.kind, InfoKind::Term(j) if j == i))
+                })
+                .collect(),
             obs: vec![0.0; spec.obs_dim],
             step_info_values: vec![0.0; total(&step_info)],
             reset_info_values: vec![0.0; total(&reset_info)],
@@ -546,6 +557,18 @@ impl Env {
         for (k, s) in self.velocity_sources.iter().enumerate() {
             self.before[k] = self.sim.get(s, 0);
         }
+        let n_terms = self.spec.reward.len();
+        // Terms with `at = "before"` see the state the previous step (or the reset) left.
+        for (i, t) in self.spec.reward.iter().enumerate() {
+            if t.before {
+                let v = self.term(t, self.term_slot[i], true, t.weight);
+                self.term_values[i] = if t.cost { -v } else { v };
+                if self.unweighted_terms[i] {
+                    let u = self.term(t, self.term_slot[i], true, 1.0);
+                    self.term_values[n_terms + i] = if t.cost { -u } else { u };
+                }
+            }
+        }
         // SAFETY: ctrl has nu entries.
         unsafe {
             let d = self.sim.data.ffi_mut();
@@ -563,8 +586,15 @@ impl Env {
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {
-            let v = self.term(t, self.term_slot[i], healthy);
+            if t.before {
+                continue;
+            }
+            let v = self.term(t, self.term_slot[i], healthy, t.weight);
             self.term_values[i] = if t.cost { -v } else { v };
+            if self.unweighted_terms[i] {
+                let u = self.term(t, self.term_slot[i], healthy, 1.0);
+                self.term_values[n_terms + i] = if t.cost { -u } else { u };
+            }
         }
         let reward = self.sum(&self.spec.reward_sum);
         self.write_obs();
@@ -630,15 +660,15 @@ impl Env {
         })
     }
 
-    /// `weight × kernel` of one term (unsigned).
-    fn term(&self, t: &RewardTerm, slot: Option<usize>, healthy: bool) -> f64 {
+    /// `weight × kernel` of one term (unsigned); `weight` is the term's, or 1 for `unweighted` info.
+    fn term(&self, t: &RewardTerm, slot: Option<usize>, healthy: bool, weight: f64) -> f64 {
         let sim = &self.sim;
         let kernel = match &t.kind {
             TermKind::Velocity { source } => {
                 let k = slot.expect("velocity terms have a slot");
                 (sim.get(source, 0) - self.before[k]) / self.dt
             }
-            TermKind::Healthy => healthy as u8 as f64,
+            TermKind::Healthy => (healthy || t.paid_when_unhealthy) as u8 as f64,
             TermKind::SumSquares {
                 source,
                 clip_input: None,
@@ -650,7 +680,7 @@ impl Env {
                     let x = f[source.indices[k]] as f32;
                     x * x
                 });
-                let v = ((t.weight as f32) * s) as f64;
+                let v = ((weight as f32) * s) as f64;
                 return match out_clip {
                     Some((lo, hi)) => clip(v, *lo, *hi),
                     None => v,
@@ -670,7 +700,7 @@ impl Env {
                     };
                     x * x
                 });
-                let v = t.weight * s;
+                let v = weight * s;
                 return match out_clip {
                     Some((lo, hi)) => clip(v, *lo, *hi),
                     None => v,
@@ -707,9 +737,9 @@ impl Env {
                     None => x,
                 }
             }
-            TermKind::Constant => return t.weight,
+            TermKind::Constant => return weight,
         };
-        t.weight * kernel
+        weight * kernel
     }
 
     fn sum(&self, node: &SumNode) -> f64 {
@@ -777,6 +807,7 @@ fn write_info(
             let k = slot.expect("velocity infos have a slot");
             out[0] = (sim.get(source, 0) - before[k]) / dt;
         }
+        InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
     }
 }

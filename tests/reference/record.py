@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Record golden trajectories of Gymnasium 1.4.0's MuJoCo v5 environments (the Python reference).
+"""Record golden trajectories of Gymnasium 1.4.0's MuJoCo v5 and v4 environments (the Python reference).
 
 Usage (run with the project venv, from any directory):
 
@@ -127,6 +127,78 @@ CASES = [
     ("walker2d_unhealthy_continue", "Walker2d-v5", (18, 1103), ND, 60,
      dict(terminate_when_unhealthy=False, healthy_z_range=(1.0, 1.3), reset_noise_scale=0.05,
           exclude_current_positions_from_observation=False),
+     "narrow healthy z: runs unhealthy without terminating; obs 18"),
+    # ============================ v4 (specs/gymnasium/*_v4.toml) ============================
+    # Pusher-v4 is absent: Gymnasium 1.4.0 refuses to build it on MuJoCo >= 3.
+    # --- Ant-v4 ---
+    ("ant_v4_default_seed0", "Ant-v4", (20, 1200), DEF, None, {}, "defaults (no contact forces)"),
+    ("ant_v4_default_seed1", "Ant-v4", (21, 1201), DEF, None, {}, "defaults (no contact forces)"),
+    ("ant_v4_contact_forces", "Ant-v4", (22, 1202), ND, 50,
+     dict(use_contact_forces=True, contact_cost_weight=1e-3, contact_force_range=(-0.5, 0.5),
+          ctrl_cost_weight=0.3, exclude_current_positions_from_observation=False),
+     "obs 113 (cfrc_ext of all 14 bodies); contact cost in the reward and in info reward_ctrl"),
+    ("ant_v4_unhealthy_continue", "Ant-v4", (23, 1203), ND, 60,
+     dict(terminate_when_unhealthy=False, healthy_z_range=(0.55, 0.7), healthy_reward=0.5,
+          reset_noise_scale=0.05),
+     "runs unhealthy (reward_survive 0) without terminating"),
+    # --- HalfCheetah-v4 ---
+    ("halfcheetah_v4_default_seed0", "HalfCheetah-v4", (24, 1210), DEF, None, {}, "defaults"),
+    ("halfcheetah_v4_default_seed1", "HalfCheetah-v4", (25, 1211), DEF, None, {}, "defaults"),
+    ("halfcheetah_v4_nondefault", "HalfCheetah-v4", (26, 1212), ND, 50,
+     dict(forward_reward_weight=2.0, ctrl_cost_weight=0.05, reset_noise_scale=0.2,
+          exclude_current_positions_from_observation=False),
+     "obs 18, weights"),
+    # --- Hopper-v4 ---
+    ("hopper_v4_default_seed0", "Hopper-v4", (27, 1220), DEF, None, {}, "defaults; many terminations"),
+    ("hopper_v4_default_seed1", "Hopper-v4", (28, 1221), DEF, None, {}, "defaults; many terminations"),
+    ("hopper_v4_unhealthy_continue", "Hopper-v4", (29, 1222), ND, 60,
+     dict(terminate_when_unhealthy=False, healthy_reward=2.0, reset_noise_scale=0.05,
+          healthy_angle_range=(-0.5, 0.5), exclude_current_positions_from_observation=False),
+     "falls and keeps running unhealthy (reward_survive 0) until truncation; obs 12"),
+    # --- Humanoid-v4 ---
+    ("humanoid_v4_default_seed0", "Humanoid-v4", (30, 1230), DEF, None, {}, "defaults; many terminations"),
+    ("humanoid_v4_default_seed1", "Humanoid-v4", (31, 1231), DEF, None, {}, "defaults; many terminations"),
+    ("humanoid_v4_unhealthy_continue", "Humanoid-v4", (32, 1232), ND, 60,
+     dict(terminate_when_unhealthy=False, ctrl_cost_weight=0.2, healthy_reward=3.0,
+          forward_reward_weight=1.0, reset_noise_scale=0.05,
+          exclude_current_positions_from_observation=False),
+     "obs 378; falls and runs unhealthy until truncation"),
+    # --- HumanoidStandup-v4 (no constructor arguments) ---
+    ("humanoidstandup_v4_default_seed0", "HumanoidStandup-v4", (33, 1240), DEF, None, {}, "defaults"),
+    ("humanoidstandup_v4_default_seed1", "HumanoidStandup-v4", (34, 1241), DEF, None, {}, "defaults"),
+    ("humanoidstandup_v4_truncate", "HumanoidStandup-v4", (35, 1242), ND, 50, {},
+     "max_episode_steps 50 (v4 takes no reward or noise arguments)"),
+    # --- InvertedPendulum-v4 (no constructor arguments) ---
+    ("invertedpendulum_v4_default_seed0", "InvertedPendulum-v4", (36, 1250), DEF, None, {},
+     "defaults; episodes of a few steps"),
+    ("invertedpendulum_v4_default_seed1", "InvertedPendulum-v4", (37, 1251), DEF, None, {},
+     "defaults; episodes of a few steps"),
+    ("invertedpendulum_v4_truncate", "InvertedPendulum-v4", (38, 1252), ND, 3, {},
+     "max_episode_steps 3: truncations (sometimes together with termination)"),
+    # --- InvertedDoublePendulum-v4 (no constructor arguments) ---
+    ("inverteddoublependulum_v4_default_seed0", "InvertedDoublePendulum-v4", (39, 1260), DEF, None, {},
+     "defaults; episodes of a few steps"),
+    ("inverteddoublependulum_v4_default_seed1", "InvertedDoublePendulum-v4", (40, 1261), DEF, None, {},
+     "defaults; episodes of a few steps"),
+    ("inverteddoublependulum_v4_truncate", "InvertedDoublePendulum-v4", (41, 1262), ND, 6, {},
+     "max_episode_steps 6 so both truncations and terminations occur"),
+    # --- Reacher-v4 (no constructor arguments) ---
+    ("reacher_v4_default_seed0", "Reacher-v4", (42, 1270), DEF, None, {}, "defaults (50-step episodes)"),
+    ("reacher_v4_default_seed1", "Reacher-v4", (43, 1271), DEF, None, {}, "defaults (50-step episodes)"),
+    ("reacher_v4_truncate", "Reacher-v4", (44, 1272), ND, 40, {}, "max_episode_steps 40"),
+    # --- Swimmer-v4 ---
+    ("swimmer_v4_default_seed0", "Swimmer-v4", (45, 1280), DEF, None, {}, "defaults"),
+    ("swimmer_v4_default_seed1", "Swimmer-v4", (46, 1281), DEF, None, {}, "defaults"),
+    ("swimmer_v4_nondefault", "Swimmer-v4", (47, 1282), ND, 50,
+     dict(exclude_current_positions_from_observation=False, reset_noise_scale=0.3,
+          forward_reward_weight=0.7, ctrl_cost_weight=1e-3),
+     "obs 10, large reset noise"),
+    # --- Walker2d-v4 ---
+    ("walker2d_v4_default_seed0", "Walker2d-v4", (48, 1290), DEF, None, {}, "defaults; many terminations"),
+    ("walker2d_v4_default_seed1", "Walker2d-v4", (49, 1291), DEF, None, {}, "defaults; many terminations"),
+    ("walker2d_v4_unhealthy_continue", "Walker2d-v4", (50, 1292), ND, 60,
+     dict(terminate_when_unhealthy=False, healthy_z_range=(1.0, 1.3), healthy_reward=2.0,
+          reset_noise_scale=0.05, exclude_current_positions_from_observation=False),
      "narrow healthy z: runs unhealthy without terminating; obs 18"),
 ]
 
