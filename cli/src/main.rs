@@ -23,6 +23,8 @@ enum Command {
     List(commands::list::Args),
     /// Validate specs and the models they name.
     Check(commands::check::Args),
+    /// Step rates against the physics ceiling: single env and vectorized.
+    Bench(commands::bench::Args),
     /// The fully resolved spec: parameters, observation layout, actions, reward, health, reset, info.
     Show(commands::show::Args),
     /// Run one action sequence from a .npy file and save the trajectory as .npz.
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::List(a) => commands::list::run(a),
         Command::Check(a) => commands::check::run(a),
+        Command::Bench(a) => commands::bench::run(a),
         Command::Show(a) => commands::show::run(a),
         Command::Rollout(a) => commands::rollout::run(a),
         Command::Run(a) => commands::run::run(a),

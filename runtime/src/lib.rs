@@ -13,6 +13,7 @@
 // Generated code names `::envc::…`; this makes those paths work inside envc itself.
 extern crate self as envc;
 
+pub mod bench;
 pub mod env;
 pub mod environment;
 pub mod error;

@@ -1,0 +1,263 @@
+//! Throughput against the physics ceiling (`envc bench`).
+//!
+//! Three measurements per env, interleaved in rounds (the order rotates every round, so slow
+//! phases of a shared machine hit all three alike); medians are reported:
+//! * **ceiling**: a raw `MjData` of the same compiled model, `frame_skip × mj_step` per env step
+//!   (+ `mj_rnePostConstraint` when the spec reads contact forces), same actions, reset at the
+//!   env's observed mean episode length;
+//! * **single**: one [`Env`] stepped with the same actions, autoreset on termination/truncation;
+//! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted).
+//!
+//! Single-thread rates use the thread's CPU time (preemption by other processes is not billed);
+//! the vector rate uses wall time, as a caller experiences it. Ratios are the medians of the
+//! per-round ratios (paired measurements), the vector ratio against `threads × ceiling`.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use envspec::{Override, ResolvedSpec};
+use mujoco_rs::prelude::{MjData, MjModel};
+
+use crate::env::{Env, compile};
+use crate::error::EnvError;
+use crate::rng::NumpyRng;
+use crate::vector::{Autoreset, VecEnv};
+
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// Envs in the vectorized measurement.
+    pub envs: usize,
+    /// Threads of the vectorized measurement.
+    pub threads: usize,
+    /// Total measuring time per env (all rounds and all three measurements).
+    pub seconds: f64,
+    pub rounds: usize,
+}
+
+impl Default for BenchConfig {
+    fn default() -> Self {
+        BenchConfig {
+            envs: 8,
+            threads: 2,
+            seconds: 6.0,
+            rounds: 5,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct BenchResult {
+    pub id: String,
+    pub frame_skip: usize,
+    pub rne_post_constraint: bool,
+    pub envs: usize,
+    pub threads: usize,
+    pub rounds: usize,
+    /// Env steps per second (medians over rounds).
+    pub ceiling: f64,
+    pub single: f64,
+    pub vector: f64,
+    /// single ÷ ceiling and vector ÷ (threads × ceiling), medians of per-round ratios.
+    pub single_ratio: f64,
+    pub vector_ratio: f64,
+    /// Mean episode length seen by the single env (the ceiling resets at this period).
+    pub episode_len: f64,
+}
+
+/// Actions drawn uniformly in the control range, reused cyclically (drawing is not timed).
+struct Actions {
+    data: Vec<f64>,
+    act_dim: usize,
+    rows: usize,
+}
+
+impl Actions {
+    fn new(model: &MjModel, rows: usize) -> Actions {
+        let m = model.ffi();
+        let nu = m.nu as usize;
+        // SAFETY: actuator_ctrlrange has nu×2 entries.
+        let range = unsafe { std::slice::from_raw_parts(m.actuator_ctrlrange, nu * 2) };
+        let mut rng = NumpyRng::from_seed(0);
+        let data = (0..rows * nu)
+            .map(|k| rng.uniform(range[2 * (k % nu)], range[2 * (k % nu) + 1]))
+            .collect();
+        Actions {
+            data,
+            act_dim: nu,
+            rows,
+        }
+    }
+    /// `count` consecutive rows starting at row `i` (wrapping is avoided by the row count).
+    fn rows(&self, i: usize, count: usize) -> &[f64] {
+        let start = (i % (self.rows - count + 1)) * self.act_dim;
+        &self.data[start..start + count * self.act_dim]
+    }
+}
+
+/// CPU time of the calling thread.
+fn thread_cpu() -> Duration {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: a valid clock id and a valid out-pointer; cannot fail on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}
+
+/// Run `chunk` until `slice` of the clock has passed; returns units of work per second.
+fn rate(slice: Duration, clock: fn() -> Duration, mut chunk: impl FnMut() -> u64) -> f64 {
+    let start = clock();
+    let mut work = 0;
+    loop {
+        work += chunk();
+        let t = clock() - start;
+        if t >= slice {
+            return work as f64 / t.as_secs_f64();
+        }
+    }
+}
+
+fn wall() -> Duration {
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    START.get_or_init(Instant::now).elapsed()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => (v[n / 2 - 1] + v[n / 2]) / 2.0,
+    }
+}
+
+const CHUNK: usize = 16;
+
+/// Benchmark one env (bundled id or spec path).
+pub fn bench(
+    id_or_path: &str,
+    overrides: &[Override],
+    cfg: &BenchConfig,
+) -> Result<BenchResult, EnvError> {
+    let spec: Arc<ResolvedSpec> = Arc::new(envspec::load(
+        &crate::registry::find(id_or_path)?,
+        overrides,
+    )?);
+    let model = Arc::new(compile(&spec)?);
+    let envs = cfg.envs.max(1);
+    let actions = Actions::new(&model, 4096.max(envs * 4));
+    let mut env = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
+    let mut vec = VecEnv::new(Arc::clone(&spec), envs, cfg.threads, Autoreset::NextStep)?;
+    let mut raw = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
+        path: spec.model_path.clone(),
+        message: format!("cannot allocate mjData: {e}"),
+    })?;
+    let (fs, rne, nu) = (
+        spec.frame_skip,
+        spec.needs_rne_post_constraint,
+        actions.act_dim,
+    );
+    env.reset(Some(0));
+    vec.reset(Some(0));
+
+    let mut cursor = 0usize; // action row, shared so every measurement sees the same stream
+    let (mut steps, mut episodes) = (0u64, 0u64);
+    let mut raw_since_reset = 0u64;
+    let rounds = cfg.rounds.max(1);
+    let slice = Duration::from_secs_f64((cfg.seconds / (3 * rounds) as f64).max(0.01));
+    let (mut c, mut s, mut v, mut sr, mut vr) = (vec![], vec![], vec![], vec![], vec![]);
+
+    // Round 0 is a warm-up (caches, page faults, first episode lengths) and is not reported.
+    for round in 0..=rounds {
+        let slice = if round == 0 { slice / 4 } else { slice };
+        let mut got = [0.0; 3];
+        for k in 0..3 {
+            let which = (k + round) % 3;
+            got[which] = match which {
+                0 => {
+                    let ep_len = steps
+                        .checked_div(episodes)
+                        .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
+                        .max(1);
+                    rate(slice, thread_cpu, || {
+                        for _ in 0..CHUNK {
+                            let a = actions.rows(cursor, 1);
+                            cursor += 1;
+                            if raw_since_reset >= ep_len {
+                                raw.reset();
+                                raw.forward();
+                                raw_since_reset = 0;
+                            }
+                            // SAFETY: ctrl has nu entries.
+                            unsafe {
+                                std::slice::from_raw_parts_mut(raw.ffi_mut().ctrl, nu)
+                                    .copy_from_slice(a)
+                            };
+                            for _ in 0..fs {
+                                raw.step();
+                            }
+                            if rne {
+                                raw.rne_post_constraint();
+                            }
+                            raw_since_reset += 1;
+                        }
+                        CHUNK as u64
+                    })
+                }
+                1 => rate(slice, thread_cpu, || {
+                    for _ in 0..CHUNK {
+                        let a = actions.rows(cursor, 1);
+                        cursor += 1;
+                        // The action has the env's length and is finite: step cannot fail.
+                        let done = env.step(a).map(|s| s.terminated || s.truncated);
+                        steps += 1;
+                        if done.unwrap_or(true) {
+                            episodes += 1;
+                            env.reset(None);
+                        }
+                    }
+                    CHUNK as u64
+                }),
+                _ => rate(slice, wall, || {
+                    let mut real = 0;
+                    for _ in 0..CHUNK / 4 {
+                        let a = actions.rows(cursor, envs);
+                        cursor += 1;
+                        if vec.step(a).is_err() {
+                            return 0;
+                        }
+                        // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
+                        real += vec.envs().iter().filter(|e| e.elapsed_steps() > 0).count();
+                    }
+                    real as u64
+                }),
+            };
+        }
+        if round > 0 {
+            c.push(got[0]);
+            s.push(got[1]);
+            v.push(got[2]);
+            sr.push(got[1] / got[0]);
+            vr.push(got[2] / (vec.threads() as f64 * got[0]));
+        }
+    }
+    Ok(BenchResult {
+        id: spec.id.clone(),
+        frame_skip: fs as usize,
+        rne_post_constraint: rne,
+        envs,
+        threads: vec.threads(),
+        rounds,
+        ceiling: median(c),
+        single: median(s),
+        vector: median(v),
+        single_ratio: median(sr),
+        vector_ratio: median(vr),
+        episode_len: if episodes > 0 {
+            steps as f64 / episodes as f64
+        } else {
+            f64::NAN
+        },
+    })
+}
