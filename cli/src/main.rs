@@ -31,6 +31,9 @@ enum Command {
     Rollout(commands::rollout::Args),
     /// Run episodes with a zero or random policy and summarise returns, lengths and speed.
     Run(commands::run::Args),
+    /// Semantic diff of two specs (files or git `REV:path`): what breaks trained policies, what
+    /// changes returns. Exit status 0 no change, 1 compatible, 3 breaking.
+    Diff(commands::diff::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -38,6 +41,8 @@ pub enum Outcome {
     Ok,
     /// The command ran and found problems (status 1).
     Problems,
+    /// `diff` found breaking changes (status 3).
+    Breaking,
 }
 
 fn main() -> ExitCode {
@@ -49,10 +54,12 @@ fn main() -> ExitCode {
         Command::Show(a) => commands::show::run(a),
         Command::Rollout(a) => commands::rollout::run(a),
         Command::Run(a) => commands::run::run(a),
+        Command::Diff(a) => commands::diff::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Problems) => ExitCode::from(1),
+        Ok(Outcome::Breaking) => ExitCode::from(3),
         Err(e) => {
             // One line naming the problem; spec diagnostics keep their multi-line rendering.
             eprintln!("envc: {e:#}");

@@ -21,6 +21,7 @@ fn sel(s: &Selection) -> String {
 pub fn kernel(t: &RewardTerm) -> String {
     match &t.kind {
         TermKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
+        TermKind::Healthy if t.paid_when_unhealthy => "1 (paid even when unhealthy)".into(),
         TermKind::Healthy => "1 if healthy else 0".into(),
         TermKind::SumSquares { source, clip_input, clip } => {
             let x = match clip_input {
@@ -58,6 +59,11 @@ pub fn kernel(t: &RewardTerm) -> String {
 
 /// The full contribution of a term to the reward, e.g. `−0.5 × Σ action²`.
 pub fn term(t: &RewardTerm) -> String {
+    let text = weighted(t);
+    if t.before { format!("{text}  (on the state before the step)") } else { text }
+}
+
+fn weighted(t: &RewardTerm) -> String {
     let k = kernel(t);
     let sign = if t.cost { "−" } else { "+" };
     match &t.kind {

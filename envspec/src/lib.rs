@@ -17,6 +17,7 @@
 
 pub mod describe;
 pub mod diagnostic;
+pub mod diff;
 pub mod ir;
 pub mod mjcf;
 pub mod params;

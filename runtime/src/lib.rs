@@ -19,6 +19,7 @@ pub mod environment;
 pub mod error;
 pub mod gymnasium;
 mod mujoco_log;
+pub mod model_diff;
 pub mod numerics;
 pub mod registry;
 pub mod rng;

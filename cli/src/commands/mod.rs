@@ -1,6 +1,7 @@
 //! One module per subcommand.
 pub mod bench;
 pub mod check;
+pub mod diff;
 pub mod list;
 pub mod rollout;
 pub mod run;
