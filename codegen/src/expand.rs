@@ -14,7 +14,13 @@ pub(crate) fn expand(input: Input) -> TokenStream {
     let root = manifest_root();
     let spec_path = absolute(&root, Path::new(&input.path.value()));
     let lit_span = input.path.span();
-    let errors = |d: Diagnostics| render_errors(&d, &root, lit_span);
+    // Override problems point at the macro argument; everything else at the spec path.
+    let arg_spans: Vec<(String, Span)> = input
+        .overrides
+        .iter()
+        .map(|(k, _)| (format!("`{k}`"), k.span()))
+        .collect();
+    let errors = |d: Diagnostics| render_errors(&d, &root, lit_span, &arg_spans);
 
     let spec = match Spec::load(&spec_path) {
         Ok(s) => s,
@@ -58,7 +64,7 @@ pub(crate) fn expand(input: Input) -> TokenStream {
 }
 
 /// Every diagnostic as its own compile error (all at once), paths shown relative to the crate.
-fn render_errors(d: &Diagnostics, root: &Path, span: Span) -> TokenStream {
+fn render_errors(d: &Diagnostics, root: &Path, span: Span, args: &[(String, Span)]) -> TokenStream {
     let prefix = format!("{}/", root.display());
     let canon = root
         .canonicalize()
@@ -73,7 +79,15 @@ fn render_errors(d: &Diagnostics, root: &Path, span: Span) -> TokenStream {
                 .and_then(|t| t.split_once("]: "))
                 .map(|(code, rest)| format!("{code}: {rest}"))
                 .unwrap_or(text.clone());
-            syn::Error::new(span, text.trim_end()).to_compile_error()
+            let at = match diag.code {
+                envspec::Code::E0202 | envspec::Code::E0203 => args
+                    .iter()
+                    .find(|(name, _)| diag.message.contains(name.as_str()))
+                    .map(|(_, s)| *s)
+                    .unwrap_or(span),
+                _ => span,
+            };
+            syn::Error::new(at, text.trim_end()).to_compile_error()
         })
         .collect()
 }

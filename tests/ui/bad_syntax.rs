@@ -1,0 +1,4 @@
+// Not the macro's syntax: the spec path must be a string literal.
+envc::env!(specs::ant);
+
+fn main() {}
