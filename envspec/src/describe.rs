@@ -82,7 +82,7 @@ pub fn reward_sum(spec: &ResolvedSpec) -> String {
             SumNode::Term(i) => spec.reward[*i].name.clone(),
             SumNode::Sum(c) => {
                 let inner = c.iter().map(|x| go(x, spec, false)).collect::<Vec<_>>().join(" + ");
-                if top { inner } else { format!("({inner})") }
+                if top || c.len() == 1 { inner } else { format!("({inner})") }
             }
         }
     }

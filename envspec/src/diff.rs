@@ -229,7 +229,15 @@ fn info_canon(r: &ResolvedSpec, i: &InfoItem) -> String {
             r.reward.get(*t).map(|t| canon(&RewardTerm { info: None, ..t.clone() })).unwrap_or_default(),
             i.unweighted
         ),
-        _ => canon(i),
+        _ => canon(&InfoItem { at_reset: false, ..i.clone() }),
+    }
+}
+
+/// The reward term an info entry reports, if any.
+fn info_term<'a>(r: &'a ResolvedSpec, i: &InfoItem) -> Option<&'a str> {
+    match i.kind {
+        InfoKind::Term(t) => r.reward.get(t).map(|t| t.name.as_str()),
+        _ => None,
     }
 }
 
@@ -397,7 +405,7 @@ fn sections(
                     cx.push(c, format!("{kind}.{}", s.name), k.clone(), Some(v.clone()), now, Some(p.clone()), np, affects(c, k, same_effect));
                 }
                 for (k, v, p) in &b {
-                    if !a.iter().any(|(k2, _, _)| k2 == k) && !(cat == Category::Reward && k == "info") {
+                    if !(a.iter().any(|(k2, _, _)| k2 == k) || (cat == Category::Reward && k == "info")) {
                         let c = key_category(cat, k);
                         cx.push(c, format!("{kind}.{}", s.name), k.clone(), None, Some(v.clone()), Some(pos(o, &s.name_loc)), Some(p.clone()), affects(c, k, same_effect));
                     }
@@ -632,68 +640,136 @@ fn info_pos(spec: &Spec, key: &str) -> Option<Pos> {
 /// reward term without changing), plus documentation changes of `[info.*]` tables.
 fn info_items(cx: &mut Ctx) {
     let (o, n) = (cx.old_r, cx.new_r);
-    for i in &o.info {
-        match n.info.iter().find(|j| j.key == i.key) {
+    let removed: Vec<&InfoItem> = o.info.iter().filter(|i| !n.info.iter().any(|j| j.key == i.key)).collect();
+    let added: Vec<&InfoItem> = n.info.iter().filter(|j| !o.info.iter().any(|i| i.key == j.key)).collect();
+    // A key that disappears while another with the same definition appears was renamed.
+    let mut renamed_to: Vec<Option<usize>> = vec![None; removed.len()];
+    let mut taken = vec![false; added.len()];
+    for (r, i) in removed.iter().enumerate() {
+        if let Some(a) = (0..added.len()).find(|&a| !taken[a] && info_canon(o, i) == info_canon(n, added[a])) {
+            taken[a] = true;
+            renamed_to[r] = Some(a);
+        }
+    }
+    // Failing that, a key moving to another key of the same reward term is a rename too (the
+    // term itself may have changed; that is reported as its definition).
+    for (r, i) in removed.iter().enumerate() {
+        if renamed_to[r].is_some() {
+            continue;
+        }
+        let Some(term) = info_term(o, i) else { continue };
+        if let Some(a) = (0..added.len()).find(|&a| !taken[a] && info_term(n, added[a]) == Some(term)) {
+            taken[a] = true;
+            renamed_to[r] = Some(a);
+            if info_canon(o, i) != info_canon(n, added[a]) {
+                cx.push(
+                    Category::Info,
+                    format!("info.{}", added[a].key),
+                    "definition",
+                    Some(info_text(o, i)),
+                    Some(info_text(n, added[a])),
+                    info_pos(cx.old, &i.key),
+                    info_pos(cx.new, &added[a].key),
+                    true,
+                );
+            }
+        }
+    }
+    for (r, i) in removed.iter().enumerate() {
+        match renamed_to[r] {
+            Some(a) => cx.push(
+                Category::Info,
+                format!("info.{}", i.key),
+                "renamed",
+                Some(i.key.clone()),
+                Some(added[a].key.clone()),
+                info_pos(cx.old, &i.key),
+                info_pos(cx.new, &added[a].key),
+                true,
+            ),
             None => cx.push(
                 Category::Info,
                 format!("info.{}", i.key),
                 "removed",
-                Some(describe::info(o, i)),
+                Some(info_text(o, i)),
                 None,
                 info_pos(cx.old, &i.key),
                 None,
                 true,
             ),
-            Some(j) => {
-                if info_canon(o, i) != info_canon(n, j) {
-                    cx.push(
-                        Category::Info,
-                        format!("info.{}", i.key),
-                        "definition",
-                        Some(info_text(o, i)),
-                        Some(info_text(n, j)),
-                        info_pos(cx.old, &i.key),
-                        info_pos(cx.new, &j.key),
-                        true,
-                    );
-                }
-                if i.at_reset != j.at_reset {
-                    let f = |b: bool| if b { "reset and step" } else { "step only" }.to_string();
-                    cx.push(
-                        Category::Info,
-                        format!("info.{}", i.key),
-                        "reported at",
-                        Some(f(i.at_reset)),
-                        Some(f(j.at_reset)),
-                        info_pos(cx.old, &i.key),
-                        info_pos(cx.new, &j.key),
-                        true,
-                    );
-                }
-            }
         }
     }
-    for j in &n.info {
-        if !o.info.iter().any(|i| i.key == j.key) {
+    for i in &o.info {
+        let Some(j) = n.info.iter().find(|j| j.key == i.key) else { continue };
+        if info_canon(o, i) != info_canon(n, j) {
+            cx.push(
+                Category::Info,
+                format!("info.{}", i.key),
+                "definition",
+                Some(info_text(o, i)),
+                Some(info_text(n, j)),
+                info_pos(cx.old, &i.key),
+                info_pos(cx.new, &j.key),
+                true,
+            );
+        }
+        if i.at_reset != j.at_reset {
+            let f = |b: bool| if b { "reset and step" } else { "step only" }.to_string();
+            cx.push(
+                Category::Info,
+                format!("info.{}", i.key),
+                "reported at",
+                Some(f(i.at_reset)),
+                Some(f(j.at_reset)),
+                info_pos(cx.old, &i.key),
+                info_pos(cx.new, &j.key),
+                true,
+            );
+        }
+    }
+    for (a, j) in added.iter().enumerate() {
+        if !taken[a] {
             let when = if j.at_reset { "reset and step" } else { "step" };
             cx.push(
                 Category::Info,
                 format!("info.{}", j.key),
                 "added",
                 None,
-                Some(format!("{} ({when})", describe::info(n, j))),
+                Some(format!("{} ({when})", info_text(n, j))),
                 None,
                 info_pos(cx.new, &j.key),
                 true,
             );
         }
     }
+    // `[info.*]` tables that only apply under non-default parameters and are gone in the new spec
+    // (e.g. an alternative definition of a key switched on by a flag).
     for s in &cx.old.info {
-        if let Some(t) = cx.new.info.iter().find(|t| t.name == s.name) {
-            if s.doc() != t.doc() {
-                let (a, b) = (Some(pos(cx.old, &s.name_loc)), Some(pos(cx.new, &t.name_loc)));
-                cx.push(Category::Documentation, format!("info.{}", s.name), "doc", Some(s.doc()), Some(t.doc()), a, b, false);
+        let key = s.str("key").unwrap_or(&s.name);
+        let active = o.info.iter().any(|i| i.key == key && info_pos(cx.old, key) == Some(pos(cx.old, &s.name_loc)));
+        if !active && !cx.new.info.iter().any(|t| t.name == s.name) {
+            let mut c = Change {
+                category: Category::Info,
+                subject: format!("info.{}", s.name),
+                aspect: "removed".into(),
+                was: Some(summary(cx.old, s)),
+                now: None,
+                old_at: Some(pos(cx.old, &s.name_loc)),
+                new_at: None,
+                witness: Some("it applied only under non-default parameters".into()),
+                breaking: false,
+            };
+            if let Some(w) = s.get("when") {
+                c.witness = Some(format!("it applied only when {}", w.to_toml()));
             }
+            cx.changes.push(c);
+        }
+    }
+    for s in &cx.old.info {
+        let Some(t) = cx.new.info.iter().find(|t| t.name == s.name) else { continue };
+        if s.doc() != t.doc() {
+            let (a, b) = (Some(pos(cx.old, &s.name_loc)), Some(pos(cx.new, &t.name_loc)));
+            cx.push(Category::Documentation, format!("info.{}", s.name), "doc", Some(s.doc()), Some(t.doc()), a, b, false);
         }
     }
 }
