@@ -32,7 +32,7 @@ pub(crate) fn expand(input: Input) -> TokenStream {
         // The spec is still a dependency: fixing it must trigger a rebuild.
         Err(d) => {
             let mut out = errors(d);
-            out.extend(track(&[spec_path.clone()]));
+            out.extend(track(std::slice::from_ref(&spec_path)));
             return out;
         }
     };
@@ -276,7 +276,7 @@ fn generate(
         let always = p.name == "xml_file";
         to_overrides.push(quote! {
             if #always || self.#f != #spec_default {
-                out.push(::envc::Override::value(#pname, ::envc::typed::IntoParam::into_param(&self.#f)));
+                out.push(::envc::Override::value(#pname, ::envc::typed::ToParam::to_param(&self.#f)));
             }
         });
     }
@@ -380,6 +380,7 @@ fn generate(
 
             /// The parameters that differ from the spec's defaults, as overrides (`xml_file` always,
             /// as an absolute path).
+            #[allow(clippy::cmp_owned)] // compared with the spec's defaults, written as values
             pub fn to_overrides(&self) -> ::std::vec::Vec<::envc::Override> {
                 let mut out = ::std::vec::Vec::new();
                 #(#to_overrides)*

@@ -35,42 +35,42 @@ impl From<String> for BodyRef {
 }
 
 /// A typed `Config` field → the dynamic parameter value (validated like any override).
-pub trait IntoParam {
-    fn into_param(&self) -> ParamValue;
+pub trait ToParam {
+    fn to_param(&self) -> ParamValue;
 }
 
-impl IntoParam for bool {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for bool {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Bool(*self)
     }
 }
-impl IntoParam for i64 {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for i64 {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Int(*self)
     }
 }
-impl IntoParam for f64 {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for f64 {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Float(*self)
     }
 }
-impl IntoParam for (f64, f64) {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for (f64, f64) {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Range(self.0, self.1)
     }
 }
-impl IntoParam for String {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for String {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Str(self.clone())
     }
 }
-impl IntoParam for PathBuf {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for PathBuf {
+    fn to_param(&self) -> ParamValue {
         ParamValue::Str(self.display().to_string())
     }
 }
-impl IntoParam for BodyRef {
-    fn into_param(&self) -> ParamValue {
+impl ToParam for BodyRef {
+    fn to_param(&self) -> ParamValue {
         match self {
             BodyRef::Id(i) => ParamValue::Int(*i),
             BodyRef::Name(s) => ParamValue::Str(s.clone()),
