@@ -1,12 +1,14 @@
 //! Throughput against the physics ceiling (`envc bench`).
 //!
-//! Three measurements per env, interleaved in rounds (the order rotates every round, so slow
-//! phases of a shared machine hit all three alike); medians are reported:
+//! Four measurements per env, interleaved in rounds (the order rotates every round, so slow
+//! phases of a shared machine hit all of them alike); medians are reported:
 //! * **ceiling**: a raw `MjData` of the same compiled model, `frame_skip × mj_step` per env step
 //!   (+ `mj_rnePostConstraint` when the spec reads contact forces), same actions, reset at the
 //!   env's observed mean episode length;
 //! * **single**: one [`Env`] stepped with the same actions, autoreset on termination/truncation;
-//! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted).
+//! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted);
+//! * **parallel ceiling**: `threads` raw loops at once, wall time: the multi-core ceiling as the
+//!   machine's current load allows, so the vector overhead can be told apart from that load.
 //!
 //! Single-thread rates use the thread's CPU time (preemption by other processes is not billed);
 //! the vector rate uses wall time, as a caller experiences it. Ratios are the medians of the
@@ -29,7 +31,7 @@ pub struct BenchConfig {
     pub envs: usize,
     /// Threads of the vectorized measurement.
     pub threads: usize,
-    /// Total measuring time per env (all rounds and all three measurements).
+    /// Total measuring time per env (all rounds and all four measurements).
     pub seconds: f64,
     pub rounds: usize,
 }
@@ -57,6 +59,11 @@ pub struct BenchResult {
     pub ceiling: f64,
     pub single: f64,
     pub vector: f64,
+    /// `threads` raw `MjData` loops run in parallel, wall time: what the machine gives right now
+    /// (the 2-core ceiling as load from other processes allows).
+    pub parallel_ceiling: f64,
+    /// vector ÷ parallel_ceiling (median of per-round ratios).
+    pub vector_parallel_ratio: f64,
     /// single ÷ ceiling and vector ÷ (threads × ceiling), medians of per-round ratios.
     pub single_ratio: f64,
     pub vector_ratio: f64,
@@ -134,6 +141,57 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 const CHUNK: usize = 16;
 
+/// `threads` raw loops (`frame_skip × mj_step` + post-step kernel) in parallel for `slice` of
+/// wall time; env steps per second summed over threads.
+fn parallel_ceiling(
+    model: &Arc<MjModel>,
+    actions: &Actions,
+    threads: usize,
+    slice: Duration,
+    fs: u32,
+    rne: bool,
+    ep_len: u64,
+) -> f64 {
+    let start = Instant::now();
+    let steps: u64 = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                scope.spawn(move || {
+                    let Ok(mut raw) = MjData::try_new(Arc::clone(model)) else {
+                        return 0;
+                    };
+                    let nu = actions.act_dim;
+                    let mut n = 0u64;
+                    while start.elapsed() < slice {
+                        for _ in 0..CHUNK {
+                            if n % ep_len == 0 {
+                                raw.reset();
+                                raw.forward();
+                            }
+                            let a = actions.rows(t * 997 + n as usize, 1);
+                            // SAFETY: ctrl has nu entries.
+                            unsafe {
+                                std::slice::from_raw_parts_mut(raw.ffi_mut().ctrl, nu)
+                                    .copy_from_slice(a)
+                            };
+                            for _ in 0..fs {
+                                raw.step();
+                            }
+                            if rne {
+                                raw.rne_post_constraint();
+                            }
+                            n += 1;
+                        }
+                    }
+                    n
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or(0)).sum()
+    });
+    steps as f64 / start.elapsed().as_secs_f64()
+}
+
 /// Benchmark one env (bundled id or spec path).
 pub fn bench(
     id_or_path: &str,
@@ -165,15 +223,16 @@ pub fn bench(
     let (mut steps, mut episodes) = (0u64, 0u64);
     let mut raw_since_reset = 0u64;
     let rounds = cfg.rounds.max(1);
-    let slice = Duration::from_secs_f64((cfg.seconds / (3 * rounds) as f64).max(0.01));
+    let slice = Duration::from_secs_f64((cfg.seconds / (4 * rounds) as f64).max(0.01));
     let (mut c, mut s, mut v, mut sr, mut vr) = (vec![], vec![], vec![], vec![], vec![]);
+    let (mut p, mut pr) = (vec![], vec![]);
 
     // Round 0 is a warm-up (caches, page faults, first episode lengths) and is not reported.
     for round in 0..=rounds {
         let slice = if round == 0 { slice / 4 } else { slice };
-        let mut got = [0.0; 3];
-        for k in 0..3 {
-            let which = (k + round) % 3;
+        let mut got = [0.0; 4];
+        for k in 0..4 {
+            let which = (k + round) % 4;
             got[which] = match which {
                 0 => {
                     let ep_len = steps
@@ -219,6 +278,13 @@ pub fn bench(
                     }
                     CHUNK as u64
                 }),
+                3 => {
+                    let ep_len = steps
+                        .checked_div(episodes)
+                        .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
+                        .max(1);
+                    parallel_ceiling(&model, &actions, vec.threads(), slice, fs, rne, ep_len)
+                }
                 _ => rate(slice, wall, || {
                     let mut real = 0;
                     for _ in 0..CHUNK / 4 {
@@ -238,6 +304,8 @@ pub fn bench(
             c.push(got[0]);
             s.push(got[1]);
             v.push(got[2]);
+            p.push(got[3]);
+            pr.push(got[2] / got[3]);
             sr.push(got[1] / got[0]);
             vr.push(got[2] / (vec.threads() as f64 * got[0]));
         }
@@ -252,6 +320,8 @@ pub fn bench(
         ceiling: median(c),
         single: median(s),
         vector: median(v),
+        parallel_ceiling: median(p),
+        vector_parallel_ratio: median(pr),
         single_ratio: median(sr),
         vector_ratio: median(vr),
         episode_len: if episodes > 0 {

@@ -42,7 +42,8 @@ fn json(r: &BenchResult) -> serde_json::Value {
         "envs": r.envs, "threads": r.threads, "rounds": r.rounds,
         "ceiling_steps_per_s": r.ceiling, "single_steps_per_s": r.single,
         "vector_steps_per_s": r.vector, "single_over_ceiling": r.single_ratio,
-        "vector_over_threads_x_ceiling": r.vector_ratio, "mean_episode_len": r.episode_len,
+        "vector_over_threads_x_ceiling": r.vector_ratio,
+        "parallel_ceiling_steps_per_s": r.parallel_ceiling, "vector_over_parallel_ceiling": r.vector_parallel_ratio, "mean_episode_len": r.episode_len,
     })
 }
 
@@ -67,8 +68,17 @@ pub fn run(args: Args) -> Result<Outcome> {
     };
     if args.format == Format::Text {
         println!(
-            "{:<26} {:>3} {:>3} {:>11} {:>11} {:>6} {:>13} {:>6}",
-            "env", "fs", "rne", "ceiling/s", "single/s", "÷ceil", "vector/s", "÷M·ceil"
+            "{:<26} {:>3} {:>3} {:>11} {:>11} {:>6} {:>11} {:>7} {:>11} {:>6}",
+            "env",
+            "fs",
+            "rne",
+            "ceiling/s",
+            "single/s",
+            "÷ceil",
+            "vector/s",
+            "÷M·ceil",
+            "par.ceil/s",
+            "÷par"
         );
     }
     let mut out = vec![];
@@ -77,7 +87,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             envc::bench::bench(id, &overrides, &cfg).map_err(|e| anyhow::anyhow!("{id}: {e}"))?;
         match args.format {
             Format::Text => println!(
-                "{:<26} {:>3} {:>3} {:>11.0} {:>11.0} {:>6.3} {:>13.0} {:>6.3}",
+                "{:<26} {:>3} {:>3} {:>11.0} {:>11.0} {:>6.3} {:>11.0} {:>7.3} {:>11.0} {:>6.3}",
                 r.id,
                 r.frame_skip,
                 if r.rne_post_constraint { "yes" } else { "no" },
@@ -85,14 +95,16 @@ pub fn run(args: Args) -> Result<Outcome> {
                 r.single,
                 r.single_ratio,
                 r.vector,
-                r.vector_ratio
+                r.vector_ratio,
+                r.parallel_ceiling,
+                r.vector_parallel_ratio
             ),
             Format::Json => out.push(json(&r)),
         }
     }
     match args.format {
         Format::Text => println!(
-            "medians of {} interleaved rounds; vector: {} envs on {} threads (wall time), others CPU time",
+            "medians of {} interleaved rounds; vector: {} envs on {} threads and par.ceil: that many raw loops at once (wall time); others thread CPU time",
             cfg.rounds, cfg.envs, cfg.threads
         ),
         Format::Json => println!("{}", serde_json::to_string_pretty(&out)?),
