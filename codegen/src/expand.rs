@@ -250,7 +250,8 @@ fn generate(
     let mut defaults = vec![];
     let mut builders = vec![];
     let mut to_overrides = vec![];
-    for p in &r.params {
+    // Fixed parameters are part of the spec but not of its constructor: no Config field.
+    for p in r.params.iter().filter(|p| !p.fixed) {
         let f = ident(&p.name, "parameter")?;
         let ty = param_type(p.ty);
         let pname = &p.name;

@@ -90,6 +90,8 @@ pub enum Code {
     E0202,
     /// An override value has the wrong type for its parameter.
     E0203,
+    /// An override of a parameter the spec declares `fixed` (not a constructor argument).
+    E0204,
     /// The model file does not exist or cannot be read.
     E0301,
     /// The model file is not well-formed MJCF.

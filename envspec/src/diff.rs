@@ -333,6 +333,11 @@ fn params(cx: &mut Ctx) {
                     });
                     cx.changes.push(c);
                 }
+                if p.fixed != q.fixed {
+                    let f = |fixed: bool| if fixed { "no (fixed)" } else { "yes" }.to_string();
+                    // Becoming an argument adds an option; ceasing to be one breaks callers that pass it.
+                    cx.push(Category::Parameters, format!("param {}", p.name), "constructor argument", Some(f(p.fixed)), Some(f(q.fixed)), at.clone(), new_at.clone(), q.fixed);
+                }
                 if p.doc != q.doc {
                     cx.push(Category::Documentation, format!("param {}", p.name), "doc", Some(p.doc.clone()), Some(q.doc.clone()), at, new_at, false);
                 }

@@ -105,6 +105,8 @@ pub struct Param {
     pub default: ParamValue,
     pub doc: String,
     pub origin: Origin,
+    /// Part of the spec but not a constructor argument: overrides are refused.
+    pub fixed: bool,
 }
 
 /// A request to change a parameter.
@@ -215,6 +217,7 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
                 value,
                 doc: p.doc.clone(),
                 origin: Origin::Default(p.default.loc.clone()),
+                fixed: p.fixed,
             }),
             None => d.push(
                 Diagnostic::new(
@@ -248,6 +251,14 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             );
             continue;
         };
+        if param.fixed {
+            d.push(
+                Diagnostic::new(Code::E0204, format!("parameter `{}` is fixed in {}: it is not a constructor argument", o.name, spec.id))
+                    .label(format!("its value is {}", param.default))
+                    .help("copy the spec and change the value there (or remove `fixed = true`)"),
+            );
+            continue;
+        }
         let (value, loc) = match &o.value {
             OverrideValue::Value(v) => {
                 // Integers are acceptable floats.

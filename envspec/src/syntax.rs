@@ -42,6 +42,8 @@ pub struct ParamDecl {
     pub doc: String,
     /// Explicit `type = "..."` from the long form.
     pub ty: Option<(String, Location)>,
+    /// `fixed = true`: part of the spec, but not a constructor argument (overrides are refused).
+    pub fixed: bool,
 }
 
 /// A parsed, key-checked spec file.
@@ -111,7 +113,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "maze",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold"];
-const PARAM_KEYS: &[&str] = &["default", "doc", "type"];
+const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
 pub(crate) const PARAM_TYPES: &[&str] = &[
     "bool", "int", "float", "range", "string", "path", "body", "table",
 ];
@@ -358,6 +360,7 @@ fn read_param(p: &Entry, d: &mut Diagnostics) -> ParamDecl {
         default: p.value.clone(),
         doc: String::new(),
         ty: None,
+        fixed: false,
     };
     // Long form: a table with a `default` key. A table without one is a table-valued parameter
     // only when it says so with `type = "table"`; otherwise it is an error.
@@ -365,6 +368,12 @@ fn read_param(p: &Entry, d: &mut Diagnostics) -> ParamDecl {
         if let Some(def) = t.iter().find(|e| e.key == "default") {
             check_keys(t, PARAM_KEYS, &format!("parameter `{}`", p.key), d);
             decl.default = def.value.clone();
+            if let Some(fx) = t.iter().find(|e| e.key == "fixed") {
+                match fx.value.kind {
+                    ValKind::Bool(b) => decl.fixed = b,
+                    _ => d.push(fx.value.type_error("fixed", "true or false")),
+                }
+            }
             if let Some(doc) = t.iter().find(|e| e.key == "doc") {
                 match doc.value.as_str() {
                     Some(s) => decl.doc = s.to_string(),
