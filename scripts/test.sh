@@ -26,3 +26,6 @@ SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
 "$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden
 ENVC_PARITY_DIR="$LIVE" cargo test -p envc-tests --test parity
+# The same for vector envs (Gymnasium's sync vector env, both autoreset modes).
+"$PY" tests/reference/record_vector.py --out "$LIVE/vector" --seed "$SEED"
+ENVC_VECTOR_DIR="$LIVE/vector" cargo test -p envc-tests --test vector
