@@ -11,6 +11,16 @@ PY="$VENV/bin/python"
 REQ="$ROOT/tests/reference/requirements.txt"
 STAMP="$VENV/.envc-requirements"
 
+# libhdf5 for envc's HDF5 dataset backend (hdf5-metno links the system library).
+if ! pkg-config --exists hdf5 2>/dev/null && [ ! -e /usr/include/hdf5/serial/hdf5.h ]; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends libhdf5-dev pkg-config >/dev/null
+  else
+    echo "envc setup: libhdf5-dev is missing; install it (sudo apt-get install libhdf5-dev pkg-config)" >&2
+    exit 1
+  fi
+fi
+
 if [ ! -x "$PY" ]; then
   python3 -m venv "$VENV"
 fi

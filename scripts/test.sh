@@ -20,6 +20,13 @@ cargo test --workspace
 cargo build -q -p envc-cli
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
 
+# Minari datasets written by envc, loaded, sampled and replayed by the real minari/Gymnasium (fresh
+# seed), an interrupted collection; then Python DataCollector datasets read back by envc.
+MINARI_PY="$(mktemp -d)"
+"$PY" tests/reference/check_minari.py --envc target/debug/envc --python-out "$MINARI_PY"
+ENVC_MINARI_DIR="$MINARI_PY" cargo test -q -p envc-tests --test minari
+rm -rf "$MINARI_PY"
+
 LIVE="$(mktemp -d)"
 trap 'rm -rf "$LIVE"' EXIT
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"

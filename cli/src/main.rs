@@ -34,6 +34,10 @@ enum Command {
     /// Semantic diff of two specs (files or git `REV:path`): what breaks trained policies, what
     /// changes returns. Exit status 0 no change, 1 compatible, 3 breaking.
     Diff(commands::diff::Args),
+    /// Record a Minari dataset (arrow or hdf5) from episodes of an env.
+    Collect(commands::collect::Args),
+    /// Inspect Minari datasets (envc's or Python's).
+    Dataset(commands::dataset::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -55,6 +59,8 @@ fn main() -> ExitCode {
         Command::Rollout(a) => commands::rollout::run(a),
         Command::Run(a) => commands::run::run(a),
         Command::Diff(a) => commands::diff::run(a),
+        Command::Collect(a) => commands::collect::run(a),
+        Command::Dataset(a) => commands::dataset::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -14,6 +14,8 @@
 extern crate self as envc;
 
 pub mod bench;
+#[cfg(feature = "dataset")]
+pub mod dataset;
 pub mod env;
 pub mod environment;
 pub mod error;

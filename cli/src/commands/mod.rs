@@ -1,6 +1,8 @@
 //! One module per subcommand.
 pub mod bench;
 pub mod check;
+pub mod collect;
+pub mod dataset;
 pub mod diff;
 pub mod list;
 pub mod rollout;

@@ -1,0 +1,110 @@
+//! `envc dataset show PATH|ID`: summary of a Minari dataset (envc's or Python's).
+
+use anyhow::Result;
+use envc::dataset::Dataset;
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Sub,
+}
+
+#[derive(clap::Subcommand)]
+enum Sub {
+    /// Metadata, spaces, and episode length / return statistics (reads every episode).
+    Show {
+        /// Dataset directory, its data/ directory, or an id under $MINARI_DATASETS_PATH.
+        dataset: String,
+        /// Only the metadata (don't read the episodes).
+        #[arg(long)]
+        no_episodes: bool,
+    },
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    match args.command {
+        Sub::Show {
+            dataset,
+            no_episodes,
+        } => show(&dataset, no_episodes),
+    }
+}
+
+fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
+    let ds = Dataset::open(what).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let text = |k: &str| {
+        ds.metadata.get(k).map(|v| {
+            v.as_str()
+                .map(str::to_string)
+                .unwrap_or_else(|| v.to_string())
+        })
+    };
+    println!("{} ({})", ds.dataset_id, ds.data_path.display());
+    println!(
+        "  format            {} (minari_version {})",
+        ds.format.name(),
+        ds.minari_version
+    );
+    println!("  episodes          {}", ds.total_episodes);
+    println!("  steps             {}", ds.total_steps);
+    println!("  observation space {}", ds.observation_space.describe());
+    println!("  action space      {}", ds.action_space.describe());
+    println!(
+        "  env               {}",
+        ds.env_id().unwrap_or("(no env spec)")
+    );
+    for (label, key) in [
+        ("size (MB)", "dataset_size"),
+        ("author", "author"),
+        ("algorithm", "algorithm_name"),
+        ("description", "description"),
+    ] {
+        if let Some(v) = text(key) {
+            println!("  {label:<17} {v}");
+        }
+    }
+    if no_episodes || ds.is_empty() {
+        return Ok(Outcome::Ok);
+    }
+    let (mut lens, mut rets, mut terms) = (vec![], vec![], 0u64);
+    let mut info_keys: Vec<String> = vec![];
+    for ep in ds.episodes() {
+        let ep = ep.map_err(|e| anyhow::anyhow!("{e}"))?;
+        if info_keys.is_empty() {
+            info_keys = ep.infos.iter().map(|(k, _)| k.clone()).collect();
+        }
+        lens.push(ep.len() as f64);
+        rets.push(ep.episode_return());
+        terms += ep.terminations.iter().any(|t| *t) as u64;
+    }
+    let stat = |x: &[f64]| {
+        let n = x.len().max(1) as f64;
+        let m = x.iter().sum::<f64>() / n;
+        let sd = (x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / n).sqrt();
+        let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        format!("mean {m:.3}  std {sd:.3}  min {lo:.3}  max {hi:.3}")
+    };
+    let steps: f64 = lens.iter().sum();
+    println!("  length            {}", stat(&lens));
+    println!("  return            {}", stat(&rets));
+    println!("  terminated        {terms} of {} episodes", lens.len());
+    println!(
+        "  infos             {}",
+        if info_keys.is_empty() {
+            "(none)".to_string()
+        } else {
+            info_keys.join(", ")
+        }
+    );
+    if steps as u64 != ds.total_steps {
+        println!(
+            "  warning: the episodes hold {steps} steps but total_steps is {}",
+            ds.total_steps
+        );
+        return Ok(Outcome::Problems);
+    }
+    Ok(Outcome::Ok)
+}

@@ -1,0 +1,187 @@
+//! Recording whole episodes of any envc env (typed or dynamic) under any policy.
+
+use std::path::{Path, PathBuf};
+
+use super::Format;
+use super::error::DatasetError;
+use super::gym_spec::env_spec_json;
+use super::space::{Dtype, Space};
+use super::writer::{DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn};
+use crate::environment::Environment;
+
+/// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
+/// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
+pub trait Policy {
+    /// Fill `action` for observation `obs`.
+    fn act(&mut self, obs: &[f64], action: &mut [f32]);
+}
+
+impl<F: FnMut(&[f64], &mut [f32])> Policy for F {
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
+        self(obs, action)
+    }
+}
+
+/// Where and how to write: `root` `None` is `MINARI_DATASETS_PATH` (default `~/.minari/datasets`).
+#[derive(Clone, Debug)]
+pub struct CollectOptions {
+    pub root: Option<PathBuf>,
+    pub dataset_id: String,
+    pub format: Format,
+    pub info: DatasetInfo,
+}
+
+/// Summary of one recorded episode.
+#[derive(Clone, Copy, Debug)]
+pub struct EpisodeSummary {
+    pub steps: usize,
+    pub episode_return: f64,
+    pub terminated: bool,
+}
+
+/// Wraps an env and records episodes into a dataset. Buffers hold one episode and are reused, so
+/// memory stays flat however many episodes are collected; each episode is on disk when
+/// [`Collector::episode`] returns.
+pub struct Collector<E: Environment> {
+    env: E,
+    writer: DatasetWriter,
+    obs: Vec<f64>,
+    actions: Vec<f32>,
+    action: Vec<f32>,
+    rewards: Vec<f64>,
+    terminations: Vec<bool>,
+    truncations: Vec<bool>,
+    infos: Vec<InfoColumn>,
+}
+
+impl<E: Environment> Collector<E> {
+    /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
+    /// stored when the env is one of Gymnasium's; `options.info.env_spec` set by the caller wins.
+    pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
+        let spec = env.spec().clone();
+        if options.info.env_spec.is_none() {
+            options.info.env_spec = env_spec_json(&spec).ok();
+        }
+        if options.info.env_spec.is_some() && options.info.requirements.is_empty() {
+            options.info.requirements =
+                vec!["gymnasium[mujoco]==1.4.0".into(), "mujoco==3.17.0".into()];
+        }
+        let o = env.observation_space();
+        let a = env.action_space();
+        let obs_space = Space::box1(Dtype::F64, &o.low, &o.high);
+        let act_space = Space::box1(Dtype::F32, &a.low, &a.high);
+        let writer = DatasetWriter::create(
+            options.root.as_deref(),
+            &options.dataset_id,
+            options.format,
+            obs_space,
+            act_space,
+            options.info,
+        )?;
+        // Info columns: every key the env reports after a step, in its order (reset info is padded
+        // with zeros for step-only keys, as a StepDataCallback would).
+        let infos = spec
+            .info
+            .iter()
+            .map(|i| InfoColumn {
+                key: i.key.clone(),
+                width: i.len.max(1),
+                values: vec![],
+            })
+            .collect();
+        let act_dim = env.act_dim();
+        Ok(Collector {
+            env,
+            writer,
+            obs: vec![],
+            actions: vec![],
+            action: vec![0.0; act_dim],
+            rewards: vec![],
+            terminations: vec![],
+            truncations: vec![],
+            infos,
+        })
+    }
+
+    pub fn env(&self) -> &E {
+        &self.env
+    }
+    pub fn writer(&self) -> &DatasetWriter {
+        &self.writer
+    }
+
+    fn push_info(infos: &mut [InfoColumn], info: crate::Info<'_>) {
+        for c in infos.iter_mut() {
+            match info.get(&c.key) {
+                Some(v) if v.len() == c.width => c.values.extend_from_slice(v),
+                _ => c.values.extend(std::iter::repeat_n(0.0, c.width)),
+            }
+        }
+    }
+
+    /// Reset with `seed`, run `policy` until the episode terminates or is truncated, and write it.
+    pub fn episode(
+        &mut self,
+        seed: u64,
+        policy: &mut impl Policy,
+    ) -> Result<EpisodeSummary, DatasetError> {
+        self.obs.clear();
+        self.actions.clear();
+        self.rewards.clear();
+        self.terminations.clear();
+        self.truncations.clear();
+        for c in &mut self.infos {
+            c.values.clear();
+        }
+        let (o, info) = self.env.reset(Some(seed));
+        self.obs.extend_from_slice(o);
+        Self::push_info(&mut self.infos, info);
+        let obs_dim = self.obs.len();
+        let terminated = loop {
+            let last = &self.obs[self.obs.len() - obs_dim..];
+            policy.act(last, &mut self.action);
+            let s = self.env.step_f32(&self.action)?;
+            self.actions.extend_from_slice(&self.action);
+            self.obs.extend_from_slice(s.obs);
+            self.rewards.push(s.reward);
+            self.terminations.push(s.terminated);
+            self.truncations.push(s.truncated);
+            Self::push_info(&mut self.infos, s.info);
+            if s.terminated || s.truncated {
+                break s.terminated;
+            }
+        };
+        let record = EpisodeRecord {
+            seed: Some(seed),
+            observations: &self.obs,
+            actions: &self.actions,
+            rewards: &self.rewards,
+            terminations: &self.terminations,
+            truncations: &self.truncations,
+            infos: &self.infos,
+        };
+        self.writer.write_episode(&record)?;
+        Ok(EpisodeSummary {
+            steps: self.rewards.len(),
+            episode_return: self.rewards.iter().sum(),
+            terminated,
+        })
+    }
+
+    /// Finish the dataset (metadata, then one rename into place); returns its directory.
+    pub fn finish(self) -> Result<PathBuf, DatasetError> {
+        self.writer.finish()
+    }
+
+    /// Give the env back, discarding the unfinished dataset.
+    pub fn abort(self) -> E {
+        self.env
+    }
+
+    pub fn target(&self) -> PathBuf {
+        self.writer.target()
+    }
+    pub fn staging(&self) -> &Path {
+        self.writer.staging()
+    }
+}

@@ -1,0 +1,60 @@
+//! Dataset errors, with stable codes from `docs/errors.md` (E12xx).
+
+use std::path::PathBuf;
+
+use crate::error::EnvError;
+
+#[derive(Debug, thiserror::Error)]
+pub enum DatasetError {
+    #[error("error[E1201]: `{id}` is not a Minari dataset id: {why}")]
+    BadId { id: String, why: String },
+    #[error("error[E1202]: dataset `{id}` already exists at {}; Minari datasets are never overwritten, bump the version (-vN)", path.display())]
+    Exists { id: String, path: PathBuf },
+    #[error("error[E1203]: {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("error[E1204]: {}: not a readable Minari dataset: {why}", path.display())]
+    Malformed { path: PathBuf, why: String },
+    #[error("error[E1205]: {0}")]
+    Unsupported(String),
+    #[error(
+        "error[E1206]: the {0} backend is not compiled into this build (enable the `hdf5` feature of the envc crate)"
+    )]
+    BackendMissing(&'static str),
+    #[error("error[E1207]: writing {}: {why}", path.display())]
+    Write { path: PathBuf, why: String },
+    /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
+    #[error("{0}")]
+    Env(#[from] EnvError),
+}
+
+impl DatasetError {
+    /// The stable code, e.g. `"E1201"`.
+    pub fn code(&self) -> String {
+        match self {
+            DatasetError::BadId { .. } => "E1201".into(),
+            DatasetError::Exists { .. } => "E1202".into(),
+            DatasetError::Io { .. } => "E1203".into(),
+            DatasetError::Malformed { .. } => "E1204".into(),
+            DatasetError::Unsupported(_) => "E1205".into(),
+            DatasetError::BackendMissing(_) => "E1206".into(),
+            DatasetError::Write { .. } => "E1207".into(),
+            DatasetError::Env(e) => format!("{:?}", e.code()),
+        }
+    }
+}
+
+pub(crate) fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> DatasetError {
+    let path = path.into();
+    move |source| DatasetError::Io { path, source }
+}
+
+pub(crate) fn malformed(path: impl Into<PathBuf>, why: impl Into<String>) -> DatasetError {
+    DatasetError::Malformed {
+        path: path.into(),
+        why: why.into(),
+    }
+}

@@ -1,0 +1,74 @@
+//! Minari datasets (feature `dataset`): collect episodes from any envc env and write them in
+//! Minari 0.5.4's on-disk format, so `minari.load_dataset` loads them as its own; read Minari
+//! datasets back (envc's or Python `DataCollector`'s) as typed arrays.
+//!
+//! ```no_run
+//! use envc::Env;
+//! use envc::dataset::{Collector, CollectOptions, Dataset, Format, DatasetInfo};
+//! let env = Env::make("Hopper-v5", &[])?;
+//! let opts = CollectOptions { root: None, dataset_id: "envc/hopper/zero-v0".into(), format: Format::Arrow, info: DatasetInfo::default() };
+//! let mut c = Collector::new(env, opts)?;
+//! for seed in 0..10 {
+//!     c.episode(seed, &mut |_obs: &[f64], a: &mut [f32]| a.fill(0.0))?;
+//! }
+//! let dir = c.finish()?;
+//! let ds = Dataset::open(dir.to_str().unwrap())?;
+//! for ep in ds.episodes() {
+//!     let ep = ep?;
+//!     println!("{} steps, seed {:?}", ep.len(), ep.seed);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Format details and the choices made are in `docs/datasets.md`.
+
+mod arrow_io;
+mod collector;
+mod error;
+mod gym_spec;
+#[cfg(feature = "hdf5")]
+mod hdf5_io;
+mod id;
+mod json;
+mod reader;
+mod space;
+mod tensor;
+mod writer;
+
+pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
+pub use error::DatasetError;
+pub use gym_spec::{entry_point, env_spec_json};
+pub use id::DatasetId;
+pub use reader::Dataset;
+pub use space::{Dtype, Space};
+pub use tensor::{Data, Episode, Tensor};
+pub use writer::{
+    DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn, STAGING_DIR, default_root,
+};
+
+/// The format tag written as `minari_version`. Minari checks it against a fixed set: "0.5.4" is
+/// what the pinned reader (0.5.4) writes itself; see docs/datasets.md for older readers.
+pub const MINARI_VERSION: &str = "0.5.4";
+
+/// Minari storage backends envc writes and reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Arrow,
+    Hdf5,
+}
+
+impl Format {
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Arrow => "arrow",
+            Format::Hdf5 => "hdf5",
+        }
+    }
+    /// Whether this build can write and read the format.
+    pub fn available(self) -> bool {
+        match self {
+            Format::Arrow => true,
+            Format::Hdf5 => cfg!(feature = "hdf5"),
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! Reading a Minari dataset (written by envc or by Python's `DataCollector`).
+
+use std::path::{Path, PathBuf};
+
+use ndarray::Array1;
+use serde_json::{Map, Value};
+
+use super::error::{DatasetError, io, malformed};
+use super::json::parse_lenient;
+use super::space::Space;
+use super::tensor::{Data, Episode, Tensor};
+use super::writer::default_root;
+use super::{Format, arrow_io};
+
+/// An opened dataset: its metadata, ready to read episodes one at a time.
+pub struct Dataset {
+    /// The `data/` directory.
+    pub data_path: PathBuf,
+    pub dataset_id: String,
+    pub format: Format,
+    pub minari_version: String,
+    pub total_episodes: u64,
+    pub total_steps: u64,
+    pub observation_space: Space,
+    pub action_space: Space,
+    /// The Gymnasium env spec (parsed), if stored.
+    pub env_spec: Option<Value>,
+    /// Every key of `metadata.json`.
+    pub metadata: Map<String, Value>,
+    #[cfg(feature = "hdf5")]
+    hdf5: Option<super::hdf5_io::Hdf5Reader>,
+}
+
+fn to_bool1(t: Tensor, path: &Path, what: &str) -> Result<Array1<bool>, DatasetError> {
+    let a = match t {
+        Tensor::Bool(a) => a,
+        other => other.to_f64().mapv(|x| x != 0.0),
+    };
+    a.into_dimensionality()
+        .map_err(|_| malformed(path, format!("{what} is not 1-D")))
+}
+
+impl Dataset {
+    /// Open a dataset by path (its directory or its `data/` directory) or by id under the datasets
+    /// root (`MINARI_DATASETS_PATH`, default `~/.minari/datasets`).
+    pub fn open(path_or_id: &str) -> Result<Dataset, DatasetError> {
+        let p = Path::new(path_or_id);
+        let candidates = [
+            p.join("data"),
+            p.to_path_buf(),
+            default_root().join(path_or_id).join("data"),
+        ];
+        let data = candidates
+            .iter()
+            .find(|c| c.join("metadata.json").is_file())
+            .cloned()
+            .ok_or_else(|| {
+                malformed(
+                    p,
+                    format!(
+                        "no data/metadata.json here nor under {}",
+                        default_root().join(path_or_id).display()
+                    ),
+                )
+            })?;
+        Dataset::open_data(&data)
+    }
+
+    /// Open the `data/` directory of a dataset.
+    pub fn open_data(data: &Path) -> Result<Dataset, DatasetError> {
+        let meta_path = data.join("metadata.json");
+        let text = std::fs::read_to_string(&meta_path).map_err(io(&meta_path))?;
+        let metadata = match parse_lenient(&text) {
+            Ok(Value::Object(m)) => m,
+            Ok(_) => return Err(malformed(&meta_path, "not a JSON object")),
+            Err(e) => return Err(malformed(&meta_path, e.to_string())),
+        };
+        let need = |k: &str| {
+            metadata
+                .get(k)
+                .ok_or_else(|| malformed(&meta_path, format!("`{k}` is missing")))
+        };
+        let int = |k: &str| {
+            need(k)?
+                .as_u64()
+                .ok_or_else(|| malformed(&meta_path, format!("`{k}` is not a count")))
+        };
+        let string = |k: &str| {
+            need(k)?
+                .as_str()
+                .map(str::to_string)
+                .ok_or_else(|| malformed(&meta_path, format!("`{k}` is not a string")))
+        };
+        let format = match string("data_format")?.as_str() {
+            "arrow" => Format::Arrow,
+            "hdf5" => Format::Hdf5,
+            other => {
+                return Err(DatasetError::Unsupported(format!(
+                    "data_format `{other}` (envc reads arrow and hdf5)"
+                )));
+            }
+        };
+        let space = |k: &str| -> Result<Space, DatasetError> {
+            Space::parse(&string(k).map_err(|_| {
+                DatasetError::Unsupported(format!(
+                    "{}: `{k}` is not stored (Minari would rebuild it from the env)",
+                    meta_path.display()
+                ))
+            })?)
+            .map_err(|why| malformed(&meta_path, format!("{k}: {why}")))
+        };
+        let env_spec = metadata
+            .get("env_spec")
+            .and_then(Value::as_str)
+            .and_then(|s| parse_lenient(s).ok());
+        #[cfg(feature = "hdf5")]
+        let hdf5 = if format == Format::Hdf5 {
+            Some(super::hdf5_io::Hdf5Reader::open(data)?)
+        } else {
+            None
+        };
+        #[cfg(not(feature = "hdf5"))]
+        if format == Format::Hdf5 {
+            return Err(DatasetError::BackendMissing("hdf5"));
+        }
+        Ok(Dataset {
+            data_path: data.to_path_buf(),
+            dataset_id: string("dataset_id")?,
+            format,
+            minari_version: string("minari_version")?,
+            total_episodes: int("total_episodes")?,
+            total_steps: int("total_steps")?,
+            observation_space: space("observation_space")?,
+            action_space: space("action_space")?,
+            env_spec,
+            metadata,
+            #[cfg(feature = "hdf5")]
+            hdf5,
+        })
+    }
+
+    /// The env id in the stored env spec.
+    pub fn env_id(&self) -> Option<&str> {
+        self.env_spec.as_ref()?.get("id")?.as_str()
+    }
+
+    pub fn len(&self) -> usize {
+        self.total_episodes as usize
+    }
+    pub fn is_empty(&self) -> bool {
+        self.total_episodes == 0
+    }
+
+    /// Read episode `index`.
+    pub fn episode(&self, index: u64) -> Result<Episode, DatasetError> {
+        if index >= self.total_episodes {
+            return Err(malformed(
+                &self.data_path,
+                format!(
+                    "episode {index} requested; the dataset has {}",
+                    self.total_episodes
+                ),
+            ));
+        }
+        let path = &self.data_path;
+        match self.format {
+            Format::Arrow => {
+                let (batch, meta) = arrow_io::read_episode(path, index)?;
+                let rows = batch.num_rows();
+                if rows == 0 {
+                    return Err(malformed(path, format!("episode {index} has no rows")));
+                }
+                let t = rows - 1;
+                let col = |name: &str| {
+                    batch.column_by_name(name).ok_or_else(|| {
+                        malformed(path, format!("episode {index}: column `{name}` is missing"))
+                    })
+                };
+                let observations = arrow_io::decode(
+                    col("observations")?.as_ref(),
+                    Some(&self.observation_space),
+                    None,
+                    path,
+                )?;
+                let actions = arrow_io::decode(
+                    col("actions")?.as_ref(),
+                    Some(&self.action_space),
+                    None,
+                    path,
+                )?
+                .head(t);
+                let scalar = |name: &str| -> Result<Tensor, DatasetError> {
+                    match arrow_io::decode(col(name)?.as_ref(), None, None, path)? {
+                        Data::Tensor(x) => Ok(x.head(t)),
+                        Data::Dict(_) => {
+                            Err(malformed(path, format!("`{name}` is not a flat column")))
+                        }
+                    }
+                };
+                let infos = match batch.column_by_name("infos") {
+                    Some(c) => match arrow_io::decode(c.as_ref(), None, None, path)? {
+                        Data::Dict(items) => items,
+                        Data::Tensor(_) => {
+                            return Err(malformed(path, "`infos` is not a struct column"));
+                        }
+                    },
+                    None => vec![],
+                };
+                Ok(Episode {
+                    id: index,
+                    seed: meta.get("seed").and_then(Value::as_u64),
+                    observations,
+                    actions,
+                    rewards: scalar("rewards")?,
+                    terminations: to_bool1(scalar("terminations")?, path, "terminations")?,
+                    truncations: to_bool1(scalar("truncations")?, path, "truncations")?,
+                    infos,
+                })
+            }
+            #[cfg(feature = "hdf5")]
+            Format::Hdf5 => {
+                let r = self
+                    .hdf5
+                    .as_ref()
+                    .ok_or_else(|| malformed(path, "main_data.hdf5 is not open"))?;
+                let raw = r.episode(index, &self.observation_space, &self.action_space)?;
+                Ok(Episode {
+                    id: index,
+                    seed: raw.attrs.get("seed").and_then(Value::as_u64),
+                    observations: raw.observations,
+                    actions: raw.actions,
+                    rewards: raw.rewards,
+                    terminations: to_bool1(raw.terminations, path, "terminations")?,
+                    truncations: to_bool1(raw.truncations, path, "truncations")?,
+                    infos: raw.infos,
+                })
+            }
+            #[cfg(not(feature = "hdf5"))]
+            Format::Hdf5 => Err(DatasetError::BackendMissing("hdf5")),
+        }
+    }
+
+    /// Every episode in order, read lazily.
+    pub fn episodes(&self) -> impl Iterator<Item = Result<Episode, DatasetError>> + '_ {
+        (0..self.total_episodes).map(|i| self.episode(i))
+    }
+}
