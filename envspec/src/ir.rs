@@ -37,6 +37,9 @@ pub struct ResolvedSpec {
     pub info: Vec<InfoItem>,
     /// Whether `mj_rnePostConstraint` must run after the physics steps (contact forces are read).
     pub needs_rne_post_constraint: bool,
+    /// Actuators and options added to the model at load time (`[actuators]`, `[physics]`); they
+    /// are already accounted for in `model` (its actuators and timestep).
+    pub model_edits: ModelEdits,
 }
 
 impl ResolvedSpec {
@@ -282,4 +285,73 @@ pub struct InfoItem {
     /// `Term` items only: report the term's signed value computed with weight 1 (spec key
     /// `unweighted = true`).
     pub unweighted: bool,
+}
+
+/// Changes the runtime makes to the model when it loads it, before compiling (spec sections
+/// `[actuators]` and `[physics]`). Empty for most specs: the model is then compiled as is.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelEdits {
+    /// Added after the model's own actuators, in this order (they are the last action entries).
+    pub actuators: Vec<AddedActuator>,
+    /// `mjOption.timestep`, when the spec sets it.
+    pub timestep: Option<f64>,
+    pub integrator: Option<Integrator>,
+}
+
+impl ModelEdits {
+    pub fn is_empty(&self) -> bool {
+        self.actuators.is_empty() && self.timestep.is_none() && self.integrator.is_none()
+    }
+}
+
+/// An actuator on one hinge or slide joint (MuJoCo's `<motor>`, `<position>`, `<velocity>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AddedActuator {
+    pub name: String,
+    pub joint: String,
+    pub kind: ActuatorKind,
+    pub gear: f64,
+    /// Always limited: the action space is the control range.
+    pub ctrlrange: (f64, f64),
+    pub forcerange: Option<(f64, f64)>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ActuatorKind {
+    /// Force (torque) = gear × ctrl.
+    Motor,
+    /// Position servo: force = kp × (ctrl − q) − kv × q̇.
+    Position { kp: f64, kv: Option<f64> },
+    /// Velocity servo: force = kv × (ctrl − q̇).
+    Velocity { kv: f64 },
+}
+
+/// MuJoCo's integrators, spelt as in MJCF's `<option integrator>`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    Euler,
+    Rk4,
+    Implicit,
+    ImplicitFast,
+}
+
+impl Integrator {
+    pub const NAMES: &'static [&'static str] = &["Euler", "RK4", "implicit", "implicitfast"];
+    pub fn parse(s: &str) -> Option<Integrator> {
+        match s {
+            "Euler" => Some(Integrator::Euler),
+            "RK4" => Some(Integrator::Rk4),
+            "implicit" => Some(Integrator::Implicit),
+            "implicitfast" => Some(Integrator::ImplicitFast),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Euler => "Euler",
+            Integrator::Rk4 => "RK4",
+            Integrator::Implicit => "implicit",
+            Integrator::ImplicitFast => "implicitfast",
+        }
+    }
 }

@@ -24,6 +24,7 @@ pub mod params;
 pub mod resolve;
 pub mod selector;
 pub mod syntax;
+pub mod urdf;
 pub mod value;
 
 pub use diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile};

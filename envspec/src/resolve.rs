@@ -10,6 +10,8 @@ use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
+mod edits;
+
 struct Ctx<'a> {
     spec: &'a Spec,
     params: &'a [Param],
@@ -28,7 +30,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         (ParamValue::Str(s), Origin::Override(_)) => PathBuf::from(s),
         _ => unreachable!("xml_file is a path parameter"),
     };
-    let model = ModelInfo::from_mjcf(&model_path).map_err(|e| {
+    let mut model = ModelInfo::from_file(&model_path).map_err(|e| {
         let at = match &xml.origin {
             Origin::Default(loc) => Some(loc.clone()),
             Origin::Override(_) => None,
@@ -37,11 +39,21 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         Diagnostics::from(e.at_opt(at).help(help))
     })?;
 
+    // `[actuators]` / `[physics]` change the model itself: resolve them first.
     let mut cx = Ctx {
         spec,
         params: &params,
         model: &model,
         d: Diagnostics::default(),
+    };
+    let model_edits = cx.model_edits();
+    let d = cx.d;
+    edits::apply(&model_edits, &mut model);
+    let mut cx = Ctx {
+        spec,
+        params: &params,
+        model: &model,
+        d,
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
@@ -154,6 +166,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         reset,
         info,
         needs_rne_post_constraint,
+        model_edits,
     })
 }
 

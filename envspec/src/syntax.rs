@@ -62,6 +62,10 @@ pub struct Spec {
     pub health: Vec<Section>,
     pub reset: Vec<Section>,
     pub info: Vec<Section>,
+    /// `[actuators.<name>]`: actuators added to the model when it is loaded.
+    pub actuators: Vec<Section>,
+    /// `[physics]`: simulation options set when the model is loaded.
+    pub physics: Option<Section>,
 }
 
 impl Spec {
@@ -109,6 +113,8 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "health",
     "reset",
     "info",
+    "actuators",
+    "physics",
     "agents",
     "maze",
 ];
@@ -163,6 +169,16 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
 ];
 const INFO_COMMON: &[&str] = &["kind", "key", "when", "doc"];
 
+/// Actuator kinds of `[actuators.*]` with the keys each accepts besides `ACTUATOR_COMMON`.
+pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[
+    ("motor", &[]),
+    ("position", &["kp", "kv"]),
+    ("velocity", &["kv"]),
+];
+const ACTUATOR_COMMON: &[&str] = &["joint", "kind", "gear", "ctrlrange", "forcerange", "doc"];
+/// Keys of `[physics]`.
+pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator"];
+
 fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
     Diagnostic::new(
         Code::E0101,
@@ -211,6 +227,8 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         health: vec![],
         reset: vec![],
         info: vec![],
+        actuators: vec![],
+        physics: None,
     };
 
     for reserved in ["agents", "maze"] {
@@ -349,6 +367,30 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             "source"
         };
         require(s, needs, &format!("[info.{}]", s.name), d);
+    }
+
+    spec.actuators = sections(get("actuators"), "actuators", &[], d);
+    for s in &spec.actuators {
+        check_kinded(
+            s,
+            "actuators",
+            Some("motor"),
+            ACTUATOR_KINDS,
+            ACTUATOR_COMMON,
+            d,
+        );
+        require(s, "joint", &format!("[actuators.{}]", s.name), d);
+    }
+    if let Some(e) = get("physics")
+        && let Some(t) = table(&e.value, "[physics]", d)
+    {
+        check_keys(t, PHYSICS_KEYS, "[physics]", d);
+        spec.physics = Some(Section {
+            name: "physics".into(),
+            name_loc: e.key_loc.clone(),
+            loc: e.value.loc.clone(),
+            entries: t.to_vec(),
+        });
     }
     spec
 }

@@ -812,7 +812,8 @@ fn write_info(
     }
 }
 
-/// Compile the spec's model with MuJoCo, capturing its messages.
+/// Compile the spec's model (MJCF or URDF) with MuJoCo, capturing its messages; `[actuators]` and
+/// `[physics]` are applied through mjSpec.
 pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     mujoco_log::install();
     let path = &spec.model_path;
@@ -826,7 +827,11 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     if s.contains('\0') {
         return Err(bad("the path contains a NUL byte".into()));
     }
-    MjModel::from_xml(path).map_err(|e| bad(e.to_string()))
+    if spec.model_edits.is_empty() {
+        MjModel::from_xml(path).map_err(|e| bad(e.to_string()))
+    } else {
+        crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)
+    }
 }
 
 fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {

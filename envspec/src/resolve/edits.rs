@@ -1,0 +1,211 @@
+//! `[actuators]` and `[physics]`: model edits the runtime applies at load time. They are resolved
+//! before anything else and folded into the `ModelInfo`, so selectors (`action`, `ctrl`), the action
+//! layout and the timestep already include them.
+
+use crate::diagnostic::{Code, Diagnostic, suggest};
+use crate::ir::{ActuatorKind, AddedActuator, Integrator, ModelEdits};
+use crate::mjcf::{Actuator, JointKind, ModelInfo};
+use crate::syntax::Section;
+use crate::value::{Val, ValKind};
+
+use super::Ctx;
+
+impl Ctx<'_> {
+    pub(super) fn model_edits(&mut self) -> ModelEdits {
+        let mut edits = ModelEdits::default();
+        let spec = self.spec;
+        for s in &spec.actuators {
+            self.actuator_section(s, &mut edits.actuators);
+        }
+        if let Some(p) = &spec.physics {
+            if let Some(v) = p.get("timestep")
+                && let Some(ts) = self.num(v, "physics.timestep")
+            {
+                if ts.is_finite() && ts > 0.0 {
+                    edits.timestep = Some(ts);
+                } else {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, format!("timestep {ts} is not positive"))
+                            .at(v.loc.clone())
+                            .label("expected a positive number of seconds"),
+                    );
+                }
+            }
+            if let Some(v) = p.get("integrator") {
+                match v.as_str() {
+                    Some(s) => match Integrator::parse(s) {
+                        Some(i) => edits.integrator = Some(i),
+                        None => self.d.push(
+                            Diagnostic::new(Code::E0104, format!("unknown integrator `{s}`"))
+                                .at(v.loc.clone())
+                                .label(format!("expected one of: {}", Integrator::NAMES.join(", ")))
+                                .help_opt(suggest(s, Integrator::NAMES.iter().copied())),
+                        ),
+                    },
+                    None => self.d.push(v.type_error("physics.integrator", "a string")),
+                }
+            }
+        }
+        edits
+    }
+
+    fn actuator_section(&mut self, s: &Section, out: &mut Vec<AddedActuator>) {
+        let what = |k: &str| format!("actuators.{}.{k}", s.name);
+        let Some(jv) = s.get("joint") else { return };
+        // (actuator name, joint name, location to blame)
+        let targets: Vec<(String, String)> = match &jv.kind {
+            ValKind::Str(j) if j == "*" => {
+                let all: Vec<(String, String)> = self
+                    .model
+                    .joints
+                    .iter()
+                    .filter(|j| matches!(j.kind, JointKind::Hinge | JointKind::Slide))
+                    .map(|j| (j.name.clone(), j.name.clone()))
+                    .collect();
+                if all.is_empty() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            "`joint = \"*\"` matches no hinge or slide joint",
+                        )
+                        .at(jv.loc.clone())
+                        .label("the model has no hinge or slide joints"),
+                    );
+                }
+                all
+            }
+            ValKind::Str(j) => match self.actuated_joint(j, jv) {
+                Some(()) => vec![(s.name.clone(), j.clone())],
+                None => vec![],
+            },
+            ValKind::Array(items) => {
+                let mut v = vec![];
+                for item in items {
+                    match item.as_str() {
+                        Some(j) => {
+                            if self.actuated_joint(j, item).is_some() {
+                                v.push((j.to_string(), j.to_string()));
+                            }
+                        }
+                        None => self.d.push(item.type_error(&what("joint"), "a joint name")),
+                    }
+                }
+                v
+            }
+            _ => {
+                self.d.push(jv.type_error(
+                    &what("joint"),
+                    "a joint name, a list of joint names or \"*\"",
+                ));
+                vec![]
+            }
+        };
+
+        let gear = match s.get("gear") {
+            Some(v) => self.num(v, &what("gear")).unwrap_or(1.0),
+            None => 1.0,
+        };
+        let ctrlrange = match s.get("ctrlrange") {
+            Some(v) => self.range(v, &what("ctrlrange")).unwrap_or((-1.0, 1.0)),
+            None => (-1.0, 1.0),
+        };
+        let forcerange = s
+            .get("forcerange")
+            .and_then(|v| self.range(v, &what("forcerange")));
+        let kind = match s.kind("motor") {
+            "position" => ActuatorKind::Position {
+                kp: self.gain(s, "kp").unwrap_or(1.0),
+                kv: self.gain(s, "kv"),
+            },
+            "velocity" => ActuatorKind::Velocity {
+                kv: self.gain(s, "kv").unwrap_or(1.0),
+            },
+            _ => ActuatorKind::Motor,
+        };
+
+        for (name, joint) in targets {
+            let taken = self.model.actuators.iter().any(|a| a.name == name)
+                || out.iter().any(|a| a.name == name);
+            if taken {
+                self.d.push(
+                    Diagnostic::new(Code::E0104, format!("actuator `{name}` is defined twice"))
+                        .at(s.name_loc.clone())
+                        .label("actuator names must be unique (the model's own included)"),
+                );
+                continue;
+            }
+            out.push(AddedActuator {
+                name,
+                joint,
+                kind,
+                gear,
+                ctrlrange,
+                forcerange,
+            });
+        }
+    }
+
+    /// A non-negative gain `kp`/`kv`, when given.
+    fn gain(&mut self, s: &Section, key: &str) -> Option<f64> {
+        let v = s.get(key)?;
+        let x = self.num(v, &format!("actuators.{}.{key}", s.name))?;
+        if !(x.is_finite() && x >= 0.0) {
+            self.d.push(
+                Diagnostic::new(Code::E0104, format!("{key} {x} is negative"))
+                    .at(v.loc.clone())
+                    .label("expected a non-negative gain"),
+            );
+            return None;
+        }
+        Some(x)
+    }
+
+    /// Check that `name` is a hinge or slide joint of the model.
+    fn actuated_joint(&mut self, name: &str, v: &Val) -> Option<()> {
+        match self.model.joint(name) {
+            Some(j) if matches!(j.kind, JointKind::Hinge | JointKind::Slide) => Some(()),
+            Some(j) => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0104,
+                        format!("joint `{name}` is a {:?} joint", j.kind).to_lowercase(),
+                    )
+                    .at(v.loc.clone())
+                    .label("actuators drive hinge and slide joints only"),
+                );
+                None
+            }
+            None => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0303,
+                        format!(
+                            "the model {} has no joint named `{name}`",
+                            self.model.path.display()
+                        ),
+                    )
+                    .at(v.loc.clone())
+                    .label("expected a joint of the model")
+                    .help_opt(suggest(
+                        name,
+                        self.model.joints.iter().map(|j| j.name.as_str()),
+                    )),
+                );
+                None
+            }
+        }
+    }
+}
+
+/// Fold the edits into the model info: added actuators come after the model's own.
+pub(super) fn apply(edits: &ModelEdits, model: &mut ModelInfo) {
+    model
+        .actuators
+        .extend(edits.actuators.iter().map(|a| Actuator {
+            name: a.name.clone(),
+            target: Some(a.joint.clone()),
+        }));
+    if let Some(ts) = edits.timestep {
+        model.timestep = ts;
+    }
+}
