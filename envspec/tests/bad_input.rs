@@ -815,20 +815,20 @@ fn malformed_model_file() {
     );
     assert_eq!(d.0[0].label.as_deref(), Some("expected well-formed MJCF"));
 
-    // Well-formed XML that is not MJCF.
-    s.write("robot.urdf", "<robot name='r'/>\n");
+    // Well-formed XML that is neither MJCF nor URDF (URDF is read: tests/urdf.rs).
+    s.write("robot.sdf", "<sdf version='1.6'/>\n");
     let text = with(
         &mini(),
         &format!("'{}/hopper.xml'", assets().display()),
-        "'robot.urdf'",
+        "'robot.sdf'",
     );
-    let (_, r) = load_text(&s, "urdf.toml", &text, &[]);
+    let (_, r) = load_text(&s, "sdf.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0302]);
     assert!(
         d.0[0]
             .message
-            .ends_with("URDF models are not supported by the spec resolver yet"),
+            .ends_with("root element is <sdf>, not <mujoco>"),
         "{}",
         d.0[0].message
     );
