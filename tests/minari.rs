@@ -3,7 +3,7 @@
 //! --python-out; committed under tests/reference/fixtures/minari, or fresh ones in ENVC_MINARI_DIR).
 //! The real `minari` package loading envc's datasets is checked by check_minari.py.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use envc::dataset::{CollectOptions, Collector, Data, Dataset, DatasetError, DatasetInfo, Format};
 use envc::{Env, Environment};
@@ -16,7 +16,7 @@ fn tmp_root(tag: &str) -> PathBuf {
     d
 }
 
-fn opts(root: &PathBuf, id: &str, format: Format) -> CollectOptions {
+fn opts(root: &Path, id: &str, format: Format) -> CollectOptions {
     CollectOptions {
         root: Some(root.clone()),
         dataset_id: id.into(),

@@ -11,7 +11,11 @@ mod commands;
 mod target;
 
 #[derive(Parser)]
-#[command(name = "envc", version, about = "Compile, inspect, run and diff robot RL environment specs")]
+#[command(
+    name = "envc",
+    version,
+    about = "Compile, inspect, run and diff robot RL environment specs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -7,7 +7,9 @@ use envc::{Env, Override};
 
 /// Parse `--set key=value` arguments.
 pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
-    sets.iter().map(|s| Override::parse(s).map_err(|d| anyhow::anyhow!("--set {s}: {}", d.message))).collect()
+    sets.iter()
+        .map(|s| Override::parse(s).map_err(|d| anyhow::anyhow!("--set {s}: {}", d.message)))
+        .collect()
 }
 
 /// A bundled env id or a spec file path.
@@ -24,7 +26,6 @@ pub fn spec_path(id_or_path: &str) -> Result<PathBuf> {
         other => anyhow::anyhow!("{other}"),
     })
 }
-
 
 /// Build an env.
 pub fn env(id_or_path: &str, sets: &[String]) -> Result<Env> {

@@ -13,10 +13,17 @@ fn root() -> &'static Path {
 fn diff(v4: &str, v5: &str) -> (i32, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_envc"))
         .current_dir(root())
-        .args(["diff", &format!("specs/gymnasium/{v4}.toml"), &format!("specs/gymnasium/{v5}.toml")])
+        .args([
+            "diff",
+            &format!("specs/gymnasium/{v4}.toml"),
+            &format!("specs/gymnasium/{v5}.toml"),
+        ])
         .output()
         .expect("run envc diff");
-    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stdout).into_owned())
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+    )
 }
 
 /// (v4 spec, v5 spec, changelog entries as text the diff must contain)
@@ -52,7 +59,15 @@ const PAIRS: &[(&str, &str, &[&str])] = &[
             "info.x_position: reported at: was step only",
         ],
     ),
-    ("half_cheetah_v4", "half_cheetah", &["info.reward_run: renamed: was reward_run", "now reward_forward", "info.x_position: reported at: was step only"]),
+    (
+        "half_cheetah_v4",
+        "half_cheetah",
+        &[
+            "info.reward_run: renamed: was reward_run",
+            "now reward_forward",
+            "info.x_position: reported at: was step only",
+        ],
+    ),
     (
         "hopper_v4",
         "hopper",
@@ -128,7 +143,11 @@ const PAIRS: &[(&str, &str, &[&str])] = &[
     (
         "inverted_pendulum_v4",
         "inverted_pendulum",
-        &["reward.survive: added: { kind = \"healthy\"", "param reset_noise_scale: added", "info.reward_survive: added"],
+        &[
+            "reward.survive: added: { kind = \"healthy\"",
+            "param reset_noise_scale: added",
+            "info.reward_survive: added",
+        ],
     ),
     (
         "pusher_v4",
@@ -157,7 +176,14 @@ const PAIRS: &[(&str, &str, &[&str])] = &[
             "param reward_control_weight: added",
         ],
     ),
-    ("swimmer_v4", "swimmer", &["info.reward_fwd: renamed: was reward_fwd", "info.forward_reward: removed"]),
+    (
+        "swimmer_v4",
+        "swimmer",
+        &[
+            "info.reward_fwd: renamed: was reward_fwd",
+            "info.forward_reward: removed",
+        ],
+    ),
     (
         "walker2d_v4",
         "walker2d",
@@ -194,22 +220,44 @@ fn v4_to_v5_diffs_report_the_changelog() {
     for (v4, v5, entries) in PAIRS {
         let (status, text) = diff(v4, v5);
         assert_eq!(status, 3, "{v4} → {v5} must be breaking:\n{text}");
-        let args = ARGUMENTS.iter().find(|(s, _)| s == v4).map(|(_, a)| *a).unwrap_or(&[]);
-        let args: Vec<String> = args.iter().map(|a| format!("param {a}: constructor argument: was no (fixed)")).collect();
-        for e in entries.iter().copied().chain(args.iter().map(String::as_str)) {
+        let args = ARGUMENTS
+            .iter()
+            .find(|(s, _)| s == v4)
+            .map(|(_, a)| *a)
+            .unwrap_or(&[]);
+        let args: Vec<String> = args
+            .iter()
+            .map(|a| format!("param {a}: constructor argument: was no (fixed)"))
+            .collect();
+        for e in entries
+            .iter()
+            .copied()
+            .chain(args.iter().map(String::as_str))
+        {
             if !text.contains(e) {
                 missing.push(format!("{v4} → {v5}: missing `{e}`"));
             }
         }
-        let golden = root().join("cli/tests/diff_golden").join(format!("{v5}.txt"));
+        let golden = root()
+            .join("cli/tests/diff_golden")
+            .join(format!("{v5}.txt"));
         if bless {
             std::fs::write(&golden, &text).unwrap();
         } else {
             let want = std::fs::read_to_string(&golden).unwrap_or_default();
-            assert_eq!(text, want, "{v4} → {v5} differs from {} (ENVC_BLESS=1 to update)", golden.display());
+            assert_eq!(
+                text,
+                want,
+                "{v4} → {v5} differs from {} (ENVC_BLESS=1 to update)",
+                golden.display()
+            );
         }
     }
-    assert!(missing.is_empty(), "changelog entries not reported:\n{}", missing.join("\n"));
+    assert!(
+        missing.is_empty(),
+        "changelog entries not reported:\n{}",
+        missing.join("\n")
+    );
 }
 
 #[test]
@@ -219,11 +267,22 @@ fn identical_specs_have_no_change_and_formats_agree() {
         .args(["diff", "specs/gymnasium/ant.toml", "Ant-v5"])
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stdout));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     for format in ["markdown", "json", "github"] {
         let o = Command::new(env!("CARGO_BIN_EXE_envc"))
             .current_dir(root())
-            .args(["diff", "specs/gymnasium/walker2d_v4.toml", "specs/gymnasium/walker2d.toml", "--format", format])
+            .args([
+                "diff",
+                "specs/gymnasium/walker2d_v4.toml",
+                "specs/gymnasium/walker2d.toml",
+                "--format",
+                format,
+            ])
             .output()
             .unwrap();
         assert_eq!(o.status.code(), Some(3));
@@ -250,12 +309,22 @@ fn a_layout_change_without_a_version_bump_is_flagged() {
     let changed = fix(&ant).replace("source = \"cfrc_ext[1:]\"", "source = \"cfrc_ext[2:]\"");
     std::fs::write(dir.join("new.toml"), changed).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_envc"))
-        .args(["diff", dir.join("old.toml").to_str().unwrap(), dir.join("new.toml").to_str().unwrap()])
+        .args([
+            "diff",
+            dir.join("old.toml").to_str().unwrap(),
+            dir.join("new.toml").to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(3), "{out}");
-    assert!(out.contains("flag: this change breaks trained policies but the env id stays `Ant-v5`"), "{out}");
+    assert!(
+        out.contains("flag: this change breaks trained policies but the env id stays `Ant-v5`"),
+        "{out}"
+    );
     assert!(out.contains("obs dim 105 → 99"), "{out}");
-    assert!(out.contains("removed cfrc_ext[torso].rx … cfrc_ext[torso].tz (6 elements)"), "{out}");
+    assert!(
+        out.contains("removed cfrc_ext[torso].rx … cfrc_ext[torso].tz (6 elements)"),
+        "{out}"
+    );
 }

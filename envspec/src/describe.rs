@@ -23,7 +23,11 @@ pub fn kernel(t: &RewardTerm) -> String {
         TermKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         TermKind::Healthy if t.paid_when_unhealthy => "1 (paid even when unhealthy)".into(),
         TermKind::Healthy => "1 if healthy else 0".into(),
-        TermKind::SumSquares { source, clip_input, clip } => {
+        TermKind::SumSquares {
+            source,
+            clip_input,
+            clip,
+        } => {
             let x = match clip_input {
                 Some((lo, hi)) => format!("clip({}, {})", sel(source), range(*lo, *hi)),
                 None => sel(source),
@@ -38,12 +42,24 @@ pub fn kernel(t: &RewardTerm) -> String {
             Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
             None => format!("‖{}‖₂", sel(source)),
         },
-        TermKind::Quadratic { source, coefs, targets } => {
+        TermKind::Quadratic {
+            source,
+            coefs,
+            targets,
+        } => {
             let parts: Vec<String> = (0..source.len())
                 .map(|i| {
                     let x = &source.names[i];
-                    let d = if targets[i] == 0.0 { x.clone() } else { format!("({x} − {})", num(targets[i])) };
-                    if coefs[i] == 1.0 { format!("{d}²") } else { format!("{}·{d}²", num(coefs[i])) }
+                    let d = if targets[i] == 0.0 {
+                        x.clone()
+                    } else {
+                        format!("({x} − {})", num(targets[i]))
+                    };
+                    if coefs[i] == 1.0 {
+                        format!("{d}²")
+                    } else {
+                        format!("{}·{d}²", num(coefs[i]))
+                    }
                 })
                 .collect();
             parts.join(" + ")
@@ -60,7 +76,11 @@ pub fn kernel(t: &RewardTerm) -> String {
 /// The full contribution of a term to the reward, e.g. `−0.5 × Σ action²`.
 pub fn term(t: &RewardTerm) -> String {
     let text = weighted(t);
-    if t.before { format!("{text}  (on the state before the step)") } else { text }
+    if t.before {
+        format!("{text}  (on the state before the step)")
+    } else {
+        text
+    }
 }
 
 fn weighted(t: &RewardTerm) -> String {
@@ -68,7 +88,9 @@ fn weighted(t: &RewardTerm) -> String {
     let sign = if t.cost { "−" } else { "+" };
     match &t.kind {
         // The clip wraps the weighted value; the weight is already inside the kernel text.
-        TermKind::SumSquares { clip: Some(_), .. } => format!("{sign}{k}  (weight {})", num(t.weight)),
+        TermKind::SumSquares { clip: Some(_), .. } => {
+            format!("{sign}{k}  (weight {})", num(t.weight))
+        }
         TermKind::Constant => format!("{sign}{}", num(t.weight)),
         _ if t.weight == 1.0 => format!("{sign}{k}"),
         _ => format!("{sign}{} × {k}", num(t.weight)),
@@ -81,8 +103,16 @@ pub fn reward_sum(spec: &ResolvedSpec) -> String {
         match n {
             SumNode::Term(i) => spec.reward[*i].name.clone(),
             SumNode::Sum(c) => {
-                let inner = c.iter().map(|x| go(x, spec, false)).collect::<Vec<_>>().join(" + ");
-                if top || c.len() == 1 { inner } else { format!("({inner})") }
+                let inner = c
+                    .iter()
+                    .map(|x| go(x, spec, false))
+                    .collect::<Vec<_>>()
+                    .join(" + ");
+                if top || c.len() == 1 {
+                    inner
+                } else {
+                    format!("({inner})")
+                }
             }
         }
     }
@@ -93,8 +123,16 @@ pub fn check(c: &HealthCheck) -> String {
     let src = c.sources.iter().map(sel).collect::<Vec<_>>().join(", ");
     match c.kind {
         CheckKind::Finite => format!("every element of {src} is finite"),
-        CheckKind::InRange { lo, hi, closed: true } => format!("{} ≤ {src} ≤ {} (every element)", num(lo), num(hi)),
-        CheckKind::InRange { lo, hi, closed: false } => format!("{} < {src} < {} (every element)", num(lo), num(hi)),
+        CheckKind::InRange {
+            lo,
+            hi,
+            closed: true,
+        } => format!("{} ≤ {src} ≤ {} (every element)", num(lo), num(hi)),
+        CheckKind::InRange {
+            lo,
+            hi,
+            closed: false,
+        } => format!("{} < {src} < {} (every element)", num(lo), num(hi)),
         CheckKind::FailsIf { op, value } => {
             let op = match op {
                 CmpOp::Lt => "<",
@@ -110,11 +148,16 @@ pub fn check(c: &HealthCheck) -> String {
 pub fn reset_step(r: &ResetStep) -> String {
     let dist = match &r.dist {
         Distribution::Uniform { low, high } => {
-            let same = low.windows(2).all(|w| w[0] == w[1]) && high.windows(2).all(|w| w[0] == w[1]);
+            let same =
+                low.windows(2).all(|w| w[0] == w[1]) && high.windows(2).all(|w| w[0] == w[1]);
             if same && !low.is_empty() {
                 format!("uniform[{}, {})", num(low[0]), num(high[0]))
             } else {
-                let pairs: Vec<String> = low.iter().zip(high).map(|(l, h)| format!("[{}, {})", num(*l), num(*h))).collect();
+                let pairs: Vec<String> = low
+                    .iter()
+                    .zip(high)
+                    .map(|(l, h)| format!("[{}, {})", num(*l), num(*h)))
+                    .collect();
                 format!("uniform per element {}", pairs.join(" "))
             }
         }

@@ -134,7 +134,9 @@ fn canon<T: Debug>(x: &T) -> String {
                 let body = &rest[field.len()..];
                 let mut end = 0;
                 let bytes = body.as_bytes();
-                while end < bytes.len() && !(bytes[end] == b'"' && (end == 0 || bytes[end - 1] != b'\\')) {
+                while end < bytes.len()
+                    && !(bytes[end] == b'"' && (end == 0 || bytes[end - 1] != b'\\'))
+                {
                     end += 1;
                 }
                 rest = body.get(end + 1..).unwrap_or("");
@@ -152,7 +154,10 @@ fn canon<T: Debug>(x: &T) -> String {
 fn pos(spec: &Spec, loc: &crate::diagnostic::Location) -> Pos {
     let (line, _) = loc.file.line_col(loc.span.start);
     let _ = spec;
-    Pos { file: loc.file.path.display().to_string(), line }
+    Pos {
+        file: loc.file.path.display().to_string(),
+        line,
+    }
 }
 
 struct Ctx<'a> {
@@ -192,21 +197,49 @@ impl Ctx<'_> {
 
 /// Diff two specs (each with its resolution under default parameters).
 pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) -> Report {
-    let mut cx = Ctx { old, new, old_r, new_r, changes: vec![] };
+    let mut cx = Ctx {
+        old,
+        new,
+        old_r,
+        new_r,
+        changes: vec![],
+    };
     env_section(&mut cx);
     params(&mut cx);
     observation(&mut cx);
-    sections(&mut cx, Category::Reward, "reward", &old.reward, &new.reward, &|r: &ResolvedSpec, n: &str| {
-        r.reward.iter().find(|t| t.name == n).map(|t| canon(&RewardTerm { info: None, ..t.clone() }))
-    });
+    sections(
+        &mut cx,
+        Category::Reward,
+        "reward",
+        &old.reward,
+        &new.reward,
+        &|r: &ResolvedSpec, n: &str| {
+            r.reward.iter().find(|t| t.name == n).map(|t| {
+                canon(&RewardTerm {
+                    info: None,
+                    ..t.clone()
+                })
+            })
+        },
+    );
     reward_sum(&mut cx);
-    sections(&mut cx, Category::Termination, "health", &old.health, &new.health, &|r: &ResolvedSpec, n: &str| {
-        r.health.iter().find(|c| c.name == n).map(canon)
-    });
+    sections(
+        &mut cx,
+        Category::Termination,
+        "health",
+        &old.health,
+        &new.health,
+        &|r: &ResolvedSpec, n: &str| r.health.iter().find(|c| c.name == n).map(canon),
+    );
     episode(&mut cx);
-    sections(&mut cx, Category::Reset, "reset", &old.reset, &new.reset, &|r: &ResolvedSpec, n: &str| {
-        r.reset.iter().find(|c| c.name == n).map(canon)
-    });
+    sections(
+        &mut cx,
+        Category::Reset,
+        "reset",
+        &old.reset,
+        &new.reset,
+        &|r: &ResolvedSpec, n: &str| r.reset.iter().find(|c| c.name == n).map(canon),
+    );
     reset_order(&mut cx);
     info_items(&mut cx);
 
@@ -226,10 +259,19 @@ fn info_canon(r: &ResolvedSpec, i: &InfoItem) -> String {
     match &i.kind {
         InfoKind::Term(t) => format!(
             "term {} {}",
-            r.reward.get(*t).map(|t| canon(&RewardTerm { info: None, ..t.clone() })).unwrap_or_default(),
+            r.reward
+                .get(*t)
+                .map(|t| canon(&RewardTerm {
+                    info: None,
+                    ..t.clone()
+                }))
+                .unwrap_or_default(),
             i.unweighted
         ),
-        _ => canon(&InfoItem { at_reset: false, ..i.clone() }),
+        _ => canon(&InfoItem {
+            at_reset: false,
+            ..i.clone()
+        }),
     }
 }
 
@@ -245,14 +287,41 @@ fn env_section(cx: &mut Ctx) {
     let (o, n) = (cx.old, cx.new);
     if o.id != n.id {
         let (a, b) = (pos(o, &o.id_loc), pos(n, &n.id_loc));
-        cx.push(Category::Documentation, "env", "id", Some(o.id.clone()), Some(n.id.clone()), Some(a), Some(b), false);
+        cx.push(
+            Category::Documentation,
+            "env",
+            "id",
+            Some(o.id.clone()),
+            Some(n.id.clone()),
+            Some(a),
+            Some(b),
+            false,
+        );
     }
     if o.description != n.description {
-        cx.push(Category::Documentation, "env", "description", Some(o.description.clone()), Some(n.description.clone()), None, None, false);
+        cx.push(
+            Category::Documentation,
+            "env",
+            "description",
+            Some(o.description.clone()),
+            Some(n.description.clone()),
+            None,
+            None,
+            false,
+        );
     }
     if o.reward_threshold != n.reward_threshold {
         let f = |x: Option<f64>| x.map(|v| v.to_string()).unwrap_or_else(|| "none".into());
-        cx.push(Category::Documentation, "env", "reward_threshold", Some(f(o.reward_threshold)), Some(f(n.reward_threshold)), None, None, false);
+        cx.push(
+            Category::Documentation,
+            "env",
+            "reward_threshold",
+            Some(f(o.reward_threshold)),
+            Some(f(n.reward_threshold)),
+            None,
+            None,
+            false,
+        );
     }
 }
 
@@ -279,16 +348,25 @@ fn uses(spec: &Spec, param: &str) -> Vec<(Category, String)> {
     ];
     for (secs, cat, kind) in groups {
         for s in secs {
-            if s.entries.iter().any(|e| e.key != "doc" && refers(&e.value, param)) {
+            if s.entries
+                .iter()
+                .any(|e| e.key != "doc" && refers(&e.value, param))
+            {
                 out.push((cat, format!("{kind}.{}", s.name)));
             }
         }
     }
-    if spec.health_terminate.as_ref().is_some_and(|v| refers(v, param)) {
+    if spec
+        .health_terminate
+        .as_ref()
+        .is_some_and(|v| refers(v, param))
+    {
         out.push((Category::Termination, "health.terminate".into()));
     }
     match param {
-        "xml_file" | "frame_skip" => out.push((Category::Dynamics, format!("the built-in `{param}`"))),
+        "xml_file" | "frame_skip" => {
+            out.push((Category::Dynamics, format!("the built-in `{param}`")))
+        }
         "max_episode_steps" => out.push((Category::Termination, "the time limit".into())),
         _ => {}
     }
@@ -314,9 +392,17 @@ fn params(cx: &mut Ctx) {
                 let new_at = Some(pos(n, &q.name_loc));
                 if p.default.to_toml() != q.default.to_toml() {
                     let used = uses(n, &q.name);
-                    let cat = used.iter().map(|(c, _)| *c).min().unwrap_or(Category::Parameters);
+                    let cat = used
+                        .iter()
+                        .map(|(c, _)| *c)
+                        .min()
+                        .unwrap_or(Category::Parameters);
                     let mut c = Change {
-                        category: if used.is_empty() { Category::Parameters } else { cat },
+                        category: if used.is_empty() {
+                            Category::Parameters
+                        } else {
+                            cat
+                        },
                         subject: format!("param {}", p.name),
                         aspect: "default".into(),
                         was: Some(p.default.to_toml()),
@@ -329,17 +415,41 @@ fn params(cx: &mut Ctx) {
                     c.witness = Some(if used.is_empty() {
                         "not used by the env's behaviour".into()
                     } else {
-                        format!("used by {}", used.iter().map(|(_, s)| s.as_str()).collect::<Vec<_>>().join(", "))
+                        format!(
+                            "used by {}",
+                            used.iter()
+                                .map(|(_, s)| s.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
                     });
                     cx.changes.push(c);
                 }
                 if p.fixed != q.fixed {
                     let f = |fixed: bool| if fixed { "no (fixed)" } else { "yes" }.to_string();
                     // Becoming an argument adds an option; ceasing to be one breaks callers that pass it.
-                    cx.push(Category::Parameters, format!("param {}", p.name), "constructor argument", Some(f(p.fixed)), Some(f(q.fixed)), at.clone(), new_at.clone(), q.fixed);
+                    cx.push(
+                        Category::Parameters,
+                        format!("param {}", p.name),
+                        "constructor argument",
+                        Some(f(p.fixed)),
+                        Some(f(q.fixed)),
+                        at.clone(),
+                        new_at.clone(),
+                        q.fixed,
+                    );
                 }
                 if p.doc != q.doc {
-                    cx.push(Category::Documentation, format!("param {}", p.name), "doc", Some(p.doc.clone()), Some(q.doc.clone()), at, new_at, false);
+                    cx.push(
+                        Category::Documentation,
+                        format!("param {}", p.name),
+                        "doc",
+                        Some(p.doc.clone()),
+                        Some(q.doc.clone()),
+                        at,
+                        new_at,
+                        false,
+                    );
                 }
             }
         }
@@ -359,7 +469,13 @@ fn params(cx: &mut Ctx) {
                 breaking: false,
             };
             if !used.is_empty() {
-                c.witness = Some(format!("used by {}", used.iter().map(|(_, s)| s.as_str()).collect::<Vec<_>>().join(", ")));
+                c.witness = Some(format!(
+                    "used by {}",
+                    used.iter()
+                        .map(|(_, s)| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
             }
             cx.changes.push(c);
         }
@@ -368,11 +484,18 @@ fn params(cx: &mut Ctx) {
 
 /// Entries of a section as (key, TOML text, position), docs separate.
 fn entries(spec: &Spec, s: &Section) -> Vec<(String, String, Pos)> {
-    s.entries.iter().map(|e| (e.key.clone(), e.value.to_toml(), pos(spec, &e.key_loc))).collect()
+    s.entries
+        .iter()
+        .map(|e| (e.key.clone(), e.value.to_toml(), pos(spec, &e.key_loc)))
+        .collect()
 }
 
 fn content(spec: &Spec, s: &Section) -> Vec<(String, String)> {
-    entries(spec, s).into_iter().filter(|(k, _, _)| k != "doc").map(|(k, v, _)| (k, v)).collect()
+    entries(spec, s)
+        .into_iter()
+        .filter(|(k, _, _)| k != "doc")
+        .map(|(k, v, _)| (k, v))
+        .collect()
 }
 
 /// Match sections by name (renames: same content, different name) and report key changes.
@@ -407,15 +530,38 @@ fn sections(
                         None => (None, Some(pos(n, &t.name_loc))),
                     };
                     let c = key_category(cat, k);
-                    cx.push(c, format!("{kind}.{}", s.name), k.clone(), Some(v.clone()), now, Some(p.clone()), np, affects(c, k, same_effect));
+                    cx.push(
+                        c,
+                        format!("{kind}.{}", s.name),
+                        k.clone(),
+                        Some(v.clone()),
+                        now,
+                        Some(p.clone()),
+                        np,
+                        affects(c, k, same_effect),
+                    );
                 }
                 for (k, v, p) in &b {
-                    if !(a.iter().any(|(k2, _, _)| k2 == k) || (cat == Category::Reward && k == "info")) {
+                    if !(a.iter().any(|(k2, _, _)| k2 == k)
+                        || (cat == Category::Reward && k == "info"))
+                    {
                         let c = key_category(cat, k);
-                        cx.push(c, format!("{kind}.{}", s.name), k.clone(), None, Some(v.clone()), Some(pos(o, &s.name_loc)), Some(p.clone()), affects(c, k, same_effect));
+                        cx.push(
+                            c,
+                            format!("{kind}.{}", s.name),
+                            k.clone(),
+                            None,
+                            Some(v.clone()),
+                            Some(pos(o, &s.name_loc)),
+                            Some(p.clone()),
+                            affects(c, k, same_effect),
+                        );
                     }
                 }
-                if !same_effect && a.iter().zip(&b).all(|(x, y)| x.0 == y.0 && x.1 == y.1) && a.len() == b.len() {
+                if !same_effect
+                    && a.iter().zip(&b).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+                    && a.len() == b.len()
+                {
                     // Same text, different effect: a parameter default or the model changed under it.
                     let (was, now) = (resolved(cx.old_r, &s.name), resolved(cx.new_r, &t.name));
                     let mut ch = Change {
@@ -440,26 +586,62 @@ fn sections(
             None => unmatched_old.push(s),
         }
     }
-    let added: Vec<&Section> = new.iter().zip(&matched_new).filter(|(_, m)| !**m).map(|(s, _)| s).collect();
+    let added: Vec<&Section> = new
+        .iter()
+        .zip(&matched_new)
+        .filter(|(_, m)| !**m)
+        .map(|(s, _)| s)
+        .collect();
     let mut renamed_to = vec![false; added.len()];
     for s in unmatched_old {
-        let rename = added.iter().enumerate().find(|(j, t)| !renamed_to[*j] && content(o, s) == content(n, t));
+        let rename = added
+            .iter()
+            .enumerate()
+            .find(|(j, t)| !renamed_to[*j] && content(o, s) == content(n, t));
         match rename {
             Some((j, t)) => {
                 renamed_to[j] = true;
-                let same = resolved(cx.old_r, &s.name).map(|x| x.replace(&s.name, "")) == resolved(cx.new_r, &t.name).map(|x| x.replace(&t.name, ""));
-                cx.push(cat, format!("{kind}.{}", s.name), "renamed", Some(s.name.clone()), Some(t.name.clone()), Some(pos(o, &s.name_loc)), Some(pos(n, &t.name_loc)), !same || cat == Category::Info);
+                let same = resolved(cx.old_r, &s.name).map(|x| x.replace(&s.name, ""))
+                    == resolved(cx.new_r, &t.name).map(|x| x.replace(&t.name, ""));
+                cx.push(
+                    cat,
+                    format!("{kind}.{}", s.name),
+                    "renamed",
+                    Some(s.name.clone()),
+                    Some(t.name.clone()),
+                    Some(pos(o, &s.name_loc)),
+                    Some(pos(n, &t.name_loc)),
+                    !same || cat == Category::Info,
+                );
             }
             None => {
                 let active = resolved(cx.old_r, &s.name).is_some();
-                cx.push(cat, format!("{kind}.{}", s.name), "removed", Some(summary(o, s)), None, Some(pos(o, &s.name_loc)), None, active || cat == Category::Info);
+                cx.push(
+                    cat,
+                    format!("{kind}.{}", s.name),
+                    "removed",
+                    Some(summary(o, s)),
+                    None,
+                    Some(pos(o, &s.name_loc)),
+                    None,
+                    active || cat == Category::Info,
+                );
             }
         }
     }
     for (j, t) in added.iter().enumerate() {
         if !renamed_to[j] {
             let active = resolved(cx.new_r, &t.name).is_some();
-            cx.push(cat, format!("{kind}.{}", t.name), "added", None, Some(summary(n, t)), None, Some(pos(n, &t.name_loc)), active);
+            cx.push(
+                cat,
+                format!("{kind}.{}", t.name),
+                "added",
+                None,
+                Some(summary(n, t)),
+                None,
+                Some(pos(n, &t.name_loc)),
+                active,
+            );
         }
     }
 }
@@ -485,7 +667,13 @@ fn affects(category: Category, key: &str, same_effect: bool) -> bool {
 
 fn summary(spec: &Spec, s: &Section) -> String {
     let c = content(spec, s);
-    format!("{{ {} }}", c.iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", "))
+    format!(
+        "{{ {} }}",
+        c.iter()
+            .map(|(k, v)| format!("{k} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
 }
 
 fn range_text(a: usize, b: usize) -> String {
@@ -505,7 +693,10 @@ fn observation(cx: &mut Ctx) {
     let (o, n) = (cx.old_r, cx.new_r);
     let (a, b) = (o.obs_names(), n.obs_names());
     let values_same = o.observation.len() == n.observation.len()
-        && o.observation.iter().zip(&n.observation).all(|(x, y)| x.name == y.name && canon(x) == canon(y));
+        && o.observation
+            .iter()
+            .zip(&n.observation)
+            .all(|(x, y)| x.name == y.name && canon(x) == canon(y));
     if a != b || !values_same {
         // Witnesses, segment by segment (matched by name).
         let mut w = vec![];
@@ -524,8 +715,10 @@ fn observation(cx: &mut Ctx) {
                 Some(t) => {
                     let (x, y) = (t.element_names(), s.element_names());
                     if x != y {
-                        let gone: Vec<String> = x.iter().filter(|e| !y.contains(e)).cloned().collect();
-                        let new: Vec<String> = y.iter().filter(|e| !x.contains(e)).cloned().collect();
+                        let gone: Vec<String> =
+                            x.iter().filter(|e| !y.contains(e)).cloned().collect();
+                        let new: Vec<String> =
+                            y.iter().filter(|e| !x.contains(e)).cloned().collect();
                         let mut d = format!(
                             "{} {} → {}",
                             s.name,
@@ -540,19 +733,36 @@ fn observation(cx: &mut Ctx) {
                         }
                         w.push(d);
                     } else if canon(t) != canon(s) {
-                        w.push(format!("{} {}: values change (clip, function or subtraction)", s.name, range_text(s.offset, s.offset + s.len())));
+                        w.push(format!(
+                            "{} {}: values change (clip, function or subtraction)",
+                            s.name,
+                            range_text(s.offset, s.offset + s.len())
+                        ));
                     } else if t.offset != s.offset {
-                        w.push(format!("{} moved from index {} to {}", s.name, t.offset, s.offset));
+                        w.push(format!(
+                            "{} moved from index {} to {}",
+                            s.name, t.offset, s.offset
+                        ));
                     }
                 }
             }
         }
         for t in &o.observation {
             if !n.observation.iter().any(|s| s.name == t.name) {
-                w.push(format!("{}{} removed from index {} ({})", t.name, range_text(0, t.len()), t.offset, names_text(&t.element_names())));
+                w.push(format!(
+                    "{}{} removed from index {} ({})",
+                    t.name,
+                    range_text(0, t.len()),
+                    t.offset,
+                    names_text(&t.element_names())
+                ));
             }
         }
-        let first = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
+        let first = a
+            .iter()
+            .zip(&b)
+            .position(|(x, y)| x != y)
+            .unwrap_or(a.len().min(b.len()));
         let mut c = Change {
             category: Category::Observation,
             subject: "observation".into(),
@@ -571,12 +781,28 @@ fn observation(cx: &mut Ctx) {
         cx.changes.push(c);
     }
     let (os, ns) = (&cx.old.observation, &cx.new.observation);
-    sections(cx, Category::Observation, "observation", os, ns, &|r: &ResolvedSpec, name: &str| {
-        r.observation.iter().find(|s| s.name == name).map(|s| canon(&Segment { offset: 0, ..s.clone() }))
-    });
+    sections(
+        cx,
+        Category::Observation,
+        "observation",
+        os,
+        ns,
+        &|r: &ResolvedSpec, name: &str| {
+            r.observation.iter().find(|s| s.name == name).map(|s| {
+                canon(&Segment {
+                    offset: 0,
+                    ..s.clone()
+                })
+            })
+        },
+    );
     // Section-level changes are breaking only if the resolved layout changed.
     let layout_changed = a != b || !values_same;
-    for ch in cx.changes.iter_mut().filter(|c| c.category == Category::Observation && c.subject != "observation") {
+    for ch in cx
+        .changes
+        .iter_mut()
+        .filter(|c| c.category == Category::Observation && c.subject != "observation")
+    {
         if !layout_changed {
             ch.breaking = false;
         }
@@ -589,7 +815,16 @@ fn reward_sum(cx: &mut Ctx) {
     if a != b {
         let at = |s: &Spec| s.reward_sum.as_ref().map(|v| pos(s, &v.loc));
         let (oa, na) = (at(cx.old), at(cx.new));
-        cx.push(Category::Reward, "reward", "sum", Some(a), Some(b), oa, na, true);
+        cx.push(
+            Category::Reward,
+            "reward",
+            "sum",
+            Some(a),
+            Some(b),
+            oa,
+            na,
+            true,
+        );
     }
 }
 
@@ -612,8 +847,18 @@ fn episode(cx: &mut Ctx) {
             Category::Dynamics,
             "env",
             "dt = timestep × frame_skip",
-            Some(format!("{} × {} = {}", o.model.timestep, o.frame_skip, o.dt())),
-            Some(format!("{} × {} = {}", n.model.timestep, n.frame_skip, n.dt())),
+            Some(format!(
+                "{} × {} = {}",
+                o.model.timestep,
+                o.frame_skip,
+                o.dt()
+            )),
+            Some(format!(
+                "{} × {} = {}",
+                n.model.timestep,
+                n.frame_skip,
+                n.dt()
+            )),
             None,
             None,
             true,
@@ -627,7 +872,16 @@ fn reset_order(cx: &mut Ctx) {
     let common_a: Vec<&String> = a.iter().filter(|x| b.contains(x)).collect();
     let common_b: Vec<&String> = b.iter().filter(|x| a.contains(x)).collect();
     if common_a != common_b {
-        cx.push(Category::Reset, "reset", "draw order", Some(a.join(", ")), Some(b.join(", ")), None, None, true);
+        cx.push(
+            Category::Reset,
+            "reset",
+            "draw order",
+            Some(a.join(", ")),
+            Some(b.join(", ")),
+            None,
+            None,
+            true,
+        );
     }
 }
 
@@ -638,20 +892,34 @@ fn info_pos(spec: &Spec, key: &str) -> Option<Pos> {
             return Some(pos(spec, &s.name_loc));
         }
     }
-    spec.reward.iter().find(|t| t.str("info") == Some(key)).and_then(|t| t.get("info")).map(|v| pos(spec, &v.loc))
+    spec.reward
+        .iter()
+        .find(|t| t.str("info") == Some(key))
+        .and_then(|t| t.get("info"))
+        .map(|v| pos(spec, &v.loc))
 }
 
 /// Info compared by key on the resolved specs (a key may move between an `[info]` table and a
 /// reward term without changing), plus documentation changes of `[info.*]` tables.
 fn info_items(cx: &mut Ctx) {
     let (o, n) = (cx.old_r, cx.new_r);
-    let removed: Vec<&InfoItem> = o.info.iter().filter(|i| !n.info.iter().any(|j| j.key == i.key)).collect();
-    let added: Vec<&InfoItem> = n.info.iter().filter(|j| !o.info.iter().any(|i| i.key == j.key)).collect();
+    let removed: Vec<&InfoItem> = o
+        .info
+        .iter()
+        .filter(|i| !n.info.iter().any(|j| j.key == i.key))
+        .collect();
+    let added: Vec<&InfoItem> = n
+        .info
+        .iter()
+        .filter(|j| !o.info.iter().any(|i| i.key == j.key))
+        .collect();
     // A key that disappears while another with the same definition appears was renamed.
     let mut renamed_to: Vec<Option<usize>> = vec![None; removed.len()];
     let mut taken = vec![false; added.len()];
     for (r, i) in removed.iter().enumerate() {
-        if let Some(a) = (0..added.len()).find(|&a| !taken[a] && info_canon(o, i) == info_canon(n, added[a])) {
+        if let Some(a) =
+            (0..added.len()).find(|&a| !taken[a] && info_canon(o, i) == info_canon(n, added[a]))
+        {
             taken[a] = true;
             renamed_to[r] = Some(a);
         }
@@ -662,8 +930,12 @@ fn info_items(cx: &mut Ctx) {
         if renamed_to[r].is_some() {
             continue;
         }
-        let Some(term) = info_term(o, i) else { continue };
-        if let Some(a) = (0..added.len()).find(|&a| !taken[a] && info_term(n, added[a]) == Some(term)) {
+        let Some(term) = info_term(o, i) else {
+            continue;
+        };
+        if let Some(a) =
+            (0..added.len()).find(|&a| !taken[a] && info_term(n, added[a]) == Some(term))
+        {
             taken[a] = true;
             renamed_to[r] = Some(a);
             if info_canon(o, i) != info_canon(n, added[a]) {
@@ -705,7 +977,9 @@ fn info_items(cx: &mut Ctx) {
         }
     }
     for i in &o.info {
-        let Some(j) = n.info.iter().find(|j| j.key == i.key) else { continue };
+        let Some(j) = n.info.iter().find(|j| j.key == i.key) else {
+            continue;
+        };
         if info_canon(o, i) != info_canon(n, j) {
             cx.push(
                 Category::Info,
@@ -751,7 +1025,10 @@ fn info_items(cx: &mut Ctx) {
     // (e.g. an alternative definition of a key switched on by a flag).
     for s in &cx.old.info {
         let key = s.str("key").unwrap_or(&s.name);
-        let active = o.info.iter().any(|i| i.key == key && info_pos(cx.old, key) == Some(pos(cx.old, &s.name_loc)));
+        let active = o
+            .info
+            .iter()
+            .any(|i| i.key == key && info_pos(cx.old, key) == Some(pos(cx.old, &s.name_loc)));
         if !active && !cx.new.info.iter().any(|t| t.name == s.name) {
             let mut c = Change {
                 category: Category::Info,
@@ -771,10 +1048,24 @@ fn info_items(cx: &mut Ctx) {
         }
     }
     for s in &cx.old.info {
-        let Some(t) = cx.new.info.iter().find(|t| t.name == s.name) else { continue };
+        let Some(t) = cx.new.info.iter().find(|t| t.name == s.name) else {
+            continue;
+        };
         if s.doc() != t.doc() {
-            let (a, b) = (Some(pos(cx.old, &s.name_loc)), Some(pos(cx.new, &t.name_loc)));
-            cx.push(Category::Documentation, format!("info.{}", s.name), "doc", Some(s.doc()), Some(t.doc()), a, b, false);
+            let (a, b) = (
+                Some(pos(cx.old, &s.name_loc)),
+                Some(pos(cx.new, &t.name_loc)),
+            );
+            cx.push(
+                Category::Documentation,
+                format!("info.{}", s.name),
+                "doc",
+                Some(s.doc()),
+                Some(t.doc()),
+                a,
+                b,
+                false,
+            );
         }
     }
 }
@@ -784,7 +1075,11 @@ fn info_text(r: &ResolvedSpec, i: &InfoItem) -> String {
     match &i.kind {
         InfoKind::Term(t) => {
             let term = &r.reward[*t];
-            let w = if i.unweighted { " without its weight".to_string() } else { String::new() };
+            let w = if i.unweighted {
+                " without its weight".to_string()
+            } else {
+                String::new()
+            };
             format!("reward term `{}`{w}: {}", term.name, describe::term(term))
         }
         _ => describe::info(r, i),
@@ -798,8 +1093,10 @@ impl Report {
         self.changes.extend(more);
         self.changes.sort_by_key(|c| c.category);
         self.flags.clear();
-        let breaks_policies =
-            self.changes.iter().any(|c| c.breaking && matches!(c.category, Category::Observation | Category::Action));
+        let breaks_policies = self
+            .changes
+            .iter()
+            .any(|c| c.breaking && matches!(c.category, Category::Observation | Category::Action));
         if breaks_policies && self.old_id == self.new_id {
             self.flags.push(format!(
                 "this change breaks trained policies but the env id stays `{}`: bump its version",
@@ -819,7 +1116,12 @@ impl Report {
     }
 
     fn verdict_line(&self) -> String {
-        let mut hurt: Vec<Category> = self.changes.iter().filter(|c| c.breaking).map(|c| c.category).collect();
+        let mut hurt: Vec<Category> = self
+            .changes
+            .iter()
+            .filter(|c| c.breaking)
+            .map(|c| c.category)
+            .collect();
         hurt.sort();
         hurt.dedup();
         match self.verdict() {
@@ -827,7 +1129,10 @@ impl Report {
             Verdict::Compatible => "compatible (no behaviour change)".into(),
             Verdict::Breaking => format!(
                 "BREAKING: {}",
-                hurt.iter().map(|c| format!("{} ({})", c.title(), c.impact())).collect::<Vec<_>>().join("; ")
+                hurt.iter()
+                    .map(|c| format!("{} ({})", c.title(), c.impact()))
+                    .collect::<Vec<_>>()
+                    .join("; ")
             ),
         }
     }
@@ -842,7 +1147,12 @@ impl Report {
         let body = match c.aspect.as_str() {
             "added" => format!("added: {}", show(&c.now, &c.new_at)),
             "removed" => format!("removed: was {}", show(&c.was, &c.old_at)),
-            _ => format!("{}: was {}, now {}", c.aspect, show(&c.was, &c.old_at), show(&c.now, &c.new_at)),
+            _ => format!(
+                "{}: was {}, now {}",
+                c.aspect,
+                show(&c.was, &c.old_at),
+                show(&c.now, &c.new_at)
+            ),
         };
         let mark = if c.breaking { "!" } else { " " };
         format!("{mark} {}: {body}", c.subject)
@@ -850,7 +1160,11 @@ impl Report {
 
     pub fn to_text(&self) -> String {
         let mut o = String::new();
-        let _ = writeln!(o, "envc diff: {} ({}) → {} ({})", self.old_id, self.old_file, self.new_id, self.new_file);
+        let _ = writeln!(
+            o,
+            "envc diff: {} ({}) → {} ({})",
+            self.old_id, self.old_file, self.new_id, self.new_file
+        );
         let _ = writeln!(o, "verdict: {}", self.verdict_line());
         for f in &self.flags {
             let _ = writeln!(o, "flag: {f}");
@@ -884,11 +1198,19 @@ impl Report {
         for c in &self.changes {
             if cat != Some(c.category) {
                 cat = Some(c.category);
-                let _ = writeln!(o, "\n#### {} — {}\n", c.category.title(), c.category.impact());
+                let _ = writeln!(
+                    o,
+                    "\n#### {} — {}\n",
+                    c.category.title(),
+                    c.category.impact()
+                );
                 let _ = writeln!(o, "| | what | was | now | note |\n|---|---|---|---|---|");
             }
             let cell = |v: &Option<String>, p: &Option<Pos>| {
-                let v = v.as_deref().map(|v| format!("`{}`", esc(v))).unwrap_or_else(|| "—".into());
+                let v = v
+                    .as_deref()
+                    .map(|v| format!("`{}`", esc(v)))
+                    .unwrap_or_else(|| "—".into());
                 match p {
                     Some(p) => format!("{v} <sub>{p}</sub>"),
                     None => v,
@@ -922,19 +1244,41 @@ impl Report {
     /// GitHub Actions workflow commands: annotations on the new spec's lines.
     pub fn to_github(&self) -> String {
         let mut o = String::new();
-        let esc = |s: &str| s.replace('%', "%25").replace('\r', "%0D").replace('\n', "%0A");
+        let esc = |s: &str| {
+            s.replace('%', "%25")
+                .replace('\r', "%0D")
+                .replace('\n', "%0A")
+        };
         for f in &self.flags {
-            let _ = writeln!(o, "::error file={},title=envc diff::{}", self.new_file, esc(f));
+            let _ = writeln!(
+                o,
+                "::error file={},title=envc diff::{}",
+                self.new_file,
+                esc(f)
+            );
         }
         for c in &self.changes {
-            let level = if c.breaking { "error" } else if c.category == Category::Documentation { "notice" } else { "warning" };
+            let level = if c.breaking {
+                "error"
+            } else if c.category == Category::Documentation {
+                "notice"
+            } else {
+                "warning"
+            };
             let at = c.new_at.as_ref().or(c.old_at.as_ref());
-            let loc = at.map(|p| format!(" file={},line={}", p.file, p.line)).unwrap_or_else(|| format!(" file={}", self.new_file));
+            let loc = at
+                .map(|p| format!(" file={},line={}", p.file, p.line))
+                .unwrap_or_else(|| format!(" file={}", self.new_file));
             let mut msg = Self::line(c).trim_start_matches(['!', ' ']).to_string();
             if let Some(w) = &c.witness {
                 msg.push_str(&format!(" — {w}"));
             }
-            let _ = writeln!(o, "::{level}{loc},title=envc diff: {}::{}", c.category.title(), esc(&msg));
+            let _ = writeln!(
+                o,
+                "::{level}{loc},title=envc diff: {}::{}",
+                c.category.title(),
+                esc(&msg)
+            );
         }
         o
     }
@@ -954,10 +1298,25 @@ mod tests {
             doc: String,
             indices: Vec<usize>,
         }
-        let a = S { name: "a".into(), text: "xpos[$b]".into(), doc: "say \"hi\"".into(), indices: vec![3] };
-        let b = S { name: "b".into(), text: "xpos[torso]".into(), doc: String::new(), indices: vec![3] };
+        let a = S {
+            name: "a".into(),
+            text: "xpos[$b]".into(),
+            doc: "say \"hi\"".into(),
+            indices: vec![3],
+        };
+        let b = S {
+            name: "b".into(),
+            text: "xpos[torso]".into(),
+            doc: String::new(),
+            indices: vec![3],
+        };
         assert_eq!(canon(&a), canon(&b));
-        let c = S { name: "a".into(), text: "xpos[$b]".into(), doc: String::new(), indices: vec![4] };
+        let c = S {
+            name: "a".into(),
+            text: "xpos[$b]".into(),
+            doc: String::new(),
+            indices: vec![4],
+        };
         assert_ne!(canon(&a), canon(&c));
     }
 }

@@ -253,9 +253,15 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
         };
         if param.fixed {
             d.push(
-                Diagnostic::new(Code::E0204, format!("parameter `{}` is fixed in {}: it is not a constructor argument", o.name, spec.id))
-                    .label(format!("its value is {}", param.default))
-                    .help("copy the spec and change the value there (or remove `fixed = true`)"),
+                Diagnostic::new(
+                    Code::E0204,
+                    format!(
+                        "parameter `{}` is fixed in {}: it is not a constructor argument",
+                        o.name, spec.id
+                    ),
+                )
+                .label(format!("its value is {}", param.default))
+                .help("copy the spec and change the value there (or remove `fixed = true`)"),
             );
             continue;
         }

@@ -164,7 +164,7 @@ fn parallel_ceiling(
                     let mut n = 0u64;
                     while start.elapsed() < slice {
                         for _ in 0..CHUNK {
-                            if n % ep_len == 0 {
+                            if n.is_multiple_of(ep_len) {
                                 raw.reset();
                                 raw.forward();
                             }

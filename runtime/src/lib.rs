@@ -30,10 +30,10 @@ pub mod typed;
 pub mod vector;
 
 pub use env::{BoxSpace, Env, Info, Step};
+/// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
+pub use envc_codegen::env;
 pub use environment::Environment;
 pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
-/// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
-pub use envc_codegen::env;
 pub use vector::{Autoreset, VecEnv};

@@ -9,7 +9,7 @@
 use std::ffi::CStr;
 
 use envspec::diff::{Category, Change};
-use mujoco_rs::mujoco_c::{mjModel, mjtObj, mj_id2name, mj_saveModel, mj_sizeModel};
+use mujoco_rs::mujoco_c::{mj_id2name, mj_saveModel, mj_sizeModel, mjModel, mjtObj};
 use mujoco_rs::prelude::MjModel;
 
 fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
@@ -25,12 +25,23 @@ fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
 
 fn nums(p: *const f64, n: usize) -> Vec<f64> {
     // SAFETY: callers pass model arrays with their documented lengths.
-    if n == 0 { vec![] } else { unsafe { std::slice::from_raw_parts(p, n) }.to_vec() }
+    if n == 0 {
+        vec![]
+    } else {
+        unsafe { std::slice::from_raw_parts(p, n) }.to_vec()
+    }
 }
 
 fn ints(p: *const i32, n: usize) -> Vec<f64> {
     // SAFETY: as above.
-    if n == 0 { vec![] } else { unsafe { std::slice::from_raw_parts(p, n) }.iter().map(|&x| x as f64).collect() }
+    if n == 0 {
+        vec![]
+    } else {
+        unsafe { std::slice::from_raw_parts(p, n) }
+            .iter()
+            .map(|&x| x as f64)
+            .collect()
+    }
 }
 
 fn saved(m: &mjModel) -> Vec<u8> {
@@ -57,17 +68,18 @@ struct Arr {
 pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     let (a, b) = (old.ffi(), new.ffi());
     let mut out = vec![];
-    let change = |category, aspect: String, was: String, now: String, witness: Option<String>| Change {
-        category,
-        subject: "model".into(),
-        aspect,
-        was: Some(was),
-        now: Some(now),
-        old_at: None,
-        new_at: None,
-        witness,
-        breaking: true,
-    };
+    let change =
+        |category, aspect: String, was: String, now: String, witness: Option<String>| Change {
+            category,
+            subject: "model".into(),
+            aspect,
+            was: Some(was),
+            now: Some(now),
+            old_at: None,
+            new_at: None,
+            witness,
+            breaking: true,
+        };
     let sizes = [
         ("nq", a.nq, b.nq),
         ("nv", a.nv, b.nv),
@@ -80,7 +92,11 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     ];
     for (n, x, y) in sizes {
         if x != y {
-            let cat = if n == "nu" { Category::Action } else { Category::Dynamics };
+            let cat = if n == "nu" {
+                Category::Action
+            } else {
+                Category::Dynamics
+            };
             out.push(change(cat, n.into(), x.to_string(), y.to_string(), None));
         }
     }
@@ -95,16 +111,34 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     ];
     for (n, x, y) in scalars {
         if x.to_bits() != y.to_bits() {
-            out.push(change(Category::Dynamics, n.into(), x.to_string(), y.to_string(), None));
+            out.push(change(
+                Category::Dynamics,
+                n.into(),
+                x.to_string(),
+                y.to_string(),
+                None,
+            ));
         }
     }
     if oa.gravity != ob.gravity {
-        out.push(change(Category::Dynamics, "opt.gravity".into(), format!("{:?}", oa.gravity), format!("{:?}", ob.gravity), None));
+        out.push(change(
+            Category::Dynamics,
+            "opt.gravity".into(),
+            format!("{:?}", oa.gravity),
+            format!("{:?}", ob.gravity),
+            None,
+        ));
     }
     {
         // Each group of arrays is compared when its element count is the same in both models
         // (a removed geom must not hide a changed body mass).
-        let (nb, ng, nj, nv, nu) = (a.nbody as usize, a.ngeom as usize, a.njnt as usize, a.nv as usize, a.nu as usize);
+        let (nb, ng, nj, nv, nu) = (
+            a.nbody as usize,
+            a.ngeom as usize,
+            a.njnt as usize,
+            a.nv as usize,
+            a.nu as usize,
+        );
         let same = |x: i64, y: i64| x == y;
         let counts_match = |field: &str| match field.split('_').next().unwrap_or("") {
             "body" => same(a.nbody, b.nbody),
@@ -116,30 +150,198 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
         };
         use mjtObj::*;
         let arrs = [
-            Arr { field: "body_mass", category: Category::Dynamics, width: 1, obj: mjOBJ_BODY, old: nums(a.body_mass, nb), new: nums(b.body_mass, nb) },
-            Arr { field: "body_inertia", category: Category::Dynamics, width: 3, obj: mjOBJ_BODY, old: nums(a.body_inertia, nb * 3), new: nums(b.body_inertia, nb * 3) },
-            Arr { field: "body_ipos", category: Category::Dynamics, width: 3, obj: mjOBJ_BODY, old: nums(a.body_ipos, nb * 3), new: nums(b.body_ipos, nb * 3) },
-            Arr { field: "body_pos", category: Category::Dynamics, width: 3, obj: mjOBJ_BODY, old: nums(a.body_pos, nb * 3), new: nums(b.body_pos, nb * 3) },
-            Arr { field: "body_quat", category: Category::Dynamics, width: 4, obj: mjOBJ_BODY, old: nums(a.body_quat, nb * 4), new: nums(b.body_quat, nb * 4) },
-            Arr { field: "geom_friction", category: Category::Dynamics, width: 3, obj: mjOBJ_GEOM, old: nums(a.geom_friction, ng * 3), new: nums(b.geom_friction, ng * 3) },
-            Arr { field: "geom_size", category: Category::Dynamics, width: 3, obj: mjOBJ_GEOM, old: nums(a.geom_size, ng * 3), new: nums(b.geom_size, ng * 3) },
-            Arr { field: "geom_pos", category: Category::Dynamics, width: 3, obj: mjOBJ_GEOM, old: nums(a.geom_pos, ng * 3), new: nums(b.geom_pos, ng * 3) },
-            Arr { field: "geom_type", category: Category::Dynamics, width: 1, obj: mjOBJ_GEOM, old: ints(a.geom_type, ng), new: ints(b.geom_type, ng) },
-            Arr { field: "geom_condim", category: Category::Dynamics, width: 1, obj: mjOBJ_GEOM, old: ints(a.geom_condim, ng), new: ints(b.geom_condim, ng) },
-            Arr { field: "geom_contype", category: Category::Dynamics, width: 1, obj: mjOBJ_GEOM, old: ints(a.geom_contype, ng), new: ints(b.geom_contype, ng) },
-            Arr { field: "geom_conaffinity", category: Category::Dynamics, width: 1, obj: mjOBJ_GEOM, old: ints(a.geom_conaffinity, ng), new: ints(b.geom_conaffinity, ng) },
-            Arr { field: "geom_solref", category: Category::Dynamics, width: 2, obj: mjOBJ_GEOM, old: nums(a.geom_solref, ng * 2), new: nums(b.geom_solref, ng * 2) },
-            Arr { field: "jnt_type", category: Category::Dynamics, width: 1, obj: mjOBJ_JOINT, old: ints(a.jnt_type, nj), new: ints(b.jnt_type, nj) },
-            Arr { field: "jnt_axis", category: Category::Dynamics, width: 3, obj: mjOBJ_JOINT, old: nums(a.jnt_axis, nj * 3), new: nums(b.jnt_axis, nj * 3) },
-            Arr { field: "jnt_range", category: Category::Dynamics, width: 2, obj: mjOBJ_JOINT, old: nums(a.jnt_range, nj * 2), new: nums(b.jnt_range, nj * 2) },
-            Arr { field: "jnt_stiffness", category: Category::Dynamics, width: 1, obj: mjOBJ_JOINT, old: nums(a.jnt_stiffness, nj), new: nums(b.jnt_stiffness, nj) },
-            Arr { field: "dof_damping", category: Category::Dynamics, width: 1, obj: mjOBJ_DOF, old: nums(a.dof_damping, nv), new: nums(b.dof_damping, nv) },
-            Arr { field: "dof_armature", category: Category::Dynamics, width: 1, obj: mjOBJ_DOF, old: nums(a.dof_armature, nv), new: nums(b.dof_armature, nv) },
-            Arr { field: "dof_frictionloss", category: Category::Dynamics, width: 1, obj: mjOBJ_DOF, old: nums(a.dof_frictionloss, nv), new: nums(b.dof_frictionloss, nv) },
-            Arr { field: "actuator_ctrlrange", category: Category::Action, width: 2, obj: mjOBJ_ACTUATOR, old: nums(a.actuator_ctrlrange, nu * 2), new: nums(b.actuator_ctrlrange, nu * 2) },
-            Arr { field: "actuator_gear", category: Category::Dynamics, width: 6, obj: mjOBJ_ACTUATOR, old: nums(a.actuator_gear, nu * 6), new: nums(b.actuator_gear, nu * 6) },
-            Arr { field: "actuator_trnid", category: Category::Action, width: 2, obj: mjOBJ_ACTUATOR, old: ints(a.actuator_trnid, nu * 2), new: ints(b.actuator_trnid, nu * 2) },
-            Arr { field: "qpos0", category: Category::Reset, width: 1, obj: mjOBJ_UNKNOWN, old: nums(a.qpos0, a.nq as usize), new: nums(b.qpos0, b.nq as usize) },
+            Arr {
+                field: "body_mass",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_BODY,
+                old: nums(a.body_mass, nb),
+                new: nums(b.body_mass, nb),
+            },
+            Arr {
+                field: "body_inertia",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_BODY,
+                old: nums(a.body_inertia, nb * 3),
+                new: nums(b.body_inertia, nb * 3),
+            },
+            Arr {
+                field: "body_ipos",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_BODY,
+                old: nums(a.body_ipos, nb * 3),
+                new: nums(b.body_ipos, nb * 3),
+            },
+            Arr {
+                field: "body_pos",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_BODY,
+                old: nums(a.body_pos, nb * 3),
+                new: nums(b.body_pos, nb * 3),
+            },
+            Arr {
+                field: "body_quat",
+                category: Category::Dynamics,
+                width: 4,
+                obj: mjOBJ_BODY,
+                old: nums(a.body_quat, nb * 4),
+                new: nums(b.body_quat, nb * 4),
+            },
+            Arr {
+                field: "geom_friction",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_GEOM,
+                old: nums(a.geom_friction, ng * 3),
+                new: nums(b.geom_friction, ng * 3),
+            },
+            Arr {
+                field: "geom_size",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_GEOM,
+                old: nums(a.geom_size, ng * 3),
+                new: nums(b.geom_size, ng * 3),
+            },
+            Arr {
+                field: "geom_pos",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_GEOM,
+                old: nums(a.geom_pos, ng * 3),
+                new: nums(b.geom_pos, ng * 3),
+            },
+            Arr {
+                field: "geom_type",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_GEOM,
+                old: ints(a.geom_type, ng),
+                new: ints(b.geom_type, ng),
+            },
+            Arr {
+                field: "geom_condim",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_GEOM,
+                old: ints(a.geom_condim, ng),
+                new: ints(b.geom_condim, ng),
+            },
+            Arr {
+                field: "geom_contype",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_GEOM,
+                old: ints(a.geom_contype, ng),
+                new: ints(b.geom_contype, ng),
+            },
+            Arr {
+                field: "geom_conaffinity",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_GEOM,
+                old: ints(a.geom_conaffinity, ng),
+                new: ints(b.geom_conaffinity, ng),
+            },
+            Arr {
+                field: "geom_solref",
+                category: Category::Dynamics,
+                width: 2,
+                obj: mjOBJ_GEOM,
+                old: nums(a.geom_solref, ng * 2),
+                new: nums(b.geom_solref, ng * 2),
+            },
+            Arr {
+                field: "jnt_type",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_JOINT,
+                old: ints(a.jnt_type, nj),
+                new: ints(b.jnt_type, nj),
+            },
+            Arr {
+                field: "jnt_axis",
+                category: Category::Dynamics,
+                width: 3,
+                obj: mjOBJ_JOINT,
+                old: nums(a.jnt_axis, nj * 3),
+                new: nums(b.jnt_axis, nj * 3),
+            },
+            Arr {
+                field: "jnt_range",
+                category: Category::Dynamics,
+                width: 2,
+                obj: mjOBJ_JOINT,
+                old: nums(a.jnt_range, nj * 2),
+                new: nums(b.jnt_range, nj * 2),
+            },
+            Arr {
+                field: "jnt_stiffness",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_JOINT,
+                old: nums(a.jnt_stiffness, nj),
+                new: nums(b.jnt_stiffness, nj),
+            },
+            Arr {
+                field: "dof_damping",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_DOF,
+                old: nums(a.dof_damping, nv),
+                new: nums(b.dof_damping, nv),
+            },
+            Arr {
+                field: "dof_armature",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_DOF,
+                old: nums(a.dof_armature, nv),
+                new: nums(b.dof_armature, nv),
+            },
+            Arr {
+                field: "dof_frictionloss",
+                category: Category::Dynamics,
+                width: 1,
+                obj: mjOBJ_DOF,
+                old: nums(a.dof_frictionloss, nv),
+                new: nums(b.dof_frictionloss, nv),
+            },
+            Arr {
+                field: "actuator_ctrlrange",
+                category: Category::Action,
+                width: 2,
+                obj: mjOBJ_ACTUATOR,
+                old: nums(a.actuator_ctrlrange, nu * 2),
+                new: nums(b.actuator_ctrlrange, nu * 2),
+            },
+            Arr {
+                field: "actuator_gear",
+                category: Category::Dynamics,
+                width: 6,
+                obj: mjOBJ_ACTUATOR,
+                old: nums(a.actuator_gear, nu * 6),
+                new: nums(b.actuator_gear, nu * 6),
+            },
+            Arr {
+                field: "actuator_trnid",
+                category: Category::Action,
+                width: 2,
+                obj: mjOBJ_ACTUATOR,
+                old: ints(a.actuator_trnid, nu * 2),
+                new: ints(b.actuator_trnid, nu * 2),
+            },
+            Arr {
+                field: "qpos0",
+                category: Category::Reset,
+                width: 1,
+                obj: mjOBJ_UNKNOWN,
+                old: nums(a.qpos0, a.nq as usize),
+                new: nums(b.qpos0, b.nq as usize),
+            },
         ];
         for arr in arrs {
             if !counts_match(arr.field) {
@@ -148,10 +350,23 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             let rows = arr.old.len() / arr.width.max(1);
             let mut diffs = vec![];
             for r in 0..rows {
-                let (x, y) = (&arr.old[r * arr.width..(r + 1) * arr.width], &arr.new[r * arr.width..(r + 1) * arr.width]);
+                let (x, y) = (
+                    &arr.old[r * arr.width..(r + 1) * arr.width],
+                    &arr.new[r * arr.width..(r + 1) * arr.width],
+                );
                 if x.iter().zip(y).any(|(p, q)| p.to_bits() != q.to_bits()) {
-                    let label = if arr.obj == mjtObj::mjOBJ_UNKNOWN { format!("{r}") } else { name(b, arr.obj, r) };
-                    let fmt = |v: &[f64]| if v.len() == 1 { format!("{}", v[0]) } else { format!("{v:?}") };
+                    let label = if arr.obj == mjtObj::mjOBJ_UNKNOWN {
+                        format!("{r}")
+                    } else {
+                        name(b, arr.obj, r)
+                    };
+                    let fmt = |v: &[f64]| {
+                        if v.len() == 1 {
+                            format!("{}", v[0])
+                        } else {
+                            format!("{v:?}")
+                        }
+                    };
                     diffs.push((label, fmt(x), fmt(y)));
                 }
             }
@@ -159,17 +374,28 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
                 0 => {}
                 1 => {
                     let (l, x, y) = diffs.remove(0);
-                    out.push(change(arr.category, format!("{}[{l}]", arr.field), x, y, None));
-                }
-                n => {
-                    let (l, x, y) = diffs[0].clone();
-                    let others: Vec<&str> = diffs[1..].iter().map(|d| d.0.as_str()).take(8).collect();
                     out.push(change(
                         arr.category,
                         format!("{}[{l}]", arr.field),
                         x,
                         y,
-                        Some(format!("{n} rows differ; also {}{}", others.join(", "), if n > 9 { ", …" } else { "" })),
+                        None,
+                    ));
+                }
+                n => {
+                    let (l, x, y) = diffs[0].clone();
+                    let others: Vec<&str> =
+                        diffs[1..].iter().map(|d| d.0.as_str()).take(8).collect();
+                    out.push(change(
+                        arr.category,
+                        format!("{}[{l}]", arr.field),
+                        x,
+                        y,
+                        Some(format!(
+                            "{n} rows differ; also {}{}",
+                            others.join(", "),
+                            if n > 9 { ", …" } else { "" }
+                        )),
                     ));
                 }
             }

@@ -30,7 +30,11 @@ fn json(d: &Diagnostic) -> serde_json::Value {
     let (file, line, column) = match &d.location {
         Some(l) => {
             let (line, col) = l.file.line_col(l.span.start);
-            (Some(l.file.path.display().to_string()), Some(line), Some(col))
+            (
+                Some(l.file.path.display().to_string()),
+                Some(line),
+                Some(col),
+            )
         }
         None => (None, None, None),
     };
@@ -73,7 +77,12 @@ pub fn run(args: Args) -> Result<Outcome> {
                     if let Some(e) = &extra {
                         println!("{e}");
                     }
-                    println!("FAILED {} ({} error{})", path.display(), diags.len().max(1), if diags.len() > 1 { "s" } else { "" });
+                    println!(
+                        "FAILED {} ({} error{})",
+                        path.display(),
+                        diags.len().max(1),
+                        if diags.len() > 1 { "s" } else { "" }
+                    );
                 }
             }
             Format::Json => report.push(serde_json::json!({
@@ -85,5 +94,9 @@ pub fn run(args: Args) -> Result<Outcome> {
     if args.format == Format::Json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     }
-    Ok(if failed > 0 { Outcome::Problems } else { Outcome::Ok })
+    Ok(if failed > 0 {
+        Outcome::Problems
+    } else {
+        Outcome::Ok
+    })
 }

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result, bail};
 use envspec::diff::Verdict;
 use envspec::{ParamValue, Spec};
 
@@ -35,9 +35,16 @@ enum Format {
 }
 
 fn git(args: &[&str]) -> Result<Vec<u8>> {
-    let out = Command::new("git").args(args).output().context("cannot run git")?;
+    let out = Command::new("git")
+        .args(args)
+        .output()
+        .context("cannot run git")?;
     if !out.status.success() {
-        bail!("git {}: {}", args.join(" "), String::from_utf8_lossy(&out.stderr).trim());
+        bail!(
+            "git {}: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
     }
     Ok(out.stdout)
 }
@@ -45,10 +52,14 @@ fn git(args: &[&str]) -> Result<Vec<u8>> {
 /// Files of a spec at a git revision, materialised under a temporary directory with the same
 /// relative layout (so the spec's relative model path, and MJCF includes, resolve at that revision).
 fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
-    let root = String::from_utf8(git(&["rev-parse", "--show-toplevel"])?)?.trim().to_string();
+    let root = String::from_utf8(git(&["rev-parse", "--show-toplevel"])?)?
+        .trim()
+        .to_string();
     let rel = match path.strip_prefix("./") {
         Some(p) => {
-            let prefix = String::from_utf8(git(&["rev-parse", "--show-prefix"])?)?.trim().to_string();
+            let prefix = String::from_utf8(git(&["rev-parse", "--show-prefix"])?)?
+                .trim()
+                .to_string();
             format!("{prefix}{p}")
         }
         None => path.to_string(),
@@ -62,19 +73,21 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
     };
     let spec_file = fetch(&rel)?;
     // The model named by the spec's default xml_file, and the files it includes.
-    if let Ok(spec) = Spec::load(&spec_file) {
-        if let Some(xml) = spec.param("xml_file").and_then(|p| p.default.as_str().map(str::to_string)) {
-            let spec_dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
-            let mut queue = vec![normalize(&spec_dir.join(&xml))];
-            while let Some(m) = queue.pop() {
-                let Some(m_rel) = m.to_str() else { continue };
-                let Ok(dest) = fetch(m_rel) else { continue };
-                let text = std::fs::read_to_string(&dest).unwrap_or_default();
-                if let Ok(doc) = roxmltree::Document::parse(&text) {
-                    for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
-                        if let Some(f) = inc.attribute("file") {
-                            queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
-                        }
+    if let Ok(spec) = Spec::load(&spec_file)
+        && let Some(xml) = spec
+            .param("xml_file")
+            .and_then(|p| p.default.as_str().map(str::to_string))
+    {
+        let spec_dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
+        let mut queue = vec![normalize(&spec_dir.join(&xml))];
+        while let Some(m) = queue.pop() {
+            let Some(m_rel) = m.to_str() else { continue };
+            let Ok(dest) = fetch(m_rel) else { continue };
+            let text = std::fs::read_to_string(&dest).unwrap_or_default();
+            if let Ok(doc) = roxmltree::Document::parse(&text) {
+                for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
+                    if let Some(f) = inc.attribute("file") {
+                        queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
                     }
                 }
             }
@@ -102,10 +115,11 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<PathBuf> {
     if Path::new(arg).exists() {
         return Ok(PathBuf::from(arg));
     }
-    if let Some((rev, path)) = arg.split_once(':') {
-        if !rev.is_empty() && !path.is_empty() {
-            return checkout(rev, path, &tmp.join(side));
-        }
+    if let Some((rev, path)) = arg.split_once(':')
+        && !rev.is_empty()
+        && !path.is_empty()
+    {
+        return checkout(rev, path, &tmp.join(side));
     }
     crate::target::spec_path(arg)
 }
@@ -163,7 +177,9 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             };
             let identical = model_changes.is_empty();
             for c in &mut model_changes {
-                c.witness.get_or_insert_with(|| format!("model file {} → {}", show(&old_r), show(&new_r)));
+                c.witness.get_or_insert_with(|| {
+                    format!("model file {} → {}", show(&old_r), show(&new_r))
+                });
             }
             if identical {
                 model_changes.push(envspec::diff::Change {

@@ -21,9 +21,21 @@ pub fn run(args: Args) -> Result<Outcome> {
     let root = envc::registry::specs_dir();
     let mut rows = vec![];
     for (id, path) in envc::registry::bundled() {
-        let spec = envspec::load(&path, &[]).map_err(|d| anyhow::anyhow!("{}: {d}", path.display()))?;
-        let rel = path.strip_prefix(&root).unwrap_or(&path).display().to_string();
-        rows.push((id, spec.obs_dim, spec.act_dim(), spec.dt(), spec.max_episode_steps, format!("specs/{rel}")));
+        let spec =
+            envspec::load(&path, &[]).map_err(|d| anyhow::anyhow!("{}: {d}", path.display()))?;
+        let rel = path
+            .strip_prefix(&root)
+            .unwrap_or(&path)
+            .display()
+            .to_string();
+        rows.push((
+            id,
+            spec.obs_dim,
+            spec.act_dim(),
+            spec.dt(),
+            spec.max_episode_steps,
+            format!("specs/{rel}"),
+        ));
     }
     match args.format {
         Format::Json => {
@@ -36,7 +48,10 @@ pub fn run(args: Args) -> Result<Outcome> {
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
         Format::Text => {
-            println!("{:<28} {:>7} {:>7} {:>8} {:>9}  spec", "id", "obs", "act", "dt", "max steps");
+            println!(
+                "{:<28} {:>7} {:>7} {:>8} {:>9}  spec",
+                "id", "obs", "act", "dt", "max steps"
+            );
             for (id, o, a, dt, m, p) in rows {
                 let m = m.map(|m| m.to_string()).unwrap_or_else(|| "none".into());
                 println!("{id:<28} {o:>7} {a:>7} {dt:>8} {m:>9}  {p}");

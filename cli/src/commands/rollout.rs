@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result, bail};
 use ndarray::{Array, Array1, Array2, ArrayD, IxDyn};
 use ndarray_npy::{NpzWriter, ReadNpyExt};
 
@@ -44,7 +44,10 @@ fn read_actions(path: &PathBuf) -> Result<Actions> {
     }
     match Array2::<f32>::read_npy(open()?) {
         Ok(a) => Ok(Actions::F32(a)),
-        Err(e) => bail!("{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]: {e}", path.display()),
+        Err(e) => bail!(
+            "{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]: {e}",
+            path.display()
+        ),
     }
 }
 
@@ -61,7 +64,10 @@ impl InfoColumns {
             self.keys = info.iter().map(|(k, v)| (k.to_string(), v.len())).collect();
         }
         for (k, v) in info.iter() {
-            self.values.entry(k.to_string()).or_default().extend_from_slice(v);
+            self.values
+                .entry(k.to_string())
+                .or_default()
+                .extend_from_slice(v);
         }
     }
     /// `[n]` for scalar keys, `[n, k]` for vector keys.
@@ -71,7 +77,10 @@ impl InfoColumns {
             let v = self.values[k].clone();
             let n = v.len() / len;
             let shape = if *len == 1 { vec![n] } else { vec![n, *len] };
-            out.push((format!("{prefix}.{k}"), Array::from_shape_vec(IxDyn(&shape), v)?));
+            out.push((
+                format!("{prefix}.{k}"),
+                Array::from_shape_vec(IxDyn(&shape), v)?,
+            ));
         }
         Ok(out)
     }
@@ -85,7 +94,12 @@ pub fn run(args: Args) -> Result<Outcome> {
         Actions::F32(a) => a.dim(),
     };
     if width != env.act_dim() {
-        bail!("{} has {width} columns but {} takes {} actions", args.actions.display(), env.spec().id, env.act_dim());
+        bail!(
+            "{} has {width} columns but {} takes {} actions",
+            args.actions.display(),
+            env.spec().id,
+            env.act_dim()
+        );
     }
     let obs_dim = env.obs_dim();
 
@@ -105,7 +119,9 @@ pub fn run(args: Args) -> Result<Outcome> {
     for t in 0..t_max {
         let s = match &actions {
             Actions::F64(a) => env.step(a.row(t).as_slice().context("actions must be in C order")?),
-            Actions::F32(a) => env.step_f32(a.row(t).as_slice().context("actions must be in C order")?),
+            Actions::F32(a) => {
+                env.step_f32(a.row(t).as_slice().context("actions must be in C order")?)
+            }
         }
         .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
         obs.extend_from_slice(s.obs);
@@ -127,7 +143,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
 
     let n = reward.len();
-    let file = File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    let file =
+        File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut npz = NpzWriter::new(file);
     npz.add_array("obs", &Array2::from_shape_vec((n + 1, obs_dim), obs)?)?;
     npz.add_array("reward", &Array1::from(reward))?;
@@ -143,7 +160,10 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     if args.auto_reset {
         let r = reset_at.len();
-        npz.add_array("reset_obs", &Array2::from_shape_vec((r, obs_dim), reset_obs)?)?;
+        npz.add_array(
+            "reset_obs",
+            &Array2::from_shape_vec((r, obs_dim), reset_obs)?,
+        )?;
         npz.add_array("reset_at", &Array1::from(reset_at))?;
     }
     npz.finish()?;
@@ -151,6 +171,10 @@ pub fn run(args: Args) -> Result<Outcome> {
     for w in warnings {
         eprintln!("MuJoCo warning: {w}");
     }
-    eprintln!("{}: {n} steps written to {}", env.spec().id, args.out.display());
+    eprintln!(
+        "{}: {n} steps written to {}",
+        env.spec().id,
+        args.out.display()
+    );
     Ok(Outcome::Ok)
 }

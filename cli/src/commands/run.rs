@@ -57,7 +57,11 @@ pub fn run(args: Args) -> Result<Outcome> {
     // The policy's own stream, separate from the env's (as Gymnasium's action_space.seed).
     let mut policy_rng = NumpyRng::from_seed(args.seed);
     let mut action = vec![0.0; env.act_dim()];
-    let bar = if args.format == Format::Text { ProgressBar::new(args.episodes) } else { ProgressBar::hidden() };
+    let bar = if args.format == Format::Text {
+        ProgressBar::new(args.episodes)
+    } else {
+        ProgressBar::hidden()
+    };
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} episodes ({elapsed})")
             .expect("static template")
@@ -105,7 +109,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             }))?
         ),
         Format::Text => {
-            println!("{}: {} episodes, {steps} steps ({terminations} terminated)", env.spec().id, args.episodes);
+            println!(
+                "{}: {} episodes, {steps} steps ({terminations} terminated)",
+                env.spec().id,
+                args.episodes
+            );
             println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
             println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
             println!("  {sps:.0} steps/s");

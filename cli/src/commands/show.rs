@@ -58,8 +58,15 @@ pub fn run(args: Args) -> Result<Outcome> {
         spec.frame_skip,
         env.dt()
     )?;
-    let max = spec.max_episode_steps.map(|n| n.to_string()).unwrap_or_else(|| "none".into());
-    writeln!(o, "episode: truncated after {max} steps; an unhealthy state ends it: {}", spec.terminate_when_unhealthy)?;
+    let max = spec
+        .max_episode_steps
+        .map(|n| n.to_string())
+        .unwrap_or_else(|| "none".into());
+    writeln!(
+        o,
+        "episode: truncated after {max} steps; an unhealthy state ends it: {}",
+        spec.terminate_when_unhealthy
+    )?;
     if let Some(t) = spec.reward_threshold {
         writeln!(o, "reward threshold: {t}")?;
     }
@@ -68,10 +75,19 @@ pub fn run(args: Args) -> Result<Outcome> {
     let w = spec.params.iter().map(|p| p.name.len()).max().unwrap_or(0);
     for p in &spec.params {
         let origin = match &p.origin {
-            Origin::Default(loc) => format!("default ({})", loc.position().replace(&format!("{}/", cwd.display()), "")),
+            Origin::Default(loc) => format!(
+                "default ({})",
+                loc.position().replace(&format!("{}/", cwd.display()), "")
+            ),
             Origin::Override(_) => format!("override (default {})", p.default),
         };
-        writeln!(o, "  {:<w$}  {:<6} {:<24} {origin}", p.name, p.ty.name(), p.value.to_string())?;
+        writeln!(
+            o,
+            "  {:<w$}  {:<6} {:<24} {origin}",
+            p.name,
+            p.ty.name(),
+            p.value.to_string()
+        )?;
     }
 
     writeln!(o, "\nobservation ({} float64):", spec.obs_dim)?;
@@ -80,26 +96,67 @@ pub fn run(args: Args) -> Result<Outcome> {
         if let Some((lo, hi)) = s.clip {
             how.push(format!("clipped to [{lo}, {hi}]"));
         }
-        let how = if how.is_empty() { String::new() } else { format!("  ({})", how.join(", ")) };
-        writeln!(o, "  [{}:{}]  {}  = {}{how}", s.offset, s.offset + s.len(), s.name, s.source.text)?;
+        let how = if how.is_empty() {
+            String::new()
+        } else {
+            format!("  ({})", how.join(", "))
+        };
+        writeln!(
+            o,
+            "  [{}:{}]  {}  = {}{how}",
+            s.offset,
+            s.offset + s.len(),
+            s.name,
+            s.source.text
+        )?;
         writeln!(o, "{}", wrap(&s.element_names(), 6, 100))?;
     }
 
-    writeln!(o, "\naction ({} float64; float32 bounds as Gymnasium's Box):", env.act_dim())?;
+    writeln!(
+        o,
+        "\naction ({} float64; float32 bounds as Gymnasium's Box):",
+        env.act_dim()
+    )?;
     let sp = env.action_space();
     for (i, a) in m.actuators.iter().enumerate() {
         let target = a.target.as_deref().unwrap_or("-");
-        let name = if a.name.is_empty() { "(unnamed)" } else { a.name.as_str() };
-        writeln!(o, "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]", sp.low[i], sp.high[i])?;
+        let name = if a.name.is_empty() {
+            "(unnamed)"
+        } else {
+            a.name.as_str()
+        };
+        writeln!(
+            o,
+            "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]",
+            sp.low[i], sp.high[i]
+        )?;
     }
 
     writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;
     for t in &spec.reward {
-        let info = t.info.as_ref().map(|k| format!("   info `{k}`")).unwrap_or_default();
-        writeln!(o, "  {:<12} {:<12} {}{info}", t.name, t.kind_name(), describe::term(t))?;
+        let info = t
+            .info
+            .as_ref()
+            .map(|k| format!("   info `{k}`"))
+            .unwrap_or_default();
+        writeln!(
+            o,
+            "  {:<12} {:<12} {}{info}",
+            t.name,
+            t.kind_name(),
+            describe::term(t)
+        )?;
     }
 
-    writeln!(o, "\nhealth ({}):", if spec.health.is_empty() { "always healthy" } else { "healthy when every check passes" })?;
+    writeln!(
+        o,
+        "\nhealth ({}):",
+        if spec.health.is_empty() {
+            "always healthy"
+        } else {
+            "healthy when every check passes"
+        }
+    )?;
     for c in &spec.health {
         writeln!(o, "  {:<14} {}", c.name, describe::check(c))?;
     }
@@ -112,7 +169,13 @@ pub fn run(args: Args) -> Result<Outcome> {
     writeln!(o, "\ninfo:")?;
     for i in &spec.info {
         let when = if i.at_reset { "reset+step" } else { "step" };
-        writeln!(o, "  {:<24} {:<10} {}", i.key, when, describe::info(&spec, i))?;
+        writeln!(
+            o,
+            "  {:<24} {:<10} {}",
+            i.key,
+            when,
+            describe::info(&spec, i)
+        )?;
     }
     print!("{o}");
     Ok(Outcome::Ok)

@@ -275,10 +275,11 @@ impl Space {
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
-            Space::Other(v) => format!(
-                "{}",
-                v.get("type").and_then(Value::as_str).unwrap_or("unknown")
-            ),
+            Space::Other(v) => v
+                .get("type")
+                .and_then(Value::as_str)
+                .unwrap_or("unknown")
+                .to_string(),
         }
     }
 }
