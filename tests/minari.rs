@@ -18,7 +18,7 @@ fn tmp_root(tag: &str) -> PathBuf {
 
 fn opts(root: &Path, id: &str, format: Format) -> CollectOptions {
     CollectOptions {
-        root: Some(root.clone()),
+        root: Some(root.to_path_buf()),
         dataset_id: id.into(),
         format,
         info: DatasetInfo {
