@@ -153,10 +153,12 @@ fn truncation_at_max_episode_steps() {
         let path = env.spec().spec_path.clone();
         // Same model as `env` (example specs get theirs by override).
         let xml = env.spec().model_path.display().to_string();
-        let overrides = [
-            envc::Override::text("max_episode_steps", "3"),
-            envc::Override::text("xml_file", &xml),
-        ];
+        let mut overrides = vec![envc::Override::text("max_episode_steps", "3")];
+        // A `fixed` xml_file (e.g. Gymnasium v4) is not overridable, and is at its default anyway.
+        let fixed = env.spec().params.iter().any(|p| p.name == "xml_file" && p.fixed);
+        if !fixed {
+            overrides.push(envc::Override::text("xml_file", &xml));
+        }
         let mut env3 = Env::from_spec_file(&path, &overrides).unwrap();
         env3.reset(Some(0));
         let a = vec![0.0; env3.act_dim()];
