@@ -15,6 +15,7 @@
 //! # Ok::<(), envspec::Diagnostics>(())
 //! ```
 
+pub mod agents;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;

@@ -231,7 +231,9 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         physics: None,
     };
 
-    for reserved in ["agents", "maze"] {
+    // `[agents]` (a multi-agent factorization) is read by envspec::agents; the single-agent env
+    // of such a spec ignores it.
+    for reserved in ["maze"] {
         if let Some(e) = get(reserved) {
             d.push(
                 Diagnostic::new(

@@ -415,6 +415,11 @@ impl Env {
     pub fn state(&self) -> (&[f64], &[f64]) {
         (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
     }
+    /// The current contents of a simulation field, flattened row-major (multi-agent
+    /// observations read it).
+    pub fn field(&self, field: Field) -> &[f64] {
+        self.sim.field(field)
+    }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
     /// PCG64); without one the stream continues (the first reset without any seed draws OS entropy).

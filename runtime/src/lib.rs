@@ -22,6 +22,7 @@ pub mod error;
 pub mod gymnasium;
 mod model_build;
 pub mod model_diff;
+pub mod multi_agent;
 mod mujoco_log;
 pub mod numerics;
 pub mod registry;

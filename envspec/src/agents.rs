@@ -1,0 +1,981 @@
+//! Multi-agent factorizations (`[agents]`): one robot split among cooperating agents, as in
+//! MaMuJoCo v1. Each agent drives a named set of nodes (one actuated joint each) and observes the
+//! nodes within `k` hops of its own in a joint graph, then a list of global nodes.
+//!
+//! A multi-agent spec is either a file whose `[agents]` table names a `base` single-agent spec
+//! (composition: a MaMuJoCo scenario is the Gymnasium spec plus a factorization), or a complete
+//! spec with an `[agents]` table of its own. The language is documented in
+//! `docs/spec-reference.md` ("Multi-agent factorizations").
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, suggest};
+use crate::ir::{Apply, ResolvedSpec, Segment};
+use crate::params::{Override, OverrideValue, ParamValue};
+use crate::selector::{self, Field, ParamIndex, Selection};
+use crate::syntax::Spec;
+use crate::value::{Entry, Val, ValKind, parse_document};
+
+/// Keys of `[agents]`.
+pub const AGENTS_KEYS: &[&str] = &[
+    "base",
+    "doc",
+    "agent_conf",
+    "agent_obsk",
+    "local_categories",
+    "global_categories",
+    "body_clip",
+    "edges",
+    "confs",
+    "nodes",
+    "globals",
+    "parity",
+];
+/// Keys of `[agents.nodes.<name>]` and `[agents.globals.<name>]`.
+pub const NODE_KEYS: &[&str] = &[
+    "label", "joint", "qpos", "qvel", "actuator", "bodies", "extra", "doc",
+];
+/// Keys of one extra-observation segment.
+pub const EXTRA_KEYS: &[&str] = &["source", "minus", "apply", "clip"];
+/// The categories with a built-in meaning (any other name is observed only through `extra`).
+pub const BUILTIN_CATEGORIES: &[&str] = &[
+    "qpos",
+    "qvel",
+    "qfrc_actuator",
+    "cinert",
+    "cvel",
+    "cfrc_ext",
+];
+/// The parameters of the multi-agent layer (every other override goes to the base spec).
+pub const AGENT_PARAMS: &[&str] = &["agent_conf", "agent_obsk"];
+
+/// A resolved multi-agent spec: the base env plus the chosen factorization at depth `k`.
+#[derive(Clone, Debug)]
+pub struct AgentsSpec {
+    /// The single-agent env every agent shares (its observation is the global state).
+    pub base: ResolvedSpec,
+    pub spec_path: PathBuf,
+    pub doc: String,
+    /// Names of every conf the spec declares, in order.
+    pub confs: Vec<String>,
+    pub conf: String,
+    pub k: usize,
+    pub agents: Vec<Agent>,
+    /// Parity notes written in the spec (`parity = "..."`).
+    pub parity: String,
+}
+
+impl AgentsSpec {
+    pub fn state_dim(&self) -> usize {
+        self.base.obs_dim
+    }
+    pub fn act_dim(&self) -> usize {
+        self.base.act_dim()
+    }
+    /// Whether any agent observes contact forces (`mj_rnePostConstraint` must run).
+    pub fn reads_contact_forces(&self) -> bool {
+        self.agents.iter().any(|a| {
+            a.observation
+                .iter()
+                .any(|s| s.source.field.needs_rne_post_constraint())
+        })
+    }
+}
+
+/// One agent.
+#[derive(Clone, Debug)]
+pub struct Agent {
+    /// `agent_0`, `agent_1`, ... in conf order.
+    pub name: String,
+    /// Node names in conf order (the local action order).
+    pub nodes: Vec<String>,
+    /// Global action index of each local action.
+    pub actions: Vec<usize>,
+    /// Actuator name of each local action.
+    pub actuators: Vec<String>,
+    /// Node labels per depth 0..=k (label-sorted).
+    pub levels: Vec<Vec<String>>,
+    /// Observation segments in order, with offsets.
+    pub observation: Vec<Segment>,
+    pub obs_dim: usize,
+}
+
+impl Agent {
+    pub fn obs_names(&self) -> Vec<String> {
+        self.observation
+            .iter()
+            .flat_map(|s| s.element_names())
+            .collect()
+    }
+}
+
+/// One observation piece: source, minus, apply, clip.
+type Item = (
+    Selection,
+    Option<Selection>,
+    Option<Apply>,
+    Option<(f64, f64)>,
+);
+
+#[derive(Clone, Debug)]
+struct Extra {
+    source: Selection,
+    minus: Option<Selection>,
+    apply: Option<Apply>,
+    clip: Option<(f64, f64)>,
+}
+
+#[derive(Clone, Debug)]
+struct Node {
+    name: String,
+    label: String,
+    qpos: Option<Selection>,
+    qvel: Option<Selection>,
+    actuator: Option<usize>,
+    bodies: Vec<usize>,
+    /// (category, segments); an empty list suppresses the category.
+    extra: Vec<(String, Vec<Extra>)>,
+}
+
+/// Does this spec file declare a factorization?
+pub fn is_multi_agent(path: &Path) -> bool {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return false;
+    };
+    let file = SourceFile::new(path, text);
+    parse_document(&file)
+        .ok()
+        .and_then(|root| root.as_table().map(|t| t.iter().any(|e| e.key == "agents")))
+        .unwrap_or(false)
+}
+
+fn err(code: Code, loc: &Location, msg: impl Into<String>, label: impl Into<String>) -> Diagnostic {
+    Diagnostic::new(code, msg).at(loc.clone()).label(label)
+}
+
+fn str_list(v: &Val, what: &str, d: &mut Diagnostics) -> Vec<(String, Location)> {
+    match &v.kind {
+        ValKind::Array(a) => a
+            .iter()
+            .filter_map(|x| match x.as_str() {
+                Some(s) => Some((s.to_string(), x.loc.clone())),
+                None => {
+                    d.push(x.type_error(what, "a string"));
+                    None
+                }
+            })
+            .collect(),
+        _ => {
+            d.push(v.type_error(what, "an array of strings"));
+            vec![]
+        }
+    }
+}
+
+fn range(v: &Val, what: &str, d: &mut Diagnostics) -> Option<(f64, f64)> {
+    if let ValKind::Array(a) = &v.kind
+        && a.len() == 2
+        && let (Some(lo), Some(hi)) = (a[0].as_f64(), a[1].as_f64())
+    {
+        return Some((lo, hi));
+    }
+    d.push(v.type_error(what, "[low, high]"));
+    None
+}
+
+/// Load a multi-agent spec with overrides (`agent_conf`, `agent_obsk`, and any base parameter).
+pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnostics> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Diagnostics::from(
+            Diagnostic::new(
+                Code::E0600,
+                format!("cannot read spec {}: {e}", path.display()),
+            )
+            .label("expected a readable TOML spec file"),
+        )
+    })?;
+    let file = SourceFile::new(path, text.clone());
+    let root = parse_document(&file)?;
+    let top = root.as_table().unwrap_or(&[]);
+    let whole = Location::new(&file, 0..0);
+    let Some(agents_entry) = top.iter().find(|e| e.key == "agents") else {
+        return Err(Diagnostic::new(Code::E0103, "missing `[agents]` table")
+            .at(whole)
+            .label("expected an [agents] table: this is not a multi-agent spec")
+            .into());
+    };
+    let Some(table) = agents_entry.value.as_table() else {
+        return Err(agents_entry.value.type_error("[agents]", "a table").into());
+    };
+    let get = |k: &str| table.iter().find(|e| e.key == k).map(|e| &e.value);
+    let mut d = Diagnostics::default();
+    for e in table {
+        if !AGENTS_KEYS.contains(&e.key.as_str()) {
+            d.push(
+                err(
+                    Code::E0101,
+                    &e.key_loc,
+                    format!("unknown key `{}` in [agents]", e.key),
+                    format!("expected one of: {}", AGENTS_KEYS.join(", ")),
+                )
+                .help_opt(suggest(&e.key, AGENTS_KEYS.iter().copied())),
+            );
+        }
+    }
+
+    // Split the overrides between this layer and the base spec.
+    let mut conf_override = None;
+    let mut k_override = None;
+    let mut base_overrides = vec![];
+    for o in overrides {
+        match o.name.as_str() {
+            "agent_conf" => {
+                conf_override = Some(match &o.value {
+                    OverrideValue::Text(t) => t.trim().trim_matches('"').to_string(),
+                    OverrideValue::Value(ParamValue::Str(s)) => s.clone(),
+                    OverrideValue::Value(v) => format!("{v:?}"),
+                })
+            }
+            "agent_obsk" => {
+                let k = match &o.value {
+                    OverrideValue::Text(t) => t.trim().parse::<i64>().ok(),
+                    OverrideValue::Value(ParamValue::Int(i)) => Some(*i),
+                    _ => None,
+                };
+                match k {
+                    Some(k) if (0..=64).contains(&k) => k_override = Some(k as usize),
+                    _ => d.push(
+                        Diagnostic::new(Code::E0203, "`agent_obsk` must be an integer in 0..=64")
+                            .label("expected e.g. agent_obsk=1"),
+                    ),
+                }
+            }
+            _ => base_overrides.push(o.clone()),
+        }
+    }
+
+    // The base spec: `base = "path"`, or this file itself.
+    let base = match get("base") {
+        Some(v) => match v.as_str() {
+            Some(s) => {
+                let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                crate::resolve::load(&p, &base_overrides).map_err(|mut e| {
+                    e.push(
+                        err(
+                            Code::E0301,
+                            &v.loc,
+                            "the base spec has errors",
+                            "listed above",
+                        )
+                        .help(format!("base resolved to {}", p.display())),
+                    );
+                    e
+                })?
+            }
+            None => return Err(v.type_error("agents.base", "a path").into()),
+        },
+        None => {
+            let spec = Spec::parse(path, text)?;
+            crate::resolve::resolve(&spec, &base_overrides)?
+        }
+    };
+    let model = &base.model;
+    let no_param = |n: &str| -> Result<ParamIndex, Diagnostic> {
+        Err(Diagnostic::new(
+            Code::E0201,
+            format!("`${n}`: parameters are not available in [agents]"),
+        ))
+    };
+    let sel = |v: &Val, d: &mut Diagnostics| -> Option<Selection> {
+        let Some(s) = v.as_str() else {
+            d.push(v.type_error("selector", "a selector string"));
+            return None;
+        };
+        match selector::resolve(s, &v.loc, model, &no_param) {
+            Ok(x) => Some(x),
+            Err(e) => {
+                d.push(e);
+                None
+            }
+        }
+    };
+
+    let body_clip = get("body_clip").and_then(|v| range(v, "agents.body_clip", &mut d));
+    let doc = get("doc").and_then(Val::as_str).unwrap_or("").to_string();
+    let parity = get("parity")
+        .and_then(Val::as_str)
+        .unwrap_or("")
+        .to_string();
+
+    // Nodes and globals.
+    let read_nodes = |key: &str, is_global: bool, d: &mut Diagnostics| -> Vec<Node> {
+        let Some(v) = get(key) else { return vec![] };
+        let Some(t) = v.as_table() else {
+            d.push(v.type_error(&format!("agents.{key}"), "a table of nodes"));
+            return vec![];
+        };
+        t.iter()
+            .filter_map(|e| read_node(e, is_global, model, &sel, d))
+            .collect()
+    };
+    let nodes = read_nodes("nodes", false, &mut d);
+    let globals = read_nodes("globals", true, &mut d);
+    let node_ix = |n: &str| nodes.iter().position(|x| x.name == n);
+    let unknown_node = |n: &str, loc: &Location| {
+        err(
+            Code::E0303,
+            loc,
+            format!("unknown node `{n}`"),
+            "expected a name from [agents.nodes]",
+        )
+        .help_opt(suggest(n, nodes.iter().map(|x| x.name.as_str())))
+    };
+
+    // Hyperedges.
+    let mut edges: Vec<Vec<usize>> = vec![];
+    if let Some(v) = get("edges") {
+        match &v.kind {
+            ValKind::Array(a) => {
+                for e in a {
+                    let mut edge = vec![];
+                    for (n, loc) in str_list(e, "agents.edges[]", &mut d) {
+                        match node_ix(&n) {
+                            Some(i) => edge.push(i),
+                            None => d.push(unknown_node(&n, &loc)),
+                        }
+                    }
+                    edges.push(edge);
+                }
+            }
+            _ => d.push(v.type_error("agents.edges", "an array of arrays of node names")),
+        }
+    }
+
+    // Categories.
+    let local_categories: Vec<Vec<String>> = match get("local_categories") {
+        None => vec![vec!["qpos".into(), "qvel".into()], vec!["qpos".into()]],
+        Some(v) => match &v.kind {
+            ValKind::Array(a) if !a.is_empty() => a
+                .iter()
+                .map(|x| {
+                    str_list(x, "agents.local_categories[]", &mut d)
+                        .into_iter()
+                        .map(|s| s.0)
+                        .collect()
+                })
+                .collect(),
+            _ => {
+                d.push(v.type_error("agents.local_categories", "a non-empty array of arrays"));
+                vec![vec![]]
+            }
+        },
+    };
+    let global_categories: Vec<String> = match get("global_categories") {
+        None => vec!["qpos".into(), "qvel".into()],
+        Some(v) => str_list(v, "agents.global_categories", &mut d)
+            .into_iter()
+            .map(|s| s.0)
+            .collect(),
+    };
+
+    // Confs.
+    let mut confs: Vec<(String, Location, Vec<Vec<usize>>)> = vec![];
+    match get("confs") {
+        None => d.push(err(
+            Code::E0103,
+            &agents_entry.key_loc,
+            "missing `confs` in [agents]",
+            "expected e.g. confs = { \"2x1\" = [[\"a\"], [\"b\"]] }",
+        )),
+        Some(v) => match v.as_table() {
+            None => d.push(v.type_error("agents.confs", "a table of partitions")),
+            Some(t) => {
+                for c in t {
+                    let mut parts = vec![];
+                    match &c.value.kind {
+                        ValKind::Array(a) if !a.is_empty() => {
+                            for p in a {
+                                let mut part = vec![];
+                                for (n, loc) in str_list(p, "a conf's agent", &mut d) {
+                                    match node_ix(&n) {
+                                        Some(i) => part.push(i),
+                                        None => d.push(unknown_node(&n, &loc)),
+                                    }
+                                }
+                                parts.push(part);
+                            }
+                        }
+                        _ => d.push(
+                            c.value
+                                .type_error("a conf", "a non-empty array of arrays of node names"),
+                        ),
+                    }
+                    // Every actuator exactly once.
+                    let mut count = vec![0usize; model.nu()];
+                    for &i in parts.iter().flatten() {
+                        match nodes[i].actuator {
+                            Some(a) => count[a] += 1,
+                            None => d.push(err(
+                                Code::E0104,
+                                &c.key_loc,
+                                format!(
+                                    "node `{}` in conf `{}` drives no actuator",
+                                    nodes[i].name, c.key
+                                ),
+                                "every node of a conf must name an actuator",
+                            )),
+                        }
+                    }
+                    for (a, &n) in count.iter().enumerate() {
+                        if n != 1 {
+                            d.push(err(
+                                Code::E0104,
+                                &c.key_loc,
+                                format!(
+                                    "conf `{}` drives actuator `{}` {n} times",
+                                    c.key, model.actuators[a].name
+                                ),
+                                "every actuator must belong to exactly one agent",
+                            ));
+                        }
+                    }
+                    confs.push((c.key.clone(), c.key_loc.clone(), parts));
+                }
+            }
+        },
+    }
+
+    let conf_name = match (&conf_override, get("agent_conf")) {
+        (Some(c), _) => c.clone(),
+        (None, Some(v)) => v.as_str().unwrap_or("").to_string(),
+        (None, None) => confs.first().map(|c| c.0.clone()).unwrap_or_default(),
+    };
+    let k = match (k_override, get("agent_obsk")) {
+        (Some(k), _) => k,
+        (None, Some(v)) => match &v.kind {
+            ValKind::Int(i) if (0..=64).contains(i) => *i as usize,
+            _ => {
+                d.push(v.type_error("agents.agent_obsk", "an integer in 0..=64"));
+                1
+            }
+        },
+        (None, None) => 1,
+    };
+    let chosen = confs.iter().find(|c| c.0 == conf_name);
+    if chosen.is_none() && !confs.is_empty() {
+        let names: Vec<&str> = confs.iter().map(|c| c.0.as_str()).collect();
+        d.push(
+            Diagnostic::new(Code::E0203, format!("unknown agent_conf `{conf_name}`"))
+                .at_opt(get("agent_conf").map(|v| v.loc.clone()))
+                .label(format!("expected one of: {}", names.join(", ")))
+                .help_opt(suggest(&conf_name, names.iter().copied())),
+        );
+    }
+    if !d.is_empty() {
+        return Err(d);
+    }
+    let parts = &chosen.expect("checked").2;
+
+    let agents = parts
+        .iter()
+        .enumerate()
+        .map(|(i, part)| {
+            build_agent(
+                format!("agent_{i}"),
+                part,
+                &nodes,
+                &edges,
+                &globals,
+                &local_categories,
+                &global_categories,
+                body_clip,
+                k,
+                model,
+            )
+        })
+        .collect();
+    Ok(AgentsSpec {
+        base,
+        spec_path: path.to_path_buf(),
+        doc,
+        confs: confs.iter().map(|c| c.0.clone()).collect(),
+        conf: conf_name,
+        k,
+        agents,
+        parity,
+    })
+}
+
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::ParentDir if out.file_name().is_some() => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn read_node(
+    e: &Entry,
+    is_global: bool,
+    model: &crate::mjcf::ModelInfo,
+    sel: &dyn Fn(&Val, &mut Diagnostics) -> Option<Selection>,
+    d: &mut Diagnostics,
+) -> Option<Node> {
+    let what = if is_global {
+        "agents.globals"
+    } else {
+        "agents.nodes"
+    };
+    let Some(t) = e.value.as_table() else {
+        d.push(e.value.type_error(&format!("{what}.{}", e.key), "a table"));
+        return None;
+    };
+    let get = |k: &str| t.iter().find(|x| x.key == k).map(|x| &x.value);
+    for x in t {
+        if !NODE_KEYS.contains(&x.key.as_str()) || (is_global && x.key == "actuator") {
+            d.push(
+                err(
+                    Code::E0101,
+                    &x.key_loc,
+                    format!("unknown key `{}` in [{what}.{}]", x.key, e.key),
+                    format!("expected one of: {}", NODE_KEYS.join(", ")),
+                )
+                .help_opt(suggest(&x.key, NODE_KEYS.iter().copied())),
+            );
+        }
+    }
+    let label = get("label")
+        .and_then(Val::as_str)
+        .unwrap_or(&e.key)
+        .to_string();
+    let joint = get("joint").and_then(|v| match v.as_str() {
+        Some(j) if model.joint(j).is_some() => Some(j.to_string()),
+        Some(j) => {
+            d.push(
+                err(
+                    Code::E0303,
+                    &v.loc,
+                    format!("the model has no joint `{j}`"),
+                    "expected a joint name",
+                )
+                .help_opt(suggest(j, model.joints.iter().map(|x| x.name.as_str()))),
+            );
+            None
+        }
+        None => {
+            d.push(v.type_error("joint", "a joint name"));
+            None
+        }
+    });
+    let joint_sel = |field: &str| -> Option<Selection> {
+        let j = joint.as_ref()?;
+        let v = get("joint")?;
+        let text = Val {
+            kind: ValKind::Str(format!("{field}[{j}]")),
+            loc: v.loc.clone(),
+        };
+        sel(&text, &mut Diagnostics::default())
+    };
+    let qpos = match get("qpos") {
+        Some(v) => sel(v, d),
+        None => joint_sel("qpos"),
+    };
+    let qvel = match get("qvel") {
+        Some(v) => sel(v, d),
+        None => joint_sel("qvel"),
+    };
+    let actuator = if is_global {
+        None
+    } else {
+        match get("actuator") {
+            Some(v) => match (&v.kind, v.as_str()) {
+                (ValKind::Int(i), _) if (*i as usize) < model.nu() && *i >= 0 => Some(*i as usize),
+                (_, Some(a)) => match model.actuators.iter().position(|x| x.name == a) {
+                    Some(i) => Some(i),
+                    None => {
+                        d.push(
+                            err(
+                                Code::E0303,
+                                &v.loc,
+                                format!("the model has no actuator `{a}`"),
+                                "expected an actuator name",
+                            )
+                            .help_opt(suggest(a, model.actuators.iter().map(|x| x.name.as_str()))),
+                        );
+                        None
+                    }
+                },
+                _ => {
+                    d.push(v.type_error("actuator", "an actuator name or index"));
+                    None
+                }
+            },
+            None => {
+                let found = joint.as_ref().and_then(|j| {
+                    model
+                        .actuators
+                        .iter()
+                        .position(|a| a.target.as_deref() == Some(j.as_str()))
+                });
+                if found.is_none() {
+                    d.push(err(
+                        Code::E0103,
+                        &e.key_loc,
+                        format!("node `{}`: cannot derive its actuator", e.key),
+                        "no actuator drives its joint: add `actuator = \"name\"`",
+                    ));
+                }
+                found
+            }
+        }
+    };
+    let mut bodies = vec![];
+    match get("bodies").map(|v| (v, &v.kind)) {
+        None => {}
+        Some((_, ValKind::Array(a))) => {
+            for b in a {
+                match (&b.kind, b.as_str()) {
+                    (ValKind::Int(i), _) if *i >= 0 && (*i as usize) < model.nbody() => {
+                        bodies.push(*i as usize)
+                    }
+                    (_, Some(name)) => match model.body_id(name) {
+                        Some(i) => bodies.push(i),
+                        None => d.push(
+                            err(
+                                Code::E0303,
+                                &b.loc,
+                                format!("the model has no body `{name}`"),
+                                "expected a body name",
+                            )
+                            .help_opt(suggest(name, model.bodies.iter().map(String::as_str))),
+                        ),
+                    },
+                    _ => d.push(err(
+                        Code::E0304,
+                        &b.loc,
+                        "not a body of the model",
+                        format!("expected a body name or an id below {}", model.nbody()),
+                    )),
+                }
+            }
+        }
+        Some((v, _)) => d.push(v.type_error("bodies", "an array of body names or ids")),
+    }
+    let mut extra = vec![];
+    if let Some(v) = get("extra") {
+        match v.as_table() {
+            None => d.push(v.type_error("extra", "a table: category = segments")),
+            Some(t) => {
+                for c in t {
+                    let items: Vec<&Val> = match &c.value.kind {
+                        ValKind::Array(a) => a.iter().collect(),
+                        _ => vec![&c.value],
+                    };
+                    let segs = items
+                        .into_iter()
+                        .filter_map(|it| read_extra(it, sel, d))
+                        .collect();
+                    extra.push((c.key.clone(), segs));
+                }
+            }
+        }
+    }
+    Some(Node {
+        name: e.key.clone(),
+        label,
+        qpos,
+        qvel,
+        actuator,
+        bodies,
+        extra,
+    })
+}
+
+fn read_extra(
+    v: &Val,
+    sel: &dyn Fn(&Val, &mut Diagnostics) -> Option<Selection>,
+    d: &mut Diagnostics,
+) -> Option<Extra> {
+    if v.as_str().is_some() {
+        return Some(Extra {
+            source: sel(v, d)?,
+            minus: None,
+            apply: None,
+            clip: None,
+        });
+    }
+    let Some(t) = v.as_table() else {
+        d.push(v.type_error(
+            "an extra segment",
+            "a selector or { source, minus, apply, clip }",
+        ));
+        return None;
+    };
+    let get = |k: &str| t.iter().find(|x| x.key == k).map(|x| &x.value);
+    for x in t {
+        if !EXTRA_KEYS.contains(&x.key.as_str()) {
+            d.push(
+                err(
+                    Code::E0101,
+                    &x.key_loc,
+                    format!("unknown key `{}` in an extra segment", x.key),
+                    format!("expected one of: {}", EXTRA_KEYS.join(", ")),
+                )
+                .help_opt(suggest(&x.key, EXTRA_KEYS.iter().copied())),
+            );
+        }
+    }
+    let Some(src) = get("source") else {
+        d.push(err(
+            Code::E0103,
+            &v.loc,
+            "missing `source` in an extra segment",
+            "expected source = \"selector\"",
+        ));
+        return None;
+    };
+    let source = sel(src, d)?;
+    let minus = match get("minus") {
+        Some(m) => {
+            let m = sel(m, d)?;
+            if m.len() != source.len() {
+                d.push(err(
+                    Code::E0403,
+                    &v.loc,
+                    format!(
+                        "`minus` has {} elements, `source` {}",
+                        m.len(),
+                        source.len()
+                    ),
+                    "expected equal lengths",
+                ));
+                return None;
+            }
+            Some(m)
+        }
+        None => None,
+    };
+    let apply = match get("apply") {
+        None => None,
+        Some(a) => match a.as_str() {
+            Some("sin") => Some(Apply::Sin),
+            Some("cos") => Some(Apply::Cos),
+            _ => {
+                d.push(err(
+                    Code::E0104,
+                    &a.loc,
+                    "unknown function in `apply`",
+                    "expected \"sin\" or \"cos\"",
+                ));
+                None
+            }
+        },
+    };
+    let clip = get("clip").and_then(|c| range(c, "clip", d));
+    Some(Extra {
+        source,
+        minus,
+        apply,
+        clip,
+    })
+}
+
+/// `get_joints_at_kdist`: node indices per depth, each level sorted by label (stable: ties keep
+/// declaration order).
+fn k_levels(part: &[usize], nodes: &[Node], edges: &[Vec<usize>], k: usize) -> Vec<Vec<usize>> {
+    let sort = |mut v: Vec<usize>| {
+        v.sort_by(|&a, &b| nodes[a].label.cmp(&nodes[b].label).then(a.cmp(&b)));
+        v
+    };
+    let mut explored: Vec<usize> = part.to_vec();
+    let mut frontier: Vec<usize> = part.to_vec();
+    let mut levels = vec![sort(part.to_vec())];
+    for _ in 0..k {
+        let mut new = vec![];
+        for &x in &frontier {
+            for e in edges.iter().filter(|e| e.contains(&x)) {
+                for &y in e {
+                    if y != x && !explored.contains(&y) && !new.contains(&y) {
+                        new.push(y);
+                    }
+                }
+            }
+        }
+        explored.extend(&new);
+        frontier = new.clone();
+        levels.push(sort(new));
+    }
+    levels
+}
+
+fn with_field(s: &Selection, field: Field) -> Selection {
+    let old = s.field.name();
+    Selection {
+        field,
+        indices: s.indices.clone(),
+        names: s
+            .names
+            .iter()
+            .map(|n| n.replacen(old, field.name(), 1))
+            .collect(),
+        text: s.text.replacen(old, field.name(), 1),
+    }
+}
+
+/// The segments one node contributes for one category (`emitted` de-duplicates bodies).
+fn node_category(
+    node: &Node,
+    cat: &str,
+    body_clip: Option<(f64, f64)>,
+    emitted: &mut Vec<(String, usize)>,
+    model: &crate::mjcf::ModelInfo,
+) -> Vec<Item> {
+    if let Some((_, segs)) = node.extra.iter().find(|(c, _)| c == cat) {
+        return segs
+            .iter()
+            .map(|x| (x.source.clone(), x.minus.clone(), x.apply, x.clip))
+            .collect();
+    }
+    match cat {
+        "qpos" => node
+            .qpos
+            .iter()
+            .map(|s| (s.clone(), None, None, None))
+            .collect(),
+        "qvel" => node
+            .qvel
+            .iter()
+            .map(|s| (s.clone(), None, None, None))
+            .collect(),
+        "qfrc_actuator" => node
+            .qvel
+            .iter()
+            .map(|s| (with_field(s, Field::QfrcActuator), None, None, None))
+            .collect(),
+        "cinert" | "cvel" | "cfrc_ext" => {
+            let (field, cols) = match cat {
+                "cinert" => (Field::Cinert, 10),
+                "cvel" => (Field::Cvel, 6),
+                _ => (Field::CfrcExt, 6),
+            };
+            let mut out = vec![];
+            for &b in &node.bodies {
+                if emitted.iter().any(|(c, x)| c == cat && *x == b) {
+                    continue;
+                }
+                emitted.push((cat.to_string(), b));
+                let bname = if model.bodies[b].is_empty() {
+                    format!("{b}")
+                } else {
+                    model.bodies[b].clone()
+                };
+                out.push((
+                    Selection {
+                        field,
+                        indices: (b * cols..b * cols + cols).collect(),
+                        names: (0..cols).map(|c| format!("{cat}[{bname}][{c}]")).collect(),
+                        text: format!("{cat}[{bname}]"),
+                    },
+                    None,
+                    None,
+                    body_clip,
+                ));
+            }
+            out
+        }
+        _ => vec![],
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn build_agent(
+    name: String,
+    part: &[usize],
+    nodes: &[Node],
+    edges: &[Vec<usize>],
+    globals: &[Node],
+    local_categories: &[Vec<String>],
+    global_categories: &[String],
+    body_clip: Option<(f64, f64)>,
+    k: usize,
+    model: &crate::mjcf::ModelInfo,
+) -> Agent {
+    let levels = k_levels(part, nodes, edges, k);
+    let mut segs: Vec<Segment> = vec![];
+    let mut offset = 0;
+    let mut push = |seg_name: String, items: Vec<Item>, segs: &mut Vec<Segment>| {
+        for (i, (source, minus, apply, clip)) in items.into_iter().enumerate() {
+            if source.is_empty() {
+                continue;
+            }
+            let len = source.len();
+            segs.push(Segment {
+                name: if i == 0 {
+                    seg_name.clone()
+                } else {
+                    format!("{seg_name}#{i}")
+                },
+                doc: String::new(),
+                source,
+                minus,
+                apply,
+                clip,
+                offset,
+            });
+            offset += len;
+        }
+    };
+    let mut emitted = vec![];
+    for (depth, level) in levels.iter().enumerate() {
+        let cats = &local_categories[depth.min(local_categories.len() - 1)];
+        for &n in level {
+            let node = &nodes[n];
+            for cat in cats {
+                let items = node_category(node, cat, body_clip, &mut emitted, model);
+                push(format!("k{depth}.{}.{cat}", node.name), items, &mut segs);
+            }
+        }
+    }
+    let mut emitted = vec![];
+    for cat in global_categories {
+        for node in globals {
+            let items = node_category(node, cat, body_clip, &mut emitted, model);
+            push(format!("global.{}.{cat}", node.name), items, &mut segs);
+        }
+    }
+    let obs_dim = segs.iter().map(Segment::len).sum();
+    Agent {
+        name,
+        nodes: part.iter().map(|&i| nodes[i].name.clone()).collect(),
+        actions: part
+            .iter()
+            .map(|&i| nodes[i].actuator.expect("checked"))
+            .collect(),
+        actuators: part
+            .iter()
+            .map(|&i| {
+                let a = &model.actuators[nodes[i].actuator.expect("checked")];
+                match (&a.name, &a.target) {
+                    (n, Some(t)) if n.is_empty() => format!("({t})"),
+                    (n, _) => n.clone(),
+                }
+            })
+            .collect(),
+        levels: levels
+            .iter()
+            .map(|l| l.iter().map(|&i| nodes[i].label.clone()).collect())
+            .collect(),
+        observation: segs,
+        obs_dim,
+    }
+}
+
+/// A multi-agent spec shared between threads.
+pub type SharedAgentsSpec = Arc<AgentsSpec>;

@@ -1,0 +1,271 @@
+//! Multi-agent envs (MaMuJoCo v1 semantics, PettingZoo's parallel API): one single-agent env whose
+//! actuators are split among agents by a factorization (`[agents]`, see `envspec::agents`).
+//!
+//! ```no_run
+//! use envc::multi_agent::MultiAgentEnv;
+//! use envc::Override;
+//! let mut env = MultiAgentEnv::from_spec_file(
+//!     "specs/mamujoco/ant.toml",
+//!     &[Override::text("agent_conf", "2x4"), Override::text("agent_obsk", "1")],
+//! )?;
+//! let (obs, _info) = env.reset(Some(0));
+//! assert_eq!(obs[0].len(), 63);
+//! let step = env.step(&[&[0.0; 4], &[0.0; 4]])?;
+//! println!("{} {}", step.reward, step.truncated);
+//! # Ok::<(), envc::EnvError>(())
+//! ```
+
+use std::path::Path;
+use std::sync::Arc;
+
+use envspec::agents::AgentsSpec;
+use envspec::ir::Apply;
+use envspec::{Override, ResolvedSpec};
+
+use crate::env::{BoxSpace, Env, Info};
+use crate::error::EnvError;
+use crate::numerics::clip;
+
+/// The result of one multi-agent step. Reward, terminated, truncated and info are shared by every
+/// agent (MaMuJoCo gives each agent the same values).
+pub struct MultiStep<'a> {
+    /// One observation per possible agent, in agent order.
+    pub obs: &'a [Vec<f64>],
+    pub reward: f64,
+    pub terminated: bool,
+    pub truncated: bool,
+    pub info: Info<'a>,
+}
+
+/// A multi-agent env over one simulation.
+pub struct MultiAgentEnv {
+    spec: Arc<AgentsSpec>,
+    env: Env,
+    obs: Vec<Vec<f64>>,
+    action: Vec<f64>,
+    live: bool,
+    /// Reward, terminated, truncated of the last step.
+    last: (f64, bool, bool),
+    observation_spaces: Vec<BoxSpace>,
+    action_spaces: Vec<BoxSpace>,
+}
+
+impl MultiAgentEnv {
+    /// Load a multi-agent spec (`agent_conf`, `agent_obsk` and any base parameter can be overridden).
+    pub fn from_spec_file(
+        path: impl AsRef<Path>,
+        overrides: &[Override],
+    ) -> Result<MultiAgentEnv, EnvError> {
+        let spec = envspec::agents::load(path.as_ref(), overrides)?;
+        MultiAgentEnv::new(Arc::new(spec))
+    }
+
+    pub fn new(spec: Arc<AgentsSpec>) -> Result<MultiAgentEnv, EnvError> {
+        let mut base: ResolvedSpec = spec.base.clone();
+        // Gymnasium runs mj_rnePostConstraint after every step; envc only when something reads
+        // the contact forces, which the agents may do even when the single-agent obs does not.
+        base.needs_rne_post_constraint |= spec.reads_contact_forces();
+        let env = Env::new(Arc::new(base))?;
+        let space = env.action_space();
+        let (lo, hi) = (space.low[0], space.high[0]);
+        let action_spaces = spec
+            .agents
+            .iter()
+            .map(|a| BoxSpace {
+                low: vec![lo; a.actions.len()],
+                high: vec![hi; a.actions.len()],
+            })
+            .collect();
+        let observation_spaces = spec
+            .agents
+            .iter()
+            .map(|a| BoxSpace {
+                low: vec![f64::NEG_INFINITY; a.obs_dim],
+                high: vec![f64::INFINITY; a.obs_dim],
+            })
+            .collect();
+        let obs = spec.agents.iter().map(|a| vec![0.0; a.obs_dim]).collect();
+        let action = vec![0.0; spec.act_dim()];
+        let mut me = MultiAgentEnv {
+            spec,
+            env,
+            obs,
+            action,
+            live: false,
+            last: (0.0, false, false),
+            observation_spaces,
+            action_spaces,
+        };
+        me.write_obs();
+        Ok(me)
+    }
+
+    pub fn spec(&self) -> &Arc<AgentsSpec> {
+        &self.spec
+    }
+    /// The single-agent env underneath.
+    pub fn env(&self) -> &Env {
+        &self.env
+    }
+    /// Every agent's name (`agent_0`, ...), in order.
+    pub fn possible_agents(&self) -> Vec<&str> {
+        self.spec.agents.iter().map(|a| a.name.as_str()).collect()
+    }
+    /// The agents still acting: all after `reset`, none once the episode has ended.
+    pub fn agents(&self) -> Vec<&str> {
+        if self.live {
+            self.possible_agents()
+        } else {
+            vec![]
+        }
+    }
+    pub fn num_agents(&self) -> usize {
+        self.spec.agents.len()
+    }
+    pub fn observation_space(&self, agent: usize) -> &BoxSpace {
+        &self.observation_spaces[agent]
+    }
+    /// MaMuJoCo's bounds: every entry takes the single-agent action space's element 0 bounds.
+    pub fn action_space(&self, agent: usize) -> &BoxSpace {
+        &self.action_spaces[agent]
+    }
+    /// The global state: the single-agent observation.
+    pub fn state(&self) -> &[f64] {
+        self.env.obs()
+    }
+    /// The current local observations.
+    pub fn observations(&self) -> &[Vec<f64>] {
+        &self.obs
+    }
+
+    pub fn reset(&mut self, seed: Option<u64>) -> (&[Vec<f64>], Info<'_>) {
+        self.env.reset(seed);
+        self.write_obs();
+        self.live = true;
+        (&self.obs, self.env.reset_info())
+    }
+
+    /// Step with one action per agent, in agent order.
+    pub fn step(&mut self, actions: &[&[f64]]) -> Result<MultiStep<'_>, EnvError> {
+        if actions.len() != self.spec.agents.len() {
+            return Err(EnvError::ActionLength {
+                env: format!("{} (number of agents)", self.spec.base.id),
+                expected: self.spec.agents.len(),
+                got: actions.len(),
+            });
+        }
+        for (a, act) in self.spec.agents.iter().zip(actions) {
+            if act.len() != a.actions.len() {
+                return Err(EnvError::ActionLength {
+                    env: format!("{} agent {}", self.spec.base.id, a.name),
+                    expected: a.actions.len(),
+                    got: act.len(),
+                });
+            }
+            for (&g, &x) in a.actions.iter().zip(act.iter()) {
+                self.action[g] = x;
+            }
+        }
+        let action = std::mem::take(&mut self.action);
+        let r = self.step_global_inner(&action);
+        self.action = action;
+        r?;
+        Ok(self.last_step())
+    }
+
+    /// Step with the global action (the single-agent action vector).
+    pub fn step_global(&mut self, action: &[f64]) -> Result<MultiStep<'_>, EnvError> {
+        self.step_global_inner(action)?;
+        Ok(self.last_step())
+    }
+
+    fn step_global_inner(&mut self, action: &[f64]) -> Result<(), EnvError> {
+        let s = self.env.step(action)?;
+        let (reward, term, trunc) = (s.reward, s.terminated, s.truncated);
+        self.last = (reward, term, trunc);
+        self.write_obs();
+        if term || trunc {
+            self.live = false;
+        }
+        Ok(())
+    }
+
+    fn last_step(&self) -> MultiStep<'_> {
+        MultiStep {
+            obs: &self.obs,
+            reward: self.last.0,
+            terminated: self.last.1,
+            truncated: self.last.2,
+            info: self.env.step_info(),
+        }
+    }
+
+    /// `map_local_actions_to_global_action`.
+    pub fn local_actions_to_global(&self, actions: &[&[f64]]) -> Result<Vec<f64>, EnvError> {
+        let mut g = vec![f64::NAN; self.spec.act_dim()];
+        if actions.len() != self.spec.agents.len() {
+            return Err(EnvError::ActionLength {
+                env: format!("{} (number of agents)", self.spec.base.id),
+                expected: self.spec.agents.len(),
+                got: actions.len(),
+            });
+        }
+        for (a, act) in self.spec.agents.iter().zip(actions) {
+            if act.len() != a.actions.len() {
+                return Err(EnvError::ActionLength {
+                    env: format!("{} agent {}", self.spec.base.id, a.name),
+                    expected: a.actions.len(),
+                    got: act.len(),
+                });
+            }
+            for (&i, &x) in a.actions.iter().zip(act.iter()) {
+                g[i] = x;
+            }
+        }
+        Ok(g)
+    }
+
+    /// `map_global_action_to_local_actions`: one vector per agent, in the agent's action order.
+    pub fn global_action_to_local(&self, action: &[f64]) -> Result<Vec<Vec<f64>>, EnvError> {
+        if action.len() != self.spec.act_dim() {
+            return Err(EnvError::ActionLength {
+                env: self.spec.base.id.clone(),
+                expected: self.spec.act_dim(),
+                got: action.len(),
+            });
+        }
+        Ok(self
+            .spec
+            .agents
+            .iter()
+            .map(|a| a.actions.iter().map(|&i| action[i]).collect())
+            .collect())
+    }
+
+    fn write_obs(&mut self) {
+        for (agent, out) in self.spec.agents.iter().zip(self.obs.iter_mut()) {
+            for seg in &agent.observation {
+                let f = self.env.field(seg.source.field);
+                let g = seg.minus.as_ref().map(|m| self.env.field(m.field));
+                for (k, o) in out[seg.offset..seg.offset + seg.len()]
+                    .iter_mut()
+                    .enumerate()
+                {
+                    let mut x = f[seg.source.indices[k]];
+                    if let (Some(g), Some(m)) = (g, &seg.minus) {
+                        x -= g[m.indices[k]];
+                    }
+                    x = match seg.apply {
+                        Some(Apply::Sin) => x.sin(),
+                        Some(Apply::Cos) => x.cos(),
+                        None => x,
+                    };
+                    if let Some((lo, hi)) = seg.clip {
+                        x = clip(x, lo, hi);
+                    }
+                    *o = x;
+                }
+            }
+        }
+    }
+}

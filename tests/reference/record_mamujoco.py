@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Record MaMuJoCo v1 (Gymnasium-Robotics 1.4.2) multi-agent trajectories for envc's parity test.
+
+    .venv/bin/python tests/reference/record_mamujoco.py                         # committed fixtures
+    .venv/bin/python tests/reference/record_mamujoco.py --out DIR --seed N --quick  # live cross-check
+
+One case = (scenario, agent_conf, agent_obsk, seed). Protocol: reset(seed); then `steps` steps of
+global actions drawn uniformly from the single-agent action space with numpy default_rng(action
+seed), mapped to the agents with map_global_action_to_local_actions; after an episode ends the env
+is reset without a seed. Files (npz, float64): actions [T, act_dim]; obs_<agent> [T + R, dim] and
+state [T + R, state_dim] where row order is: reset obs, then one row per step, and a reset row
+after every step that ended an episode (R resets in all); reward, terminated, truncated [T]
+(0/1 for the flags). manifest.json lists the cases with the k-hop levels (labels) of every agent.
+"""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+from gymnasium_robotics import mamujoco_v1
+
+# (spec file stem in specs/mamujoco, scenario, confs)
+SCENARIOS = [
+    ("ant", "Ant", ["2x4", "2x4d", "4x2"]),
+    ("half_cheetah", "HalfCheetah", ["2x3", "6x1"]),
+    ("hopper", "Hopper", ["3x1"]),
+    ("humanoid", "Humanoid", ["9|8"]),
+    ("humanoidstandup", "HumanoidStandup", ["9|8"]),
+    ("reacher", "Reacher", ["2x1"]),
+    ("swimmer", "Swimmer", ["2x1"]),
+    ("walker2d", "Walker2d", ["2x3"]),
+    ("pusher", "Pusher", ["3p"]),
+]
+KS = [0, 1, 2]
+
+
+def record(spec, scenario, conf, k, seed, action_seed, steps, out):
+    env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+    single = env.single_agent_env
+    lo, hi = single.action_space.low.astype(np.float64), single.action_space.high.astype(np.float64)
+    rng = np.random.default_rng(action_seed)
+    agents = list(env.possible_agents)
+    obs_rows = {a: [] for a in agents}
+    state_rows = []
+    obs, _ = env.reset(seed=seed)
+    for a in agents:
+        obs_rows[a].append(np.asarray(obs[a], dtype=np.float64))
+    state_rows.append(np.asarray(env.state(), dtype=np.float64))
+    actions, rewards, terms, truncs, resets = [], [], [], [], 1
+    for _t in range(steps):
+        g = rng.uniform(lo, hi)
+        actions.append(g)
+        local = env.map_global_action_to_local_actions(g)
+        obs, rew, term, trunc, _info = env.step(local)
+        r = {rew[a] for a in agents}
+        assert len(r) == 1
+        rewards.append(float(rew[agents[0]]))
+        terms.append(float(term[agents[0]]))
+        truncs.append(float(trunc[agents[0]]))
+        for a in agents:
+            obs_rows[a].append(np.asarray(obs[a], dtype=np.float64))
+        state_rows.append(np.asarray(env.state(), dtype=np.float64))
+        if term[agents[0]] or trunc[agents[0]]:
+            obs, _ = env.reset()
+            resets += 1
+            for a in agents:
+                obs_rows[a].append(np.asarray(obs[a], dtype=np.float64))
+            state_rows.append(np.asarray(env.state(), dtype=np.float64))
+    name = f"{spec}_{conf.replace('|', '-')}_k{k}_s{seed}"
+    arrays = dict(
+        actions=np.array(actions), state=np.array(state_rows), reward=np.array(rewards),
+        terminated=np.array(terms), truncated=np.array(truncs),
+    )
+    for a in agents:
+        arrays[f"obs_{a}"] = np.array(obs_rows[a])
+    np.savez_compressed(os.path.join(out, name + ".npz"), **arrays)
+    levels = {a: [[str(n) for n in env.k_dicts[i][d]] for d in sorted(env.k_dicts[i])] for i, a in enumerate(agents)}
+    env.close()
+    return dict(name=name, spec=spec, scenario=scenario, agent_conf=conf, agent_obsk=k, seed=seed,
+                action_seed=action_seed, steps=steps, resets=resets, agents=agents, levels=levels)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap.add_argument("--out", default=os.path.join(here, "fixtures", "mamujoco"))
+    ap.add_argument("--seed", type=int, default=None, help="fresh base seed (live check)")
+    ap.add_argument("--quick", action="store_true", help="one seed, fewer steps")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    if args.seed is None:
+        seeds, steps = [0, 1], 80
+    else:
+        seeds, steps = [args.seed % (2**31)], 60
+    if args.quick:
+        steps = 60
+    cases = []
+    for spec, scenario, confs in SCENARIOS:
+        for conf in confs:
+            for k in KS:
+                for s in seeds:
+                    n = min(steps, 25) if scenario.startswith("Humanoid") else steps
+                    cases.append(record(spec, scenario, conf, k, s, s + 7919, n, args.out))
+    import gymnasium, gymnasium_robotics, mujoco
+    with open(os.path.join(args.out, "manifest.json"), "w") as f:
+        json.dump(dict(gymnasium=gymnasium.__version__, gymnasium_robotics=gymnasium_robotics.__version__,
+                       mujoco=mujoco.__version__, cases=cases), f, indent=1)
+    print(f"recorded {len(cases)} MaMuJoCo cases into {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
