@@ -36,3 +36,8 @@ ENVC_PARITY_DIR="$LIVE" cargo test -p envc-tests --test parity
 # The same for vector envs (Gymnasium's sync vector env, both autoreset modes).
 "$PY" tests/reference/record_vector.py --out "$LIVE/vector" --seed "$SEED"
 ENVC_VECTOR_DIR="$LIVE/vector" cargo test -p envc-tests --test vector
+# MaMuJoCo v1: fresh-seed multi-agent trajectories of every scenario, conf and k = 0, 1, 2 replayed
+# through envc's multi-agent envs, and `envc rollout` on the multi-agent specs checked from outside.
+"$PY" tests/reference/record_mamujoco.py --out "$LIVE/mamujoco" --seed "$SEED" --quick
+ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -p envc-tests --test mamujoco
+"$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc --seed "$SEED"

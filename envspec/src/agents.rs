@@ -31,6 +31,7 @@ pub const AGENTS_KEYS: &[&str] = &[
     "nodes",
     "globals",
     "parity",
+    "action_bounds",
 ];
 /// Keys of `[agents.nodes.<name>]` and `[agents.globals.<name>]`.
 pub const NODE_KEYS: &[&str] = &[
@@ -64,6 +65,9 @@ pub struct AgentsSpec {
     pub agents: Vec<Agent>,
     /// Parity notes written in the spec (`parity = "..."`).
     pub parity: String,
+    /// `action_bounds = "first_element"`: every agent's action bounds are the single-agent action
+    /// space's element 0 (MaMuJoCo v1); otherwise each local action keeps its actuator's range.
+    pub first_element_bounds: bool,
 }
 
 impl AgentsSpec {
@@ -307,6 +311,22 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         .and_then(Val::as_str)
         .unwrap_or("")
         .to_string();
+    let first_element_bounds = match get("action_bounds") {
+        None => false,
+        Some(v) => match v.as_str() {
+            Some("first_element") => true,
+            Some("per_actuator") => false,
+            _ => {
+                d.push(err(
+                    Code::E0104,
+                    &v.loc,
+                    "unknown `action_bounds`",
+                    "expected \"per_actuator\" (default) or \"first_element\" (MaMuJoCo v1)",
+                ));
+                false
+            }
+        },
+    };
 
     // Nodes and globals.
     let read_nodes = |key: &str, is_global: bool, d: &mut Diagnostics| -> Vec<Node> {
@@ -414,31 +434,47 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                     // Every actuator exactly once.
                     let mut count = vec![0usize; model.nu()];
                     for &i in parts.iter().flatten() {
-                        match nodes[i].actuator {
-                            Some(a) => count[a] += 1,
-                            None => d.push(err(
-                                Code::E0104,
-                                &c.key_loc,
-                                format!(
-                                    "node `{}` in conf `{}` drives no actuator",
-                                    nodes[i].name, c.key
-                                ),
-                                "every node of a conf must name an actuator",
-                            )),
+                        // A node without an actuator was reported where it is declared.
+                        if let Some(a) = nodes[i].actuator {
+                            count[a] += 1;
                         }
                     }
+                    let act_name = |a: usize| {
+                        let x = &model.actuators[a];
+                        match (&x.target, x.name.is_empty()) {
+                            (Some(t), true) => format!("({t})"),
+                            _ => x.name.clone(),
+                        }
+                    };
                     for (a, &n) in count.iter().enumerate() {
-                        if n != 1 {
+                        if n > 1 {
                             d.push(err(
                                 Code::E0104,
                                 &c.key_loc,
                                 format!(
                                     "conf `{}` drives actuator `{}` {n} times",
-                                    c.key, model.actuators[a].name
+                                    c.key,
+                                    act_name(a)
                                 ),
                                 "every actuator must belong to exactly one agent",
                             ));
                         }
+                    }
+                    let missing: Vec<String> = (0..model.nu())
+                        .filter(|&a| count[a] == 0)
+                        .map(act_name)
+                        .collect();
+                    if !missing.is_empty() {
+                        d.push(err(
+                            Code::E0104,
+                            &c.key_loc,
+                            format!(
+                                "conf `{}` leaves actuators undriven: {}",
+                                c.key,
+                                missing.join(", ")
+                            ),
+                            "every actuator must belong to exactly one agent",
+                        ));
                     }
                     confs.push((c.key.clone(), c.key_loc.clone(), parts));
                 }
@@ -463,7 +499,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         (None, None) => 1,
     };
     let chosen = confs.iter().find(|c| c.0 == conf_name);
-    if chosen.is_none() && !confs.is_empty() {
+    if chosen.is_none() && d.is_empty() {
         let names: Vec<&str> = confs.iter().map(|c| c.0.as_str()).collect();
         d.push(
             Diagnostic::new(Code::E0203, format!("unknown agent_conf `{conf_name}`"))
@@ -504,6 +540,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         k,
         agents,
         parity,
+        first_element_bounds,
     })
 }
 

@@ -87,6 +87,17 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
+        let a = &args;
+        return crate::commands::multi_agent::rollout(
+            &p,
+            &a.set,
+            a.seed,
+            &a.actions,
+            &a.out,
+            a.auto_reset,
+        );
+    }
     let actions = read_actions(&args.actions)?;
     let mut env = crate::target::env(&args.spec, &args.set)?;
     let (t_max, width) = match &actions {

@@ -36,6 +36,9 @@ fn wrap(names: &[String], indent: usize, width: usize) -> String {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
+        return crate::commands::multi_agent::show(&p, &args.set);
+    }
     let env = crate::target::env(&args.spec, &args.set)?;
     let spec = env.spec().clone();
     let cwd = std::env::current_dir().unwrap_or_default();

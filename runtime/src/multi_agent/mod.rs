@@ -67,13 +67,19 @@ impl MultiAgentEnv {
         base.needs_rne_post_constraint |= spec.reads_contact_forces();
         let env = Env::new(Arc::new(base))?;
         let space = env.action_space();
-        let (lo, hi) = (space.low[0], space.high[0]);
+        let bound = |b: &[f64], i: usize| {
+            if spec.first_element_bounds {
+                b[0]
+            } else {
+                b[i]
+            }
+        };
         let action_spaces = spec
             .agents
             .iter()
             .map(|a| BoxSpace {
-                low: vec![lo; a.actions.len()],
-                high: vec![hi; a.actions.len()],
+                low: a.actions.iter().map(|&i| bound(&space.low, i)).collect(),
+                high: a.actions.iter().map(|&i| bound(&space.high, i)).collect(),
             })
             .collect();
         let observation_spaces = spec
@@ -125,7 +131,8 @@ impl MultiAgentEnv {
     pub fn observation_space(&self, agent: usize) -> &BoxSpace {
         &self.observation_spaces[agent]
     }
-    /// MaMuJoCo's bounds: every entry takes the single-agent action space's element 0 bounds.
+    /// Each local action's bounds: its actuator's, or (`action_bounds = "first_element"`, MaMuJoCo
+    /// v1) the single-agent action space's element 0 for every entry.
     pub fn action_space(&self, agent: usize) -> &BoxSpace {
         &self.action_spaces[agent]
     }
