@@ -330,3 +330,98 @@ fn bad_factorizations_are_errors_not_panics() {
     assert!(env.step(&[&[0.0; 3], &[f64::NAN, 0.0, 0.0]]).is_err());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn every_bundled_multi_agent_spec_loads_for_every_conf_and_k() {
+    let mut n = 0;
+    for e in std::fs::read_dir(root().join("specs/mamujoco")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let spec =
+            envspec::agents::load(&p, &[]).unwrap_or_else(|d| panic!("{}: {d}", p.display()));
+        for conf in &spec.confs {
+            for k in 0..=2 {
+                let o = [
+                    Override::text("agent_conf", conf),
+                    Override::text("agent_obsk", &k.to_string()),
+                ];
+                let s = envspec::agents::load(&p, &o).unwrap();
+                let mut acts: Vec<usize> =
+                    s.agents.iter().flat_map(|a| a.actions.clone()).collect();
+                acts.sort();
+                assert_eq!(
+                    acts,
+                    (0..s.act_dim()).collect::<Vec<_>>(),
+                    "{}",
+                    p.display()
+                );
+                n += 1;
+            }
+        }
+    }
+    assert!(n > 100, "{n}");
+}
+
+/// The version-2 specs fix the reference's bugs: check the fixes against the simulation.
+#[test]
+fn v2_specs_fix_the_reference_bugs() {
+    let spec = |f: &str| root().join("specs/mamujoco").join(f);
+    // Humanoid: the abdomen_y node observes abdomen_y (v1 observes abdomen_z).
+    for (file, joint) in [
+        ("humanoid.toml", "abdomen_z"),
+        ("humanoid_v2.toml", "abdomen_y"),
+    ] {
+        let s = envspec::agents::load(&spec(file), &[Override::text("agent_obsk", "0")]).unwrap();
+        let a = &s.agents[0];
+        let seg = a
+            .observation
+            .iter()
+            .find(|x| x.name == "k0.abdomen_y.qpos")
+            .unwrap();
+        assert_eq!(seg.source.names, [format!("qpos[{joint}]")], "{file}");
+    }
+    // ManySegmentAnt v2: each node observes and drives its own joint.
+    let s = envspec::agents::load(&spec("many_segment_ant_3_v2.toml"), &[]).unwrap();
+    for a in &s.agents {
+        for (node, act) in a.nodes.iter().zip(&a.actuators) {
+            assert_eq!(format!("({node})"), *act, "actuator of {node}");
+            let seg = a
+                .observation
+                .iter()
+                .find(|x| x.name == format!("k0.{node}.qpos"))
+                .unwrap();
+            assert_eq!(seg.source.names, [format!("qpos[{node}]")]);
+        }
+    }
+    // Walker2d v2: local velocities are clipped like the state, so every local value is a state
+    // value (v1 disagrees once a velocity exceeds 10).
+    let mut env = MultiAgentEnv::from_spec_file(spec("walker2d_v2.toml"), &[]).unwrap();
+    env.reset(Some(0));
+    for t in 0..200 {
+        let g: Vec<f64> = (0..6)
+            .map(|i| if (t / 7 + i) % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let s = env.step_global(&g).unwrap();
+        let done = s.terminated || s.truncated;
+        let state = env.state().to_vec();
+        for o in env.observations() {
+            assert!(
+                o.iter()
+                    .all(|x| state.iter().any(|y| y.to_bits() == x.to_bits()))
+            );
+        }
+        if done {
+            env.reset(None);
+        }
+    }
+    // `envc diff` reports the fix as a breaking observation change.
+    let r = envspec::agents::diff(&spec("humanoid.toml"), &spec("humanoid_v2.toml")).unwrap();
+    assert_eq!(r.verdict(), envspec::diff::Verdict::Breaking);
+    assert!(r.changes.iter().any(|c| {
+        c.witness
+            .as_deref()
+            .is_some_and(|w| w.contains("qpos[abdomen_z] → qpos[abdomen_y]"))
+    }));
+}

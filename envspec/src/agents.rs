@@ -20,6 +20,7 @@ use crate::value::{Entry, Val, ValKind, parse_document};
 /// Keys of `[agents]`.
 pub const AGENTS_KEYS: &[&str] = &[
     "base",
+    "id",
     "doc",
     "agent_conf",
     "agent_obsk",
@@ -32,6 +33,7 @@ pub const AGENTS_KEYS: &[&str] = &[
     "globals",
     "parity",
     "action_bounds",
+    "base_params",
 ];
 /// Keys of `[agents.nodes.<name>]` and `[agents.globals.<name>]`.
 pub const NODE_KEYS: &[&str] = &[
@@ -57,6 +59,8 @@ pub struct AgentsSpec {
     /// The single-agent env every agent shares (its observation is the global state).
     pub base: ResolvedSpec,
     pub spec_path: PathBuf,
+    /// `id = "..."` (default: the file stem), e.g. `MaMuJoCo-Ant-v1`.
+    pub id: String,
     pub doc: String,
     /// Names of every conf the spec declares, in order.
     pub confs: Vec<String>,
@@ -259,6 +263,28 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         }
     }
 
+    // `base_params = { name = value }`: parameters of the base spec set by this spec (a user's
+    // override of the same name wins). Relative paths resolve against this file's directory.
+    if let Some(v) = get("base_params") {
+        match v.as_table() {
+            None => d.push(v.type_error("agents.base_params", "a table of parameter values")),
+            Some(t) => {
+                for e in t {
+                    if base_overrides.iter().any(|o| o.name == e.key) {
+                        continue;
+                    }
+                    let text = match e.value.as_str() {
+                        Some(s) if e.key == "xml_file" => {
+                            let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                            format!("{:?}", p.display().to_string())
+                        }
+                        _ => e.value.to_toml(),
+                    };
+                    base_overrides.push(Override::text(&e.key, &text));
+                }
+            }
+        }
+    }
     // The base spec: `base = "path"`, or this file itself.
     let base = match get("base") {
         Some(v) => match v.as_str() {
@@ -307,6 +333,14 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
 
     let body_clip = get("body_clip").and_then(|v| range(v, "agents.body_clip", &mut d));
     let doc = get("doc").and_then(Val::as_str).unwrap_or("").to_string();
+    let id = get("id")
+        .and_then(Val::as_str)
+        .map(str::to_string)
+        .unwrap_or_else(|| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        });
     let parity = get("parity")
         .and_then(Val::as_str)
         .unwrap_or("")
@@ -434,9 +468,17 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                     // Every actuator exactly once.
                     let mut count = vec![0usize; model.nu()];
                     for &i in parts.iter().flatten() {
-                        // A node without an actuator was reported where it is declared.
-                        if let Some(a) = nodes[i].actuator {
-                            count[a] += 1;
+                        match nodes[i].actuator {
+                            Some(a) => count[a] += 1,
+                            None => d.push(err(
+                                Code::E0103,
+                                &c.key_loc,
+                                format!(
+                                    "node `{}` in conf `{}` has no actuator",
+                                    nodes[i].name, c.key
+                                ),
+                                "no actuator drives its joint: add `actuator = \"name\"` to the node",
+                            )),
                         }
                     }
                     let act_name = |a: usize| {
@@ -534,6 +576,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     Ok(AgentsSpec {
         base,
         spec_path: path.to_path_buf(),
+        id,
         doc,
         confs: confs.iter().map(|c| c.0.clone()).collect(),
         conf: conf_name,
@@ -661,14 +704,7 @@ fn read_node(
                         .iter()
                         .position(|a| a.target.as_deref() == Some(j.as_str()))
                 });
-                if found.is_none() {
-                    d.push(err(
-                        Code::E0103,
-                        &e.key_loc,
-                        format!("node `{}`: cannot derive its actuator", e.key),
-                        "no actuator drives its joint: add `actuator = \"name\"`",
-                    ));
-                }
+                // Checked when a conf uses the node (graph-only nodes need no actuator).
                 found
             }
         }
@@ -1016,3 +1052,184 @@ fn build_agent(
 
 /// A multi-agent spec shared between threads.
 pub type SharedAgentsSpec = Arc<AgentsSpec>;
+
+/// Semantic diff of two multi-agent specs: the base envs (as `envc diff` compares single-agent
+/// specs), then, for every conf both declare and k = 0, 1, 2, each agent's actions and observation
+/// layout element by element. Confs only one side declares are reported as added or removed.
+pub fn diff(old_path: &Path, new_path: &Path) -> Result<crate::diff::Report, Diagnostics> {
+    use crate::diff::{Category, Change, Report};
+    let old = load(old_path, &[])?;
+    let new = load(new_path, &[])?;
+    let base_syntax = |a: &AgentsSpec| Spec::load(&a.base.spec_path);
+    let mut report = match (base_syntax(&old), base_syntax(&new)) {
+        (Ok(os), Ok(ns)) => {
+            let mut r = crate::diff::diff(&os, &old.base, &ns, &new.base);
+            for c in &mut r.changes {
+                c.subject = format!("base {}", c.subject);
+            }
+            r.flags.clear();
+            r
+        }
+        _ => Report {
+            old_id: String::new(),
+            new_id: String::new(),
+            old_file: String::new(),
+            new_file: String::new(),
+            changes: vec![],
+            flags: vec![],
+        },
+    };
+    report.old_id = old.id.clone();
+    report.new_id = new.id.clone();
+    report.old_file = old_path.display().to_string();
+    report.new_file = new_path.display().to_string();
+    let change = |category,
+                  subject: String,
+                  aspect: &str,
+                  was: Option<String>,
+                  now: Option<String>,
+                  witness: Option<String>| Change {
+        category,
+        subject,
+        aspect: aspect.to_string(),
+        was,
+        now,
+        old_at: None,
+        new_at: None,
+        witness,
+        breaking: true,
+    };
+    let how = |s: &Segment| {
+        let mut v = vec![];
+        if let Some(a) = s.apply {
+            v.push(format!("{a:?}").to_lowercase());
+        }
+        match s.clip {
+            Some((lo, hi)) => v.push(format!("clipped to [{lo}, {hi}]")),
+            None => v.push("not clipped".into()),
+        }
+        v.join(", ")
+    };
+    let mut changes = vec![];
+    for c in &old.confs {
+        if !new.confs.contains(c) {
+            changes.push(change(
+                Category::Action,
+                format!("agents conf `{c}`"),
+                "removed",
+                Some(c.clone()),
+                None,
+                None,
+            ));
+        }
+    }
+    for c in &new.confs {
+        if !old.confs.contains(c) {
+            changes.push(change(
+                Category::Action,
+                format!("agents conf `{c}`"),
+                "added",
+                None,
+                Some(c.clone()),
+                None,
+            ));
+            continue;
+        }
+        for k in 0..=2usize {
+            let o = [
+                Override::text("agent_conf", c),
+                Override::text("agent_obsk", &k.to_string()),
+            ];
+            let (a, b) = (load(old_path, &o)?, load(new_path, &o)?);
+            if a.first_element_bounds != b.first_element_bounds && k == 0 {
+                let show = |x: bool| if x { "first_element" } else { "per_actuator" }.to_string();
+                changes.push(Change {
+                    breaking: false,
+                    witness: Some("the action space changes only where an actuator's range differs from actuator 0's".into()),
+                    ..change(
+                    Category::Action,
+                    format!("agents conf `{c}`"),
+                    "action_bounds",
+                    Some(show(a.first_element_bounds)),
+                    Some(show(b.first_element_bounds)),
+                    None,
+                )
+                });
+            }
+            if a.agents.len() != b.agents.len() {
+                if k == 0 {
+                    changes.push(change(
+                        Category::Action,
+                        format!("agents conf `{c}`"),
+                        "number of agents",
+                        Some(a.agents.len().to_string()),
+                        Some(b.agents.len().to_string()),
+                        None,
+                    ));
+                }
+                continue;
+            }
+            for (x, y) in a.agents.iter().zip(&b.agents) {
+                if k == 0 && x.actions != y.actions {
+                    let show = |ag: &Agent| {
+                        ag.nodes
+                            .iter()
+                            .zip(&ag.actions)
+                            .map(|(n, g)| format!("{n}→action[{g}]"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    changes.push(change(
+                        Category::Action,
+                        format!("{} (conf `{c}`)", x.name),
+                        "actions",
+                        Some(show(x)),
+                        Some(show(y)),
+                        None,
+                    ));
+                }
+                let (xn, yn) = (x.obs_names(), y.obs_names());
+                if xn != yn {
+                    let first = xn
+                        .iter()
+                        .zip(&yn)
+                        .position(|(p, q)| p != q)
+                        .unwrap_or(xn.len().min(yn.len()));
+                    let witness = format!(
+                        "obs dim {} → {}; first difference at index {first}: {} → {}",
+                        xn.len(),
+                        yn.len(),
+                        xn.get(first).map(String::as_str).unwrap_or("(none)"),
+                        yn.get(first).map(String::as_str).unwrap_or("(none)")
+                    );
+                    let differing = xn.iter().zip(&yn).filter(|(p, q)| p != q).count()
+                        + xn.len().abs_diff(yn.len());
+                    changes.push(change(
+                        Category::Observation,
+                        format!("{} (conf `{c}`, k = {k})", x.name),
+                        "observation",
+                        Some(format!("{} values", xn.len())),
+                        Some(format!("{} values, {differing} differ", yn.len())),
+                        Some(witness),
+                    ));
+                } else {
+                    // Same elements: clipping or functions may still differ.
+                    for (s, t) in x.observation.iter().zip(&y.observation) {
+                        if s.offset == t.offset && (s.clip != t.clip || s.apply != t.apply) {
+                            changes.push(change(
+                                Category::Observation,
+                                format!("{} (conf `{c}`, k = {k})", x.name),
+                                "observation clip/apply",
+                                Some(format!("{} {}", s.name, how(s))),
+                                Some(format!("{} {}", t.name, how(t))),
+                                None,
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    report.extend(changes);
+    Ok(report)
+}

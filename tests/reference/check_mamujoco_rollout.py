@@ -19,7 +19,7 @@ import numpy as np
 from gymnasium_robotics import mamujoco_v1
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from record_mamujoco import KS, SCENARIOS  # noqa: E402
+from record_mamujoco import KS, SCENARIOS, spec_for  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -75,7 +75,7 @@ def main():
                     s = int(rng.integers(2**31))
                     a_path, t_path = os.path.join(tmp, "a.npy"), os.path.join(tmp, "t.npz")
                     np.save(a_path, acts)
-                    cmd = [args.envc, "rollout", os.path.join(ROOT, "specs", "mamujoco", spec + ".toml"),
+                    cmd = [args.envc, "rollout", os.path.join(ROOT, "specs", "mamujoco", spec_for(spec, conf) + ".toml"),
                            "--set", f"agent_conf={conf}", "--set", f"agent_obsk={k}", "--seed", str(s),
                            "--actions", a_path, "--out", t_path]
                     subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)

@@ -31,11 +31,23 @@ SCENARIOS = [
     ("swimmer", "Swimmer", ["2x1"]),
     ("walker2d", "Walker2d", ["2x3"]),
     ("pusher", "Pusher", ["3p"]),
+    # Generated specs (specs/mamujoco/generate_many_segment.py): one per segment count n = N·M.
+    ("many_segment_swimmer_{n}", "ManySegmentSwimmer", ["10x2", "6x1", "2x3", "1x2", "4x2"]),
+    ("many_segment_ant_{n}", "ManySegmentAnt", ["2x3", "3x1", "1x2", "2x2"]),
 ]
+
+
+def spec_for(spec, conf):
+    """The spec file stem of a scenario's conf (ManySegment* specs exist per segment count)."""
+    if "{n}" in spec:
+        a, m = conf.split("x")
+        return spec.format(n=int(a) * int(m))
+    return spec
 KS = [0, 1, 2]
 
 
 def record(spec, scenario, conf, k, seed, action_seed, steps, out):
+    spec = spec_for(spec, conf)
     env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
     single = env.single_agent_env
     lo, hi = single.action_space.low.astype(np.float64), single.action_space.high.astype(np.float64)
@@ -101,6 +113,7 @@ def main():
             for k in KS:
                 for s in seeds:
                     n = min(steps, 25) if scenario.startswith("Humanoid") else steps
+                    n = min(n, 40) if scenario == "ManySegmentAnt" else n
                     cases.append(record(spec, scenario, conf, k, s, s + 7919, n, args.out))
     import gymnasium, gymnasium_robotics, mujoco
     with open(os.path.join(args.out, "manifest.json"), "w") as f:

@@ -140,6 +140,12 @@ fn load(path: &Path) -> Result<(Spec, envspec::ResolvedSpec)> {
 fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
     let old_path = materialise(&args.old, tmp, "old")?;
     let new_path = materialise(&args.new, tmp, "new")?;
+    if envspec::agents::is_multi_agent(&old_path) && envspec::agents::is_multi_agent(&new_path) {
+        // Multi-agent specs: the base envs, then every conf's agents (envspec::agents::diff).
+        let report =
+            envspec::agents::diff(&old_path, &new_path).map_err(|d| anyhow::anyhow!("{d}"))?;
+        return Ok(print(&report, args.format));
+    }
     let (old, old_r) = load(&old_path).with_context(|| format!("old spec {}", args.old))?;
     let (new, new_r) = load(&new_path).with_context(|| format!("new spec {}", args.new))?;
     let mut report = envspec::diff::diff(&old, &old_r, &new, &new_r);
@@ -212,16 +218,20 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             }
         }
     }
-    let text = match args.format {
+    Ok(print(&report, args.format))
+}
+
+fn print(report: &envspec::diff::Report, format: Format) -> Outcome {
+    let text = match format {
         Format::Text => report.to_text(),
         Format::Markdown => report.to_markdown(),
         Format::Json => report.to_json(),
         Format::Github => report.to_github(),
     };
     print!("{text}");
-    Ok(match report.verdict() {
+    match report.verdict() {
         Verdict::NoChange => Outcome::Ok,
         Verdict::Compatible => Outcome::Problems,
         Verdict::Breaking => Outcome::Breaking,
-    })
+    }
 }
