@@ -425,3 +425,76 @@ fn v2_specs_fix_the_reference_bugs() {
             .is_some_and(|w| w.contains("qpos[abdomen_z] → qpos[abdomen_y]"))
     }));
 }
+
+/// The four mappings: actions both ways always; state ↔ local observations where every local
+/// value is a state value.
+#[test]
+fn state_and_action_mappings() {
+    let cases: &[(&str, &str, bool)] = &[
+        ("ant.toml", "2x4", true),
+        ("ant.toml", "2x4d", true),
+        ("ant.toml", "4x2", true),
+        ("half_cheetah.toml", "6x1", true),
+        ("hopper.toml", "3x1", true),
+        ("humanoid.toml", "9|8", true),
+        ("humanoidstandup.toml", "9|8", true),
+        ("swimmer.toml", "2x1", true),
+        ("walker2d_v2.toml", "2x3", true),
+        ("pusher.toml", "3p", true),
+        ("walker2d.toml", "2x3", false),
+        ("reacher.toml", "2x1", false),
+        ("ant.toml", "none", true),
+        ("reacher.toml", "none", true),
+    ];
+    for &(file, conf, exact) in cases {
+        for k in 0..=2 {
+            let mut env = MultiAgentEnv::from_spec_file(
+                root().join("specs/mamujoco").join(file),
+                &[
+                    Override::text("agent_conf", conf),
+                    Override::text("agent_obsk", &k.to_string()),
+                ],
+            )
+            .unwrap();
+            env.reset(Some(k as u64));
+            let n = env.spec().act_dim();
+            for t in 0..5 {
+                let g: Vec<f64> = (0..n)
+                    .map(|i| ((t * 7 + i * 3) % 11) as f64 / 20.0 - 0.25)
+                    .collect();
+                let locals = env.global_action_to_local(&g).unwrap();
+                let refs: Vec<&[f64]> = locals.iter().map(Vec::as_slice).collect();
+                assert_eq!(env.local_actions_to_global(&refs).unwrap(), g);
+                env.step(&refs).unwrap();
+            }
+            let state = env.state().to_vec();
+            let obs: Vec<Vec<f64>> = env.observations().to_vec();
+            let refs: Vec<&[f64]> = obs.iter().map(Vec::as_slice).collect();
+            match env.global_state_to_local(&state) {
+                Some(local) => {
+                    assert!(exact, "{file} {conf}: unexpected mapping");
+                    assert_eq!(local, obs, "{file} {conf} k={k}");
+                    if conf == "none" || !file.starts_with("many") {
+                        assert_eq!(env.local_observations_to_global(&refs).unwrap(), state);
+                    }
+                }
+                None => {
+                    assert!(!exact, "{file} {conf} k={k}: no mapping");
+                    assert!(env.local_observations_to_global(&refs).is_err());
+                }
+            }
+        }
+    }
+    // No globals: some state entries are never observed.
+    let env = MultiAgentEnv::from_spec_file(
+        root().join("specs/mamujoco/many_segment_swimmer_4.toml"),
+        &[Override::text("agent_conf", "2x2")],
+    )
+    .unwrap();
+    let obs: Vec<Vec<f64>> = env.observations().to_vec();
+    let refs: Vec<&[f64]> = obs.iter().map(Vec::as_slice).collect();
+    assert!(matches!(
+        env.local_observations_to_global(&refs),
+        Err(envc::multi_agent::MappingError::Undefined(_))
+    ));
+}

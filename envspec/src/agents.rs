@@ -50,6 +50,9 @@ pub const BUILTIN_CATEGORIES: &[&str] = &[
     "cvel",
     "cfrc_ext",
 ];
+/// The `agent_conf` of single-agent mode (MaMuJoCo's `agent_conf=None`): one agent, `agent_0`,
+/// with every action, observing the single-agent observation (= the state).
+pub const SINGLE_AGENT: &str = "none";
 /// The parameters of the multi-agent layer (every other override goes to the base spec).
 pub const AGENT_PARAMS: &[&str] = &["agent_conf", "agent_obsk"];
 
@@ -107,6 +110,10 @@ pub struct Agent {
     /// Observation segments in order, with offsets.
     pub observation: Vec<Segment>,
     pub obs_dim: usize,
+    /// For each observation element, its index in the state (the base observation): the element
+    /// reads the same value (same source, minus, function and clip). None when some element is
+    /// not in the state (then the state cannot be mapped to this agent's observation).
+    pub state_index: Option<Vec<usize>>,
 }
 
 impl Agent {
@@ -436,12 +443,8 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     // Confs.
     let mut confs: Vec<(String, Location, Vec<Vec<usize>>)> = vec![];
     match get("confs") {
-        None => d.push(err(
-            Code::E0103,
-            &agents_entry.key_loc,
-            "missing `confs` in [agents]",
-            "expected e.g. confs = { \"2x1\" = [[\"a\"], [\"b\"]] }",
-        )),
+        // No confs: only single-agent mode (`agent_conf = "none"`).
+        None => {}
         Some(v) => match v.as_table() {
             None => d.push(v.type_error("agents.confs", "a table of partitions")),
             Some(t) => {
@@ -527,7 +530,10 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     let conf_name = match (&conf_override, get("agent_conf")) {
         (Some(c), _) => c.clone(),
         (None, Some(v)) => v.as_str().unwrap_or("").to_string(),
-        (None, None) => confs.first().map(|c| c.0.clone()).unwrap_or_default(),
+        (None, None) => confs
+            .first()
+            .map(|c| c.0.clone())
+            .unwrap_or_else(|| SINGLE_AGENT.to_string()),
     };
     let k = match (k_override, get("agent_obsk")) {
         (Some(k), _) => k,
@@ -541,8 +547,10 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         (None, None) => 1,
     };
     let chosen = confs.iter().find(|c| c.0 == conf_name);
-    if chosen.is_none() && d.is_empty() {
-        let names: Vec<&str> = confs.iter().map(|c| c.0.as_str()).collect();
+    let single = conf_name == SINGLE_AGENT && chosen.is_none();
+    if chosen.is_none() && !single && d.is_empty() {
+        let mut names: Vec<&str> = confs.iter().map(|c| c.0.as_str()).collect();
+        names.push(SINGLE_AGENT);
         d.push(
             Diagnostic::new(Code::E0203, format!("unknown agent_conf `{conf_name}`"))
                 .at_opt(get("agent_conf").map(|v| v.loc.clone()))
@@ -553,9 +561,35 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     if !d.is_empty() {
         return Err(d);
     }
+    if single {
+        // MaMuJoCo's agent_conf=None: one agent with every action, observing the state.
+        let base_obs = base.observation.clone();
+        let agent = Agent {
+            name: "agent_0".into(),
+            nodes: (0..model.nu()).map(|a| format!("action{a}")).collect(),
+            actions: (0..model.nu()).collect(),
+            actuators: (0..model.nu()).map(|a| actuator_name(model, a)).collect(),
+            levels: vec![],
+            obs_dim: base.obs_dim,
+            observation: base_obs,
+            state_index: Some((0..base.obs_dim).collect()),
+        };
+        return Ok(AgentsSpec {
+            id,
+            doc,
+            confs: confs.iter().map(|c| c.0.clone()).collect(),
+            conf: conf_name,
+            k: 0,
+            agents: vec![agent],
+            parity,
+            first_element_bounds,
+            spec_path: path.to_path_buf(),
+            base,
+        });
+    }
     let parts = &chosen.expect("checked").2;
 
-    let agents = parts
+    let mut agents: Vec<Agent> = parts
         .iter()
         .enumerate()
         .map(|(i, part)| {
@@ -573,6 +607,9 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
             )
         })
         .collect();
+    for a in &mut agents {
+        a.state_index = state_index(&a.observation, &base.observation);
+    }
     Ok(AgentsSpec {
         base,
         spec_path: path.to_path_buf(),
@@ -1033,13 +1070,7 @@ fn build_agent(
             .collect(),
         actuators: part
             .iter()
-            .map(|&i| {
-                let a = &model.actuators[nodes[i].actuator.expect("checked")];
-                match (&a.name, &a.target) {
-                    (n, Some(t)) if n.is_empty() => format!("({t})"),
-                    (n, _) => n.clone(),
-                }
-            })
+            .map(|&i| actuator_name(model, nodes[i].actuator.expect("checked")))
             .collect(),
         levels: levels
             .iter()
@@ -1047,6 +1078,7 @@ fn build_agent(
             .collect(),
         observation: segs,
         obs_dim,
+        state_index: None,
     }
 }
 
@@ -1232,4 +1264,46 @@ pub fn diff(old_path: &Path, new_path: &Path) -> Result<crate::diff::Report, Dia
     }
     report.extend(changes);
     Ok(report)
+}
+
+/// An actuator's name, or `(joint)` for an unnamed actuator.
+fn actuator_name(model: &crate::mjcf::ModelInfo, a: usize) -> String {
+    let x = &model.actuators[a];
+    match (&x.target, x.name.is_empty()) {
+        (Some(t), true) => format!("({t})"),
+        _ => x.name.clone(),
+    }
+}
+
+/// What one observation element reads, for matching local elements with state elements.
+type ElemKey = (
+    Field,
+    usize,
+    Option<(Field, usize)>,
+    Option<Apply>,
+    Option<(u64, u64)>,
+);
+
+fn elements(segs: &[Segment]) -> Vec<ElemKey> {
+    let mut out = vec![];
+    for s in segs {
+        for k in 0..s.len() {
+            out.push((
+                s.source.field,
+                s.source.indices[k],
+                s.minus.as_ref().map(|m| (m.field, m.indices[k])),
+                s.apply,
+                s.clip.map(|(lo, hi)| (lo.to_bits(), hi.to_bits())),
+            ));
+        }
+    }
+    out
+}
+
+fn state_index(local: &[Segment], state: &[Segment]) -> Option<Vec<usize>> {
+    let st = elements(state);
+    elements(local)
+        .iter()
+        .map(|e| st.iter().position(|x| x == e))
+        .collect()
 }

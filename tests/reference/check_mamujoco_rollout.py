@@ -19,13 +19,19 @@ import numpy as np
 from gymnasium_robotics import mamujoco_v1
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from record_mamujoco import KS, SCENARIOS, spec_for  # noqa: E402
+from record_mamujoco import KS, SCENARIOS, SINGLE, spec_for  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
+def make(scenario, conf, k):
+    if conf == SINGLE:
+        return mamujoco_v1.parallel_env(scenario, None)
+    return mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+
+
 def reference(scenario, conf, k, seed, actions):
-    env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+    env = make(scenario, conf, k)
     agents = env.possible_agents
     obs, _ = env.reset(seed=seed)
     out = {f"obs.{a}": [obs[a]] for a in agents}
@@ -65,37 +71,39 @@ def main():
     failures, n = [], 0
     with tempfile.TemporaryDirectory() as tmp:
         for spec, scenario, confs in SCENARIOS:
-            for conf in confs:
-                for k in KS:
-                    probe = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
-                    space = probe.single_agent_env.action_space
-                    probe.close()
-                    acts = rng.uniform(space.low.astype(np.float64), space.high.astype(np.float64),
-                                       size=(args.steps, space.shape[0]))
-                    s = int(rng.integers(2**31))
-                    a_path, t_path = os.path.join(tmp, "a.npy"), os.path.join(tmp, "t.npz")
-                    np.save(a_path, acts)
-                    cmd = [args.envc, "rollout", os.path.join(ROOT, "specs", "mamujoco", spec_for(spec, conf) + ".toml"),
-                           "--set", f"agent_conf={conf}", "--set", f"agent_obsk={k}", "--seed", str(s),
-                           "--actions", a_path, "--out", t_path]
-                    subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
-                    ours = dict(np.load(t_path))
-                    ref = reference(scenario, conf, k, s, acts)
-                    name = f"{scenario} {conf} k={k} seed={s}"
-                    n += 1
-                    for key, want in ref.items():
-                        got = ours.get(key)
-                        if got is None:
-                            failures.append(f"{name}: {key} missing")
+            combos = [(c, k) for c in confs for k in KS]
+            if "{n}" not in spec:
+                combos.append((SINGLE, 0))
+            for conf, k in combos:
+                probe = make(scenario, conf, k)
+                space = probe.single_agent_env.action_space
+                probe.close()
+                acts = rng.uniform(space.low.astype(np.float64), space.high.astype(np.float64),
+                                   size=(args.steps, space.shape[0]))
+                s = int(rng.integers(2**31))
+                a_path, t_path = os.path.join(tmp, "a.npy"), os.path.join(tmp, "t.npz")
+                np.save(a_path, acts)
+                cmd = [args.envc, "rollout", os.path.join(ROOT, "specs", "mamujoco", spec_for(spec, conf) + ".toml"),
+                       "--set", f"agent_conf={conf}", "--set", f"agent_obsk={k}", "--seed", str(s),
+                       "--actions", a_path, "--out", t_path]
+                subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
+                ours = dict(np.load(t_path))
+                ref = reference(scenario, conf, k, s, acts)
+                name = f"{scenario} {conf} k={k} seed={s}"
+                n += 1
+                for key, want in ref.items():
+                    got = ours.get(key)
+                    if got is None:
+                        failures.append(f"{name}: {key} missing")
+                        continue
+                    if same(got, want):
+                        continue
+                    if scenario == "Pusher" and key == "obs.agent_0":
+                        sw = got.copy()
+                        sw[:, [2, 3, 4, 5]] = got[:, [4, 5, 2, 3]]
+                        if same(sw, want):
                             continue
-                        if same(got, want):
-                            continue
-                        if scenario == "Pusher" and key == "obs.agent_0":
-                            sw = got.copy()
-                            sw[:, [2, 3, 4, 5]] = got[:, [4, 5, 2, 3]]
-                            if same(sw, want):
-                                continue
-                        failures.append(f"{name}: {key} differs")
+                    failures.append(f"{name}: {key} differs")
     print(f"envc rollout vs mamujoco_v1, seed {seed}: {n - len({f.split(':')[0] for f in failures})} of {n} "
           f"scenario/conf/k combinations bit-identical", file=sys.stderr)
     if failures:

@@ -31,6 +31,8 @@ SCENARIOS = [
     ("swimmer", "Swimmer", ["2x1"]),
     ("walker2d", "Walker2d", ["2x3"]),
     ("pusher", "Pusher", ["3p"]),
+    ("inverted_pendulum", "InvertedPendulum", []),
+    ("inverted_double_pendulum", "InvertedDoublePendulum", []),
     # Generated specs (specs/mamujoco/generate_many_segment.py): one per segment count n = N·M.
     ("many_segment_swimmer_{n}", "ManySegmentSwimmer", ["10x2", "6x1", "2x3", "1x2", "4x2"]),
     ("many_segment_ant_{n}", "ManySegmentAnt", ["2x3", "3x1", "1x2", "2x2"]),
@@ -44,11 +46,17 @@ def spec_for(spec, conf):
         return spec.format(n=int(a) * int(m))
     return spec
 KS = [0, 1, 2]
+# agent_conf None (single-agent mode, k irrelevant) is recorded for every scenario with a fixed
+# base env; envc spells it agent_conf = "none".
+SINGLE = "none"
 
 
 def record(spec, scenario, conf, k, seed, action_seed, steps, out):
     spec = spec_for(spec, conf)
-    env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+    if conf == SINGLE:
+        env = mamujoco_v1.parallel_env(scenario, None)
+    else:
+        env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
     single = env.single_agent_env
     lo, hi = single.action_space.low.astype(np.float64), single.action_space.high.astype(np.float64)
     rng = np.random.default_rng(action_seed)
@@ -87,7 +95,11 @@ def record(spec, scenario, conf, k, seed, action_seed, steps, out):
     for a in agents:
         arrays[f"obs_{a}"] = np.array(obs_rows[a])
     np.savez_compressed(os.path.join(out, name + ".npz"), **arrays)
-    levels = {a: [[str(n) for n in env.k_dicts[i][d]] for d in sorted(env.k_dicts[i])] for i, a in enumerate(agents)}
+    if getattr(env, "k_dicts", None) is None:
+        levels = {a: [] for a in agents}
+    else:
+        levels = {a: [[str(n) for n in env.k_dicts[i][d]] for d in sorted(env.k_dicts[i])]
+                  for i, a in enumerate(agents)}
     env.close()
     return dict(name=name, spec=spec, scenario=scenario, agent_conf=conf, agent_obsk=k, seed=seed,
                 action_seed=action_seed, steps=steps, resets=resets, agents=agents, levels=levels)
@@ -109,12 +121,14 @@ def main():
         steps = 60
     cases = []
     for spec, scenario, confs in SCENARIOS:
-        for conf in confs:
-            for k in KS:
-                for s in seeds:
-                    n = min(steps, 25) if scenario.startswith("Humanoid") else steps
-                    n = min(n, 40) if scenario == "ManySegmentAnt" else n
-                    cases.append(record(spec, scenario, conf, k, s, s + 7919, n, args.out))
+        combos = [(c, k) for c in confs for k in KS]
+        if "{n}" not in spec:
+            combos.append((SINGLE, 0))
+        for conf, k in combos:
+            for s in seeds:
+                n = min(steps, 25) if scenario.startswith("Humanoid") else steps
+                n = min(n, 40) if scenario == "ManySegmentAnt" else n
+                cases.append(record(spec, scenario, conf, k, s, s + 7919, n, args.out))
     import gymnasium, gymnasium_robotics, mujoco
     with open(os.path.join(args.out, "manifest.json"), "w") as f:
         json.dump(dict(gymnasium=gymnasium.__version__, gymnasium_robotics=gymnasium_robotics.__version__,

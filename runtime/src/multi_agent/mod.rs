@@ -37,6 +37,19 @@ pub struct MultiStep<'a> {
     pub info: Info<'a>,
 }
 
+/// Why local observations cannot be mapped back to the state.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MappingError {
+    #[error("wrong number of agents or observation length")]
+    Shape,
+    #[error("some agent observes values that are not in the state")]
+    NoMapping,
+    #[error("state[{0}] is observed by no agent")]
+    Undefined(usize),
+    #[error("two observations disagree about state[{0}]")]
+    Conflict(usize),
+}
+
 /// A multi-agent env over one simulation.
 pub struct MultiAgentEnv {
     spec: Arc<AgentsSpec>,
@@ -247,6 +260,52 @@ impl MultiAgentEnv {
             .iter()
             .map(|a| a.actions.iter().map(|&i| action[i]).collect())
             .collect())
+    }
+
+    /// `map_global_state_to_local_observations`: each agent's observation taken from a state
+    /// vector. None when some agent observes a value the state does not hold (see
+    /// `envspec::agents::Agent::state_index`).
+    pub fn global_state_to_local(&self, state: &[f64]) -> Option<Vec<Vec<f64>>> {
+        if state.len() != self.spec.state_dim() {
+            return None;
+        }
+        self.spec
+            .agents
+            .iter()
+            .map(|a| {
+                a.state_index
+                    .as_ref()
+                    .map(|ix| ix.iter().map(|&i| state[i]).collect())
+            })
+            .collect()
+    }
+
+    /// `map_local_observations_to_global_state`: the state rebuilt from every agent's
+    /// observation. Errors when some state entry is observed by no agent, when two observations
+    /// disagree about an entry, or when the mapping does not exist.
+    pub fn local_observations_to_global(&self, obs: &[&[f64]]) -> Result<Vec<f64>, MappingError> {
+        if obs.len() != self.spec.agents.len() {
+            return Err(MappingError::Shape);
+        }
+        let mut state = vec![f64::NAN; self.spec.state_dim()];
+        let mut set = vec![false; state.len()];
+        for (a, o) in self.spec.agents.iter().zip(obs) {
+            let ix = a.state_index.as_ref().ok_or(MappingError::NoMapping)?;
+            if o.len() != ix.len() {
+                return Err(MappingError::Shape);
+            }
+            for (&i, &x) in ix.iter().zip(o.iter()) {
+                if set[i] && state[i].to_bits() != x.to_bits() {
+                    return Err(MappingError::Conflict(i));
+                }
+                state[i] = x;
+                set[i] = true;
+            }
+        }
+        match set.iter().position(|s| !s) {
+            Some(i) => Err(MappingError::Undefined(i)),
+            None => Ok(state),
+        }
     }
 
     fn write_obs(&mut self) {
