@@ -498,3 +498,62 @@ fn state_and_action_mappings() {
         Err(envc::multi_agent::MappingError::Undefined(_))
     ));
 }
+
+envc::multi_agent_env!(pub AntQuad = "../specs/mamujoco/ant.toml", agent_conf = "4x2", agent_obsk = 1);
+envc::multi_agent_env!(pub Go1Legs = "../specs/examples/go1_agents.toml", agent_conf = "legs", xml_file = "../../shared/models/unitree_go1/scene.xml");
+
+/// The typed env (generated per-agent types) runs the same core as the dynamic one.
+#[test]
+fn typed_multi_agent_env() {
+    assert_eq!(
+        AntQuad::AGENTS,
+        ["agent_0", "agent_1", "agent_2", "agent_3"]
+    );
+    assert_eq!(AntQuadAgent0Obs::DIM, 42);
+    assert_eq!(AntQuadAgent0Action::DIM, 2);
+    let mut typed = AntQuad::new().unwrap();
+    let mut dynamic = MultiAgentEnv::from_spec_file(
+        root().join("specs/mamujoco/ant.toml"),
+        &[Override::text("agent_conf", "4x2")],
+    )
+    .unwrap();
+    let obs = typed.reset(Some(9));
+    dynamic.reset(Some(9));
+    assert_eq!(
+        obs.agent_0.0.as_slice(),
+        dynamic.observations()[0].as_slice()
+    );
+    // Named parts: agent_0 observes ankle1 first (label order), then hip1.
+    assert_eq!(obs.agent_0.k0_ankle1_qpos(), &dynamic.env().state().0[8..9]);
+    let actions = AntQuadActions {
+        agent_0: AntQuadAgent0Action {
+            hip1: 0.3,
+            ankle1: -0.2,
+        },
+        agent_3: AntQuadAgent3Action {
+            hip4: 0.1,
+            ankle4: 0.5,
+        },
+        ..Default::default()
+    };
+    let s = typed.step(&actions).unwrap();
+    let d = dynamic
+        .step(&[&[0.3, -0.2], &[0.0, 0.0], &[0.0, 0.0], &[0.1, 0.5]])
+        .unwrap();
+    assert_eq!(s.reward.to_bits(), d.reward.to_bits());
+    assert_eq!(s.obs.agent_3.0.as_slice(), d.obs[3].as_slice());
+    assert_eq!(typed.state(), dynamic.state());
+
+    let mut go1 = Go1Legs::new().unwrap();
+    let o = go1.reset(Some(0));
+    assert_eq!(o.agent_2.0.len(), Go1LegsAgent2Obs::DIM);
+    let a = Go1LegsActions {
+        agent_0: Go1LegsAgent0Action {
+            fr_hip: 0.1,
+            fr_thigh: 0.9,
+            fr_calf: -1.5,
+        },
+        ..Default::default()
+    };
+    assert!(go1.step(&a).is_ok());
+}

@@ -15,6 +15,7 @@
 //! `ENVC_MANIFEST_DIR_OVERRIDE` replaces it (used by the compile-fail tests, whose crates live
 //! under `target/`).
 
+mod agents;
 mod docs;
 mod expand;
 
@@ -29,6 +30,14 @@ use syn::{Ident, Lit, LitStr, Token, Visibility};
 pub fn env(input: TokenStream) -> TokenStream {
     let input = syn::parse_macro_input!(input as Input);
     expand::expand(input).into()
+}
+
+/// Typed per-agent observation and action types for one conf of a multi-agent spec:
+/// `envc::multi_agent_env!(pub AntQuad = "specs/mamujoco/ant.toml", agent_conf = "4x2")`.
+#[proc_macro]
+pub fn multi_agent_env(input: TokenStream) -> TokenStream {
+    let input = syn::parse_macro_input!(input as Input);
+    agents::expand(input).into()
 }
 
 pub(crate) struct Input {

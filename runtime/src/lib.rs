@@ -33,6 +33,8 @@ pub mod vector;
 pub use env::{BoxSpace, Env, Info, Step};
 /// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
 pub use envc_codegen::env;
+/// Typed per-agent types for one conf of a multi-agent spec: `envc::multi_agent_env!(pub Name = "specs/mamujoco/ant.toml", agent_conf = "2x4")`.
+pub use envc_codegen::multi_agent_env;
 pub use environment::Environment;
 pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
