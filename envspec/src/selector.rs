@@ -34,6 +34,9 @@ pub enum Field {
     SiteXpos,
     TenLength,
     TenVelocity,
+    /// The tendon Jacobian as a dense ntendon × nv matrix (MuJoCo ≥ 3.6 stores it sparse; envc
+    /// expands it, as `mju_sparse2dense`). Rows are `tendon:dof` pairs, e.g. `ten_J[0:2]`.
+    TenJ,
     /// Mass-weighted mean of `xipos` over all bodies, summed sequentially (numpy's einsum order)
     /// and divided by the pairwise sum of `body_mass`.
     MassCenter,
@@ -47,6 +50,8 @@ pub enum Rows {
     Body,
     Site,
     Tendon,
+    /// One row per (tendon, dof) pair, tendon-major.
+    TendonDof,
     Actuator,
     Xyz,
 }
@@ -69,6 +74,7 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("site_xpos", Field::SiteXpos),
     ("ten_length", Field::TenLength),
     ("ten_velocity", Field::TenVelocity),
+    ("ten_J", Field::TenJ),
     ("mass_center", Field::MassCenter),
 ];
 
@@ -94,6 +100,7 @@ impl Field {
             | Field::Xipos => Rows::Body,
             Field::SiteXpos => Rows::Site,
             Field::TenLength | Field::TenVelocity => Rows::Tendon,
+            Field::TenJ => Rows::TendonDof,
             Field::MassCenter => Rows::Xyz,
         }
     }
@@ -354,6 +361,16 @@ fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
             .map(|(i, a)| or_id(&a.name, "actuator", i))
             .collect(),
         Rows::Xyz => vec!["x".into(), "y".into(), "z".into()],
+        Rows::TendonDof => {
+            let dofs = row_names(Field::Qvel, model);
+            let mut out = vec![];
+            for (i, t) in model.tendons.iter().enumerate() {
+                for d in &dofs {
+                    out.push(format!("{}:{d}", or_id(t, "tendon", i)));
+                }
+            }
+            out
+        }
     }
 }
 
@@ -426,6 +443,7 @@ fn rows_by_name(
                 .position(|a| a.name == name)
                 .map(|i| vec![i]),
         ),
+        Rows::TendonDof => ("tendon:dof pair", vec![], None),
         Rows::Xyz => (
             "component",
             vec!["x", "y", "z"],

@@ -99,6 +99,8 @@ struct Sim {
     data: MjData<Arc<MjModel>>,
     action: Vec<f64>,
     mass_center: [f64; 3],
+    /// The dense tendon Jacobian (ntendon × nv), kept up to date when the model has tendons.
+    ten_j: Vec<f64>,
     /// numpy's pairwise `body_mass.sum()`, computed once.
     mass_sum: f64,
     nq: usize,
@@ -152,12 +154,39 @@ impl Sim {
                 Field::TenLength => view(d.ten_length, self.ntendon),
                 Field::TenVelocity => view(d.ten_velocity, self.ntendon),
                 Field::MassCenter => &self.mass_center,
+                Field::TenJ => &self.ten_j,
             }
         }
     }
 
     fn get(&self, s: &Selection, k: usize) -> f64 {
         self.field(s.field)[s.indices[k]]
+    }
+
+    /// Expand MuJoCo's sparse `ten_J` (rownnz / rowadr / colind) into `ten_j`.
+    fn update_ten_j(&mut self) {
+        if self.ten_j.is_empty() {
+            return;
+        }
+        let (nt, nv) = (self.ntendon, self.nv);
+        let (m, d) = (self.model.ffi(), self.data.ffi());
+        // SAFETY: the model's rownnz/rowadr have ntendon entries; its colind and the data's ten_J
+        // at least rowadr[r] + rownnz[r] for every row r (MuJoCo's sparse layout, fixed by the
+        // model since 3.6); we only read them.
+        unsafe {
+            let rownnz = std::slice::from_raw_parts(m.ten_J_rownnz, nt);
+            let rowadr = std::slice::from_raw_parts(m.ten_J_rowadr, nt);
+            self.ten_j.fill(0.0);
+            for r in 0..nt {
+                let (adr, nnz) = (rowadr[r] as usize, rownnz[r] as usize);
+                for j in adr..adr + nnz {
+                    let c = *m.ten_J_colind.add(j) as usize;
+                    if c < nv {
+                        self.ten_j[r * nv + c] = *d.ten_J.add(j);
+                    }
+                }
+            }
+        }
     }
 
     /// `einsum("b,bj->j", body_mass, xipos) / body_mass.sum()`: sequential products and sums.
@@ -251,6 +280,7 @@ impl Env {
             ntendon: size(m.ntendon),
             action: vec![0.0; size(m.nu)],
             mass_center: [0.0; 3],
+            ten_j: vec![0.0; size(m.ntendon) * size(m.nv)],
             mass_sum: 0.0,
             model: Arc::clone(&model),
             data,
@@ -488,6 +518,7 @@ impl Env {
         if self.uses_mass_center {
             self.sim.update_mass_center();
         }
+        self.sim.update_ten_j();
         self.elapsed = 0;
         self.has_reset = true;
         self.write_obs();
@@ -588,6 +619,7 @@ impl Env {
         if self.uses_mass_center {
             self.sim.update_mass_center();
         }
+        self.sim.update_ten_j();
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {

@@ -19,6 +19,54 @@ import sys
 
 import numpy as np
 from gymnasium_robotics import mamujoco_v1
+from gymnasium_robotics.envs.multiagent_mujoco.coupled_half_cheetah import CoupledHalfCheetahEnv
+from gymnasium_robotics.envs.multiagent_mujoco.mujoco_multi import MultiAgentMujocoEnv
+
+
+# CoupledHalfCheetah reads the tendon Jacobian `ten_J` as the dense ntendon × nv matrix of MuJoCo
+# <= 3.5; MuJoCo 3.17 stores it sparse and the installed reference crashes. We run the reference's
+# own code with `data.ten_J` seen as the dense matrix (its original semantics), nothing else changed.
+class _DenseTenJ:
+    def __init__(self, model, data):
+        while isinstance(data, _DenseTenJ):
+            data = data._data
+        self._model, self._data = model, data
+
+    def __getattr__(self, name):
+        if name != "ten_J":
+            return getattr(self._data, name)
+        m, d = self._model, self._data
+        dense = np.zeros((m.ntendon, m.nv))
+        for r in range(m.ntendon):
+            a, n = m.ten_J_rowadr[r], m.ten_J_rownnz[r]
+            dense[r, m.ten_J_colind[a:a + n]] = d.ten_J[a:a + n]
+        return dense
+
+
+def _with_dense_ten_j(env, call):
+    real = env.data
+    if isinstance(real, _DenseTenJ):
+        return call()
+    env.data = _DenseTenJ(env.model, real)
+    try:
+        return call()
+    finally:
+        env.data = real
+
+
+_orig_get_obs = CoupledHalfCheetahEnv._get_obs
+CoupledHalfCheetahEnv._get_obs = lambda self: _with_dense_ten_j(self, lambda: _orig_get_obs(self))
+_orig_get_obs_agent = MultiAgentMujocoEnv._get_obs_agent
+
+
+def _get_obs_agent(self, agent_id, data=None):
+    u = self.single_agent_env.unwrapped
+    if data is None and isinstance(u, CoupledHalfCheetahEnv):
+        return _with_dense_ten_j(u, lambda: _orig_get_obs_agent(self, agent_id))
+    return _orig_get_obs_agent(self, agent_id, data)
+
+
+MultiAgentMujocoEnv._get_obs_agent = _get_obs_agent
 
 # (spec file stem in specs/mamujoco, scenario, confs)
 SCENARIOS = [
@@ -31,6 +79,7 @@ SCENARIOS = [
     ("swimmer", "Swimmer", ["2x1"]),
     ("walker2d", "Walker2d", ["2x3"]),
     ("pusher", "Pusher", ["3p"]),
+    ("coupled_half_cheetah", "CoupledHalfCheetah", ["1p1"]),  # reference patched: dense ten_J
     ("inverted_pendulum", "InvertedPendulum", []),
     ("inverted_double_pendulum", "InvertedDoublePendulum", []),
     # Generated specs (specs/mamujoco/generate_many_segment.py): one per segment count n = N·M.
