@@ -50,6 +50,31 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut failed = 0;
     for s in &args.specs {
         let path = crate::target::spec_path(s)?;
+        if envspec::agents::is_multi_agent(&path) {
+            // A multi-agent spec: the factorization and its base spec (envspec::agents).
+            let r = crate::commands::multi_agent::check(&path, &overrides, args.compile);
+            let (ok, diags, extra) = r;
+            if !ok {
+                failed += 1;
+            }
+            match args.format {
+                Format::Text if ok => println!("ok {}", path.display()),
+                Format::Text => {
+                    for d in &diags {
+                        println!("{d}");
+                    }
+                    if let Some(e) = &extra {
+                        println!("{e}");
+                    }
+                    println!("FAILED {} ({} errors)", path.display(), diags.len().max(1));
+                }
+                Format::Json => report.push(serde_json::json!({
+                    "spec": path.display().to_string(), "ok": ok,
+                    "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
+                })),
+            }
+            continue;
+        }
         let (ok, diags, extra) = match envspec::load(&path, &overrides) {
             Ok(spec) => {
                 if args.compile {

@@ -212,3 +212,40 @@ pub fn show(path: &Path, sets: &[String]) -> Result<Outcome> {
     print!("{o}");
     Ok(Outcome::Ok)
 }
+
+/// `envc check` of a multi-agent spec: every conf at k = 0, 1, 2 (and the base spec) resolves;
+/// with `compile`, the env is built. Returns (ok, diagnostics, compile error).
+pub fn check(
+    path: &Path,
+    overrides: &[envc::Override],
+    compile: bool,
+) -> (bool, Vec<envspec::Diagnostic>, Option<String>) {
+    let spec = match envspec::agents::load(path, overrides) {
+        Ok(s) => s,
+        Err(d) => return (false, d.0, None),
+    };
+    let user_conf = overrides.iter().any(|o| o.name == "agent_conf");
+    let confs: Vec<String> = if user_conf {
+        vec![spec.conf.clone()]
+    } else {
+        spec.confs.clone()
+    };
+    for c in &confs {
+        for k in 0..=2 {
+            let mut o: Vec<envc::Override> = overrides
+                .iter()
+                .filter(|o| o.name != "agent_conf" && o.name != "agent_obsk")
+                .cloned()
+                .collect();
+            o.push(envc::Override::text("agent_conf", c));
+            o.push(envc::Override::text("agent_obsk", &k.to_string()));
+            if let Err(d) = envspec::agents::load(path, &o) {
+                return (false, d.0, None);
+            }
+        }
+    }
+    if compile && let Err(e) = MultiAgentEnv::new(std::sync::Arc::new(spec)) {
+        return (false, vec![], Some(e.to_string()));
+    }
+    (true, vec![], None)
+}
