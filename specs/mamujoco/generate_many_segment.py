@@ -19,8 +19,8 @@ import os
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 ASSETS = os.path.join(ROOT, "assets", "mamujoco")
-SWIMMERS = [2, 3, 4, 5, 6, 8, 10, 12, 20]
-ANTS = [2, 3, 4, 5, 6, 8]
+SWIMMERS = list(range(2, 21))
+ANTS = list(range(1, 11))
 
 
 def render(template, body, actuators):

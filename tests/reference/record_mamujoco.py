@@ -83,8 +83,8 @@ SCENARIOS = [
     ("inverted_pendulum", "InvertedPendulum", []),
     ("inverted_double_pendulum", "InvertedDoublePendulum", []),
     # Generated specs (specs/mamujoco/generate_many_segment.py): one per segment count n = N·M.
-    ("many_segment_swimmer_{n}", "ManySegmentSwimmer", ["10x2", "6x1", "2x3", "1x2", "4x2"]),
-    ("many_segment_ant_{n}", "ManySegmentAnt", ["2x3", "3x1", "1x2", "2x2"]),
+    ("many_segment_swimmer_{n}", "ManySegmentSwimmer", ["10x2", "6x1", "2x3", "1x2", "4x2", "3x5"]),
+    ("many_segment_ant_{n}", "ManySegmentAnt", ["2x3", "3x1", "1x2", "2x2", "1x1", "5x2"]),
 ]
 
 
