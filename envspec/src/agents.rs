@@ -242,14 +242,20 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     // Split the overrides between this layer and the base spec.
     let mut conf_override = None;
     let mut k_override = None;
+    let mut single_override = false;
     let mut base_overrides = vec![];
     for o in overrides {
         match o.name.as_str() {
             "agent_conf" => {
-                conf_override = Some(match &o.value {
+                let c = match &o.value {
                     OverrideValue::Text(t) => t.trim().trim_matches('"').to_string(),
                     OverrideValue::Value(ParamValue::Str(s)) => s.clone(),
                     OverrideValue::Value(v) => format!("{v:?}"),
+                };
+                conf_override = Some(if c.eq_ignore_ascii_case(SINGLE_AGENT) {
+                    SINGLE_AGENT.to_string()
+                } else {
+                    c
                 })
             }
             "agent_obsk" => {
@@ -258,11 +264,18 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                     OverrideValue::Value(ParamValue::Int(i)) => Some(*i),
                     _ => None,
                 };
+                let none = matches!(&o.value, OverrideValue::Text(t)
+                    if t.trim().trim_matches('"').eq_ignore_ascii_case(SINGLE_AGENT));
                 match k {
                     Some(k) if (0..=64).contains(&k) => k_override = Some(k as usize),
+                    // MaMuJoCo's agent_obsk=None: single-agent mode.
+                    _ if none => single_override = true,
                     _ => d.push(
-                        Diagnostic::new(Code::E0203, "`agent_obsk` must be an integer in 0..=64")
-                            .label("expected e.g. agent_obsk=1"),
+                        Diagnostic::new(
+                            Code::E0203,
+                            "`agent_obsk` must be an integer in 0..=64 or none",
+                        )
+                        .label("expected e.g. agent_obsk=1"),
                     ),
                 }
             }
@@ -528,6 +541,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     }
 
     let conf_name = match (&conf_override, get("agent_conf")) {
+        _ if single_override => SINGLE_AGENT.to_string(),
         (Some(c), _) => c.clone(),
         (None, Some(v)) => v.as_str().unwrap_or("").to_string(),
         (None, None) => confs
