@@ -19,15 +19,12 @@ import numpy as np
 from gymnasium_robotics import mamujoco_v1
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from record_mamujoco import KS, SCENARIOS, SINGLE, spec_for  # noqa: E402
+from record_mamujoco import KS, SCENARIOS, SINGLE, make_env, spec_for  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def make(scenario, conf, k):
-    if conf == SINGLE:
-        return mamujoco_v1.parallel_env(scenario, None)
-    return mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+make = make_env
 
 
 def reference(scenario, conf, k, seed, actions):

@@ -70,7 +70,7 @@ MultiAgentMujocoEnv._get_obs_agent = _get_obs_agent
 
 # (spec file stem in specs/mamujoco, scenario, confs)
 SCENARIOS = [
-    ("ant", "Ant", ["2x4", "2x4d", "4x2"]),
+    ("ant", "Ant", ["2x4", "2x4d", "4x2", "8x1"]),  # 8x1: the docs' custom agent_factorization
     ("half_cheetah", "HalfCheetah", ["2x3", "6x1"]),
     ("hopper", "Hopper", ["3x1"]),
     ("humanoid", "Humanoid", ["9|8"]),
@@ -88,6 +88,24 @@ SCENARIOS = [
 ]
 
 
+# Custom factorizations (agent_factorization), keyed by (scenario, conf name in the envc spec).
+def _custom(scenario, conf):
+    if (scenario, conf) == ("Ant", "8x1"):
+        parts, edges, globals_ = mamujoco_v1.get_parts_and_edges("Ant", None)
+        return {"partition": [(n,) for n in parts[0]], "edges": edges, "globals": globals_}
+    return None
+
+
+def make_env(scenario, conf, k):
+    """The reference env of a case (envc's "none" is agent_conf=None)."""
+    if conf == SINGLE:
+        return mamujoco_v1.parallel_env(scenario, None)
+    fac = _custom(scenario, conf)
+    if fac is not None:
+        return mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k, agent_factorization=fac)
+    return mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+
+
 def spec_for(spec, conf):
     """The spec file stem of a scenario's conf (ManySegment* specs exist per segment count)."""
     if "{n}" in spec:
@@ -102,10 +120,7 @@ SINGLE = "none"
 
 def record(spec, scenario, conf, k, seed, action_seed, steps, out):
     spec = spec_for(spec, conf)
-    if conf == SINGLE:
-        env = mamujoco_v1.parallel_env(scenario, None)
-    else:
-        env = mamujoco_v1.parallel_env(scenario, conf, agent_obsk=k)
+    env = make_env(scenario, conf, k)
     single = env.single_agent_env
     lo, hi = single.action_space.low.astype(np.float64), single.action_space.high.astype(np.float64)
     rng = np.random.default_rng(action_seed)
