@@ -27,6 +27,9 @@ struct Case {
     steps: usize,
     agents: Vec<String>,
     levels: std::collections::BTreeMap<String, Vec<Vec<String>>>,
+    /// Parameter overrides of the spec (e.g. the Go1 model path).
+    #[serde(default)]
+    overrides: std::collections::BTreeMap<String, String>,
 }
 
 fn root() -> PathBuf {
@@ -57,14 +60,18 @@ fn pusher_swapped(ours: &[f64], k: usize) -> Vec<f64> {
 
 fn run_case(dir: &Path, case: &Case) -> Result<usize, String> {
     let spec = root().join(format!("specs/mamujoco/{}.toml", case.spec));
-    let mut env = MultiAgentEnv::from_spec_file(
-        &spec,
-        &[
-            Override::text("agent_conf", &case.agent_conf),
-            Override::text("agent_obsk", &case.agent_obsk.to_string()),
-        ],
-    )
-    .map_err(|e| format!("{}: {e}", case.name))?;
+    let mut overrides = vec![
+        Override::text("agent_conf", &case.agent_conf),
+        Override::text("agent_obsk", &case.agent_obsk.to_string()),
+    ];
+    // Override values are paths relative to the repository root (the only kind recorded).
+    overrides.extend(
+        case.overrides
+            .iter()
+            .map(|(k, v)| Override::text(k, root().join(v).to_str().expect("utf-8 path"))),
+    );
+    let mut env = MultiAgentEnv::from_spec_file(&spec, &overrides)
+        .map_err(|e| format!("{}: {e}", case.name))?;
     let names: Vec<String> = env
         .possible_agents()
         .iter()
