@@ -41,3 +41,8 @@ ENVC_VECTOR_DIR="$LIVE/vector" cargo test -p envc-tests --test vector
 "$PY" tests/reference/record_mamujoco.py --out "$LIVE/mamujoco" --seed "$SEED" --quick
 ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -p envc-tests --test mamujoco
 "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc --seed "$SEED"
+# Mazes (PointMaze_*-v3, AntMaze_*-v5, custom maps): fresh-seed trajectories of every registered id
+# replayed through envc's maze envs, and `envc rollout`'s dict observations checked from outside.
+"$PY" tests/reference/record_maze.py --out "$LIVE/maze" --seed "$SEED"
+ENVC_MAZE_DIR="$LIVE/maze" cargo test -p envc-tests --test maze
+"$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$SEED"

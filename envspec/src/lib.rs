@@ -20,6 +20,7 @@ pub mod describe;
 pub mod diagnostic;
 pub mod diff;
 pub mod ir;
+pub mod maze;
 pub mod mjcf;
 pub mod params;
 pub mod resolve;

@@ -231,20 +231,20 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         physics: None,
     };
 
+    if let Some(e) = get("maze") {
+        // A `[maze]` file is a maze spec (envspec::maze), run by envc's MazeEnv, not a task spec.
+        d.push(
+            Diagnostic::new(
+                Code::E0104,
+                "`[maze]` makes this a maze spec, not a robot task spec",
+            )
+            .at(e.key_loc.clone())
+            .label("a maze spec")
+            .help("load it as a maze (`envc::MazeEnv`, or any `envc` command)"),
+        );
+    }
     // `[agents]` (a multi-agent factorization) is read by envspec::agents; the single-agent env
     // of such a spec ignores it.
-    for reserved in ["maze"] {
-        if let Some(e) = get(reserved) {
-            d.push(
-                Diagnostic::new(
-                    Code::E0104,
-                    format!("`[{reserved}]` is reserved for a later envc version"),
-                )
-                .at(e.key_loc.clone())
-                .label("not supported yet"),
-            );
-        }
-    }
 
     match get("env") {
         None => d.push(

@@ -263,8 +263,18 @@ impl Env {
 
     /// Build an env sharing an already compiled model (vectorized envs share one).
     pub fn with_model(spec: Arc<ResolvedSpec>, model: Arc<MjModel>) -> Result<Env, EnvError> {
+        Env::with_world_model(spec, model, 0)
+    }
+
+    /// `with_model` for a model that adds `world_sites` sites to the world body of the spec's
+    /// model (a maze's goal marker); everything else must match the spec's model.
+    pub(crate) fn with_world_model(
+        spec: Arc<ResolvedSpec>,
+        model: Arc<MjModel>,
+        world_sites: usize,
+    ) -> Result<Env, EnvError> {
         mujoco_log::install();
-        check_model(&spec, &model)?;
+        check_model(&spec, &model, world_sites)?;
         let data = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
             path: spec.model_path.clone(),
             message: format!("cannot allocate mjData: {e}"),
@@ -441,6 +451,22 @@ impl Env {
             values: &self.reset_info_values,
         }
     }
+    /// The `init_qpos` resets start from (Gymnasium's `env.init_qpos`; a maze moves its xy).
+    pub(crate) fn init_qpos_mut(&mut self) -> &mut [f64] {
+        &mut self.qpos_init
+    }
+
+    /// Clip the current qvel to `±limit` and `mj_forward` (Gymnasium's `set_state(qpos, clip(qvel))`).
+    pub(crate) fn clip_qvel(&mut self, limit: f64) {
+        let nv = self.sim.nv;
+        // SAFETY: qvel has nv entries; no other borrow of it is alive.
+        let qvel = unsafe { std::slice::from_raw_parts_mut(self.sim.data.ffi_mut().qvel, nv) };
+        for v in qvel {
+            *v = crate::numerics::clip(*v, -limit, limit);
+        }
+        self.sim.data.forward();
+    }
+
     /// Current `qpos` and `qvel`.
     pub fn state(&self) -> (&[f64], &[f64]) {
         (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
@@ -892,7 +918,7 @@ fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
 
 /// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in
 /// the spec would point at the wrong elements).
-fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
+fn check_model(spec: &ResolvedSpec, model: &MjModel, world_sites: usize) -> Result<(), EnvError> {
     let m = model.ffi();
     let info = &spec.model;
     let mismatch = |what: String| EnvError::ModelMismatch {
@@ -905,7 +931,7 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel) -> Result<(), EnvError> {
         ("nu", m.nu as usize, info.nu()),
         ("nbody", m.nbody as usize, info.nbody()),
         ("njnt", m.njnt as usize, info.joints.len()),
-        ("nsite", m.nsite as usize, info.sites.len()),
+        ("nsite", m.nsite as usize, info.sites.len() + world_sites),
         ("ntendon", m.ntendon as usize, info.tendons.len()),
     ];
     for (name, compiled, read) in sizes {

@@ -20,6 +20,7 @@ pub mod env;
 pub mod environment;
 pub mod error;
 pub mod gymnasium;
+pub mod maze;
 mod model_build;
 pub mod model_diff;
 pub mod multi_agent;

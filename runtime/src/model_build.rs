@@ -12,6 +12,13 @@ pub(crate) fn compile_edited(
     path: &std::path::Path,
     edits: &ModelEdits,
 ) -> Result<MjModel, String> {
+    load_edited(path, edits)?
+        .compile()
+        .map_err(|e| e.to_string())
+}
+
+/// Load the model file into an mjSpec and apply the edits (a maze then adds its world).
+pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<MjSpec, String> {
     let mut spec = MjSpec::from_xml(path).map_err(|e| e.to_string())?;
     if let Some(ts) = edits.timestep {
         spec.option_mut().timestep = ts;
@@ -27,7 +34,7 @@ pub(crate) fn compile_edited(
     for a in &edits.actuators {
         add_actuator(&mut spec, a)?;
     }
-    spec.compile().map_err(|e| e.to_string())
+    Ok(spec)
 }
 
 fn add_actuator(spec: &mut MjSpec, a: &AddedActuator) -> Result<(), String> {

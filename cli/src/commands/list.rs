@@ -37,6 +37,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             format!("specs/{rel}"),
         ));
     }
+    rows.extend(crate::commands::maze::list_rows()?);
     match args.format {
         Format::Json => {
             let v: Vec<_> = rows
@@ -49,12 +50,12 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         Format::Text => {
             println!(
-                "{:<28} {:>7} {:>7} {:>8} {:>9}  spec",
+                "{:<34} {:>7} {:>7} {:>8} {:>9}  spec",
                 "id", "obs", "act", "dt", "max steps"
             );
             for (id, o, a, dt, m, p) in rows {
                 let m = m.map(|m| m.to_string()).unwrap_or_else(|| "none".into());
-                println!("{id:<28} {o:>7} {a:>7} {dt:>8} {m:>9}  {p}");
+                println!("{id:<34} {o:>7} {a:>7} {dt:>8} {m:>9}  {p}");
             }
         }
     }

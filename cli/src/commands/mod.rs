@@ -5,6 +5,7 @@ pub mod collect;
 pub mod dataset;
 pub mod diff;
 pub mod list;
+pub mod maze;
 pub mod multi_agent;
 pub mod rollout;
 pub mod run;

@@ -87,6 +87,17 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if crate::commands::maze::is_maze(&args.spec) {
+        let a = &args;
+        return crate::commands::maze::rollout(
+            &a.spec,
+            &a.set,
+            a.seed,
+            &a.actions,
+            &a.out,
+            a.auto_reset,
+        );
+    }
     if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
         let a = &args;
         return crate::commands::multi_agent::rollout(

@@ -36,6 +36,9 @@ fn wrap(names: &[String], indent: usize, width: usize) -> String {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if crate::commands::maze::is_maze(&args.spec) {
+        return crate::commands::maze::show(&args.spec, &args.set);
+    }
     if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
         return crate::commands::multi_agent::show(&p, &args.set);
     }

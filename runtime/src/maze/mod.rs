@@ -1,0 +1,467 @@
+//! Maze envs: a maze spec (layout, envspec::maze) composed with any robot task spec, run with the
+//! semantics of Gymnasium-Robotics 1.4.2's `maze_v4.MazeEnv` (PointMaze-v3, AntMaze-v4/v5).
+//!
+//! World building: the robot's model is loaded into an mjSpec (with the robot spec's own model
+//! edits), the wall blocks and the goal marker are added to its world body (they inherit the robot
+//! file's geom defaults, as the reference's XML rewrite does), and the result is compiled in
+//! memory: no temporary files.
+//!
+//! ```no_run
+//! use envc::maze::MazeEnv;
+//! let mut env = MazeEnv::make("PointMaze_UMaze-v3", &[])?;
+//! let (obs, _success) = env.reset(Some(0), None)?;
+//! let obs = obs.clone();
+//! let step = env.step(&[0.5, 0.5])?;
+//! println!("{:?} reward {} success {}", obs.desired_goal, step.reward, step.success);
+//! # Ok::<(), envc::EnvError>(())
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use envspec::maze::{Cell, Layout, MazeSpec, RewardType};
+use envspec::{Code, Diagnostic, Diagnostics, Override, ResolvedSpec};
+use mujoco_rs::prelude::*;
+
+use crate::env::{BoxSpace, Env, Info};
+use crate::error::EnvError;
+use crate::numerics::{norm, pairwise_sum};
+use crate::rng::NumpyRng;
+
+mod npexp;
+/// `np.exp` for float64 as the reference computes it (see `npexp`); used by the dense reward.
+pub use npexp::exp as np_exp;
+
+/// The goal-conditioned observation (Gymnasium-Robotics' dict; keys sort as achieved_goal,
+/// desired_goal, observation in the reference's `spaces.Dict`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MazeObs {
+    /// The robot spec's observation.
+    pub observation: Vec<f64>,
+    /// `qpos[0:2]`: the robot's root x, y.
+    pub achieved_goal: [f64; 2],
+    /// The current goal x, y.
+    pub desired_goal: [f64; 2],
+}
+
+/// `reset(options=...)`: cells (row, col) to place the goal / the robot in (any non-wall cell).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ResetOptions {
+    pub goal_cell: Option<[usize; 2]>,
+    pub reset_cell: Option<[usize; 2]>,
+}
+
+/// One maze step.
+#[derive(Debug)]
+pub struct MazeStep<'a> {
+    pub obs: &'a MazeObs,
+    pub reward: f64,
+    pub terminated: bool,
+    pub truncated: bool,
+    /// `info["success"]`: the robot is within the goal threshold of the goal.
+    pub success: bool,
+    /// The robot's own info (the maze forwards it; `success` is added above).
+    pub robot_info: Info<'a>,
+}
+
+/// A maze env.
+pub struct MazeEnv {
+    spec: Arc<MazeSpec>,
+    robot: Env,
+    layout: Layout,
+    rng: Option<NumpyRng>,
+    goal: [f64; 2],
+    obs: MazeObs,
+    elapsed: u64,
+    has_reset: bool,
+    success: bool,
+}
+
+/// The maze registry file of the bundled specs.
+pub fn registry_file() -> PathBuf {
+    crate::registry::specs_dir()
+        .join("robotics")
+        .join("maze")
+        .join("registry.toml")
+}
+
+/// Every registered maze id (Gymnasium-Robotics' PointMaze_*-v3 and AntMaze_*-v5), sorted.
+pub fn registered() -> Vec<envspec::maze::Registered> {
+    envspec::maze::registry(&registry_file()).unwrap_or_default()
+}
+
+fn spec_error(code: Code, msg: String) -> EnvError {
+    EnvError::Spec(Diagnostics(vec![Diagnostic::new(code, msg)]))
+}
+
+impl MazeEnv {
+    /// A registered maze id (e.g. `AntMaze_Medium_Diverse_GRDense-v5`) or a maze spec file, with
+    /// overrides (maze parameters by name, anything else goes to the robot spec).
+    pub fn make(id_or_path: &str, overrides: &[Override]) -> Result<MazeEnv, EnvError> {
+        let p = Path::new(id_or_path);
+        if p.extension().is_some_and(|x| x == "toml") || p.is_file() {
+            return MazeEnv::from_spec_file(p, overrides);
+        }
+        let all = registered();
+        let Some(r) = all.iter().find(|r| r.id == id_or_path) else {
+            return Err(EnvError::Spec(Diagnostics(vec![
+                Diagnostic::new(
+                    Code::E0600,
+                    format!("no registered maze env `{id_or_path}`"),
+                )
+                .help_opt(envspec::diagnostic::suggest(
+                    id_or_path,
+                    all.iter().map(|r| r.id.as_str()),
+                )),
+            ])));
+        };
+        let mut o = r.overrides.clone();
+        o.extend(overrides.iter().cloned());
+        let mut env = MazeEnv::from_spec_file(&r.spec, &o)?;
+        Arc::make_mut(&mut env.spec).id = r.id.clone();
+        Ok(env)
+    }
+
+    /// Whether `id_or_path` names a maze env (a registered maze id or a file with `[maze]`).
+    pub fn is_maze(id_or_path: &str) -> bool {
+        let p = Path::new(id_or_path);
+        if p.is_file() {
+            return envspec::maze::is_maze_file(p);
+        }
+        registered().iter().any(|r| r.id == id_or_path)
+    }
+
+    pub fn from_spec_file(path: &Path, overrides: &[Override]) -> Result<MazeEnv, EnvError> {
+        let spec = envspec::maze::load_maze(path, overrides)?;
+        MazeEnv::new(spec)
+    }
+
+    /// Build the maze world around the robot and the env.
+    pub fn new(spec: MazeSpec) -> Result<MazeEnv, EnvError> {
+        let robot_spec = envspec::load(&spec.robot, &spec.robot_overrides)?;
+        if robot_spec.model.nq < 2 {
+            return Err(spec_error(
+                Code::E0104,
+                format!(
+                    "{}: the robot `{}` has {} qpos entries; a maze robot needs its root x, y in qpos[0:2]",
+                    envspec::diagnostic::show_path(&spec.path),
+                    robot_spec.id,
+                    robot_spec.model.nq
+                ),
+            ));
+        }
+        let model = Arc::new(build_world(&spec, &robot_spec)?);
+        let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
+        let layout = spec.layout();
+        if layout.goals.is_empty() || layout.resets.is_empty() {
+            return Err(spec_error(
+                Code::E0104,
+                format!(
+                    "{}: the map has no goal or no reset candidate",
+                    envspec::diagnostic::show_path(&spec.path)
+                ),
+            ));
+        }
+        let obs = MazeObs {
+            observation: vec![0.0; robot.obs_dim()],
+            ..Default::default()
+        };
+        Ok(MazeEnv {
+            spec: Arc::new(spec),
+            robot,
+            layout,
+            rng: None,
+            goal: [0.0; 2],
+            obs,
+            elapsed: 0,
+            has_reset: false,
+            success: false,
+        })
+    }
+
+    pub fn spec(&self) -> &MazeSpec {
+        &self.spec
+    }
+    pub fn id(&self) -> &str {
+        &self.spec.id
+    }
+    /// The robot env inside the maze (its model is the compiled maze world).
+    pub fn robot(&self) -> &Env {
+        &self.robot
+    }
+    pub fn model(&self) -> &Arc<MjModel> {
+        self.robot.model()
+    }
+    pub fn action_space(&self) -> &BoxSpace {
+        self.robot.action_space()
+    }
+    pub fn act_dim(&self) -> usize {
+        self.robot.act_dim()
+    }
+    /// Size of `observation` (`achieved_goal` and `desired_goal` have 2 entries).
+    pub fn observation_dim(&self) -> usize {
+        self.robot.obs_dim()
+    }
+    pub fn max_episode_steps(&self) -> Option<u64> {
+        self.spec.max_episode_steps
+    }
+    pub fn dt(&self) -> f64 {
+        self.robot.dt()
+    }
+    pub fn obs(&self) -> &MazeObs {
+        &self.obs
+    }
+    /// The goal candidates and reset candidates (cell centres, in draw order).
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+    pub fn warnings(&self) -> &[String] {
+        self.robot.warnings()
+    }
+
+    fn rng(&mut self) -> &mut NumpyRng {
+        self.rng.as_mut().expect("seeded in reset")
+    }
+
+    fn noisy(&mut self, mut xy: [f64; 2]) -> [f64; 2] {
+        let (r, s) = (self.spec.position_noise_range, self.spec.maze_size_scaling);
+        let nx = self.rng().uniform(-r, r) * s;
+        let ny = self.rng().uniform(-r, r) * s;
+        xy[0] += nx;
+        xy[1] += ny;
+        xy
+    }
+
+    fn sample_goal(&mut self) -> [f64; 2] {
+        let n = self.layout.goals.len() as i64;
+        let k = self.rng().integers(0, n) as usize;
+        self.layout.goals[k]
+    }
+
+    fn check_cell(&self, cell: [usize; 2], what: &str) -> Result<(), EnvError> {
+        let ok = cell[0] < self.spec.rows()
+            && cell[1] < self.spec.cols()
+            && self.spec.grid[cell[0]][cell[1]] != Cell::Wall;
+        if ok {
+            Ok(())
+        } else {
+            Err(spec_error(
+                Code::E0104,
+                format!(
+                    "{what} {cell:?} is not a free cell of the {}×{} maze",
+                    self.spec.rows(),
+                    self.spec.cols()
+                ),
+            ))
+        }
+    }
+
+    /// Gymnasium-Robotics `reset(seed=..., options=...)`: goal, then reset position, then the
+    /// robot's own reset (with the same seed). Returns the observation and `info["success"]`
+    /// (the robot's reset info is in `robot().reset_info()`).
+    pub fn reset(
+        &mut self,
+        seed: Option<u64>,
+        options: Option<ResetOptions>,
+    ) -> Result<(&MazeObs, bool), EnvError> {
+        let o = options.unwrap_or_default();
+        if let Some(c) = o.goal_cell {
+            self.check_cell(c, "goal_cell")?;
+        }
+        if let Some(c) = o.reset_cell {
+            self.check_cell(c, "reset_cell")?;
+        }
+        match seed {
+            Some(s) => self.rng = Some(NumpyRng::from_seed(s)),
+            None if self.rng.is_none() => self.rng = Some(NumpyRng::from_entropy()),
+            None => {}
+        }
+        let goal = match o.goal_cell {
+            Some([i, j]) => self.spec.cell_xy(i, j),
+            None => self.sample_goal(),
+        };
+        self.goal = self.noisy(goal);
+        let reset = match o.reset_cell {
+            Some([i, j]) => self.spec.cell_xy(i, j),
+            None => {
+                let lim = 0.5 * self.spec.maze_size_scaling;
+                let n = self.layout.resets.len() as i64;
+                let mut r = self.goal;
+                // The reference loops forever when no reset cell is far enough (trap M15); envc
+                // gives up after many draws and keeps the last one.
+                let mut tries = 0u32;
+                while dist_blas(r, self.goal) <= lim && tries < 1_000_000 {
+                    let k = self.rng().integers(0, n) as usize;
+                    r = self.layout.resets[k];
+                    tries += 1;
+                }
+                r
+            }
+        };
+        let reset = self.noisy(reset);
+        let init = self.robot.init_qpos_mut();
+        init[0] = reset[0];
+        init[1] = reset[1];
+        let (obs, _) = self.robot.reset(seed);
+        self.obs.observation.copy_from_slice(obs);
+        self.fill_goals();
+        self.success = dist_blas(self.obs.achieved_goal, self.goal) <= self.spec.goal_threshold;
+        self.elapsed = 0;
+        self.has_reset = true;
+        Ok((&self.obs, self.success))
+    }
+
+    fn fill_goals(&mut self) {
+        let (qpos, _) = self.robot.state();
+        self.obs.achieved_goal = [qpos[0], qpos[1]];
+        self.obs.desired_goal = self.goal;
+    }
+
+    /// Gymnasium-Robotics `step`: the robot steps (its reward and termination are ignored), then
+    /// reward, termination and success against the current goal, then `update_goal`.
+    pub fn step(&mut self, action: &[f64]) -> Result<MazeStep<'_>, EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        if action.len() != self.robot.act_dim() {
+            return Err(EnvError::ActionLength {
+                env: self.spec.id.clone(),
+                expected: self.robot.act_dim(),
+                got: action.len(),
+            });
+        }
+        if let Some(index) = action.iter().position(|a| !a.is_finite()) {
+            return Err(EnvError::NonFiniteAction {
+                index,
+                value: action[index],
+            });
+        }
+        if let Some(v) = self.spec.velocity_clip {
+            self.robot.clip_qvel(v);
+        }
+        let obs = self.robot.step(action)?.obs;
+        self.obs.observation.copy_from_slice(obs);
+        self.fill_goals();
+        let achieved = self.obs.achieved_goal;
+        let reward = self.compute_reward_one(achieved, self.goal);
+        let terminated = self.compute_terminated(achieved, self.goal);
+        self.success = dist_blas(achieved, self.goal) <= self.spec.goal_threshold;
+        self.update_goal(achieved);
+        self.elapsed += 1;
+        let truncated = self
+            .spec
+            .max_episode_steps
+            .is_some_and(|m| self.elapsed >= m);
+        Ok(MazeStep {
+            obs: &self.obs,
+            reward,
+            terminated,
+            truncated,
+            success: self.success,
+            robot_info: self.robot.step_info(),
+        })
+    }
+
+    fn compute_reward_one(&self, achieved: [f64; 2], desired: [f64; 2]) -> f64 {
+        let d = dist_axis(achieved, desired);
+        match self.spec.reward_type {
+            RewardType::Dense => npexp::exp(-d),
+            RewardType::Sparse => {
+                if d <= self.spec.goal_threshold {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
+    /// `compute_reward` over a batch (hindsight relabelling): `out[k]` is the reward of
+    /// `achieved[k]` against `desired[k]`, exactly as the step reward.
+    pub fn compute_reward(&self, achieved: &[[f64; 2]], desired: &[[f64; 2]], out: &mut [f64]) {
+        for ((a, d), o) in achieved.iter().zip(desired).zip(out.iter_mut()) {
+            *o = self.compute_reward_one(*a, *d);
+        }
+    }
+
+    /// `compute_terminated`: reaching the goal ends the episode unless the task is continuing.
+    pub fn compute_terminated(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
+        !self.spec.continuing_task && dist_blas(achieved, desired) <= self.spec.goal_threshold
+    }
+
+    /// `compute_truncated`: always false (the time limit truncates).
+    pub fn compute_truncated(&self, _achieved: [f64; 2], _desired: [f64; 2]) -> bool {
+        false
+    }
+
+    fn update_goal(&mut self, achieved: [f64; 2]) {
+        let th = self.spec.goal_threshold;
+        if self.spec.continuing_task
+            && self.spec.reset_target
+            && dist_blas(achieved, self.goal) <= th
+            && self.layout.goals.len() > 1
+        {
+            let mut tries = 0u32;
+            while dist_blas(achieved, self.goal) <= th && tries < 1_000_000 {
+                let g = self.sample_goal();
+                self.goal = self.noisy(g);
+                tries += 1;
+            }
+        }
+    }
+
+    /// The current goal (the next step's `desired_goal`).
+    pub fn goal(&self) -> [f64; 2] {
+        self.goal
+    }
+    pub fn elapsed_steps(&self) -> u64 {
+        self.elapsed
+    }
+}
+
+/// `np.linalg.norm(a - b)` (no axis: OpenBLAS ddot).
+fn dist_blas(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [a[0] - b[0], a[1] - b[1]];
+    norm(2, &|i| d[i])
+}
+
+/// `np.linalg.norm(a - b, axis=-1)`: `sqrt(add.reduce(d * d))`.
+fn dist_axis(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [a[0] - b[0], a[1] - b[1]];
+    pairwise_sum(2, &|i| d[i] * d[i]).sqrt()
+}
+
+/// The robot's model with the maze added to its world body: one box per wall cell (named
+/// `block_i_j`, row-major) and the `target` site, as `Maze.make_maze` writes them.
+pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, EnvError> {
+    crate::mujoco_log::install();
+    let bad = |message: String| EnvError::Compile {
+        path: robot.model_path.clone(),
+        message,
+    };
+    let mut spec =
+        crate::model_build::load_edited(&robot.model_path, &robot.model_edits).map_err(&bad)?;
+    let s = maze.maze_size_scaling;
+    let h = maze.maze_height;
+    let z = h / 2.0 * s;
+    for &(i, j, x, y) in &maze.layout().walls {
+        let g = spec.world_body_mut().add_geom();
+        g.set_name(&format!("block_{i}_{j}"))
+            .map_err(|e| bad(format!("cannot add wall block_{i}_{j}: {e}")))?;
+        g.set_type(MjtGeomBase::mjGEOM_BOX);
+        *g.pos_mut() = [x, y, z];
+        *g.size_mut() = [0.5 * s, 0.5 * s, z];
+        g.set_material("");
+        g.set_contype(1);
+        g.set_conaffinity(1);
+        *g.rgba_mut() = [0.7, 0.5, 0.3, 1.0];
+    }
+    let t = spec.world_body_mut().add_site();
+    t.set_name("target")
+        .map_err(|e| bad(format!("cannot add the target site: {e}")))?;
+    t.set_type(MjtGeomBase::mjGEOM_SPHERE);
+    *t.pos_mut() = [0.0, 0.0, z];
+    t.size_mut()[0] = 0.2 * s;
+    *t.rgba_mut() = [1.0, 0.0, 0.0, 0.7];
+    spec.compile().map_err(|e| bad(e.to_string()))
+}

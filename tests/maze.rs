@@ -1,0 +1,326 @@
+//! Maze parity: envc's maze envs replay trajectories recorded from Gymnasium-Robotics 1.4.2
+//! (tests/reference/record_maze.py) bit for bit: dict observations, rewards, termination,
+//! truncation, success and the robot's info, across seeded and unseeded resets.
+//!
+//! `ENVC_MAZE_DIR=<dir>` replays a fresh recording instead of the committed fixtures (the live
+//! check in scripts/test.sh).
+
+use std::path::{Path, PathBuf};
+
+use envc::maze::{MazeEnv, ResetOptions};
+use envc::{EnvError, Override};
+use serde_json::Value;
+
+/// `../shared` of the project (third-party models used by the tests).
+const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
+
+fn dir() -> PathBuf {
+    match std::env::var_os("ENVC_MAZE_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/maze"),
+    }
+}
+
+fn unhex(s: &str) -> Vec<f64> {
+    let b: Vec<u8> = (0..s.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
+        .collect();
+    b.chunks(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+fn bits(a: &[f64]) -> Vec<u64> {
+    a.iter().map(|x| x.to_bits()).collect()
+}
+
+struct Check {
+    case: String,
+    errors: Vec<String>,
+}
+
+impl Check {
+    fn eq(&mut self, t: usize, what: &str, ours: &[f64], theirs: &[f64]) {
+        if bits(ours) != bits(theirs) && self.errors.len() < 20 {
+            self.errors.push(format!(
+                "{} event {t}: {what}: envc {ours:?} != reference {theirs:?}",
+                self.case
+            ));
+        }
+    }
+    fn flag(&mut self, t: usize, what: &str, ours: bool, theirs: bool) {
+        if ours != theirs && self.errors.len() < 20 {
+            self.errors.push(format!(
+                "{} event {t}: {what}: envc {ours} != reference {theirs}",
+                self.case
+            ));
+        }
+    }
+}
+
+fn check_obs(c: &mut Check, t: usize, env: &MazeEnv, ev: &Value) {
+    let o = env.obs();
+    let r = &ev["obs"];
+    c.eq(
+        t,
+        "observation",
+        &o.observation,
+        &unhex(r["observation"].as_str().unwrap()),
+    );
+    c.eq(
+        t,
+        "achieved_goal",
+        &o.achieved_goal,
+        &unhex(r["achieved_goal"].as_str().unwrap()),
+    );
+    c.eq(
+        t,
+        "desired_goal",
+        &o.desired_goal,
+        &unhex(r["desired_goal"].as_str().unwrap()),
+    );
+}
+
+fn check_info(c: &mut Check, t: usize, info: envc::Info<'_>, ev: &Value) {
+    let theirs = ev["info"].as_object().unwrap();
+    let ours: Vec<&str> = info.keys().collect();
+    let mut their_keys: Vec<&str> = theirs.keys().map(|k| k.as_str()).collect();
+    let mut ours_sorted = ours.clone();
+    ours_sorted.sort();
+    their_keys.sort();
+    if ours_sorted != their_keys {
+        c.errors.push(format!(
+            "{} event {t}: info keys {ours:?} != {their_keys:?}",
+            c.case
+        ));
+        return;
+    }
+    for (k, v) in theirs {
+        c.eq(
+            t,
+            &format!("info[{k}]"),
+            info.get(k).unwrap(),
+            &unhex(v.as_str().unwrap()),
+        );
+    }
+}
+
+fn replay(path: &Path) -> Result<(usize, Vec<String>), EnvError> {
+    let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let overrides: Vec<Override> = rec["overrides"]
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| Override::text(k, &v.as_str().unwrap().replace("$SHARED", SHARED)))
+        .collect();
+    let mut env = MazeEnv::make(rec["id"].as_str().unwrap(), &overrides)?;
+    let mut c = Check {
+        case: rec["name"].as_str().unwrap().to_string(),
+        errors: vec![],
+    };
+    let events = rec["events"].as_array().unwrap();
+    for (t, ev) in events.iter().enumerate() {
+        if ev.get("reset").is_some() {
+            let seed = ev["reset"].as_u64();
+            let options = ev["options"].as_object().map(|o| {
+                let cell = |k: &str| {
+                    o.get(k).and_then(|v| v.as_array()).map(|a| {
+                        [
+                            a[0].as_u64().unwrap() as usize,
+                            a[1].as_u64().unwrap() as usize,
+                        ]
+                    })
+                };
+                ResetOptions {
+                    goal_cell: cell("goal_cell"),
+                    reset_cell: cell("reset_cell"),
+                }
+            });
+            let (_, success) = env.reset(seed, options)?;
+            c.flag(
+                t,
+                "reset success",
+                success,
+                ev["success"].as_bool().unwrap(),
+            );
+            check_obs(&mut c, t, &env, ev);
+            check_info(&mut c, t, env.robot().reset_info(), ev);
+        } else {
+            let action = unhex(ev["action"].as_str().unwrap());
+            let s = env.step(&action)?;
+            let (reward, term, trunc, success) = (s.reward, s.terminated, s.truncated, s.success);
+            c.eq(
+                t,
+                "reward",
+                &[reward],
+                &unhex(ev["reward"].as_str().unwrap()),
+            );
+            c.flag(t, "terminated", term, ev["terminated"].as_bool().unwrap());
+            c.flag(t, "truncated", trunc, ev["truncated"].as_bool().unwrap());
+            c.flag(t, "success", success, ev["success"].as_bool().unwrap());
+            check_obs(&mut c, t, &env, ev);
+            check_info(&mut c, t, env.robot().step_info(), ev);
+        }
+    }
+    Ok((events.len(), c.errors))
+}
+
+#[test]
+fn maze_parity() {
+    let d = dir();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&d)
+        .unwrap_or_else(|e| panic!("{}: {e} (run tests/reference/record_maze.py)", d.display()))
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json") && !p.ends_with("npexp.json"))
+        .collect();
+    files.sort();
+    assert!(
+        files.len() >= 40,
+        "expected the maze cases in {}",
+        d.display()
+    );
+    let mut errors = vec![];
+    let mut events = 0;
+    for f in &files {
+        match replay(f) {
+            Ok((n, e)) => {
+                events += n;
+                errors.extend(e);
+            }
+            Err(e) => errors.push(format!("{}: {e}", f.display())),
+        }
+    }
+    eprintln!(
+        "maze parity: {} cases, {events} events from {}",
+        files.len(),
+        d.display()
+    );
+    assert!(
+        errors.is_empty(),
+        "{} mismatches:\n{}",
+        errors.len(),
+        errors.join("\n")
+    );
+}
+
+/// The dense reward's `exp` against numpy's `np.exp` (SVML on AVX512 machines), bit for bit.
+#[test]
+fn numpy_exp() {
+    let rec: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir().join("npexp.json")).unwrap()).unwrap();
+    let xs = unhex(rec["x"].as_str().unwrap());
+    let ys = unhex(rec["exp"].as_str().unwrap());
+    let bad: Vec<_> = xs
+        .iter()
+        .zip(&ys)
+        .filter(|(x, y)| envc::maze::np_exp(**x).to_bits() != y.to_bits())
+        .take(5)
+        .collect();
+    assert!(bad.is_empty(), "np.exp differs at (x, numpy): {bad:?}");
+    assert!(xs.len() >= 6000);
+}
+
+/// The Go1 placed in a maze by spec only (specs/examples/go1_maze.toml over its own task spec):
+/// the world has the U-maze's 18 walls (2 m cells), the observation is the Go1 spec's, and the
+/// episode runs with the goal task's reward.
+#[test]
+fn go1_in_a_maze_by_spec() {
+    let spec = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/examples/go1_maze.toml");
+    let xml = format!("{SHARED}/models/unitree_go1/scene.xml");
+    let mut env = MazeEnv::make(spec.to_str().unwrap(), &[Override::text("xml_file", &xml)])
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(env.layout().walls.len(), 18);
+    assert_eq!(env.observation_dim(), env.robot().obs_dim());
+    assert_eq!(env.act_dim(), 12);
+    let (obs, success) = env.reset(Some(3), None).unwrap();
+    let start = obs.achieved_goal;
+    assert!(!success);
+    // UMaze has no r/g/c cells, so every free cell is a start candidate; the start is within the
+    // noise (±0.25·s) of one of their centres.
+    assert!(
+        env.layout()
+            .resets
+            .iter()
+            .any(|c| (c[0] - start[0]).abs() <= 0.5 && (c[1] - start[1]).abs() <= 0.5)
+    );
+    let mut steps = 0;
+    for _ in 0..40 {
+        let s = env.step(&[0.0; 12]).unwrap();
+        assert!(s.reward > 0.0 && s.reward <= 1.0);
+        assert!(!s.terminated && !s.truncated);
+        steps += 1;
+    }
+    assert_eq!(steps, 40);
+}
+
+/// User input never panics: bad maze specs give stable error codes.
+#[test]
+fn maze_spec_errors_have_codes() {
+    let dir = std::env::temp_dir().join(format!("envc-maze-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let robot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/robotics/maze/point.toml");
+    let case = |body: &str| {
+        let p = dir.join("m.toml");
+        std::fs::write(
+            &p,
+            format!(
+                "[maze]\nid = \"X-v0\"\nrobot = {:?}\n{body}",
+                robot.display().to_string()
+            ),
+        )
+        .unwrap();
+        MazeEnv::make(p.to_str().unwrap(), &[])
+            .err()
+            .map(|e| e.code())
+    };
+    use envspec::Code;
+    let base = "maze_size_scaling = 1.0\nmaze_height = 0.4\n";
+    assert_eq!(
+        case(&format!("{base}map = \"1 1 1\\n1 x 1\\n1 1 1\"")),
+        Some(Code::E0104)
+    );
+    assert_eq!(
+        case(&format!("{base}map = \"1 1 1\\n1 0\\n1 1 1\"")),
+        Some(Code::E0104)
+    );
+    assert_eq!(
+        case(&format!("{base}map = \"1 1 1\\n1 1 1\"")),
+        Some(Code::E0104)
+    );
+    assert_eq!(case("map = \"1 0 1\""), Some(Code::E0103));
+    assert_eq!(
+        case(&format!(
+            "{base}map = \"1 0 1\"\nreward_type = \"negative\""
+        )),
+        Some(Code::E0104)
+    );
+    assert_eq!(
+        case(&format!("{base}map = \"1 0 1\"\nmaze_colour = 1")),
+        Some(Code::E0101)
+    );
+    assert_eq!(
+        case(&format!("{base}map = \"maps/none.toml\"")),
+        Some(Code::E0600)
+    );
+    assert_eq!(case(&format!("{base}map = \"1 0 g 1\"")), None);
+    // A wall cell as a reset option and an unknown id.
+    let mut env = MazeEnv::make("PointMaze_UMaze-v3", &[]).unwrap();
+    let opt = ResetOptions {
+        goal_cell: Some([0, 0]),
+        reset_cell: None,
+    };
+    assert_eq!(
+        env.reset(Some(0), Some(opt)).err().map(|e| e.code()),
+        Some(Code::E0104)
+    );
+    assert!(env.step(&[0.0, 0.0]).is_err());
+    assert_eq!(
+        MazeEnv::make("PointMaze_UMase-v3", &[])
+            .err()
+            .map(|e| e.code()),
+        Some(Code::E0600)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
