@@ -27,6 +27,9 @@ struct Case {
     steps: usize,
     agents: Vec<String>,
     levels: std::collections::BTreeMap<String, Vec<Vec<String>>>,
+    /// Parameter overrides of the spec (e.g. the Go1 model path).
+    #[serde(default)]
+    overrides: std::collections::BTreeMap<String, String>,
 }
 
 fn root() -> PathBuf {
@@ -57,14 +60,18 @@ fn pusher_swapped(ours: &[f64], k: usize) -> Vec<f64> {
 
 fn run_case(dir: &Path, case: &Case) -> Result<usize, String> {
     let spec = root().join(format!("specs/mamujoco/{}.toml", case.spec));
-    let mut env = MultiAgentEnv::from_spec_file(
-        &spec,
-        &[
-            Override::text("agent_conf", &case.agent_conf),
-            Override::text("agent_obsk", &case.agent_obsk.to_string()),
-        ],
-    )
-    .map_err(|e| format!("{}: {e}", case.name))?;
+    let mut overrides = vec![
+        Override::text("agent_conf", &case.agent_conf),
+        Override::text("agent_obsk", &case.agent_obsk.to_string()),
+    ];
+    // Override values are paths relative to the repository root (the only kind recorded).
+    overrides.extend(
+        case.overrides
+            .iter()
+            .map(|(k, v)| Override::text(k, root().join(v).to_str().expect("utf-8 path"))),
+    );
+    let mut env = MultiAgentEnv::from_spec_file(&spec, &overrides)
+        .map_err(|e| format!("{}: {e}", case.name))?;
     let names: Vec<String> = env
         .possible_agents()
         .iter()
@@ -556,4 +563,67 @@ fn typed_multi_agent_env() {
         ..Default::default()
     };
     assert!(go1.step(&a).is_ok());
+}
+
+// `step` and `reset` of a multi-agent env allocate nothing (a per-thread counting allocator, as in
+// tests/no_alloc.rs).
+struct Counting;
+
+thread_local! {
+    static ALLOCS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+unsafe impl std::alloc::GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new: usize) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.realloc(ptr, layout, new) }
+    }
+}
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+#[test]
+fn multi_agent_step_and_reset_do_not_allocate() {
+    for (file, conf) in [
+        ("ant.toml", "4x2"),
+        ("humanoid.toml", "9|8"),
+        ("coupled_half_cheetah.toml", "1p1"),
+    ] {
+        let mut env = MultiAgentEnv::from_spec_file(
+            root().join("specs/mamujoco").join(file),
+            &[Override::text("agent_conf", conf)],
+        )
+        .unwrap();
+        env.reset(Some(0));
+        let acts: Vec<Vec<f64>> = env
+            .spec()
+            .agents
+            .iter()
+            .map(|a| vec![0.1; a.actions.len()])
+            .collect();
+        let refs: Vec<&[f64]> = acts.iter().map(Vec::as_slice).collect();
+        let global = vec![0.1; env.spec().act_dim()];
+        let before = ALLOCS.with(|c| c.get());
+        for i in 0..100 {
+            let s = if i % 2 == 0 {
+                env.step(&refs).unwrap()
+            } else {
+                env.step_global(&global).unwrap()
+            };
+            if s.terminated || s.truncated {
+                env.reset(None);
+            }
+        }
+        env.reset(Some(1));
+        let n = ALLOCS.with(|c| c.get()) - before;
+        assert_eq!(n, 0, "{file}: {n} allocations");
+    }
 }

@@ -19,7 +19,7 @@ import numpy as np
 from gymnasium_robotics import mamujoco_v1
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from record_mamujoco import KS, SCENARIOS, SINGLE, make_env, spec_for  # noqa: E402
+from record_mamujoco import KS, OVERRIDES, SCENARIOS, SINGLE, make_env, spec_for  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -82,6 +82,7 @@ def main():
                 np.save(a_path, acts)
                 cmd = [args.envc, "rollout", os.path.join(ROOT, "specs", "mamujoco", spec_for(spec, conf) + ".toml"),
                        "--set", f"agent_conf={conf}", "--set", f"agent_obsk={k}", "--seed", str(s),
+                       *[x for kv in OVERRIDES.get(scenario, {}).items() for x in ("--set", f"{kv[0]}={kv[1]}")],
                        "--actions", a_path, "--out", t_path]
                 subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
                 ours = dict(np.load(t_path))

@@ -81,11 +81,57 @@ SCENARIOS = [
     ("pusher", "Pusher", ["3p"]),
     ("coupled_half_cheetah", "CoupledHalfCheetah", ["1p1"]),  # reference patched: dense ten_J
     ("inverted_pendulum", "InvertedPendulum", []),
+    # A custom factorization of a robot the reference does not ship: specs/examples/go1_agents.toml
+    # against the reference's machinery (Ant-v5's task on the Go1 model as gym_env, and the same
+    # graph written as obsk Nodes below).
+    ("../examples/go1_agents", "Go1", ["front_hind", "legs"]),
     ("inverted_double_pendulum", "InvertedDoublePendulum", []),
     # Generated specs (specs/mamujoco/generate_many_segment.py): one per segment count n = N·M.
     ("many_segment_swimmer_{n}", "ManySegmentSwimmer", ["10x2", "6x1", "2x3", "1x2", "4x2", "3x5"]),
     ("many_segment_ant_{n}", "ManySegmentAnt", ["2x3", "3x1", "1x2", "2x2", "1x1", "5x2"]),
 ]
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+GO1_XML = os.path.normpath(os.path.join(ROOT, "..", "shared", "models", "unitree_go1", "scene.xml"))
+# Parameter overrides of the envc spec per scenario (passed as --set / Override).
+OVERRIDES = {"Go1": {"xml_file": GO1_XML}}
+
+
+def _go1_env():
+    """specs/examples/go1.toml's task: Ant-v5 with the Go1 model and go1.toml's parameters."""
+    import gymnasium
+    return gymnasium.make("Ant-v5", xml_file=GO1_XML, frame_skip=25, ctrl_cost_weight=0.05,
+                          contact_cost_weight=5e-4, healthy_reward=1.0, main_body="trunk",
+                          healthy_z_range=(0.195, 0.75), contact_force_range=(-1.0, 1.0),
+                          reset_noise_scale=0.1, exclude_current_positions_from_observation=False,
+                          include_cfrc_ext_in_observation=True)
+
+
+def _go1_factorization(env, conf):
+    """specs/examples/go1_agents.toml as obsk Nodes (ids looked up in the compiled model)."""
+    from gymnasium_robotics.envs.multiagent_mujoco.obsk import HyperEdge, Node
+    m = env.unwrapped.model
+    clip = lambda _id, x: np.clip(x, -1, 1).tolist()  # noqa: E731
+    legs = ["FR", "FL", "RR", "RL"]
+    bodies = {"hip": lambda l: ("trunk", f"{l}_hip"), "thigh": lambda l: (f"{l}_thigh",),
+              "calf": lambda l: (f"{l}_calf",)}
+    nodes = {}
+    for l in legs:
+        for part in ["hip", "thigh", "calf"]:
+            j = m.joint(f"{l}_{part}_joint")
+            act = [i for i in range(m.nu) if m.actuator_trnid[i][0] == j.id][0]
+            nodes[f"{l}_{part}"] = Node(f"{l}_{part}", int(j.qposadr[0]), int(j.dofadr[0]), act,
+                                        bodies=tuple(m.body(b).id for b in bodies[part](l)), body_fn=clip)
+    edges = [HyperEdge(nodes[f"{l}_hip"], nodes[f"{l}_thigh"]) for l in legs]
+    edges += [HyperEdge(nodes[f"{l}_thigh"], nodes[f"{l}_calf"]) for l in legs]
+    edges.append(HyperEdge(*[nodes[f"{l}_hip"] for l in legs]))
+    trunk = Node("trunk", None, None, None,
+                 extra_obs={"qpos": lambda d: d.qpos[2:7], "qvel": lambda d: d.qvel[0:6]})
+    leg = lambda l: tuple(nodes[f"{l}_{p}"] for p in ["hip", "thigh", "calf"])  # noqa: E731
+    partition = {"front_hind": [leg("FR") + leg("FL"), leg("RR") + leg("RL")],
+                 "legs": [leg(l) for l in legs]}[conf]
+    return {"partition": partition, "edges": edges, "globals": [trunk]}
 
 
 # Custom factorizations (agent_factorization), keyed by (scenario, conf name in the envc spec).
@@ -98,6 +144,12 @@ def _custom(scenario, conf):
 
 def make_env(scenario, conf, k):
     """The reference env of a case (envc's "none" is agent_conf=None)."""
+    if scenario == "Go1":
+        g = _go1_env()
+        if conf == SINGLE:
+            return mamujoco_v1.parallel_env("Ant", None, gym_env=g)
+        return mamujoco_v1.parallel_env("Ant", conf, agent_obsk=k, gym_env=g,
+                                        agent_factorization=_go1_factorization(g, conf))
     if conf == SINGLE:
         return mamujoco_v1.parallel_env(scenario, None)
     fac = _custom(scenario, conf)
@@ -151,7 +203,7 @@ def record(spec, scenario, conf, k, seed, action_seed, steps, out):
             for a in agents:
                 obs_rows[a].append(np.asarray(obs[a], dtype=np.float64))
             state_rows.append(np.asarray(env.state(), dtype=np.float64))
-    name = f"{spec}_{conf.replace('|', '-')}_k{k}_s{seed}"
+    name = f"{os.path.basename(spec)}_{conf.replace('|', '-')}_k{k}_s{seed}"
     arrays = dict(
         actions=np.array(actions), state=np.array(state_rows), reward=np.array(rewards),
         terminated=np.array(terms), truncated=np.array(truncs),
@@ -166,6 +218,8 @@ def record(spec, scenario, conf, k, seed, action_seed, steps, out):
                   for i, a in enumerate(agents)}
     env.close()
     return dict(name=name, spec=spec, scenario=scenario, agent_conf=conf, agent_obsk=k, seed=seed,
+                # Paths relative to the repository root (the Rust test resolves them there).
+                overrides={k: os.path.relpath(v, ROOT) for k, v in OVERRIDES.get(scenario, {}).items()},
                 action_seed=action_seed, steps=steps, resets=resets, agents=agents, levels=levels)
 
 
@@ -191,7 +245,7 @@ def main():
         for conf, k in combos:
             for s in seeds:
                 n = min(steps, 25) if scenario.startswith("Humanoid") else steps
-                n = min(n, 40) if scenario == "ManySegmentAnt" else n
+                n = min(n, 40) if scenario in ("ManySegmentAnt", "Go1") else n
                 cases.append(record(spec, scenario, conf, k, s, s + 7919, n, args.out))
     import gymnasium, gymnasium_robotics, mujoco
     with open(os.path.join(args.out, "manifest.json"), "w") as f:
