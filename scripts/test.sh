@@ -46,3 +46,17 @@ ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -p envc-tests --test mamujoco
 "$PY" tests/reference/record_maze.py --out "$LIVE/maze" --seed "$SEED"
 ENVC_MAZE_DIR="$LIVE/maze" cargo test -p envc-tests --test maze
 "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$SEED"
+# Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
+# by the real minari and replayed in Gymnasium-Robotics (fresh seed).
+MZ="$(mktemp -d)"
+for fmt in arrow hdf5; do
+  target/debug/envc collect PointMaze_Medium_Diverse_GRDense-v3 --dataset-id "envc/pointmaze-$fmt-v0" \
+    --episodes 3 --seed "$SEED" --format "$fmt" --root "$MZ" --set max_episode_steps=40 >/dev/null
+  "$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id "envc/pointmaze-$fmt-v0" \
+    --env-id PointMaze_Medium_Diverse_GRDense-v3 --max-episode-steps 40
+done
+target/debug/envc collect AntMaze_UMaze-v5 --dataset-id envc/antmaze-v0 --episodes 2 --seed "$SEED" \
+  --root "$MZ" --set max_episode_steps=15 >/dev/null
+"$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id envc/antmaze-v0 \
+  --env-id AntMaze_UMaze-v5 --max-episode-steps 15
+rm -rf "$MZ"

@@ -92,6 +92,28 @@ fn read_actions(path: &PathBuf, act_dim: usize) -> Result<Vec<f32>> {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if crate::commands::maze::is_maze(&args.spec) {
+        let format = match args.format {
+            FormatArg::Arrow => Format::Arrow,
+            FormatArg::Hdf5 => Format::Hdf5,
+        };
+        let random = match args.policy {
+            PolicyKind::Zero => false,
+            PolicyKind::Random => true,
+            PolicyKind::Replay => bail!("--policy replay is not supported for maze envs"),
+        };
+        return crate::commands::maze::collect(
+            &args.spec,
+            &args.set,
+            &args.dataset_id,
+            args.episodes,
+            random,
+            args.seed,
+            format,
+            args.root.clone(),
+            vec![args.author.clone()],
+        );
+    }
     let env = crate::target::env(&args.spec, &args.set)?;
     let format = match args.format {
         FormatArg::Arrow => Format::Arrow,

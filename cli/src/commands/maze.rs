@@ -293,3 +293,70 @@ pub fn show(id_or_path: &str, sets: &[String]) -> Result<Outcome> {
     print!("{o}");
     Ok(Outcome::Ok)
 }
+
+/// `envc collect` for a maze: `episodes` episodes (seeds `seed + i`, else OS entropy) with a zero
+/// or uniformly random float32 policy, as a Minari dataset with dict observations.
+#[allow(clippy::too_many_arguments)]
+pub fn collect(
+    id_or_path: &str,
+    sets: &[String],
+    dataset_id: &str,
+    episodes: u64,
+    random: bool,
+    seed: Option<u64>,
+    format: envc::dataset::Format,
+    root: Option<std::path::PathBuf>,
+    author: Vec<String>,
+) -> Result<Outcome> {
+    use envc::dataset::{CollectOptions, DatasetInfo};
+    use envc::maze::dataset::MazeCollector;
+    use envc::rng::NumpyRng;
+    let env = load(id_or_path, sets)?;
+    let id = env.id().to_string();
+    let space = env.action_space().clone();
+    let info = DatasetInfo {
+        author,
+        algorithm_name: Some(if random { "random" } else { "zero" }.into()),
+        description: Some(format!(
+            "{episodes} episodes of {id} with a {} policy, collected by envc {}",
+            if random { "random" } else { "zero" },
+            env!("CARGO_PKG_VERSION")
+        )),
+        ..DatasetInfo::default()
+    };
+    let opts = CollectOptions {
+        root,
+        dataset_id: dataset_id.to_string(),
+        format,
+        info,
+    };
+    let mut c = MazeCollector::new(env, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut seed_rng = NumpyRng::from_entropy();
+    let mut policy_rng = NumpyRng::from_seed(seed.unwrap_or_else(|| seed_rng.next_u64()));
+    let mut policy = |_o: &envc::maze::MazeObs, a: &mut [f32]| {
+        for (i, x) in a.iter_mut().enumerate() {
+            *x = if random {
+                policy_rng.uniform(space.low[i], space.high[i]) as f32
+            } else {
+                0.0
+            };
+        }
+    };
+    let mut steps = 0;
+    for ep in 0..episodes {
+        let s = match seed {
+            Some(s) => s.wrapping_add(ep),
+            None => seed_rng.next_u64(),
+        };
+        steps += c
+            .episode(s, &mut policy)
+            .map_err(|e| anyhow::anyhow!("episode {ep}: {e}"))?
+            .steps;
+    }
+    let dir = c.finish().map_err(|e| anyhow::anyhow!("{e}"))?;
+    println!(
+        "{dataset_id}: {episodes} episodes, {steps} steps written to {}",
+        dir.display()
+    );
+    Ok(Outcome::Ok)
+}

@@ -40,10 +40,11 @@ pub fn write_episode(
     data: &Path,
     index: u64,
     ep: &EpisodeRecord<'_>,
-    obs_dim: usize,
+    obs_space: &Space,
     act_dim: usize,
 ) -> Result<(), DatasetError> {
     let t = ep.steps();
+    let obs_dim = obs_space.flat_len().unwrap_or(0);
     let dir = data.join(index.to_string());
     let path = dir.join("part-0.arrow");
     let werr = |e: arrow_schema::ArrowError| DatasetError::Write {
@@ -57,12 +58,35 @@ pub fn write_episode(
     }
     fs::create_dir_all(&dir).map_err(io(&dir))?;
 
-    let obs = fixed_list(
-        DataType::Float64,
-        Arc::new(Float64Array::from(ep.observations.to_vec())),
-        obs_dim,
-    )
-    .map_err(werr)?;
+    let obs: ArrayRef = match obs_space {
+        // Dict observations: a struct with one fixed-size-list field per key, cut from the
+        // concatenated rows (Minari decodes struct fields by name).
+        Space::Dict(items) => {
+            let (mut fields, mut cols, mut off) = (vec![], vec![], 0);
+            for (key, sub) in items {
+                let w = sub.flat_len().unwrap_or(0);
+                let values: Vec<f64> = ep
+                    .observations
+                    .chunks(obs_dim.max(1))
+                    .flat_map(|row| row[off..off + w].iter().copied())
+                    .collect();
+                let col = fixed_list(DataType::Float64, Arc::new(Float64Array::from(values)), w)
+                    .map_err(werr)?;
+                fields.push(Field::new(key, col.data_type().clone(), true));
+                cols.push(Arc::new(col) as ArrayRef);
+                off += w;
+            }
+            Arc::new(StructArray::try_new(Fields::from(fields), cols, None).map_err(werr)?)
+        }
+        _ => Arc::new(
+            fixed_list(
+                DataType::Float64,
+                Arc::new(Float64Array::from(ep.observations.to_vec())),
+                obs_dim,
+            )
+            .map_err(werr)?,
+        ),
+    };
     let mut act = Vec::with_capacity((t + 1) * act_dim);
     act.extend_from_slice(ep.actions);
     act.resize((t + 1) * act_dim, 0.0);
@@ -84,7 +108,7 @@ pub fn write_episode(
         Field::new("truncations", DataType::Boolean, true),
     ];
     let mut columns: Vec<ArrayRef> = vec![
-        Arc::new(obs),
+        obs,
         Arc::new(act),
         Arc::new(pad_f(ep.rewards)),
         Arc::new(pad_b(ep.terminations)),

@@ -41,9 +41,10 @@ impl Hdf5Writer {
         &mut self,
         index: u64,
         ep: &EpisodeRecord<'_>,
-        obs_dim: usize,
+        obs_space: &Space,
         act_dim: usize,
     ) -> Result<(), DatasetError> {
+        let obs_dim = obs_space.flat_len().unwrap_or(0);
         let e = werr(&self.path);
         let shape_err = |x: ndarray::ShapeError| DatasetError::Write {
             path: self.path.clone(),
@@ -87,10 +88,25 @@ impl Hdf5Writer {
                 .map_err(&e)?;
         }
         let obs = ArrayView2::from_shape((t + 1, obs_dim), ep.observations).map_err(shape_err)?;
-        g.new_dataset_builder()
-            .with_data(&obs)
-            .create("observations")
-            .map_err(&e)?;
+        if let Space::Dict(items) = obs_space {
+            // Dict observations: a group with one dataset per key (Minari's layout).
+            let og = g.create_group("observations").map_err(&e)?;
+            let mut off = 0;
+            for (key, sub) in items {
+                let w = sub.flat_len().unwrap_or(0);
+                let part = obs.slice(ndarray::s![.., off..off + w]).to_owned();
+                og.new_dataset_builder()
+                    .with_data(&part)
+                    .create(key.as_str())
+                    .map_err(&e)?;
+                off += w;
+            }
+        } else {
+            g.new_dataset_builder()
+                .with_data(&obs)
+                .create("observations")
+                .map_err(&e)?;
+        }
         let act = ArrayView2::from_shape((t, act_dim), ep.actions).map_err(shape_err)?;
         g.new_dataset_builder()
             .with_data(&act)

@@ -86,6 +86,9 @@ impl Space {
     pub fn flat_len(&self) -> Option<usize> {
         match self {
             Space::Box { shape, .. } => Some(shape.iter().product()),
+            // A Dict of Boxes: the children's rows concatenated in the listed key order (how a
+            // writer receives dict observations, e.g. a maze env's).
+            Space::Dict(items) => items.iter().map(|(_, s)| s.flat_len()).sum(),
             _ => None,
         }
     }

@@ -241,10 +241,10 @@ impl DatasetWriter {
         let index = self.episodes;
         match self.backend.as_mut() {
             Some(Backend::Arrow) => {
-                arrow_io::write_episode(&self.data, index, ep, obs_dim, act_dim)?
+                arrow_io::write_episode(&self.data, index, ep, &self.obs_space, act_dim)?
             }
             #[cfg(feature = "hdf5")]
-            Some(Backend::Hdf5(w)) => w.write_episode(index, ep, obs_dim, act_dim)?,
+            Some(Backend::Hdf5(w)) => w.write_episode(index, ep, &self.obs_space, act_dim)?,
             None => return Err(bad("the writer is finished".into())),
         }
         self.episodes += 1;

@@ -28,6 +28,8 @@ use crate::error::EnvError;
 use crate::numerics::{norm, pairwise_sum};
 use crate::rng::NumpyRng;
 
+#[cfg(feature = "dataset")]
+pub mod dataset;
 mod npexp;
 /// `np.exp` for float64 as the reference computes it (see `npexp`); used by the dense reward.
 pub use npexp::exp as np_exp;
@@ -320,27 +322,48 @@ impl MazeEnv {
     /// Gymnasium-Robotics `step`: the robot steps (its reward and termination are ignored), then
     /// reward, termination and success against the current goal, then `update_goal`.
     pub fn step(&mut self, action: &[f64]) -> Result<MazeStep<'_>, EnvError> {
-        if !self.has_reset {
-            return Err(EnvError::NotReset);
-        }
-        if action.len() != self.robot.act_dim() {
-            return Err(EnvError::ActionLength {
-                env: self.spec.id.clone(),
-                expected: self.robot.act_dim(),
-                got: action.len(),
-            });
-        }
-        if let Some(index) = action.iter().position(|a| !a.is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: action[index],
-            });
-        }
+        self.check_action(action.len(), |i| action[i])?;
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v);
         }
-        let obs = self.robot.step(action)?.obs;
-        self.obs.observation.copy_from_slice(obs);
+        self.robot.step(action)?;
+        self.obs.observation.copy_from_slice(self.robot.obs());
+        Ok(self.after_step())
+    }
+
+    /// `step` with a float32 action, as a float32 policy calls the reference (the robot's action
+    /// costs in its info are then float32 numbers, as numpy computes them).
+    pub fn step_f32(&mut self, action: &[f32]) -> Result<MazeStep<'_>, EnvError> {
+        self.check_action(action.len(), |i| f64::from(action[i]))?;
+        if let Some(v) = self.spec.velocity_clip {
+            self.robot.clip_qvel(v);
+        }
+        self.robot.step_f32(action)?;
+        self.obs.observation.copy_from_slice(self.robot.obs());
+        Ok(self.after_step())
+    }
+
+    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        if len != self.robot.act_dim() {
+            return Err(EnvError::ActionLength {
+                env: self.spec.id.clone(),
+                expected: self.robot.act_dim(),
+                got: len,
+            });
+        }
+        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
+            return Err(EnvError::NonFiniteAction {
+                index,
+                value: value(index),
+            });
+        }
+        Ok(())
+    }
+
+    fn after_step(&mut self) -> MazeStep<'_> {
         self.fill_goals();
         let achieved = self.obs.achieved_goal;
         let reward = self.compute_reward_one(achieved, self.goal);
@@ -352,14 +375,14 @@ impl MazeEnv {
             .spec
             .max_episode_steps
             .is_some_and(|m| self.elapsed >= m);
-        Ok(MazeStep {
+        MazeStep {
             obs: &self.obs,
             reward,
             terminated,
             truncated,
             success: self.success,
             robot_info: self.robot.step_info(),
-        })
+        }
     }
 
     fn compute_reward_one(&self, achieved: [f64; 2], desired: [f64; 2]) -> f64 {
