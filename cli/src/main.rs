@@ -54,6 +54,12 @@ pub enum Outcome {
 }
 
 fn main() -> ExitCode {
+    // Die quietly when the reader of stdout goes away (`envc list | head`), as Unix tools do,
+    // instead of panicking in println!.
+    // SAFETY: setting a signal disposition before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::List(a) => commands::list::run(a),
