@@ -22,6 +22,14 @@ import warnings
 import numpy as np
 
 warnings.filterwarnings("ignore")
+# Gymnasium-Robotics 1.4.2 writes every maze's MJCF to <tmpdir>/ant_maze<time>.xml and never deletes it
+# (reference trap M14): point its temp dir at a private one, removed at exit.
+import atexit  # noqa: E402
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
+
+tempfile.tempdir = tempfile.mkdtemp(prefix="envc-maze-ref-")
+atexit.register(shutil.rmtree, tempfile.tempdir, True)
 import gymnasium as gym  # noqa: E402
 import gymnasium_robotics  # noqa: E402,F401
 
