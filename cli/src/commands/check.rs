@@ -49,6 +49,30 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut report = vec![];
     let mut failed = 0;
     for s in &args.specs {
+        if crate::commands::maze::is_maze(s) {
+            // A maze spec or a registered maze id: the maze file, its robot spec and the world.
+            let (ok, diags, extra) = crate::commands::maze::check(s, &overrides);
+            if !ok {
+                failed += 1;
+            }
+            match args.format {
+                Format::Text if ok => println!("ok {s}"),
+                Format::Text => {
+                    for d in &diags {
+                        println!("{d}");
+                    }
+                    if let Some(e) = &extra {
+                        println!("{e}");
+                    }
+                    println!("FAILED {s} ({} errors)", diags.len().max(1));
+                }
+                Format::Json => report.push(serde_json::json!({
+                    "spec": s, "ok": ok,
+                    "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
+                })),
+            }
+            continue;
+        }
         let path = crate::target::spec_path(s)?;
         if envspec::agents::is_multi_agent(&path) {
             // A multi-agent spec: the factorization and its base spec (envspec::agents).

@@ -360,3 +360,16 @@ pub fn collect(
     );
     Ok(Outcome::Ok)
 }
+
+/// `envc check` for a maze: reads the maze spec and its robot spec and builds the world (always
+/// compiled: it is cheap). Returns (ok, spec diagnostics, other error).
+pub fn check(
+    id_or_path: &str,
+    overrides: &[envc::Override],
+) -> (bool, Vec<envspec::Diagnostic>, Option<String>) {
+    match MazeEnv::make(id_or_path, overrides) {
+        Ok(_) => (true, vec![], None),
+        Err(envc::EnvError::Spec(d)) => (false, d.0, None),
+        Err(e) => (false, vec![], Some(e.to_string())),
+    }
+}
