@@ -155,7 +155,11 @@ fn truncation_at_max_episode_steps() {
         let xml = env.spec().model_path.display().to_string();
         let mut overrides = vec![envc::Override::text("max_episode_steps", "3")];
         // A `fixed` xml_file (e.g. Gymnasium v4) is not overridable, and is at its default anyway.
-        let fixed = env.spec().params.iter().any(|p| p.name == "xml_file" && p.fixed);
+        let fixed = env
+            .spec()
+            .params
+            .iter()
+            .any(|p| p.name == "xml_file" && p.fixed);
         if !fixed {
             overrides.push(envc::Override::text("xml_file", &xml));
         }

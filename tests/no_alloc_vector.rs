@@ -34,7 +34,11 @@ static A: Counting = Counting;
 
 #[test]
 fn vector_step_does_not_allocate() {
-    for (id, mode) in [("Hopper-v5", Autoreset::NextStep), ("Ant-v5", Autoreset::SameStep), ("Humanoid-v5", Autoreset::NextStep)] {
+    for (id, mode) in [
+        ("Hopper-v5", Autoreset::NextStep),
+        ("Ant-v5", Autoreset::SameStep),
+        ("Humanoid-v5", Autoreset::NextStep),
+    ] {
         let mut v = VecEnv::make(id, &[], 4, 2, mode).unwrap();
         v.reset(Some(3));
         let actions = vec![0.3; v.num_envs() * v.act_dim()];
