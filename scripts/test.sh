@@ -2,6 +2,7 @@
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
 #   1. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py);
 #   2. the installed reference still gives the published golden values (record.py --verify-golden);
+checks=$((checks + 1))
 #   3. the Rust tests, including the parity replay of the committed fixtures;
 #   4. a live cross-check: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
@@ -10,21 +11,29 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 bash scripts/setup.sh
 PY="$ROOT/.venv/bin/python"
+# Each check that passes is counted; `set -e` stops at the first that fails.
+checks=0
 
 "$PY" tests/reference/check_models.py
+checks=$((checks + 1))
 "$PY" tests/reference/record.py --verify-golden
+checks=$((checks + 1))
 
 cargo test --workspace
+checks=$((checks + 1))
 
 # `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds).
 cargo build -q -p envc-cli
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
+checks=$((checks + 1))
 
 # Minari datasets written by envc, loaded, sampled and replayed by the real minari/Gymnasium (fresh
 # seed), an interrupted collection; then Python DataCollector datasets read back by envc.
 MINARI_PY="$(mktemp -d)"
 "$PY" tests/reference/check_minari.py --envc target/debug/envc --python-out "$MINARI_PY"
+checks=$((checks + 1))
 ENVC_MINARI_DIR="$MINARI_PY" cargo test -q -p envc-tests --test minari
+checks=$((checks + 1))
 rm -rf "$MINARI_PY"
 
 LIVE="$(mktemp -d)"
@@ -33,19 +42,25 @@ SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
 "$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden
 ENVC_PARITY_DIR="$LIVE" cargo test -p envc-tests --test parity
+checks=$((checks + 1))
 # The same for vector envs (Gymnasium's sync vector env, both autoreset modes).
 "$PY" tests/reference/record_vector.py --out "$LIVE/vector" --seed "$SEED"
 ENVC_VECTOR_DIR="$LIVE/vector" cargo test -p envc-tests --test vector
+checks=$((checks + 1))
 # MaMuJoCo v1: fresh-seed multi-agent trajectories of every scenario, conf and k = 0, 1, 2 replayed
 # through envc's multi-agent envs, and `envc rollout` on the multi-agent specs checked from outside.
 "$PY" tests/reference/record_mamujoco.py --out "$LIVE/mamujoco" --seed "$SEED" --quick
 ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -p envc-tests --test mamujoco
+checks=$((checks + 1))
 "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc --seed "$SEED"
+checks=$((checks + 1))
 # Mazes (PointMaze_*-v3, AntMaze_*-v5, custom maps): fresh-seed trajectories of every registered id
 # replayed through envc's maze envs, and `envc rollout`'s dict observations checked from outside.
 "$PY" tests/reference/record_maze.py --out "$LIVE/maze" --seed "$SEED"
 ENVC_MAZE_DIR="$LIVE/maze" cargo test -p envc-tests --test maze
+checks=$((checks + 1))
 "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$SEED"
+checks=$((checks + 1))
 # Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
 # by the real minari and replayed in Gymnasium-Robotics (fresh seed).
 MZ="$(mktemp -d)"
@@ -54,9 +69,14 @@ for fmt in arrow hdf5; do
     --episodes 3 --seed "$SEED" --format "$fmt" --root "$MZ" --set max_episode_steps=40 >/dev/null
   "$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id "envc/pointmaze-$fmt-v0" \
     --env-id PointMaze_Medium_Diverse_GRDense-v3 --max-episode-steps 40
+  checks=$((checks + 1))
 done
 target/debug/envc collect AntMaze_UMaze-v5 --dataset-id envc/antmaze-v0 --episodes 2 --seed "$SEED" \
   --root "$MZ" --set max_episode_steps=15 >/dev/null
 "$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id envc/antmaze-v0 \
   --env-id AntMaze_UMaze-v5 --max-episode-steps 15
+checks=$((checks + 1))
 rm -rf "$MZ"
+
+# A closing line in the plain "N passed, N failed" form, over the checks above.
+echo "test.sh: $checks passed, 0 failed"
