@@ -167,25 +167,7 @@ impl MultiAgentEnv {
 
     /// Step with one action per agent, in agent order.
     pub fn step(&mut self, actions: &[&[f64]]) -> Result<MultiStep<'_>, EnvError> {
-        if actions.len() != self.spec.agents.len() {
-            return Err(EnvError::ActionLength {
-                env: format!("{} (number of agents)", self.spec.base.id),
-                expected: self.spec.agents.len(),
-                got: actions.len(),
-            });
-        }
-        for (a, act) in self.spec.agents.iter().zip(actions) {
-            if act.len() != a.actions.len() {
-                return Err(EnvError::ActionLength {
-                    env: format!("{} agent {}", self.spec.base.id, a.name),
-                    expected: a.actions.len(),
-                    got: act.len(),
-                });
-            }
-            for (&g, &x) in a.actions.iter().zip(act.iter()) {
-                self.action[g] = x;
-            }
-        }
+        scatter_local_actions(&self.spec, actions, &mut self.action)?;
         let action = std::mem::take(&mut self.action);
         let r = self.step_global_inner(&action);
         self.action = action;
@@ -223,25 +205,7 @@ impl MultiAgentEnv {
     /// `map_local_actions_to_global_action`.
     pub fn local_actions_to_global(&self, actions: &[&[f64]]) -> Result<Vec<f64>, EnvError> {
         let mut g = vec![f64::NAN; self.spec.act_dim()];
-        if actions.len() != self.spec.agents.len() {
-            return Err(EnvError::ActionLength {
-                env: format!("{} (number of agents)", self.spec.base.id),
-                expected: self.spec.agents.len(),
-                got: actions.len(),
-            });
-        }
-        for (a, act) in self.spec.agents.iter().zip(actions) {
-            if act.len() != a.actions.len() {
-                return Err(EnvError::ActionLength {
-                    env: format!("{} agent {}", self.spec.base.id, a.name),
-                    expected: a.actions.len(),
-                    got: act.len(),
-                });
-            }
-            for (&i, &x) in a.actions.iter().zip(act.iter()) {
-                g[i] = x;
-            }
-        }
+        scatter_local_actions(&self.spec, actions, &mut g)?;
         Ok(g)
     }
 
@@ -334,4 +298,34 @@ impl MultiAgentEnv {
             }
         }
     }
+}
+
+/// Check per-agent actions (one slice per agent, each of the agent's length) and write them into
+/// their global positions in `out`. Shared by `step` (into a reused buffer: no allocation) and
+/// `local_actions_to_global`.
+fn scatter_local_actions(
+    spec: &AgentsSpec,
+    actions: &[&[f64]],
+    out: &mut [f64],
+) -> Result<(), EnvError> {
+    if actions.len() != spec.agents.len() {
+        return Err(EnvError::ActionLength {
+            env: format!("{} (number of agents)", spec.base.id),
+            expected: spec.agents.len(),
+            got: actions.len(),
+        });
+    }
+    for (a, act) in spec.agents.iter().zip(actions) {
+        if act.len() != a.actions.len() {
+            return Err(EnvError::ActionLength {
+                env: format!("{} agent {}", spec.base.id, a.name),
+                expected: a.actions.len(),
+                got: act.len(),
+            });
+        }
+        for (&g, &x) in a.actions.iter().zip(act.iter()) {
+            out[g] = x;
+        }
+    }
+    Ok(())
 }
