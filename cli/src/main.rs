@@ -17,6 +17,11 @@ mod target;
     about = "Compile, inspect, run and diff robot RL environment specs"
 )]
 struct Cli {
+    /// Numerics profile for every env the command builds: `auto` (as numpy would compute on this
+    /// machine) or a named profile such as `openblas-skylakex+svml` (`envc info` lists them).
+    /// Default: $ENVC_NUMERICS, else `auto`.
+    #[arg(long, global = true, value_name = "PROFILE")]
+    numerics: Option<String>,
     #[command(subcommand)]
     command: Command,
 }
@@ -42,6 +47,9 @@ enum Command {
     Collect(commands::collect::Args),
     /// Inspect Minari datasets (envc's or Python's).
     Dataset(commands::dataset::Args),
+    /// This machine's CPU features, the numerics profile `auto` picks and why, and the versions
+    /// envc matches.
+    Info(commands::info::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -61,6 +69,15 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
+    if let Some(p) = &cli.numerics {
+        match envc::numerics::Profile::resolve(p, "--numerics") {
+            Ok(p) => envc::numerics::set_default_profile(p),
+            Err(e) => {
+                eprintln!("envc: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
     let result = match cli.command {
         Command::List(a) => commands::list::run(a),
         Command::Check(a) => commands::check::run(a),
@@ -71,6 +88,7 @@ fn main() -> ExitCode {
         Command::Diff(a) => commands::diff::run(a),
         Command::Collect(a) => commands::collect::run(a),
         Command::Dataset(a) => commands::dataset::run(a),
+        Command::Info(a) => commands::info::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

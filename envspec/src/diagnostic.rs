@@ -122,6 +122,10 @@ pub enum Code {
     E1102,
     /// `step` before the first `reset`.
     E1103,
+    /// An unknown numerics profile name.
+    E1301,
+    /// `auto` numerics under CPU-feature settings numpy itself refuses to import with.
+    E1302,
 }
 
 impl fmt::Display for Code {

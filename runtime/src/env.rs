@@ -17,7 +17,7 @@ use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
 use crate::mujoco_log;
-use crate::numerics::{clip, norm, pairwise_sum, square_pow};
+use crate::numerics::{Profile, clip, default_profile, norm, pairwise_sum, square_pow};
 use crate::rng::NumpyRng;
 
 /// A box space: per-element bounds.
@@ -109,6 +109,8 @@ struct Sim {
     nbody: usize,
     nsite: usize,
     ntendon: usize,
+    /// Whose arithmetic the CPU-dependent reductions (norms) follow.
+    numerics: Profile,
 }
 
 /// # Safety
@@ -279,9 +281,11 @@ impl Env {
             path: spec.model_path.clone(),
             message: format!("cannot allocate mjData: {e}"),
         })?;
+        let numerics = default_profile()?;
         let m = model.ffi();
         let size = |x: i64| x as usize;
         let mut sim = Sim {
+            numerics,
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -427,6 +431,14 @@ impl Env {
         self.elapsed
     }
     /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
+    /// The numerics profile this env's CPU-dependent reductions follow (see `envc::numerics`).
+    pub fn numerics(&self) -> Profile {
+        self.sim.numerics
+    }
+    /// Compute as the reference does under `profile` from now on (e.g. a recording's profile).
+    pub fn set_numerics(&mut self, profile: Profile) {
+        self.sim.numerics = profile;
+    }
     pub fn warnings(&self) -> &[String] {
         &self.warnings
     }
@@ -490,6 +502,7 @@ impl Env {
         unsafe { mujoco_rs::mujoco_c::mj_resetData(self.sim.model.ffi(), self.sim.data.ffi_mut()) };
 
         let (nq, nv) = (self.sim.nq, self.sim.nv);
+        let numerics = self.sim.numerics;
         // SAFETY: qpos/qvel have nq/nv entries; no other borrow of them is alive.
         let (qpos, qvel) = unsafe {
             let d = self.sim.data.ffi_mut();
@@ -519,8 +532,8 @@ impl Env {
                 }
                 let done = match step.resample_until {
                     None => true,
-                    Some(Until::NormBelow(x)) => norm(n, &|i| draw[i]) < x,
-                    Some(Until::NormAbove(x)) => norm(n, &|i| draw[i]) > x,
+                    Some(Until::NormBelow(x)) => norm(numerics, n, &|i| draw[i]) < x,
+                    Some(Until::NormAbove(x)) => norm(numerics, n, &|i| draw[i]) > x,
                 };
                 if done {
                     break;
@@ -774,9 +787,11 @@ impl Env {
                 match minus {
                     Some(m) => {
                         let g = sim.field(m.field);
-                        norm(source.len(), &|k| f[source.indices[k]] - g[m.indices[k]])
+                        norm(sim.numerics, source.len(), &|k| {
+                            f[source.indices[k]] - g[m.indices[k]]
+                        })
                     }
-                    None => norm(source.len(), &|k| f[source.indices[k]]),
+                    None => norm(sim.numerics, source.len(), &|k| f[source.indices[k]]),
                 }
             }
             TermKind::Quadratic {
@@ -864,7 +879,7 @@ fn write_info(
         }
         InfoKind::Norm { source } => {
             let f = sim.field(source.field);
-            out[0] = norm(source.len(), &|k| f[source.indices[k]]);
+            out[0] = norm(sim.numerics, source.len(), &|k| f[source.indices[k]]);
         }
         InfoKind::Velocity { source } => {
             let k = slot.expect("velocity infos have a slot");

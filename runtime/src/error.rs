@@ -24,6 +24,8 @@ pub enum EnvError {
     NonFiniteAction { index: usize, value: f64 },
     #[error("error[E1103]: step() called before the first reset()")]
     NotReset,
+    #[error("{0}")]
+    Numerics(#[from] crate::numerics::NumericsError),
 }
 
 impl EnvError {
@@ -36,6 +38,7 @@ impl EnvError {
             EnvError::ActionLength { .. } => Code::E1101,
             EnvError::NonFiniteAction { .. } => Code::E1102,
             EnvError::NotReset => Code::E1103,
+            EnvError::Numerics(e) => e.code(),
         }
     }
 }

@@ -41,3 +41,11 @@ pub use envspec;
 pub use envspec::{Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
 pub use vector::{Autoreset, VecEnv};
+
+/// The version of the MuJoCo library this process linked (`mj_versionString`).
+pub fn mujoco_version() -> String {
+    // SAFETY: mj_versionString returns a static NUL-terminated string.
+    unsafe { std::ffi::CStr::from_ptr(mujoco_rs::mujoco_c::mj_versionString()) }
+        .to_string_lossy()
+        .into_owned()
+}

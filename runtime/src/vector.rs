@@ -351,6 +351,12 @@ impl VecEnv {
         self.envs.first().map(|e| e.spec())
     }
     /// The sub-envs (read-only: spaces, state, warnings).
+    /// Every sub-env computes as the reference does under `profile` (see `Env::set_numerics`).
+    pub fn set_numerics(&mut self, profile: crate::numerics::Profile) {
+        for e in &mut self.envs {
+            e.set_numerics(profile);
+        }
+    }
     pub fn envs(&self) -> &[Env] {
         &self.envs
     }

@@ -4,6 +4,7 @@ pub mod check;
 pub mod collect;
 pub mod dataset;
 pub mod diff;
+pub mod info;
 pub mod list;
 pub mod maze;
 pub mod multi_agent;

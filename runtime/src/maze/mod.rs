@@ -25,14 +25,11 @@ use mujoco_rs::prelude::*;
 
 use crate::env::{BoxSpace, Env, Info};
 use crate::error::EnvError;
-use crate::numerics::{norm, pairwise_sum};
+use crate::numerics::{Profile, exp, norm, pairwise_sum};
 use crate::rng::NumpyRng;
 
 #[cfg(feature = "dataset")]
 pub mod dataset;
-mod npexp;
-/// `np.exp` for float64 as the reference computes it (see `npexp`); used by the dense reward.
-pub use npexp::exp as np_exp;
 
 /// The goal-conditioned observation (Gymnasium-Robotics' dict; keys sort as achieved_goal,
 /// desired_goal, observation in the reference's `spaces.Dict`).
@@ -191,6 +188,13 @@ impl MazeEnv {
     pub fn robot(&self) -> &Env {
         &self.robot
     }
+    /// The numerics profile (norms, the dense reward's `exp`); see `Env::set_numerics`.
+    pub fn numerics(&self) -> Profile {
+        self.robot.numerics()
+    }
+    pub fn set_numerics(&mut self, profile: Profile) {
+        self.robot.set_numerics(profile);
+    }
     pub fn model(&self) -> &Arc<MjModel> {
         self.robot.model()
     }
@@ -292,7 +296,7 @@ impl MazeEnv {
                 // The reference loops forever when no reset cell is far enough (trap M15); envc
                 // gives up after many draws and keeps the last one.
                 let mut tries = 0u32;
-                while dist_blas(r, self.goal) <= lim && tries < 1_000_000 {
+                while dist_blas(self.robot.numerics(), r, self.goal) <= lim && tries < 1_000_000 {
                     let k = self.rng().integers(0, n) as usize;
                     r = self.layout.resets[k];
                     tries += 1;
@@ -307,7 +311,8 @@ impl MazeEnv {
         let (obs, _) = self.robot.reset(seed);
         self.obs.observation.copy_from_slice(obs);
         self.fill_goals();
-        self.success = dist_blas(self.obs.achieved_goal, self.goal) <= self.spec.goal_threshold;
+        self.success = dist_blas(self.robot.numerics(), self.obs.achieved_goal, self.goal)
+            <= self.spec.goal_threshold;
         self.elapsed = 0;
         self.has_reset = true;
         Ok((&self.obs, self.success))
@@ -368,7 +373,8 @@ impl MazeEnv {
         let achieved = self.obs.achieved_goal;
         let reward = self.compute_reward_one(achieved, self.goal);
         let terminated = self.compute_terminated(achieved, self.goal);
-        self.success = dist_blas(achieved, self.goal) <= self.spec.goal_threshold;
+        self.success =
+            dist_blas(self.robot.numerics(), achieved, self.goal) <= self.spec.goal_threshold;
         self.update_goal(achieved);
         self.elapsed += 1;
         let truncated = self
@@ -388,7 +394,7 @@ impl MazeEnv {
     fn compute_reward_one(&self, achieved: [f64; 2], desired: [f64; 2]) -> f64 {
         let d = dist_axis(achieved, desired);
         match self.spec.reward_type {
-            RewardType::Dense => npexp::exp(-d),
+            RewardType::Dense => exp(self.robot.numerics(), -d),
             RewardType::Sparse => {
                 if d <= self.spec.goal_threshold {
                     1.0
@@ -409,7 +415,8 @@ impl MazeEnv {
 
     /// `compute_terminated`: reaching the goal ends the episode unless the task is continuing.
     pub fn compute_terminated(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
-        !self.spec.continuing_task && dist_blas(achieved, desired) <= self.spec.goal_threshold
+        !self.spec.continuing_task
+            && dist_blas(self.robot.numerics(), achieved, desired) <= self.spec.goal_threshold
     }
 
     /// `compute_truncated`: always false (the time limit truncates).
@@ -421,11 +428,11 @@ impl MazeEnv {
         let th = self.spec.goal_threshold;
         if self.spec.continuing_task
             && self.spec.reset_target
-            && dist_blas(achieved, self.goal) <= th
+            && dist_blas(self.robot.numerics(), achieved, self.goal) <= th
             && self.layout.goals.len() > 1
         {
             let mut tries = 0u32;
-            while dist_blas(achieved, self.goal) <= th && tries < 1_000_000 {
+            while dist_blas(self.robot.numerics(), achieved, self.goal) <= th && tries < 1_000_000 {
                 let g = self.sample_goal();
                 self.goal = self.noisy(g);
                 tries += 1;
@@ -443,9 +450,9 @@ impl MazeEnv {
 }
 
 /// `np.linalg.norm(a - b)` (no axis: OpenBLAS ddot).
-fn dist_blas(a: [f64; 2], b: [f64; 2]) -> f64 {
+fn dist_blas(profile: Profile, a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = [a[0] - b[0], a[1] - b[1]];
-    norm(2, &|i| d[i])
+    norm(profile, 2, &|i| d[i])
 }
 
 /// `np.linalg.norm(a - b, axis=-1)`: `sqrt(add.reduce(d * d))`.

@@ -1,6 +1,27 @@
 //! The floating-point operations whose exact order decides the last bit, written to match what
 //! numpy and OpenBLAS do in the reference (reference doc §4). Nothing here may be "simplified":
 //! a different association order or a fused multiply-add changes results.
+//!
+//! Two of them depend on the CPU the reference runs on: OpenBLAS's `ddot` (behind
+//! `np.linalg.norm`) and numpy's float64 `exp`. A [`Profile`] names one choice for each; `auto`
+//! picks what numpy would on this machine, under the same overrides (`OPENBLAS_CORETYPE`,
+//! `NPY_ENABLE_CPU_FEATURES`, `NPY_DISABLE_CPU_FEATURES`). Every profile is computed in portable
+//! code, so any machine reproduces any profile. See docs/numerics.md.
+
+pub mod cpu;
+mod npy;
+pub mod openblas;
+mod profile;
+mod svml_exp;
+
+pub use openblas::Kernel;
+
+/// The reference envc reproduces, by version.
+pub const REFERENCE: &str = "Gymnasium 1.4.0, Gymnasium-Robotics 1.4.2, Minari 0.5.4, numpy 2.4.6 with OpenBLAS 0.3.31 (scipy-openblas, DYNAMIC_ARCH), MuJoCo 3.17.0";
+pub use profile::{
+    Auto, NpyOverrides, NumericsError, Profile, auto, auto_for, default_profile,
+    set_default_profile,
+};
 
 /// The float types numpy sums in (float64, and float32 for float32 actions).
 pub trait Real: Copy + std::ops::Add<Output = Self> + std::ops::AddAssign {
@@ -54,15 +75,28 @@ fn pairwise<T: Real>(start: usize, n: usize, f: &dyn Fn(usize) -> T) -> T {
     }
 }
 
-/// `np.linalg.norm(v)` for a small float64 vector: OpenBLAS `ddot` with fused multiply-adds in
-/// index order, then `sqrt`.
-pub fn norm(n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
-    let mut acc = 0.0f64;
-    for i in 0..n {
-        let v = f(i);
-        acc = v.mul_add(v, acc);
+/// `np.linalg.norm(v)` for a 1-D float64 vector under `profile`: `sqrt(v.dot(v))`, where numpy
+/// squares a single element itself and hands longer vectors to OpenBLAS `ddot` (adding the result
+/// to 0.0).
+pub fn norm(profile: Profile, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+    match n {
+        0 => 0.0,
+        1 => {
+            let v = f(0);
+            (v * v).sqrt()
+        }
+        _ => (0.0 + openblas::ddot(profile.blas, n, f, f)).sqrt(),
     }
-    acc.sqrt()
+}
+
+/// `np.exp(x)` for a float64 under `profile`: SVML's `exp` where numpy's X86_V4 loop runs,
+/// glibc's otherwise.
+pub fn exp(profile: Profile, x: f64) -> f64 {
+    if profile.svml_exp {
+        svml_exp::exp(x)
+    } else {
+        x.exp()
+    }
 }
 
 unsafe extern "C" {

@@ -1,0 +1,121 @@
+//! `envc info`: what the machine is, which numerics profile `auto` picks here and why, and what
+//! envc matches. The profile rules are in `envc::numerics`; this only prints them.
+
+use anyhow::Result;
+use envc::numerics::{self, Profile, cpu::Cpu};
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Output format.
+    #[arg(long, value_enum, default_value = "text")]
+    format: Format,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum Format {
+    Text,
+    Json,
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let auto = numerics::auto();
+    let default = numerics::default_profile();
+    let cpu = auto.as_ref().map(|a| a.cpu).unwrap_or_else(|_| Cpu::this());
+    let mujoco = envc::mujoco_version();
+    let features: Vec<&str> = [
+        ("avx", cpu.os_avx()),
+        ("avx2", cpu.avx2()),
+        ("fma", cpu.fma()),
+        ("avx512vl", cpu.openblas_avx512()),
+        ("avx512_bf16", cpu.openblas_avx512_bf16()),
+        ("numpy X86_V3", cpu.npy_x86_v3()),
+        ("numpy X86_V4", cpu.npy_x86_v4()),
+    ]
+    .into_iter()
+    .filter_map(|(n, on)| on.then_some(n))
+    .collect();
+    let var = |k: &str| std::env::var(k).ok();
+    let vars: Vec<(&str, Option<String>)> = [
+        "OPENBLAS_CORETYPE",
+        "NPY_ENABLE_CPU_FEATURES",
+        "NPY_DISABLE_CPU_FEATURES",
+        "ENVC_NUMERICS",
+    ]
+    .into_iter()
+    .map(|k| (k, var(k)))
+    .collect();
+    // glibc's libm (shared by numpy, MuJoCo and envc) uses its FMA variants when FMA and AVX2 are
+    // usable, unless GLIBC_TUNABLES hides them; envc cannot choose this (docs/numerics.md).
+    let tunables = var("GLIBC_TUNABLES").unwrap_or_default();
+    let libm_fma =
+        cpu.fma() && cpu.avx2() && !(tunables.contains("-FMA") || tunables.contains("-AVX2"));
+    let libm = if libm_fma { "fma" } else { "sse2/avx" };
+    match args.format {
+        Format::Json => {
+            let v = serde_json::json!({
+                "envc": env!("CARGO_PKG_VERSION"),
+                "reference": numerics::REFERENCE,
+                "mujoco_linked": mujoco,
+                "cpu": {
+                    "brand": cpu.brand(),
+                    "vendor": format!("{:?}", cpu.vendor),
+                    "family": cpu.display_family(),
+                    "model": cpu.display_model(),
+                    "features": features,
+                },
+                "settings": vars.iter().map(|(k, v)| (k.to_string(), serde_json::json!(v))).collect::<serde_json::Map<_, _>>(),
+                "auto": match &auto {
+                    Ok(a) => serde_json::json!({
+                        "profile": a.profile.to_string(),
+                        "blas": a.blas_reason,
+                        "exp": a.exp_reason,
+                    }),
+                    Err(e) => serde_json::json!({ "error": e.to_string() }),
+                },
+                "default": match &default {
+                    Ok(p) => serde_json::json!(p.to_string()),
+                    Err(e) => serde_json::json!({ "error": e.to_string() }),
+                },
+                "libm": libm,
+                "profiles": Profile::all().iter().map(|p| p.to_string()).collect::<Vec<_>>(),
+            });
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        }
+        Format::Text => {
+            println!("envc {}", env!("CARGO_PKG_VERSION"));
+            println!("matches:   {}", numerics::REFERENCE);
+            println!("linked:    MuJoCo {mujoco}");
+            println!(
+                "cpu:       {} ({:?}, family {:#x}, model {:#x})",
+                cpu.brand(),
+                cpu.vendor,
+                cpu.display_family(),
+                cpu.display_model()
+            );
+            println!("features:  {}", features.join(", "));
+            for (k, v) in &vars {
+                println!("{k:<25}{}", v.as_deref().unwrap_or("(unset)"));
+            }
+            match &auto {
+                Ok(a) => {
+                    println!("auto:      {}", a.profile);
+                    println!("  ddot:    {}", a.blas_reason);
+                    println!("  exp:     {}", a.exp_reason);
+                }
+                Err(e) => println!("auto:      {e}"),
+            }
+            match &default {
+                Ok(p) => println!("new envs:  {p}"),
+                Err(e) => println!("new envs:  {e}"),
+            }
+            println!(
+                "libm:      glibc {libm} variants (shared by numpy, MuJoCo and envc; not part of a profile, see docs/numerics.md)"
+            );
+            let all: Vec<String> = Profile::all().iter().map(|p| p.to_string()).collect();
+            println!("profiles:  {}", all.join(", "));
+        }
+    }
+    Ok(Outcome::Ok)
+}
