@@ -548,6 +548,9 @@ fn generate(
             fn warnings(&self) -> &[::std::string::String] {
                 self.env.warnings()
             }
+            fn numerics(&self) -> ::envc::numerics::Profile {
+                self.env.numerics()
+            }
         }
     })
 }

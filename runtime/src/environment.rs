@@ -21,6 +21,8 @@ pub trait Environment {
     fn step_f32(&mut self, action: &[f32]) -> Result<Step<'_>, EnvError>;
     /// MuJoCo warnings captured so far.
     fn warnings(&self) -> &[String];
+    /// The numerics profile the env computes under (stored in datasets it records).
+    fn numerics(&self) -> crate::numerics::Profile;
     fn obs_dim(&self) -> usize {
         self.spec().obs_dim
     }
@@ -50,5 +52,8 @@ impl Environment for Env {
     }
     fn warnings(&self) -> &[String] {
         Env::warnings(self)
+    }
+    fn numerics(&self) -> crate::numerics::Profile {
+        Env::numerics(self)
     }
 }

@@ -59,6 +59,7 @@ impl<E: Environment> Collector<E> {
     /// stored when the env is one of Gymnasium's; `options.info.env_spec` set by the caller wins.
     pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
         let spec = env.spec().clone();
+        options.info.numerics = Some(env.numerics().to_string());
         if options.info.env_spec.is_none() {
             options.info.env_spec = env_spec_json(&spec).ok();
         }

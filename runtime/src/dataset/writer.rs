@@ -72,6 +72,9 @@ pub struct DatasetInfo {
     pub env_spec: Option<String>,
     /// pip requirements that `recover_environment` checks (warnings only).
     pub requirements: Vec<String>,
+    /// The numerics profile the data was computed under (`envc_numerics` in metadata.json);
+    /// replaying under it reproduces the data bit for bit on any machine.
+    pub numerics: Option<String>,
 }
 
 enum Backend {
@@ -297,6 +300,9 @@ impl DatasetWriter {
         m.insert("description".into(), opt(&self.info.description));
         if !self.info.requirements.is_empty() {
             m.insert("requirements".into(), json!(self.info.requirements));
+        }
+        if let Some(p) = &self.info.numerics {
+            m.insert("envc_numerics".into(), json!(p));
         }
         m.insert("minari_version".into(), json!(MINARI_VERSION));
         m.insert("envc_version".into(), json!(env!("CARGO_PKG_VERSION")));

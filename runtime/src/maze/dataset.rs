@@ -52,7 +52,8 @@ pub fn observation_space(env: &MazeEnv) -> Space {
 }
 
 impl MazeCollector {
-    pub fn new(env: MazeEnv, options: CollectOptions) -> Result<MazeCollector, DatasetError> {
+    pub fn new(env: MazeEnv, mut options: CollectOptions) -> Result<MazeCollector, DatasetError> {
+        options.info.numerics = Some(env.numerics().to_string());
         let a = env.action_space();
         let act_space = Space::box1(Dtype::F32, &a.low, &a.high);
         let writer = DatasetWriter::create(
