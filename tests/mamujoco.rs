@@ -14,6 +14,7 @@ use serde::Deserialize;
 
 #[derive(Deserialize)]
 struct Manifest {
+    numerics: String,
     cases: Vec<Case>,
 }
 
@@ -58,7 +59,7 @@ fn pusher_swapped(ours: &[f64], k: usize) -> Vec<f64> {
     v
 }
 
-fn run_case(dir: &Path, case: &Case) -> Result<usize, String> {
+fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result<usize, String> {
     let spec = root().join(format!("specs/mamujoco/{}.toml", case.spec));
     let mut overrides = vec![
         Override::text("agent_conf", &case.agent_conf),
@@ -72,6 +73,7 @@ fn run_case(dir: &Path, case: &Case) -> Result<usize, String> {
     );
     let mut env = MultiAgentEnv::from_spec_file(&spec, &overrides)
         .map_err(|e| format!("{}: {e}", case.name))?;
+    env.set_numerics(profile);
     let names: Vec<String> = env
         .possible_agents()
         .iter()
@@ -189,7 +191,7 @@ fn mamujoco_parity() {
     let mut failures = vec![];
     let mut steps = 0;
     for case in &m.cases {
-        match run_case(&dir, case) {
+        match run_case(&dir, envc_tests::parse_profile(&m.numerics), case) {
             Ok(n) => steps += n,
             Err(e) => failures.push(e),
         }

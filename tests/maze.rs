@@ -106,6 +106,23 @@ fn check_info(c: &mut Check, t: usize, info: envc::Info<'_>, ev: &Value) {
     }
 }
 
+/// The maze recording's profile: its own `numerics` key, else its directory's manifest.json.
+fn recorded_profile(path: &Path) -> envc::numerics::Profile {
+    let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    if rec.get("numerics").is_some() {
+        return envc_tests::recorded_profile(&rec);
+    }
+    let m = path.parent().unwrap().join("manifest.json");
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&m).unwrap_or_else(|e| {
+        panic!(
+            "{}: no `numerics` key and no readable manifest.json: {e}",
+            path.display()
+        )
+    }))
+    .unwrap();
+    envc_tests::recorded_profile(&m)
+}
+
 fn replay(path: &Path) -> Result<(usize, Vec<String>), EnvError> {
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let overrides: Vec<Override> = rec["overrides"]
@@ -115,6 +132,7 @@ fn replay(path: &Path) -> Result<(usize, Vec<String>), EnvError> {
         .map(|(k, v)| Override::text(k, &v.as_str().unwrap().replace("$SHARED", SHARED)))
         .collect();
     let mut env = MazeEnv::make(rec["id"].as_str().unwrap(), &overrides)?;
+    env.set_numerics(recorded_profile(path));
     let mut c = Check {
         case: rec["name"].as_str().unwrap().to_string(),
         errors: vec![],
@@ -173,7 +191,11 @@ fn maze_parity() {
         .unwrap_or_else(|e| panic!("{}: {e} (run tests/reference/record_maze.py)", d.display()))
         .flatten()
         .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json") && !p.ends_with("npexp.json"))
+        .filter(|p| {
+            p.extension().is_some_and(|x| x == "json")
+                && !p.ends_with("npexp.json")
+                && !p.ends_with("manifest.json")
+        })
         .collect();
     files.sort();
     assert!(

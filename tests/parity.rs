@@ -20,7 +20,7 @@ fn every_recorded_case_is_bit_identical() {
     let mut failed = vec![];
     let mut steps = 0;
     for case in &m.cases {
-        let mm = replay(&dir, case);
+        let mm = replay(&dir, m.profile(), case);
         steps += case.steps;
         if mm.count > 0 {
             failed.push(format!(

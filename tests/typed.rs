@@ -13,6 +13,7 @@ macro_rules! replay_typed {
         let rec = Recording::load(&$dir.join(&case.file), case);
         let mut mm = Mismatches::default();
         let mut env = $ty::new(&$config).unwrap_or_else(|e| panic!("{}: {e}", case.name));
+        env.inner_mut().set_numerics(manifest(&$dir).profile());
         let mut r = 0;
         for t in 0..case.steps {
             if r < rec.reset_step.len() && rec.reset_step[r] as usize == t {

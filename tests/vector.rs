@@ -15,6 +15,7 @@ use serde::Deserialize;
 struct Manifest {
     gymnasium: String,
     mujoco: String,
+    numerics: String,
     cases: Vec<Case>,
 }
 
@@ -82,6 +83,7 @@ fn replays_gymnasium_sync_vector_env_bit_for_bit() {
             .map(|(k, v)| Override::text(k, v))
             .collect();
         let mut v = VecEnv::make(&case.env_id, &overrides, case.num_envs, 2, mode).unwrap();
+        v.set_numerics(envc_tests::parse_profile(&m.numerics));
         let what = &case.name;
         assert_eq!(
             bits(v.reset(Some(case.seed))),

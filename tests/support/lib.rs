@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
+use envc::numerics::Profile;
 use envc::{Env, Override};
 use ndarray::{ArrayD, IxDyn};
 use ndarray_npy::NpzReader;
@@ -23,7 +24,32 @@ pub fn fixtures_dir() -> PathBuf {
 pub struct Manifest {
     pub gymnasium: String,
     pub mujoco: String,
+    /// The numerics profile the reference ran under (`tests/reference/numerics_profile.py`).
+    pub numerics: String,
     pub cases: Vec<Case>,
+}
+
+impl Manifest {
+    /// The recording's numerics profile: replays force it, so a fixture recorded on one CPU
+    /// passes on every CPU.
+    pub fn profile(&self) -> Profile {
+        parse_profile(&self.numerics)
+    }
+}
+
+/// A recorded profile name, parsed (a fixture without a valid one is a broken fixture).
+pub fn parse_profile(name: &str) -> Profile {
+    Profile::parse(name)
+        .unwrap_or_else(|| panic!("fixture numerics profile `{name}` is not a profile"))
+}
+
+/// The `numerics` key of a recording's JSON (a per-file recording or a manifest).
+pub fn recorded_profile(v: &serde_json::Value) -> Profile {
+    parse_profile(
+        v["numerics"]
+            .as_str()
+            .expect("the recording names its numerics profile (`numerics`)"),
+    )
 }
 
 #[derive(Deserialize, Debug)]
@@ -159,7 +185,7 @@ impl Mismatches {
 }
 
 /// Replay one recorded case against envc: every reset and step, every value compared bit for bit.
-pub fn replay(dir: &Path, case: &Case) -> Mismatches {
+pub fn replay(dir: &Path, profile: Profile, case: &Case) -> Mismatches {
     let rec = Recording::load(&dir.join(&case.file), case);
     let mut mm = Mismatches::default();
     let mut env = match Env::make(&case.env_id, &case.overrides()) {
@@ -169,6 +195,7 @@ pub fn replay(dir: &Path, case: &Case) -> Mismatches {
             return mm;
         }
     };
+    env.set_numerics(profile);
     // Loading may warn (HalfCheetah's deprecated settotalmass, as in the reference); running must not.
     env.clear_warnings();
     let mut r = 0;

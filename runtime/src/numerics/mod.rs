@@ -89,6 +89,16 @@ pub fn norm(profile: Profile, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
     }
 }
 
+/// `np.dot(a, b)` for two 1-D float64 vectors under `profile` (numpy multiplies single elements
+/// itself; longer vectors go to OpenBLAS `ddot`, added to 0.0).
+pub fn dot(profile: Profile, n: usize, a: &dyn Fn(usize) -> f64, b: &dyn Fn(usize) -> f64) -> f64 {
+    match n {
+        0 => 0.0,
+        1 => a(0) * b(0),
+        _ => 0.0 + openblas::ddot(profile.blas, n, a, b),
+    }
+}
+
 /// `np.exp(x)` for a float64 under `profile`: SVML's `exp` where numpy's X86_V4 loop runs,
 /// glibc's otherwise.
 pub fn exp(profile: Profile, x: f64) -> f64 {
