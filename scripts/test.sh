@@ -2,10 +2,16 @@
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
 #   1. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py);
 #   2. the installed reference still gives the published golden values (record.py --verify-golden);
-checks=$((checks + 1))
-#   3. the Rust tests, including the parity replay of the committed fixtures;
-#   4. a live cross-check: the Python reference records fresh trajectories under a new random seed
+#   3. the Rust tests, including the parity replay of the committed fixtures under the numerics
+#      profile each was recorded with (so they pass on every CPU);
+#   4. the dispatch matrix: the reference's CPU-dependent primitives (OpenBLAS ddot under every
+#      OPENBLAS_CORETYPE this CPU runs, numpy's exp with and without X86_V4) recorded live, and
+#      envc's `auto` must pick the same profile and give the same bits; `envc rollout` checked
+#      against the reference under several of those settings;
+#   5. live cross-checks: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
+# The reference and envc both read OPENBLAS_CORETYPE and NPY_*_CPU_FEATURES from the environment,
+# so every check holds for whatever this machine (or its environment) makes numpy compute.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -16,16 +22,37 @@ checks=0
 
 "$PY" tests/reference/check_models.py
 checks=$((checks + 1))
-"$PY" tests/reference/record.py --verify-golden
+# The golden values were published from an AVX-512 Xeon; a forced SSE kernel (OPENBLAS_CORETYPE=Prescott)
+# changes Pusher's last bits, so they are checked under the CPU's own OpenBLAS kernel.
+env -u OPENBLAS_CORETYPE "$PY" tests/reference/record.py --verify-golden
 checks=$((checks + 1))
 
 cargo test --workspace
 checks=$((checks + 1))
 
-# `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds).
+LIVE="$(mktemp -d)"
+trap 'rm -rf "$LIVE"' EXIT
+
+# The dispatch matrix (see 4. above).
+"$PY" tests/reference/record_numerics.py --matrix "$LIVE/numerics" --quick
+ENVC_NUMERICS_DIR="$LIVE/numerics" cargo test -q -p envc-tests --test numerics
+checks=$((checks + 1))
+
+# `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds):
+# in this machine's environment, then with OpenBLAS forced to another kernel and numpy's AVX-512
+# loops off, where the CPU can run them.
 cargo build -q -p envc-cli
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
 checks=$((checks + 1))
+for setting in "OPENBLAS_CORETYPE=Prescott" "OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES=X86_V4" \
+               "OPENBLAS_CORETYPE=SkylakeX"; do
+  if "$PY" tests/reference/numerics_profile.py --can-run $setting; then
+    echo "check_rollout under $setting"
+    env $setting "$PY" tests/reference/check_rollout.py --envc target/debug/envc
+    env $setting "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$RANDOM"
+    checks=$((checks + 1))
+  fi
+done
 
 # Minari datasets written by envc, loaded, sampled and replayed by the real minari/Gymnasium (fresh
 # seed), an interrupted collection; then Python DataCollector datasets read back by envc.
@@ -36,8 +63,6 @@ ENVC_MINARI_DIR="$MINARI_PY" cargo test -q -p envc-tests --test minari
 checks=$((checks + 1))
 rm -rf "$MINARI_PY"
 
-LIVE="$(mktemp -d)"
-trap 'rm -rf "$LIVE"' EXIT
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
 "$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden

@@ -186,7 +186,16 @@ fn replay(path: &Path) -> Result<(usize, Vec<String>), EnvError> {
 
 #[test]
 fn maze_parity() {
-    let d = dir();
+    parity_of(&dir());
+}
+
+/// Recorded on an AVX2-only profile (`openblas-haswell`: glibc `exp` for the dense reward).
+#[test]
+fn maze_parity_avx2_recording() {
+    parity_of(&Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/avx2/maze"));
+}
+
+fn parity_of(d: &Path) {
     let mut files: Vec<PathBuf> = std::fs::read_dir(&d)
         .unwrap_or_else(|e| panic!("{}: {e} (run tests/reference/record_maze.py)", d.display()))
         .flatten()
@@ -232,7 +241,7 @@ fn maze_parity() {
 fn numpy_exp() {
     let rec: Value =
         serde_json::from_str(&std::fs::read_to_string(dir().join("npexp.json")).unwrap()).unwrap();
-    let svml = envc::numerics::Profile::parse("openblas-skylakex+svml").unwrap();
+    let svml = envc_tests::recorded_profile(&rec);
     let xs = unhex(rec["x"].as_str().unwrap());
     let ys = unhex(rec["exp"].as_str().unwrap());
     let bad: Vec<_> = xs

@@ -6,7 +6,20 @@ use envc_tests::{fixtures_dir, manifest, replay};
 
 #[test]
 fn every_recorded_case_is_bit_identical() {
-    let dir = fixtures_dir();
+    replay_all(&fixtures_dir());
+}
+
+/// The suite recorded under an AVX2-only machine's profile (`openblas-haswell`; OpenBLAS's Haswell
+/// kernel, as on AMD Zen 2/3): replayed under that profile on any CPU.
+#[test]
+fn avx2_recording_is_bit_identical() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/avx2");
+    assert_eq!(manifest(&dir).numerics, "openblas-haswell");
+    replay_all(&dir);
+}
+
+fn replay_all(dir: &std::path::Path) {
+    let dir = dir.to_path_buf();
     let m = manifest(&dir);
     assert_eq!(
         (m.gymnasium.as_str(), m.mujoco.as_str()),

@@ -20,6 +20,7 @@ from gymnasium_robotics import mamujoco_v1
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from record_mamujoco import KS, OVERRIDES, SCENARIOS, SINGLE, make_env, spec_for  # noqa: E402
+import numerics_profile  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -103,7 +104,8 @@ def main():
                             continue
                     failures.append(f"{name}: {key} differs")
     print(f"envc rollout vs mamujoco_v1, seed {seed}: {n - len({f.split(':')[0] for f in failures})} of {n} "
-          f"scenario/conf/k combinations bit-identical", file=sys.stderr)
+          f"scenario/conf/k combinations bit-identical (reference numerics {numerics_profile.profile_name()})",
+          file=sys.stderr)
     if failures:
         print("\n".join(failures), file=sys.stderr)
         sys.exit(1)

@@ -25,6 +25,8 @@ import tempfile  # noqa: E402
 
 tempfile.tempdir = tempfile.mkdtemp(prefix="envc-maze-ref-")
 atexit.register(shutil.rmtree, tempfile.tempdir, True)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
 
 
 def main():
@@ -70,7 +72,8 @@ def main():
         if not np.array_equal(np.asarray(ep.infos["success"]).astype(bool), np.array(succ)):
             bad.append(f"episode {ep.id}: infos[success]")
     print(f"check_maze_minari: {args.dataset_id}: {n} episodes, {ds.total_steps} steps, "
-          f"{'ok' if not bad else 'MISMATCH ' + '; '.join(bad[:5])}", file=sys.stderr)
+          f"{'ok' if not bad else 'MISMATCH ' + '; '.join(bad[:5])} (reference numerics {numerics_profile.profile_name()})",
+          file=sys.stderr)
     sys.exit(1 if bad or n == 0 else 0)
 
 

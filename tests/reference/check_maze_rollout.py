@@ -29,6 +29,9 @@ atexit.register(shutil.rmtree, tempfile.tempdir, True)
 import gymnasium as gym  # noqa: E402
 import gymnasium_robotics  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
+
 gym.register_envs(gymnasium_robotics)
 
 CASES = [  # id, steps, max_episode_steps, envc --set, gym kwargs
@@ -100,6 +103,8 @@ def main():
             status = "ok" if not problems else "MISMATCH " + ", ".join(problems)
             bad += bool(problems)
             print(f"check_maze_rollout: {env_id} seed {seed}, {steps} steps: {status}", file=sys.stderr)
+    print(f"check_maze_rollout: {len(CASES) - bad} of {len(CASES)} cases bit-identical "
+          f"(reference numerics {numerics_profile.profile_name()})", file=sys.stderr)
     sys.exit(1 if bad else 0)
 
 

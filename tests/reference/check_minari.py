@@ -11,10 +11,12 @@
 2. An interrupted collection (killed mid-way) must leave nothing Minari lists or loads.
 3. With --python-out: Python's own `DataCollector` writes datasets (both backends) into DIR, with
    the values it recorded in DIR/<name>.npz, for the Rust test `tests/minari.rs` to read back
-   (ENVC_MINARI_DIR=DIR cargo test -p envc-tests --test minari).
+   (ENVC_MINARI_DIR=DIR cargo test -p envc-tests --test minari), and DIR/manifest.json (versions,
+   the reference's numerics profile and settings, the datasets).
 """
 
 import argparse
+import json
 import os
 import shutil
 import signal
@@ -26,6 +28,9 @@ import time
 import gymnasium as gym
 import minari
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
 
 FAILURES = []
 
@@ -138,7 +143,9 @@ def python_datasets(out):
     """DataCollector datasets (Python's own writer) with the values it recorded."""
     os.makedirs(out, exist_ok=True)
     os.environ["MINARI_DATASETS_PATH"] = out
-
+    manifest = {"gymnasium": gym.__version__, "minari": minari.__version__,
+                "numerics": numerics_profile.profile_name(), "numerics_settings": numerics_profile.settings(),
+                "datasets": []}
     for env_id, fmt, name in [("InvertedPendulum-v5", "hdf5", "py/invpend/hdf5-v0"), ("Hopper-v5", "arrow", "py/hopper/arrow-v0")]:
         env = minari.DataCollector(gym.make(env_id, max_episode_steps=40), record_infos=False, data_format=fmt)
         env.action_space.seed(3)
@@ -160,7 +167,12 @@ def python_datasets(out):
             expected[f"{i}.seed"] = np.array(100 + i, dtype=np.uint64)
         env.create_dataset(dataset_id=name, algorithm_name="random", author="envc tests", author_email="none@example.com", code_permalink="https://example.invalid", description="DataCollector reference")
         np.savez(os.path.join(out, name.replace("/", "_") + ".npz"), **expected)
+        manifest["datasets"].append({"dataset_id": name, "env_id": env_id, "format": fmt,
+                                     "values": name.replace("/", "_") + ".npz"})
         print(f"python DataCollector dataset {name} ({fmt}) in {out}")
+    with open(os.path.join(out, "manifest.json"), "w") as f:
+        json.dump(manifest, f, indent=1)
+        f.write("\n")
 
 
 def main():
@@ -175,9 +187,9 @@ def main():
     if a.python_out:
         python_datasets(a.python_out)
     if FAILURES:
-        print(f"{len(FAILURES)} failures")
+        print(f"{len(FAILURES)} failures (reference numerics {numerics_profile.profile_name()})")
         sys.exit(1)
-    print("check_minari: all checks passed")
+    print(f"check_minari: all checks passed (reference numerics {numerics_profile.profile_name()})")
 
 
 if __name__ == "__main__":

@@ -18,6 +18,9 @@ import tempfile
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
+
 # (env id, overrides as --set literals and as Python kwargs, steps, auto_reset, float32 actions)
 CASES = [
     ("Ant-v5", {}, 120, False, False),
@@ -129,7 +132,7 @@ def main():
             print(f"FAIL {tag}:\n  " + "\n  ".join(problems[:10]))
         else:
             print(f"ok {tag}: {len(ours)} arrays bit-identical")
-    print(f"{len(CASES) - failures} passed, {failures} failed")
+    print(f"{len(CASES) - failures} passed, {failures} failed (reference numerics {numerics_profile.profile_name()})")
     sys.exit(1 if failures else 0)
 
 

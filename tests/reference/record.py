@@ -235,6 +235,10 @@ import tempfile
 import types
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+if HERE not in sys.path:
+    sys.path.insert(0, HERE)
+import numerics_profile  # noqa: E402  (next to this script)
+
 DEFAULT_OUT = os.path.join(HERE, "fixtures")
 REQUIREMENTS = os.path.join(HERE, "requirements.txt")
 
@@ -578,6 +582,8 @@ def main():
 
     manifest = {
         **installed,
+        "numerics": numerics_profile.profile_name(),
+        "numerics_settings": numerics_profile.settings(),
         "protocol": "tests/reference/README.md",
         "master_seed": args.seed,
         "quick": args.quick,
@@ -589,7 +595,7 @@ def main():
     stray = sorted(set(f for f in os.listdir(out) if f.endswith(".npz")) - {m["file"] for m in cases_meta})
     if stray:
         print(f"warning: {out} holds .npz files not in the manifest: {', '.join(stray)}")
-    print(f"{len(cases_meta)} cases, {total / 1e6:.2f} MB in {out}")
+    print(f"{len(cases_meta)} cases, {total / 1e6:.2f} MB in {out} (numerics {manifest['numerics']})")
     tmp.cleanup()
 
 

@@ -22,6 +22,9 @@ from gymnasium_robotics import mamujoco_v1
 from gymnasium_robotics.envs.multiagent_mujoco.coupled_half_cheetah import CoupledHalfCheetahEnv
 from gymnasium_robotics.envs.multiagent_mujoco.mujoco_multi import MultiAgentMujocoEnv
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
+
 
 # CoupledHalfCheetah reads the tendon Jacobian `ten_J` as the dense ntendon × nv matrix of MuJoCo
 # <= 3.5; MuJoCo 3.17 stores it sparse and the installed reference crashes. We run the reference's
@@ -250,8 +253,10 @@ def main():
     import gymnasium, gymnasium_robotics, mujoco
     with open(os.path.join(args.out, "manifest.json"), "w") as f:
         json.dump(dict(gymnasium=gymnasium.__version__, gymnasium_robotics=gymnasium_robotics.__version__,
-                       mujoco=mujoco.__version__, cases=cases), f, indent=1)
-    print(f"recorded {len(cases)} MaMuJoCo cases into {args.out}", file=sys.stderr)
+                       mujoco=mujoco.__version__, numerics=numerics_profile.profile_name(),
+                       numerics_settings=numerics_profile.settings(), cases=cases), f, indent=1)
+    print(f"recorded {len(cases)} MaMuJoCo cases into {args.out} (numerics {numerics_profile.profile_name()})",
+          file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,9 @@ Usage (project venv, any directory):
     .venv/bin/python tests/reference/record_maze.py                     # re-record the committed fixtures
     .venv/bin/python tests/reference/record_maze.py --out DIR --seed N  # fresh-seed live cross-check
 
-Format: one JSON file per case, `{"name", "id", "overrides": {param: TOML text}, "events": [...]}`.
+Format: one JSON file per case, `{"name", "id", "overrides": {param: TOML text}, "numerics": profile,
+"numerics_settings": {var: value|null}, "events": [...]}` (the profile and settings of
+numerics_profile.py: the dense rewards are np.exp, SVML or glibc; Ant's distance_from_origin is a ddot).
 Every float array is the hex of its little-endian float64 bytes (exact). Events are
 `{"reset": seed|null, "options": {...}|null, "obs": {...}, "success": bool, "info": {...}}` and
 `{"action": hex, "obs": {...}, "reward": hex, "terminated", "truncated", "success", "info"}`.
@@ -32,6 +34,9 @@ tempfile.tempdir = tempfile.mkdtemp(prefix="envc-maze-ref-")
 atexit.register(shutil.rmtree, tempfile.tempdir, True)
 import gymnasium as gym  # noqa: E402
 import gymnasium_robotics  # noqa: E402,F401
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import numerics_profile  # noqa: E402
 
 gym.register_envs(gymnasium_robotics)
 
@@ -120,7 +125,8 @@ def record(case, seed, action_seed):
             events.append({"reset": None, "options": None, "obs": enc_obs(obs),
                            "success": bool(info["success"]), "info": enc_info(info)})
     env.close()
-    return {"name": name, "id": env_id, "overrides": ov, "events": events}
+    return {"name": name, "id": env_id, "overrides": ov, "numerics": numerics_profile.profile_name(),
+            "numerics_settings": numerics_profile.settings(), "events": events}
 
 
 def main():
@@ -147,8 +153,9 @@ def main():
     xr = seeder if seeder is not None else np.random.default_rng(7)
     xs = np.concatenate([-xr.uniform(0, 40, 4000), -xr.exponential(1.0, 1000), xr.uniform(-700, 700, 1000)])
     with open(os.path.join(args.out, "npexp.json"), "w") as f:
-        json.dump({"x": hexa(xs), "exp": hexa(np.exp(xs))}, f)
-    print(f"record_maze: {n} cases in {args.out}", file=sys.stderr)
+        json.dump({"numerics": numerics_profile.profile_name(), "numerics_settings": numerics_profile.settings(),
+                   "x": hexa(xs), "exp": hexa(np.exp(xs))}, f)
+    print(f"record_maze: {n} cases in {args.out} (numerics {numerics_profile.profile_name()})", file=sys.stderr)
 
 
 if __name__ == "__main__":

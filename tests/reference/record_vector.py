@@ -20,6 +20,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from record import install_render_shims  # noqa: E402  (imageio/packaging stand-ins)
+import numerics_profile  # noqa: E402
 
 # name, env id, num_envs, steps, overrides (exact reference kwargs; max_episode_steps goes to TimeLimit)
 CASES = [
@@ -76,7 +77,9 @@ def main():
     from gymnasium.vector import AutoresetMode
 
     seeds = np.random.default_rng(args.seed) if args.seed is not None else None
-    manifest = {"gymnasium": gym.__version__, "mujoco": mujoco.__version__, "cases": []}
+    manifest = {"gymnasium": gym.__version__, "mujoco": mujoco.__version__,
+                "numerics": numerics_profile.profile_name(), "numerics_settings": numerics_profile.settings(),
+                "cases": []}
     os.chdir(tempfile.mkdtemp())  # MuJoCo's MUJOCO_LOG.TXT never lands in the tree
     for k, (name, env_id, n, steps, overrides) in enumerate(CASES):
         for mode in MODES:
