@@ -185,7 +185,16 @@ fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result
 
 #[test]
 fn mamujoco_parity() {
-    let dir = fixtures();
+    parity_of(&fixtures());
+}
+
+/// Recorded under an AVX2-only profile (`openblas-haswell`), replayed under it on any CPU.
+#[test]
+fn mamujoco_parity_avx2_recording() {
+    parity_of(&root().join("tests/reference/fixtures/avx2/mamujoco"));
+}
+
+fn parity_of(dir: &Path) {
     let m: Manifest =
         serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
     let mut failures = vec![];

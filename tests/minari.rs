@@ -272,3 +272,50 @@ fn reads_python_datacollector_datasets() {
         assert_eq!(steps as u64, ds.total_steps);
     }
 }
+
+/// A dataset names the numerics profile it was computed under, and replaying under that profile
+/// reproduces it on any CPU; under another profile Reacher's distance rewards (OpenBLAS `ddot`)
+/// change, so the recorded name is what makes a replay exact.
+#[test]
+fn datasets_record_and_replay_their_numerics_profile() {
+    use envc::numerics::Profile;
+    let intel = Profile::parse("openblas-skylakex+svml").unwrap();
+    let amd = Profile::parse("openblas-haswell").unwrap();
+    let root = tmp_root("numerics");
+    let id = "test/numerics/reacher-v0";
+    let mut env = Env::make("Reacher-v5", &[]).unwrap();
+    env.set_numerics(intel);
+    let mut c = Collector::new(env, opts(&root, id, Format::Arrow)).unwrap();
+    for s in 0..3 {
+        c.episode(s, &mut policy).unwrap();
+    }
+    let dir = c.finish().unwrap();
+    let ds = Dataset::open(dir.to_str().unwrap()).unwrap();
+    assert_eq!(ds.numerics(), Some(intel));
+    let replay = |profile: Profile| -> Vec<f64> {
+        let mut rewards = vec![];
+        for ep in ds.episodes() {
+            let ep = ep.unwrap();
+            let mut env = Env::make("Reacher-v5", &[]).unwrap();
+            env.set_numerics(profile);
+            env.reset(ep.seed);
+            let act = ep.actions.tensor().unwrap().as_f32().unwrap().clone();
+            for a in act.outer_iter() {
+                rewards.push(env.step_f32(a.as_slice().unwrap()).unwrap().reward);
+            }
+        }
+        rewards
+    };
+    let stored: Vec<f64> = ds
+        .episodes()
+        .flat_map(|ep| ep.unwrap().rewards.to_f64().into_iter().collect::<Vec<_>>())
+        .collect();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&replay(ds.numerics().unwrap())), bits(&stored));
+    assert_ne!(
+        bits(&replay(amd)),
+        bits(&stored),
+        "the profile should matter for Reacher"
+    );
+    let _ = std::fs::remove_dir_all(&root);
+}

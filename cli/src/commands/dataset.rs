@@ -55,6 +55,13 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
         "  env               {}",
         ds.env_id().unwrap_or("(no env spec)")
     );
+    println!(
+        "  numerics          {}",
+        ds.numerics().map_or_else(
+            || "(not recorded: written by Python; as the machine that wrote it)".to_string(),
+            |p| format!("{p} (replay with --numerics {p})")
+        )
+    );
     for (label, key) in [
         ("size (MB)", "dataset_size"),
         ("author", "author"),

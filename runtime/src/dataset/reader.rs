@@ -139,6 +139,12 @@ impl Dataset {
         })
     }
 
+    /// The numerics profile envc recorded the data under (`envc_numerics`; absent in datasets
+    /// written by Python). Replaying under it reproduces the data on any machine.
+    pub fn numerics(&self) -> Option<crate::numerics::Profile> {
+        crate::numerics::Profile::parse(self.metadata.get("envc_numerics")?.as_str()?)
+    }
+
     /// The env id in the stored env spec.
     pub fn env_id(&self) -> Option<&str> {
         self.env_spec.as_ref()?.get("id")?.as_str()
