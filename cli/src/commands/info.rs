@@ -80,6 +80,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                 },
                 "libm": libm,
                 "profiles": Profile::all().iter().map(|p| p.to_string()).collect::<Vec<_>>(),
+                "reference_kernels_runnable": numerics::Kernel::ALL.iter().filter(|k| k.runs_on(&cpu)).map(|k| k.name()).collect::<Vec<_>>(),
             });
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
@@ -114,7 +115,19 @@ pub fn run(args: Args) -> Result<Outcome> {
                 "libm:      glibc {libm} variants (shared by numpy, MuJoCo and envc; not part of a profile, see docs/numerics.md)"
             );
             let all: Vec<String> = Profile::all().iter().map(|p| p.to_string()).collect();
-            println!("profiles:  {}", all.join(", "));
+            println!(
+                "profiles:  {} (envc computes any of them here)",
+                all.join(", ")
+            );
+            let native: Vec<&str> = numerics::Kernel::ALL
+                .iter()
+                .filter(|k| k.runs_on(&cpu))
+                .map(|k| k.name())
+                .collect();
+            println!(
+                "kernels this CPU can run in the reference (OPENBLAS_CORETYPE): {}",
+                native.join(", ")
+            );
         }
     }
     Ok(Outcome::Ok)
