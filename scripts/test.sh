@@ -40,16 +40,20 @@ checks=$((checks + 1))
 
 # `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds):
 # in this machine's environment, then with OpenBLAS forced to another kernel and numpy's AVX-512
-# loops off, where the CPU can run them.
+# loops off, where the CPU can run them (suite, mazes, MaMuJoCo, and Minari datasets written by
+# `envc collect` and replayed by the real minari).
 cargo build -q -p envc-cli
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
 checks=$((checks + 1))
-for setting in "OPENBLAS_CORETYPE=Prescott" "OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES=X86_V4" \
-               "OPENBLAS_CORETYPE=SkylakeX"; do
+# (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)
+for setting in "-u OPENBLAS_CORETYPE" "OPENBLAS_CORETYPE=Prescott" \
+               "OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES=X86_V4" "OPENBLAS_CORETYPE=SkylakeX"; do
   if "$PY" tests/reference/numerics_profile.py --can-run $setting; then
-    echo "check_rollout under $setting"
+    echo "live checks under env $setting"
     env $setting "$PY" tests/reference/check_rollout.py --envc target/debug/envc
     env $setting "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$RANDOM"
+    env $setting "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc
+    env $setting "$PY" tests/reference/check_minari.py --envc target/debug/envc
     checks=$((checks + 1))
   fi
 done
