@@ -135,7 +135,7 @@ pub enum TermKind {
         clip_input: Option<(f64, f64)>,
         clip: Option<(f64, f64)>,
     },
-    /// `‖x − minus‖₂` (a fused multiply-add dot product, as OpenBLAS computes it).
+    /// `‖x − minus‖₂` (OpenBLAS `ddot` as the env's numerics profile sums it).
     Norm {
         source: Selection,
         minus: Option<Selection>,
