@@ -85,42 +85,29 @@ fn primitives_match_the_reference_under_every_recorded_setting() {
         let exps = unhex(rec["exp"].as_str().unwrap());
         assert_eq!(norms.len(), vecs.len(), "{name}: norm count");
         let mut bad = 0;
-        for (v, want) in vecs.iter().zip(&norms) {
-            let got = numerics::norm(profile, v.len(), &|i| v[i]);
-            if !same(got, *want) {
+        // Counts every differing value, keeps the first three as messages.
+        let mut check = |what: String, got: f64, want: f64| {
+            if !same(got, want) {
                 if bad < 3 {
                     errors.push(format!(
-                        "{name} ({profile}): norm of n={} gave {got:e}, numpy {want:e}",
-                        v.len()
+                        "{name} ({profile}): {what} gave {got:e}, numpy {want:e}"
                     ));
                 }
                 bad += 1;
             }
+        };
+        for (v, want) in vecs.iter().zip(&norms) {
+            let got = numerics::norm(profile, v.len(), &|i| v[i]);
+            check(format!("norm of n={}", v.len()), got, *want);
         }
         for (c, want) in inputs["dot"].as_array().unwrap().iter().zip(&dots) {
             let a = &vecs[c["a"].as_u64().unwrap() as usize];
             let b = &vecs[c["b"].as_u64().unwrap() as usize];
             let got = numerics::dot(profile, a.len(), &|i| a[i], &|i| b[i]);
-            if !same(got, *want) {
-                if bad < 3 {
-                    errors.push(format!(
-                        "{name} ({profile}): dot of n={} gave {got:e}, numpy {want:e}",
-                        a.len()
-                    ));
-                }
-                bad += 1;
-            }
+            check(format!("dot of n={}", a.len()), got, *want);
         }
         for (x, want) in xs.iter().zip(&exps) {
-            let got = numerics::exp(profile, *x);
-            if !same(got, *want) {
-                if bad < 3 {
-                    errors.push(format!(
-                        "{name} ({profile}): exp({x:e}) gave {got:e}, numpy {want:e}"
-                    ));
-                }
-                bad += 1;
-            }
+            check(format!("exp({x:e})"), numerics::exp(profile, *x), *want);
         }
         if bad > 0 {
             errors.push(format!("{name}: {bad} values differ"));
