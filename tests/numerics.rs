@@ -149,3 +149,35 @@ fn primitives_match_the_reference_under_every_recorded_setting() {
         );
     }
 }
+
+/// `OPENBLAS_CORETYPE=<name>` for every core name OpenBLAS knows, other cases and near misses,
+/// against the kernel the reference's OpenBLAS reported (`coretype_names` in matrix.json). Names
+/// OpenBLAS does not recognise fall back to the recording CPU's features, so those are checked
+/// only live (on the CPU that recorded them).
+#[test]
+fn coretype_names_pick_the_reference_kernel() {
+    use envc::numerics::openblas::select;
+    let (dir, live) = dir();
+    let m = read(&dir.join("matrix.json"));
+    let names = m["coretype_names"]
+        .as_array()
+        .expect("matrix.json has coretype_names");
+    assert!(names.len() >= 26);
+    let cpu = Cpu::this();
+    let mut checked = 0;
+    for n in names {
+        let name = n["name"].as_str().unwrap();
+        let sel = select(&cpu, Some(name));
+        if !sel.by_name && !live {
+            continue;
+        }
+        assert_eq!(
+            sel.kernel.name(),
+            n["kernel"],
+            "OPENBLAS_CORETYPE={name:?}: {}",
+            sel.reason
+        );
+        checked += 1;
+    }
+    assert!(checked >= 25, "only {checked} names checked");
+}

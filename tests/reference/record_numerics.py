@@ -224,6 +224,30 @@ def matrix_settings(flags):
     return out
 
 
+# Every core name OpenBLAS knows (its corename[] table, SapphireRapids included), in other cases, and
+# near misses: which kernel does OPENBLAS_CORETYPE=<name> give? Asking is safe on any CPU (only
+# running a kernel needs its instructions). Unknown names fall back to the CPU's features.
+CORETYPE_NAMES = [
+    "Katmai", "Coppermine", "Northwood", "Prescott", "Banias", "Atom", "Core2", "Penryn", "Dunnington",
+    "Nehalem", "Athlon", "Opteron_SSE3", "Opteron", "Barcelona", "Nano", "Sandybridge", "Bobcat", "Bulldozer",
+    "Piledriver", "Haswell", "Steamroller", "Excavator", "Zen", "SkylakeX", "Cooperlake", "SapphireRapids",
+    "haswell", "SKYLAKEX", "zen", "opteron_sse3", "Haswell ", " Haswell", "Zen5", "", "unknown",
+]
+
+
+def coretype_names():
+    """[{"name", "kernel"}] for CORETYPE_NAMES, each read off a fresh reference process."""
+    out = []
+    for name in CORETYPE_NAMES:
+        env = dict(os.environ, OPENBLAS_CORETYPE=name)
+        run = subprocess.run([sys.executable, os.path.join(HERE, "numerics_profile.py"), "--json"], env=env,
+                             capture_output=True, text=True)
+        if run.returncode != 0:
+            sys.exit(f"record_numerics: OPENBLAS_CORETYPE={name!r} failed:\n{run.stderr}")
+        out.append({"name": name, "kernel": json.loads(run.stdout)["numerics"].split("+")[0].removeprefix("openblas-")})
+    return out
+
+
 def run_matrix(out, seed, quick):
     t0 = time.time()
     if sys.platform != "linux" or os.uname().machine != "x86_64":
@@ -253,10 +277,11 @@ def run_matrix(out, seed, quick):
                         "openblas_corename": r["openblas_corename"], "exp_target": r["exp_target"]})
         note = "" if not run.stderr.strip() else f"  stderr: {run.stderr.strip()[:120]}"
         print(f"{name:20s} {r['numerics']:28s} corename {r['openblas_corename']:12s} exp {r['exp_target']}{note}")
+    names = coretype_names()
     with open(os.path.join(out, "matrix.json"), "w") as f:
         first = next(iter(results.values()))
         f.write(dumps({"numpy": first["numpy"], "openblas": first["openblas"], "cpu": cpu, "inputs": "inputs.json",
-                       "seed": seed, "quick": quick, "settings": entries}))
+                       "seed": seed, "quick": quick, "settings": entries, "coretype_names": names}))
     # Same profile <=> same results: the name must say everything that changes a bit.
     problems = []
     by_profile = {}

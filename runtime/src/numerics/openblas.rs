@@ -97,6 +97,8 @@ const CORE_NAMES: [(&str, Kernel); 25] = [
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Selection {
     pub kernel: Kernel,
+    /// Chosen by a recognised `OPENBLAS_CORETYPE` (the same on every CPU), not by the CPU.
+    pub by_name: bool,
     pub reason: String,
 }
 
@@ -111,12 +113,14 @@ pub fn select(cpu: &Cpu, coretype: Option<&str>) -> Selection {
         {
             return Selection {
                 kernel: *kernel,
+                by_name: true,
                 reason: format!("OPENBLAS_CORETYPE={name} names core {core}"),
             };
         }
         let kernel = fallback(cpu);
         return Selection {
             kernel,
+            by_name: false,
             reason: format!(
                 "OPENBLAS_CORETYPE={name:?} is not a core OpenBLAS knows; its CPU-feature fallback picks {}",
                 kernel.name()
@@ -126,6 +130,7 @@ pub fn select(cpu: &Cpu, coretype: Option<&str>) -> Selection {
     match by_model(cpu) {
         Some(kernel) => Selection {
             kernel,
+            by_name: false,
             reason: format!(
                 "OpenBLAS's CPU table: {:?} family {:#x} model {:#x}",
                 cpu.vendor,
@@ -137,6 +142,7 @@ pub fn select(cpu: &Cpu, coretype: Option<&str>) -> Selection {
             let kernel = fallback(cpu);
             Selection {
                 kernel,
+                by_name: false,
                 reason: format!(
                     "{:?} family {:#x} model {:#x} is not in OpenBLAS's CPU table; its CPU-feature fallback picks {}",
                     cpu.vendor,
