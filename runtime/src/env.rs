@@ -430,7 +430,6 @@ impl Env {
     pub fn elapsed_steps(&self) -> u64 {
         self.elapsed
     }
-    /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
     /// The numerics profile this env's CPU-dependent reductions follow (see `envc::numerics`).
     pub fn numerics(&self) -> Profile {
         self.sim.numerics
@@ -439,6 +438,7 @@ impl Env {
     pub fn set_numerics(&mut self, profile: Profile) {
         self.sim.numerics = profile;
     }
+    /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
     }

@@ -195,6 +195,10 @@ impl MazeEnv {
     pub fn set_numerics(&mut self, profile: Profile) {
         self.robot.set_numerics(profile);
     }
+    /// `np.linalg.norm(a - b)` under this env's profile.
+    fn dist_blas(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
+        dist_blas(self.robot.numerics(), a, b)
+    }
     pub fn model(&self) -> &Arc<MjModel> {
         self.robot.model()
     }
@@ -296,7 +300,7 @@ impl MazeEnv {
                 // The reference loops forever when no reset cell is far enough (trap M15); envc
                 // gives up after many draws and keeps the last one.
                 let mut tries = 0u32;
-                while dist_blas(self.robot.numerics(), r, self.goal) <= lim && tries < 1_000_000 {
+                while self.dist_blas(r, self.goal) <= lim && tries < 1_000_000 {
                     let k = self.rng().integers(0, n) as usize;
                     r = self.layout.resets[k];
                     tries += 1;
@@ -311,8 +315,8 @@ impl MazeEnv {
         let (obs, _) = self.robot.reset(seed);
         self.obs.observation.copy_from_slice(obs);
         self.fill_goals();
-        self.success = dist_blas(self.robot.numerics(), self.obs.achieved_goal, self.goal)
-            <= self.spec.goal_threshold;
+        self.success =
+            self.dist_blas(self.obs.achieved_goal, self.goal) <= self.spec.goal_threshold;
         self.elapsed = 0;
         self.has_reset = true;
         Ok((&self.obs, self.success))
@@ -373,8 +377,7 @@ impl MazeEnv {
         let achieved = self.obs.achieved_goal;
         let reward = self.compute_reward_one(achieved, self.goal);
         let terminated = self.compute_terminated(achieved, self.goal);
-        self.success =
-            dist_blas(self.robot.numerics(), achieved, self.goal) <= self.spec.goal_threshold;
+        self.success = self.dist_blas(achieved, self.goal) <= self.spec.goal_threshold;
         self.update_goal(achieved);
         self.elapsed += 1;
         let truncated = self
@@ -415,8 +418,7 @@ impl MazeEnv {
 
     /// `compute_terminated`: reaching the goal ends the episode unless the task is continuing.
     pub fn compute_terminated(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
-        !self.spec.continuing_task
-            && dist_blas(self.robot.numerics(), achieved, desired) <= self.spec.goal_threshold
+        !self.spec.continuing_task && self.dist_blas(achieved, desired) <= self.spec.goal_threshold
     }
 
     /// `compute_truncated`: always false (the time limit truncates).
@@ -428,11 +430,11 @@ impl MazeEnv {
         let th = self.spec.goal_threshold;
         if self.spec.continuing_task
             && self.spec.reset_target
-            && dist_blas(self.robot.numerics(), achieved, self.goal) <= th
+            && self.dist_blas(achieved, self.goal) <= th
             && self.layout.goals.len() > 1
         {
             let mut tries = 0u32;
-            while dist_blas(self.robot.numerics(), achieved, self.goal) <= th && tries < 1_000_000 {
+            while self.dist_blas(achieved, self.goal) <= th && tries < 1_000_000 {
                 let g = self.sample_goal();
                 self.goal = self.noisy(g);
                 tries += 1;

@@ -123,6 +123,10 @@ impl MultiAgentEnv {
         &self.spec
     }
     /// The single-agent env underneath.
+    /// The numerics profile the underlying env computes under.
+    pub fn numerics(&self) -> crate::numerics::Profile {
+        self.env.numerics()
+    }
     /// Compute as the reference does under `profile` (see `Env::set_numerics`).
     pub fn set_numerics(&mut self, profile: crate::numerics::Profile) {
         self.env.set_numerics(profile);
