@@ -2,7 +2,7 @@
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
 #   1. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py);
 #   2. the installed reference still gives the published golden values (record.py --verify-golden);
-#   3. the Rust tests, including the parity replay of the committed fixtures under the numerics
+#   3. hygiene (cargo fmt --check, clippy and rustdoc with warnings denied), then the Rust tests, including the parity replay of the committed fixtures under the numerics
 #      profile each was recorded with (so they pass on every CPU);
 #   4. the dispatch matrix: the reference's CPU-dependent primitives (OpenBLAS ddot under every
 #      OPENBLAS_CORETYPE this CPU runs, numpy's exp with and without X86_V4) recorded live, and
@@ -25,6 +25,12 @@ checks=$((checks + 1))
 # The golden values were published from an AVX-512 Xeon; a forced SSE kernel (OPENBLAS_CORETYPE=Prescott)
 # changes Pusher's last bits, so they are checked under the CPU's own OpenBLAS kernel.
 env -u OPENBLAS_CORETYPE "$PY" tests/reference/record.py --verify-golden
+checks=$((checks + 1))
+
+# Hygiene: formatted, no clippy warnings (workspace lints in Cargo.toml), docs build without warnings.
+cargo fmt --all --check
+cargo clippy -q --workspace --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
 checks=$((checks + 1))
 
 cargo test --workspace

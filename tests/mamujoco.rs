@@ -200,7 +200,7 @@ fn parity_of(dir: &Path) {
     let mut failures = vec![];
     let mut steps = 0;
     for case in &m.cases {
-        match run_case(&dir, envc_tests::parse_profile(&m.numerics), case) {
+        match run_case(dir, envc_tests::parse_profile(&m.numerics), case) {
             Ok(n) => steps += n,
             Err(e) => failures.push(e),
         }

@@ -196,7 +196,7 @@ fn maze_parity_avx2_recording() {
 }
 
 fn parity_of(d: &Path) {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&d)
+    let mut files: Vec<PathBuf> = std::fs::read_dir(d)
         .unwrap_or_else(|e| panic!("{}: {e} (run tests/reference/record_maze.py)", d.display()))
         .flatten()
         .map(|e| e.path())

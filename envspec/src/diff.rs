@@ -85,7 +85,7 @@ pub struct Change {
     pub now: Option<String>,
     pub old_at: Option<Pos>,
     pub new_at: Option<Pos>,
-    /// Evidence of the effect, e.g. "obs dim 27 → 105; cfrc_ext[0:78] added at index 27".
+    /// Evidence of the effect, e.g. `obs dim 27 → 105; cfrc_ext[0:78] added at index 27`.
     pub witness: Option<String>,
     /// Alters behaviour (results, policies or constructor calls); false: a compatible change.
     pub breaking: bool,

@@ -1,5 +1,5 @@
 //! The Gymnasium MuJoCo v5 suite as typed envs, generated from `specs/gymnasium/` by
-//! [`env!`](crate::env). Each type wraps the same core as the dynamic [`Env`](crate::Env), so
+//! [`env!`](macro@crate::env). Each type wraps the same core as the dynamic [`Env`](crate::Env), so
 //! `AntV5::make()` and `Env::make("Ant-v5", &[])` give the same trajectories.
 //!
 //! ```no_run

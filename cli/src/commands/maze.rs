@@ -86,7 +86,7 @@ impl DictObs {
 }
 
 /// Writes `obs.observation` [n+1, dim], `obs.achieved_goal` / `obs.desired_goal` [n+1, 2],
-/// `reward`, `terminated`, `truncated`, `info.success` [n] and the robot's info as `info.<key>`;
+/// `reward`, `terminated`, `truncated`, `info.success` `[n]` and the robot's info as `info.<key>`;
 /// `reset_info.success` and the robot's reset info for the first reset; with `--auto-reset`
 /// `reset_obs.*` and `reset_at` as for flat envs.
 pub fn rollout(

@@ -23,7 +23,7 @@ fn load(path: &Path, sets: &[String]) -> Result<MultiAgentEnv> {
 }
 
 /// Global actions [T, act_dim] are mapped to the agents; writes `obs.<agent>` [n+1, dim],
-/// `state` [n+1, state_dim], `reward`, `terminated`, `truncated` [n].
+/// `state` `[n+1, state_dim]`, `reward`, `terminated`, `truncated` `[n]`.
 pub fn rollout(
     path: &Path,
     sets: &[String],

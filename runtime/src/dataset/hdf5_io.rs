@@ -1,6 +1,6 @@
 //! The HDF5 backend: `data/main_data.hdf5`, one group `episode_<i>` per episode with datasets
 //! `observations [T+1, obs]`, `actions [T, act]`, `rewards [T]`, `terminations [T]`,
-//! `truncations [T]` (bool = h5py's enum<int8>{FALSE, TRUE}), an `infos` group (always present,
+//! `truncations [T]` (bool = h5py's `enum<int8>{FALSE, TRUE}`), an `infos` group (always present,
 //! T+1 rows per key) and attributes `id`, `total_steps`, `seed` (int64, uint64 at ≥ 2^63) and
 //! Minari's reward statistics. Links the system libhdf5 through `hdf5-metno`.
 

@@ -50,7 +50,8 @@ pub fn svml_exp(cpu: &Cpu, ov: &Overrides) -> Result<(bool, String), String> {
         "X86_V4" => !cpu.npy_x86_v4(),
         _ => false,
     };
-    let (on, why): (Box<dyn Fn(&str) -> bool>, String) = match (set(&ov.enable), set(&ov.disable)) {
+    type Enabled = Box<dyn Fn(&str) -> bool>;
+    let (on, why): (Enabled, String) = match (set(&ov.enable), set(&ov.disable)) {
         (Some(_), Some(_)) => {
             return Err(
                 "both NPY_ENABLE_CPU_FEATURES and NPY_DISABLE_CPU_FEATURES are set; numpy refuses to import"
