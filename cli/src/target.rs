@@ -1,9 +1,9 @@
-//! Resolving a command's SPEC|ID argument and its `--set key=value` overrides.
-
-use std::path::PathBuf;
+//! Resolving a command's SPEC|ID argument and its `--set key=value` overrides through the one
+//! door (`envspec::open`, `envc::open`): every command opens every kind of spec the same way.
 
 use anyhow::Result;
-use envc::{Env, Override};
+use envc::{AnyEnv, Override};
+use envspec::{Code, Diagnostic, Kind};
 
 /// Parse `--set key=value` arguments.
 pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
@@ -12,24 +12,20 @@ pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
         .collect()
 }
 
-/// A bundled env id or a spec file path.
-pub fn spec_path(id_or_path: &str) -> Result<PathBuf> {
-    envc::registry::find(id_or_path).map_err(|e| match &e {
-        // One line: the message and the suggestion.
-        envc::EnvError::Spec(d) if !d.is_empty() => {
-            let d = &d.0[0];
-            match &d.help {
-                Some(h) => anyhow::anyhow!("{} ({h})", d.message),
-                None => anyhow::anyhow!("{}", d.message),
-            }
-        }
-        other => anyhow::anyhow!("{other}"),
-    })
+/// The env of an id or path, any kind.
+pub fn env(id_or_path: &str, sets: &[String]) -> Result<AnyEnv> {
+    let o = overrides(sets)?;
+    envc::open(id_or_path, &o).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
-/// Build an env.
-pub fn env(id_or_path: &str, sets: &[String]) -> Result<Env> {
-    let path = spec_path(id_or_path)?;
-    let o = overrides(sets)?;
-    Env::from_spec_file(&path, &o).map_err(|e| anyhow::anyhow!("{e}"))
+/// E0602: `command` does not serve this kind of spec.
+pub fn unsupported(command: &str, id: &str, kind: Kind, why: &str, help: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}",
+        Diagnostic::new(
+            Code::E0602,
+            format!("`envc {command}` {why}; `{id}` is a {kind} spec")
+        )
+        .help(help)
+    )
 }

@@ -210,10 +210,20 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
             .label("expected a readable TOML spec file"),
         )
     })?;
-    let file = SourceFile::new(path, text.clone());
+    let file = SourceFile::new(path, text);
     let root = parse_document(&file)?;
+    from_document(&file, &root, overrides)
+}
+
+/// [`load`] on a spec file already read and parsed (the one door reads each file once).
+pub fn from_document(
+    file: &Arc<SourceFile>,
+    root: &Val,
+    overrides: &[Override],
+) -> Result<AgentsSpec, Diagnostics> {
+    let path = file.path.as_path();
     let top = root.as_table().unwrap_or(&[]);
-    let whole = Location::new(&file, 0..0);
+    let whole = Location::new(file, 0..0);
     let Some(agents_entry) = top.iter().find(|e| e.key == "agents") else {
         return Err(Diagnostic::new(Code::E0103, "missing `[agents]` table")
             .at(whole)
@@ -326,7 +336,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
             None => return Err(v.type_error("agents.base", "a path").into()),
         },
         None => {
-            let spec = Spec::parse(path, text)?;
+            let spec = Spec::from_document(file, root)?;
             crate::resolve::resolve(&spec, &base_overrides)?
         }
     };

@@ -112,6 +112,10 @@ pub enum Code {
     E0502,
     /// The spec file itself cannot be read.
     E0600,
+    /// No bundled id of that name, and no such spec file.
+    E0601,
+    /// The command cannot serve this kind of spec (e.g. `collect` on a multi-agent spec).
+    E0602,
     /// MuJoCo failed to compile the model.
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.

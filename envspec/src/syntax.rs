@@ -99,8 +99,13 @@ impl Spec {
     pub fn parse(path: &Path, text: String) -> Result<Spec, Diagnostics> {
         let file = SourceFile::new(path, text);
         let root = parse_document(&file)?;
+        Spec::from_document(&file, &root)
+    }
+
+    /// Check a spec file already read and parsed (the one door reads each file once).
+    pub fn from_document(file: &Arc<SourceFile>, root: &Val) -> Result<Spec, Diagnostics> {
         let mut d = Diagnostics::default();
-        let spec = read_spec(&file, &root, &mut d);
+        let spec = read_spec(file, root, &mut d);
         d.into_result(spec)
     }
 }

@@ -20,7 +20,6 @@ use std::time::{Duration, Instant};
 use envspec::{Override, ResolvedSpec};
 use mujoco_rs::prelude::{MjData, MjModel};
 
-use crate::env::{Env, compile};
 use crate::error::EnvError;
 use crate::rng::NumpyRng;
 use crate::vector::{Autoreset, VecEnv};
@@ -198,15 +197,24 @@ pub fn bench(
     overrides: &[Override],
     cfg: &BenchConfig,
 ) -> Result<BenchResult, EnvError> {
-    let spec: Arc<ResolvedSpec> = Arc::new(envspec::load(
-        &crate::registry::find(id_or_path)?,
-        overrides,
-    )?);
-    let model = Arc::new(compile(&spec)?);
+    // Any kind: a maze steps its robot in the maze world, a multi-agent spec its factorized task
+    // (the ceiling is that same model). Vector envs run tasks only; the others report NaN there.
+    let mut env = crate::open(id_or_path, overrides)?;
+    let spec: Arc<ResolvedSpec> = Arc::clone(env.physics_env().spec());
+    let model = Arc::clone(env.physics_env().model());
     let envs = cfg.envs.max(1);
     let actions = Actions::new(&model, 4096.max(envs * 4));
-    let mut env = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
-    let mut vec = VecEnv::new(Arc::clone(&spec), envs, cfg.threads, Autoreset::NextStep)?;
+    let mut vec = match env.kind() {
+        crate::Kind::Task => Some(VecEnv::new(
+            Arc::clone(&spec),
+            envs,
+            cfg.threads,
+            Autoreset::NextStep,
+        )?),
+        _ => None,
+    };
+    let threads = vec.as_ref().map_or(cfg.threads.max(1), |v| v.threads());
+    let id = env.id().to_string();
     let mut raw = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
         path: spec.model_path.clone(),
         message: format!("cannot allocate mjData: {e}"),
@@ -216,8 +224,10 @@ pub fn bench(
         spec.needs_rne_post_constraint,
         actions.act_dim,
     );
-    env.reset(Some(0));
-    vec.reset(Some(0));
+    env.reset(Some(0))?;
+    if let Some(v) = &mut vec {
+        v.reset(Some(0));
+    }
 
     let mut cursor = 0usize; // action row, shared so every measurement sees the same stream
     let (mut steps, mut episodes) = (0u64, 0u64);
@@ -273,7 +283,7 @@ pub fn bench(
                         steps += 1;
                         if done.unwrap_or(true) {
                             episodes += 1;
-                            env.reset(None);
+                            let _ = env.reset(None);
                         }
                     }
                     CHUNK as u64
@@ -283,21 +293,24 @@ pub fn bench(
                         .checked_div(episodes)
                         .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
                         .max(1);
-                    parallel_ceiling(&model, &actions, vec.threads(), slice, fs, rne, ep_len)
+                    parallel_ceiling(&model, &actions, threads, slice, fs, rne, ep_len)
                 }
-                _ => rate(slice, wall, || {
-                    let mut real = 0;
-                    for _ in 0..CHUNK / 4 {
-                        let a = actions.rows(cursor, envs);
-                        cursor += 1;
-                        if vec.step(a).is_err() {
-                            return 0;
+                _ => match &mut vec {
+                    None => f64::NAN,
+                    Some(vec) => rate(slice, wall, || {
+                        let mut real = 0;
+                        for _ in 0..CHUNK / 4 {
+                            let a = actions.rows(cursor, envs);
+                            cursor += 1;
+                            if vec.step(a).is_err() {
+                                return 0;
+                            }
+                            // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
+                            real += vec.envs().iter().filter(|e| e.elapsed_steps() > 0).count();
                         }
-                        // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
-                        real += vec.envs().iter().filter(|e| e.elapsed_steps() > 0).count();
-                    }
-                    real as u64
-                }),
+                        real as u64
+                    }),
+                },
             };
         }
         if round > 0 {
@@ -307,15 +320,15 @@ pub fn bench(
             p.push(got[3]);
             pr.push(got[2] / got[3]);
             sr.push(got[1] / got[0]);
-            vr.push(got[2] / (vec.threads() as f64 * got[0]));
+            vr.push(got[2] / (threads as f64 * got[0]));
         }
     }
     Ok(BenchResult {
-        id: spec.id.clone(),
+        id,
         frame_skip: fs as usize,
         rne_post_constraint: rne,
         envs,
-        threads: vec.threads(),
+        threads,
         rounds,
         ceiling: median(c),
         single: median(s),

@@ -13,6 +13,7 @@
 // Generated code names `::envc::…`; this makes those paths work inside envc itself.
 extern crate self as envc;
 
+mod any_env;
 pub mod bench;
 #[cfg(feature = "dataset")]
 pub mod dataset;
@@ -31,6 +32,7 @@ pub mod rng;
 pub mod typed;
 pub mod vector;
 
+pub use any_env::{AnyEnv, JointStep, open};
 pub use env::{BoxSpace, Env, Info, Step};
 /// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
 pub use envc_codegen::env;
@@ -38,7 +40,7 @@ pub use envc_codegen::env;
 pub use envc_codegen::multi_agent_env;
 pub use environment::Environment;
 pub use envspec;
-pub use envspec::{Override, ParamValue, ResolvedSpec};
+pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
 pub use vector::{Autoreset, VecEnv};
 

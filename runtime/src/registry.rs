@@ -1,86 +1,58 @@
-//! The bundled specs (`specs/` of the envc source tree), looked up by env id.
+//! The bundled ids, as the runtime uses them. The registry itself (every task, maze and
+//! multi-agent id, scanned once) is `envspec::registry`; this adds the task views and the README
+//! table.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use envspec::{Code, Diagnostic, Spec};
+pub use envspec::registry::{Entry, Kind, entries, examples_dir, lookup, specs_dir};
+use envspec::{Code, Diagnostic, Diagnostics};
 
 use crate::error::EnvError;
 
-/// The directory holding the bundled specs.
-pub fn specs_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join("specs");
-    dir.canonicalize().unwrap_or(dir)
+fn tasks(example: bool) -> Vec<(String, PathBuf)> {
+    entries()
+        .iter()
+        .filter(|e| e.task && e.example == example)
+        .map(|e| (e.id.clone(), e.path.clone()))
+        .collect()
 }
 
-/// `specs/examples/`: example specs whose models are not shipped with envc (e.g. a robot from
-/// MuJoCo Menagerie); building them needs an `xml_file` override or the documented checkout.
-pub fn examples_dir() -> PathBuf {
-    specs_dir().join("examples")
-}
-
-/// Every bundled spec whose model ships with envc, as (env id, path), sorted by id.
+/// Every bundled spec that opens as a single-agent env and whose model ships with envc, as
+/// (env id, path), sorted by id.
 pub fn bundled() -> Vec<(String, PathBuf)> {
-    let examples = examples_dir();
-    scan(&specs_dir(), Some(&examples))
+    tasks(false)
 }
 
-/// The example specs of `specs/examples/` (models not shipped), as (env id, path), sorted by id.
+/// The example task specs of `specs/examples/` (models not shipped), as (env id, path).
 pub fn examples() -> Vec<(String, PathBuf)> {
-    scan(&examples_dir(), None)
+    tasks(true)
 }
 
-fn scan(root: &Path, skip: Option<&Path>) -> Vec<(String, PathBuf)> {
-    let mut out = vec![];
-    let mut dirs = vec![root.to_path_buf()];
-    while let Some(dir) = dirs.pop() {
-        let Ok(entries) = std::fs::read_dir(&dir) else {
-            continue;
-        };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                if skip != Some(p.as_path()) {
-                    dirs.push(p);
-                }
-            } else if p.extension().is_some_and(|x| x == "toml")
-                && let Ok(spec) = Spec::load(&p)
-            {
-                out.push((spec.id, p));
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
-/// A bundled env id (e.g. `Ant-v5`) or a path to a spec file.
+/// The task spec file of an id or path (`Env::make`, `VecEnv::make`): a maze id, or a
+/// multi-agent spec without an `[env]` of its own, is E0602 (open those with `envc::open`).
 pub fn find(id_or_path: &str) -> Result<PathBuf, EnvError> {
-    let p = Path::new(id_or_path);
-    if p.extension().is_some_and(|x| x == "toml") || p.is_file() {
-        return Ok(p.to_path_buf());
-    }
-    let mut all = bundled();
-    all.extend(examples());
-    match all.iter().find(|(id, _)| id == id_or_path) {
-        Some((_, path)) => Ok(path.clone()),
-        None => Err(EnvError::Spec(
+    let t = envspec::open::locate(id_or_path)?;
+    let kind = match &t.id {
+        Some(id) => lookup(id)
+            .map(|e| (e.kind, e.task))
+            .map_err(Diagnostics::from)?,
+        None => match envspec::open::Document::read(&t.path) {
+            Ok(doc) => {
+                let top = doc.root.as_table().unwrap_or(&[]);
+                (doc.kind, top.iter().any(|e| e.key == "env"))
+            }
+            // Unreadable or not TOML: the task reader reports it with its location.
+            Err(_) => (Kind::Task, true),
+        },
+    };
+    match kind {
+        (_, true) => Ok(t.path),
+        (kind, false) => Err(EnvError::Spec(
             Diagnostic::new(
-                Code::E0600,
-                format!("no bundled env `{id_or_path}` and no such spec file"),
+                Code::E0602,
+                format!("`{id_or_path}` is a {kind} spec, not a single-agent task"),
             )
-            .label(format!(
-                "expected a spec path or one of: {}",
-                all.iter()
-                    .map(|(i, _)| i.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ))
-            .help_opt(envspec::diagnostic::suggest(
-                id_or_path,
-                all.iter().map(|(i, _)| i.as_str()),
-            ))
+            .help("open it with `envc::open` (or `MazeEnv` / `MultiAgentEnv`)")
             .into(),
         )),
     }

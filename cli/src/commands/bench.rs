@@ -8,7 +8,8 @@ use crate::Outcome;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Bundled env ids or spec files; `all` for every bundled env.
+    /// Bundled ids or spec files of any kind; `all` for every bundled id. Mazes and multi-agent
+    /// specs are measured single-env (vector envs run tasks; their vector columns show `-`).
     #[arg(required = true)]
     envs_or_all: Vec<String>,
     /// Envs in the vectorized measurement.
@@ -53,10 +54,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let overrides = crate::target::overrides(&args.set)?;
     let ids: Vec<String> = if args.envs_or_all.iter().any(|a| a == "all") {
-        envc::registry::bundled()
-            .into_iter()
-            .map(|(id, _)| id)
-            .collect()
+        envspec::registry::bundled().map(|e| e.id.clone()).collect()
     } else {
         args.envs_or_all.clone()
     };
@@ -86,19 +84,29 @@ pub fn run(args: Args) -> Result<Outcome> {
         let r =
             envc::bench::bench(id, &overrides, &cfg).map_err(|e| anyhow::anyhow!("{id}: {e}"))?;
         match args.format {
-            Format::Text => println!(
-                "{:<26} {:>3} {:>3} {:>11.0} {:>11.0} {:>6.3} {:>11.0} {:>7.3} {:>11.0} {:>6.3}",
-                r.id,
-                r.frame_skip,
-                if r.rne_post_constraint { "yes" } else { "no" },
-                r.ceiling,
-                r.single,
-                r.single_ratio,
-                r.vector,
-                r.vector_ratio,
-                r.parallel_ceiling,
-                r.vector_parallel_ratio
-            ),
+            Format::Text => {
+                // A measurement that does not apply (vector envs of a maze) prints as `-`.
+                let f = |x: f64, prec: usize| {
+                    if x.is_nan() {
+                        "-".to_string()
+                    } else {
+                        format!("{x:.prec$}")
+                    }
+                };
+                println!(
+                    "{:<26} {:>3} {:>3} {:>11} {:>11} {:>6} {:>11} {:>7} {:>11} {:>6}",
+                    r.id,
+                    r.frame_skip,
+                    if r.rne_post_constraint { "yes" } else { "no" },
+                    f(r.ceiling, 0),
+                    f(r.single, 0),
+                    f(r.single_ratio, 3),
+                    f(r.vector, 0),
+                    f(r.vector_ratio, 3),
+                    f(r.parallel_ceiling, 0),
+                    f(r.vector_parallel_ratio, 3)
+                )
+            }
             Format::Json => out.push(json(&r)),
         }
     }

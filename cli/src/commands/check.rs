@@ -49,96 +49,30 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut report = vec![];
     let mut failed = 0;
     for s in &args.specs {
-        if crate::commands::maze::is_maze(s) {
-            // A maze spec or a registered maze id: the maze file, its robot spec and the world.
-            let (ok, diags, extra) = crate::commands::maze::check(s, &overrides);
-            if !ok {
-                failed += 1;
-            }
-            match args.format {
-                Format::Text if ok => println!("ok {s}"),
-                Format::Text => {
-                    for d in &diags {
-                        println!("{d}");
-                    }
-                    if let Some(e) = &extra {
-                        println!("{e}");
-                    }
-                    println!("FAILED {s} ({} errors)", diags.len().max(1));
-                }
-                Format::Json => report.push(serde_json::json!({
-                    "spec": s, "ok": ok,
-                    "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
-                })),
-            }
-            continue;
-        }
-        let path = crate::target::spec_path(s)?;
-        if envspec::agents::is_multi_agent(&path) {
-            // A multi-agent spec: the factorization and its base spec (envspec::agents).
-            let r = crate::commands::multi_agent::check(&path, &overrides, args.compile);
-            let (ok, diags, extra) = r;
-            if !ok {
-                failed += 1;
-            }
-            match args.format {
-                Format::Text if ok => println!("ok {}", path.display()),
-                Format::Text => {
-                    for d in &diags {
-                        println!("{d}");
-                    }
-                    if let Some(e) = &extra {
-                        println!("{e}");
-                    }
-                    println!("FAILED {} ({} errors)", path.display(), diags.len().max(1));
-                }
-                Format::Json => report.push(serde_json::json!({
-                    "spec": path.display().to_string(), "ok": ok,
-                    "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
-                })),
-            }
-            continue;
-        }
-        let (ok, diags, extra) = match envspec::load(&path, &overrides) {
+        // Any kind through the one door; mazes are always compiled (their checks need the world).
+        let (kind, diags, extra) = match envspec::open(s, &overrides) {
             Ok(spec) => {
-                if args.compile {
-                    match envc::Env::new(std::sync::Arc::new(spec)) {
-                        Ok(_) => (true, vec![], None),
-                        Err(e) => (false, vec![], Some(e.to_string())),
+                let kind = Some(spec.kind());
+                // A factorization is checked at every conf and depth, not only the one it opened.
+                if let envc::AnySpec::Agents(a) = &spec {
+                    let d = crate::commands::multi_agent::check_confs(a, &overrides);
+                    if !d.is_empty() {
+                        report_one(&args, &mut report, &mut failed, s, kind, d, None);
+                        continue;
                     }
-                } else {
-                    (true, vec![], None)
+                }
+                let extra = (args.compile || spec.kind() == envspec::Kind::Maze)
+                    .then(|| envc::AnyEnv::new(spec).err())
+                    .flatten();
+                match extra {
+                    Some(envc::EnvError::Spec(d)) => (kind, d.0, None),
+                    Some(e) => (kind, vec![], Some(e.to_string())),
+                    None => (kind, vec![], None),
                 }
             }
-            Err(d) => (false, d.0, None),
+            Err(d) => (None, d.0, None),
         };
-        if !ok {
-            failed += 1;
-        }
-        match args.format {
-            Format::Text => {
-                if ok {
-                    println!("ok {}", path.display());
-                } else {
-                    for d in &diags {
-                        println!("{d}");
-                    }
-                    if let Some(e) = &extra {
-                        println!("{e}");
-                    }
-                    println!(
-                        "FAILED {} ({} error{})",
-                        path.display(),
-                        diags.len().max(1),
-                        if diags.len() > 1 { "s" } else { "" }
-                    );
-                }
-            }
-            Format::Json => report.push(serde_json::json!({
-                "spec": path.display().to_string(), "ok": ok,
-                "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
-            })),
-        }
+        report_one(&args, &mut report, &mut failed, s, kind, diags, extra);
     }
     if args.format == Format::Json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -148,4 +82,35 @@ pub fn run(args: Args) -> Result<Outcome> {
     } else {
         Outcome::Ok
     })
+}
+
+/// Print (text) or collect (JSON) one spec's result.
+fn report_one(
+    args: &Args,
+    report: &mut Vec<serde_json::Value>,
+    failed: &mut usize,
+    s: &str,
+    kind: Option<envspec::Kind>,
+    diags: Vec<Diagnostic>,
+    extra: Option<String>,
+) {
+    let ok = diags.is_empty() && extra.is_none();
+    *failed += usize::from(!ok);
+    match args.format {
+        Format::Text if ok => println!("ok {s}"),
+        Format::Text => {
+            for d in &diags {
+                println!("{d}");
+            }
+            if let Some(e) = &extra {
+                println!("{e}");
+            }
+            let n = diags.len().max(1);
+            println!("FAILED {s} ({n} error{})", if n > 1 { "s" } else { "" });
+        }
+        Format::Json => report.push(serde_json::json!({
+            "spec": s, "kind": kind, "ok": ok,
+            "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
+        })),
+    }
 }

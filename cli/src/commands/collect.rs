@@ -92,32 +92,41 @@ fn read_actions(path: &PathBuf, act_dim: usize) -> Result<Vec<f32>> {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    if crate::commands::maze::is_maze(&args.spec) {
-        let format = match args.format {
-            FormatArg::Arrow => Format::Arrow,
-            FormatArg::Hdf5 => Format::Hdf5,
-        };
-        let random = match args.policy {
-            PolicyKind::Zero => false,
-            PolicyKind::Random => true,
-            PolicyKind::Replay => bail!("--policy replay is not supported for maze envs"),
-        };
-        return crate::commands::maze::collect(
-            &args.spec,
-            &args.set,
-            &args.dataset_id,
-            args.episodes,
-            random,
-            args.seed,
-            format,
-            args.root.clone(),
-            vec![args.author.clone()],
-        );
-    }
-    let env = crate::target::env(&args.spec, &args.set)?;
     let format = match args.format {
         FormatArg::Arrow => Format::Arrow,
         FormatArg::Hdf5 => Format::Hdf5,
+    };
+    let env = match crate::target::env(&args.spec, &args.set)? {
+        envc::AnyEnv::Task(env) => env,
+        envc::AnyEnv::Maze(env) => {
+            let random = match args.policy {
+                PolicyKind::Zero => false,
+                PolicyKind::Random => true,
+                PolicyKind::Replay => bail!("--policy replay is not supported for maze envs"),
+            };
+            return crate::commands::maze::collect(
+                env,
+                &args.dataset_id,
+                args.episodes,
+                random,
+                args.seed,
+                format,
+                args.root.clone(),
+                vec![args.author.clone()],
+            );
+        }
+        envc::AnyEnv::Agents(env) => {
+            return Err(crate::target::unsupported(
+                "collect",
+                &env.spec().id,
+                envspec::Kind::Agents,
+                "records single-agent Minari datasets",
+                &format!(
+                    "collect its base task instead: `envc collect {} ...`",
+                    env.spec().base.id
+                ),
+            ));
+        }
     };
     let act_dim = env.act_dim();
     let space = env.action_space().clone();

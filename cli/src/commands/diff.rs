@@ -121,7 +121,9 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<PathBuf> {
     {
         return checkout(rev, path, &tmp.join(side));
     }
-    crate::target::spec_path(arg)
+    envspec::open::locate(arg)
+        .map(|t| t.path)
+        .map_err(|d| anyhow::anyhow!("{d}"))
 }
 
 pub fn run(args: Args) -> Result<Outcome> {

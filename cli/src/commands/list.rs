@@ -17,45 +17,93 @@ enum Format {
     Json,
 }
 
+/// One row: id, kind, observation dim, joint action dim, dt, max steps, spec file.
+type Row = (
+    String,
+    envspec::Kind,
+    String,
+    usize,
+    f64,
+    Option<u64>,
+    String,
+);
+
+/// A row from the resolved spec (no MuJoCo): a maze's observation is its robot's plus the two
+/// 2-D goals; a multi-agent spec lists each agent's observation size.
+fn row(e: &envspec::registry::Entry) -> Result<Row> {
+    let spec = envspec::open(&e.id, &[]).map_err(|d| anyhow::anyhow!("{}: {d}", e.id))?;
+    let (obs, act, dt, max) = match &spec {
+        envc::AnySpec::Task(s) => (
+            s.obs_dim.to_string(),
+            s.act_dim(),
+            s.dt(),
+            s.max_episode_steps,
+        ),
+        envc::AnySpec::Maze(m) => {
+            let r = envspec::load(&m.robot, &m.robot_overrides)
+                .map_err(|d| anyhow::anyhow!("{}: {d}", e.id))?;
+            (
+                format!("{}+2+2", r.obs_dim),
+                r.act_dim(),
+                r.dt(),
+                m.max_episode_steps,
+            )
+        }
+        envc::AnySpec::Agents(a) => (
+            {
+                // `agents × obs`, or `agents × min..max` when they differ.
+                let dims = a.agents.iter().map(|x| x.obs_dim);
+                let (lo, hi) = (dims.clone().min().unwrap_or(0), dims.max().unwrap_or(0));
+                let n = a.agents.len();
+                if lo == hi {
+                    format!("{n}×{lo}")
+                } else {
+                    format!("{n}×{lo}..{hi}")
+                }
+            },
+            a.act_dim(),
+            a.base.dt(),
+            a.base.max_episode_steps,
+        ),
+    };
+    let root = envspec::registry::specs_dir();
+    let rel = e.path.strip_prefix(&root).unwrap_or(&e.path).display();
+    Ok((
+        e.id.clone(),
+        e.kind,
+        obs,
+        act,
+        dt,
+        max,
+        format!("specs/{rel}"),
+    ))
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
-    let root = envc::registry::specs_dir();
-    let mut rows = vec![];
-    for (id, path) in envc::registry::bundled() {
-        let spec =
-            envspec::load(&path, &[]).map_err(|d| anyhow::anyhow!("{}: {d}", path.display()))?;
-        let rel = path
-            .strip_prefix(&root)
-            .unwrap_or(&path)
-            .display()
-            .to_string();
-        rows.push((
-            id,
-            spec.obs_dim,
-            spec.act_dim(),
-            spec.dt(),
-            spec.max_episode_steps,
-            format!("specs/{rel}"),
-        ));
-    }
-    rows.extend(crate::commands::maze::list_rows()?);
+    let rows: Vec<Row> = envspec::registry::bundled()
+        .map(row)
+        .collect::<Result<_>>()?;
     match args.format {
         Format::Json => {
             let v: Vec<_> = rows
                 .iter()
-                .map(|(id, o, a, dt, m, p)| {
-                    serde_json::json!({"id": id, "obs_dim": o, "act_dim": a, "dt": dt, "max_episode_steps": m, "spec": p})
+                .map(|(id, k, o, a, dt, m, p)| {
+                    serde_json::json!({"id": id, "kind": k, "obs_dim": o, "act_dim": a, "dt": dt, "max_episode_steps": m, "spec": p})
                 })
                 .collect();
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
         Format::Text => {
             println!(
-                "{:<34} {:>7} {:>7} {:>8} {:>9}  spec",
-                "id", "obs", "act", "dt", "max steps"
+                "{:<34} {:<11} {:>10} {:>5} {:>8} {:>9}  spec",
+                "id", "kind", "obs", "act", "dt", "max steps"
             );
-            for (id, o, a, dt, m, p) in rows {
+            for (id, k, o, a, dt, m, p) in rows {
                 let m = m.map(|m| m.to_string()).unwrap_or_else(|| "none".into());
-                println!("{id:<34} {o:>7} {a:>7} {dt:>8} {m:>9}  {p}");
+                println!(
+                    "{id:<34} {:<11} {o:>10} {a:>5} {dt:>8} {m:>9}  {p}",
+                    k.name()
+                );
             }
         }
     }

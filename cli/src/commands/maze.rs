@@ -8,42 +8,9 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use envc::maze::MazeEnv;
 use ndarray::{Array1, Array2, ArrayD, IxDyn};
-use ndarray_npy::{NpzWriter, ReadNpyExt};
+use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
-
-/// Whether this SPEC|ID argument names a maze env.
-pub fn is_maze(id_or_path: &str) -> bool {
-    MazeEnv::is_maze(id_or_path)
-}
-
-fn load(id_or_path: &str, sets: &[String]) -> Result<MazeEnv> {
-    let o = crate::target::overrides(sets)?;
-    MazeEnv::make(id_or_path, &o).map_err(|e| anyhow::anyhow!("{e}"))
-}
-
-/// An `envc list` row: id, observation dim, action dim, dt, max steps, spec file.
-pub type ListRow = (String, usize, usize, f64, Option<u64>, String);
-
-/// The registered maze ids as `envc list` rows: (id, observation dim, action dim, dt, max steps,
-/// spec file). Building each env compiles its world, so this costs a few milliseconds per id.
-pub fn list_rows() -> Result<Vec<ListRow>> {
-    let root = envc::registry::specs_dir();
-    let mut rows = vec![];
-    for r in envc::maze::registered() {
-        let env = MazeEnv::make(&r.id, &[]).map_err(|e| anyhow::anyhow!("{}: {e}", r.id))?;
-        let rel = r.spec.strip_prefix(&root).unwrap_or(&r.spec).display();
-        rows.push((
-            r.id.clone(),
-            env.observation_dim(),
-            env.act_dim(),
-            env.dt(),
-            env.max_episode_steps(),
-            format!("specs/{rel}"),
-        ));
-    }
-    Ok(rows)
-}
 
 struct DictObs {
     observation: Vec<f64>,
@@ -90,29 +57,13 @@ impl DictObs {
 /// `reset_info.success` and the robot's reset info for the first reset; with `--auto-reset`
 /// `reset_obs.*` and `reset_at` as for flat envs.
 pub fn rollout(
-    id_or_path: &str,
-    sets: &[String],
+    mut env: MazeEnv,
     seed: Option<u64>,
+    a: &Array2<f64>,
     actions: &Path,
     out: &Path,
     auto_reset: bool,
 ) -> Result<Outcome> {
-    let file = File::open(actions).with_context(|| format!("cannot open {}", actions.display()))?;
-    let a = match Array2::<f64>::read_npy(file) {
-        Ok(a) => a,
-        Err(_) => {
-            let file = File::open(actions)?;
-            Array2::<f32>::read_npy(file)
-                .with_context(|| {
-                    format!(
-                        "{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]",
-                        actions.display()
-                    )
-                })?
-                .mapv(f64::from)
-        }
-    };
-    let mut env = load(id_or_path, sets)?;
     let (t_max, width) = a.dim();
     if width != env.act_dim() {
         bail!(
@@ -205,8 +156,7 @@ pub fn rollout(
 }
 
 /// `envc show` for a maze: the maze parameters, the layout, the candidate cells and the robot.
-pub fn show(id_or_path: &str, sets: &[String]) -> Result<Outcome> {
-    let env = load(id_or_path, sets)?;
+pub fn show(env: &MazeEnv) -> Result<Outcome> {
     let m = env.spec();
     let cwd = std::env::current_dir().unwrap_or_default();
     let rel = |p: &Path| p.strip_prefix(&cwd).unwrap_or(p).display().to_string();
@@ -298,8 +248,7 @@ pub fn show(id_or_path: &str, sets: &[String]) -> Result<Outcome> {
 /// or uniformly random float32 policy, as a Minari dataset with dict observations.
 #[allow(clippy::too_many_arguments)]
 pub fn collect(
-    id_or_path: &str,
-    sets: &[String],
+    env: MazeEnv,
     dataset_id: &str,
     episodes: u64,
     random: bool,
@@ -311,7 +260,6 @@ pub fn collect(
     use envc::dataset::{CollectOptions, DatasetInfo};
     use envc::maze::dataset::MazeCollector;
     use envc::rng::NumpyRng;
-    let env = load(id_or_path, sets)?;
     let id = env.id().to_string();
     let space = env.action_space().clone();
     let info = DatasetInfo {
@@ -359,17 +307,4 @@ pub fn collect(
         dir.display()
     );
     Ok(Outcome::Ok)
-}
-
-/// `envc check` for a maze: reads the maze spec and its robot spec and builds the world (always
-/// compiled: it is cheap). Returns (ok, spec diagnostics, other error).
-pub fn check(
-    id_or_path: &str,
-    overrides: &[envc::Override],
-) -> (bool, Vec<envspec::Diagnostic>, Option<String>) {
-    match MazeEnv::make(id_or_path, overrides) {
-        Ok(_) => (true, vec![], None),
-        Err(envc::EnvError::Spec(d)) => (false, d.0, None),
-        Err(e) => (false, vec![], Some(e.to_string())),
-    }
 }

@@ -6,55 +6,29 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use envc::multi_agent::MultiAgentEnv;
+use envspec::agents::AgentsSpec;
 use ndarray::{Array1, Array2};
-use ndarray_npy::{NpzWriter, ReadNpyExt};
+use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
-
-/// Whether `envc rollout` / `envc show` should treat this spec as multi-agent.
-pub fn is_multi_agent(id_or_path: &str) -> Option<std::path::PathBuf> {
-    let p = crate::target::spec_path(id_or_path).ok()?;
-    envspec::agents::is_multi_agent(&p).then_some(p)
-}
-
-fn load(path: &Path, sets: &[String]) -> Result<MultiAgentEnv> {
-    let o = crate::target::overrides(sets)?;
-    MultiAgentEnv::from_spec_file(path, &o).map_err(|e| anyhow::anyhow!("{e}"))
-}
 
 /// Global actions [T, act_dim] are mapped to the agents; writes `obs.<agent>` [n+1, dim],
 /// `state` `[n+1, state_dim]`, `reward`, `terminated`, `truncated` `[n]`.
 pub fn rollout(
-    path: &Path,
-    sets: &[String],
+    mut env: MultiAgentEnv,
     seed: Option<u64>,
+    a: &Array2<f64>,
     actions: &Path,
     out: &Path,
     auto_reset: bool,
 ) -> Result<Outcome> {
-    let file = File::open(actions).with_context(|| format!("cannot open {}", actions.display()))?;
-    let a = match Array2::<f64>::read_npy(file) {
-        Ok(a) => a,
-        Err(_) => {
-            let file = File::open(actions)?;
-            Array2::<f32>::read_npy(file)
-                .with_context(|| {
-                    format!(
-                        "{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]",
-                        actions.display()
-                    )
-                })?
-                .mapv(f64::from)
-        }
-    };
-    let mut env = load(path, sets)?;
     let (t_max, width) = a.dim();
     let act_dim = env.spec().act_dim();
     if width != act_dim {
         bail!(
             "{} has {width} columns but {} takes {act_dim} global actions",
             actions.display(),
-            path.display()
+            env.spec().id
         );
     }
     let n_agents = env.num_agents();
@@ -144,14 +118,14 @@ pub fn rollout(
 }
 
 /// Each agent's actuators (local action order → global index) and its observation layout.
-pub fn show(path: &Path, sets: &[String]) -> Result<Outcome> {
-    let env = load(path, sets)?;
+pub fn show(env: &MultiAgentEnv) -> Result<Outcome> {
     let spec = env.spec();
     let mut o = String::new();
     writeln!(
         o,
-        "{}  (multi-agent over {}: {})",
-        path.display(),
+        "{}  (multi-agent spec {}, over {}: {})",
+        spec.id,
+        spec.spec_path.display(),
         spec.base.id,
         spec.base.spec_path.display()
     )?;
@@ -213,17 +187,9 @@ pub fn show(path: &Path, sets: &[String]) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
-/// `envc check` of a multi-agent spec: every conf at k = 0, 1, 2 (and the base spec) resolves;
-/// with `compile`, the env is built. Returns (ok, diagnostics, compile error).
-pub fn check(
-    path: &Path,
-    overrides: &[envc::Override],
-    compile: bool,
-) -> (bool, Vec<envspec::Diagnostic>, Option<String>) {
-    let spec = match envspec::agents::load(path, overrides) {
-        Ok(s) => s,
-        Err(d) => return (false, d.0, None),
-    };
+/// `envc check` of a multi-agent spec beyond the conf it opened with: every conf at k = 0, 1, 2
+/// resolves (unless the user chose a conf). Returns the first conf's diagnostics.
+pub fn check_confs(spec: &AgentsSpec, overrides: &[envc::Override]) -> Vec<envspec::Diagnostic> {
     let user_conf = overrides.iter().any(|o| o.name == "agent_conf");
     let confs: Vec<String> = if user_conf {
         vec![spec.conf.clone()]
@@ -239,13 +205,10 @@ pub fn check(
                 .collect();
             o.push(envc::Override::text("agent_conf", c));
             o.push(envc::Override::text("agent_obsk", &k.to_string()));
-            if let Err(d) = envspec::agents::load(path, &o) {
-                return (false, d.0, None);
+            if let Err(d) = envspec::agents::load(&spec.spec_path, &o) {
+                return d.0;
             }
         }
     }
-    if compile && let Err(e) = MultiAgentEnv::new(std::sync::Arc::new(spec)) {
-        return (false, vec![], Some(e.to_string()));
-    }
-    (true, vec![], None)
+    vec![]
 }

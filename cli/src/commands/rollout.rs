@@ -87,30 +87,22 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    if crate::commands::maze::is_maze(&args.spec) {
-        let a = &args;
-        return crate::commands::maze::rollout(
-            &a.spec,
-            &a.set,
-            a.seed,
-            &a.actions,
-            &a.out,
-            a.auto_reset,
-        );
-    }
-    if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
-        let a = &args;
-        return crate::commands::multi_agent::rollout(
-            &p,
-            &a.set,
-            a.seed,
-            &a.actions,
-            &a.out,
-            a.auto_reset,
-        );
-    }
     let actions = read_actions(&args.actions)?;
-    let mut env = crate::target::env(&args.spec, &args.set)?;
+    // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
+    let as_f64 = || match &actions {
+        Actions::F64(a) => a.clone(),
+        Actions::F32(a) => a.mapv(f64::from),
+    };
+    let (seed, path, out, auto) = (args.seed, &args.actions, &args.out, args.auto_reset);
+    let mut env = match crate::target::env(&args.spec, &args.set)? {
+        envc::AnyEnv::Task(env) => env,
+        envc::AnyEnv::Maze(env) => {
+            return crate::commands::maze::rollout(env, seed, &as_f64(), path, out, auto);
+        }
+        envc::AnyEnv::Agents(env) => {
+            return crate::commands::multi_agent::rollout(env, seed, &as_f64(), path, out, auto);
+        }
+    };
     let (t_max, width) = match &actions {
         Actions::F64(a) => a.dim(),
         Actions::F32(a) => a.dim(),

@@ -1,5 +1,6 @@
 //! `envc run SPEC|ID [--episodes N] [--policy zero|random] [--seed S] [--set k=v ...]`: episodes with
-//! a progress bar, then a summary of returns, lengths and throughput.
+//! a progress bar, then a summary of returns, lengths and throughput. Any kind of spec: a maze's
+//! reward is its goal reward, a multi-agent spec's the shared team reward of the joint action.
 
 use std::time::Instant;
 
@@ -23,6 +24,10 @@ pub struct Args {
     /// Parameter overrides (`key=value`, TOML literal values).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Episode length cap for envs without a time limit (a continuing maze, a spec without
+    /// `max_episode_steps`), so a run always ends.
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    max_steps: u64,
     #[arg(long, value_enum, default_value = "text")]
     format: Format,
 }
@@ -57,6 +62,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     // The policy's own stream, separate from the env's (as Gymnasium's action_space.seed).
     let mut policy_rng = NumpyRng::from_seed(args.seed);
     let mut action = vec![0.0; env.act_dim()];
+    let limit = env.max_episode_steps();
     let bar = if args.format == Format::Text {
         ProgressBar::new(args.episodes)
     } else {
@@ -67,12 +73,12 @@ pub fn run(args: Args) -> Result<Outcome> {
             .expect("static template")
             .progress_chars("=> "),
     );
-    bar.set_message(env.spec().id.clone());
+    bar.set_message(env.id().to_string());
     let (mut returns, mut lengths) = (vec![], vec![]);
     let (mut steps, mut terminations) = (0u64, 0u64);
     let start = Instant::now();
     for ep in 0..args.episodes {
-        env.reset(if ep == 0 { Some(args.seed) } else { None });
+        env.reset(if ep == 0 { Some(args.seed) } else { None })?;
         let (mut ret, mut len) = (0.0, 0u64);
         loop {
             if let Policy::Random = args.policy {
@@ -83,7 +89,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             let s = env.step(&action)?;
             ret += s.reward;
             len += 1;
-            if s.terminated || s.truncated {
+            if s.terminated || s.truncated || (limit.is_none() && len >= args.max_steps) {
                 terminations += s.terminated as u64;
                 break;
             }
@@ -102,7 +108,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         Format::Json => println!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({
-                "env": env.spec().id, "episodes": args.episodes, "steps": steps, "terminations": terminations,
+                "env": env.id(), "episodes": args.episodes, "steps": steps, "terminations": terminations,
                 "return": {"mean": rm, "std": rs, "min": rmin, "max": rmax},
                 "length": {"mean": lm, "std": ls, "min": lmin, "max": lmax},
                 "steps_per_second": sps, "warnings": env.warnings(),
@@ -111,7 +117,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         Format::Text => {
             println!(
                 "{}: {} episodes, {steps} steps ({terminations} terminated)",
-                env.spec().id,
+                env.id(),
                 args.episodes
             );
             println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");

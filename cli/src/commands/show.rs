@@ -36,13 +36,11 @@ fn wrap(names: &[String], indent: usize, width: usize) -> String {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    if crate::commands::maze::is_maze(&args.spec) {
-        return crate::commands::maze::show(&args.spec, &args.set);
-    }
-    if let Some(p) = crate::commands::multi_agent::is_multi_agent(&args.spec) {
-        return crate::commands::multi_agent::show(&p, &args.set);
-    }
-    let env = crate::target::env(&args.spec, &args.set)?;
+    let env = match crate::target::env(&args.spec, &args.set)? {
+        envc::AnyEnv::Task(env) => env,
+        envc::AnyEnv::Maze(env) => return crate::commands::maze::show(&env),
+        envc::AnyEnv::Agents(env) => return crate::commands::multi_agent::show(&env),
+    };
     let spec = env.spec().clone();
     let cwd = std::env::current_dir().unwrap_or_default();
     let rel = |p: &std::path::Path| p.strip_prefix(&cwd).unwrap_or(p).display().to_string();

@@ -16,7 +16,7 @@
 //! # Ok::<(), envc::EnvError>(())
 //! ```
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use envspec::maze::{Cell, Layout, MazeSpec, RewardType};
@@ -76,19 +76,6 @@ pub struct MazeEnv {
     success: bool,
 }
 
-/// The maze registry file of the bundled specs.
-pub fn registry_file() -> PathBuf {
-    crate::registry::specs_dir()
-        .join("robotics")
-        .join("maze")
-        .join("registry.toml")
-}
-
-/// Every registered maze id (Gymnasium-Robotics' PointMaze_*-v3 and AntMaze_*-v5), sorted.
-pub fn registered() -> Vec<envspec::maze::Registered> {
-    envspec::maze::registry(&registry_file()).unwrap_or_default()
-}
-
 fn spec_error(code: Code, msg: String) -> EnvError {
     EnvError::Spec(Diagnostics(vec![Diagnostic::new(code, msg)]))
 }
@@ -97,37 +84,17 @@ impl MazeEnv {
     /// A registered maze id (e.g. `AntMaze_Medium_Diverse_GRDense-v5`) or a maze spec file, with
     /// overrides (maze parameters by name, anything else goes to the robot spec).
     pub fn make(id_or_path: &str, overrides: &[Override]) -> Result<MazeEnv, EnvError> {
-        let p = Path::new(id_or_path);
-        if p.extension().is_some_and(|x| x == "toml") || p.is_file() {
-            return MazeEnv::from_spec_file(p, overrides);
-        }
-        let all = registered();
-        let Some(r) = all.iter().find(|r| r.id == id_or_path) else {
-            return Err(EnvError::Spec(Diagnostics(vec![
+        match envspec::open(id_or_path, overrides)? {
+            envspec::AnySpec::Maze(m) => MazeEnv::new(*m),
+            other => Err(EnvError::Spec(
                 Diagnostic::new(
-                    Code::E0600,
-                    format!("no registered maze env `{id_or_path}`"),
+                    Code::E0602,
+                    format!("`{id_or_path}` is a {} spec, not a maze", other.kind()),
                 )
-                .help_opt(envspec::diagnostic::suggest(
-                    id_or_path,
-                    all.iter().map(|r| r.id.as_str()),
-                )),
-            ])));
-        };
-        let mut o = r.overrides.clone();
-        o.extend(overrides.iter().cloned());
-        let mut env = MazeEnv::from_spec_file(&r.spec, &o)?;
-        Arc::make_mut(&mut env.spec).id = r.id.clone();
-        Ok(env)
-    }
-
-    /// Whether `id_or_path` names a maze env (a registered maze id or a file with `[maze]`).
-    pub fn is_maze(id_or_path: &str) -> bool {
-        let p = Path::new(id_or_path);
-        if p.is_file() {
-            return envspec::maze::is_maze_file(p);
+                .help("open it with `envc::open`")
+                .into(),
+            )),
         }
-        registered().iter().any(|r| r.id == id_or_path)
     }
 
     pub fn from_spec_file(path: &Path, overrides: &[Override]) -> Result<MazeEnv, EnvError> {

@@ -1,0 +1,144 @@
+//! The one door: open a bundled id or a spec file, of any kind, with overrides.
+//!
+//! The file is read once with the spanned reader; its top-level tables say its kind
+//! ([`Kind::of_document`]); the kind's reader then works on that document. Every command and the
+//! runtime's `envc::open` go through [`open`], so a spec opens the same way everywhere.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::agents::AgentsSpec;
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, SourceFile};
+use crate::ir::ResolvedSpec;
+use crate::maze::MazeSpec;
+use crate::params::Override;
+use crate::registry::{self, Kind};
+use crate::syntax::Spec;
+use crate::value::{Val, parse_document};
+
+/// A resolved spec of any kind.
+#[derive(Clone, Debug)]
+pub enum AnySpec {
+    Task(Box<ResolvedSpec>),
+    Maze(Box<MazeSpec>),
+    Agents(Box<AgentsSpec>),
+}
+
+impl AnySpec {
+    pub fn kind(&self) -> Kind {
+        match self {
+            AnySpec::Task(_) => Kind::Task,
+            AnySpec::Maze(_) => Kind::Maze,
+            AnySpec::Agents(_) => Kind::Agents,
+        }
+    }
+
+    pub fn id(&self) -> &str {
+        match self {
+            AnySpec::Task(s) => &s.id,
+            AnySpec::Maze(s) => &s.id,
+            AnySpec::Agents(s) => &s.id,
+        }
+    }
+
+    /// The spec file (for a maze family id, the family's maze file).
+    pub fn path(&self) -> &Path {
+        match self {
+            AnySpec::Task(s) => &s.spec_path,
+            AnySpec::Maze(s) => &s.path,
+            AnySpec::Agents(s) => &s.spec_path,
+        }
+    }
+}
+
+/// A spec file read and parsed once, with its kind.
+pub struct Document {
+    pub file: Arc<SourceFile>,
+    pub root: Val,
+    pub kind: Kind,
+}
+
+impl Document {
+    /// Read and parse a spec file (E0600 when it cannot be read, E0100 when it is not TOML).
+    pub fn read(path: &Path) -> Result<Document, Diagnostics> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Diagnostic::new(
+                Code::E0600,
+                format!("cannot read spec {}: {e}", path.display()),
+            )
+            .label("expected a readable TOML spec file")
+        })?;
+        let file = SourceFile::new(path, text);
+        let root = parse_document(&file)?;
+        let kind = Kind::of_document(&root);
+        Ok(Document { file, root, kind })
+    }
+}
+
+/// Where an id-or-path argument points: a spec file plus the overrides a bundled id implies.
+#[derive(Clone, Debug)]
+pub struct Target {
+    pub path: PathBuf,
+    /// The bundled id, when the argument was one (a maze family id renames the spec).
+    pub id: Option<String>,
+    /// The kind a bundled id opens as (a file's own tables decide otherwise).
+    pub kind: Option<Kind>,
+    pub overrides: Vec<Override>,
+}
+
+/// Resolve an id-or-path argument without reading the spec: an existing file (or any `*.toml`
+/// path, so a missing file is reported as unreadable) or a bundled id (E0601 otherwise).
+pub fn locate(id_or_path: &str) -> Result<Target, Diagnostics> {
+    let p = Path::new(id_or_path);
+    if p.is_file() || p.extension().is_some_and(|x| x == "toml") {
+        return Ok(Target {
+            path: p.to_path_buf(),
+            id: None,
+            kind: None,
+            overrides: vec![],
+        });
+    }
+    let e = registry::lookup(id_or_path)?;
+    Ok(Target {
+        path: e.path.clone(),
+        id: Some(e.id.clone()),
+        kind: Some(e.kind),
+        overrides: e.overrides.clone(),
+    })
+}
+
+/// Open a bundled id or a spec file of any kind with user overrides.
+pub fn open(id_or_path: &str, overrides: &[Override]) -> Result<AnySpec, Diagnostics> {
+    let t = locate(id_or_path)?;
+    let mut all = t.overrides;
+    all.extend(overrides.iter().cloned());
+    let mut spec = open_as(&t.path, t.kind, &all)?;
+    if let (Some(id), AnySpec::Maze(m)) = (t.id, &mut spec) {
+        m.id = id;
+    }
+    Ok(spec)
+}
+
+/// Open a spec file of any kind with overrides.
+pub fn open_file(path: &Path, overrides: &[Override]) -> Result<AnySpec, Diagnostics> {
+    open_as(path, None, overrides)
+}
+
+/// [`open_file`] as a given kind (a complete task spec that also declares agents opens as either).
+fn open_as(
+    path: &Path,
+    kind: Option<Kind>,
+    overrides: &[Override],
+) -> Result<AnySpec, Diagnostics> {
+    let doc = Document::read(path)?;
+    Ok(match kind.unwrap_or(doc.kind) {
+        Kind::Task => {
+            let spec = Spec::from_document(&doc.file, &doc.root)?;
+            AnySpec::Task(Box::new(crate::resolve(&spec, overrides)?))
+        }
+        Kind::Maze => AnySpec::Maze(Box::new(crate::maze::load_maze(path, overrides)?)),
+        Kind::Agents => AnySpec::Agents(Box::new(crate::agents::from_document(
+            &doc.file, &doc.root, overrides,
+        )?)),
+    })
+}
