@@ -352,7 +352,7 @@ fn maze_spec_errors_have_codes() {
         MazeEnv::make("PointMaze_UMase-v3", &[])
             .err()
             .map(|e| e.code()),
-        Some(Code::E0600)
+        Some(Code::E0601)
     );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -62,8 +62,8 @@ pub struct Entry {
     pub overrides: Vec<Override>,
     /// In `specs/examples/`: the model is not shipped (e.g. a MuJoCo Menagerie robot).
     pub example: bool,
-    /// The file is a complete task spec (`[env]`), also when it declares agents: it then opens
-    /// as a single-agent env too (`envc::Env`), e.g. `CoupledHalfCheetah-v0`.
+    /// The id opens as a single-agent env (`envc::Env`): a task, including a complete task spec
+    /// that also declares agents, under its `[env]` id (e.g. `CoupledHalfCheetah-v0`).
     pub task: bool,
 }
 
@@ -182,7 +182,10 @@ fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
             let agents = id_in("agents")
                 .or_else(|| id_in("env"))
                 .unwrap_or_else(stem);
-            let mut v = vec![entry(agents.clone(), Kind::Agents)];
+            let mut v = vec![Entry {
+                task: false,
+                ..entry(agents.clone(), Kind::Agents)
+            }];
             if let Some(task) = id_in("env").filter(|t| *t != agents) {
                 v.push(entry(task, Kind::Task));
             }

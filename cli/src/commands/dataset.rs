@@ -33,7 +33,32 @@ pub fn run(args: Args) -> Result<Outcome> {
 }
 
 fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
-    let ds = Dataset::open(what).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let ds = match Dataset::open(what) {
+        Ok(ds) => ds,
+        Err(e) => {
+            // A spec or env id is not a dataset: say which command makes one of it.
+            if let Ok(spec) = envspec::open(what, &[]) {
+                let help = match spec.kind() {
+                    envspec::Kind::Agents => format!(
+                        "Minari datasets are single-agent: record the base task with `envc collect {} --dataset-id ...`",
+                        match &spec {
+                            envc::AnySpec::Agents(a) => a.base.id.as_str(),
+                            _ => what,
+                        }
+                    ),
+                    _ => format!("record one with `envc collect {what} --dataset-id ...`"),
+                };
+                return Err(crate::target::unsupported(
+                    "dataset show",
+                    what,
+                    spec.kind(),
+                    "reads datasets, not specs",
+                    &help,
+                ));
+            }
+            return Err(anyhow::anyhow!("{e}"));
+        }
+    };
     let text = |k: &str| {
         ds.metadata.get(k).map(|v| {
             v.as_str()
