@@ -527,29 +527,11 @@ fn generate(
         }
 
         impl ::envc::Environment for #name {
-            fn spec(&self) -> &::std::sync::Arc<::envc::ResolvedSpec> {
-                self.env.spec()
+            fn env(&self) -> &::envc::Env {
+                &self.env
             }
-            fn observation_space(&self) -> &::envc::BoxSpace {
-                self.env.observation_space()
-            }
-            fn action_space(&self) -> &::envc::BoxSpace {
-                self.env.action_space()
-            }
-            fn reset(&mut self, seed: ::core::option::Option<u64>) -> (&[f64], ::envc::Info<'_>) {
-                self.env.reset(seed)
-            }
-            fn step(&mut self, action: &[f64]) -> ::core::result::Result<::envc::Step<'_>, ::envc::EnvError> {
-                self.env.step(action)
-            }
-            fn step_f32(&mut self, action: &[f32]) -> ::core::result::Result<::envc::Step<'_>, ::envc::EnvError> {
-                self.env.step_f32(action)
-            }
-            fn warnings(&self) -> &[::std::string::String] {
-                self.env.warnings()
-            }
-            fn numerics(&self) -> ::envc::numerics::Profile {
-                self.env.numerics()
+            fn env_mut(&mut self) -> &mut ::envc::Env {
+                &mut self.env
             }
         }
     })

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use envc::dataset::{CollectOptions, Collector, DatasetInfo, Format};
+use envc::dataset::{CollectOptions, Collector, DatasetInfo, Format, Recordable};
 use envc::rng::NumpyRng;
 use indicatif::{ProgressBar, ProgressStyle};
 use ndarray::Array2;
@@ -96,39 +96,27 @@ pub fn run(args: Args) -> Result<Outcome> {
         FormatArg::Arrow => Format::Arrow,
         FormatArg::Hdf5 => Format::Hdf5,
     };
-    let env = match crate::target::env(&args.spec, &args.set)? {
-        envc::AnyEnv::Task(env) => env,
-        envc::AnyEnv::Maze(env) => {
-            let random = match args.policy {
-                PolicyKind::Zero => false,
-                PolicyKind::Random => true,
-                PolicyKind::Replay => bail!("--policy replay is not supported for maze envs"),
-            };
-            return crate::commands::maze::collect(
-                env,
-                &args.dataset_id,
-                args.episodes,
-                random,
-                args.seed,
-                format,
-                args.root.clone(),
-                vec![args.author.clone()],
-            );
-        }
-        envc::AnyEnv::Agents(env) => {
-            return Err(crate::target::unsupported(
-                "collect",
-                &env.spec().id,
-                envspec::Kind::Agents,
-                "records single-agent Minari datasets",
-                &format!(
-                    "collect its base task instead: `envc collect {} ...`",
-                    env.spec().base.id
-                ),
-            ));
-        }
-    };
-    let act_dim = env.act_dim();
+    // One collector for every kind that has a Minari form.
+    let env = crate::target::env(&args.spec, &args.set)?;
+    let id = env.id().to_string();
+    match env {
+        envc::AnyEnv::Task(env) => record(env, &id, &args, format),
+        envc::AnyEnv::Maze(env) => record(env, &id, &args, format),
+        envc::AnyEnv::Agents(env) => Err(crate::target::unsupported(
+            "collect",
+            &id,
+            envspec::Kind::Agents,
+            "records single-agent Minari datasets",
+            &format!(
+                "collect its base task instead: `envc collect {} ...`",
+                env.spec().base.id
+            ),
+        )),
+    }
+}
+
+fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
+    let act_dim = env.action_space().dim();
     let space = env.action_space().clone();
     let actions = match (args.policy, &args.actions) {
         (PolicyKind::Replay, Some(p)) => read_actions(p, act_dim)?,
@@ -140,7 +128,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         format!(
             "{} episodes of {} with a {} policy, collected by envc {}",
             args.episodes,
-            env.spec().id,
+            id,
             policy_name(args.policy),
             env!("CARGO_PKG_VERSION")
         )
@@ -153,7 +141,6 @@ pub fn run(args: Args) -> Result<Outcome> {
         description: Some(description),
         ..DatasetInfo::default()
     };
-    let id = env.spec().id.clone();
     let opts = CollectOptions {
         root: args.root.clone(),
         dataset_id: args.dataset_id.clone(),
@@ -166,7 +153,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut policy_rng = NumpyRng::from_seed(args.seed.unwrap_or_else(|| seed_rng.next_u64()));
     let mut cursor = 0usize;
     let kind = args.policy;
-    let mut policy = |_obs: &[f64], a: &mut [f32]| match kind {
+    let mut policy = |_obs: &E::Obs, a: &mut [f32]| match kind {
         PolicyKind::Zero => a.fill(0.0),
         PolicyKind::Random => {
             for (i, x) in a.iter_mut().enumerate() {

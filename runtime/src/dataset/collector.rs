@@ -1,23 +1,22 @@
-//! Recording whole episodes of any envc env (typed or dynamic) under any policy.
+//! Recording whole episodes of any envc env that has a Minari form (tasks, typed or dynamic, and
+//! mazes: see [`Recordable`]) under any policy. One collector for every kind.
 
 use std::path::{Path, PathBuf};
 
 use super::Format;
 use super::error::DatasetError;
-use super::gym_spec::env_spec_json;
+use super::recordable::Recordable;
 use super::space::{Dtype, Space};
 use super::writer::{DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn};
-use crate::environment::Environment;
 
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
-pub trait Policy {
-    /// Fill `action` for observation `obs`.
-    fn act(&mut self, obs: &[f64], action: &mut [f32]);
+pub trait Policy<O: ?Sized> {
+    fn act(&mut self, obs: &O, action: &mut [f32]);
 }
 
-impl<F: FnMut(&[f64], &mut [f32])> Policy for F {
-    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
+impl<O: ?Sized, F: FnMut(&O, &mut [f32])> Policy<O> for F {
+    fn act(&mut self, obs: &O, action: &mut [f32]) {
         self(obs, action)
     }
 }
@@ -42,7 +41,7 @@ pub struct EpisodeSummary {
 /// Wraps an env and records episodes into a dataset. Buffers hold one episode and are reused, so
 /// memory stays flat however many episodes are collected; each episode is on disk when
 /// [`Collector::episode`] returns.
-pub struct Collector<E: Environment> {
+pub struct Collector<E: Recordable> {
     env: E,
     writer: DatasetWriter,
     obs: Vec<f64>,
@@ -54,43 +53,30 @@ pub struct Collector<E: Environment> {
     infos: Vec<InfoColumn>,
 }
 
-impl<E: Environment> Collector<E> {
+impl<E: Recordable> Collector<E> {
     /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
     /// stored when the env is one of Gymnasium's; `options.info.env_spec` set by the caller wins.
     pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
-        let spec = env.spec().clone();
         options.info.numerics = Some(env.numerics().to_string());
         if options.info.env_spec.is_none() {
-            options.info.env_spec = env_spec_json(&spec).ok();
+            options.info.env_spec = env.env_spec();
         }
         if options.info.env_spec.is_some() && options.info.requirements.is_empty() {
             options.info.requirements =
                 vec!["gymnasium[mujoco]==1.4.0".into(), "mujoco==3.17.0".into()];
         }
-        let o = env.observation_space();
         let a = env.action_space();
-        let obs_space = Space::box1(Dtype::F64, &o.low, &o.high);
         let act_space = Space::box1(Dtype::F32, &a.low, &a.high);
         let writer = DatasetWriter::create(
             options.root.as_deref(),
             &options.dataset_id,
             options.format,
-            obs_space,
+            env.observation_space(),
             act_space,
             options.info,
         )?;
-        // Info columns: every key the env reports after a step, in its order (reset info is padded
-        // with zeros for step-only keys, as a StepDataCallback would).
-        let infos = spec
-            .info
-            .iter()
-            .map(|i| InfoColumn {
-                key: i.key.clone(),
-                width: i.len.max(1),
-                values: vec![],
-            })
-            .collect();
-        let act_dim = env.act_dim();
+        let infos = env.info_columns();
+        let act_dim = env.action_space().dim();
         Ok(Collector {
             env,
             writer,
@@ -111,20 +97,10 @@ impl<E: Environment> Collector<E> {
         &self.writer
     }
 
-    fn push_info(infos: &mut [InfoColumn], info: crate::Info<'_>) {
-        for c in infos.iter_mut() {
-            match info.get(&c.key) {
-                Some(v) if v.len() == c.width => c.values.extend_from_slice(v),
-                _ => c.values.extend(std::iter::repeat_n(0.0, c.width)),
-            }
-        }
-    }
-
-    /// Reset with `seed`, run `policy` until the episode terminates or is truncated, and write it.
     pub fn episode(
         &mut self,
         seed: u64,
-        policy: &mut impl Policy,
+        policy: &mut impl Policy<E::Obs>,
     ) -> Result<EpisodeSummary, DatasetError> {
         self.obs.clear();
         self.actions.clear();
@@ -134,20 +110,17 @@ impl<E: Environment> Collector<E> {
         for c in &mut self.infos {
             c.values.clear();
         }
-        let (o, info) = self.env.reset(Some(seed));
-        self.obs.extend_from_slice(o);
-        Self::push_info(&mut self.infos, info);
-        let obs_dim = self.obs.len();
+        self.env
+            .record_reset(seed, &mut self.obs, &mut self.infos)?;
         let terminated = loop {
-            let last = &self.obs[self.obs.len() - obs_dim..];
-            policy.act(last, &mut self.action);
-            let s = self.env.step_f32(&self.action)?;
+            policy.act(self.env.policy_obs(), &mut self.action);
+            let s = self
+                .env
+                .record_step(&self.action, &mut self.obs, &mut self.infos)?;
             self.actions.extend_from_slice(&self.action);
-            self.obs.extend_from_slice(s.obs);
             self.rewards.push(s.reward);
             self.terminations.push(s.terminated);
             self.truncations.push(s.truncated);
-            Self::push_info(&mut self.infos, s.info);
             if s.terminated || s.truncated {
                 break s.terminated;
             }

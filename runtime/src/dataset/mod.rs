@@ -31,6 +31,7 @@ mod hdf5_io;
 mod id;
 mod json;
 mod reader;
+mod recordable;
 mod space;
 mod tensor;
 mod writer;
@@ -40,6 +41,7 @@ pub use error::DatasetError;
 pub use gym_spec::{entry_point, env_spec_json};
 pub use id::DatasetId;
 pub use reader::Dataset;
+pub use recordable::{Recordable, Recorded};
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
 pub use writer::{

@@ -28,9 +28,6 @@ use crate::error::EnvError;
 use crate::numerics::{Profile, exp, norm, pairwise_sum};
 use crate::rng::NumpyRng;
 
-#[cfg(feature = "dataset")]
-pub mod dataset;
-
 /// The goal-conditioned observation (Gymnasium-Robotics' dict; keys sort as achieved_goal,
 /// desired_goal, observation in the reference's `spaces.Dict`).
 #[derive(Clone, Debug, Default, PartialEq)]

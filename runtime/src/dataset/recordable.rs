@@ -1,0 +1,207 @@
+//! What the one collector needs from an env: its spaces as Minari stores them, its info columns,
+//! and reset/step that append the stored observation row. Every task env (typed or dynamic,
+//! through [`Environment`]) and the maze env implement it; a multi-agent env does not, as Minari
+//! datasets are single-agent.
+
+use super::gym_spec::env_spec_json;
+use super::space::{Dtype, Space};
+use super::writer::InfoColumn;
+use crate::environment::Environment;
+use crate::error::EnvError;
+use crate::maze::{MazeEnv, MazeObs};
+use crate::numerics::Profile;
+use crate::{BoxSpace, Info};
+
+/// The episode flags and reward of one recorded step.
+#[derive(Clone, Copy, Debug)]
+pub struct Recorded {
+    pub reward: f64,
+    pub terminated: bool,
+    pub truncated: bool,
+}
+
+/// An env the collector can record.
+pub trait Recordable {
+    /// What the policy sees: the flat observation, or a maze's dict observation.
+    type Obs: ?Sized;
+    /// The stored observation space (a `Box`, or a `Dict` flattened key by key, keys sorted).
+    fn observation_space(&self) -> Space;
+    fn action_space(&self) -> &BoxSpace;
+    /// The info columns, in stored order (values empty).
+    fn info_columns(&self) -> Vec<InfoColumn>;
+    fn numerics(&self) -> Profile;
+    /// MuJoCo warnings captured so far.
+    fn warnings(&self) -> &[String];
+    /// Gymnasium `EnvSpec` JSON, when the env has a Gymnasium counterpart.
+    fn env_spec(&self) -> Option<String>;
+    /// The observation the policy acts on.
+    fn policy_obs(&self) -> &Self::Obs;
+    /// `reset(seed)`; appends the observation row to `obs` and one value per info column.
+    fn record_reset(
+        &mut self,
+        seed: u64,
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<(), EnvError>;
+    /// `step` with a float32 action; appends the observation row and the info values.
+    fn record_step(
+        &mut self,
+        action: &[f32],
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<Recorded, EnvError>;
+}
+
+/// Append each column's value from `info` (zeros when a key is absent, e.g. step-only keys in a
+/// reset row); `success` is the maze's own column.
+fn push_info(infos: &mut [InfoColumn], success: Option<bool>, info: Info<'_>) {
+    for c in infos.iter_mut() {
+        if let (Some(s), "success") = (success, c.key.as_str()) {
+            c.values.push(if s { 1.0 } else { 0.0 });
+            continue;
+        }
+        match info.get(&c.key) {
+            Some(v) if v.len() == c.width => c.values.extend_from_slice(v),
+            _ => c.values.extend(std::iter::repeat_n(0.0, c.width)),
+        }
+    }
+}
+
+fn columns(spec: &envspec::ResolvedSpec) -> impl Iterator<Item = InfoColumn> + '_ {
+    spec.info.iter().map(|i| InfoColumn {
+        key: i.key.clone(),
+        width: i.len.max(1),
+        values: vec![],
+    })
+}
+
+impl<E: Environment> Recordable for E {
+    type Obs = [f64];
+    fn observation_space(&self) -> Space {
+        let o = Environment::observation_space(self);
+        Space::box1(Dtype::F64, &o.low, &o.high)
+    }
+    fn action_space(&self) -> &BoxSpace {
+        Environment::action_space(self)
+    }
+    fn info_columns(&self) -> Vec<InfoColumn> {
+        columns(self.spec()).collect()
+    }
+    fn numerics(&self) -> Profile {
+        Environment::numerics(self)
+    }
+    fn warnings(&self) -> &[String] {
+        Environment::warnings(self)
+    }
+    fn env_spec(&self) -> Option<String> {
+        env_spec_json(self.spec()).ok()
+    }
+    fn policy_obs(&self) -> &[f64] {
+        Environment::obs(self)
+    }
+    fn record_reset(
+        &mut self,
+        seed: u64,
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<(), EnvError> {
+        let (o, info) = self.reset(Some(seed));
+        obs.extend_from_slice(o);
+        push_info(infos, None, info);
+        Ok(())
+    }
+    fn record_step(
+        &mut self,
+        action: &[f32],
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<Recorded, EnvError> {
+        let s = self.step_f32(action)?;
+        obs.extend_from_slice(s.obs);
+        push_info(infos, None, s.info);
+        Ok(Recorded {
+            reward: s.reward,
+            terminated: s.terminated,
+            truncated: s.truncated,
+        })
+    }
+}
+
+fn unbounded(n: usize) -> Space {
+    Space::box1(
+        Dtype::F64,
+        &vec![f64::NEG_INFINITY; n],
+        &vec![f64::INFINITY; n],
+    )
+}
+
+/// A maze row in the reference's `spaces.Dict` key order (sorted).
+fn push_maze_obs(buf: &mut Vec<f64>, o: &MazeObs) {
+    buf.extend_from_slice(&o.achieved_goal);
+    buf.extend_from_slice(&o.desired_goal);
+    buf.extend_from_slice(&o.observation);
+}
+
+impl Recordable for MazeEnv {
+    type Obs = MazeObs;
+    fn observation_space(&self) -> Space {
+        Space::Dict(vec![
+            ("achieved_goal".into(), unbounded(2)),
+            ("desired_goal".into(), unbounded(2)),
+            ("observation".into(), unbounded(self.observation_dim())),
+        ])
+    }
+    fn action_space(&self) -> &BoxSpace {
+        MazeEnv::action_space(self)
+    }
+    /// `success`, then every key the robot reports.
+    fn info_columns(&self) -> Vec<InfoColumn> {
+        let success = InfoColumn {
+            key: "success".into(),
+            width: 1,
+            values: vec![],
+        };
+        std::iter::once(success)
+            .chain(columns(self.robot().spec()))
+            .collect()
+    }
+    fn numerics(&self) -> Profile {
+        MazeEnv::numerics(self)
+    }
+    fn warnings(&self) -> &[String] {
+        MazeEnv::warnings(self)
+    }
+    fn env_spec(&self) -> Option<String> {
+        None
+    }
+    fn policy_obs(&self) -> &MazeObs {
+        self.obs()
+    }
+    fn record_reset(
+        &mut self,
+        seed: u64,
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<(), EnvError> {
+        let (o, success) = self.reset(Some(seed), None)?;
+        push_maze_obs(obs, o);
+        push_info(infos, Some(success), self.robot().reset_info());
+        Ok(())
+    }
+    fn record_step(
+        &mut self,
+        action: &[f32],
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<Recorded, EnvError> {
+        let s = self.step_f32(action)?;
+        let r = Recorded {
+            reward: s.reward,
+            terminated: s.terminated,
+            truncated: s.truncated,
+        };
+        push_info(infos, Some(s.success), s.robot_info);
+        push_maze_obs(obs, self.obs());
+        Ok(r)
+    }
+}
