@@ -112,6 +112,8 @@ pub enum Code {
     E0502,
     /// The spec file itself cannot be read.
     E0600,
+    /// `envc diff` of two different kinds of spec (task, multi-agent, maze).
+    E0905,
     /// MuJoCo failed to compile the model.
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.
