@@ -138,6 +138,8 @@ fn normalize(p: &Path) -> PathBuf {
 struct Side {
     path: PathBuf,
     overrides: Vec<Override>,
+    /// The registered id, which the spec file's own id does not name.
+    id: Option<String>,
 }
 
 /// A spec argument as a local file (checked out from git when it is `REV:path`).
@@ -145,6 +147,7 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
     let file = |path| Side {
         path,
         overrides: vec![],
+        id: None,
     };
     if Path::new(arg).exists() {
         return Ok(file(PathBuf::from(arg)));
@@ -159,6 +162,7 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
         return Ok(Side {
             path: r.spec,
             overrides: r.overrides,
+            id: Some(r.id),
         });
     }
     Ok(file(crate::target::spec_path(arg)?))
@@ -232,6 +236,9 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             };
             let (o, n) = (load(&old, "old")?, load(&new, "new")?);
             let mut report = envspec::diff::diff_mazes(&o, &n);
+            report.old_id = old.id.clone().unwrap_or(report.old_id);
+            report.new_id = new.id.clone().unwrap_or(report.new_id);
+            report.extend(vec![]); // the flags name the ids
             let robot_changed = report
                 .changes
                 .iter()

@@ -2,7 +2,7 @@
 //! moved), the grid size, every scalar of `[maze]`, and the robot (another spec file or other
 //! overrides, with the robot's own task diff).
 
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use super::rules::{Category, RuleId};
 use super::{Change, Report};
@@ -54,15 +54,35 @@ fn centres(m: &MazeSpec, cs: &[(usize, usize)]) -> String {
     format!("cell centres (x, y): {}", s.join(", "))
 }
 
-/// The goal and reset candidates the env draws from (the reference's fallbacks applied), when
-/// their number changes: a map without `g` cells draws goals from every free cell.
-fn candidates(o: &MazeSpec, n: &MazeSpec) -> Option<String> {
+/// Whether goals (resets) come from the free cells: a map without `g` and `c` (`r` and `c`) cells,
+/// as in the reference's `Maze.make_maze`.
+fn free_goals(m: &MazeSpec) -> bool {
+    cells(m, Cell::Goal).is_empty() && cells(m, Cell::Combined).is_empty()
+}
+
+fn free_resets(m: &MazeSpec) -> bool {
+    cells(m, Cell::Reset).is_empty() && cells(m, Cell::Combined).is_empty()
+}
+
+/// The number of goal and reset candidates the env draws from, where a change of `kind` cells
+/// changes it (walls and free cells only through the free-cell fallback).
+fn candidates(o: &MazeSpec, n: &MazeSpec, kind: Cell) -> Option<String> {
     let (a, b) = (o.layout(), n.layout());
+    let feeds_goals = match kind {
+        Cell::Goal | Cell::Combined => true,
+        Cell::Reset => false,
+        Cell::Wall | Cell::Free => free_goals(o) || free_goals(n),
+    };
+    let feeds_resets = match kind {
+        Cell::Reset | Cell::Combined => true,
+        Cell::Goal => false,
+        Cell::Wall | Cell::Free => free_resets(o) || free_resets(n),
+    };
     let mut w = vec![];
-    if a.goals.len() != b.goals.len() {
+    if feeds_goals && a.goals.len() != b.goals.len() {
         w.push(format!("goal candidates {} → {}", a.goals.len(), b.goals.len()));
     }
-    if a.resets.len() != b.resets.len() {
+    if feeds_resets && a.resets.len() != b.resets.len() {
         w.push(format!(
             "reset candidates {} → {}",
             a.resets.len(),
@@ -81,7 +101,6 @@ fn with_candidates(w: String, cands: &Option<String>) -> String {
 
 /// Added, removed and moved cells of one kind (same grid size).
 fn layout(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
-    let cands = candidates(o, n);
     let kinds = [
         (
             Cell::Wall,
@@ -114,6 +133,7 @@ fn layout(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
     ];
     for (kind, name, added_rule, removed_rule, moved_rule) in kinds {
         let (a, b) = (cells(o, kind), cells(n, kind));
+        let cands = candidates(o, n, kind);
         let mut removed: Vec<(usize, usize)> = a.iter().filter(|c| !b.contains(c)).copied().collect();
         let mut added: Vec<(usize, usize)> = b.iter().filter(|c| !a.contains(c)).copied().collect();
         if let Some(rule) = moved_rule {
@@ -245,6 +265,21 @@ fn overrides_text(m: &MazeSpec) -> Vec<String> {
     v
 }
 
+/// `a/b/../c` → `a/c`, so positions in the robot spec read `specs/gymnasium/ant.toml:81`.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::ParentDir if matches!(out.components().next_back(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
 fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
         (Ok(x), Ok(y)) => x == y,
@@ -280,14 +315,18 @@ fn robot(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
         return;
     }
     let side = |m: &MazeSpec| -> Result<_, String> {
-        let syntax = crate::syntax::Spec::load(&m.robot).map_err(|d| d.to_string())?;
-        let resolved = crate::load(&m.robot, &m.robot_overrides).map_err(|d| d.to_string())?;
+        let path = normalize(&m.robot);
+        let syntax = crate::syntax::Spec::load(&path).map_err(|d| d.to_string())?;
+        let resolved = crate::load(&path, &m.robot_overrides).map_err(|d| d.to_string())?;
         Ok((syntax, resolved))
     };
     match (side(o), side(n)) {
         (Ok((os, or)), Ok((ns, nr))) => {
             for mut c in super::diff(&os, &or, &ns, &nr).changes {
                 c.subject = format!("robot {}", c.subject);
+                c.witness = c.witness.map(|w| {
+                    w.replace("under the default parameters", "as the maze resolves the robot")
+                });
                 if c.breaking && matches!(c.category(), Category::Reward | Category::Termination)
                 {
                     c.breaking = false;

@@ -4,6 +4,7 @@
 
 use super::rules::RuleId;
 use super::{Change, Ctx, Pos, pos};
+use crate::describe;
 use crate::ir::ResolvedSpec;
 use crate::syntax::Section;
 
@@ -16,6 +17,43 @@ pub(super) struct Kind {
     pub renamed: RuleId,
     pub key_changed: RuleId,
     pub resolved_changed: RuleId,
+    /// The resolved item of a section, in words (None: switched off).
+    pub describe: fn(&ResolvedSpec, &str) -> Option<String>,
+}
+
+fn describe_segment(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let s = r.observation.iter().find(|s| s.name == name)?;
+    let names = s.element_names();
+    let mut d = match names.as_slice() {
+        [] => "nothing".to_string(),
+        [one] => one.clone(),
+        [first, .., last] => format!("{first} … {last} ({} elements)", names.len()),
+    };
+    if let Some((lo, hi)) = s.clip {
+        d.push_str(&format!(", clipped to [{lo}, {hi}]"));
+    }
+    Some(d)
+}
+
+fn describe_term(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.reward
+        .iter()
+        .find(|t| t.name == name)
+        .map(describe::term)
+}
+
+fn describe_check(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.health
+        .iter()
+        .find(|c| c.name == name)
+        .map(describe::check)
+}
+
+fn describe_reset(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.reset
+        .iter()
+        .find(|c| c.name == name)
+        .map(describe::reset_step)
 }
 
 pub(super) const OBSERVATION: Kind = Kind {
@@ -25,6 +63,7 @@ pub(super) const OBSERVATION: Kind = Kind {
     renamed: RuleId::ObservationSegmentRenamed,
     key_changed: RuleId::ObservationSegmentKeyChanged,
     resolved_changed: RuleId::ObservationSegmentResolvedChanged,
+    describe: describe_segment,
 };
 pub(super) const REWARD: Kind = Kind {
     name: "reward",
@@ -33,6 +72,7 @@ pub(super) const REWARD: Kind = Kind {
     renamed: RuleId::RewardTermRenamed,
     key_changed: RuleId::RewardTermKeyChanged,
     resolved_changed: RuleId::RewardTermResolvedChanged,
+    describe: describe_term,
 };
 pub(super) const HEALTH: Kind = Kind {
     name: "health",
@@ -41,6 +81,7 @@ pub(super) const HEALTH: Kind = Kind {
     renamed: RuleId::HealthCheckRenamed,
     key_changed: RuleId::HealthCheckKeyChanged,
     resolved_changed: RuleId::HealthCheckResolvedChanged,
+    describe: describe_check,
 };
 pub(super) const RESET: Kind = Kind {
     name: "reset",
@@ -49,6 +90,7 @@ pub(super) const RESET: Kind = Kind {
     renamed: RuleId::ResetStepRenamed,
     key_changed: RuleId::ResetStepKeyChanged,
     resolved_changed: RuleId::ResetStepResolvedChanged,
+    describe: describe_reset,
 };
 
 /// Entries of a section as (key, TOML text, position), docs included.
@@ -156,6 +198,10 @@ pub(super) fn sections<K: PartialEq>(
             };
             cx.add(
                 Change::new(kind.resolved_changed, &subject, "resolved value")
+                    .values(
+                        (kind.describe)(cx.old_r, &s.name),
+                        (kind.describe)(cx.new_r, &t.name),
+                    )
                     .at(Some(pos(&s.name_loc)), Some(pos(&t.name_loc)))
                     .witness(witness),
             );
