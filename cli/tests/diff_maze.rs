@@ -51,10 +51,18 @@ fn maze_layout_scalars_and_robot_overrides_are_reported_with_rule_ids() {
         "  ! [reset-step-resolved-changed] robot reset.qpos: resolved value: was qpos = initial + uniform[-0.0, 0.0) (specs/gymnasium/ant.toml:81), now qpos = initial + uniform[-0.1, 0.1) (specs/gymnasium/ant.toml:81)",
         "  ! [reset-step-resolved-changed] robot reset.qvel: resolved value: was qvel = initial + 0.0 × normal(0, 1) (specs/gymnasium/ant.toml:86), now qvel = initial + 0.1 × normal(0, 1) (specs/gymnasium/ant.toml:86)",
     ] {
-        assert!(text.lines().any(|l| l == line), "missing `{line}` in\n{text}");
+        assert!(
+            text.lines().any(|l| l == line),
+            "missing `{line}` in\n{text}"
+        );
     }
     // Unchanged scalars are not reported.
-    for key in ["maze_size_scaling", "maze_height", "continuing_task", "reset_target"] {
+    for key in [
+        "maze_size_scaling",
+        "maze_height",
+        "continuing_task",
+        "reset_target",
+    ] {
         assert!(!text.contains(&format!("maze: {key}:")), "{text}");
     }
     let golden = root().join("cli/tests/diff_golden/maze.txt");
@@ -62,7 +70,12 @@ fn maze_layout_scalars_and_robot_overrides_are_reported_with_rule_ids() {
         std::fs::write(&golden, &text).unwrap();
     } else {
         let want = std::fs::read_to_string(&golden).unwrap_or_default();
-        assert_eq!(text, want, "differs from {} (ENVC_BLESS=1 to update)", golden.display());
+        assert_eq!(
+            text,
+            want,
+            "differs from {} (ENVC_BLESS=1 to update)",
+            golden.display()
+        );
     }
 
     let o = envc(&["diff", OLD, NEW, "--format", "json"]);
@@ -74,7 +87,11 @@ fn maze_layout_scalars_and_robot_overrides_are_reported_with_rule_ids() {
         .iter()
         .map(|c| c["rule"].as_str().unwrap())
         .collect();
-    for r in ["maze-goal-cell-moved", "maze-wall-added", "maze-robot-params-changed"] {
+    for r in [
+        "maze-goal-cell-moved",
+        "maze-wall-added",
+        "maze-robot-params-changed",
+    ] {
         assert!(rules.contains(&r), "{rules:?}");
     }
     let moved = v["changes"]
@@ -96,7 +113,10 @@ fn identical_mazes_and_registered_ids() {
     let o = envc(&["diff", "PointMaze_UMaze-v3", "PointMaze_UMazeDense-v3"]);
     let text = stdout(&o);
     assert_eq!(o.status.code(), Some(3), "{text}");
-    assert!(text.starts_with("envc diff: PointMaze_UMaze-v3 ("), "{text}");
+    assert!(
+        text.starts_with("envc diff: PointMaze_UMaze-v3 ("),
+        "{text}"
+    );
     assert!(text.contains("→ PointMaze_UMazeDense-v3 ("), "{text}");
     let changes: Vec<&str> = text.lines().filter(|l| l.starts_with("  ")).collect();
     assert_eq!(
@@ -108,7 +128,11 @@ fn identical_mazes_and_registered_ids() {
 
 /// A maze in a temporary directory, with absolute paths to the bundled robot specs.
 fn write_maze(dir: &Path, name: &str, robot: &str, map: &str) -> PathBuf {
-    let robot = root().join("specs/gymnasium").join(robot).canonicalize().unwrap();
+    let robot = root()
+        .join("specs/gymnasium")
+        .join(robot)
+        .canonicalize()
+        .unwrap();
     let p = dir.join(name);
     std::fs::write(
         &p,
@@ -130,7 +154,12 @@ fn another_robot_and_another_grid_size() {
     let big = "1 1 1 1\n1 r g 1\n1 1 1 1\n";
     let old = write_maze(&dir, "old.toml", "ant_v4.toml", small);
     let new = write_maze(&dir, "new.toml", "ant.toml", big);
-    let o = envc(&["diff", old.to_str().unwrap(), new.to_str().unwrap(), "--no-model"]);
+    let o = envc(&[
+        "diff",
+        old.to_str().unwrap(),
+        new.to_str().unwrap(),
+        "--no-model",
+    ]);
     let text = stdout(&o);
     assert_eq!(o.status.code(), Some(3), "{text}");
     for needle in [
@@ -147,7 +176,10 @@ fn another_robot_and_another_grid_size() {
     ] {
         assert!(text.contains(needle), "missing `{needle}` in\n{text}");
     }
-    assert!(!text.contains("maze-wall-added"), "cells are not compared across sizes: {text}");
+    assert!(
+        !text.contains("maze-wall-added"),
+        "cells are not compared across sizes: {text}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

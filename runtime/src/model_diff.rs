@@ -369,13 +369,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
                 0 => {}
                 1 => {
                     let (l, x, y) = diffs.remove(0);
-                    out.push(change(
-                        arr.rule,
-                        format!("{}[{l}]", arr.field),
-                        x,
-                        y,
-                        None,
-                    ));
+                    out.push(change(arr.rule, format!("{}[{l}]", arr.field), x, y, None));
                 }
                 n => {
                     let (l, x, y) = diffs[0].clone();

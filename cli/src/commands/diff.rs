@@ -244,7 +244,8 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
                 .iter()
                 .any(|c| c.subject == "maze.robot" && c.aspect != "resolution");
             if !args.no_model && robot_changed {
-                let resolve = |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
+                let resolve =
+                    |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
                 if let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n)) {
                     let mut changes = model_changes(&a, &b)?;
                     for c in &mut changes {

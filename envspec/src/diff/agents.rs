@@ -120,8 +120,12 @@ pub fn diff_agents(old_path: &Path, new_path: &Path) -> Result<Report, Diagnosti
     for c in &old.confs {
         if !new.confs.contains(c) {
             changes.push(
-                Change::new(RuleId::AgentsConfRemoved, format!("agents conf `{c}`"), "removed")
-                    .values(Some(c.clone()), None),
+                Change::new(
+                    RuleId::AgentsConfRemoved,
+                    format!("agents conf `{c}`"),
+                    "removed",
+                )
+                .values(Some(c.clone()), None),
             );
         }
     }
@@ -129,7 +133,8 @@ pub fn diff_agents(old_path: &Path, new_path: &Path) -> Result<Report, Diagnosti
         let subject = format!("agents conf `{c}`");
         if !old.confs.contains(c) {
             changes.push(
-                Change::new(RuleId::AgentsConfAdded, subject, "added").values(None, Some(c.clone())),
+                Change::new(RuleId::AgentsConfAdded, subject, "added")
+                    .values(None, Some(c.clone())),
             );
             continue;
         }

@@ -213,7 +213,11 @@ mod tests {
 
     #[test]
     fn keys_ignore_names_docs_and_selector_spelling() {
-        let a = seg("a", "say \"hi\"", selection("xpos[$b]", &["xpos[torso]"], &[3]));
+        let a = seg(
+            "a",
+            "say \"hi\"",
+            selection("xpos[$b]", &["xpos[torso]"], &[3]),
+        );
         let b = seg("b", "", selection("xpos[torso]", &["xpos[body1]"], &[3]));
         assert_eq!(segment(&a), segment(&b));
         let c = seg("a", "", selection("xpos[$b]", &["xpos[torso]"], &[4]));
@@ -248,7 +252,10 @@ mod tests {
             ..t.clone()
         };
         assert_eq!(term(&t), term(&u));
-        let w = RewardTerm { weight: 2.0, ..t.clone() };
+        let w = RewardTerm {
+            weight: 2.0,
+            ..t.clone()
+        };
         assert_ne!(term(&t), term(&w));
     }
 }

@@ -80,7 +80,11 @@ fn candidates(o: &MazeSpec, n: &MazeSpec, kind: Cell) -> Option<String> {
     };
     let mut w = vec![];
     if feeds_goals && a.goals.len() != b.goals.len() {
-        w.push(format!("goal candidates {} → {}", a.goals.len(), b.goals.len()));
+        w.push(format!(
+            "goal candidates {} → {}",
+            a.goals.len(),
+            b.goals.len()
+        ));
     }
     if feeds_resets && a.resets.len() != b.resets.len() {
         w.push(format!(
@@ -134,7 +138,8 @@ fn layout(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
     for (kind, name, added_rule, removed_rule, moved_rule) in kinds {
         let (a, b) = (cells(o, kind), cells(n, kind));
         let cands = candidates(o, n, kind);
-        let mut removed: Vec<(usize, usize)> = a.iter().filter(|c| !b.contains(c)).copied().collect();
+        let mut removed: Vec<(usize, usize)> =
+            a.iter().filter(|c| !b.contains(c)).copied().collect();
         let mut added: Vec<(usize, usize)> = b.iter().filter(|c| !a.contains(c)).copied().collect();
         if let Some(rule) = moved_rule {
             // One removed and one added cell of a kind, paired in row-major order, moved.
@@ -270,7 +275,9 @@ fn normalize(p: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for c in p.components() {
         match c {
-            Component::ParentDir if matches!(out.components().next_back(), Some(Component::Normal(_))) => {
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
                 out.pop();
             }
             Component::CurDir => {}
@@ -325,10 +332,12 @@ fn robot(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
             for mut c in super::diff(&os, &or, &ns, &nr).changes {
                 c.subject = format!("robot {}", c.subject);
                 c.witness = c.witness.map(|w| {
-                    w.replace("under the default parameters", "as the maze resolves the robot")
+                    w.replace(
+                        "under the default parameters",
+                        "as the maze resolves the robot",
+                    )
                 });
-                if c.breaking && matches!(c.category(), Category::Reward | Category::Termination)
-                {
+                if c.breaking && matches!(c.category(), Category::Reward | Category::Termination) {
                     c.breaking = false;
                     c.witness = Some(match c.witness.take() {
                         Some(w) => format!("{w}; {ROBOT_REWARD_IGNORED}"),

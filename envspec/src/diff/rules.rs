@@ -328,7 +328,8 @@ mod tests {
             assert_eq!(r.rule as usize, i, "{}", r.id);
             assert!(seen.insert(r.id), "duplicate id {}", r.id);
             assert!(
-                r.id.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-'),
+                r.id.bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-'),
                 "{}",
                 r.id
             );

@@ -36,10 +36,7 @@ fn describe_segment(r: &ResolvedSpec, name: &str) -> Option<String> {
 }
 
 fn describe_term(r: &ResolvedSpec, name: &str) -> Option<String> {
-    r.reward
-        .iter()
-        .find(|t| t.name == name)
-        .map(describe::term)
+    r.reward.iter().find(|t| t.name == name).map(describe::term)
 }
 
 fn describe_check(r: &ResolvedSpec, name: &str) -> Option<String> {
@@ -254,4 +251,3 @@ pub(super) fn sections<K: PartialEq>(
         }
     }
 }
-
