@@ -6,7 +6,7 @@
 //! default parameters say *whether it matters* (a weight rewritten as a parameter reference with
 //! the same value is not a reward change) and give witnesses (observation indices, element names).
 //! Whether a resolved item changed is decided on behaviour keys built from the IR's fields
-//! ([`behaviour`]), not on names or spelling. Compiled-model differences (dynamics) need MuJoCo;
+//! (module `behaviour`), not on names or spelling. Compiled-model differences (dynamics) need MuJoCo;
 //! the runtime adds them to the report.
 //!
 //! Every change is an instance of a rule of [`rules::RULES`] (stable id, category, breaking by
