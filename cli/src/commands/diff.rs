@@ -239,20 +239,17 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             report.old_id = old.id.clone().unwrap_or(report.old_id);
             report.new_id = new.id.clone().unwrap_or(report.new_id);
             report.extend(vec![]); // the flags name the ids
-            let robot_changed = report
-                .changes
-                .iter()
-                .any(|c| c.subject == "maze.robot" && c.aspect != "resolution");
-            if !args.no_model && robot_changed {
-                let resolve =
-                    |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
-                if let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n)) {
-                    let mut changes = model_changes(&a, &b)?;
-                    for c in &mut changes {
-                        c.subject = format!("robot {}", c.subject);
-                    }
-                    report.extend(changes);
+            // The robot models (compiled as each maze resolves its robot; identical models add
+            // nothing). A robot that does not resolve is already reported.
+            let resolve = |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
+            if !args.no_model
+                && let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n))
+            {
+                let mut changes = model_changes(&a, &b)?;
+                for c in &mut changes {
+                    c.subject = format!("robot {}", c.subject);
                 }
+                report.extend(changes);
             }
             report
         }
@@ -266,21 +263,28 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             report
         }
     };
-    // Show git revisions as the user wrote them, not the temporary checkout.
-    for (arg, path, side) in [(&args.old, old_path, 0), (&args.new, new_path, 1)] {
-        if !Path::new(arg.as_str()).exists() && arg.contains(':') {
-            let shown = arg.clone();
-            let real = path.display().to_string();
-            if side == 0 {
-                report.old_file = shown.clone();
-            } else {
-                report.new_file = shown.clone();
-            }
-            for c in &mut report.changes {
-                for p in [&mut c.old_at, &mut c.new_at].into_iter().flatten() {
-                    if p.file == real {
-                        p.file = shown.clone();
-                    }
+    // Show git revisions as the user wrote them (`REV:path`), not the temporary checkout.
+    for (arg, path, side) in [(&args.old, old_path, "old"), (&args.new, new_path, "new")] {
+        let Some((rev, _)) = arg.split_once(':') else {
+            continue;
+        };
+        if Path::new(arg.as_str()).exists() {
+            continue;
+        }
+        let real = path.display().to_string();
+        let checkout = format!("{}/", tmp.join(side).display());
+        if side == "old" {
+            report.old_file = arg.clone();
+        } else {
+            report.new_file = arg.clone();
+        }
+        for c in &mut report.changes {
+            for p in [&mut c.old_at, &mut c.new_at].into_iter().flatten() {
+                if p.file == real {
+                    p.file = arg.clone();
+                } else if let Some(rest) = p.file.strip_prefix(&checkout) {
+                    // Another file of the checkout, e.g. a maze's robot spec.
+                    p.file = format!("{rev}:{rest}");
                 }
             }
         }
@@ -315,11 +319,12 @@ fn model_changes(
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,
     };
-    if !same_file(&old_r.model_path, &new_r.model_path) {
-        let show = |r: &envspec::ResolvedSpec| match r.param("xml_file") {
-            Some(ParamValue::Str(s)) => s.clone(),
-            _ => r.model_path.display().to_string(),
-        };
+    let show = |r: &envspec::ResolvedSpec| match r.param("xml_file") {
+        Some(ParamValue::Str(s)) => s.clone(),
+        _ => r.model_path.display().to_string(),
+    };
+    // Named differently (the same name at two git revisions is not a change of file).
+    if !same_file(&old_r.model_path, &new_r.model_path) && show(old_r) != show(new_r) {
         let identical = changes.is_empty();
         for c in &mut changes {
             c.witness

@@ -297,9 +297,12 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// The robot: another file or other overrides, then the robot's own task diff (each side
 /// resolved with its maze's overrides).
 fn robot(o: &MazeSpec, n: &MazeSpec, out: &mut Vec<Change>) {
-    let file_changed = !same_file(&o.robot, &n.robot);
+    // Another file as the maze names it; the same name may still be another file (two git
+    // revisions), whose changes the robot's diff shows.
+    let renamed = robot_shown(o) != robot_shown(n);
+    let file_changed = renamed || !same_file(&o.robot, &n.robot);
     let (oo, no) = (overrides_text(o), overrides_text(n));
-    if file_changed {
+    if renamed {
         out.push(
             Change::new(RuleId::MazeRobotChanged, "maze.robot", "spec file")
                 .values(Some(robot_shown(o)), Some(robot_shown(n))),
