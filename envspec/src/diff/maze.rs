@@ -65,19 +65,12 @@ fn free_resets(m: &MazeSpec) -> bool {
 }
 
 /// The number of goal and reset candidates the env draws from, where a change of `kind` cells
-/// changes it (walls and free cells only through the free-cell fallback).
+/// changes it (other kinds only through the free-cell fallback).
 fn candidates(o: &MazeSpec, n: &MazeSpec, kind: Cell) -> Option<String> {
     let (a, b) = (o.layout(), n.layout());
-    let feeds_goals = match kind {
-        Cell::Goal | Cell::Combined => true,
-        Cell::Reset => false,
-        Cell::Wall | Cell::Free => free_goals(o) || free_goals(n),
-    };
-    let feeds_resets = match kind {
-        Cell::Reset | Cell::Combined => true,
-        Cell::Goal => false,
-        Cell::Wall | Cell::Free => free_resets(o) || free_resets(n),
-    };
+    let feeds_goals = matches!(kind, Cell::Goal | Cell::Combined) || free_goals(o) || free_goals(n);
+    let feeds_resets =
+        matches!(kind, Cell::Reset | Cell::Combined) || free_resets(o) || free_resets(n);
     let mut w = vec![];
     if feeds_goals && a.goals.len() != b.goals.len() {
         w.push(format!(
@@ -406,4 +399,83 @@ pub fn diff_mazes(old: &MazeSpec, new: &MazeSpec) -> Report {
     );
     report.extend(changes);
     report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::maze::{load_maze, parse_grid};
+
+    /// PointMaze's U-maze (scaling 1, velocity clip 5) with another map.
+    fn point_maze(map: &str) -> MazeSpec {
+        let p = Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../specs/robotics/maze/point_maze.toml"
+        ));
+        let mut m = load_maze(p, &[]).unwrap();
+        m.grid = parse_grid(&toml::Value::String(map.into())).unwrap();
+        m
+    }
+
+    const UMAZE: &str = "1 1 1 1 1\n1 0 0 0 1\n1 1 1 0 1\n1 0 0 0 1\n1 1 1 1 1\n";
+
+    fn lines(r: &Report) -> Vec<(String, String, Option<String>)> {
+        r.changes
+            .iter()
+            .map(|c| {
+                let v = format!("{:?} → {:?}", c.was, c.now);
+                (c.rule.id().to_string(), v, c.witness.clone())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_goal_cell_in_a_map_without_one_replaces_the_free_cell_fallback() {
+        // Without g, r or c cells the 7 free cells are goal and reset candidates; one g at (1, 1)
+        // leaves 1 goal candidate and 6 free cells for resets.
+        let (o, n) = (point_maze(UMAZE), point_maze(&UMAZE.replacen('0', "g", 1)));
+        let r = diff_mazes(&o, &n);
+        assert_eq!(
+            lines(&r),
+            [(
+                "maze-goal-cell-added".to_string(),
+                "None → Some(\"(1, 1)\")".to_string(),
+                Some(
+                    "cell centres (x, y): (-1.0, 1.0); goal candidates 7 → 1; reset candidates 7 → 6"
+                        .to_string()
+                )
+            )]
+        );
+        assert_eq!(r.verdict(), super::super::Verdict::Breaking);
+        assert_eq!(r.changes[0].category(), Category::Reward);
+    }
+
+    #[test]
+    fn moves_pair_in_row_major_order_and_scalars_are_compared() {
+        let o = point_maze("1 1 1 1\n1 g r 1\n1 g 0 1\n1 1 1 1\n");
+        let mut n = point_maze("1 1 1 1\n1 0 r 1\n1 g g 1\n1 1 1 1\n");
+        n.maze_size_scaling = 1.0;
+        n.velocity_clip = None;
+        n.goal_threshold = 0.5;
+        let r = diff_mazes(&o, &n);
+        let got = lines(&r);
+        // (1, 1) → (2, 2): centres (-0.5, 0.5) → (0.5, -0.5) on a 4 × 4 grid of unit cells.
+        assert!(got.contains(&(
+            "maze-goal-cell-moved".into(),
+            "Some(\"(1, 1)\") → Some(\"(2, 2)\")".into(),
+            Some("cell centre (x, y) (-0.5, 0.5) → (0.5, -0.5)".into())
+        )));
+        assert!(got.contains(&(
+            "maze-velocity-clip-changed".into(),
+            "Some(\"5.0\") → Some(\"none\")".into(),
+            None
+        )));
+        assert!(got.contains(&(
+            "maze-goal-threshold-changed".into(),
+            "Some(\"0.45\") → Some(\"0.5\")".into(),
+            None
+        )));
+        // Scaling was already 1.0: not a change. Nothing else changed.
+        assert_eq!(got.len(), 3, "{got:?}");
+    }
 }
