@@ -1,7 +1,7 @@
 //! `envc diff` of every v4/v5 spec pair against Gymnasium's v5 changelog (appendix A of the seed
 //! thesis): each changelog entry that a spec can express must appear in the diff. The full text
-//! of each diff is also pinned (`cli/tests/diff_golden/*.txt`; regenerate with ENVC_BLESS=1 and
-//! review the change).
+//! of each diff is also pinned (`cli/tests/diff_golden/*.txt`, every change line with its rule id;
+//! regenerate with ENVC_BLESS=1 and review the change).
 
 use std::path::Path;
 use std::process::Command;
@@ -291,9 +291,27 @@ fn identical_specs_have_no_change_and_formats_agree() {
         if format == "json" {
             let v: serde_json::Value = serde_json::from_str(&out).unwrap();
             assert_eq!(v["verdict"], "breaking");
+            let friction = v["changes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|c| c["aspect"] == "geom_friction[foot_geom]")
+                .unwrap();
+            assert_eq!(friction["rule"], "model-array-changed");
+            assert_eq!(friction["category"], "dynamics");
+        }
+        if format == "markdown" {
+            assert!(
+                out.contains("| ⚠️ | `model-array-changed` | model geom_friction[foot_geom] |"),
+                "{out}"
+            );
         }
         if format == "github" {
             assert!(out.lines().all(|l| l.starts_with("::")), "{out}");
+            assert!(
+                out.contains("::[model-array-changed] model: geom_friction[foot_geom]: was"),
+                "{out}"
+            );
         }
     }
 }

@@ -116,6 +116,8 @@ pub enum Code {
     E0601,
     /// The command cannot serve this kind of spec (e.g. `collect` on a multi-agent spec).
     E0602,
+    /// `envc diff` of two different kinds of spec (task, multi-agent, maze).
+    E0905,
     /// MuJoCo failed to compile the model.
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.

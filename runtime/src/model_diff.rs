@@ -8,7 +8,7 @@
 
 use std::ffi::CStr;
 
-use envspec::diff::{Category, Change};
+use envspec::diff::{Change, RuleId};
 use mujoco_rs::mujoco_c::{mj_id2name, mj_saveModel, mj_sizeModel, mjModel, mjtObj};
 use mujoco_rs::prelude::MjModel;
 
@@ -54,10 +54,10 @@ fn saved(m: &mjModel) -> Vec<u8> {
     }
 }
 
-/// One compared array: its name, category, per-row width, object type for row names, and values.
+/// One compared array: its name, rule, per-row width, object type for row names, and values.
 struct Arr {
     field: &'static str,
-    category: Category,
+    rule: RuleId,
     width: usize,
     obj: mjtObj,
     old: Vec<f64>,
@@ -68,18 +68,13 @@ struct Arr {
 pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     let (a, b) = (old.ffi(), new.ffi());
     let mut out = vec![];
-    let change =
-        |category, aspect: String, was: String, now: String, witness: Option<String>| Change {
-            category,
-            subject: "model".into(),
-            aspect,
-            was: Some(was),
-            now: Some(now),
-            old_at: None,
-            new_at: None,
-            witness,
-            breaking: true,
-        };
+    let change = |rule, aspect: String, was: String, now: String, witness: Option<String>| {
+        let c = Change::new(rule, "model", aspect).values(Some(was), Some(now));
+        match witness {
+            Some(w) => c.witness(w),
+            None => c,
+        }
+    };
     let sizes = [
         ("nq", a.nq, b.nq),
         ("nv", a.nv, b.nv),
@@ -92,12 +87,12 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     ];
     for (n, x, y) in sizes {
         if x != y {
-            let cat = if n == "nu" {
-                Category::Action
+            let rule = if n == "nu" {
+                RuleId::ModelActuatorCountChanged
             } else {
-                Category::Dynamics
+                RuleId::ModelSizeChanged
             };
-            out.push(change(cat, n.into(), x.to_string(), y.to_string(), None));
+            out.push(change(rule, n.into(), x.to_string(), y.to_string(), None));
         }
     }
     let (oa, ob) = (&a.opt, &b.opt);
@@ -112,7 +107,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     for (n, x, y) in scalars {
         if x.to_bits() != y.to_bits() {
             out.push(change(
-                Category::Dynamics,
+                RuleId::ModelOptionChanged,
                 n.into(),
                 x.to_string(),
                 y.to_string(),
@@ -122,7 +117,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     }
     if oa.gravity != ob.gravity {
         out.push(change(
-            Category::Dynamics,
+            RuleId::ModelOptionChanged,
             "opt.gravity".into(),
             format!("{:?}", oa.gravity),
             format!("{:?}", ob.gravity),
@@ -152,7 +147,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
         let arrs = [
             Arr {
                 field: "body_mass",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_BODY,
                 old: nums(a.body_mass, nb),
@@ -160,7 +155,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "body_inertia",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_BODY,
                 old: nums(a.body_inertia, nb * 3),
@@ -168,7 +163,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "body_ipos",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_BODY,
                 old: nums(a.body_ipos, nb * 3),
@@ -176,7 +171,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "body_pos",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_BODY,
                 old: nums(a.body_pos, nb * 3),
@@ -184,7 +179,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "body_quat",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 4,
                 obj: mjOBJ_BODY,
                 old: nums(a.body_quat, nb * 4),
@@ -192,7 +187,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_friction",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_GEOM,
                 old: nums(a.geom_friction, ng * 3),
@@ -200,7 +195,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_size",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_GEOM,
                 old: nums(a.geom_size, ng * 3),
@@ -208,7 +203,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_pos",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_GEOM,
                 old: nums(a.geom_pos, ng * 3),
@@ -216,7 +211,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_type",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_GEOM,
                 old: ints(a.geom_type, ng),
@@ -224,7 +219,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_condim",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_GEOM,
                 old: ints(a.geom_condim, ng),
@@ -232,7 +227,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_contype",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_GEOM,
                 old: ints(a.geom_contype, ng),
@@ -240,7 +235,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_conaffinity",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_GEOM,
                 old: ints(a.geom_conaffinity, ng),
@@ -248,7 +243,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "geom_solref",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 2,
                 obj: mjOBJ_GEOM,
                 old: nums(a.geom_solref, ng * 2),
@@ -256,7 +251,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "jnt_type",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_JOINT,
                 old: ints(a.jnt_type, nj),
@@ -264,7 +259,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "jnt_axis",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 3,
                 obj: mjOBJ_JOINT,
                 old: nums(a.jnt_axis, nj * 3),
@@ -272,7 +267,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "jnt_range",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 2,
                 obj: mjOBJ_JOINT,
                 old: nums(a.jnt_range, nj * 2),
@@ -280,7 +275,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "jnt_stiffness",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_JOINT,
                 old: nums(a.jnt_stiffness, nj),
@@ -288,7 +283,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "dof_damping",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_DOF,
                 old: nums(a.dof_damping, nv),
@@ -296,7 +291,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "dof_armature",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_DOF,
                 old: nums(a.dof_armature, nv),
@@ -304,7 +299,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "dof_frictionloss",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 1,
                 obj: mjOBJ_DOF,
                 old: nums(a.dof_frictionloss, nv),
@@ -312,7 +307,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "actuator_ctrlrange",
-                category: Category::Action,
+                rule: RuleId::ModelActuatorArrayChanged,
                 width: 2,
                 obj: mjOBJ_ACTUATOR,
                 old: nums(a.actuator_ctrlrange, nu * 2),
@@ -320,7 +315,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "actuator_gear",
-                category: Category::Dynamics,
+                rule: RuleId::ModelArrayChanged,
                 width: 6,
                 obj: mjOBJ_ACTUATOR,
                 old: nums(a.actuator_gear, nu * 6),
@@ -328,7 +323,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "actuator_trnid",
-                category: Category::Action,
+                rule: RuleId::ModelActuatorArrayChanged,
                 width: 2,
                 obj: mjOBJ_ACTUATOR,
                 old: ints(a.actuator_trnid, nu * 2),
@@ -336,7 +331,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             },
             Arr {
                 field: "qpos0",
-                category: Category::Reset,
+                rule: RuleId::ModelQpos0Changed,
                 width: 1,
                 obj: mjOBJ_UNKNOWN,
                 old: nums(a.qpos0, a.nq as usize),
@@ -374,20 +369,14 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
                 0 => {}
                 1 => {
                     let (l, x, y) = diffs.remove(0);
-                    out.push(change(
-                        arr.category,
-                        format!("{}[{l}]", arr.field),
-                        x,
-                        y,
-                        None,
-                    ));
+                    out.push(change(arr.rule, format!("{}[{l}]", arr.field), x, y, None));
                 }
                 n => {
                     let (l, x, y) = diffs[0].clone();
                     let others: Vec<&str> =
                         diffs[1..].iter().map(|d| d.0.as_str()).take(8).collect();
                     out.push(change(
-                        arr.category,
+                        arr.rule,
                         format!("{}[{l}]", arr.field),
                         x,
                         y,
@@ -403,7 +392,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     }
     if out.is_empty() && saved(a) != saved(b) {
         out.push(Change {
-            category: Category::Dynamics,
+            rule: RuleId::ModelArrayChanged,
             subject: "model".into(),
             aspect: "compiled model".into(),
             was: None,

@@ -1,14 +1,16 @@
 //! `envc diff OLD NEW [--format text|markdown|json|github]`: what a spec change does to trained
-//! policies and published returns. OLD and NEW are spec files or git revisions (`REV:path`, path
-//! relative to the repository root as in `git show`). Exit status: 0 no change, 1 compatible
-//! changes only, 3 breaking changes, 2 errors.
+//! policies and published returns. OLD and NEW are spec files, bundled ids or git revisions
+//! (`REV:path`, path relative to the repository root as in `git show`), both task specs, both
+//! multi-agent specs or both maze specs (E0905 otherwise). Every change names its rule
+//! (docs/diff-rules.md). Exit status: 0 no change, 1 compatible changes only, 3 breaking changes,
+//! 2 errors.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
-use envspec::diff::Verdict;
-use envspec::{ParamValue, Spec};
+use envspec::diff::{Change, RuleId, Verdict};
+use envspec::{Kind, Override, ParamValue, Spec};
 
 use crate::Outcome;
 
@@ -71,25 +73,47 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
         std::fs::write(&dest, bytes)?;
         Ok(dest)
     };
-    let spec_file = fetch(&rel)?;
-    // The model named by the spec's default xml_file, and the files it includes.
-    if let Ok(spec) = Spec::load(&spec_file)
-        && let Some(xml) = spec
-            .param("xml_file")
-            .and_then(|p| p.default.as_str().map(str::to_string))
-    {
-        let spec_dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
-        let mut queue = vec![normalize(&spec_dir.join(&xml))];
-        while let Some(m) = queue.pop() {
-            let Some(m_rel) = m.to_str() else { continue };
-            let Ok(dest) = fetch(m_rel) else { continue };
-            let text = std::fs::read_to_string(&dest).unwrap_or_default();
-            if let Ok(doc) = roxmltree::Document::parse(&text) {
-                for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
-                    if let Some(f) = inc.attribute("file") {
-                        queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
+    // A task spec and the model named by its default xml_file, with the files it includes.
+    let task = |rel: &str| -> Result<PathBuf> {
+        let spec_file = fetch(rel)?;
+        if let Ok(spec) = Spec::load(&spec_file)
+            && let Some(xml) = spec
+                .param("xml_file")
+                .and_then(|p| p.default.as_str().map(str::to_string))
+        {
+            let spec_dir = Path::new(rel).parent().unwrap_or(Path::new(""));
+            let mut queue = vec![normalize(&spec_dir.join(&xml))];
+            while let Some(m) = queue.pop() {
+                let Some(m_rel) = m.to_str() else { continue };
+                let Ok(dest) = fetch(m_rel) else { continue };
+                let text = std::fs::read_to_string(&dest).unwrap_or_default();
+                if let Ok(doc) = roxmltree::Document::parse(&text) {
+                    for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
+                        if let Some(f) = inc.attribute("file") {
+                            queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
+                        }
                     }
                 }
+            }
+        }
+        Ok(spec_file)
+    };
+    let spec_file = task(&rel)?;
+    // A maze spec: its map file and its robot spec at the same revision too.
+    if kind_of(&spec_file) == Kind::Maze {
+        let text = std::fs::read_to_string(&spec_file).unwrap_or_default();
+        let table = text.parse::<toml::Table>().unwrap_or_default();
+        let maze = table.get("maze").and_then(|m| m.as_table());
+        let dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
+        let named = |key: &str| maze.and_then(|m| m.get(key)).and_then(|v| v.as_str());
+        if let Some(map) = named("map").filter(|m| m.trim_end().ends_with(".toml")) {
+            let m = normalize(&dir.join(map.trim()));
+            let _ = m.to_str().map(fetch);
+        }
+        if let Some(robot) = named("robot") {
+            let r = normalize(&dir.join(robot));
+            if let Some(r) = r.to_str() {
+                task(r)?;
             }
         }
     }
@@ -110,20 +134,43 @@ fn normalize(p: &Path) -> PathBuf {
     out
 }
 
+/// One side of the diff: a local file and, for a registered maze id, the overrides it stands for.
+struct Side {
+    path: PathBuf,
+    overrides: Vec<Override>,
+    /// The registered id, which the spec file's own id does not name.
+    id: Option<String>,
+}
+
 /// A spec argument as a local file (checked out from git when it is `REV:path`).
-fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<PathBuf> {
+fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
+    let file = |path| Side {
+        path,
+        overrides: vec![],
+        id: None,
+    };
     if Path::new(arg).exists() {
-        return Ok(PathBuf::from(arg));
+        return Ok(file(PathBuf::from(arg)));
     }
     if let Some((rev, path)) = arg.split_once(':')
         && !rev.is_empty()
         && !path.is_empty()
     {
-        return checkout(rev, path, &tmp.join(side));
+        return Ok(file(checkout(rev, path, &tmp.join(side))?));
     }
-    envspec::open::locate(arg)
-        .map(|t| t.path)
-        .map_err(|d| anyhow::anyhow!("{d}"))
+    // A bundled id of any kind, through the one door.
+    let t = envspec::open::locate(arg).map_err(|d| anyhow::anyhow!("{d}"))?;
+    Ok(Side {
+        path: t.path,
+        overrides: t.overrides,
+        id: t.id.filter(|_| t.kind == Some(Kind::Maze)),
+    })
+}
+
+/// The kind of a spec file (its top-level tables), as the one door decides it; an unreadable
+/// file is a task, whose reader then reports it.
+fn kind_of(path: &Path) -> Kind {
+    envspec::open::Document::read(path).map_or(Kind::Task, |d| d.kind)
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
@@ -140,70 +187,84 @@ fn load(path: &Path) -> Result<(Spec, envspec::ResolvedSpec)> {
 }
 
 fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
-    let old_path = materialise(&args.old, tmp, "old")?;
-    let new_path = materialise(&args.new, tmp, "new")?;
-    if envspec::agents::is_multi_agent(&old_path) && envspec::agents::is_multi_agent(&new_path) {
-        // Multi-agent specs: the base envs, then every conf's agents (envspec::agents::diff).
-        let report =
-            envspec::agents::diff(&old_path, &new_path).map_err(|d| anyhow::anyhow!("{d}"))?;
-        return Ok(print(&report, args.format));
+    let old = materialise(&args.old, tmp, "old")?;
+    let new = materialise(&args.new, tmp, "new")?;
+    let (old_path, new_path) = (&old.path, &new.path);
+    let kind = kind_of(old_path);
+    if kind_of(new_path) != kind {
+        let d = envspec::diff::kind_mismatch(
+            kind.name(),
+            Path::new(&args.old),
+            kind_of(new_path).name(),
+            Path::new(&args.new),
+        );
+        bail!("{d}");
     }
-    let (old, old_r) = load(&old_path).with_context(|| format!("old spec {}", args.old))?;
-    let (new, new_r) = load(&new_path).with_context(|| format!("new spec {}", args.new))?;
-    let mut report = envspec::diff::diff(&old, &old_r, &new, &new_r);
-    // Show git revisions as the user wrote them, not the temporary checkout.
-    for (arg, path, side) in [(&args.old, &old_path, 0), (&args.new, &new_path, 1)] {
-        if !Path::new(arg.as_str()).exists() && arg.contains(':') {
-            let shown = arg.clone();
-            let real = path.display().to_string();
-            if side == 0 {
-                report.old_file = shown.clone();
-            } else {
-                report.new_file = shown.clone();
+    let mut report = match kind {
+        // Multi-agent specs: the base envs, then every conf's agents.
+        Kind::Agents => {
+            envspec::diff::diff_agents(old_path, new_path).map_err(|d| anyhow::anyhow!("{d}"))?
+        }
+        Kind::Maze => {
+            let load = |s: &Side, what: &str| {
+                envspec::maze::load_maze(&s.path, &s.overrides)
+                    .map_err(|d| anyhow::anyhow!("{d}"))
+                    .with_context(|| format!("{what} maze {}", s.path.display()))
+            };
+            let (o, n) = (load(&old, "old")?, load(&new, "new")?);
+            let mut report = envspec::diff::diff_mazes(&o, &n);
+            report.old_id = old.id.clone().unwrap_or(report.old_id);
+            report.new_id = new.id.clone().unwrap_or(report.new_id);
+            report.extend(vec![]); // the flags name the ids
+            // The robot models (compiled as each maze resolves its robot; identical models add
+            // nothing). A robot that does not resolve is already reported.
+            let resolve = |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
+            if !args.no_model
+                && let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n))
+            {
+                let mut changes = model_changes(&a, &b)?;
+                for c in &mut changes {
+                    c.subject = format!("robot {}", c.subject);
+                }
+                report.extend(changes);
             }
-            for c in &mut report.changes {
-                for p in [&mut c.old_at, &mut c.new_at].into_iter().flatten() {
-                    if p.file == real {
-                        p.file = shown.clone();
-                    }
+            report
+        }
+        Kind::Task => {
+            let (old, old_r) = load(old_path).with_context(|| format!("old spec {}", args.old))?;
+            let (new, new_r) = load(new_path).with_context(|| format!("new spec {}", args.new))?;
+            let mut report = envspec::diff::diff(&old, &old_r, &new, &new_r);
+            if !args.no_model {
+                report.extend(model_changes(&old_r, &new_r)?);
+            }
+            report
+        }
+    };
+    // Show git revisions as the user wrote them (`REV:path`), not the temporary checkout.
+    for (arg, path, side) in [(&args.old, old_path, "old"), (&args.new, new_path, "new")] {
+        let Some((rev, _)) = arg.split_once(':') else {
+            continue;
+        };
+        if Path::new(arg.as_str()).exists() {
+            continue;
+        }
+        let real = path.display().to_string();
+        let checkout = format!("{}/", tmp.join(side).display());
+        if side == "old" {
+            report.old_file = arg.clone();
+        } else {
+            report.new_file = arg.clone();
+        }
+        for c in &mut report.changes {
+            for p in [&mut c.old_at, &mut c.new_at].into_iter().flatten() {
+                if p.file == real {
+                    p.file = arg.clone();
+                } else if let Some(rest) = p.file.strip_prefix(&checkout) {
+                    // Another file of the checkout, e.g. a maze's robot spec.
+                    p.file = format!("{rev}:{rest}");
                 }
             }
         }
-    }
-    if !args.no_model {
-        let old_m = envc::env::compile(&old_r).map_err(|e| anyhow::anyhow!("old model: {e}"))?;
-        let new_m = envc::env::compile(&new_r).map_err(|e| anyhow::anyhow!("new model: {e}"))?;
-        let mut model_changes = envc::model_diff::diff_models(&old_m, &new_m);
-        let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-            (Ok(x), Ok(y)) => x == y,
-            _ => a == b,
-        };
-        if !same_file(&old_r.model_path, &new_r.model_path) {
-            let show = |r: &envspec::ResolvedSpec| match r.param("xml_file") {
-                Some(ParamValue::Str(s)) => s.clone(),
-                _ => r.model_path.display().to_string(),
-            };
-            let identical = model_changes.is_empty();
-            for c in &mut model_changes {
-                c.witness.get_or_insert_with(|| {
-                    format!("model file {} → {}", show(&old_r), show(&new_r))
-                });
-            }
-            if identical {
-                model_changes.push(envspec::diff::Change {
-                    category: envspec::diff::Category::Documentation,
-                    subject: "model".into(),
-                    aspect: "file".into(),
-                    was: Some(show(&old_r)),
-                    now: Some(show(&new_r)),
-                    old_at: None,
-                    new_at: None,
-                    witness: Some("the two files compile to identical models".into()),
-                    breaking: false,
-                });
-            }
-        }
-        report.extend(model_changes);
     }
     // Paths relative to the working directory read better in reviews and CI annotations.
     if let Ok(cwd) = std::env::current_dir() {
@@ -221,6 +282,40 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
         }
     }
     Ok(print(&report, args.format))
+}
+
+/// The compiled models compared (MuJoCo), with the model files named when they differ.
+fn model_changes(
+    old_r: &envspec::ResolvedSpec,
+    new_r: &envspec::ResolvedSpec,
+) -> Result<Vec<Change>> {
+    let old_m = envc::env::compile(old_r).map_err(|e| anyhow::anyhow!("old model: {e}"))?;
+    let new_m = envc::env::compile(new_r).map_err(|e| anyhow::anyhow!("new model: {e}"))?;
+    let mut changes = envc::model_diff::diff_models(&old_m, &new_m);
+    let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    };
+    let show = |r: &envspec::ResolvedSpec| match r.param("xml_file") {
+        Some(ParamValue::Str(s)) => s.clone(),
+        _ => r.model_path.display().to_string(),
+    };
+    // Named differently (the same name at two git revisions is not a change of file).
+    if !same_file(&old_r.model_path, &new_r.model_path) && show(old_r) != show(new_r) {
+        let identical = changes.is_empty();
+        for c in &mut changes {
+            c.witness
+                .get_or_insert_with(|| format!("model file {} → {}", show(old_r), show(new_r)));
+        }
+        if identical {
+            changes.push(
+                Change::new(RuleId::ModelFileChanged, "model", "file")
+                    .values(Some(show(old_r)), Some(show(new_r)))
+                    .witness("the two files compile to identical models"),
+            );
+        }
+    }
+    Ok(changes)
 }
 
 fn print(report: &envspec::diff::Report, format: Format) -> Outcome {

@@ -1,0 +1,261 @@
+//! Behaviour keys: what an IR item computes, built from its fields, without what does not change
+//! behaviour (names, docs, how a selector was spelled: `xpos[$main_body]` and `xpos[torso]` select
+//! the same elements). Two items behave the same exactly when their keys are equal. Numbers are
+//! compared by their bits, as the env's results are.
+
+use crate::ir::*;
+use crate::selector::{Field, Selection};
+
+/// A float by its bits (`-0.0` and `0.0` differ; a NaN equals the same NaN).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Bits(u64);
+
+fn bits(x: f64) -> Bits {
+    Bits(x.to_bits())
+}
+
+fn bits_all(v: &[f64]) -> Vec<Bits> {
+    v.iter().copied().map(bits).collect()
+}
+
+fn range(r: Option<(f64, f64)>) -> Option<(Bits, Bits)> {
+    r.map(|(a, b)| (bits(a), bits(b)))
+}
+
+/// The elements a selection reads: field and flat indices (not its text or element names).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Sel {
+    field: Field,
+    indices: Vec<usize>,
+}
+
+pub(crate) fn sel(s: &Selection) -> Sel {
+    Sel {
+        field: s.field,
+        indices: s.indices.clone(),
+    }
+}
+
+/// An observation segment, wherever it sits in the vector.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct SegmentKey {
+    source: Sel,
+    minus: Option<Sel>,
+    apply: Option<Apply>,
+    clip: Option<(Bits, Bits)>,
+}
+
+pub(crate) fn segment(s: &Segment) -> SegmentKey {
+    SegmentKey {
+        source: sel(&s.source),
+        minus: s.minus.as_ref().map(sel),
+        apply: s.apply,
+        clip: range(s.clip),
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum TermKindKey {
+    Velocity(Sel),
+    Healthy,
+    SumSquares(Sel, Option<(Bits, Bits)>, Option<(Bits, Bits)>),
+    Norm(Sel, Option<Sel>),
+    Quadratic(Sel, Vec<Bits>, Vec<Bits>),
+    Value(Sel, Option<Divisor>),
+    Constant,
+}
+
+/// A reward term's value (not the info key it is reported under).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TermKey {
+    kind: TermKindKey,
+    weight: Bits,
+    cost: bool,
+    before: bool,
+    paid_when_unhealthy: bool,
+}
+
+pub(crate) fn term(t: &RewardTerm) -> TermKey {
+    let kind = match &t.kind {
+        TermKind::Velocity { source } => TermKindKey::Velocity(sel(source)),
+        TermKind::Healthy => TermKindKey::Healthy,
+        TermKind::SumSquares {
+            source,
+            clip_input,
+            clip,
+        } => TermKindKey::SumSquares(sel(source), range(*clip_input), range(*clip)),
+        TermKind::Norm { source, minus } => TermKindKey::Norm(sel(source), minus.as_ref().map(sel)),
+        TermKind::Quadratic {
+            source,
+            coefs,
+            targets,
+        } => TermKindKey::Quadratic(sel(source), bits_all(coefs), bits_all(targets)),
+        TermKind::Value { source, divide_by } => TermKindKey::Value(sel(source), *divide_by),
+        TermKind::Constant => TermKindKey::Constant,
+    };
+    TermKey {
+        kind,
+        weight: bits(t.weight),
+        cost: t.cost,
+        before: t.before,
+        paid_when_unhealthy: t.paid_when_unhealthy,
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum CheckKindKey {
+    Finite,
+    InRange(Bits, Bits, bool),
+    FailsIf(CmpOp, Bits),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct CheckKey {
+    kind: CheckKindKey,
+    sources: Vec<Sel>,
+}
+
+pub(crate) fn check(c: &HealthCheck) -> CheckKey {
+    let kind = match c.kind {
+        CheckKind::Finite => CheckKindKey::Finite,
+        CheckKind::InRange { lo, hi, closed } => CheckKindKey::InRange(bits(lo), bits(hi), closed),
+        CheckKind::FailsIf { op, value } => CheckKindKey::FailsIf(op, bits(value)),
+    };
+    CheckKey {
+        kind,
+        sources: c.sources.iter().map(sel).collect(),
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum DistKey {
+    Uniform(Vec<Bits>, Vec<Bits>),
+    Normal(Bits),
+    Constant(Bits),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum UntilKey {
+    NormBelow(Bits),
+    NormAbove(Bits),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ResetKey {
+    target: Sel,
+    dist: DistKey,
+    set: bool,
+    resample_until: Option<UntilKey>,
+}
+
+pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
+    let dist = match &r.dist {
+        Distribution::Uniform { low, high } => DistKey::Uniform(bits_all(low), bits_all(high)),
+        Distribution::Normal { scale } => DistKey::Normal(bits(*scale)),
+        Distribution::Constant { value } => DistKey::Constant(bits(*value)),
+    };
+    ResetKey {
+        target: sel(&r.target),
+        dist,
+        set: r.set,
+        resample_until: r.resample_until.map(|u| match u {
+            Until::NormBelow(x) => UntilKey::NormBelow(bits(x)),
+            Until::NormAbove(x) => UntilKey::NormAbove(bits(x)),
+        }),
+    }
+}
+
+/// An info entry's value (not its key, nor whether it is also reported at reset).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum InfoKey {
+    Value(Sel, Option<Sel>, usize),
+    Norm(Sel, usize),
+    Velocity(Sel, usize),
+    /// The reported term's value (none when the index is out of range) and `unweighted`.
+    Term(Option<TermKey>, bool),
+}
+
+pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
+    match &i.kind {
+        InfoKind::Value { source, minus } => {
+            InfoKey::Value(sel(source), minus.as_ref().map(sel), i.len)
+        }
+        InfoKind::Norm { source } => InfoKey::Norm(sel(source), i.len),
+        InfoKind::Velocity { source } => InfoKey::Velocity(sel(source), i.len),
+        InfoKind::Term(t) => InfoKey::Term(r.reward.get(*t).map(term), i.unweighted),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn selection(text: &str, names: &[&str], indices: &[usize]) -> Selection {
+        Selection {
+            field: Field::Xpos,
+            indices: indices.to_vec(),
+            names: names.iter().map(|s| s.to_string()).collect(),
+            text: text.into(),
+        }
+    }
+
+    fn seg(name: &str, doc: &str, source: Selection) -> Segment {
+        Segment {
+            name: name.into(),
+            doc: doc.into(),
+            source,
+            minus: None,
+            apply: None,
+            clip: None,
+            offset: 0,
+        }
+    }
+
+    #[test]
+    fn keys_ignore_names_docs_and_selector_spelling() {
+        let a = seg(
+            "a",
+            "say \"hi\"",
+            selection("xpos[$b]", &["xpos[torso]"], &[3]),
+        );
+        let b = seg("b", "", selection("xpos[torso]", &["xpos[body1]"], &[3]));
+        assert_eq!(segment(&a), segment(&b));
+        let c = seg("a", "", selection("xpos[$b]", &["xpos[torso]"], &[4]));
+        assert_ne!(segment(&a), segment(&c));
+        let mut d = a.clone();
+        d.source.field = Field::Xipos;
+        assert_ne!(segment(&a), segment(&d));
+        let mut e = a.clone();
+        e.clip = Some((-0.0, 1.0));
+        let mut f = a.clone();
+        f.clip = Some((0.0, 1.0));
+        assert_ne!(segment(&e), segment(&f), "compared by bits");
+    }
+
+    #[test]
+    fn term_keys_ignore_the_info_key_but_not_the_weight() {
+        let t = RewardTerm {
+            name: "forward".into(),
+            doc: String::new(),
+            kind: TermKind::Velocity {
+                source: selection("xpos[torso][0]", &["x"], &[3]),
+            },
+            weight: 1.0,
+            cost: false,
+            info: Some("reward_forward".into()),
+            before: false,
+            paid_when_unhealthy: false,
+        };
+        let u = RewardTerm {
+            name: "run".into(),
+            info: None,
+            ..t.clone()
+        };
+        assert_eq!(term(&t), term(&u));
+        let w = RewardTerm {
+            weight: 2.0,
+            ..t.clone()
+        };
+        assert_ne!(term(&t), term(&w));
+    }
+}

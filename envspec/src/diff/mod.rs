@@ -1,0 +1,131 @@
+//! Semantic diff of two specs, for reviewers: what a change does to trained policies and to
+//! published returns.
+//!
+//! Two levels are compared. The written spec (sections matched by name, renames detected, every
+//! key "was X, now Y" with file:line on both sides) says *what* changed; the resolved specs under
+//! default parameters say *whether it matters* (a weight rewritten as a parameter reference with
+//! the same value is not a reward change) and give witnesses (observation indices, element names).
+//! Whether a resolved item changed is decided on behaviour keys built from the IR's fields
+//! (module `behaviour`), not on names or spelling. Compiled-model differences (dynamics) need MuJoCo;
+//! the runtime adds them to the report.
+//!
+//! Every change is an instance of a rule of [`rules::RULES`] (stable id, category, breaking by
+//! default, description; listed in `docs/diff-rules.md`). Besides task specs, [`diff_agents`]
+//! compares multi-agent factorizations and [`diff_mazes`] maze specs.
+
+mod agents;
+mod behaviour;
+mod change;
+mod info;
+mod maze;
+mod observation;
+mod params;
+mod report;
+pub mod rules;
+mod sections;
+mod whole;
+
+pub use agents::diff_agents;
+pub use change::{Change, Pos};
+pub use maze::diff_mazes;
+pub use report::{Report, Verdict};
+pub use rules::{Category, RULES, Rule, RuleId};
+
+use crate::ir::ResolvedSpec;
+use crate::syntax::Spec;
+
+fn pos(loc: &crate::diagnostic::Location) -> Pos {
+    let (line, _) = loc.file.line_col(loc.span.start);
+    Pos {
+        file: loc.file.path.display().to_string(),
+        line,
+    }
+}
+
+/// The two specs being compared and the changes found so far.
+struct Ctx<'a> {
+    old: &'a Spec,
+    new: &'a Spec,
+    old_r: &'a ResolvedSpec,
+    new_r: &'a ResolvedSpec,
+    changes: Vec<Change>,
+}
+
+impl Ctx<'_> {
+    fn add(&mut self, c: Change) {
+        self.changes.push(c);
+    }
+}
+
+/// Diff two task specs (each with its resolution under default parameters).
+pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) -> Report {
+    let mut cx = Ctx {
+        old,
+        new,
+        old_r,
+        new_r,
+        changes: vec![],
+    };
+    params::env_section(&mut cx);
+    params::params(&mut cx);
+    observation::observation(&mut cx);
+    sections::sections(
+        &mut cx,
+        &sections::REWARD,
+        &old.reward,
+        &new.reward,
+        &|r: &ResolvedSpec, n: &str| r.reward.iter().find(|t| t.name == n).map(behaviour::term),
+    );
+    whole::reward_sum(&mut cx);
+    sections::sections(
+        &mut cx,
+        &sections::HEALTH,
+        &old.health,
+        &new.health,
+        &|r: &ResolvedSpec, n: &str| r.health.iter().find(|c| c.name == n).map(behaviour::check),
+    );
+    whole::episode(&mut cx);
+    sections::sections(
+        &mut cx,
+        &sections::RESET,
+        &old.reset,
+        &new.reset,
+        &|r: &ResolvedSpec, n: &str| {
+            r.reset
+                .iter()
+                .find(|c| c.name == n)
+                .map(behaviour::reset_step)
+        },
+    );
+    whole::reset_order(&mut cx);
+    info::info_items(&mut cx);
+
+    let mut report = Report::new(
+        &old_r.id,
+        &new_r.id,
+        old.path().display().to_string(),
+        new.path().display().to_string(),
+    );
+    report.extend(cx.changes);
+    report
+}
+
+/// E0905: the two sides of a diff are different kinds of spec (`kind` names them, e.g. `maze`,
+/// `multi-agent`, `task`); their changes cannot be compared rule by rule.
+pub fn kind_mismatch(
+    old_kind: &str,
+    old: &std::path::Path,
+    new_kind: &str,
+    new: &std::path::Path,
+) -> crate::Diagnostic {
+    crate::Diagnostic::new(
+        crate::Code::E0905,
+        format!(
+            "cannot diff a {old_kind} spec ({}) against a {new_kind} spec ({})",
+            crate::diagnostic::show_path(old),
+            crate::diagnostic::show_path(new)
+        ),
+    )
+    .label("two specs of the same kind: task specs, multi-agent (`[agents]`) specs or maze (`[maze]`) specs")
+    .help("a maze's `robot` and a multi-agent spec's base env are task specs: diff those against a task spec")
+}

@@ -1,0 +1,166 @@
+//! The env's identity and its parameters: added, removed, default changed (categorised by the
+//! places that read the parameter), constructor argument or fixed, documentation.
+
+use super::rules::{Category, RuleId};
+use super::{Change, Ctx, pos};
+use crate::syntax::{Section, Spec};
+use crate::value::{Val, ValKind};
+
+pub(super) fn env_section(cx: &mut Ctx) {
+    let (o, n) = (cx.old, cx.new);
+    if o.id != n.id {
+        cx.add(
+            Change::new(RuleId::EnvIdChanged, "env", "id")
+                .values(Some(o.id.clone()), Some(n.id.clone()))
+                .at(Some(pos(&o.id_loc)), Some(pos(&n.id_loc))),
+        );
+    }
+    if o.description != n.description {
+        cx.add(
+            Change::new(RuleId::EnvDescriptionChanged, "env", "description")
+                .values(Some(o.description.clone()), Some(n.description.clone())),
+        );
+    }
+    if o.reward_threshold != n.reward_threshold {
+        let f = |x: Option<f64>| x.map(|v| v.to_string()).unwrap_or_else(|| "none".into());
+        cx.add(
+            Change::new(RuleId::EnvRewardThresholdChanged, "env", "reward_threshold")
+                .values(Some(f(o.reward_threshold)), Some(f(n.reward_threshold))),
+        );
+    }
+}
+
+/// The behavioural categories of the places a parameter is referenced from.
+fn uses(spec: &Spec, param: &str) -> Vec<(Category, String)> {
+    fn refers(v: &Val, p: &str) -> bool {
+        match &v.kind {
+            ValKind::Str(s) => {
+                let s = s.trim_start_matches('!');
+                s == p || s.contains(&format!("${p}]"))
+            }
+            ValKind::Array(a) => a.iter().any(|x| refers(x, p)),
+            ValKind::Table(t) => t.iter().any(|e| refers(&e.value, p)),
+            _ => false,
+        }
+    }
+    let mut out = vec![];
+    let groups: [(&[Section], Category, &str); 5] = [
+        (&spec.observation, Category::Observation, "observation"),
+        (&spec.reward, Category::Reward, "reward"),
+        (&spec.health, Category::Termination, "health"),
+        (&spec.reset, Category::Reset, "reset"),
+        (&spec.info, Category::Info, "info"),
+    ];
+    for (secs, cat, kind) in groups {
+        for s in secs {
+            if s.entries
+                .iter()
+                .any(|e| e.key != "doc" && refers(&e.value, param))
+            {
+                out.push((cat, format!("{kind}.{}", s.name)));
+            }
+        }
+    }
+    if spec
+        .health_terminate
+        .as_ref()
+        .is_some_and(|v| refers(v, param))
+    {
+        out.push((Category::Termination, "health.terminate".into()));
+    }
+    match param {
+        "xml_file" | "frame_skip" => {
+            out.push((Category::Dynamics, format!("the built-in `{param}`")))
+        }
+        "max_episode_steps" => out.push((Category::Termination, "the time limit".into())),
+        _ => {}
+    }
+    out
+}
+
+/// The rule of a changed default: that of its most harmful use.
+fn default_rule(used: &[(Category, String)]) -> RuleId {
+    match used.iter().map(|(c, _)| *c).min() {
+        None => RuleId::ParamDefaultUnused,
+        Some(Category::Observation) => RuleId::ParamDefaultObservation,
+        Some(Category::Reward) => RuleId::ParamDefaultReward,
+        Some(Category::Termination) => RuleId::ParamDefaultTermination,
+        Some(Category::Reset) => RuleId::ParamDefaultReset,
+        Some(Category::Dynamics) => RuleId::ParamDefaultDynamics,
+        // `uses` reports no other categories; info is the mildest behavioural one.
+        Some(_) => RuleId::ParamDefaultInfo,
+    }
+}
+
+fn used_by(used: &[(Category, String)]) -> String {
+    format!(
+        "used by {}",
+        used.iter()
+            .map(|(_, s)| s.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
+}
+
+pub(super) fn params(cx: &mut Ctx) {
+    let (o, n) = (cx.old, cx.new);
+    for p in &o.params {
+        let subject = format!("param {}", p.name);
+        let at = Some(pos(&p.name_loc));
+        let Some(q) = n.param(&p.name) else {
+            cx.add(
+                Change::new(RuleId::ParamRemoved, subject, "removed")
+                    .values(Some(p.default.to_toml()), None)
+                    .at(at, None),
+            );
+            continue;
+        };
+        let new_at = Some(pos(&q.name_loc));
+        if p.default.to_toml() != q.default.to_toml() {
+            let used = uses(n, &q.name);
+            let witness = if used.is_empty() {
+                "not used by the env's behaviour".into()
+            } else {
+                used_by(&used)
+            };
+            cx.add(
+                Change::new(default_rule(&used), &subject, "default")
+                    .values(Some(p.default.to_toml()), Some(q.default.to_toml()))
+                    .at(at.clone(), new_at.clone())
+                    .witness(witness),
+            );
+        }
+        if p.fixed != q.fixed {
+            let f = |fixed: bool| if fixed { "no (fixed)" } else { "yes" }.to_string();
+            let rule = if q.fixed {
+                RuleId::ParamNowFixed
+            } else {
+                RuleId::ParamNowArgument
+            };
+            cx.add(
+                Change::new(rule, &subject, "constructor argument")
+                    .values(Some(f(p.fixed)), Some(f(q.fixed)))
+                    .at(at.clone(), new_at.clone()),
+            );
+        }
+        if p.doc != q.doc {
+            cx.add(
+                Change::new(RuleId::DocChanged, &subject, "doc")
+                    .values(Some(p.doc.clone()), Some(q.doc.clone()))
+                    .at(at, new_at),
+            );
+        }
+    }
+    for q in &n.params {
+        if o.param(&q.name).is_none() {
+            let used = uses(n, &q.name);
+            let mut c = Change::new(RuleId::ParamAdded, format!("param {}", q.name), "added")
+                .values(None, Some(q.default.to_toml()))
+                .at(None, Some(pos(&q.name_loc)));
+            if !used.is_empty() {
+                c = c.witness(used_by(&used));
+            }
+            cx.add(c);
+        }
+    }
+}

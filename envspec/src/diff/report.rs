@@ -1,0 +1,258 @@
+//! A diff report (changes ordered by category, flags, verdict) and its text, Markdown, JSON and
+//! GitHub-annotation renderings. Every change line carries its rule id (docs/diff-rules.md).
+
+use std::fmt::Write;
+
+use serde::Serialize;
+
+use super::change::{Change, Pos};
+use super::rules::Category;
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub old_id: String,
+    pub new_id: String,
+    pub old_file: String,
+    pub new_file: String,
+    pub changes: Vec<Change>,
+    /// Problems with the change itself, e.g. a policy-breaking change without a version bump.
+    pub flags: Vec<String>,
+}
+
+/// The overall verdict, also the exit status of `envc diff`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    NoChange,
+    Compatible,
+    Breaking,
+}
+
+impl Verdict {
+    pub fn exit_code(self) -> u8 {
+        match self {
+            Verdict::NoChange => 0,
+            Verdict::Compatible => 1,
+            Verdict::Breaking => 3,
+        }
+    }
+}
+
+impl Report {
+    /// An empty report between two files.
+    pub fn new(
+        old_id: impl Into<String>,
+        new_id: impl Into<String>,
+        old_file: impl Into<String>,
+        new_file: impl Into<String>,
+    ) -> Report {
+        Report {
+            old_id: old_id.into(),
+            new_id: new_id.into(),
+            old_file: old_file.into(),
+            new_file: new_file.into(),
+            changes: vec![],
+            flags: vec![],
+        }
+    }
+
+    /// Add changes (e.g. compiled-model differences found by the runtime), keeping the report
+    /// ordered by category and its flags up to date.
+    pub fn extend(&mut self, more: Vec<Change>) {
+        self.changes.extend(more);
+        self.changes.sort_by_key(|c| c.category());
+        self.flags.clear();
+        let breaks_policies = self.changes.iter().any(|c| {
+            c.breaking && matches!(c.category(), Category::Observation | Category::Action)
+        });
+        if breaks_policies && self.old_id == self.new_id {
+            self.flags.push(format!(
+                "this change breaks trained policies but the env id stays `{}`: bump its version",
+                self.new_id
+            ));
+        }
+    }
+
+    pub fn verdict(&self) -> Verdict {
+        if self.changes.is_empty() {
+            Verdict::NoChange
+        } else if self.changes.iter().any(|c| c.breaking) || !self.flags.is_empty() {
+            Verdict::Breaking
+        } else {
+            Verdict::Compatible
+        }
+    }
+
+    fn verdict_line(&self) -> String {
+        let mut hurt: Vec<Category> = self
+            .changes
+            .iter()
+            .filter(|c| c.breaking)
+            .map(|c| c.category())
+            .collect();
+        hurt.sort();
+        hurt.dedup();
+        match self.verdict() {
+            Verdict::NoChange => "no change".into(),
+            Verdict::Compatible => "compatible (no behaviour change)".into(),
+            Verdict::Breaking => format!(
+                "BREAKING: {}",
+                hurt.iter()
+                    .map(|c| format!("{} ({})", c.title(), c.impact()))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            ),
+        }
+    }
+
+    /// `subject: aspect: was X, now Y` (without mark or rule id).
+    fn body(c: &Change) -> String {
+        let show = |v: &Option<String>, p: &Option<Pos>| match (v, p) {
+            (Some(v), Some(p)) => format!("{v} ({p})"),
+            (Some(v), None) => v.clone(),
+            (None, Some(p)) => format!("absent ({p})"),
+            (None, None) => "absent".into(),
+        };
+        let body = match c.aspect.as_str() {
+            "added" => format!("added: {}", show(&c.now, &c.new_at)),
+            "removed" => format!("removed: was {}", show(&c.was, &c.old_at)),
+            _ => format!(
+                "{}: was {}, now {}",
+                c.aspect,
+                show(&c.was, &c.old_at),
+                show(&c.now, &c.new_at)
+            ),
+        };
+        format!("{}: {body}", c.subject)
+    }
+
+    pub fn to_text(&self) -> String {
+        let mut o = String::new();
+        let _ = writeln!(
+            o,
+            "envc diff: {} ({}) → {} ({})",
+            self.old_id, self.old_file, self.new_id, self.new_file
+        );
+        let _ = writeln!(o, "verdict: {}", self.verdict_line());
+        for f in &self.flags {
+            let _ = writeln!(o, "flag: {f}");
+        }
+        let mut cat = None;
+        for c in &self.changes {
+            if cat != Some(c.category()) {
+                cat = Some(c.category());
+                let _ = writeln!(o, "\n{} — {}", c.category().title(), c.category().impact());
+            }
+            let mark = if c.breaking { "!" } else { " " };
+            let _ = writeln!(o, "  {mark} [{}] {}", c.rule.id(), Self::body(c));
+            if let Some(w) = &c.witness {
+                let _ = writeln!(o, "      {w}");
+            }
+        }
+        if !self.changes.is_empty() {
+            let _ = writeln!(o, "\n(! marks changes that alter behaviour)");
+        }
+        o
+    }
+
+    pub fn to_markdown(&self) -> String {
+        let esc = |s: &str| s.replace('|', "\\|");
+        let mut o = String::new();
+        let _ = writeln!(o, "### `envc diff` {} → {}\n", self.old_id, self.new_id);
+        let _ = writeln!(o, "**Verdict:** {}\n", self.verdict_line());
+        for f in &self.flags {
+            let _ = writeln!(o, "> **Warning:** {f}\n");
+        }
+        let mut cat = None;
+        for c in &self.changes {
+            if cat != Some(c.category()) {
+                cat = Some(c.category());
+                let _ = writeln!(
+                    o,
+                    "\n#### {} — {}\n",
+                    c.category().title(),
+                    c.category().impact()
+                );
+                let _ = writeln!(
+                    o,
+                    "| | rule | what | was | now | note |\n|---|---|---|---|---|---|"
+                );
+            }
+            let cell = |v: &Option<String>, p: &Option<Pos>| {
+                let v = v
+                    .as_deref()
+                    .map(|v| format!("`{}`", esc(v)))
+                    .unwrap_or_else(|| "—".into());
+                match p {
+                    Some(p) => format!("{v} <sub>{p}</sub>"),
+                    None => v,
+                }
+            };
+            let _ = writeln!(
+                o,
+                "| {} | `{}` | {} {} | {} | {} | {} |",
+                if c.breaking { "⚠️" } else { "" },
+                c.rule.id(),
+                esc(&c.subject),
+                esc(&c.aspect),
+                cell(&c.was, &c.old_at),
+                cell(&c.now, &c.new_at),
+                esc(c.witness.as_deref().unwrap_or(""))
+            );
+        }
+        o
+    }
+
+    pub fn to_json(&self) -> String {
+        let v = serde_json::json!({
+            "old": {"id": self.old_id, "file": self.old_file},
+            "new": {"id": self.new_id, "file": self.new_file},
+            "verdict": self.verdict(),
+            "flags": self.flags,
+            "changes": self.changes,
+        });
+        serde_json::to_string_pretty(&v).unwrap_or_default()
+    }
+
+    /// GitHub Actions workflow commands: annotations on the new spec's lines.
+    pub fn to_github(&self) -> String {
+        let mut o = String::new();
+        let esc = |s: &str| {
+            s.replace('%', "%25")
+                .replace('\r', "%0D")
+                .replace('\n', "%0A")
+        };
+        for f in &self.flags {
+            let _ = writeln!(
+                o,
+                "::error file={},title=envc diff::{}",
+                self.new_file,
+                esc(f)
+            );
+        }
+        for c in &self.changes {
+            let level = if c.breaking {
+                "error"
+            } else if c.category() == Category::Documentation {
+                "notice"
+            } else {
+                "warning"
+            };
+            let at = c.new_at.as_ref().or(c.old_at.as_ref());
+            let loc = at
+                .map(|p| format!(" file={},line={}", p.file, p.line))
+                .unwrap_or_else(|| format!(" file={}", self.new_file));
+            let mut msg = format!("[{}] {}", c.rule.id(), Self::body(c));
+            if let Some(w) = &c.witness {
+                msg.push_str(&format!(" — {w}"));
+            }
+            let _ = writeln!(
+                o,
+                "::{level}{loc},title=envc diff: {}::{}",
+                c.category().title(),
+                esc(&msg)
+            );
+        }
+        o
+    }
+}

@@ -1,0 +1,341 @@
+//! The table of diff rules: every change `envc diff` reports is an instance of one rule, with a
+//! stable id, the category it belongs to (who it hurts), whether it alters behaviour by default,
+//! and a one-line description. `docs/diff-rules.md` lists the same table (a test keeps them equal).
+//!
+//! Ids are kebab-case, prefixed by the part of the spec they concern; they are never renamed or
+//! reused (a retired rule keeps its id out of use). A rule that alters behaviour "by default" may
+//! be reported as compatible in one instance when the resolved spec shows no effect; its
+//! description says when.
+
+use serde::Serialize;
+
+/// Who a change hurts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Category {
+    Observation,
+    Action,
+    Reward,
+    Termination,
+    Reset,
+    Dynamics,
+    Parameters,
+    Info,
+    Documentation,
+}
+
+impl Category {
+    pub const ALL: &'static [Category] = &[
+        Category::Observation,
+        Category::Action,
+        Category::Reward,
+        Category::Termination,
+        Category::Reset,
+        Category::Dynamics,
+        Category::Parameters,
+        Category::Info,
+        Category::Documentation,
+    ];
+    /// The name used in JSON and in docs/diff-rules.md.
+    pub fn key(self) -> &'static str {
+        match self {
+            Category::Observation => "observation",
+            Category::Action => "action",
+            Category::Reward => "reward",
+            Category::Termination => "termination",
+            Category::Reset => "reset",
+            Category::Dynamics => "dynamics",
+            Category::Parameters => "parameters",
+            Category::Info => "info",
+            Category::Documentation => "documentation",
+        }
+    }
+    pub fn title(self) -> &'static str {
+        match self {
+            Category::Observation => "observation layout",
+            Category::Action => "action layout",
+            Category::Reward => "reward",
+            Category::Termination => "termination / episode",
+            Category::Reset => "reset distribution",
+            Category::Dynamics => "dynamics",
+            Category::Parameters => "parameters",
+            Category::Info => "info",
+            Category::Documentation => "documentation only",
+        }
+    }
+    /// Who it hurts when the change alters behaviour.
+    pub fn impact(self) -> &'static str {
+        match self {
+            Category::Observation | Category::Action => "breaks trained policies",
+            Category::Reward => "returns are no longer comparable",
+            Category::Termination => "episode lengths and returns change",
+            Category::Reset => "initial states change; returns are not comparable",
+            Category::Dynamics => "the physics changes; trained policies and returns are affected",
+            Category::Parameters => "constructor arguments change",
+            Category::Info => "logged info changes",
+            Category::Documentation => "no behaviour change",
+        }
+    }
+}
+
+/// One rule of the table.
+#[derive(Clone, Copy, Debug)]
+pub struct Rule {
+    pub rule: RuleId,
+    /// The stable id printed in reports, e.g. `reward-term-key-changed`.
+    pub id: &'static str,
+    pub category: Category,
+    /// Whether a change of this rule alters behaviour unless its description says otherwise.
+    pub breaking: bool,
+    pub description: &'static str,
+}
+
+/// `RuleId` (one variant per rule) and `RULES` (in the same order) from one list.
+macro_rules! rules {
+    ($($var:ident = $id:literal, $cat:ident, $brk:literal, $desc:literal;)*) => {
+        /// A rule, by name; [`RuleId::rule`] gives its row of [`RULES`].
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum RuleId { $($var),* }
+
+        /// Every rule, in the order of `docs/diff-rules.md`.
+        pub const RULES: &[Rule] = &[
+            $(Rule { rule: RuleId::$var, id: $id, category: Category::$cat, breaking: $brk, description: $desc }),*
+        ];
+    };
+}
+
+impl RuleId {
+    pub fn rule(self) -> &'static Rule {
+        // The macro lists the variants and the table in the same order.
+        &RULES[self as usize]
+    }
+    pub fn id(self) -> &'static str {
+        self.rule().id
+    }
+    pub fn category(self) -> Category {
+        self.rule().category
+    }
+}
+
+impl Serialize for RuleId {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.id())
+    }
+}
+
+rules! {
+    // The env as a whole.
+    EnvIdChanged = "env-id-changed", Documentation, false,
+        "The env id changed (a version bump is how a breaking change is announced).";
+    EnvDescriptionChanged = "env-description-changed", Documentation, false,
+        "The env's description changed.";
+    EnvRewardThresholdChanged = "env-reward-threshold-changed", Documentation, false,
+        "`reward_threshold` (the return a run counts as solving the task at) changed; no rollout changes.";
+    DocChanged = "doc-changed", Documentation, false,
+        "The `doc` of a section, an info table or a parameter changed.";
+    EnvDtChanged = "env-dt-changed", Dynamics, true,
+        "The control step `dt = timestep × frame_skip` changed: velocities, costs per step and episode durations change.";
+
+    // Parameters.
+    ParamAdded = "param-added", Parameters, false,
+        "A parameter was added; callers that do not pass it get its default (its uses are listed).";
+    ParamRemoved = "param-removed", Parameters, true,
+        "A parameter was removed: callers that pass it fail.";
+    ParamNowArgument = "param-now-argument", Parameters, false,
+        "A `fixed` parameter became a constructor argument (a new option).";
+    ParamNowFixed = "param-now-fixed", Parameters, true,
+        "A constructor argument became `fixed`: callers that pass it fail.";
+    ParamDefaultUnused = "param-default-unused", Parameters, false,
+        "A parameter's default changed, but nothing in the env's behaviour reads it.";
+    ParamDefaultObservation = "param-default-observation", Observation, true,
+        "A parameter's default changed and an observation segment reads it (its most harmful use decides the category).";
+    ParamDefaultReward = "param-default-reward", Reward, true,
+        "A parameter's default changed and a reward term or the sum reads it (and no observation segment).";
+    ParamDefaultTermination = "param-default-termination", Termination, true,
+        "A parameter's default changed and a health check, the termination switch or the time limit reads it.";
+    ParamDefaultReset = "param-default-reset", Reset, true,
+        "A parameter's default changed and a reset step reads it.";
+    ParamDefaultDynamics = "param-default-dynamics", Dynamics, true,
+        "The default of `xml_file` or `frame_skip` changed (the compiled models are compared too).";
+    ParamDefaultInfo = "param-default-info", Info, true,
+        "A parameter's default changed and only info entries read it.";
+
+    // Observation.
+    ObservationLayoutChanged = "observation-layout-changed", Observation, true,
+        "The resolved observation vector differs: elements added, removed, moved, or their values computed differently (witness: indices and element names).";
+    ObservationSegmentAdded = "observation-segment-added", Observation, true,
+        "An `[observation.*]` segment was added; compatible when the resolved layout is unchanged (e.g. switched off by default).";
+    ObservationSegmentRemoved = "observation-segment-removed", Observation, true,
+        "An `[observation.*]` segment was removed; compatible when the resolved layout is unchanged.";
+    ObservationSegmentRenamed = "observation-segment-renamed", Observation, true,
+        "A segment was renamed (same keys, other name); compatible when the resolved layout is unchanged.";
+    ObservationSegmentKeyChanged = "observation-segment-key-changed", Observation, true,
+        "A key of a segment was added, removed or changed; compatible when the resolved layout is unchanged.";
+    ObservationSegmentResolvedChanged = "observation-segment-resolved-changed", Observation, true,
+        "A segment's text is unchanged but it resolves differently (a parameter default or the model changed under it).";
+
+    // Reward.
+    RewardTermAdded = "reward-term-added", Reward, true,
+        "A reward term was added; compatible when switched off under the default parameters.";
+    RewardTermRemoved = "reward-term-removed", Reward, true,
+        "A reward term was removed; compatible when it was switched off under the default parameters.";
+    RewardTermRenamed = "reward-term-renamed", Reward, true,
+        "A reward term was renamed (same keys); compatible when the resolved term is unchanged.";
+    RewardTermKeyChanged = "reward-term-key-changed", Reward, true,
+        "A key of a reward term changed; compatible when the resolved term is unchanged (e.g. a weight spelt as a parameter with the same value).";
+    RewardTermResolvedChanged = "reward-term-resolved-changed", Reward, true,
+        "A reward term's text is unchanged but it resolves differently under the default parameters.";
+    RewardSumChanged = "reward-sum-changed", Reward, true,
+        "The terms summed or their grouping changed (the grouping decides the last bit of the reward).";
+
+    // Health and episodes.
+    HealthCheckAdded = "health-check-added", Termination, true,
+        "A health check was added; compatible when switched off under the default parameters.";
+    HealthCheckRemoved = "health-check-removed", Termination, true,
+        "A health check was removed; compatible when it was switched off under the default parameters.";
+    HealthCheckRenamed = "health-check-renamed", Termination, true,
+        "A health check was renamed (same keys); compatible when the resolved check is unchanged.";
+    HealthCheckKeyChanged = "health-check-key-changed", Termination, true,
+        "A key of a health check changed; compatible when the resolved check is unchanged.";
+    HealthCheckResolvedChanged = "health-check-resolved-changed", Termination, true,
+        "A health check's text is unchanged but it resolves differently under the default parameters.";
+    HealthTerminateChanged = "health-terminate-changed", Termination, true,
+        "Whether an unhealthy state ends the episode changed.";
+
+    // Reset.
+    ResetStepAdded = "reset-step-added", Reset, true,
+        "A reset step was added; compatible when switched off under the default parameters.";
+    ResetStepRemoved = "reset-step-removed", Reset, true,
+        "A reset step was removed; compatible when it was switched off under the default parameters.";
+    ResetStepRenamed = "reset-step-renamed", Reset, true,
+        "A reset step was renamed (same keys); compatible when the resolved step is unchanged.";
+    ResetStepKeyChanged = "reset-step-key-changed", Reset, true,
+        "A key of a reset step changed; compatible when the resolved step is unchanged.";
+    ResetStepResolvedChanged = "reset-step-resolved-changed", Reset, true,
+        "A reset step's text is unchanged but it resolves differently under the default parameters.";
+    ResetDrawOrderChanged = "reset-draw-order-changed", Reset, true,
+        "The order of the reset steps both specs have changed: the RNG draws go to other targets.";
+
+    // Info.
+    InfoKeyAdded = "info-key-added", Info, true,
+        "An info key was added (loggers and wrappers see a new key).";
+    InfoKeyRemoved = "info-key-removed", Info, true,
+        "An info key was removed.";
+    InfoKeyRenamed = "info-key-renamed", Info, true,
+        "An info key was renamed (same definition, or the same reward term, under another key).";
+    InfoKeyDefinitionChanged = "info-key-definition-changed", Info, true,
+        "An info key is computed differently.";
+    InfoKeyReportedAtChanged = "info-key-reported-at-changed", Info, true,
+        "An info key moved between the step info only and the reset and step infos.";
+    InfoTableInactiveRemoved = "info-table-inactive-removed", Info, false,
+        "An `[info.*]` table that applied only under non-default parameters was removed.";
+
+    // Compiled models (compared by the runtime; `envc diff --no-model` skips them).
+    ModelSizeChanged = "model-size-changed", Dynamics, true,
+        "A compiled model size (nq, nv, nbody, njnt, ngeom, nsite, ntendon) changed.";
+    ModelActuatorCountChanged = "model-actuator-count-changed", Action, true,
+        "The number of actuators (nu, the action dimension) changed.";
+    ModelOptionChanged = "model-option-changed", Dynamics, true,
+        "A physics option (timestep, gravity, density, viscosity, integrator, solver, iterations) changed.";
+    ModelArrayChanged = "model-array-changed", Dynamics, true,
+        "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; gear) differs (witness: the rows).";
+    ModelActuatorArrayChanged = "model-actuator-array-changed", Action, true,
+        "An actuator's control range or transmission target changed: the action space or what an action entry drives.";
+    ModelQpos0Changed = "model-qpos0-changed", Reset, true,
+        "The model's reference configuration qpos0 changed: resets start elsewhere.";
+    ModelBinaryChanged = "model-binary-changed", Dynamics, false,
+        "The compiled models differ only outside the compared arrays (visuals, names, other options); listed for review, not counted as breaking.";
+    ModelFileChanged = "model-file-changed", Documentation, false,
+        "The spec names another model file, and the two compile to identical models.";
+
+    // Multi-agent factorizations (the base envs are compared with the rules above, subjects `base ...`).
+    AgentsConfAdded = "agents-conf-added", Action, false,
+        "A factorization (`agent_conf`) was added; existing ones are untouched.";
+    AgentsConfRemoved = "agents-conf-removed", Action, true,
+        "A factorization was removed: code that asks for it fails.";
+    AgentsCountChanged = "agents-count-changed", Action, true,
+        "A factorization has another number of agents.";
+    AgentsActionsChanged = "agents-actions-changed", Action, true,
+        "An agent drives other actuators, or in another order.";
+    AgentsActionBoundsChanged = "agents-action-bounds-changed", Action, false,
+        "Agents' action bounds switched between actuator 0's range for all and each actuator's own; the space changes only where the ranges differ.";
+    AgentsObservationChanged = "agents-observation-changed", Observation, true,
+        "An agent's local observation has other elements (witness: the first differing index).";
+    AgentsObservationValuesChanged = "agents-observation-values-changed", Observation, true,
+        "An agent's local observation has the same elements, clipped or transformed differently.";
+
+    // Maze specs.
+    MazeIdChanged = "maze-id-changed", Documentation, false,
+        "The maze env id changed.";
+    MazeGridResized = "maze-grid-resized", Dynamics, true,
+        "The map has another number of rows or columns: every wall and cell centre moves (cells are then not compared one by one).";
+    MazeWallAdded = "maze-wall-added", Dynamics, true,
+        "Wall blocks were added: the world's geometry changes where the robot can go.";
+    MazeWallRemoved = "maze-wall-removed", Dynamics, true,
+        "Wall blocks were removed: the world's geometry changes where the robot can go.";
+    MazeGoalCellAdded = "maze-goal-cell-added", Reward, true,
+        "Goal cells (`g`) were added: goals are drawn at reset from other places, so the reward pays for reaching other places.";
+    MazeGoalCellRemoved = "maze-goal-cell-removed", Reward, true,
+        "Goal cells were removed (with none left, the free cells serve, as in the reference).";
+    MazeGoalCellMoved = "maze-goal-cell-moved", Reward, true,
+        "A goal cell moved (one removed and one added in row-major order).";
+    MazeResetCellAdded = "maze-reset-cell-added", Reset, true,
+        "Reset cells (`r`) were added: the robot starts from other places.";
+    MazeResetCellRemoved = "maze-reset-cell-removed", Reset, true,
+        "Reset cells were removed (with none left, the free cells serve).";
+    MazeResetCellMoved = "maze-reset-cell-moved", Reset, true,
+        "A reset cell moved.";
+    MazeCombinedCellAdded = "maze-combined-cell-added", Reset, true,
+        "Combined cells (`c`, both goal and reset) were added: start and goal distributions change.";
+    MazeCombinedCellRemoved = "maze-combined-cell-removed", Reset, true,
+        "Combined cells were removed.";
+    MazeCombinedCellMoved = "maze-combined-cell-moved", Reset, true,
+        "A combined cell moved.";
+    MazeScalingChanged = "maze-scaling-changed", Dynamics, true,
+        "`maze_size_scaling` changed: walls, goals, starts and the position noise all scale.";
+    MazeHeightChanged = "maze-height-changed", Dynamics, true,
+        "`maze_height` (the wall height) changed.";
+    MazeRewardTypeChanged = "maze-reward-type-changed", Reward, true,
+        "`reward_type` changed between sparse and dense.";
+    MazeContinuingTaskChanged = "maze-continuing-task-changed", Termination, true,
+        "`continuing_task` changed: whether reaching the goal ends the episode.";
+    MazeResetTargetChanged = "maze-reset-target-changed", Reward, true,
+        "`reset_target` changed: whether a reached goal is redrawn in a continuing task (more goals to collect per episode).";
+    MazeTimeLimitChanged = "maze-time-limit-changed", Termination, true,
+        "`max_episode_steps` of the maze env changed.";
+    MazePositionNoiseChanged = "maze-position-noise-changed", Reset, true,
+        "`position_noise_range` changed: goals and starts are jittered differently around cell centres.";
+    MazeVelocityClipChanged = "maze-velocity-clip-changed", Dynamics, true,
+        "`velocity_clip` changed: the robot's velocity is clamped differently before every step.";
+    MazeGoalThresholdChanged = "maze-goal-threshold-changed", Reward, true,
+        "`goal_threshold` changed: when the goal counts as reached (sparse reward, success, termination).";
+    MazeRobotChanged = "maze-robot-changed", Documentation, false,
+        "The maze names another robot spec file; the robot's own changes follow (subjects `robot ...`), none if the two behave the same.";
+    MazeRobotParamsChanged = "maze-robot-params-changed", Parameters, false,
+        "The overrides the maze passes to its robot changed; their effect follows as the robot's own changes.";
+    MazeRobotUnresolved = "maze-robot-unresolved", Dynamics, true,
+        "A robot spec could not be resolved, so its changes are unknown: counted as breaking until reviewed.";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_unique_kebab_case_and_in_variant_order() {
+        let mut seen = std::collections::HashSet::new();
+        for (i, r) in RULES.iter().enumerate() {
+            assert_eq!(r.rule as usize, i, "{}", r.id);
+            assert!(seen.insert(r.id), "duplicate id {}", r.id);
+            assert!(
+                r.id.bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-'),
+                "{}",
+                r.id
+            );
+            assert!(!r.description.contains('\n') && r.description.ends_with('.'));
+        }
+        assert_eq!(RuleId::RewardSumChanged.id(), "reward-sum-changed");
+        assert_eq!(RuleId::MazeWallAdded.category(), Category::Dynamics);
+    }
+}
