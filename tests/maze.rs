@@ -311,15 +311,15 @@ fn maze_spec_errors_have_codes() {
     let base = "maze_size_scaling = 1.0\nmaze_height = 0.4\n";
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 x 1\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0702)
     );
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 0\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0701)
     );
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0703)
     );
     assert_eq!(case("map = \"1 0 1\""), Some(Code::E0103));
     assert_eq!(
@@ -345,7 +345,7 @@ fn maze_spec_errors_have_codes() {
     };
     assert_eq!(
         env.reset(Some(0), Some(opt)).err().map(|e| e.code()),
-        Some(Code::E0104)
+        Some(Code::E0708)
     );
     assert!(env.step(&[0.0, 0.0]).is_err());
     assert_eq!(

@@ -507,7 +507,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                     for (a, &n) in count.iter().enumerate() {
                         if n > 1 {
                             d.push(err(
-                                Code::E0104,
+                                Code::E0109,
                                 &c.key_loc,
                                 format!(
                                     "conf `{}` drives actuator `{}` {n} times",
@@ -524,7 +524,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                         .collect();
                     if !missing.is_empty() {
                         d.push(err(
-                            Code::E0104,
+                            Code::E0109,
                             &c.key_loc,
                             format!(
                                 "conf `{}` leaves actuators undriven: {}",

@@ -228,7 +228,7 @@ impl Ctx<'_> {
             Origin::Default(l) => Some(l.clone()),
             Origin::Override(_) => None,
         });
-        Diagnostic::new(Code::E0104, msg.to_string())
+        Diagnostic::new(Code::E0105, msg.to_string())
             .at_opt(loc)
             .label("invalid value")
     }
@@ -311,7 +311,7 @@ impl Ctx<'_> {
         if r.0 > r.1 {
             self.d.push(
                 Diagnostic::new(
-                    Code::E0104,
+                    Code::E0105,
                     format!("{what}: low {} is above high {}", r.0, r.1),
                 )
                 .at(v.loc.clone())
@@ -862,7 +862,7 @@ impl Ctx<'_> {
             if !matches!(target.field, Field::Qpos | Field::Qvel) {
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0104,
+                        Code::E0107,
                         format!("reset target `{}` is not qpos or qvel", target.text),
                     )
                     .at(s.get("target").unwrap().loc.clone())
@@ -926,7 +926,7 @@ impl Ctx<'_> {
                         .unwrap_or(s.name_loc.clone());
                     self.d.push(
                         Diagnostic::new(
-                            Code::E0104,
+                            Code::E0105,
                             format!(
                                 "[reset.{}]: uniform bounds [{}, {}) are empty or infinite",
                                 s.name, low[i], high[i]
@@ -1138,7 +1138,7 @@ impl Ctx<'_> {
             if info[..i].iter().any(|(o, _)| o.key == item.key) {
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0104,
+                        Code::E0106,
                         format!("info key `{}` is defined twice", item.key),
                     )
                     .at_opt(loc.clone())
