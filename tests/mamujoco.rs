@@ -293,12 +293,12 @@ fn bad_factorizations_are_errors_not_panics() {
         (
             "unknown_node.toml",
             format!("confs = {{ x = [[\"a\", \"b\", \"c\"], [\"d\", \"e\", \"g\"]] }}\n{nodes}"),
-            &[envc::envspec::Code::E0303, envc::envspec::Code::E0104],
+            &[envc::envspec::Code::E0303, envc::envspec::Code::E0109],
         ),
         (
             "twice.toml",
             format!("confs = {{ x = [[\"a\", \"b\", \"c\"], [\"a\", \"e\", \"f\"]] }}\n{nodes}"),
-            &[envc::envspec::Code::E0104, envc::envspec::Code::E0104],
+            &[envc::envspec::Code::E0109, envc::envspec::Code::E0109],
         ),
         (
             "unknown_key.toml",
@@ -313,7 +313,7 @@ fn bad_factorizations_are_errors_not_panics() {
             &[
                 envc::envspec::Code::E0303,
                 envc::envspec::Code::E0103,
-                envc::envspec::Code::E0104,
+                envc::envspec::Code::E0109,
             ],
         ),
     ];

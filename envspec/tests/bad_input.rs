@@ -462,7 +462,7 @@ fn invalid_parameter_values() {
     );
     let (_, r) = load_text(&s, "spec.toml", &text, &[set("frame_skip=0")]);
     let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104, Code::E0104]);
+    assert_eq!(d.codes(), [Code::E0105, Code::E0105]);
     assert_eq!(d.0[0].message, "frame_skip must be a positive integer");
     assert_eq!(
         d.0[0].position(),
@@ -1167,7 +1167,7 @@ fn empty_uniform_reset_bounds() {
     let text = with(&mini(), "scale = 5e-3", "scale = -5e-3");
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104]);
+    assert_eq!(d.codes(), [Code::E0105]);
     assert_eq!(
         d.0[0].message,
         "[reset.qpos]: uniform bounds [0.005, -0.005) are empty or infinite"

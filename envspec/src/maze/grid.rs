@@ -182,6 +182,10 @@ fn tokens(line: &str, base: usize) -> Vec<(&str, usize, usize)> {
 /// (callers then point at the whole value).
 fn string_offsets(loc: &Location, text: &str) -> Option<Vec<usize>> {
     let raw = loc.file.text.get(loc.span.clone())?;
+    if raw == text {
+        // A bare string (an override's text that is not a TOML literal).
+        return Some((loc.span.start..=loc.span.end).collect());
+    }
     let delim = ["\"\"\"", "'''", "\"", "'"]
         .into_iter()
         .find(|q| raw.starts_with(q) && raw.len() >= 2 * q.len() && raw.ends_with(q))?;
