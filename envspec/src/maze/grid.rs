@@ -248,7 +248,8 @@ pub(super) fn check_layout(g: &Grid, map: &Location, d: &mut Diagnostics) {
         Diagnostic::new(code, format!("the maze has no {what} cell"))
             .at(map.clone())
             .label(format!(
-                "expected a `{letter}` or `c` cell, or a free `0` cell"
+                "expected {} `{letter}` or `c` cell, or a free `0` cell",
+                if letter == "r" { "an" } else { "a" }
             ))
             .help(format!(
                 "mark one with `{letter}` (or `c`); without any, the free `0` cells are {what} cells, as in Gymnasium-Robotics"
