@@ -1174,3 +1174,46 @@ fn empty_uniform_reset_bounds() {
     );
     assert_eq!(lc(&d.0[0]), "48:9");
 }
+
+/// The codes split from E0104 (docs/errors.md): each means one thing, and each is located.
+#[test]
+fn out_of_range_duplicate_wrong_kind_and_maze_codes() {
+    let s = Scratch::new("split_codes");
+    let cases = [
+        // A reversed clip range: a number out of range.
+        (
+            with(&mini(), "clip = [-10.0, 10.0]", "clip = [10.0, -10.0]"),
+            Code::E0105,
+            "18:8",
+        ),
+        // `x_position` twice: once by its table name, once by `key`.
+        (
+            format!(
+                "{}\n[info.x]\nkey = \"x_position\"\nsource = \"qpos[0]\"\n",
+                mini()
+            ),
+            Code::E0106,
+            "54:7",
+        ),
+        // A reset of something that is not qpos or qvel.
+        (
+            with(&mini(), "target = \"qpos\"", "target = \"xpos[torso]\""),
+            Code::E0107,
+            "46:10",
+        ),
+    ];
+    for (text, code, at) in cases {
+        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+        let d = errors(r);
+        assert_eq!(d.codes(), [code], "{d}");
+        assert_eq!(lc(&d.0[0]), at, "{d}");
+    }
+    // `[maze]` in a task spec: found without the model.
+    let text = format!("{}\n[maze]\nid = \"M-v0\"\n", mini());
+    let d = match Spec::parse(Path::new("mini.toml"), text) {
+        Ok(_) => panic!("parsed"),
+        Err(d) => d,
+    };
+    assert_eq!(d.codes(), [Code::E0108]);
+    assert_eq!(lc(&d.0[0]), "53:2");
+}

@@ -21,8 +21,8 @@
 //! max_episode_steps = 700
 //! ```
 //!
-//! Modules: [`reader`] (the `[maze]` table and overrides), `grid` (cells with their locations
-//! and the layout checks E0701–E0705), [`registry`] (`[[family]]` files expanding into ids).
+//! Modules: [`reader`](mod@reader) (the `[maze]` table and overrides), `grid` (cells with their locations
+//! and the layout checks E0701–E0705), [`registry`](mod@registry) (`[[family]]` files expanding into ids).
 
 use std::path::PathBuf;
 
