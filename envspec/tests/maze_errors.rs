@@ -1,6 +1,7 @@
 //! Maze specs: every mistake gets its code, the line:col of the offending text (in the map file
 //! when the map is a file of its own), and a suggestion where one exists. Layout codes are
-//! E0701–E0705 (docs/errors.md). The robot spec is never read here (envspec checks the maze only).
+//! E0701–E0705 (docs/errors.md). The robot spec is never read here (envspec checks the maze
+//! only).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -21,8 +21,9 @@
 //! max_episode_steps = 700
 //! ```
 //!
-//! Modules: [`reader`](mod@reader) (the `[maze]` table and overrides), `grid` (cells with their locations
-//! and the layout checks E0701–E0705), [`registry`](mod@registry) (`[[family]]` files expanding into ids).
+//! Modules: [`reader`](mod@reader) (the `[maze]` table and overrides), `grid` (cells with
+//! their locations and the layout checks E0701–E0705), [`registry`](mod@registry) (`[[family]]`
+//! files expanding into ids).
 
 use std::path::PathBuf;
 
@@ -91,13 +92,26 @@ pub struct MazeSpec {
 
 /// Locations of a maze spec's values: in the spec file, the map file, or an override's text.
 /// `None` when the value was not written anywhere (a default).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct MazeLocations {
     /// The `maze` key of the `[maze]` table.
     pub maze: Option<Location>,
     pub robot: Option<Location>,
     pub map: Option<Location>,
     pub maze_size_scaling: Option<Location>,
+}
+
+/// `path:line:col` of each location (not the whole source files they hold).
+impl std::fmt::Debug for MazeLocations {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let at = |l: &Option<Location>| l.as_ref().map(Location::position);
+        f.debug_struct("MazeLocations")
+            .field("maze", &at(&self.maze))
+            .field("robot", &at(&self.robot))
+            .field("map", &at(&self.map))
+            .field("maze_size_scaling", &at(&self.maze_size_scaling))
+            .finish()
+    }
 }
 
 /// The maze parameters a user may override (`--set key=value`); any other key goes to the robot.
