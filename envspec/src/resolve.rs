@@ -812,17 +812,21 @@ impl Ctx<'_> {
                         Some(">") => CmpOp::Gt,
                         Some(">=") => CmpOp::Ge,
                         _ => {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0104,
-                                    format!("missing or unknown `op` in [health.{}]", s.name),
+                            let ops = "expected op = \"<\", \"<=\", \">\" or \">=\"";
+                            let e = match s.get("op") {
+                                None => Diagnostic::new(
+                                    Code::E0103,
+                                    format!("missing `op` in [health.{}]", s.name),
                                 )
-                                .at(s
-                                    .get("op")
-                                    .map(|v| v.loc.clone())
-                                    .unwrap_or(s.name_loc.clone()))
-                                .label("expected op = \"<\", \"<=\", \">\" or \">=\""),
-                            );
+                                .at(s.name_loc.clone()),
+                                Some(v) if v.as_str().is_some() => Diagnostic::new(
+                                    Code::E0104,
+                                    format!("unknown `op` in [health.{}]", s.name),
+                                )
+                                .at(v.loc.clone()),
+                                Some(v) => v.type_error("op", "a string"),
+                            };
+                            self.d.push(e.label(ops));
                             continue;
                         }
                     };

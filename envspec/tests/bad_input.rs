@@ -1217,3 +1217,25 @@ fn out_of_range_duplicate_wrong_kind_and_maze_codes() {
     assert_eq!(d.codes(), [Code::E0108]);
     assert_eq!(lc(&d.0[0]), "53:2");
 }
+
+/// `fails_if` without `op` is a missing key (E0103); an unknown `op` is E0104.
+#[test]
+fn fails_if_op_missing_or_unknown() {
+    let s = Scratch::new("fails_if_op");
+    let check = "kind = \"in_range\"\nsource = \"qpos[1]\"\nrange = \"healthy_z_range\"";
+    for (op, code, at) in [
+        ("", Code::E0103, "40:9"),
+        ("op = \"=<\"\n", Code::E0104, "43:6"),
+        ("op = 1\n", Code::E0102, "43:6"),
+    ] {
+        let text = with(
+            &mini(),
+            check,
+            &format!("kind = \"fails_if\"\nsource = \"qpos[1]\"\n{op}value = 0.7"),
+        );
+        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+        let d = errors(r);
+        assert_eq!(d.codes(), [code], "{d}");
+        assert_eq!(lc(&d.0[0]), at, "{d}");
+    }
+}
