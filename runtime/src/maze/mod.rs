@@ -155,15 +155,15 @@ impl MazeEnv {
         }
         // A MazeSpec built by hand skips the reader's layout checks.
         let layout = spec.layout();
-        for (none, code, what) in [
-            (layout.goals.is_empty(), Code::E0703, "goal"),
-            (layout.resets.is_empty(), Code::E0704, "reset"),
+        for (none, code, what, cell) in [
+            (layout.goals.is_empty(), Code::E0703, "goal", "a `g`"),
+            (layout.resets.is_empty(), Code::E0704, "reset", "an `r`"),
         ] {
             if none {
                 return Err(EnvError::Spec(
                     Diagnostic::new(code, format!("the maze has no {what} cell"))
                         .at_opt(spec.locations.map.clone())
-                        .label("expected a `g`/`r`, `c` or free `0` cell")
+                        .label(format!("expected {cell} or `c` cell, or a free `0` cell"))
                         .into(),
                 ));
             }
