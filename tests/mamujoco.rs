@@ -293,12 +293,12 @@ fn bad_factorizations_are_errors_not_panics() {
         (
             "unknown_node.toml",
             format!("confs = {{ x = [[\"a\", \"b\", \"c\"], [\"d\", \"e\", \"g\"]] }}\n{nodes}"),
-            &[envc::envspec::Code::E0303, envc::envspec::Code::E0104],
+            &[envc::envspec::Code::E0303, envc::envspec::Code::E0109],
         ),
         (
             "twice.toml",
             format!("confs = {{ x = [[\"a\", \"b\", \"c\"], [\"a\", \"e\", \"f\"]] }}\n{nodes}"),
-            &[envc::envspec::Code::E0104, envc::envspec::Code::E0104],
+            &[envc::envspec::Code::E0109, envc::envspec::Code::E0109],
         ),
         (
             "unknown_key.toml",
@@ -313,7 +313,7 @@ fn bad_factorizations_are_errors_not_panics() {
             &[
                 envc::envspec::Code::E0303,
                 envc::envspec::Code::E0103,
-                envc::envspec::Code::E0104,
+                envc::envspec::Code::E0109,
             ],
         ),
     ];
@@ -330,6 +330,14 @@ fn bad_factorizations_are_errors_not_panics() {
             }
         }
     }
+    // E0109 points at the conf's name.
+    let twice = dir.join("twice.toml");
+    let d = envspec::agents::load(&twice, &[]).unwrap_err();
+    assert_eq!(d.0[0].code, envc::envspec::Code::E0109);
+    assert!(
+        d.0[0].position().unwrap().ends_with("twice.toml:3:11"),
+        "{d}"
+    );
     // Overrides of the multi-agent layer are checked too.
     let p = write(
         "ok.toml",

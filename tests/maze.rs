@@ -311,15 +311,15 @@ fn maze_spec_errors_have_codes() {
     let base = "maze_size_scaling = 1.0\nmaze_height = 0.4\n";
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 x 1\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0702)
     );
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 0\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0701)
     );
     assert_eq!(
         case(&format!("{base}map = \"1 1 1\\n1 1 1\"")),
-        Some(Code::E0104)
+        Some(Code::E0703)
     );
     assert_eq!(case("map = \"1 0 1\""), Some(Code::E0103));
     assert_eq!(
@@ -345,7 +345,7 @@ fn maze_spec_errors_have_codes() {
     };
     assert_eq!(
         env.reset(Some(0), Some(opt)).err().map(|e| e.code()),
-        Some(Code::E0104)
+        Some(Code::E0708)
     );
     assert!(env.step(&[0.0, 0.0]).is_err());
     assert_eq!(
@@ -353,6 +353,92 @@ fn maze_spec_errors_have_codes() {
             .err()
             .map(|e| e.code()),
         Some(Code::E0601)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The checks `MazeEnv::new` makes on the compiled world point at the spec: a robot wider than a
+/// cell (E0706, at `maze_size_scaling`), a robot without root x, y (E0707, at `robot`), and a
+/// layout without goals on a spec built by hand (E0703).
+#[test]
+fn runtime_maze_checks_point_at_the_spec() {
+    let dir = std::env::temp_dir().join(format!("envc-maze-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let specs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/robotics/maze");
+    let first = |e: EnvError| match e {
+        EnvError::Spec(d) => d.0[0].clone(),
+        e => panic!("not a spec error: {e}"),
+    };
+    let write = |robot: &Path, scaling: &str| {
+        let p = dir.join("m.toml");
+        std::fs::write(
+            &p,
+            format!(
+                "[maze]\nid = \"X-v0\"\nrobot = {:?}\nmaze_height = 0.4\nmaze_size_scaling = {scaling}\nmap = \"1 r 0 g 1\"\n",
+                robot.display().to_string()
+            ),
+        )
+        .unwrap();
+        p
+    };
+    // The point robot is a ball of radius 0.1 (assets/robotics/point.xml): 0.2 wide.
+    let p = write(&specs.join("point.toml"), "0.15");
+    let d = first(MazeEnv::from_spec_file(&p, &[]).err().unwrap());
+    assert_eq!(d.code, envspec::Code::E0706);
+    assert!(d.position().unwrap().ends_with("m.toml:5:21"), "{d}");
+    assert!(d.message.contains("0.200 × 0.200"), "{d}");
+    assert!(MazeEnv::from_spec_file(&write(&specs.join("point.toml"), "0.25"), &[]).is_ok());
+    // An override of the cell size is pointed at in its own text.
+    let d = first(
+        MazeEnv::from_spec_file(&p, &[Override::text("maze_size_scaling", "0.1")])
+            .err()
+            .unwrap(),
+    );
+    assert_eq!(d.code, envspec::Code::E0706);
+    assert_eq!(
+        d.position().as_deref(),
+        Some("<override maze_size_scaling>:1:1")
+    );
+    // One hinge: nq = 1.
+    std::fs::write(
+        dir.join("hinge.xml"),
+        "<mujoco><worldbody><body><joint name=\"h\" type=\"hinge\"/><geom size=\"0.05\"/></body></worldbody><actuator><motor joint=\"h\"/></actuator></mujoco>",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("hinge.toml"),
+        "[env]\nid = \"Hinge-v0\"\n[params]\nxml_file = \"hinge.xml\"\nframe_skip = 1\nmax_episode_steps = 0\n[observation.qpos]\nsource = \"qpos\"\n",
+    )
+    .unwrap();
+    let d = first(
+        MazeEnv::from_spec_file(&write(&dir.join("hinge.toml"), "1.0"), &[])
+            .err()
+            .unwrap(),
+    );
+    assert_eq!(d.code, envspec::Code::E0707);
+    assert!(d.position().unwrap().ends_with("m.toml:3:9"), "{d}");
+    // A spec changed after reading skips the reader's checks; `new` still refuses it.
+    let mut spec = envspec::maze::load_maze(&specs.join("point_maze.toml"), &[]).unwrap();
+    for row in &mut spec.grid {
+        row.fill(envspec::maze::Cell::Wall);
+    }
+    let d = first(MazeEnv::new(spec).err().unwrap());
+    assert_eq!(d.code, envspec::Code::E0703);
+    assert!(
+        d.position().unwrap().ends_with("point_maze.toml:7:7"),
+        "{d}"
+    );
+    // A reset option outside the 5×5 U-maze.
+    let mut env = MazeEnv::make("PointMaze_UMaze-v3", &[]).unwrap();
+    let opt = ResetOptions {
+        goal_cell: None,
+        reset_cell: Some([1, 9]),
+    };
+    let d = first(env.reset(Some(0), Some(opt)).err().unwrap());
+    assert_eq!(d.code, envspec::Code::E0708);
+    assert_eq!(
+        d.message,
+        "reset_cell [1, 9] is not a free cell of the 5×5 maze"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -171,7 +171,7 @@ fn errors_are_values_of_one_type() {
     }
     assert_eq!(
         code(Env::make("Ant-v5", &[Override::text("frame_skip", "0")])),
-        Code::E0104
+        Code::E0105
     );
 }
 
@@ -180,6 +180,6 @@ fn negative_reset_noise_is_a_spec_error_not_a_panic() {
     let e = Env::make("Hopper-v5", &[Override::text("reset_noise_scale", "-0.1")])
         .err()
         .unwrap();
-    assert_eq!(e.code(), Code::E0104);
+    assert_eq!(e.code(), Code::E0105);
     assert!(e.to_string().contains("[reset.qpos]"), "{e}");
 }

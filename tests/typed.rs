@@ -344,7 +344,7 @@ fn typed_config_errors_are_reported_like_overrides() {
     let err = AntV5::new(&bad)
         .err()
         .expect("frame_skip 0 must be rejected");
-    assert_eq!(err.code(), envc::envspec::Code::E0104);
+    assert_eq!(err.code(), envc::envspec::Code::E0105);
 }
 
 // A robot the suite has never seen, from its spec alone; the model comes from outside envc.

@@ -409,7 +409,7 @@ fn actuator_and_physics_errors_have_stable_codes() {
         ("[actuators.a]\njoint = 3\n", Code::E0102),
         (
             "[actuators.a]\njoint = \"elbow\"\nctrlrange = [1, -1]\n",
-            Code::E0104,
+            Code::E0105,
         ),
         (
             "[actuators.a]\njoint = \"elbow\"\ngear = \"no_such_param\"\n",
@@ -417,14 +417,14 @@ fn actuator_and_physics_errors_have_stable_codes() {
         ),
         (
             "[actuators.a]\njoint = \"elbow\"\nkind = \"velocity\"\nkv = -1\n",
-            Code::E0104,
+            Code::E0105,
         ),
         (
             "[actuators.elbow]\njoint = \"elbow\"\n[actuators.b]\njoint = [\"elbow\"]\n",
-            Code::E0104,
+            Code::E0106,
         ),
         ("[physics]\nintegrator = \"rk4\"\n", Code::E0104),
-        ("[physics]\ntimestep = 0\n", Code::E0104),
+        ("[physics]\ntimestep = 0\n", Code::E0105),
         ("[physics]\nsubsteps = 2\n", Code::E0101),
     ];
     for (extra, code) in cases {
@@ -435,7 +435,7 @@ fn actuator_and_physics_errors_have_stable_codes() {
         &fixture("world_floating_planar.urdf"),
         "[actuators.a]\njoint = \"jf\"\n",
     );
-    assert_eq!(codes(&spec), [Code::E0104]);
+    assert_eq!(codes(&spec), [Code::E0107]);
     // Broken URDFs: E0302, not a panic.
     for (name, text) in [
         (

@@ -517,7 +517,7 @@ pub fn from_document(
                     for (a, &n) in count.iter().enumerate() {
                         if n > 1 {
                             d.push(err(
-                                Code::E0104,
+                                Code::E0109,
                                 &c.key_loc,
                                 format!(
                                     "conf `{}` drives actuator `{}` {n} times",
@@ -534,7 +534,7 @@ pub fn from_document(
                         .collect();
                     if !missing.is_empty() {
                         d.push(err(
-                            Code::E0104,
+                            Code::E0109,
                             &c.key_loc,
                             format!(
                                 "conf `{}` leaves actuators undriven: {}",

@@ -82,8 +82,19 @@ pub enum Code {
     E0102,
     /// A required key is missing.
     E0103,
-    /// A value of the right type but not allowed (out of range, unknown kind, ...).
+    /// A string that is not one of the choices its key accepts (unknown kind, mode, ...).
     E0104,
+    /// A number outside its allowed range (or beyond what 64 bits hold), or a reversed range.
+    E0105,
+    /// A name defined twice where names must be unique (actuators, info keys).
+    E0106,
+    /// A model element or field of the wrong kind for its use (an actuator on a free joint, a
+    /// reset target outside qpos/qvel).
+    E0107,
+    /// A maze spec (`[maze]`) given where a robot task spec is expected.
+    E0108,
+    /// A multi-agent partition that does not drive every actuator exactly once.
+    E0109,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.
@@ -116,6 +127,22 @@ pub enum Code {
     E0601,
     /// The command cannot serve this kind of spec (e.g. `collect` on a multi-agent spec).
     E0602,
+    /// Maze rows of different lengths.
+    E0701,
+    /// An unknown maze cell character.
+    E0702,
+    /// A maze with no goal cell (after the reference's fallbacks).
+    E0703,
+    /// A maze with no reset cell (after the reference's fallbacks).
+    E0704,
+    /// A maze goal cell no reset cell can reach.
+    E0705,
+    /// A maze robot wider than a cell.
+    E0706,
+    /// A maze robot whose root x, y are not `qpos[0:2]`.
+    E0707,
+    /// A maze reset option naming a wall or a cell outside the map.
+    E0708,
     /// `envc diff` of two different kinds of spec (task, multi-agent, maze).
     E0905,
     /// MuJoCo failed to compile the model.

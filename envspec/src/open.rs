@@ -136,7 +136,9 @@ fn open_as(
             let spec = Spec::from_document(&doc.file, &doc.root)?;
             AnySpec::Task(Box::new(crate::resolve(&spec, overrides)?))
         }
-        Kind::Maze => AnySpec::Maze(Box::new(crate::maze::load_maze(path, overrides)?)),
+        Kind::Maze => AnySpec::Maze(Box::new(crate::maze::from_document(
+            &doc.file, &doc.root, overrides,
+        )?)),
         Kind::Agents => AnySpec::Agents(Box::new(crate::agents::from_document(
             &doc.file, &doc.root, overrides,
         )?)),

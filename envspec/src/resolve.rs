@@ -228,7 +228,7 @@ impl Ctx<'_> {
             Origin::Default(l) => Some(l.clone()),
             Origin::Override(_) => None,
         });
-        Diagnostic::new(Code::E0104, msg.to_string())
+        Diagnostic::new(Code::E0105, msg.to_string())
             .at_opt(loc)
             .label("invalid value")
     }
@@ -311,7 +311,7 @@ impl Ctx<'_> {
         if r.0 > r.1 {
             self.d.push(
                 Diagnostic::new(
-                    Code::E0104,
+                    Code::E0105,
                     format!("{what}: low {} is above high {}", r.0, r.1),
                 )
                 .at(v.loc.clone())
@@ -812,17 +812,21 @@ impl Ctx<'_> {
                         Some(">") => CmpOp::Gt,
                         Some(">=") => CmpOp::Ge,
                         _ => {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0104,
-                                    format!("missing or unknown `op` in [health.{}]", s.name),
+                            let ops = "expected op = \"<\", \"<=\", \">\" or \">=\"";
+                            let e = match s.get("op") {
+                                None => Diagnostic::new(
+                                    Code::E0103,
+                                    format!("missing `op` in [health.{}]", s.name),
                                 )
-                                .at(s
-                                    .get("op")
-                                    .map(|v| v.loc.clone())
-                                    .unwrap_or(s.name_loc.clone()))
-                                .label("expected op = \"<\", \"<=\", \">\" or \">=\""),
-                            );
+                                .at(s.name_loc.clone()),
+                                Some(v) if v.as_str().is_some() => Diagnostic::new(
+                                    Code::E0104,
+                                    format!("unknown `op` in [health.{}]", s.name),
+                                )
+                                .at(v.loc.clone()),
+                                Some(v) => v.type_error("op", "a string"),
+                            };
+                            self.d.push(e.label(ops));
                             continue;
                         }
                     };
@@ -862,7 +866,7 @@ impl Ctx<'_> {
             if !matches!(target.field, Field::Qpos | Field::Qvel) {
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0104,
+                        Code::E0107,
                         format!("reset target `{}` is not qpos or qvel", target.text),
                     )
                     .at(s.get("target").unwrap().loc.clone())
@@ -926,7 +930,7 @@ impl Ctx<'_> {
                         .unwrap_or(s.name_loc.clone());
                     self.d.push(
                         Diagnostic::new(
-                            Code::E0104,
+                            Code::E0105,
                             format!(
                                 "[reset.{}]: uniform bounds [{}, {}) are empty or infinite",
                                 s.name, low[i], high[i]
@@ -1138,7 +1142,7 @@ impl Ctx<'_> {
             if info[..i].iter().any(|(o, _)| o.key == item.key) {
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0104,
+                        Code::E0106,
                         format!("info key `{}` is defined twice", item.key),
                     )
                     .at_opt(loc.clone())

@@ -240,7 +240,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         // A `[maze]` file is a maze spec (envspec::maze), run by envc's MazeEnv, not a task spec.
         d.push(
             Diagnostic::new(
-                Code::E0104,
+                Code::E0108,
                 "`[maze]` makes this a maze spec, not a robot task spec",
             )
             .at(e.key_loc.clone())

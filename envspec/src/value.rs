@@ -174,7 +174,7 @@ fn convert(
                 Ok(n) => ValKind::Int(n),
                 Err(_) => {
                     diags.push(
-                        Diagnostic::new(Code::E0104, "integer does not fit in 64 bits")
+                        Diagnostic::new(Code::E0105, "integer does not fit in 64 bits")
                             .at(loc.clone())
                             .label("expected a 64-bit integer"),
                     );
@@ -188,7 +188,7 @@ fn convert(
                 Ok(f) => ValKind::Float(f),
                 Err(_) => {
                     diags.push(
-                        Diagnostic::new(Code::E0104, format!("cannot read float `{text}`"))
+                        Diagnostic::new(Code::E0105, format!("cannot read float `{text}`"))
                             .at(loc.clone())
                             .label("expected a float"),
                     );

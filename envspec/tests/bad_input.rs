@@ -462,7 +462,7 @@ fn invalid_parameter_values() {
     );
     let (_, r) = load_text(&s, "spec.toml", &text, &[set("frame_skip=0")]);
     let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104, Code::E0104]);
+    assert_eq!(d.codes(), [Code::E0105, Code::E0105]);
     assert_eq!(d.0[0].message, "frame_skip must be a positive integer");
     assert_eq!(
         d.0[0].position(),
@@ -1167,10 +1167,75 @@ fn empty_uniform_reset_bounds() {
     let text = with(&mini(), "scale = 5e-3", "scale = -5e-3");
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104]);
+    assert_eq!(d.codes(), [Code::E0105]);
     assert_eq!(
         d.0[0].message,
         "[reset.qpos]: uniform bounds [0.005, -0.005) are empty or infinite"
     );
     assert_eq!(lc(&d.0[0]), "48:9");
+}
+
+/// The codes split from E0104 (docs/errors.md): each means one thing, and each is located.
+#[test]
+fn out_of_range_duplicate_wrong_kind_and_maze_codes() {
+    let s = Scratch::new("split_codes");
+    let cases = [
+        // A reversed clip range: a number out of range.
+        (
+            with(&mini(), "clip = [-10.0, 10.0]", "clip = [10.0, -10.0]"),
+            Code::E0105,
+            "18:8",
+        ),
+        // `x_position` twice: once by its table name, once by `key`.
+        (
+            format!(
+                "{}\n[info.x]\nkey = \"x_position\"\nsource = \"qpos[0]\"\n",
+                mini()
+            ),
+            Code::E0106,
+            "54:7",
+        ),
+        // A reset of something that is not qpos or qvel.
+        (
+            with(&mini(), "target = \"qpos\"", "target = \"xpos[torso]\""),
+            Code::E0107,
+            "46:10",
+        ),
+    ];
+    for (text, code, at) in cases {
+        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+        let d = errors(r);
+        assert_eq!(d.codes(), [code], "{d}");
+        assert_eq!(lc(&d.0[0]), at, "{d}");
+    }
+    // `[maze]` in a task spec: found without the model.
+    let text = format!("{}\n[maze]\nid = \"M-v0\"\n", mini());
+    let d = match Spec::parse(Path::new("mini.toml"), text) {
+        Ok(_) => panic!("parsed"),
+        Err(d) => d,
+    };
+    assert_eq!(d.codes(), [Code::E0108]);
+    assert_eq!(lc(&d.0[0]), "53:2");
+}
+
+/// `fails_if` without `op` is a missing key (E0103); an unknown `op` is E0104.
+#[test]
+fn fails_if_op_missing_or_unknown() {
+    let s = Scratch::new("fails_if_op");
+    let check = "kind = \"in_range\"\nsource = \"qpos[1]\"\nrange = \"healthy_z_range\"";
+    for (op, code, at) in [
+        ("", Code::E0103, "40:9"),
+        ("op = \"=<\"\n", Code::E0104, "43:6"),
+        ("op = 1\n", Code::E0102, "43:6"),
+    ] {
+        let text = with(
+            &mini(),
+            check,
+            &format!("kind = \"fails_if\"\nsource = \"qpos[1]\"\n{op}value = 0.7"),
+        );
+        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+        let d = errors(r);
+        assert_eq!(d.codes(), [code], "{d}");
+        assert_eq!(lc(&d.0[0]), at, "{d}");
+    }
 }

@@ -131,7 +131,7 @@ fn unknown_or_switched_off_terms_in_info_are_e0502() {
 }
 
 #[test]
-fn bad_at_and_duplicate_keys_are_e0104() {
+fn bad_at_is_e0104_and_duplicate_keys_e0106() {
     let e = check_text(
         "at_velocity",
         &ant_v4_with(
@@ -164,7 +164,7 @@ fn bad_at_and_duplicate_keys_are_e0104() {
     );
     assert_eq!(
         e.iter().map(|x| x.0).collect::<Vec<_>>(),
-        [Code::E0104],
+        [Code::E0106],
         "{e:?}"
     );
     assert!(e[0].1.contains("reward_ctrl"), "{}", e[0].1);

@@ -25,7 +25,7 @@ impl Ctx<'_> {
                     edits.timestep = Some(ts);
                 } else {
                     self.d.push(
-                        Diagnostic::new(Code::E0104, format!("timestep {ts} is not positive"))
+                        Diagnostic::new(Code::E0105, format!("timestep {ts} is not positive"))
                             .at(v.loc.clone())
                             .label("expected a positive number of seconds"),
                     );
@@ -65,7 +65,7 @@ impl Ctx<'_> {
                 if all.is_empty() {
                     self.d.push(
                         Diagnostic::new(
-                            Code::E0104,
+                            Code::E0107,
                             "`joint = \"*\"` matches no hinge or slide joint",
                         )
                         .at(jv.loc.clone())
@@ -128,7 +128,7 @@ impl Ctx<'_> {
                 || out.iter().any(|a| a.name == name);
             if taken {
                 self.d.push(
-                    Diagnostic::new(Code::E0104, format!("actuator `{name}` is defined twice"))
+                    Diagnostic::new(Code::E0106, format!("actuator `{name}` is defined twice"))
                         .at(s.name_loc.clone())
                         .label("actuator names must be unique (the model's own included)"),
                 );
@@ -151,7 +151,7 @@ impl Ctx<'_> {
         let x = self.num(v, &format!("actuators.{}.{key}", s.name))?;
         if !(x.is_finite() && x >= 0.0) {
             self.d.push(
-                Diagnostic::new(Code::E0104, format!("{key} {x} is negative"))
+                Diagnostic::new(Code::E0105, format!("{key} {x} is negative"))
                     .at(v.loc.clone())
                     .label("expected a non-negative gain"),
             );
@@ -167,7 +167,7 @@ impl Ctx<'_> {
             Some(j) => {
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0104,
+                        Code::E0107,
                         format!("joint `{name}` is a {:?} joint", j.kind).to_lowercase(),
                     )
                     .at(v.loc.clone())

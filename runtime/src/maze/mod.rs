@@ -28,6 +28,8 @@ use crate::error::EnvError;
 use crate::numerics::{Profile, exp, norm, pairwise_sum};
 use crate::rng::NumpyRng;
 
+mod fit;
+
 /// The goal-conditioned observation (Gymnasium-Robotics' dict; keys sort as achieved_goal,
 /// desired_goal, observation in the reference's `spaces.Dict`).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -103,28 +105,37 @@ impl MazeEnv {
     pub fn new(spec: MazeSpec) -> Result<MazeEnv, EnvError> {
         let robot_spec = envspec::load(&spec.robot, &spec.robot_overrides)?;
         if robot_spec.model.nq < 2 {
-            return Err(spec_error(
-                Code::E0104,
-                format!(
-                    "{}: the robot `{}` has {} qpos entries; a maze robot needs its root x, y in qpos[0:2]",
-                    envspec::diagnostic::show_path(&spec.path),
-                    robot_spec.id,
-                    robot_spec.model.nq
-                ),
+            return Err(EnvError::Spec(
+                Diagnostic::new(
+                    Code::E0707,
+                    format!(
+                        "the robot `{}` has {} qpos entries; a maze robot needs its root x, y in qpos[0:2]",
+                        robot_spec.id, robot_spec.model.nq
+                    ),
+                )
+                .at_opt(spec.locations.robot.clone())
+                .label("expected a robot with a free joint or x, y slide joints first")
+                .into(),
             ));
+        }
+        // A MazeSpec built by hand skips the reader's layout checks.
+        let layout = spec.layout();
+        for (none, code, what, cell) in [
+            (layout.goals.is_empty(), Code::E0703, "goal", "a `g`"),
+            (layout.resets.is_empty(), Code::E0704, "reset", "an `r`"),
+        ] {
+            if none {
+                return Err(EnvError::Spec(
+                    Diagnostic::new(code, format!("the maze has no {what} cell"))
+                        .at_opt(spec.locations.map.clone())
+                        .label(format!("expected {cell} or `c` cell, or a free `0` cell"))
+                        .into(),
+                ));
+            }
         }
         let model = Arc::new(build_world(&spec, &robot_spec)?);
+        fit::check_robot_fits(&spec, &robot_spec, &model)?;
         let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
-        let layout = spec.layout();
-        if layout.goals.is_empty() || layout.resets.is_empty() {
-            return Err(spec_error(
-                Code::E0104,
-                format!(
-                    "{}: the map has no goal or no reset candidate",
-                    envspec::diagnostic::show_path(&spec.path)
-                ),
-            ));
-        }
         let obs = MazeObs {
             observation: vec![0.0; robot.obs_dim()],
             ..Default::default()
@@ -220,7 +231,7 @@ impl MazeEnv {
             Ok(())
         } else {
             Err(spec_error(
-                Code::E0104,
+                Code::E0708,
                 format!(
                     "{what} {cell:?} is not a free cell of the {}×{} maze",
                     self.spec.rows(),

@@ -1,0 +1,397 @@
+//! Reading a maze spec with locations: the `[maze]` table, maze-parameter overrides, the map
+//! (inline or a map file, whose errors point into that file) and the layout checks.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::grid::{check_layout, read_grid};
+use super::{MAZE_PARAMS, MazeLocations, MazeSpec, RewardType};
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, suggest};
+use crate::params::{Override, OverrideValue};
+use crate::value::{Entry, Val, ValKind, parse_document, parse_literal};
+
+const MAZE_KEYS: &[&str] = &[
+    "id",
+    "description",
+    "robot",
+    "robot_params",
+    "map",
+    "maze_size_scaling",
+    "maze_height",
+    "reward_type",
+    "continuing_task",
+    "reset_target",
+    "max_episode_steps",
+    "position_noise_range",
+    "velocity_clip",
+    "goal_threshold",
+];
+const MAP_FILE_KEYS: &[&str] = &["name", "grid"];
+
+fn unknown_key(e: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
+    Diagnostic::new(Code::E0101, format!("unknown key `{}` in {context}", e.key))
+        .at(e.key_loc.clone())
+        .label(format!("expected one of: {}", allowed.join(", ")))
+        .help_opt(suggest(&e.key, allowed.iter().copied()))
+}
+
+/// Read a TOML file with locations; an unreadable file is E0600 (at `at`, when given).
+pub(super) fn read_file(
+    path: &Path,
+    at: Option<&Location>,
+    what: &str,
+) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Diagnostic::new(
+            Code::E0600,
+            format!("cannot read {what} {}: {e}", path.display()),
+        )
+        .at_opt(at.cloned())
+        .label(format!("expected a readable TOML {what}"))
+    })?;
+    let file = SourceFile::new(path, text);
+    let root = parse_document(&file)?;
+    Ok((file, root))
+}
+
+/// Whether a TOML file is a maze spec (has a top-level `[maze]` table).
+pub fn is_maze_file(path: &Path) -> bool {
+    read_file(path, None, "maze spec").is_ok_and(|(_, root)| {
+        root.as_table().is_some_and(|t| {
+            t.iter()
+                .any(|e| e.key == "maze" && e.value.as_table().is_some())
+        })
+    })
+}
+
+/// Load a maze spec with overrides (maze parameters by name; anything else goes to the robot).
+pub fn load_maze(path: &Path, overrides: &[Override]) -> Result<MazeSpec, Diagnostics> {
+    let (file, root) = read_file(path, None, "maze spec")?;
+    from_document(&file, &root, overrides)
+}
+
+/// A maze spec from a document already read with [`parse_document`] (`root` is the whole
+/// document, with its `[maze]` table). Relative paths resolve against `file.path`'s directory.
+/// Overrides of maze parameters ([`MAZE_PARAMS`]) replace `[maze]` values (a `map` path then
+/// resolves against the working directory); any other override goes to the robot spec.
+pub fn from_document(
+    file: &Arc<SourceFile>,
+    root: &Val,
+    overrides: &[Override],
+) -> Result<MazeSpec, Diagnostics> {
+    let mut d = Diagnostics::default();
+    let top = root.as_table().unwrap_or(&[]);
+    for e in top.iter().filter(|e| e.key != "maze") {
+        d.push(unknown_key(e, "a maze spec (top level)", &["maze"]));
+    }
+    let Some(maze) = top.iter().find(|e| e.key == "maze") else {
+        d.push(
+            Diagnostic::new(Code::E0103, "a maze spec needs a `[maze]` table")
+                .at(Location::new(file, 0..0))
+                .label("expected a [maze] table"),
+        );
+        return Err(d);
+    };
+    let Some(table) = maze.value.as_table() else {
+        d.push(maze.value.type_error("`maze`", "a table"));
+        return Err(d);
+    };
+    for e in table {
+        if !MAZE_KEYS.contains(&e.key.as_str()) {
+            d.push(unknown_key(e, "[maze]", MAZE_KEYS));
+        }
+    }
+    let dir = file.path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut r = Reader {
+        entries: table.to_vec(),
+        maze_loc: maze.key_loc.clone(),
+        d,
+    };
+    let mut robot_overrides = vec![];
+    let mut map_dir = dir.clone();
+    for o in overrides {
+        if !MAZE_PARAMS.contains(&o.name.as_str()) {
+            robot_overrides.push(o.clone());
+            continue;
+        }
+        let v = override_val(o);
+        if o.name == "map" {
+            map_dir = PathBuf::from(".");
+        }
+        let entry = Entry {
+            key: o.name.clone(),
+            key_loc: v.loc.clone(),
+            value: v,
+        };
+        match r.entries.iter_mut().find(|e| e.key == o.name) {
+            Some(e) => *e = entry,
+            None => r.entries.push(entry),
+        }
+    }
+
+    let id = r.string("id", true).unwrap_or_default();
+    r.string("description", false);
+    let robot = r
+        .string("robot", true)
+        .map(|s| dir.join(s))
+        .unwrap_or_default();
+    let mut base_overrides = r.robot_params(&dir);
+    base_overrides.extend(robot_overrides);
+    let maze_size_scaling = r.positive("maze_size_scaling");
+    let maze_height = r.positive("maze_height");
+    let position_noise_range = r.float("position_noise_range").unwrap_or(0.25);
+    let goal_threshold = r.float("goal_threshold").unwrap_or(0.45);
+    let velocity_clip = r.float("velocity_clip");
+    let continuing_task = r.boolean("continuing_task").unwrap_or(true);
+    let reset_target = r.boolean("reset_target").unwrap_or(false);
+    let reward_type = r.reward_type();
+    let max_episode_steps = r.max_episode_steps();
+    let locations = MazeLocations {
+        maze: Some(r.maze_loc.clone()),
+        robot: r.get("robot").map(|v| v.loc.clone()),
+        map: r.get("map").map(|v| v.loc.clone()),
+        maze_size_scaling: r.get("maze_size_scaling").map(|v| v.loc.clone()),
+    };
+    let grid = r.map(&map_dir);
+    r.d.into_result(MazeSpec {
+        id,
+        path: file.path.clone(),
+        robot,
+        robot_overrides: base_overrides,
+        grid,
+        maze_size_scaling,
+        maze_height,
+        reward_type,
+        continuing_task,
+        reset_target,
+        max_episode_steps,
+        position_noise_range,
+        velocity_clip,
+        goal_threshold,
+        locations,
+    })
+}
+
+/// An override's value as a TOML value located in its own text (`<override NAME>`); text that is
+/// not a TOML literal is a bare string.
+fn override_val(o: &Override) -> Val {
+    let text = match &o.value {
+        OverrideValue::Text(t) => t.clone(),
+        OverrideValue::Value(v) => v.to_string(),
+    };
+    let file = SourceFile::new(format!("<override {}>", o.name), text.clone());
+    parse_literal(&file).unwrap_or_else(|| Val {
+        kind: ValKind::Str(text.clone()),
+        loc: Location::new(&file, 0..text.len()),
+    })
+}
+
+struct Reader {
+    entries: Vec<Entry>,
+    maze_loc: Location,
+    d: Diagnostics,
+}
+
+impl Reader {
+    fn get(&self, key: &str) -> Option<&Val> {
+        self.entries.iter().find(|e| e.key == key).map(|e| &e.value)
+    }
+
+    fn missing(&mut self, key: &str, expected: &str) {
+        self.d.push(
+            Diagnostic::new(Code::E0103, format!("missing `{key}` in [maze]"))
+                .at(self.maze_loc.clone())
+                .label(format!("expected `{key}`: {expected}")),
+        );
+    }
+
+    fn string(&mut self, key: &str, required: bool) -> Option<String> {
+        match self.get(key).map(|v| (v.as_str().map(str::to_string), v)) {
+            Some((Some(s), _)) => Some(s),
+            Some((None, v)) => {
+                let e = v.type_error(&format!("`{key}`"), "a string");
+                self.d.push(e);
+                None
+            }
+            None => {
+                if required {
+                    let what = if key == "robot" {
+                        "the path of a robot task spec"
+                    } else {
+                        "a string"
+                    };
+                    self.missing(key, what);
+                }
+                None
+            }
+        }
+    }
+
+    /// A finite number (E0102 for another type, E0105 for inf / nan).
+    fn float(&mut self, key: &str) -> Option<f64> {
+        let v = self.get(key)?;
+        let e = match v.as_f64() {
+            Some(x) if x.is_finite() => return Some(x),
+            Some(x) => Diagnostic::new(Code::E0105, format!("`{key}` is {x}"))
+                .at(v.loc.clone())
+                .label("expected a finite number"),
+            None => v.type_error(&format!("`{key}`"), "a number"),
+        };
+        self.d.push(e);
+        None
+    }
+
+    fn positive(&mut self, key: &str) -> f64 {
+        let Some(x) = self.float(key) else {
+            if self.get(key).is_none() {
+                self.missing(key, "a positive number");
+            }
+            return 0.0;
+        };
+        if x <= 0.0 {
+            let loc = self.get(key).map(|v| v.loc.clone());
+            self.d.push(
+                Diagnostic::new(Code::E0105, format!("`{key}` is {x}"))
+                    .at_opt(loc)
+                    .label("expected a positive number"),
+            );
+        }
+        x
+    }
+
+    fn boolean(&mut self, key: &str) -> Option<bool> {
+        let v = self.get(key)?;
+        match v.kind {
+            ValKind::Bool(b) => Some(b),
+            _ => {
+                let e = v.type_error(&format!("`{key}`"), "true or false");
+                self.d.push(e);
+                None
+            }
+        }
+    }
+
+    fn reward_type(&mut self) -> RewardType {
+        let Some(v) = self.get("reward_type") else {
+            return RewardType::Sparse;
+        };
+        let e = match v.as_str() {
+            Some("sparse") => return RewardType::Sparse,
+            Some("dense") => return RewardType::Dense,
+            Some(s) => Diagnostic::new(Code::E0104, format!("unknown reward_type `{s}`"))
+                .at(v.loc.clone())
+                .label("expected \"sparse\" or \"dense\"")
+                .help_opt(suggest(s, ["sparse", "dense"])),
+            None => v.type_error("`reward_type`", "\"sparse\" or \"dense\""),
+        };
+        self.d.push(e);
+        RewardType::Sparse
+    }
+
+    fn max_episode_steps(&mut self) -> Option<u64> {
+        let v = self.get("max_episode_steps")?;
+        let e = match v.kind {
+            ValKind::Int(0) => return None,
+            ValKind::Int(n) if n > 0 => return Some(n as u64),
+            ValKind::Int(n) => Diagnostic::new(Code::E0105, format!("`max_episode_steps` is {n}"))
+                .at(v.loc.clone())
+                .label("expected a non-negative integer (0: no time limit)"),
+            _ => v.type_error("`max_episode_steps`", "a non-negative integer"),
+        };
+        self.d.push(e);
+        None
+    }
+
+    /// `robot_params` as overrides; string values starting with `./` or `../` are paths
+    /// relative to the maze spec.
+    fn robot_params(&mut self, dir: &Path) -> Vec<Override> {
+        let Some(v) = self.get("robot_params") else {
+            return vec![];
+        };
+        let Some(t) = v.as_table() else {
+            let e = v.type_error("`robot_params`", "a table");
+            self.d.push(e);
+            return vec![];
+        };
+        t.iter()
+            .map(|e| {
+                let text = match e.value.as_str() {
+                    Some(s) if s.starts_with("../") || s.starts_with("./") => {
+                        format!("{:?}", dir.join(s).display().to_string())
+                    }
+                    _ => e.value.to_toml(),
+                };
+                Override::text(&e.key, &text)
+            })
+            .collect()
+    }
+
+    /// The grid (inline or from a map file) after the layout checks; empty after an error.
+    fn map(&mut self, map_dir: &Path) -> Vec<Vec<super::Cell>> {
+        let Some(v) = self.get("map").cloned() else {
+            self.missing("map", "a grid or the path of a map file");
+            return vec![];
+        };
+        let (grid_val, map_loc) = match v.as_str() {
+            Some(s) if s.trim_end().ends_with(".toml") => {
+                match read_map_file(&map_dir.join(s.trim()), &v.loc) {
+                    Ok(g) => {
+                        let loc = g.loc.clone();
+                        (g, loc)
+                    }
+                    Err(e) => {
+                        self.d.0.extend(e.0);
+                        return vec![];
+                    }
+                }
+            }
+            _ => (v.clone(), v.loc.clone()),
+        };
+        let Some(grid) = read_grid(&grid_val, &mut self.d) else {
+            return vec![];
+        };
+        let before = self.d.len();
+        check_layout(&grid, &map_loc, &mut self.d);
+        if self.d.len() > before {
+            return vec![];
+        }
+        grid.cells()
+    }
+}
+
+/// The `grid` value of a map file (`name = "..."`, `grid = """..."""`).
+fn read_map_file(path: &Path, at: &Location) -> Result<Val, Diagnostics> {
+    let (file, root) = read_file(path, Some(at), "map file").map_err(|mut e| {
+        for x in &mut e.0 {
+            if x.code == Code::E0600 {
+                x.help = Some(
+                    "a map path in a spec is relative to the spec's directory; in an override, to the working directory".into(),
+                );
+            }
+        }
+        e
+    })?;
+    let mut d = Diagnostics::default();
+    let top = root.as_table().unwrap_or(&[]);
+    for e in top {
+        if !MAP_FILE_KEYS.contains(&e.key.as_str()) {
+            d.push(unknown_key(e, "a map file", MAP_FILE_KEYS));
+        }
+    }
+    if let Some(e) = top.iter().find(|e| e.key == "name")
+        && e.value.as_str().is_none()
+    {
+        d.push(e.value.type_error("`name`", "a string"));
+    }
+    match top.iter().find(|e| e.key == "grid") {
+        Some(e) => d.into_result(e.value.clone()),
+        None => {
+            d.push(
+                Diagnostic::new(Code::E0103, "a map file needs `grid`")
+                    .at(Location::new(&file, 0..0))
+                    .label("expected `grid = \"\"\"...\"\"\"`"),
+            );
+            Err(d)
+        }
+    }
+}

@@ -1,0 +1,129 @@
+//! Maze registry files: `[[family]]` tables expanding one maze spec over several maps and both
+//! reward types into registered ids.
+
+use std::path::{Path, PathBuf};
+
+use super::reader::read_file;
+use crate::diagnostic::{Code, Diagnostic, Diagnostics, suggest};
+use crate::params::Override;
+use crate::value::{Val, ValKind};
+
+/// A registered family: a maze spec run over several maps and both reward types.
+#[derive(Clone, Debug)]
+pub struct Registered {
+    pub id: String,
+    pub spec: PathBuf,
+    pub overrides: Vec<Override>,
+}
+
+const FAMILY_KEYS: &[&str] = &["spec", "id", "maps"];
+
+/// Read a maze registry file: `[[family]] spec = "...", id = "PointMaze_{map}{reward}-v3"` with
+/// `[family.maps] UMaze = { map = "maps/u_maze.toml", max_episode_steps = 300 }`. `{reward}` is
+/// `""` for sparse and `"Dense"` for dense, as Gymnasium-Robotics registers them. Map paths are
+/// relative to the registry file.
+pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
+    let (file, root) = read_file(path, None, "maze registry")?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut d = Diagnostics::default();
+    let top = root.as_table().unwrap_or(&[]);
+    for e in top.iter().filter(|e| e.key != "family") {
+        d.push(
+            Diagnostic::new(
+                Code::E0101,
+                format!("unknown key `{}` in a maze registry", e.key),
+            )
+            .at(e.key_loc.clone())
+            .label("expected [[family]] tables")
+            .help_opt(suggest(&e.key, ["family"])),
+        );
+    }
+    let fams: &[Val] = match top.iter().find(|e| e.key == "family") {
+        None => {
+            d.push(
+                Diagnostic::new(Code::E0103, "a maze registry needs [[family]] entries")
+                    .at(crate::diagnostic::Location::new(&file, 0..0))
+                    .label("expected [[family]] with `spec`, `id` and `maps`"),
+            );
+            &[]
+        }
+        Some(e) => match &e.value.kind {
+            ValKind::Array(a) => a,
+            _ => {
+                d.push(
+                    e.value
+                        .type_error("`family`", "an array of tables ([[family]])"),
+                );
+                &[]
+            }
+        },
+    };
+    let mut out = vec![];
+    for f in fams {
+        let Some(t) = f.as_table() else {
+            d.push(f.type_error("a [[family]] entry", "a table"));
+            continue;
+        };
+        for e in t.iter().filter(|e| !FAMILY_KEYS.contains(&e.key.as_str())) {
+            d.push(
+                Diagnostic::new(
+                    Code::E0101,
+                    format!("unknown key `{}` in [[family]]", e.key),
+                )
+                .at(e.key_loc.clone())
+                .label(format!("expected one of: {}", FAMILY_KEYS.join(", ")))
+                .help_opt(suggest(&e.key, FAMILY_KEYS.iter().copied())),
+            );
+        }
+        let get = |k: &str| t.iter().find(|e| e.key == k).map(|e| &e.value);
+        let mut need = |k: &str, ok: bool, expected: &str| -> bool {
+            match get(k) {
+                None => d.push(
+                    Diagnostic::new(Code::E0103, format!("missing `{k}` in [[family]]"))
+                        .at(f.loc.clone())
+                        .label(format!("expected `{k}`: {expected}")),
+                ),
+                Some(v) if !ok => d.push(v.type_error(&format!("`{k}`"), expected)),
+                Some(_) => return true,
+            }
+            false
+        };
+        let spec = get("spec").and_then(Val::as_str);
+        let id = get("id").and_then(Val::as_str);
+        let maps = get("maps").and_then(Val::as_table);
+        let ok = [
+            need("spec", spec.is_some(), "a string (the maze spec path)"),
+            need("id", id.is_some(), "a string with {map} and {reward}"),
+            need("maps", maps.is_some(), "a table of map entries"),
+        ];
+        let (Some(spec), Some(id), Some(maps), [true, true, true]) = (spec, id, maps, ok) else {
+            continue;
+        };
+        for m in maps {
+            let Some(entry) = m.value.as_table() else {
+                d.push(
+                    m.value
+                        .type_error("a map entry", "a table of maze parameters"),
+                );
+                continue;
+            };
+            for (suffix, rt) in [("", "sparse"), ("Dense", "dense")] {
+                let mut overrides = vec![Override::text("reward_type", &format!("\"{rt}\""))];
+                for e in entry {
+                    let text = match (e.key.as_str(), e.value.as_str()) {
+                        ("map", Some(s)) => format!("{:?}", dir.join(s).display().to_string()),
+                        _ => e.value.to_toml(),
+                    };
+                    overrides.push(Override::text(&e.key, &text));
+                }
+                out.push(Registered {
+                    id: id.replace("{map}", &m.key).replace("{reward}", suffix),
+                    spec: dir.join(spec),
+                    overrides,
+                });
+            }
+        }
+    }
+    out.sort_by(|a, b| a.id.cmp(&b.id));
+    d.into_result(out)
+}
