@@ -153,18 +153,6 @@ struct Node {
     extra: Vec<(String, Vec<Extra>)>,
 }
 
-/// Does this spec file declare a factorization?
-pub fn is_multi_agent(path: &Path) -> bool {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return false;
-    };
-    let file = SourceFile::new(path, text);
-    parse_document(&file)
-        .ok()
-        .and_then(|root| root.as_table().map(|t| t.iter().any(|e| e.key == "agents")))
-        .unwrap_or(false)
-}
-
 fn err(code: Code, loc: &Location, msg: impl Into<String>, label: impl Into<String>) -> Diagnostic {
     Diagnostic::new(code, msg).at(loc.clone()).label(label)
 }

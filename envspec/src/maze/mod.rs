@@ -34,7 +34,7 @@ mod grid;
 pub mod reader;
 pub mod registry;
 
-pub use reader::{from_document, is_maze_file, load_maze};
+pub use reader::{from_document, load_maze};
 pub use registry::{Registered, registry};
 
 /// One maze cell, as in `gymnasium_robotics.envs.maze.maps`.

@@ -54,16 +54,6 @@ pub(super) fn read_file(
     Ok((file, root))
 }
 
-/// Whether a TOML file is a maze spec (has a top-level `[maze]` table).
-pub fn is_maze_file(path: &Path) -> bool {
-    read_file(path, None, "maze spec").is_ok_and(|(_, root)| {
-        root.as_table().is_some_and(|t| {
-            t.iter()
-                .any(|e| e.key == "maze" && e.value.as_table().is_some())
-        })
-    })
-}
-
 /// Load a maze spec with overrides (maze parameters by name; anything else goes to the robot).
 pub fn load_maze(path: &Path, overrides: &[Override]) -> Result<MazeSpec, Diagnostics> {
     let (file, root) = read_file(path, None, "maze spec")?;
