@@ -404,7 +404,22 @@ pub fn diff_mazes(old: &MazeSpec, new: &MazeSpec) -> Report {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::maze::{load_maze, parse_grid};
+    use crate::maze::{Cell, load_maze};
+
+    /// A grid written as the map strings of maze specs (`1 0 r g c`).
+    fn parse_grid(map: &str) -> Vec<Vec<Cell>> {
+        let cell = |t: &str| match t {
+            "1" => Cell::Wall,
+            "r" => Cell::Reset,
+            "g" => Cell::Goal,
+            "c" => Cell::Combined,
+            _ => Cell::Free,
+        };
+        map.lines()
+            .filter(|l| !l.trim().is_empty())
+            .map(|l| l.split_whitespace().map(cell).collect())
+            .collect()
+    }
 
     /// PointMaze's U-maze (scaling 1, velocity clip 5) with another map.
     fn point_maze(map: &str) -> MazeSpec {
@@ -413,7 +428,7 @@ mod tests {
             "/../specs/robotics/maze/point_maze.toml"
         ));
         let mut m = load_maze(p, &[]).unwrap();
-        m.grid = parse_grid(&toml::Value::String(map.into())).unwrap();
+        m.grid = parse_grid(map);
         m
     }
 
