@@ -150,7 +150,7 @@ fn write_maze(dir: &Path, name: &str, robot: &str, map: &str) -> PathBuf {
 fn another_robot_and_another_grid_size() {
     let dir = std::env::temp_dir().join(format!("envc-diff-maze-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let small = "1 1 1\n1 c 1\n1 1 1\n";
+    let small = "1 1 1 1 1\n1 r 0 g 1\n1 1 1 1 1\n";
     let big = "1 1 1 1\n1 r g 1\n1 1 1 1\n";
     let old = write_maze(&dir, "old.toml", "ant_v4.toml", small);
     let new = write_maze(&dir, "new.toml", "ant.toml", big);
@@ -163,9 +163,9 @@ fn another_robot_and_another_grid_size() {
     let text = stdout(&o);
     assert_eq!(o.status.code(), Some(3), "{text}");
     for needle in [
-        "  ! [maze-grid-resized] maze.map: rows × columns: was 3 × 3, now 3 × 4",
-        // 3 × 3: 8 walls, the c cell both candidates; 3 × 4: 10 walls, one g, one r.
-        "      8 walls, 1 goal and 1 reset candidates → 10 walls, 1 goal and 1 reset candidates",
+        "  ! [maze-grid-resized] maze.map: rows × columns: was 3 × 5, now 3 × 4",
+        // 3 × 5: 12 walls, one g, one r; 3 × 4: 10 walls, one g, one r.
+        "      12 walls, 1 goal and 1 reset candidates → 10 walls, 1 goal and 1 reset candidates",
         "    [maze-robot-changed] maze.robot: spec file: was ",
         // Ant-v4 → Ant-v5 as the robot: the observation grows (27 → 105), flagged under one id.
         "  ! [observation-layout-changed] robot observation: layout: was 27 elements, now 105 elements",
