@@ -112,6 +112,14 @@ pub enum Code {
     E0502,
     /// The spec file itself cannot be read.
     E0600,
+    /// A goal term's `achieved` and `desired` have different lengths.
+    E0801,
+    /// An unknown `norm` option of a goal term.
+    E0802,
+    /// A goal threshold that is not a finite number ≥ 0.
+    E0803,
+    /// A goal term's `achieved` selects no element.
+    E0804,
     /// MuJoCo failed to compile the model.
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.

@@ -231,6 +231,14 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         &new.health,
         &|r: &ResolvedSpec, n: &str| r.health.iter().find(|c| c.name == n).map(canon),
     );
+    sections(
+        &mut cx,
+        Category::Termination,
+        "termination",
+        &old.termination,
+        &new.termination,
+        &|r: &ResolvedSpec, n: &str| r.termination.iter().find(|c| c.name == n).map(canon),
+    );
     episode(&mut cx);
     sections(
         &mut cx,
@@ -339,10 +347,11 @@ fn uses(spec: &Spec, param: &str) -> Vec<(Category, String)> {
         }
     }
     let mut out = vec![];
-    let groups: [(&[Section], Category, &str); 5] = [
+    let groups: [(&[Section], Category, &str); 6] = [
         (&spec.observation, Category::Observation, "observation"),
         (&spec.reward, Category::Reward, "reward"),
         (&spec.health, Category::Termination, "health"),
+        (&spec.termination, Category::Termination, "termination"),
         (&spec.reset, Category::Reset, "reset"),
         (&spec.info, Category::Info, "info"),
     ];

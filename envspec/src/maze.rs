@@ -519,3 +519,17 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
     out.sort_by(|a, b| a.id.cmp(&b.id));
     Ok(out)
 }
+
+impl MazeSpec {
+    /// The maze's goal task as spec-language terms over the robot's root x, y (`qpos[0:2]` of the
+    /// robot's model): `reward_type`, `goal_threshold` and `continuing_task` (docs/maze.md).
+    pub fn goal_task(&self, robot: &crate::ModelInfo) -> Result<crate::goal::GoalTask, Diagnostic> {
+        crate::goal::GoalTask::reach(
+            robot,
+            "qpos[0:2]",
+            self.reward_type == RewardType::Dense,
+            self.goal_threshold,
+            !self.continuing_task,
+        )
+    }
+}
