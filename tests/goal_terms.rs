@@ -75,9 +75,11 @@ fn maze_goal_functions_match_gymnasium_robotics() {
         ("false", "terminated_episodic"),
         ("true", "terminated_continuing"),
     ] {
-        let mut env =
-            MazeEnv::make("PointMaze_UMaze-v3", &[Override::text("continuing_task", over)])
-                .unwrap();
+        let mut env = MazeEnv::make(
+            "PointMaze_UMaze-v3",
+            &[Override::text("continuing_task", over)],
+        )
+        .unwrap();
         env.set_numerics(profile);
         let ours: Vec<bool> = (0..a.len())
             .map(|k| env.compute_terminated(a[k], d[k]))
@@ -122,7 +124,11 @@ fn run_reacher(r: &Rollout, overrides: &[Override], mut each: impl FnMut(usize, 
     let (o, info) = env.reset(Some(r.rec["seed"].as_u64().unwrap()));
     assert_eq!(bits(o), bits(&unhex(&obs[0])), "reset obs");
     let success = info.scalar("success").unwrap();
-    assert_eq!(success, (r.db[0] <= r.threshold) as u8 as f64, "reset success");
+    assert_eq!(
+        success,
+        (r.db[0] <= r.threshold) as u8 as f64,
+        "reset success"
+    );
     let actions = unhex(&r.rec["actions"]);
     for (k, a) in actions.chunks(2).enumerate() {
         let s = env.step(a).unwrap();
@@ -222,14 +228,24 @@ fn maze_goal_task_is_spec_language() {
             "PointMaze_UMaze-v3",
             &[
                 Override::text("continuing_task", "false"),
-                Override::text("reward_type", if kind == "goal_dense" { "dense" } else { "sparse" }),
+                Override::text(
+                    "reward_type",
+                    if kind == "goal_dense" {
+                        "dense"
+                    } else {
+                        "sparse"
+                    },
+                ),
             ],
         )
         .unwrap();
         env.set_numerics(env.numerics());
         let task = env.goal_task();
         let goal = spec.reward.iter().find(|t| t.name == "goal").unwrap();
-        assert_eq!(format!("{:?}", goal.kind), format!("{:?}", task.reward.kind));
+        assert_eq!(
+            format!("{:?}", goal.kind),
+            format!("{:?}", task.reward.kind)
+        );
         assert_eq!(
             format!("{:?}", spec.termination[0].reached),
             format!("{:?}", task.reached)
@@ -250,7 +266,8 @@ fn code_of(edit: impl Fn(&str) -> String) -> Vec<Code> {
 
 #[test]
 fn bad_goal_terms_have_codes() {
-    let sparse = "desired = \"xpos[target][0:2]\"\nthreshold = \"goal_threshold\"\nwhen = \"!dense_reward\"";
+    let sparse =
+        "desired = \"xpos[target][0:2]\"\nthreshold = \"goal_threshold\"\nwhen = \"!dense_reward\"";
     let cases: [(&str, String, Code); 6] = [
         (
             "desired of another length",
@@ -298,6 +315,7 @@ fn bad_goal_terms_have_codes() {
         )
     });
     assert_eq!(empty, vec![Code::E0804]);
-    let unknown_kind = code_of(|t| t.replacen("kind = \"goal_reached\"", "kind = \"goal_reachd\"", 1));
+    let unknown_kind =
+        code_of(|t| t.replacen("kind = \"goal_reached\"", "kind = \"goal_reachd\"", 1));
     assert_eq!(unknown_kind, vec![Code::E0104]);
 }

@@ -111,6 +111,8 @@ struct Sim {
     ntendon: usize,
     /// Whose arithmetic the CPU-dependent reductions (norms) follow.
     numerics: Profile,
+    /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
+    goal: Vec<f64>,
 }
 
 /// # Safety
@@ -165,26 +167,20 @@ impl Sim {
         self.field(s.field)[s.indices[k]]
     }
 
-    /// Hands `f` the differences `achievedₖ − desiredₖ` of a goal distance (`goal`: the env-held
-    /// goal vector, for `desired = "goal"`).
-    fn with_goal_diff<R>(
-        &self,
-        g: &GoalDistance,
-        goal: &[f64],
-        f: impl FnOnce(&dyn Fn(usize) -> f64) -> R,
-    ) -> R {
+    /// Hands `f` the differences `achievedₖ − desiredₖ` of a goal distance.
+    fn with_goal_diff<R>(&self, g: &GoalDistance, f: impl FnOnce(&dyn Fn(usize) -> f64) -> R) -> R {
         let (a, ai) = (self.field(g.achieved.field), &g.achieved.indices);
         match &g.desired {
             Desired::Select(d) => {
                 let df = self.field(d.field);
                 f(&|k| a[ai[k]] - df[d.indices[k]])
             }
-            Desired::Goal => f(&|k| a[ai[k]] - goal[k]),
+            Desired::Goal => f(&|k| a[ai[k]] - self.goal[k]),
         }
     }
 
-    fn goal_reached(&self, c: &GoalCheck, goal: &[f64]) -> bool {
-        self.with_goal_diff(&c.distance, goal, |diff| {
+    fn goal_reached(&self, c: &GoalCheck) -> bool {
+        self.with_goal_diff(&c.distance, |diff| {
             crate::goal::reached_by(c, self.numerics, diff)
         })
     }
@@ -252,8 +248,6 @@ pub struct Env {
     term_values: Vec<f64>,
     /// Per term: whether its weight-1 value is needed.
     unweighted_terms: Vec<bool>,
-    /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
-    goal: Vec<f64>,
     obs: Vec<f64>,
     step_info: Vec<InfoSlot>,
     step_info_values: Vec<f64>,
@@ -312,6 +306,7 @@ impl Env {
         let size = |x: i64| x as usize;
         let mut sim = Sim {
             numerics,
+            goal: vec![0.0; spec.goal_dim],
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -407,7 +402,6 @@ impl Env {
                         .any(|it| it.unweighted && matches!(it.kind, InfoKind::Term(j) if j == i))
                 })
                 .collect(),
-            goal: vec![0.0; spec.goal_dim],
             obs: vec![0.0; spec.obs_dim],
             step_info_values: vec![0.0; total(&step_info)],
             reset_info_values: vec![0.0; total(&reset_info)],
@@ -493,15 +487,15 @@ impl Env {
     /// The env-held goal vector that goal terms with `desired = "goal"` read (`spec().goal_dim`
     /// entries, zero until set).
     pub fn goal(&self) -> &[f64] {
-        &self.goal
+        &self.sim.goal
     }
     /// Set the goal vector (e.g. at every reset, or when an outer env changes the goal).
     pub fn goal_mut(&mut self) -> &mut [f64] {
-        &mut self.goal
+        &mut self.sim.goal
     }
     /// Whether the current state reaches the goal under `c` (a `goal_reached` check).
     pub fn goal_reached(&self, c: &GoalCheck) -> bool {
-        self.sim.goal_reached(c, &self.goal)
+        self.sim.goal_reached(c)
     }
     /// The `init_qpos` resets start from (Gymnasium's `env.init_qpos`; a maze moves its xy).
     pub(crate) fn init_qpos_mut(&mut self) -> &mut [f64] {
@@ -608,7 +602,6 @@ impl Env {
                 &self.sim,
                 &self.before,
                 &self.term_values,
-                &self.goal,
                 self.dt,
                 item,
                 None,
@@ -723,7 +716,6 @@ impl Env {
                 &self.sim,
                 &self.before,
                 &self.term_values,
-                &self.goal,
                 self.dt,
                 item,
                 slot,
@@ -737,7 +729,7 @@ impl Env {
                 .spec
                 .termination
                 .iter()
-                .any(|t| self.sim.goal_reached(&t.reached, &self.goal));
+                .any(|t| self.sim.goal_reached(&t.reached));
         let truncated = self
             .spec
             .max_episode_steps
@@ -864,9 +856,7 @@ impl Env {
             }
             TermKind::Constant => return weight,
             TermKind::GoalSparse(GoalCheck { distance: g, .. }) | TermKind::GoalDense(g) => sim
-                .with_goal_diff(g, &self.goal, |diff| {
-                    crate::goal::kernel(&t.kind, sim.numerics, diff)
-                })
+                .with_goal_diff(g, |diff| crate::goal::kernel(&t.kind, sim.numerics, diff))
                 .expect("a goal kind"),
         };
         weight * kernel
@@ -914,7 +904,6 @@ fn write_info(
     sim: &Sim,
     before: &[f64],
     term_values: &[f64],
-    goal: &[f64],
     dt: f64,
     item: &InfoItem,
     slot: Option<usize>,
@@ -940,7 +929,7 @@ fn write_info(
         }
         InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
-        InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c, goal) as u8 as f64,
+        InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
     }
 }
 
@@ -969,8 +958,14 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
 fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
     let sel = |s: &Selection| s.field == field;
     spec.observation.iter().any(|s| sel(&s.source))
-        || spec.reward.iter().any(|t| t.kind.selections().into_iter().any(sel))
-        || spec.info.iter().any(|i| i.kind.selections().into_iter().any(sel))
+        || spec
+            .reward
+            .iter()
+            .any(|t| t.kind.selections().into_iter().any(sel))
+        || spec
+            .info
+            .iter()
+            .any(|i| i.kind.selections().into_iter().any(sel))
         || spec
             .termination
             .iter()

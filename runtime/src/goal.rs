@@ -32,7 +32,11 @@ pub(crate) fn reached_by(c: &GoalCheck, profile: Profile, diff: &dyn Fn(usize) -
 }
 
 /// The kernel of a goal reward term (`None` for other kinds).
-pub(crate) fn kernel(kind: &TermKind, profile: Profile, diff: &dyn Fn(usize) -> f64) -> Option<f64> {
+pub(crate) fn kernel(
+    kind: &TermKind,
+    profile: Profile,
+    diff: &dyn Fn(usize) -> f64,
+) -> Option<f64> {
     match kind {
         TermKind::GoalSparse(c) => Some(if reached_by(c, profile, diff) {
             1.0
@@ -67,12 +71,7 @@ pub fn term_value(
 
 /// Whether `achieved` reaches `desired` under the check. `None` when a vector does not have the
 /// check's length.
-pub fn reached(
-    c: &GoalCheck,
-    profile: Profile,
-    achieved: &[f64],
-    desired: &[f64],
-) -> Option<bool> {
+pub fn reached(c: &GoalCheck, profile: Profile, achieved: &[f64], desired: &[f64]) -> Option<bool> {
     let n = c.distance.len();
     (achieved.len() == n && desired.len() == n)
         .then(|| reached_by(c, profile, &|k| achieved[k] - desired[k]))

@@ -155,7 +155,9 @@ impl MazeEnv {
             ));
         }
         let model = Arc::new(build_world(&spec, &robot_spec)?);
-        let task = spec.goal_task(&robot_spec.model).map_err(Diagnostics::from)?;
+        let task = spec
+            .goal_task(&robot_spec.model)
+            .map_err(Diagnostics::from)?;
         let robot_spec = task.apply(robot_spec).map_err(Diagnostics::from)?;
         let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
         let layout = spec.layout();
@@ -428,9 +430,11 @@ impl MazeEnv {
     /// unless the task is continuing) holds for these goals.
     pub fn compute_terminated(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
         let p = self.numerics();
-        self.robot.spec().termination.iter().any(|t| {
-            crate::goal::reached(&t.reached, p, &achieved, &desired).unwrap_or(false)
-        })
+        self.robot
+            .spec()
+            .termination
+            .iter()
+            .any(|t| crate::goal::reached(&t.reached, p, &achieved, &desired).unwrap_or(false))
     }
 
     /// `compute_truncated`: always false (the time limit truncates).
