@@ -319,3 +319,38 @@ fn bad_goal_terms_have_codes() {
         code_of(|t| t.replacen("kind = \"goal_reached\"", "kind = \"goal_reachd\"", 1));
     assert_eq!(unknown_kind, vec![Code::E0104]);
 }
+
+// The typed env generated from the example (codegen handles the goal kinds: its docs list them).
+envc::env!(ReacherGoal = "../specs/examples/reacher_goal.toml");
+
+/// The typed env: sparse reward, `terminated` and `info.success` per step, as in
+/// `reacher_goal_sparse_reward_and_termination`, through the generated API.
+#[test]
+fn typed_reacher_goal() {
+    let r = rollout();
+    let config = ReacherGoalConfig {
+        goal_threshold: r.threshold,
+        ..Default::default()
+    };
+    let mut env = ReacherGoal::new(&config).unwrap();
+    env.inner_mut()
+        .set_numerics(envc_tests::recorded_profile(&r.rec));
+    let (_, info) = env.reset(Some(r.rec["seed"].as_u64().unwrap()));
+    assert_eq!(info.success, (r.db[0] <= r.threshold) as u8 as f64);
+    let actions = unhex(&r.rec["actions"]);
+    for (k, a) in actions.chunks(2).enumerate() {
+        let e = k + 1;
+        let mut act = ReacherGoalAction::zeros();
+        act.0.copy_from_slice(a);
+        let s = env.step(&act).unwrap();
+        let want: f64 = if r.dp[e] <= r.threshold { 1.0 } else { 0.0 };
+        assert_eq!(s.reward.to_bits(), want.to_bits(), "event {e}");
+        assert_eq!(s.terminated, r.db[e] <= r.threshold, "event {e}");
+        assert_eq!(s.info.success, (r.db[e] <= r.threshold) as u8 as f64);
+        if s.terminated {
+            assert_eq!(e, r.reach_event);
+            return;
+        }
+    }
+    panic!("never terminated");
+}
