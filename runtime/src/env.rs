@@ -4,7 +4,8 @@
 //! write qpos/qvel → `mj_forward` → observation and reset info.
 //! `step(action)`: read "before" values → ctrl = action → `frame_skip × mj_step` →
 //! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation, info,
-//! TimeLimit truncation. No `mj_forward` after stepping: derived quantities are "lagged", exactly
+//! termination (health and `[termination.*]`), TimeLimit truncation. Goal terms read the env-held
+//! goal vector (`goal_mut`) where they say `desired = "goal"`. No `mj_forward` after stepping: derived quantities are "lagged", exactly
 //! as in the reference. Nothing allocates after construction.
 
 use std::path::Path;
