@@ -4,14 +4,23 @@
 use envc::Env;
 use envc::registry::bundled;
 
-/// Models of the example specs (not shipped with envc), passed as `xml_file` overrides.
-const EXAMPLE_MODELS: &[(&str, &str)] = &[(
-    "Go1-v0",
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/models/unitree_go1/scene.xml"
+/// Models of the example specs, passed as `xml_file` overrides.
+const EXAMPLE_MODELS: &[(&str, &str)] = &[
+    (
+        "Go1-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/models/unitree_go1/scene.xml"
+        ),
     ),
-)];
+    (
+        "ReacherGoal-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/gymnasium/reacher.xml"
+        ),
+    ),
+];
 
 fn each_env(f: impl Fn(&str, Env)) {
     let all = bundled();

@@ -1,7 +1,7 @@
 //! Generated rustdoc: layout tables, reward formulas, parameter docs — all from the resolved spec.
 
 use envspec::ir::{CheckKind, CmpOp, Distribution, Divisor, InfoItem, InfoKind, TermKind};
-use envspec::{Param, ResolvedSpec};
+use envspec::{Param, ResolvedSpec, describe};
 use syn::Ident;
 
 /// `|` and newlines would break a markdown table cell.
@@ -53,6 +53,7 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
         InfoKind::Norm { source } => format!("‖`{}`‖₂", source.text),
         InfoKind::Velocity { source } => format!("velocity of `{}` over dt", source.text),
         InfoKind::Term(i) => format!("signed value of reward term `{}`", r.reward[*i].name),
+        InfoKind::GoalReached(c) => format!("1 if {} else 0", describe::goal_check(c)),
     };
     if it.doc.is_empty() {
         format!("`{}`: {what}.", it.key)
@@ -101,6 +102,8 @@ fn term_formula(t: &envspec::ir::RewardTerm) -> String {
             None => format!("{w} × `{}`", source.text),
         },
         TermKind::Constant => format!("{w}"),
+        TermKind::GoalSparse(c) => format!("{w} × (1 if {} else 0)", describe::goal_check(c)),
+        TermKind::GoalDense(g) => format!("{w} × exp(−{})", describe::goal_distance(g)),
     }
 }
 
@@ -209,6 +212,21 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 cond
             ));
         }
+    }
+
+    if !r.termination.is_empty() {
+        d.push_str("\n# Termination\n\n| condition | terminates when |\n|---|---|\n");
+        for t in &r.termination {
+            let when = describe::goal_check(&t.reached);
+            d.push_str(&format!("| `{}` | {} |\n", t.name, cell(&when)));
+        }
+    }
+    if r.goal_dim > 0 {
+        d.push_str(&format!(
+            "\nGoal terms with `desired = \"goal\"` read the env-held goal vector ({} values): \
+             `inner_mut().goal_mut()` sets it.\n",
+            r.goal_dim
+        ));
     }
 
     if !r.reset.is_empty() {

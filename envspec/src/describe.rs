@@ -70,7 +70,28 @@ pub fn kernel(t: &RewardTerm) -> String {
             None => sel(source),
         },
         TermKind::Constant => "1".into(),
+        TermKind::GoalSparse(c) => format!("1 if {} else 0", goal_check(c)),
+        TermKind::GoalDense(g) => format!("exp(−{})", goal_distance(g)),
     }
+}
+
+/// A goal distance, e.g. `‖qpos[0:2] − goal‖₂ (pairwise)`.
+pub fn goal_distance(g: &GoalDistance) -> String {
+    let desired = match &g.desired {
+        Desired::Select(s) => sel(s),
+        Desired::Goal => "goal".into(),
+    };
+    format!("‖{} − {desired}‖₂ ({})", sel(&g.achieved), g.norm.name())
+}
+
+/// A goal check, e.g. `‖qpos[0:2] − goal‖₂ (blas) ≤ 0.45`.
+pub fn goal_check(c: &GoalCheck) -> String {
+    format!("{} ≤ {}", goal_distance(&c.distance), num(c.threshold))
+}
+
+/// A `[termination.*]` condition.
+pub fn termination(t: &Termination) -> String {
+    format!("terminates when {}", goal_check(&t.reached))
 }
 
 /// The full contribution of a term to the reward, e.g. `−0.5 × Σ action²`.
@@ -182,5 +203,6 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::Norm { source } => format!("‖{}‖₂", sel(source)),
         InfoKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
+        InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
     }
 }

@@ -143,6 +143,14 @@ pub enum Code {
     E0707,
     /// A maze reset option naming a wall or a cell outside the map.
     E0708,
+    /// A goal term's `achieved` and `desired` have different lengths.
+    E0801,
+    /// An unknown `norm` option of a goal term.
+    E0802,
+    /// A goal threshold that is not a finite number ≥ 0.
+    E0803,
+    /// A goal term's `achieved` selects no element.
+    E0804,
     /// `envc diff` of two different kinds of spec (task, multi-agent, maze).
     E0905,
     /// MuJoCo failed to compile the model.

@@ -30,6 +30,10 @@ pub struct ResolvedSpec {
     pub health: Vec<HealthCheck>,
     /// Whether an unhealthy state ends the episode.
     pub terminate_when_unhealthy: bool,
+    /// Conditions that end the episode when they hold (`[termination.*]`), beside health.
+    pub termination: Vec<Termination>,
+    /// Length of the env-held goal vector that goal terms with `desired = "goal"` read (0: none).
+    pub goal_dim: usize,
     /// Applied in order at reset (the order is the RNG draw order).
     pub reset: Vec<ResetStep>,
     /// Info entries in order (switched-off entries left out); reward terms with an `info` key come
@@ -153,6 +157,105 @@ pub enum TermKind {
     },
     /// 1.
     Constant,
+    /// `1.0 if d ≤ threshold else 0.0` of a goal distance `d` (spec kind `goal_sparse`).
+    GoalSparse(GoalCheck),
+    /// `exp(−d)` of a goal distance `d` (spec kind `goal_dense`; numpy's `np.exp` under the env's
+    /// numerics profile).
+    GoalDense(GoalDistance),
+}
+
+impl TermKind {
+    /// Every selection the term reads.
+    pub fn selections(&self) -> Vec<&Selection> {
+        match self {
+            TermKind::Velocity { source }
+            | TermKind::SumSquares { source, .. }
+            | TermKind::Quadratic { source, .. }
+            | TermKind::Value { source, .. } => vec![source],
+            TermKind::Norm { source, minus } => std::iter::once(source).chain(minus).collect(),
+            TermKind::GoalSparse(c) => c.distance.selections(),
+            TermKind::GoalDense(g) => g.selections(),
+            TermKind::Healthy | TermKind::Constant => vec![],
+        }
+    }
+}
+
+/// How a goal distance adds the squared differences (numpy's two ways to spell the same norm,
+/// which differ in the last bit).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GoalNorm {
+    /// `np.linalg.norm(a − b, axis=-1)`: `sqrt` of numpy's pairwise sum of the squares (spec
+    /// `norm = "pairwise"`; the default of the reward kinds).
+    Pairwise,
+    /// `np.linalg.norm(a − b)`: OpenBLAS `ddot` as the env's numerics profile sums it, then
+    /// `sqrt` (spec `norm = "blas"`; the default of `goal_reached`).
+    Blas,
+}
+
+impl GoalNorm {
+    pub const NAMES: &'static [&'static str] = &["pairwise", "blas"];
+    pub fn parse(s: &str) -> Option<GoalNorm> {
+        match s {
+            "pairwise" => Some(GoalNorm::Pairwise),
+            "blas" => Some(GoalNorm::Blas),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            GoalNorm::Pairwise => "pairwise",
+            GoalNorm::Blas => "blas",
+        }
+    }
+}
+
+/// Where a goal distance's desired quantity comes from.
+#[derive(Clone, Debug)]
+pub enum Desired {
+    /// A selection of the simulation (e.g. the target body's position).
+    Select(Selection),
+    /// The env-held goal vector (spec `desired = "goal"`), set by whoever drives the env
+    /// (`Env::set_goal`; a maze sets it to its goal at every reset and goal change).
+    Goal,
+}
+
+/// `d = ‖achieved − desired‖₂`, summed as `norm` says.
+#[derive(Clone, Debug)]
+pub struct GoalDistance {
+    pub achieved: Selection,
+    pub desired: Desired,
+    pub norm: GoalNorm,
+}
+
+impl GoalDistance {
+    pub fn len(&self) -> usize {
+        self.achieved.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.achieved.is_empty()
+    }
+    pub fn selections(&self) -> Vec<&Selection> {
+        match &self.desired {
+            Desired::Select(s) => vec![&self.achieved, s],
+            Desired::Goal => vec![&self.achieved],
+        }
+    }
+}
+
+/// The goal is reached when `d ≤ threshold` (a NaN distance never reaches it).
+#[derive(Clone, Debug)]
+pub struct GoalCheck {
+    pub distance: GoalDistance,
+    pub threshold: f64,
+}
+
+/// `[termination.<name>]`: the episode terminates on a step after which the condition holds.
+#[derive(Clone, Debug)]
+pub struct Termination {
+    pub name: String,
+    pub doc: String,
+    /// Spec kind `goal_reached`.
+    pub reached: GoalCheck,
 }
 
 /// A reward term: `value = weight × kernel` (except `SumSquares` with `clip`, see there, and `Constant`,
@@ -184,6 +287,8 @@ impl RewardTerm {
             TermKind::Quadratic { .. } => "quadratic",
             TermKind::Value { .. } => "value",
             TermKind::Constant => "constant",
+            TermKind::GoalSparse(_) => "goal_sparse",
+            TermKind::GoalDense(_) => "goal_dense",
         }
     }
 }
@@ -271,6 +376,20 @@ pub enum InfoKind {
     },
     /// The signed value of reward term `i` (see [`InfoItem::unweighted`]).
     Term(usize),
+    /// 1.0 when the goal is reached, else 0.0 (spec kind `goal_reached`; e.g. `success`).
+    GoalReached(GoalCheck),
+}
+
+impl InfoKind {
+    /// Every selection the entry reads.
+    pub fn selections(&self) -> Vec<&Selection> {
+        match self {
+            InfoKind::Value { source, minus } => std::iter::once(source).chain(minus).collect(),
+            InfoKind::Norm { source } | InfoKind::Velocity { source } => vec![source],
+            InfoKind::GoalReached(c) => c.distance.selections(),
+            InfoKind::Term(_) => vec![],
+        }
+    }
 }
 
 #[derive(Clone, Debug)]

@@ -19,6 +19,7 @@ pub mod agents;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;
+pub mod goal;
 pub mod ir;
 pub mod maze;
 pub mod mjcf;

@@ -11,12 +11,15 @@ use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
 mod edits;
+mod goal;
 
 struct Ctx<'a> {
     spec: &'a Spec,
     params: &'a [Param],
     model: &'a ModelInfo,
     d: Diagnostics,
+    /// Length of the env-held goal vector, and where a `desired = "goal"` first fixed it.
+    goal_dim: Option<(usize, Location)>,
 }
 
 /// Resolve a checked spec with parameter overrides against its model.
@@ -45,6 +48,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         params: &params,
         model: &model,
         d: Diagnostics::default(),
+        goal_dim: None,
     };
     let model_edits = cx.model_edits();
     let d = cx.d;
@@ -54,6 +58,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         params: &params,
         model: &model,
         d,
+        goal_dim: None,
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
@@ -85,6 +90,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         None => true,
     };
     let health = cx.health();
+    let termination = cx.terminations();
     let reset = cx.reset();
     let mut info = cx.info(&reward, &off);
     for (i, t) in reward.iter().enumerate() {
@@ -117,35 +123,22 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         .flatten()
         .collect();
     for t in &reward {
-        match &t.kind {
-            TermKind::Velocity { source }
-            | TermKind::SumSquares { source, .. }
-            | TermKind::Quadratic { source, .. }
-            | TermKind::Value { source, .. } => fields.push(source.field),
-            TermKind::Norm { source, minus } => {
-                fields.push(source.field);
-                fields.extend(minus.iter().map(|m| m.field));
-            }
-            TermKind::Healthy | TermKind::Constant => {}
-        }
+        fields.extend(t.kind.selections().iter().map(|s| s.field));
     }
     fields.extend(
         health
             .iter()
             .flat_map(|h| h.sources.iter().map(|s| s.field)),
     );
+    for t in &termination {
+        fields.extend(t.reached.distance.selections().iter().map(|s| s.field));
+    }
     for i in &info {
-        match &i.kind {
-            InfoKind::Value { source, minus } => {
-                fields.push(source.field);
-                fields.extend(minus.iter().map(|m| m.field));
-            }
-            InfoKind::Norm { source } | InfoKind::Velocity { source } => fields.push(source.field),
-            InfoKind::Term(_) => {}
-        }
+        fields.extend(i.kind.selections().iter().map(|s| s.field));
     }
     let needs_rne_post_constraint = fields.iter().any(|f| f.needs_rne_post_constraint());
 
+    let goal_dim = cx.goal_dim.as_ref().map_or(0, |(n, _)| *n);
     let Ctx { d, .. } = cx;
     d.into_result(ResolvedSpec {
         id: spec.id.clone(),
@@ -163,6 +156,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         reward_sum,
         health,
         terminate_when_unhealthy,
+        termination,
+        goal_dim,
         reset,
         info,
         needs_rne_post_constraint,
@@ -641,6 +636,12 @@ impl Ctx<'_> {
                     Some(TermKind::Value { source, divide_by })
                 }),
                 "constant" => Some(TermKind::Constant),
+                "goal_sparse" => self
+                    .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                    .map(TermKind::GoalSparse),
+                "goal_dense" => self
+                    .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                    .map(TermKind::GoalDense),
                 _ => None, // reported by the syntax check
             };
             if let Some(kind) = kind {
@@ -1095,6 +1096,13 @@ impl Ctx<'_> {
                             continue;
                         }
                     }
+                }
+                "goal_reached" => {
+                    let what = format!("[info.{}]", s.name);
+                    let Some(c) = self.goal_check(s, &what, GoalNorm::Blas) else {
+                        continue;
+                    };
+                    (InfoKind::GoalReached(c), 1, in_reset)
                 }
                 kind => {
                     let Some(source) = self.sel_key(s, "source") else {

@@ -62,6 +62,8 @@ pub struct Spec {
     pub health: Vec<Section>,
     pub reset: Vec<Section>,
     pub info: Vec<Section>,
+    /// `[termination.<name>]`: conditions that end the episode (beside health).
+    pub termination: Vec<Section>,
     /// `[actuators.<name>]`: actuators added to the model when it is loaded.
     pub actuators: Vec<Section>,
     /// `[physics]`: simulation options set when the model is loaded.
@@ -118,6 +120,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "health",
     "reset",
     "info",
+    "termination",
     "actuators",
     "physics",
     "agents",
@@ -147,7 +150,11 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("quadratic", &["source", "coefs", "targets"]),
     ("value", &["source", "divide_by"]),
     ("constant", &[]),
+    ("goal_sparse", GOAL_KEYS),
+    ("goal_dense", &["achieved", "desired", "norm"]),
 ];
+/// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
+const GOAL_KEYS: &[&str] = &["achieved", "desired", "threshold", "norm"];
 const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "when", "at", "doc"];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
@@ -171,7 +178,14 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("norm", &["source", "in_reset"]),
     ("velocity", &["source"]),
     ("term", &["term", "unweighted"]),
+    (
+        "goal_reached",
+        &["achieved", "desired", "threshold", "norm", "in_reset"],
+    ),
 ];
+
+/// Condition kinds of `[termination.*]` with the keys each accepts besides kind, when, doc.
+pub const TERMINATION_KINDS: &[(&str, &[&str])] = &[("goal_reached", GOAL_KEYS)];
 const INFO_COMMON: &[&str] = &["kind", "key", "when", "doc"];
 
 /// Actuator kinds of `[actuators.*]` with the keys each accepts besides `ACTUATOR_COMMON`.
@@ -230,6 +244,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         reward: vec![],
         health_terminate: None,
         health: vec![],
+        termination: vec![],
         reset: vec![],
         info: vec![],
         actuators: vec![],
@@ -368,12 +383,24 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
     spec.info = sections(get("info"), "info", &[], d);
     for s in &spec.info {
         check_kinded(s, "info", Some("value"), INFO_KINDS, INFO_COMMON, d);
-        let needs = if s.kind("value") == "term" {
-            "term"
-        } else {
-            "source"
+        let needs = match s.kind("value") {
+            "term" => "term",
+            "goal_reached" => "achieved",
+            _ => "source",
         };
         require(s, needs, &format!("[info.{}]", s.name), d);
+    }
+
+    spec.termination = sections(get("termination"), "termination", &[], d);
+    for s in &spec.termination {
+        check_kinded(
+            s,
+            "termination",
+            None,
+            TERMINATION_KINDS,
+            &["kind", "when", "doc"],
+            d,
+        );
     }
 
     spec.actuators = sections(get("actuators"), "actuators", &[], d);

@@ -281,7 +281,9 @@ fn unknown_reward_kind_suggests_the_near_miss() {
     assert_eq!(help(&d.0[0]), Some("did you mean `sum_squares`?"));
     assert_eq!(
         d.0[0].label.as_deref(),
-        Some("expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant")
+        Some(
+            "expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, goal_sparse, goal_dense"
+        )
     );
 }
 
@@ -1060,7 +1062,7 @@ error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
   --> specs/mini.toml:32:8
    |
 32 | kind = \"sum_square\"
-   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant
+   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, goal_sparse, goal_dense
    = help: did you mean `sum_squares`?
 ";
     assert_eq!(d.0[0].to_string(), expected);

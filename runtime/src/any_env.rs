@@ -14,7 +14,7 @@ use crate::numerics::Profile;
 /// An env of any kind.
 pub enum AnyEnv {
     Task(Env),
-    Maze(MazeEnv),
+    Maze(Box<MazeEnv>),
     Agents(MultiAgentEnv),
 }
 
@@ -41,7 +41,7 @@ impl AnyEnv {
     pub fn new(spec: AnySpec) -> Result<AnyEnv, EnvError> {
         Ok(match spec {
             AnySpec::Task(s) => AnyEnv::Task(Env::new(std::sync::Arc::new(*s))?),
-            AnySpec::Maze(s) => AnyEnv::Maze(MazeEnv::new(*s)?),
+            AnySpec::Maze(s) => AnyEnv::Maze(Box::new(MazeEnv::new(*s)?)),
             AnySpec::Agents(s) => AnyEnv::Agents(MultiAgentEnv::new(std::sync::Arc::new(*s))?),
         })
     }

@@ -4,7 +4,8 @@
 //! write qpos/qvel → `mj_forward` → observation and reset info.
 //! `step(action)`: read "before" values → ctrl = action → `frame_skip × mj_step` →
 //! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation, info,
-//! TimeLimit truncation. No `mj_forward` after stepping: derived quantities are "lagged", exactly
+//! termination (health and `[termination.*]`), TimeLimit truncation. Goal terms read the env-held
+//! goal vector (`goal_mut`) where they say `desired = "goal"`. No `mj_forward` after stepping: derived quantities are "lagged", exactly
 //! as in the reference. Nothing allocates after construction.
 
 use std::path::Path;
@@ -111,6 +112,8 @@ struct Sim {
     ntendon: usize,
     /// Whose arithmetic the CPU-dependent reductions (norms) follow.
     numerics: Profile,
+    /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
+    goal: Vec<f64>,
 }
 
 /// # Safety
@@ -163,6 +166,24 @@ impl Sim {
 
     fn get(&self, s: &Selection, k: usize) -> f64 {
         self.field(s.field)[s.indices[k]]
+    }
+
+    /// Hands `f` the differences `achievedₖ − desiredₖ` of a goal distance.
+    fn with_goal_diff<R>(&self, g: &GoalDistance, f: impl FnOnce(&dyn Fn(usize) -> f64) -> R) -> R {
+        let (a, ai) = (self.field(g.achieved.field), &g.achieved.indices);
+        match &g.desired {
+            Desired::Select(d) => {
+                let df = self.field(d.field);
+                f(&|k| a[ai[k]] - df[d.indices[k]])
+            }
+            Desired::Goal => f(&|k| a[ai[k]] - self.goal[k]),
+        }
+    }
+
+    fn goal_reached(&self, c: &GoalCheck) -> bool {
+        self.with_goal_diff(&c.distance, |diff| {
+            crate::goal::reached_by(c, self.numerics, diff)
+        })
     }
 
     /// Expand MuJoCo's sparse `ten_J` (rownnz / rowadr / colind) into `ten_j`.
@@ -286,6 +307,7 @@ impl Env {
         let size = |x: i64| x as usize;
         let mut sim = Sim {
             numerics,
+            goal: vec![0.0; spec.goal_dim],
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -462,6 +484,19 @@ impl Env {
             slots: &self.reset_info,
             values: &self.reset_info_values,
         }
+    }
+    /// The env-held goal vector that goal terms with `desired = "goal"` read (`spec().goal_dim`
+    /// entries, zero until set).
+    pub fn goal(&self) -> &[f64] {
+        &self.sim.goal
+    }
+    /// Set the goal vector (e.g. at every reset, or when an outer env changes the goal).
+    pub fn goal_mut(&mut self) -> &mut [f64] {
+        &mut self.sim.goal
+    }
+    /// Whether the current state reaches the goal under `c` (a `goal_reached` check).
+    pub fn goal_reached(&self, c: &GoalCheck) -> bool {
+        self.sim.goal_reached(c)
     }
     /// The `init_qpos` resets start from (Gymnasium's `env.init_qpos`; a maze moves its xy).
     pub(crate) fn init_qpos_mut(&mut self) -> &mut [f64] {
@@ -690,7 +725,12 @@ impl Env {
             off += item.len;
         }
         self.elapsed += 1;
-        let terminated = !healthy && self.spec.terminate_when_unhealthy;
+        let terminated = (!healthy && self.spec.terminate_when_unhealthy)
+            || self
+                .spec
+                .termination
+                .iter()
+                .any(|t| self.sim.goal_reached(&t.reached));
         let truncated = self
             .spec
             .max_episode_steps
@@ -816,6 +856,9 @@ impl Env {
                 }
             }
             TermKind::Constant => return weight,
+            TermKind::GoalSparse(GoalCheck { distance: g, .. }) | TermKind::GoalDense(g) => sim
+                .with_goal_diff(g, |diff| crate::goal::kernel(&t.kind, sim.numerics, diff))
+                .expect("a goal kind"),
         };
         weight * kernel
     }
@@ -887,6 +930,7 @@ fn write_info(
         }
         InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
+        InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
     }
 }
 
@@ -915,20 +959,18 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
 fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
     let sel = |s: &Selection| s.field == field;
     spec.observation.iter().any(|s| sel(&s.source))
-        || spec.reward.iter().any(|t| match &t.kind {
-            TermKind::Velocity { source }
-            | TermKind::SumSquares { source, .. }
-            | TermKind::Quadratic { source, .. }
-            | TermKind::Value { source, .. }
-            | TermKind::Norm { source, .. } => sel(source),
-            _ => false,
-        })
-        || spec.info.iter().any(|i| match &i.kind {
-            InfoKind::Value { source, .. }
-            | InfoKind::Norm { source }
-            | InfoKind::Velocity { source } => sel(source),
-            InfoKind::Term(_) => false,
-        })
+        || spec
+            .reward
+            .iter()
+            .any(|t| t.kind.selections().into_iter().any(sel))
+        || spec
+            .info
+            .iter()
+            .any(|i| i.kind.selections().into_iter().any(sel))
+        || spec
+            .termination
+            .iter()
+            .any(|t| t.reached.distance.selections().into_iter().any(sel))
 }
 
 /// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in

@@ -20,6 +20,7 @@ pub mod dataset;
 pub mod env;
 pub mod environment;
 pub mod error;
+pub mod goal;
 pub mod gymnasium;
 pub mod maze;
 mod model_build;

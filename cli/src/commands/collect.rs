@@ -101,7 +101,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let id = env.id().to_string();
     match env {
         envc::AnyEnv::Task(env) => record(env, &id, &args, format),
-        envc::AnyEnv::Maze(env) => record(env, &id, &args, format),
+        envc::AnyEnv::Maze(env) => record(*env, &id, &args, format),
         envc::AnyEnv::Agents(env) => Err(crate::target::unsupported(
             "collect",
             &id,

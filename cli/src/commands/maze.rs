@@ -231,14 +231,14 @@ pub fn show(env: &MazeEnv) -> Result<Outcome> {
         env.observation_dim(),
         r.id
     )?;
+    let task = env.goal_task();
     writeln!(
         o,
-        "reward: {}; success: distance ≤ {}",
-        match m.reward_type {
-            envspec::maze::RewardType::Sparse => "1.0 if distance ≤ threshold else 0.0",
-            envspec::maze::RewardType::Dense => "exp(-distance)",
-        },
-        m.goal_threshold
+        "reward: {} ({}); success: {}; terminates on success: {}",
+        envspec::describe::term(&task.reward),
+        task.reward.kind_name(),
+        envspec::describe::goal_check(&task.reached),
+        task.terminate
     )?;
     print!("{o}");
     Ok(Outcome::Ok)

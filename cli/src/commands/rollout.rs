@@ -97,7 +97,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut env = match crate::target::env(&args.spec, &args.set)? {
         envc::AnyEnv::Task(env) => env,
         envc::AnyEnv::Maze(env) => {
-            return crate::commands::maze::rollout(env, seed, &as_f64(), path, out, auto);
+            return crate::commands::maze::rollout(*env, seed, &as_f64(), path, out, auto);
         }
         envc::AnyEnv::Agents(env) => {
             return crate::commands::multi_agent::rollout(env, seed, &as_f64(), path, out, auto);

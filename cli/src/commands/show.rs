@@ -164,6 +164,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     for c in &spec.health {
         writeln!(o, "  {:<14} {}", c.name, describe::check(c))?;
     }
+    if !spec.termination.is_empty() {
+        writeln!(o, "\ntermination (beside health):")?;
+        for t in &spec.termination {
+            writeln!(o, "  {:<14} {}", t.name, describe::termination(t))?;
+        }
+    }
 
     writeln!(o, "\nreset (in RNG draw order; then mj_forward):")?;
     for r in &spec.reset {

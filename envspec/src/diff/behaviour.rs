@@ -63,6 +63,41 @@ enum TermKindKey {
     Quadratic(Sel, Vec<Bits>, Vec<Bits>),
     Value(Sel, Option<Divisor>),
     Constant,
+    GoalSparse(GoalCheckKey),
+    GoalDense(GoalDistanceKey),
+}
+
+/// A goal distance: what it compares and how it sums.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct GoalDistanceKey {
+    achieved: Sel,
+    /// `None`: the env-held goal vector.
+    desired: Option<Sel>,
+    norm: GoalNorm,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct GoalCheckKey {
+    distance: GoalDistanceKey,
+    threshold: Bits,
+}
+
+fn goal_distance(g: &GoalDistance) -> GoalDistanceKey {
+    GoalDistanceKey {
+        achieved: sel(&g.achieved),
+        desired: match &g.desired {
+            Desired::Select(s) => Some(sel(s)),
+            Desired::Goal => None,
+        },
+        norm: g.norm,
+    }
+}
+
+pub(crate) fn goal_check(c: &GoalCheck) -> GoalCheckKey {
+    GoalCheckKey {
+        distance: goal_distance(&c.distance),
+        threshold: bits(c.threshold),
+    }
 }
 
 /// A reward term's value (not the info key it is reported under).
@@ -92,6 +127,8 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         } => TermKindKey::Quadratic(sel(source), bits_all(coefs), bits_all(targets)),
         TermKind::Value { source, divide_by } => TermKindKey::Value(sel(source), *divide_by),
         TermKind::Constant => TermKindKey::Constant,
+        TermKind::GoalSparse(c) => TermKindKey::GoalSparse(goal_check(c)),
+        TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
     };
     TermKey {
         kind,
@@ -173,6 +210,7 @@ pub(crate) enum InfoKey {
     Velocity(Sel, usize),
     /// The reported term's value (none when the index is out of range) and `unweighted`.
     Term(Option<TermKey>, bool),
+    GoalReached(GoalCheckKey),
 }
 
 pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
@@ -183,6 +221,7 @@ pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
         InfoKind::Norm { source } => InfoKey::Norm(sel(source), i.len),
         InfoKind::Velocity { source } => InfoKey::Velocity(sel(source), i.len),
         InfoKind::Term(t) => InfoKey::Term(r.reward.get(*t).map(term), i.unweighted),
+        InfoKind::GoalReached(c) => InfoKey::GoalReached(goal_check(c)),
     }
 }
 

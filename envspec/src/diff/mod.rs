@@ -84,6 +84,18 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         &new.health,
         &|r: &ResolvedSpec, n: &str| r.health.iter().find(|c| c.name == n).map(behaviour::check),
     );
+    sections::sections(
+        &mut cx,
+        &sections::TERMINATION,
+        &old.termination,
+        &new.termination,
+        &|r: &ResolvedSpec, n: &str| {
+            r.termination
+                .iter()
+                .find(|c| c.name == n)
+                .map(|t| behaviour::goal_check(&t.reached))
+        },
+    );
     whole::episode(&mut cx);
     sections::sections(
         &mut cx,

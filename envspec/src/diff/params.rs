@@ -44,10 +44,11 @@ fn uses(spec: &Spec, param: &str) -> Vec<(Category, String)> {
         }
     }
     let mut out = vec![];
-    let groups: [(&[Section], Category, &str); 5] = [
+    let groups: [(&[Section], Category, &str); 6] = [
         (&spec.observation, Category::Observation, "observation"),
         (&spec.reward, Category::Reward, "reward"),
         (&spec.health, Category::Termination, "health"),
+        (&spec.termination, Category::Termination, "termination"),
         (&spec.reset, Category::Reset, "reset"),
         (&spec.info, Category::Info, "info"),
     ];

@@ -199,6 +199,16 @@ rules! {
         "A key of a health check changed; compatible when the resolved check is unchanged.";
     HealthCheckResolvedChanged = "health-check-resolved-changed", Termination, true,
         "A health check's text is unchanged but it resolves differently under the default parameters.";
+    TerminationAdded = "termination-added", Termination, true,
+        "A termination condition was added; compatible when switched off under the default parameters.";
+    TerminationRemoved = "termination-removed", Termination, true,
+        "A termination condition was removed; compatible when it was switched off under the default parameters.";
+    TerminationRenamed = "termination-renamed", Termination, true,
+        "A termination condition was renamed (same keys); compatible when the resolved condition is unchanged.";
+    TerminationKeyChanged = "termination-key-changed", Termination, true,
+        "A key of a termination condition changed; compatible when the resolved condition is unchanged.";
+    TerminationResolvedChanged = "termination-resolved-changed", Termination, true,
+        "A termination condition's text is unchanged but it resolves differently under the default parameters.";
     HealthTerminateChanged = "health-terminate-changed", Termination, true,
         "Whether an unhealthy state ends the episode changed.";
 

@@ -46,6 +46,13 @@ fn describe_check(r: &ResolvedSpec, name: &str) -> Option<String> {
         .map(describe::check)
 }
 
+fn describe_termination(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.termination
+        .iter()
+        .find(|c| c.name == name)
+        .map(describe::termination)
+}
+
 fn describe_reset(r: &ResolvedSpec, name: &str) -> Option<String> {
     r.reset
         .iter()
@@ -79,6 +86,15 @@ pub(super) const HEALTH: Kind = Kind {
     key_changed: RuleId::HealthCheckKeyChanged,
     resolved_changed: RuleId::HealthCheckResolvedChanged,
     describe: describe_check,
+};
+pub(super) const TERMINATION: Kind = Kind {
+    name: "termination",
+    added: RuleId::TerminationAdded,
+    removed: RuleId::TerminationRemoved,
+    renamed: RuleId::TerminationRenamed,
+    key_changed: RuleId::TerminationKeyChanged,
+    resolved_changed: RuleId::TerminationResolvedChanged,
+    describe: describe_termination,
 };
 pub(super) const RESET: Kind = Kind {
     name: "reset",

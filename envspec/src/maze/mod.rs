@@ -200,3 +200,20 @@ impl MazeSpec {
         l
     }
 }
+
+impl MazeSpec {
+    /// The maze's goal task as spec-language terms over the robot's root x, y (`qpos[0:2]` of the
+    /// robot's model): `reward_type`, `goal_threshold` and `continuing_task` (docs/maze.md).
+    pub fn goal_task(
+        &self,
+        robot: &crate::ModelInfo,
+    ) -> Result<crate::goal::GoalTask, crate::Diagnostic> {
+        crate::goal::GoalTask::reach(
+            robot,
+            "qpos[0:2]",
+            self.reward_type == RewardType::Dense,
+            self.goal_threshold,
+            !self.continuing_task,
+        )
+    }
+}

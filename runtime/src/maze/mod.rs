@@ -19,13 +19,15 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use envspec::maze::{Cell, Layout, MazeSpec, RewardType};
+use envspec::goal::GoalTask;
+use envspec::ir::GoalNorm;
+use envspec::maze::{Cell, Layout, MazeSpec};
 use envspec::{Code, Diagnostic, Diagnostics, Override, ResolvedSpec};
 use mujoco_rs::prelude::*;
 
 use crate::env::{BoxSpace, Env, Info};
 use crate::error::EnvError;
-use crate::numerics::{Profile, exp, norm, pairwise_sum};
+use crate::numerics::Profile;
 use crate::rng::NumpyRng;
 
 mod fit;
@@ -65,6 +67,9 @@ pub struct MazeStep<'a> {
 /// A maze env.
 pub struct MazeEnv {
     spec: Arc<MazeSpec>,
+    /// The goal terms (`MazeSpec::goal_task`); the robot env runs them as its reward and
+    /// termination, against its goal vector (kept equal to `goal`).
+    task: GoalTask,
     robot: Env,
     layout: Layout,
     rng: Option<NumpyRng>,
@@ -135,6 +140,10 @@ impl MazeEnv {
         }
         let model = Arc::new(build_world(&spec, &robot_spec)?);
         fit::check_robot_fits(&spec, &robot_spec, &model)?;
+        let task = spec
+            .goal_task(&robot_spec.model)
+            .map_err(Diagnostics::from)?;
+        let robot_spec = task.apply(robot_spec).map_err(Diagnostics::from)?;
         let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
         let obs = MazeObs {
             observation: vec![0.0; robot.obs_dim()],
@@ -142,6 +151,7 @@ impl MazeEnv {
         };
         Ok(MazeEnv {
             spec: Arc::new(spec),
+            task,
             robot,
             layout,
             rng: None,
@@ -170,9 +180,13 @@ impl MazeEnv {
     pub fn set_numerics(&mut self, profile: Profile) {
         self.robot.set_numerics(profile);
     }
-    /// `np.linalg.norm(a - b)` under this env's profile.
+    /// The goal terms: the reward term, the reached check (success, termination).
+    pub fn goal_task(&self) -> &GoalTask {
+        &self.task
+    }
+    /// `np.linalg.norm(a - b)` under this env's profile (the start cell's distance to the goal).
     fn dist_blas(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
-        dist_blas(self.robot.numerics(), a, b)
+        crate::goal::distance(GoalNorm::Blas, self.robot.numerics(), 2, &|k| a[k] - b[k])
     }
     pub fn model(&self) -> &Arc<MjModel> {
         self.robot.model()
@@ -287,19 +301,21 @@ impl MazeEnv {
         let init = self.robot.init_qpos_mut();
         init[0] = reset[0];
         init[1] = reset[1];
+        self.robot.goal_mut().copy_from_slice(&self.goal);
         let (obs, _) = self.robot.reset(seed);
         self.obs.observation.copy_from_slice(obs);
         self.fill_goals();
-        self.success =
-            self.dist_blas(self.obs.achieved_goal, self.goal) <= self.spec.goal_threshold;
+        self.success = self.robot.goal_reached(&self.task.reached);
         self.elapsed = 0;
         self.has_reset = true;
         Ok((&self.obs, self.success))
     }
 
+    /// `achieved_goal` is what the goal terms read as `achieved` (`qpos[0:2]`).
     fn fill_goals(&mut self) {
-        let (qpos, _) = self.robot.state();
-        self.obs.achieved_goal = [qpos[0], qpos[1]];
+        let a = &self.task.reached.distance.achieved;
+        let f = self.robot.field(a.field);
+        self.obs.achieved_goal = [f[a.indices[0]], f[a.indices[1]]];
         self.obs.desired_goal = self.goal;
     }
 
@@ -310,9 +326,10 @@ impl MazeEnv {
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v);
         }
-        self.robot.step(action)?;
+        let s = self.robot.step(action)?;
+        let (reward, terminated) = (s.reward, s.terminated);
         self.obs.observation.copy_from_slice(self.robot.obs());
-        Ok(self.after_step())
+        Ok(self.after_step(reward, terminated))
     }
 
     /// `step` with a float32 action, as a float32 policy calls the reference (the robot's action
@@ -322,9 +339,10 @@ impl MazeEnv {
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v);
         }
-        self.robot.step_f32(action)?;
+        let s = self.robot.step_f32(action)?;
+        let (reward, terminated) = (s.reward, s.terminated);
         self.obs.observation.copy_from_slice(self.robot.obs());
-        Ok(self.after_step())
+        Ok(self.after_step(reward, terminated))
     }
 
     fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
@@ -347,13 +365,12 @@ impl MazeEnv {
         Ok(())
     }
 
-    fn after_step(&mut self) -> MazeStep<'_> {
+    /// `reward` and `terminated` are the robot env's: the goal terms, evaluated against the goal
+    /// before any update (`desired_goal`).
+    fn after_step(&mut self, reward: f64, terminated: bool) -> MazeStep<'_> {
         self.fill_goals();
-        let achieved = self.obs.achieved_goal;
-        let reward = self.compute_reward_one(achieved, self.goal);
-        let terminated = self.compute_terminated(achieved, self.goal);
-        self.success = self.dist_blas(achieved, self.goal) <= self.spec.goal_threshold;
-        self.update_goal(achieved);
+        self.success = self.robot.goal_reached(&self.task.reached);
+        self.update_goal(self.obs.achieved_goal);
         self.elapsed += 1;
         let truncated = self
             .spec
@@ -369,31 +386,30 @@ impl MazeEnv {
         }
     }
 
-    fn compute_reward_one(&self, achieved: [f64; 2], desired: [f64; 2]) -> f64 {
-        let d = dist_axis(achieved, desired);
-        match self.spec.reward_type {
-            RewardType::Dense => exp(self.robot.numerics(), -d),
-            RewardType::Sparse => {
-                if d <= self.spec.goal_threshold {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
-        }
+    /// The goal task's reached check on given goals.
+    fn reached(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
+        crate::goal::reached(&self.task.reached, self.numerics(), &achieved, &desired)
+            .unwrap_or(false)
     }
 
-    /// `compute_reward` over a batch (hindsight relabelling): `out[k]` is the reward of
-    /// `achieved[k]` against `desired[k]`, exactly as the step reward.
+    /// `compute_reward` over a batch (hindsight relabelling): `out[k]` is the reward term's value
+    /// for `achieved[k]` against `desired[k]`, exactly as the step reward.
     pub fn compute_reward(&self, achieved: &[[f64; 2]], desired: &[[f64; 2]], out: &mut [f64]) {
+        let p = self.numerics();
         for ((a, d), o) in achieved.iter().zip(desired).zip(out.iter_mut()) {
-            *o = self.compute_reward_one(*a, *d);
+            *o = crate::goal::term_value(&self.task.reward, p, a, d).unwrap_or(f64::NAN);
         }
     }
 
-    /// `compute_terminated`: reaching the goal ends the episode unless the task is continuing.
+    /// `compute_terminated`: whether a termination condition of the robot env (reaching the goal,
+    /// unless the task is continuing) holds for these goals.
     pub fn compute_terminated(&self, achieved: [f64; 2], desired: [f64; 2]) -> bool {
-        !self.spec.continuing_task && self.dist_blas(achieved, desired) <= self.spec.goal_threshold
+        let p = self.numerics();
+        self.robot
+            .spec()
+            .termination
+            .iter()
+            .any(|t| crate::goal::reached(&t.reached, p, &achieved, &desired).unwrap_or(false))
     }
 
     /// `compute_truncated`: always false (the time limit truncates).
@@ -401,19 +417,21 @@ impl MazeEnv {
         false
     }
 
+    /// With `continuing_task` and `reset_target`, a reached goal is redrawn until it is not
+    /// reached (the robot env's goal vector follows).
     fn update_goal(&mut self, achieved: [f64; 2]) {
-        let th = self.spec.goal_threshold;
         if self.spec.continuing_task
             && self.spec.reset_target
-            && self.dist_blas(achieved, self.goal) <= th
+            && self.reached(achieved, self.goal)
             && self.layout.goals.len() > 1
         {
             let mut tries = 0u32;
-            while self.dist_blas(achieved, self.goal) <= th && tries < 1_000_000 {
+            while self.reached(achieved, self.goal) && tries < 1_000_000 {
                 let g = self.sample_goal();
                 self.goal = self.noisy(g);
                 tries += 1;
             }
+            self.robot.goal_mut().copy_from_slice(&self.goal);
         }
     }
 
@@ -424,18 +442,6 @@ impl MazeEnv {
     pub fn elapsed_steps(&self) -> u64 {
         self.elapsed
     }
-}
-
-/// `np.linalg.norm(a - b)` (no axis: OpenBLAS ddot).
-fn dist_blas(profile: Profile, a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [a[0] - b[0], a[1] - b[1]];
-    norm(profile, 2, &|i| d[i])
-}
-
-/// `np.linalg.norm(a - b, axis=-1)`: `sqrt(add.reduce(d * d))`.
-fn dist_axis(a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [a[0] - b[0], a[1] - b[1]];
-    pairwise_sum(2, &|i| d[i] * d[i]).sqrt()
 }
 
 /// The robot's model with the maze added to its world body: one box per wall cell (named
