@@ -89,7 +89,8 @@ impl AgentsSpec {
         self.agents.iter().any(|a| {
             a.observation
                 .iter()
-                .any(|s| s.source.field.needs_rne_post_constraint())
+                .flat_map(|s| s.sources())
+                .any(|s| s.field.needs_rne_post_constraint())
         })
     }
 }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
-use crate::selector::Selection;
+use crate::selector::{Field, Selection};
 
 #[derive(Clone, Debug)]
 pub struct ResolvedSpec {
@@ -67,6 +67,19 @@ impl ResolvedSpec {
     pub fn reset_info(&self) -> impl Iterator<Item = &InfoItem> {
         self.info.iter().filter(|i| i.at_reset)
     }
+    /// Every selection the env reads from the simulation (observation, reward terms, health
+    /// checks, info), in spec order. Reset targets are written, not read, so they are not here.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let obs = self.observation.iter().flat_map(Segment::sources);
+        let terms = self.reward.iter().flat_map(|t| t.kind.sources());
+        let health = self.health.iter().flat_map(|h| &h.sources);
+        let info = self.info.iter().flat_map(|i| i.kind.sources());
+        obs.chain(terms).chain(health).chain(info)
+    }
+    /// Whether anything the env computes reads `field`.
+    pub fn reads(&self, field: Field) -> bool {
+        self.sources().any(|s| s.field == field)
+    }
 }
 
 /// Elementwise function applied to an observation segment.
@@ -90,6 +103,10 @@ pub struct Segment {
 }
 
 impl Segment {
+    /// The selections the segment reads: `source`, then `minus`.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        std::iter::once(&self.source).chain(&self.minus)
+    }
     pub fn len(&self) -> usize {
         self.source.len()
     }
@@ -172,6 +189,21 @@ pub struct RewardTerm {
     /// `healthy` terms only: the kernel is 1 also when unhealthy (spec key `paid_when_unhealthy`;
     /// Gymnasium v4's `float(is_healthy or terminate_when_unhealthy)`).
     pub paid_when_unhealthy: bool,
+}
+
+impl TermKind {
+    /// The selections the kernel reads (none for `healthy` and `constant`).
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let (a, b) = match self {
+            TermKind::Velocity { source }
+            | TermKind::SumSquares { source, .. }
+            | TermKind::Quadratic { source, .. }
+            | TermKind::Value { source, .. } => (Some(source), None),
+            TermKind::Norm { source, minus } => (Some(source), minus.as_ref()),
+            TermKind::Healthy | TermKind::Constant => (None, None),
+        };
+        a.into_iter().chain(b)
+    }
 }
 
 impl RewardTerm {
@@ -271,6 +303,18 @@ pub enum InfoKind {
     },
     /// The signed value of reward term `i` (see [`InfoItem::unweighted`]).
     Term(usize),
+}
+
+impl InfoKind {
+    /// The selections the entry reads (none for a reward term's value).
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let (a, b) = match self {
+            InfoKind::Value { source, minus } => (Some(source), minus.as_ref()),
+            InfoKind::Norm { source } | InfoKind::Velocity { source } => (Some(source), None),
+            InfoKind::Term(_) => (None, None),
+        };
+        a.into_iter().chain(b)
+    }
 }
 
 #[derive(Clone, Debug)]

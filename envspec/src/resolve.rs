@@ -111,43 +111,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     cx.check_info_keys(&info);
     let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
 
-    let mut fields: Vec<Field> = observation
-        .iter()
-        .flat_map(|s| [Some(s.source.field), s.minus.as_ref().map(|m| m.field)])
-        .flatten()
-        .collect();
-    for t in &reward {
-        match &t.kind {
-            TermKind::Velocity { source }
-            | TermKind::SumSquares { source, .. }
-            | TermKind::Quadratic { source, .. }
-            | TermKind::Value { source, .. } => fields.push(source.field),
-            TermKind::Norm { source, minus } => {
-                fields.push(source.field);
-                fields.extend(minus.iter().map(|m| m.field));
-            }
-            TermKind::Healthy | TermKind::Constant => {}
-        }
-    }
-    fields.extend(
-        health
-            .iter()
-            .flat_map(|h| h.sources.iter().map(|s| s.field)),
-    );
-    for i in &info {
-        match &i.kind {
-            InfoKind::Value { source, minus } => {
-                fields.push(source.field);
-                fields.extend(minus.iter().map(|m| m.field));
-            }
-            InfoKind::Norm { source } | InfoKind::Velocity { source } => fields.push(source.field),
-            InfoKind::Term(_) => {}
-        }
-    }
-    let needs_rne_post_constraint = fields.iter().any(|f| f.needs_rne_post_constraint());
-
     let Ctx { d, .. } = cx;
-    d.into_result(ResolvedSpec {
+    let mut resolved = ResolvedSpec {
         id: spec.id.clone(),
         description: spec.description.clone(),
         spec_path: spec.path().to_path_buf(),
@@ -165,9 +130,14 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         terminate_when_unhealthy,
         reset,
         info,
-        needs_rne_post_constraint,
+        needs_rne_post_constraint: false,
         model_edits,
-    })
+    };
+    let rne = resolved
+        .sources()
+        .any(|s| s.field.needs_rne_post_constraint());
+    resolved.needs_rne_post_constraint = rne;
+    d.into_result(resolved)
 }
 
 /// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the

@@ -328,7 +328,7 @@ impl Env {
                 _ => None,
             })
             .collect();
-        let uses_mass_center = uses_field(&spec, Field::MassCenter);
+        let uses_mass_center = spec.reads(Field::MassCenter);
 
         let layout = |items: &mut dyn Iterator<Item = &InfoItem>| {
             let mut off = 0;
@@ -833,26 +833,7 @@ impl Env {
 
     fn write_obs(&mut self) {
         let sim = &self.sim;
-        for seg in &self.spec.observation {
-            let f = sim.field(seg.source.field);
-            let g = seg.minus.as_ref().map(|m| sim.field(m.field));
-            let out = &mut self.obs[seg.offset..seg.offset + seg.len()];
-            for (k, o) in out.iter_mut().enumerate() {
-                let mut x = f[seg.source.indices[k]];
-                if let (Some(g), Some(m)) = (g, &seg.minus) {
-                    x -= g[m.indices[k]];
-                }
-                x = match seg.apply {
-                    Some(Apply::Sin) => x.sin(),
-                    Some(Apply::Cos) => x.cos(),
-                    None => x,
-                };
-                if let Some((lo, hi)) = seg.clip {
-                    x = clip(x, lo, hi);
-                }
-                *o = x;
-            }
-        }
+        crate::observe::write_segments(&self.spec.observation, |f| sim.field(f), &mut self.obs);
     }
 }
 
@@ -910,25 +891,6 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     } else {
         crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)
     }
-}
-
-fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
-    let sel = |s: &Selection| s.field == field;
-    spec.observation.iter().any(|s| sel(&s.source))
-        || spec.reward.iter().any(|t| match &t.kind {
-            TermKind::Velocity { source }
-            | TermKind::SumSquares { source, .. }
-            | TermKind::Quadratic { source, .. }
-            | TermKind::Value { source, .. }
-            | TermKind::Norm { source, .. } => sel(source),
-            _ => false,
-        })
-        || spec.info.iter().any(|i| match &i.kind {
-            InfoKind::Value { source, .. }
-            | InfoKind::Norm { source }
-            | InfoKind::Velocity { source } => sel(source),
-            InfoKind::Term(_) => false,
-        })
 }
 
 /// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in

@@ -26,6 +26,7 @@ pub mod model_diff;
 mod mujoco_log;
 pub mod multi_agent;
 pub mod numerics;
+mod observe;
 pub mod registry;
 pub mod rng;
 pub mod typed;

@@ -19,12 +19,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use envspec::agents::AgentsSpec;
-use envspec::ir::Apply;
 use envspec::{Override, ResolvedSpec};
 
 use crate::env::{BoxSpace, Env, Info};
 use crate::error::EnvError;
-use crate::numerics::clip;
 
 /// The result of one multi-agent step. Reward, terminated, truncated and info are shared by every
 /// agent (MaMuJoCo gives each agent the same values).
@@ -281,29 +279,9 @@ impl MultiAgentEnv {
     }
 
     fn write_obs(&mut self) {
+        let env = &self.env;
         for (agent, out) in self.spec.agents.iter().zip(self.obs.iter_mut()) {
-            for seg in &agent.observation {
-                let f = self.env.field(seg.source.field);
-                let g = seg.minus.as_ref().map(|m| self.env.field(m.field));
-                for (k, o) in out[seg.offset..seg.offset + seg.len()]
-                    .iter_mut()
-                    .enumerate()
-                {
-                    let mut x = f[seg.source.indices[k]];
-                    if let (Some(g), Some(m)) = (g, &seg.minus) {
-                        x -= g[m.indices[k]];
-                    }
-                    x = match seg.apply {
-                        Some(Apply::Sin) => x.sin(),
-                        Some(Apply::Cos) => x.cos(),
-                        None => x,
-                    };
-                    if let Some((lo, hi)) = seg.clip {
-                        x = clip(x, lo, hi);
-                    }
-                    *o = x;
-                }
-            }
+            crate::observe::write_segments(&agent.observation, |f| env.field(f), out);
         }
     }
 }
