@@ -323,6 +323,19 @@ fn env_section(cx: &mut Ctx) {
             false,
         );
     }
+    if o.entry_point != n.entry_point {
+        let f = |x: &Option<String>| x.clone().unwrap_or_else(|| "none".into());
+        cx.push(
+            Category::Documentation,
+            "env",
+            "entry_point",
+            Some(f(&o.entry_point)),
+            Some(f(&n.entry_point)),
+            None,
+            None,
+            false,
+        );
+    }
 }
 
 /// The behavioural categories of the places a parameter is referenced from.

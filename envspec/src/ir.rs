@@ -14,6 +14,9 @@ pub struct ResolvedSpec {
     pub description: String,
     pub spec_path: PathBuf,
     pub reward_threshold: Option<f64>,
+    /// The Python class that builds the same env (`[env] entry_point`, `module.path:Class`);
+    /// dataset metadata names it so Python can recover the env.
+    pub entry_point: Option<String>,
     pub params: Vec<Param>,
     /// The model file (absolute or relative to the current directory).
     pub model_path: PathBuf,

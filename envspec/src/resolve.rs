@@ -117,6 +117,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         description: spec.description.clone(),
         spec_path: spec.path().to_path_buf(),
         reward_threshold: spec.reward_threshold,
+        entry_point: spec.entry_point.clone(),
         params: params.clone(),
         model_path,
         model: model.clone(),

@@ -19,7 +19,7 @@ use serde_json::{Map, Value, json};
 use super::error::{DatasetError, io, malformed};
 use super::space::Space;
 use super::tensor::{Data, Tensor};
-use super::writer::EpisodeRecord;
+use super::episode::EpisodeRecord;
 
 /// pyarrow's scanner re-chunks batches above this many rows, which misaligns Minari's reader.
 pub const MAX_ARROW_STEPS: usize = 131_071;

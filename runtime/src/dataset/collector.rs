@@ -6,7 +6,8 @@ use super::Format;
 use super::error::DatasetError;
 use super::gym_spec::env_spec_json;
 use super::space::{Dtype, Space};
-use super::writer::{DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn};
+use super::episode::{EpisodeRecord, InfoColumn};
+use super::writer::{DatasetInfo, DatasetWriter};
 use crate::environment::Environment;
 
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
@@ -56,7 +57,8 @@ pub struct Collector<E: Environment> {
 
 impl<E: Environment> Collector<E> {
     /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
-    /// stored when the env is one of Gymnasium's; `options.info.env_spec` set by the caller wins.
+    /// stored when its spec names an `[env] entry_point`; `options.info.env_spec` set by the caller
+    /// wins.
     pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
         let spec = env.spec().clone();
         options.info.numerics = Some(env.numerics().to_string());

@@ -14,7 +14,7 @@ use serde_json::{Map, Value, json};
 use super::error::{DatasetError, malformed};
 use super::space::Space;
 use super::tensor::{Data, Tensor};
-use super::writer::EpisodeRecord;
+use super::episode::EpisodeRecord;
 
 pub struct Hdf5Writer {
     path: PathBuf,
