@@ -296,7 +296,9 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
                     }
                     let text = match e.value.as_str() {
                         Some(s) if e.key == "xml_file" => {
-                            let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                            let p = crate::path::normalize(
+                                &path.parent().unwrap_or(Path::new("")).join(s),
+                            );
                             format!("{:?}", p.display().to_string())
                         }
                         _ => e.value.to_toml(),
@@ -310,7 +312,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
     let base = match get("base") {
         Some(v) => match v.as_str() {
             Some(s) => {
-                let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                let p = crate::path::normalize(&path.parent().unwrap_or(Path::new("")).join(s));
                 crate::resolve::load(&p, &base_overrides).map_err(|mut e| {
                     e.push(
                         err(
@@ -637,20 +639,6 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
         parity,
         first_element_bounds,
     })
-}
-
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            std::path::Component::ParentDir if out.file_name().is_some() => {
-                out.pop();
-            }
-            std::path::Component::CurDir => {}
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 fn read_node(

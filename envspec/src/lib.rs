@@ -23,6 +23,7 @@ pub mod ir;
 pub mod maze;
 pub mod mjcf;
 pub mod params;
+pub mod path;
 pub mod resolve;
 pub mod selector;
 pub mod syntax;

@@ -26,7 +26,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
 
     let xml = param("xml_file").expect("checked by syntax");
     let model_path = match (&xml.value, &xml.origin) {
-        (ParamValue::Str(s), Origin::Default(_)) => normalize(&spec.dir().join(s)),
+        (ParamValue::Str(s), Origin::Default(_)) => crate::path::normalize(&spec.dir().join(s)),
         (ParamValue::Str(s), Origin::Override(_)) => PathBuf::from(s),
         _ => unreachable!("xml_file is a path parameter"),
     };
@@ -163,24 +163,6 @@ fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>
     }
     let sum = prune(sum, &map).unwrap_or(SumNode::Sum(vec![]));
     (kept, sum)
-}
-
-/// `a/b/../c` → `a/c`, lexically (the path may not exist yet; symlinks are not followed).
-fn normalize(p: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::ParentDir
-                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
-            {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// Load, check and resolve a spec file in one call.

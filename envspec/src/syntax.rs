@@ -214,7 +214,9 @@ fn table<'a>(v: &'a Val, what: &str, d: &mut Diagnostics) -> Option<&'a [Entry]>
 /// attribute, each part a Python identifier.
 fn is_entry_point(s: &str) -> bool {
     let ident = |p: &str| {
-        p.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        p.chars()
+            .next()
+            .is_some_and(|c| c.is_alphabetic() || c == '_')
             && p.chars().all(|c| c.is_alphanumeric() || c == '_')
     };
     s.split_once(':')

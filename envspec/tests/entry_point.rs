@@ -62,6 +62,6 @@ fn malformed_entry_points_are_e0104() {
 
 #[test]
 fn a_non_string_entry_point_is_e0102() {
-    let d = parse("entry_point = 3").err().expect("accepted a number");
+    let d = parse("entry_point = 3").expect_err("accepted a number");
     assert_eq!(d.codes(), [Code::E0102]);
 }

@@ -25,6 +25,7 @@ mod model_build;
 pub mod model_diff;
 mod mujoco_log;
 pub mod multi_agent;
+pub mod npy;
 pub mod numerics;
 mod observe;
 pub mod registry;

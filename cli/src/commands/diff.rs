@@ -79,7 +79,7 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
             .and_then(|p| p.default.as_str().map(str::to_string))
     {
         let spec_dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
-        let mut queue = vec![normalize(&spec_dir.join(&xml))];
+        let mut queue = vec![envspec::path::normalize(&spec_dir.join(&xml))];
         while let Some(m) = queue.pop() {
             let Some(m_rel) = m.to_str() else { continue };
             let Ok(dest) = fetch(m_rel) else { continue };
@@ -87,27 +87,15 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
             if let Ok(doc) = roxmltree::Document::parse(&text) {
                 for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
                     if let Some(f) = inc.attribute("file") {
-                        queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
+                        queue.push(envspec::path::normalize(
+                            &m.parent().unwrap_or(Path::new("")).join(f),
+                        ));
                     }
                 }
             }
         }
     }
     Ok(spec_file)
-}
-
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            std::path::Component::ParentDir => {
-                out.pop();
-            }
-            std::path::Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// A spec argument as a local file (checked out from git when it is `REV:path`).

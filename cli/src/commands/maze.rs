@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use envc::maze::MazeEnv;
 use ndarray::{Array1, Array2, ArrayD, IxDyn};
-use ndarray_npy::{NpzWriter, ReadNpyExt};
+use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
 
@@ -97,21 +97,7 @@ pub fn rollout(
     out: &Path,
     auto_reset: bool,
 ) -> Result<Outcome> {
-    let file = File::open(actions).with_context(|| format!("cannot open {}", actions.display()))?;
-    let a = match Array2::<f64>::read_npy(file) {
-        Ok(a) => a,
-        Err(_) => {
-            let file = File::open(actions)?;
-            Array2::<f32>::read_npy(file)
-                .with_context(|| {
-                    format!(
-                        "{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]",
-                        actions.display()
-                    )
-                })?
-                .mapv(f64::from)
-        }
-    };
+    let a = envc::npy::read_matrix(actions)?.into_f64();
     let mut env = load(id_or_path, sets)?;
     let (t_max, width) = a.dim();
     if width != env.act_dim() {

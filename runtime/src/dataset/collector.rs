@@ -3,10 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use super::Format;
+use super::episode::{EpisodeRecord, InfoColumn};
 use super::error::DatasetError;
 use super::gym_spec::env_spec_json;
 use super::space::{Dtype, Space};
-use super::episode::{EpisodeRecord, InfoColumn};
 use super::writer::{DatasetInfo, DatasetWriter};
 use crate::environment::Environment;
 

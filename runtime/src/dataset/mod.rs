@@ -37,13 +37,13 @@ mod tensor;
 mod writer;
 
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
+pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
 pub use reader::Dataset;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
-pub use episode::{EpisodeRecord, InfoColumn};
 pub use writer::{DatasetInfo, DatasetWriter, STAGING_DIR, default_root};
 
 /// The format tag written as `minari_version`. Minari checks it against a fixed set: "0.5.4" is
