@@ -84,14 +84,15 @@ impl AgentsSpec {
     pub fn act_dim(&self) -> usize {
         self.base.act_dim()
     }
+    /// Every selection some agent observes (`source`s and `minus`es), in agent order.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        self.agents
+            .iter()
+            .flat_map(|a| a.observation.iter().flat_map(Segment::sources))
+    }
     /// Whether any agent observes contact forces (`mj_rnePostConstraint` must run).
     pub fn reads_contact_forces(&self) -> bool {
-        self.agents.iter().any(|a| {
-            a.observation
-                .iter()
-                .flat_map(|s| s.sources())
-                .any(|s| s.field.needs_rne_post_constraint())
-        })
+        self.sources().any(|s| s.field.needs_rne_post_constraint())
     }
 }
 

@@ -488,6 +488,12 @@ impl Env {
     pub fn field(&self, field: Field) -> &[f64] {
         self.sim.field(field)
     }
+    /// Keep the derived fields `sources` read up to date too (a multi-agent env's agents may
+    /// observe selections its spec does not). Contact forces are decided by the spec
+    /// (`needs_rne_post_constraint`), before the env is built.
+    pub(crate) fn read_also<'a>(&mut self, mut sources: impl Iterator<Item = &'a Selection>) {
+        self.uses_mass_center |= sources.any(|s| s.field == Field::MassCenter);
+    }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
     /// PCG64); without one the stream continues (the first reset without any seed draws OS entropy).
