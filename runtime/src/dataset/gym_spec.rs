@@ -60,3 +60,35 @@ pub fn env_spec_json(spec: &ResolvedSpec) -> Result<String, String> {
     ]);
     Ok(v.dump())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::env_spec_json;
+    use envspec::Override;
+
+    fn spec(file: &str, overrides: &[Override]) -> envspec::ResolvedSpec {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        envspec::load(&root.join(file), overrides).unwrap()
+    }
+
+    #[test]
+    fn matches_gymnasiums_to_json() {
+        // Gymnasium 1.4.0: gym.make("Hopper-v5", healthy_reward=2.0, max_episode_steps=200).spec.to_json()
+        let want = r#"{"id": "Hopper-v5", "entry_point": "gymnasium.envs.mujoco.hopper_v5:HopperEnv", "reward_threshold": 3800.0, "nondeterministic": false, "max_episode_steps": 200, "order_enforce": true, "disable_env_checker": false, "kwargs": {"healthy_reward": 2.0}, "additional_wrappers": [], "vector_entry_point": null}"#;
+        let s = spec(
+            "specs/gymnasium/hopper.toml",
+            &[
+                Override::text("healthy_reward", "2.0"),
+                Override::text("max_episode_steps", "200"),
+            ],
+        );
+        assert_eq!(env_spec_json(&s).unwrap(), want);
+    }
+
+    #[test]
+    fn no_entry_point_no_env_spec() {
+        let mut s = spec("specs/gymnasium/hopper.toml", &[]);
+        s.entry_point = None;
+        assert!(env_spec_json(&s).is_err());
+    }
+}
