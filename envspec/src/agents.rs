@@ -84,13 +84,15 @@ impl AgentsSpec {
     pub fn act_dim(&self) -> usize {
         self.base.act_dim()
     }
+    /// Every selection some agent observes (`source`s and `minus`es), in agent order.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        self.agents
+            .iter()
+            .flat_map(|a| a.observation.iter().flat_map(Segment::sources))
+    }
     /// Whether any agent observes contact forces (`mj_rnePostConstraint` must run).
     pub fn reads_contact_forces(&self) -> bool {
-        self.agents.iter().any(|a| {
-            a.observation
-                .iter()
-                .any(|s| s.source.field.needs_rne_post_constraint())
-        })
+        self.sources().any(|s| s.field.needs_rne_post_constraint())
     }
 }
 
@@ -293,7 +295,9 @@ pub fn from_document(
                     }
                     let text = match e.value.as_str() {
                         Some(s) if e.key == "xml_file" => {
-                            let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                            let p = crate::path::normalize(
+                                &path.parent().unwrap_or(Path::new("")).join(s),
+                            );
                             format!("{:?}", p.display().to_string())
                         }
                         _ => e.value.to_toml(),
@@ -307,7 +311,7 @@ pub fn from_document(
     let base = match get("base") {
         Some(v) => match v.as_str() {
             Some(s) => {
-                let p = normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                let p = crate::path::normalize(&path.parent().unwrap_or(Path::new("")).join(s));
                 crate::resolve::load(&p, &base_overrides).map_err(|mut e| {
                     e.push(
                         err(
@@ -634,20 +638,6 @@ pub fn from_document(
         parity,
         first_element_bounds,
     })
-}
-
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            std::path::Component::ParentDir if out.file_name().is_some() => {
-                out.pop();
-            }
-            std::path::Component::CurDir => {}
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 fn read_node(

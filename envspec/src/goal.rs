@@ -97,8 +97,7 @@ impl GoalTask {
         spec.needs_rne_post_constraint |= self
             .reward
             .kind
-            .selections()
-            .iter()
+            .sources()
             .any(|s| s.field.needs_rne_post_constraint());
         spec.reward.push(self.reward.clone());
         spec.reward_sum = SumNode::Sum(vec![SumNode::Term(spec.reward.len() - 1)]);

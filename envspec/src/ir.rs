@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
-use crate::selector::Selection;
+use crate::selector::{Field, Selection};
 
 #[derive(Clone, Debug)]
 pub struct ResolvedSpec {
@@ -14,6 +14,9 @@ pub struct ResolvedSpec {
     pub description: String,
     pub spec_path: PathBuf,
     pub reward_threshold: Option<f64>,
+    /// The Python class that builds the same env (`[env] entry_point`, `module.path:Class`);
+    /// dataset metadata names it so Python can recover the env.
+    pub entry_point: Option<String>,
     pub params: Vec<Param>,
     /// The model file (absolute or relative to the current directory).
     pub model_path: PathBuf,
@@ -71,6 +74,26 @@ impl ResolvedSpec {
     pub fn reset_info(&self) -> impl Iterator<Item = &InfoItem> {
         self.info.iter().filter(|i| i.at_reset)
     }
+    /// Every selection the env reads from the simulation (observation, reward terms, health
+    /// checks, info), in spec order. Reset targets are written, not read, so they are not here.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let obs = self.observation.iter().flat_map(Segment::sources);
+        let terms = self.reward.iter().flat_map(|t| t.kind.sources());
+        let health = self.health.iter().flat_map(|h| &h.sources);
+        let info = self.info.iter().flat_map(|i| i.kind.sources());
+        let termination = self
+            .termination
+            .iter()
+            .flat_map(|t| t.reached.distance.sources());
+        obs.chain(terms)
+            .chain(health)
+            .chain(info)
+            .chain(termination)
+    }
+    /// Whether anything the env computes reads `field`.
+    pub fn reads(&self, field: Field) -> bool {
+        self.sources().any(|s| s.field == field)
+    }
 }
 
 /// Elementwise function applied to an observation segment.
@@ -94,6 +117,10 @@ pub struct Segment {
 }
 
 impl Segment {
+    /// The selections the segment reads: `source`, then `minus`.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        std::iter::once(&self.source).chain(&self.minus)
+    }
     pub fn len(&self) -> usize {
         self.source.len()
     }
@@ -164,21 +191,7 @@ pub enum TermKind {
     GoalDense(GoalDistance),
 }
 
-impl TermKind {
-    /// Every selection the term reads.
-    pub fn selections(&self) -> Vec<&Selection> {
-        match self {
-            TermKind::Velocity { source }
-            | TermKind::SumSquares { source, .. }
-            | TermKind::Quadratic { source, .. }
-            | TermKind::Value { source, .. } => vec![source],
-            TermKind::Norm { source, minus } => std::iter::once(source).chain(minus).collect(),
-            TermKind::GoalSparse(c) => c.distance.selections(),
-            TermKind::GoalDense(g) => g.selections(),
-            TermKind::Healthy | TermKind::Constant => vec![],
-        }
-    }
-}
+impl TermKind {}
 
 /// How a goal distance adds the squared differences (numpy's two ways to spell the same norm,
 /// which differ in the last bit).
@@ -234,11 +247,13 @@ impl GoalDistance {
     pub fn is_empty(&self) -> bool {
         self.achieved.is_empty()
     }
-    pub fn selections(&self) -> Vec<&Selection> {
-        match &self.desired {
-            Desired::Select(s) => vec![&self.achieved, s],
-            Desired::Goal => vec![&self.achieved],
-        }
+    /// What the distance reads: `achieved`, and `desired` unless it is the env-held goal.
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let desired = match &self.desired {
+            Desired::Select(s) => Some(s),
+            Desired::Goal => None,
+        };
+        std::iter::once(&self.achieved).chain(desired)
     }
 }
 
@@ -275,6 +290,23 @@ pub struct RewardTerm {
     /// `healthy` terms only: the kernel is 1 also when unhealthy (spec key `paid_when_unhealthy`;
     /// Gymnasium v4's `float(is_healthy or terminate_when_unhealthy)`).
     pub paid_when_unhealthy: bool,
+}
+
+impl TermKind {
+    /// The selections the kernel reads (none for `healthy` and `constant`).
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let (a, b) = match self {
+            TermKind::Velocity { source }
+            | TermKind::SumSquares { source, .. }
+            | TermKind::Quadratic { source, .. }
+            | TermKind::Value { source, .. } => (Some(source), None),
+            TermKind::Norm { source, minus } => (Some(source), minus.as_ref()),
+            TermKind::GoalSparse(c) => return Either::Goal(c.distance.sources()),
+            TermKind::GoalDense(g) => return Either::Goal(g.sources()),
+            TermKind::Healthy | TermKind::Constant => (None, None),
+        };
+        Either::Pair(a.into_iter().chain(b))
+    }
 }
 
 impl RewardTerm {
@@ -380,15 +412,18 @@ pub enum InfoKind {
     GoalReached(GoalCheck),
 }
 
+impl InfoKind {}
+
 impl InfoKind {
-    /// Every selection the entry reads.
-    pub fn selections(&self) -> Vec<&Selection> {
-        match self {
-            InfoKind::Value { source, minus } => std::iter::once(source).chain(minus).collect(),
-            InfoKind::Norm { source } | InfoKind::Velocity { source } => vec![source],
-            InfoKind::GoalReached(c) => c.distance.selections(),
-            InfoKind::Term(_) => vec![],
-        }
+    /// The selections the entry reads (none for a reward term's value).
+    pub fn sources(&self) -> impl Iterator<Item = &Selection> {
+        let (a, b) = match self {
+            InfoKind::Value { source, minus } => (Some(source), minus.as_ref()),
+            InfoKind::Norm { source } | InfoKind::Velocity { source } => (Some(source), None),
+            InfoKind::GoalReached(c) => return Either::Goal(c.distance.sources()),
+            InfoKind::Term(_) => (None, None),
+        };
+        Either::Pair(a.into_iter().chain(b))
     }
 }
 
@@ -471,6 +506,25 @@ impl Integrator {
             Integrator::Rk4 => "RK4",
             Integrator::Implicit => "implicit",
             Integrator::ImplicitFast => "implicitfast",
+        }
+    }
+}
+
+/// One of two iterators over the selections a term reads (a plain term's one or two, or a goal
+/// distance's), so `sources` allocates nothing.
+enum Either<A, B> {
+    Pair(A),
+    Goal(B),
+}
+
+impl<'a, A: Iterator<Item = &'a Selection>, B: Iterator<Item = &'a Selection>> Iterator
+    for Either<A, B>
+{
+    type Item = &'a Selection;
+    fn next(&mut self) -> Option<&'a Selection> {
+        match self {
+            Either::Pair(a) => a.next(),
+            Either::Goal(b) => b.next(),
         }
     }
 }

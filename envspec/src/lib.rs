@@ -25,6 +25,7 @@ pub mod maze;
 pub mod mjcf;
 pub mod open;
 pub mod params;
+pub mod path;
 pub mod registry;
 pub mod resolve;
 pub mod selector;

@@ -29,7 +29,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
 
     let xml = param("xml_file").expect("checked by syntax");
     let model_path = match (&xml.value, &xml.origin) {
-        (ParamValue::Str(s), Origin::Default(_)) => normalize(&spec.dir().join(s)),
+        (ParamValue::Str(s), Origin::Default(_)) => crate::path::normalize(&spec.dir().join(s)),
         (ParamValue::Str(s), Origin::Override(_)) => PathBuf::from(s),
         _ => unreachable!("xml_file is a path parameter"),
     };
@@ -117,34 +117,14 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     cx.check_info_keys(&info);
     let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
 
-    let mut fields: Vec<Field> = observation
-        .iter()
-        .flat_map(|s| [Some(s.source.field), s.minus.as_ref().map(|m| m.field)])
-        .flatten()
-        .collect();
-    for t in &reward {
-        fields.extend(t.kind.selections().iter().map(|s| s.field));
-    }
-    fields.extend(
-        health
-            .iter()
-            .flat_map(|h| h.sources.iter().map(|s| s.field)),
-    );
-    for t in &termination {
-        fields.extend(t.reached.distance.selections().iter().map(|s| s.field));
-    }
-    for i in &info {
-        fields.extend(i.kind.selections().iter().map(|s| s.field));
-    }
-    let needs_rne_post_constraint = fields.iter().any(|f| f.needs_rne_post_constraint());
-
     let goal_dim = cx.goal_dim.as_ref().map_or(0, |(n, _)| *n);
     let Ctx { d, .. } = cx;
-    d.into_result(ResolvedSpec {
+    let mut resolved = ResolvedSpec {
         id: spec.id.clone(),
         description: spec.description.clone(),
         spec_path: spec.path().to_path_buf(),
         reward_threshold: spec.reward_threshold,
+        entry_point: spec.entry_point.clone(),
         params: params.clone(),
         model_path,
         model: model.clone(),
@@ -160,9 +140,14 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         goal_dim,
         reset,
         info,
-        needs_rne_post_constraint,
+        needs_rne_post_constraint: false,
         model_edits,
-    })
+    };
+    let rne = resolved
+        .sources()
+        .any(|s| s.field.needs_rne_post_constraint());
+    resolved.needs_rne_post_constraint = rne;
+    d.into_result(resolved)
 }
 
 /// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the
@@ -187,24 +172,6 @@ fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>
     }
     let sum = prune(sum, &map).unwrap_or(SumNode::Sum(vec![]));
     (kept, sum)
-}
-
-/// `a/b/../c` → `a/c`, lexically (the path may not exist yet; symlinks are not followed).
-fn normalize(p: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::ParentDir
-                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
-            {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// Load, check and resolve a spec file in one call.

@@ -54,6 +54,9 @@ pub struct Spec {
     pub id_loc: Location,
     pub description: String,
     pub reward_threshold: Option<f64>,
+    /// `[env] entry_point`: the Python class that builds the same env (`module.path:Class`),
+    /// written into dataset metadata so Python can recover the env.
+    pub entry_point: Option<String>,
     pub params: Vec<ParamDecl>,
     pub observation: Vec<Section>,
     pub reward_sum: Option<Val>,
@@ -126,7 +129,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "agents",
     "maze",
 ];
-const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold"];
+const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
 pub(crate) const PARAM_TYPES: &[&str] = &[
     "bool", "int", "float", "range", "string", "path", "body", "table",
@@ -226,6 +229,19 @@ fn table<'a>(v: &'a Val, what: &str, d: &mut Diagnostics) -> Option<&'a [Entry]>
     }
 }
 
+/// `module.path:Class` as Gymnasium's `load_env_creator` splits it: a dotted module path and one
+/// attribute, each part a Python identifier.
+fn is_entry_point(s: &str) -> bool {
+    let ident = |p: &str| {
+        p.chars()
+            .next()
+            .is_some_and(|c| c.is_alphabetic() || c == '_')
+            && p.chars().all(|c| c.is_alphanumeric() || c == '_')
+    };
+    s.split_once(':')
+        .is_some_and(|(module, class)| module.split('.').all(ident) && ident(class))
+}
+
 fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
     let top = root.as_table().unwrap_or(&[]);
     check_keys(top, TOP_KEYS, "the spec (top level)", d);
@@ -238,6 +254,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         id_loc: whole.clone(),
         description: String::new(),
         reward_threshold: None,
+        entry_point: None,
         params: vec![],
         observation: vec![],
         reward_sum: None,
@@ -299,6 +316,21 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
                     match v.value.as_f64() {
                         Some(x) => spec.reward_threshold = Some(x),
                         None => d.push(v.value.type_error("env.reward_threshold", "a number")),
+                    }
+                }
+                if let Some(v) = t.iter().find(|e| e.key == "entry_point") {
+                    match v.value.as_str() {
+                        Some(s) if is_entry_point(s) => spec.entry_point = Some(s.to_string()),
+                        Some(s) => d.push(
+                            Diagnostic::new(
+                                Code::E0104,
+                                format!("`{s}` is not a Python entry point"),
+                            )
+                            .at(v.value.loc.clone())
+                            .label("expected `module.path:Class`")
+                            .help("e.g. `entry_point = \"gymnasium.envs.mujoco.ant_v5:AntEnv\"`"),
+                        ),
+                        None => d.push(v.value.type_error("env.entry_point", "a string")),
                     }
                 }
             }

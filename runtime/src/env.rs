@@ -350,7 +350,7 @@ impl Env {
                 _ => None,
             })
             .collect();
-        let uses_mass_center = uses_field(&spec, Field::MassCenter);
+        let uses_mass_center = spec.reads(Field::MassCenter);
 
         let layout = |items: &mut dyn Iterator<Item = &InfoItem>| {
             let mut off = 0;
@@ -522,6 +522,12 @@ impl Env {
     /// observations read it).
     pub fn field(&self, field: Field) -> &[f64] {
         self.sim.field(field)
+    }
+    /// Keep the derived fields `sources` read up to date too (a multi-agent env's agents may
+    /// observe selections its spec does not). Contact forces are decided by the spec
+    /// (`needs_rne_post_constraint`), before the env is built.
+    pub(crate) fn read_also<'a>(&mut self, mut sources: impl Iterator<Item = &'a Selection>) {
+        self.uses_mass_center |= sources.any(|s| s.field == Field::MassCenter);
     }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
@@ -876,26 +882,7 @@ impl Env {
 
     fn write_obs(&mut self) {
         let sim = &self.sim;
-        for seg in &self.spec.observation {
-            let f = sim.field(seg.source.field);
-            let g = seg.minus.as_ref().map(|m| sim.field(m.field));
-            let out = &mut self.obs[seg.offset..seg.offset + seg.len()];
-            for (k, o) in out.iter_mut().enumerate() {
-                let mut x = f[seg.source.indices[k]];
-                if let (Some(g), Some(m)) = (g, &seg.minus) {
-                    x -= g[m.indices[k]];
-                }
-                x = match seg.apply {
-                    Some(Apply::Sin) => x.sin(),
-                    Some(Apply::Cos) => x.cos(),
-                    None => x,
-                };
-                if let Some((lo, hi)) = seg.clip {
-                    x = clip(x, lo, hi);
-                }
-                *o = x;
-            }
-        }
+        crate::observe::write_segments(&self.spec.observation, |f| sim.field(f), &mut self.obs);
     }
 }
 
@@ -954,23 +941,6 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     } else {
         crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)
     }
-}
-
-fn uses_field(spec: &ResolvedSpec, field: Field) -> bool {
-    let sel = |s: &Selection| s.field == field;
-    spec.observation.iter().any(|s| sel(&s.source))
-        || spec
-            .reward
-            .iter()
-            .any(|t| t.kind.selections().into_iter().any(sel))
-        || spec
-            .info
-            .iter()
-            .any(|i| i.kind.selections().into_iter().any(sel))
-        || spec
-            .termination
-            .iter()
-            .any(|t| t.reached.distance.selections().into_iter().any(sel))
 }
 
 /// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in

@@ -1,15 +1,13 @@
 //! `envc collect ID|SPEC --dataset-id ns/name-v0 --episodes N --policy zero|random|replay
 //! [--actions A.npy] [--seed S] [--format arrow|hdf5] [--set k=v ...]`: record a Minari dataset.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use envc::dataset::{CollectOptions, Collector, DatasetInfo, Format, Recordable};
 use envc::rng::NumpyRng;
 use indicatif::{ProgressBar, ProgressStyle};
-use ndarray::Array2;
-use ndarray_npy::ReadNpyExt;
 
 use crate::Outcome;
 
@@ -67,19 +65,8 @@ enum FormatArg {
     Hdf5,
 }
 
-fn read_actions(path: &PathBuf, act_dim: usize) -> Result<Vec<f32>> {
-    let open =
-        || std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()));
-    let a: Array2<f32> = match Array2::<f32>::read_npy(open()?) {
-        Ok(a) => a,
-        Err(_) => match Array2::<f64>::read_npy(open()?) {
-            Ok(a) => a.mapv(|x| x as f32),
-            Err(e) => bail!(
-                "{}: expected a 2-D float32 or float64 .npy array [T, act_dim]: {e}",
-                path.display()
-            ),
-        },
-    };
+fn read_actions(path: &Path, act_dim: usize) -> Result<Vec<f32>> {
+    let a = envc::npy::read_matrix(path)?.into_f32();
     if a.ncols() != act_dim || a.nrows() == 0 {
         bail!(
             "{} is [{}, {}]; expected [T ≥ 1, {act_dim}]",

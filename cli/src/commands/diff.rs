@@ -82,7 +82,7 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
                 .and_then(|p| p.default.as_str().map(str::to_string))
         {
             let spec_dir = Path::new(rel).parent().unwrap_or(Path::new(""));
-            let mut queue = vec![normalize(&spec_dir.join(&xml))];
+            let mut queue = vec![envspec::path::normalize(&spec_dir.join(&xml))];
             while let Some(m) = queue.pop() {
                 let Some(m_rel) = m.to_str() else { continue };
                 let Ok(dest) = fetch(m_rel) else { continue };
@@ -90,7 +90,9 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
                 if let Ok(doc) = roxmltree::Document::parse(&text) {
                     for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
                         if let Some(f) = inc.attribute("file") {
-                            queue.push(normalize(&m.parent().unwrap_or(Path::new("")).join(f)));
+                            queue.push(envspec::path::normalize(
+                                &m.parent().unwrap_or(Path::new("")).join(f),
+                            ));
                         }
                     }
                 }
@@ -107,31 +109,17 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
         let dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
         let named = |key: &str| maze.and_then(|m| m.get(key)).and_then(|v| v.as_str());
         if let Some(map) = named("map").filter(|m| m.trim_end().ends_with(".toml")) {
-            let m = normalize(&dir.join(map.trim()));
+            let m = envspec::path::normalize(&dir.join(map.trim()));
             let _ = m.to_str().map(fetch);
         }
         if let Some(robot) = named("robot") {
-            let r = normalize(&dir.join(robot));
+            let r = envspec::path::normalize(&dir.join(robot));
             if let Some(r) = r.to_str() {
                 task(r)?;
             }
         }
     }
     Ok(spec_file)
-}
-
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            std::path::Component::ParentDir => {
-                out.pop();
-            }
-            std::path::Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// One side of the diff: a local file and, for a registered maze id, the overrides it stands for.

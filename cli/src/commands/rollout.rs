@@ -6,8 +6,9 @@ use std::fs::File;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
+use envc::npy::{Matrix, read_matrix};
 use ndarray::{Array, Array1, Array2, ArrayD, IxDyn};
-use ndarray_npy::{NpzWriter, ReadNpyExt};
+use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
 
@@ -30,25 +31,6 @@ pub struct Args {
     /// After an episode ends, `reset()` without a seed and go on through all actions.
     #[arg(long)]
     auto_reset: bool,
-}
-
-enum Actions {
-    F64(Array2<f64>),
-    F32(Array2<f32>),
-}
-
-fn read_actions(path: &PathBuf) -> Result<Actions> {
-    let open = || File::open(path).with_context(|| format!("cannot open {}", path.display()));
-    if let Ok(a) = Array2::<f64>::read_npy(open()?) {
-        return Ok(Actions::F64(a));
-    }
-    match Array2::<f32>::read_npy(open()?) {
-        Ok(a) => Ok(Actions::F32(a)),
-        Err(e) => bail!(
-            "{}: expected a 2-D float64 (or float32) .npy array [T, act_dim]: {e}",
-            path.display()
-        ),
-    }
 }
 
 /// Per-key info values collected over steps.
@@ -87,12 +69,9 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let actions = read_actions(&args.actions)?;
+    let actions = read_matrix(&args.actions)?;
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
-    let as_f64 = || match &actions {
-        Actions::F64(a) => a.clone(),
-        Actions::F32(a) => a.mapv(f64::from),
-    };
+    let as_f64 = || actions.clone().into_f64();
     let (seed, path, out, auto) = (args.seed, &args.actions, &args.out, args.auto_reset);
     let mut env = match crate::target::env(&args.spec, &args.set)? {
         envc::AnyEnv::Task(env) => env,
@@ -103,10 +82,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             return crate::commands::multi_agent::rollout(env, seed, &as_f64(), path, out, auto);
         }
     };
-    let (t_max, width) = match &actions {
-        Actions::F64(a) => a.dim(),
-        Actions::F32(a) => a.dim(),
-    };
+    let (t_max, width) = actions.dim();
     if width != env.act_dim() {
         bail!(
             "{} has {width} columns but {} takes {} actions",
@@ -132,8 +108,8 @@ pub fn run(args: Args) -> Result<Outcome> {
 
     for t in 0..t_max {
         let s = match &actions {
-            Actions::F64(a) => env.step(a.row(t).as_slice().context("actions must be in C order")?),
-            Actions::F32(a) => {
+            Matrix::F64(a) => env.step(a.row(t).as_slice().context("actions must be in C order")?),
+            Matrix::F32(a) => {
                 env.step_f32(a.row(t).as_slice().context("actions must be in C order")?)
             }
         }

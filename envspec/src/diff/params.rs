@@ -28,6 +28,13 @@ pub(super) fn env_section(cx: &mut Ctx) {
                 .values(Some(f(o.reward_threshold)), Some(f(n.reward_threshold))),
         );
     }
+    if o.entry_point != n.entry_point {
+        let f = |x: &Option<String>| x.clone().unwrap_or_else(|| "none".into());
+        cx.add(
+            Change::new(RuleId::EnvEntryPointChanged, "env", "entry_point")
+                .values(Some(f(&o.entry_point)), Some(f(&n.entry_point))),
+        );
+    }
 }
 
 /// The behavioural categories of the places a parameter is referenced from.

@@ -131,6 +131,8 @@ rules! {
         "The env's description changed.";
     EnvRewardThresholdChanged = "env-reward-threshold-changed", Documentation, false,
         "`reward_threshold` (the return a run counts as solving the task at) changed; no rollout changes.";
+    EnvEntryPointChanged = "env-entry-point-changed", Documentation, false,
+        "The Python entry point datasets name for the env changed (recover_environment builds another class).";
     DocChanged = "doc-changed", Documentation, false,
         "The `doc` of a section, an info table or a parameter changed.";
     EnvDtChanged = "env-dt-changed", Dynamics, true,

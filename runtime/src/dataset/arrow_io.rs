@@ -16,10 +16,10 @@ use arrow_schema::{DataType, Field, Fields, Schema};
 use ndarray::{ArrayD, IxDyn};
 use serde_json::{Map, Value, json};
 
+use super::episode::EpisodeRecord;
 use super::error::{DatasetError, io, malformed};
 use super::space::Space;
 use super::tensor::{Data, Tensor};
-use super::writer::EpisodeRecord;
 
 /// pyarrow's scanner re-chunks batches above this many rows, which misaligns Minari's reader.
 pub const MAX_ARROW_STEPS: usize = 131_071;

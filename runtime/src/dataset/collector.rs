@@ -4,10 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use super::Format;
+use super::episode::{EpisodeRecord, InfoColumn};
 use super::error::DatasetError;
 use super::recordable::Recordable;
 use super::space::{Dtype, Space};
-use super::writer::{DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn};
+use super::writer::{DatasetInfo, DatasetWriter};
 
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
@@ -55,7 +56,8 @@ pub struct Collector<E: Recordable> {
 
 impl<E: Recordable> Collector<E> {
     /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
-    /// stored when the env is one of Gymnasium's; `options.info.env_spec` set by the caller wins.
+    /// stored when its spec names an `[env] entry_point`; `options.info.env_spec` set by the caller
+    /// wins.
     pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
         options.info.numerics = Some(env.numerics().to_string());
         if options.info.env_spec.is_none() {

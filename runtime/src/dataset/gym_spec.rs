@@ -1,49 +1,16 @@
 //! The `env_spec` Minari stores: Gymnasium's `EnvSpec.to_json()` of the env the data came from, so
 //! that `dataset.recover_environment()` builds the reference env with the same parameters.
 //!
-//! envc specs don't name a Python entry point; the table below is Gymnasium 1.4.0's registry for
-//! the MuJoCo suite (`gymnasium/envs/__init__.py`), checked against `gym.make(id).spec.to_json()`
-//! by `tests/reference/check_minari.py`. An env that is not in it (e.g. a third-party robot spec)
-//! gets no `env_spec`: the dataset still loads (the spaces are stored), it just can't be recovered
-//! in Python.
+//! The entry point is the spec's `[env] entry_point` (docs/spec-reference.md); the bundled
+//! Gymnasium specs name Gymnasium 1.4.0's classes, checked against `gym.make(id).spec.to_json()`
+//! by `tests/reference/check_minari.py`. A spec without one (e.g. a third-party robot that has no
+//! Python class) gets no `env_spec`: the dataset still loads (the spaces are stored), it just
+//! can't be recovered in Python.
 
 use envspec::params::Origin;
 use envspec::{ParamValue, ResolvedSpec};
 
 use super::json::PyJson;
-
-/// (name without version, module stem, class).
-const GYMNASIUM_MUJOCO: &[(&str, &str, &str)] = &[
-    ("Ant", "ant", "AntEnv"),
-    ("HalfCheetah", "half_cheetah", "HalfCheetahEnv"),
-    ("Hopper", "hopper", "HopperEnv"),
-    ("Humanoid", "humanoid", "HumanoidEnv"),
-    ("HumanoidStandup", "humanoidstandup", "HumanoidStandupEnv"),
-    (
-        "InvertedDoublePendulum",
-        "inverted_double_pendulum",
-        "InvertedDoublePendulumEnv",
-    ),
-    (
-        "InvertedPendulum",
-        "inverted_pendulum",
-        "InvertedPendulumEnv",
-    ),
-    ("Pusher", "pusher", "PusherEnv"),
-    ("Reacher", "reacher", "ReacherEnv"),
-    ("Swimmer", "swimmer", "SwimmerEnv"),
-    ("Walker2d", "walker2d", "Walker2dEnv"),
-];
-
-/// Gymnasium's entry point for a MuJoCo-suite id such as `Ant-v5`.
-pub fn entry_point(id: &str) -> Option<String> {
-    let (name, version) = id.rsplit_once("-v")?;
-    if !matches!(version, "4" | "5") {
-        return None;
-    }
-    let (_, module, class) = GYMNASIUM_MUJOCO.iter().find(|(n, _, _)| *n == name)?;
-    Some(format!("gymnasium.envs.mujoco.{module}_v{version}:{class}"))
-}
 
 fn param_json(v: &ParamValue) -> Option<PyJson> {
     Some(match v {
@@ -60,8 +27,10 @@ fn param_json(v: &ParamValue) -> Option<PyJson> {
 /// Overridden parameters become `kwargs` (`max_episode_steps` is the spec's own field, as in
 /// `gym.make(id, max_episode_steps=...)`).
 pub fn env_spec_json(spec: &ResolvedSpec) -> Result<String, String> {
-    let entry =
-        entry_point(&spec.id).ok_or_else(|| format!("{} is not a Gymnasium env id", spec.id))?;
+    let entry = spec
+        .entry_point
+        .clone()
+        .ok_or_else(|| format!("{} names no `entry_point` in [env]", spec.id))?;
     let mut kwargs = vec![];
     for p in &spec.params {
         if p.name == "max_episode_steps" || !matches!(p.origin, Origin::Override(_)) {
@@ -90,4 +59,36 @@ pub fn env_spec_json(spec: &ResolvedSpec) -> Result<String, String> {
         ("vector_entry_point".into(), PyJson::Null),
     ]);
     Ok(v.dump())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::env_spec_json;
+    use envspec::Override;
+
+    fn spec(file: &str, overrides: &[Override]) -> envspec::ResolvedSpec {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        envspec::load(&root.join(file), overrides).unwrap()
+    }
+
+    #[test]
+    fn matches_gymnasiums_to_json() {
+        // Gymnasium 1.4.0: gym.make("Hopper-v5", healthy_reward=2.0, max_episode_steps=200).spec.to_json()
+        let want = r#"{"id": "Hopper-v5", "entry_point": "gymnasium.envs.mujoco.hopper_v5:HopperEnv", "reward_threshold": 3800.0, "nondeterministic": false, "max_episode_steps": 200, "order_enforce": true, "disable_env_checker": false, "kwargs": {"healthy_reward": 2.0}, "additional_wrappers": [], "vector_entry_point": null}"#;
+        let s = spec(
+            "specs/gymnasium/hopper.toml",
+            &[
+                Override::text("healthy_reward", "2.0"),
+                Override::text("max_episode_steps", "200"),
+            ],
+        );
+        assert_eq!(env_spec_json(&s).unwrap(), want);
+    }
+
+    #[test]
+    fn no_entry_point_no_env_spec() {
+        let mut s = spec("specs/gymnasium/hopper.toml", &[]);
+        s.entry_point = None;
+        assert!(env_spec_json(&s).is_err());
+    }
 }

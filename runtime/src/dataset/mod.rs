@@ -24,6 +24,7 @@
 
 mod arrow_io;
 mod collector;
+mod episode;
 mod error;
 mod gym_spec;
 #[cfg(feature = "hdf5")]
@@ -37,16 +38,15 @@ mod tensor;
 mod writer;
 
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
+pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
-pub use gym_spec::{entry_point, env_spec_json};
+pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
 pub use reader::Dataset;
 pub use recordable::{Recordable, Recorded};
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
-pub use writer::{
-    DatasetInfo, DatasetWriter, EpisodeRecord, InfoColumn, STAGING_DIR, default_root,
-};
+pub use writer::{DatasetInfo, DatasetWriter, STAGING_DIR, default_root};
 
 /// The format tag written as `minari_version`. Minari checks it against a fixed set: "0.5.4" is
 /// what the pinned reader (0.5.4) writes itself; see docs/datasets.md for older readers.

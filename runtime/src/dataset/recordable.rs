@@ -3,9 +3,9 @@
 //! through [`Environment`]) and the maze env implement it; a multi-agent env does not, as Minari
 //! datasets are single-agent.
 
+use super::episode::InfoColumn;
 use super::gym_spec::env_spec_json;
 use super::space::{Dtype, Space};
-use super::writer::InfoColumn;
 use crate::environment::Environment;
 use crate::error::EnvError;
 use crate::maze::{MazeEnv, MazeObs};

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value, json};
 
+use super::episode::EpisodeRecord;
 use super::error::{DatasetError, io};
 use super::id::DatasetId;
 use super::space::Space;
@@ -16,49 +17,6 @@ use super::{Format, MINARI_VERSION, arrow_io};
 
 /// Name of the staging directory inside the datasets root (hidden: Minari skips it).
 pub const STAGING_DIR: &str = ".envc-staging";
-
-/// One info key: `width` values per row, `values` row-major over T+1 rows.
-#[derive(Clone, Debug, Default)]
-pub struct InfoColumn {
-    pub key: String,
-    pub width: usize,
-    pub values: Vec<f64>,
-}
-
-/// One episode to write. `observations` has T+1 rows of `obs_dim`, `actions` T rows of `act_dim`.
-#[derive(Clone, Copy, Debug)]
-pub struct EpisodeRecord<'a> {
-    pub seed: Option<u64>,
-    pub observations: &'a [f64],
-    pub actions: &'a [f32],
-    pub rewards: &'a [f64],
-    pub terminations: &'a [bool],
-    pub truncations: &'a [bool],
-    pub infos: &'a [InfoColumn],
-}
-
-impl EpisodeRecord<'_> {
-    pub fn steps(&self) -> usize {
-        self.rewards.len()
-    }
-    /// `rewards_sum, _mean, _std, _max, _min`, as Minari's default `EpisodeMetadataCallback`.
-    pub fn reward_stats(&self) -> [(&'static str, f64); 5] {
-        let r = self.rewards;
-        let n = r.len().max(1) as f64;
-        let sum: f64 = r.iter().sum();
-        let mean = sum / n;
-        let var = r.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
-        let max = r.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let min = r.iter().copied().fold(f64::INFINITY, f64::min);
-        [
-            ("rewards_sum", sum),
-            ("rewards_mean", mean),
-            ("rewards_std", var.sqrt()),
-            ("rewards_max", max),
-            ("rewards_min", min),
-        ]
-    }
-}
 
 /// What goes into `metadata.json` besides the counts.
 #[derive(Clone, Debug, Default)]

@@ -19,12 +19,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use envspec::agents::AgentsSpec;
-use envspec::ir::Apply;
 use envspec::{Override, ResolvedSpec};
 
 use crate::env::{BoxSpace, Env, Info};
 use crate::error::EnvError;
-use crate::numerics::clip;
 
 /// The result of one multi-agent step. Reward, terminated, truncated and info are shared by every
 /// agent (MaMuJoCo gives each agent the same values).
@@ -78,7 +76,8 @@ impl MultiAgentEnv {
         // Gymnasium runs mj_rnePostConstraint after every step; envc only when something reads
         // the contact forces, which the agents may do even when the single-agent obs does not.
         base.needs_rne_post_constraint |= spec.reads_contact_forces();
-        let env = Env::new(Arc::new(base))?;
+        let mut env = Env::new(Arc::new(base))?;
+        env.read_also(spec.sources());
         let space = env.action_space();
         let bound = |b: &[f64], i: usize| {
             if spec.first_element_bounds {
@@ -281,29 +280,9 @@ impl MultiAgentEnv {
     }
 
     fn write_obs(&mut self) {
+        let env = &self.env;
         for (agent, out) in self.spec.agents.iter().zip(self.obs.iter_mut()) {
-            for seg in &agent.observation {
-                let f = self.env.field(seg.source.field);
-                let g = seg.minus.as_ref().map(|m| self.env.field(m.field));
-                for (k, o) in out[seg.offset..seg.offset + seg.len()]
-                    .iter_mut()
-                    .enumerate()
-                {
-                    let mut x = f[seg.source.indices[k]];
-                    if let (Some(g), Some(m)) = (g, &seg.minus) {
-                        x -= g[m.indices[k]];
-                    }
-                    x = match seg.apply {
-                        Some(Apply::Sin) => x.sin(),
-                        Some(Apply::Cos) => x.cos(),
-                        None => x,
-                    };
-                    if let Some((lo, hi)) = seg.clip {
-                        x = clip(x, lo, hi);
-                    }
-                    *o = x;
-                }
-            }
+            crate::observe::write_segments(&agent.observation, |f| env.field(f), out);
         }
     }
 }
@@ -336,4 +315,60 @@ fn scatter_local_actions(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use envspec::Field;
+
+    /// An agent that observes the mass center through `extra` gets it computed, though the base
+    /// spec (Ant-v5) reads no mass center itself.
+    #[test]
+    fn agents_observing_the_mass_center_get_it_updated() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let text = std::fs::read_to_string(root.join("specs/mamujoco/ant.toml")).unwrap();
+        let base = root.join("specs/gymnasium/ant.toml");
+        let text = text
+            .replace(
+                "base = \"../gymnasium/ant.toml\"",
+                &format!("base = {:?}", base.display().to_string()),
+            )
+            .replace(
+                "global_categories = [\"qpos\", \"qvel\"]",
+                "global_categories = [\"qpos\", \"qvel\", \"com\"]",
+            )
+            .replace(
+                "extra = { qpos = \"qpos[2:7]\", qvel = \"qvel[0:6]\" }",
+                "extra = { qpos = \"qpos[2:7]\", qvel = \"qvel[0:6]\", com = \"mass_center\" }",
+            );
+        let dir = std::env::temp_dir().join(format!("envc-ma-com-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("ant_com.toml");
+        std::fs::write(&path, text).unwrap();
+        let mut env = MultiAgentEnv::from_spec_file(&path, &[]).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(!env.spec().base.reads(Field::MassCenter));
+        env.reset(Some(3));
+        env.step_global(&[0.3; 8]).unwrap();
+
+        // Gymnasium's `mass_center`: Σ mass·xipos / Σ mass.
+        let nbody = env.spec().base.model.nbody();
+        // SAFETY: body_mass has nbody entries.
+        let mass = unsafe { std::slice::from_raw_parts(env.env().model().ffi().body_mass, nbody) };
+        let xipos = env.env().field(Field::Xipos);
+        let total: f64 = mass.iter().sum();
+        let com: Vec<f64> = (0..3)
+            .map(|j| (0..nbody).map(|b| mass[b] * xipos[3 * b + j]).sum::<f64>() / total)
+            .collect();
+        assert!(com[2].abs() > 0.1, "{com:?}");
+        let obs = &env.observations()[0];
+        let ours = &obs[obs.len() - 3..];
+        for (a, b) in ours.iter().zip(&com) {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "{ours:?} vs {com:?}"
+            );
+        }
+    }
 }

@@ -1,0 +1,45 @@
+//! One episode as the writer and its backends (Arrow, HDF5) take it. Its own module so the
+//! backends depend on the episode, not on the writer that calls them.
+
+/// One info key: `width` values per row, `values` row-major over T+1 rows.
+#[derive(Clone, Debug, Default)]
+pub struct InfoColumn {
+    pub key: String,
+    pub width: usize,
+    pub values: Vec<f64>,
+}
+
+/// One episode to write. `observations` has T+1 rows of `obs_dim`, `actions` T rows of `act_dim`.
+#[derive(Clone, Copy, Debug)]
+pub struct EpisodeRecord<'a> {
+    pub seed: Option<u64>,
+    pub observations: &'a [f64],
+    pub actions: &'a [f32],
+    pub rewards: &'a [f64],
+    pub terminations: &'a [bool],
+    pub truncations: &'a [bool],
+    pub infos: &'a [InfoColumn],
+}
+
+impl EpisodeRecord<'_> {
+    pub fn steps(&self) -> usize {
+        self.rewards.len()
+    }
+    /// `rewards_sum, _mean, _std, _max, _min`, as Minari's default `EpisodeMetadataCallback`.
+    pub fn reward_stats(&self) -> [(&'static str, f64); 5] {
+        let r = self.rewards;
+        let n = r.len().max(1) as f64;
+        let sum: f64 = r.iter().sum();
+        let mean = sum / n;
+        let var = r.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+        let max = r.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let min = r.iter().copied().fold(f64::INFINITY, f64::min);
+        [
+            ("rewards_sum", sum),
+            ("rewards_mean", mean),
+            ("rewards_std", var.sqrt()),
+            ("rewards_max", max),
+            ("rewards_min", min),
+        ]
+    }
+}
