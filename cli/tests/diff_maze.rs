@@ -48,8 +48,8 @@ fn maze_layout_scalars_and_robot_overrides_are_reported_with_rule_ids() {
         "    [maze-robot-params-changed] maze.robot: overrides: was reset_noise_scale = 0.0, now reset_noise_scale = 0.1",
         "    [maze-id-changed] maze: id: was DiffMaze-v0, now DiffMaze-v1",
         // The robot (Ant-v5) resolved under each maze's overrides: its reset noise.
-        "  ! [reset-step-resolved-changed] robot reset.qpos: resolved value: was qpos = initial + uniform[-0.0, 0.0) (specs/gymnasium/ant.toml:81), now qpos = initial + uniform[-0.1, 0.1) (specs/gymnasium/ant.toml:81)",
-        "  ! [reset-step-resolved-changed] robot reset.qvel: resolved value: was qvel = initial + 0.0 × normal(0, 1) (specs/gymnasium/ant.toml:86), now qvel = initial + 0.1 × normal(0, 1) (specs/gymnasium/ant.toml:86)",
+        "  ! [reset-step-resolved-changed] robot reset.qpos: resolved value: was qpos = initial + uniform[-0.0, 0.0) (specs/gymnasium/ant.toml:82), now qpos = initial + uniform[-0.1, 0.1) (specs/gymnasium/ant.toml:82)",
+        "  ! [reset-step-resolved-changed] robot reset.qvel: resolved value: was qvel = initial + 0.0 × normal(0, 1) (specs/gymnasium/ant.toml:87), now qvel = initial + 0.1 × normal(0, 1) (specs/gymnasium/ant.toml:87)",
     ] {
         assert!(
             text.lines().any(|l| l == line),

@@ -15,7 +15,7 @@ use crate::ir::{Apply, ResolvedSpec, Segment};
 use crate::params::{Override, OverrideValue, ParamValue};
 use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::Spec;
-use crate::value::{Entry, Val, ValKind, parse_document};
+use crate::value::{Entry, Val, ValKind};
 
 /// Keys of `[agents]`.
 pub const AGENTS_KEYS: &[&str] = &[
@@ -191,17 +191,7 @@ fn range(v: &Val, what: &str, d: &mut Diagnostics) -> Option<(f64, f64)> {
 
 /// Load a multi-agent spec with overrides (`agent_conf`, `agent_obsk`, and any base parameter).
 pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnostics> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        Diagnostics::from(
-            Diagnostic::new(
-                Code::E0600,
-                format!("cannot read spec {}: {e}", path.display()),
-            )
-            .label("expected a readable TOML spec file"),
-        )
-    })?;
-    let file = SourceFile::new(path, text);
-    let root = parse_document(&file)?;
+    let (file, root) = crate::value::read_document(path, None, "spec")?;
     from_document(&file, &root, overrides)
 }
 

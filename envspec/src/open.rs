@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::agents::AgentsSpec;
-use crate::diagnostic::{Code, Diagnostic, Diagnostics, SourceFile};
+use crate::diagnostic::{Diagnostics, SourceFile};
 use crate::ir::ResolvedSpec;
 use crate::maze::MazeSpec;
 use crate::params::Override;
 use crate::registry::{self, Kind};
 use crate::syntax::Spec;
-use crate::value::{Val, parse_document};
+use crate::value::Val;
 
 /// A resolved spec of any kind.
 #[derive(Clone, Debug)]
@@ -61,15 +61,7 @@ pub struct Document {
 impl Document {
     /// Read and parse a spec file (E0600 when it cannot be read, E0100 when it is not TOML).
     pub fn read(path: &Path) -> Result<Document, Diagnostics> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Diagnostic::new(
-                Code::E0600,
-                format!("cannot read spec {}: {e}", path.display()),
-            )
-            .label("expected a readable TOML spec file")
-        })?;
-        let file = SourceFile::new(path, text);
-        let root = parse_document(&file)?;
+        let (file, root) = crate::value::read_document(path, None, "spec")?;
         let kind = Kind::of_document(&root);
         Ok(Document { file, root, kind })
     }

@@ -90,14 +90,8 @@ impl Spec {
 
     /// Read and check a spec file.
     pub fn load(path: &Path) -> Result<Spec, Diagnostics> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Diagnostic::new(
-                Code::E0600,
-                format!("cannot read spec {}: {e}", path.display()),
-            )
-            .label("expected a readable TOML spec file")
-        })?;
-        Spec::parse(path, text)
+        let (file, root) = crate::value::read_document(path, None, "spec")?;
+        Spec::from_document(&file, &root)
     }
 
     /// Check a spec given as text (`path` is used for messages and relative model paths).

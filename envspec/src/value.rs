@@ -111,6 +111,27 @@ pub fn format_float(x: f64) -> String {
     }
 }
 
+/// Read and parse a TOML file with locations: the one reader of every spec, map and registry
+/// file. An unreadable file is E0600 (located at `at`, the value that named it, when given);
+/// `what` names the file in the message ("spec", "map file", ...).
+pub fn read_document(
+    path: &std::path::Path,
+    at: Option<&Location>,
+    what: &str,
+) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Diagnostic::new(
+            Code::E0600,
+            format!("cannot read {what} {}: {e}", path.display()),
+        )
+        .at_opt(at.cloned())
+        .label(format!("expected a readable TOML {what} file"))
+    })?;
+    let file = SourceFile::new(path, text);
+    let root = parse_document(&file)?;
+    Ok((file, root))
+}
+
 /// Parse a whole TOML document. Syntax errors are reported with their location.
 pub fn parse_document(file: &Arc<SourceFile>) -> Result<Val, Diagnostics> {
     let (table, errors) = DeTable::parse_recoverable(&file.text);

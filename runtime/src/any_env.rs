@@ -131,31 +131,24 @@ impl AnyEnv {
 
     /// One step with a joint action (float64).
     pub fn step(&mut self, action: &[f64]) -> Result<JointStep, EnvError> {
-        Ok(match self {
+        let (reward, terminated, truncated) = match self {
             AnyEnv::Task(e) => {
                 let s = e.step(action)?;
-                JointStep {
-                    reward: s.reward,
-                    terminated: s.terminated,
-                    truncated: s.truncated,
-                }
+                (s.reward, s.terminated, s.truncated)
             }
             AnyEnv::Maze(e) => {
                 let s = e.step(action)?;
-                JointStep {
-                    reward: s.reward,
-                    terminated: s.terminated,
-                    truncated: s.truncated,
-                }
+                (s.reward, s.terminated, s.truncated)
             }
             AnyEnv::Agents(e) => {
                 let s = e.step_global(action)?;
-                JointStep {
-                    reward: s.reward,
-                    terminated: s.terminated,
-                    truncated: s.truncated,
-                }
+                (s.reward, s.terminated, s.truncated)
             }
+        };
+        Ok(JointStep {
+            reward,
+            terminated,
+            truncated,
         })
     }
 }

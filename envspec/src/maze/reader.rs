@@ -8,7 +8,7 @@ use super::grid::{check_layout, read_grid};
 use super::{MAZE_PARAMS, MazeLocations, MazeSpec, RewardType};
 use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, suggest};
 use crate::params::{Override, OverrideValue};
-use crate::value::{Entry, Val, ValKind, parse_document, parse_literal};
+use crate::value::{Entry, Val, ValKind, parse_literal, read_document};
 
 const MAZE_KEYS: &[&str] = &[
     "id",
@@ -35,28 +35,9 @@ fn unknown_key(e: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
         .help_opt(suggest(&e.key, allowed.iter().copied()))
 }
 
-/// Read a TOML file with locations; an unreadable file is E0600 (at `at`, when given).
-pub(super) fn read_file(
-    path: &Path,
-    at: Option<&Location>,
-    what: &str,
-) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        Diagnostic::new(
-            Code::E0600,
-            format!("cannot read {what} {}: {e}", path.display()),
-        )
-        .at_opt(at.cloned())
-        .label(format!("expected a readable TOML {what}"))
-    })?;
-    let file = SourceFile::new(path, text);
-    let root = parse_document(&file)?;
-    Ok((file, root))
-}
-
 /// Load a maze spec with overrides (maze parameters by name; anything else goes to the robot).
 pub fn load_maze(path: &Path, overrides: &[Override]) -> Result<MazeSpec, Diagnostics> {
-    let (file, root) = read_file(path, None, "maze spec")?;
+    let (file, root) = read_document(path, None, "maze spec")?;
     from_document(&file, &root, overrides)
 }
 
@@ -351,7 +332,7 @@ impl Reader {
 
 /// The `grid` value of a map file (`name = "..."`, `grid = """..."""`).
 fn read_map_file(path: &Path, at: &Location) -> Result<Val, Diagnostics> {
-    let (file, root) = read_file(path, Some(at), "map file").map_err(|mut e| {
+    let (file, root) = read_document(path, Some(at), "map").map_err(|mut e| {
         for x in &mut e.0 {
             if x.code == Code::E0600 {
                 x.help = Some(

@@ -3,7 +3,6 @@
 
 use std::path::{Path, PathBuf};
 
-use super::reader::read_file;
 use crate::diagnostic::{Code, Diagnostic, Diagnostics, suggest};
 use crate::params::Override;
 use crate::value::{Val, ValKind};
@@ -23,7 +22,7 @@ const FAMILY_KEYS: &[&str] = &["spec", "id", "maps"];
 /// `""` for sparse and `"Dense"` for dense, as Gymnasium-Robotics registers them. Map paths are
 /// relative to the registry file.
 pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
-    let (file, root) = read_file(path, None, "maze registry")?;
+    let (file, root) = crate::value::read_document(path, None, "maze registry")?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut d = Diagnostics::default();
     let top = root.as_table().unwrap_or(&[]);
