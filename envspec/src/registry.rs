@@ -60,7 +60,8 @@ pub struct Entry {
     pub path: PathBuf,
     /// Overrides the id implies (a maze family's map, reward type and time limit).
     pub overrides: Vec<Override>,
-    /// In `specs/examples/`: the model is not shipped (e.g. a MuJoCo Menagerie robot).
+    /// In `specs/examples/`: listed apart from the suites (`envc list` leaves them out); some
+    /// name models that are not shipped (the Go1 from MuJoCo Menagerie).
     pub example: bool,
     /// The id opens as a single-agent env (`envc::Env`): a task, including a complete task spec
     /// that also declares agents, under its `[env]` id (e.g. `CoupledHalfCheetah-v0`).
@@ -75,7 +76,7 @@ pub fn specs_dir() -> PathBuf {
     dir.canonicalize().unwrap_or(dir)
 }
 
-/// `specs/examples/`: example specs whose models are not shipped with envc.
+/// `specs/examples/`: example specs (some name models that are not shipped with envc).
 pub fn examples_dir() -> PathBuf {
     specs_dir().join("examples")
 }
