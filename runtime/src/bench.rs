@@ -5,7 +5,7 @@
 //! * **ceiling**: a raw `MjData` of the same compiled model, `frame_skip × mj_step` per env step
 //!   (+ `mj_rnePostConstraint` when the spec reads contact forces), same actions, reset at the
 //!   env's observed mean episode length;
-//! * **single**: one [`Env`] stepped with the same actions, autoreset on termination/truncation;
+//! * **single**: one [`Env`](crate::Env) stepped with the same actions, autoreset on termination/truncation;
 //! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted);
 //! * **parallel ceiling**: `threads` raw loops at once, wall time: the multi-core ceiling as the
 //!   machine's current load allows, so the vector overhead can be told apart from that load.

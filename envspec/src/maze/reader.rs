@@ -41,7 +41,7 @@ pub fn load_maze(path: &Path, overrides: &[Override]) -> Result<MazeSpec, Diagno
     from_document(&file, &root, overrides)
 }
 
-/// A maze spec from a document already read with [`read_document`](crate::value::read_document) (`root` is the whole
+/// A maze spec from a document already read with [`read_document`] (`root` is the whole
 /// document, with its `[maze]` table). Relative paths resolve against `file.path`'s directory.
 /// Overrides of maze parameters ([`MAZE_PARAMS`]) replace `[maze]` values (a `map` path then
 /// resolves against the working directory); any other override goes to the robot spec.
