@@ -142,6 +142,25 @@ const CHUNK: usize = 16;
 
 /// `threads` raw loops (`frame_skip × mj_step` + post-step kernel) in parallel for `slice` of
 /// wall time; env steps per second summed over threads.
+/// The env's first reset state, from which the raw loops restart: `mj_resetData` alone would put a
+/// maze's robot at the world origin (often inside a wall), not in a reset cell.
+struct StartState {
+    qpos: Vec<f64>,
+    qvel: Vec<f64>,
+}
+
+fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) {
+    raw.reset();
+    // SAFETY: qpos has nq and qvel nv entries, the lengths of the env's state of the same model.
+    unsafe {
+        let d = raw.ffi_mut();
+        std::slice::from_raw_parts_mut(d.qpos, s.qpos.len()).copy_from_slice(&s.qpos);
+        std::slice::from_raw_parts_mut(d.qvel, s.qvel.len()).copy_from_slice(&s.qvel);
+    }
+    raw.forward();
+}
+
+#[allow(clippy::too_many_arguments)]
 fn parallel_ceiling(
     model: &Arc<MjModel>,
     actions: &Actions,
@@ -150,6 +169,7 @@ fn parallel_ceiling(
     fs: u32,
     rne: bool,
     ep_len: u64,
+    start_state: &StartState,
 ) -> f64 {
     let start = Instant::now();
     let steps: u64 = std::thread::scope(|scope| {
@@ -164,8 +184,7 @@ fn parallel_ceiling(
                     while start.elapsed() < slice {
                         for _ in 0..CHUNK {
                             if n.is_multiple_of(ep_len) {
-                                raw.reset();
-                                raw.forward();
+                                restart(&mut raw, start_state);
                             }
                             let a = actions.rows(t * 997 + n as usize, 1);
                             // SAFETY: ctrl has nu entries.
@@ -225,6 +244,14 @@ pub fn bench(
         actions.act_dim,
     );
     env.reset(Some(0))?;
+    let start_state = {
+        let (qpos, qvel) = env.physics_env().state();
+        StartState {
+            qpos: qpos.to_vec(),
+            qvel: qvel.to_vec(),
+        }
+    };
+    let start_state = &start_state;
     if let Some(v) = &mut vec {
         v.reset(Some(0));
     }
@@ -254,8 +281,7 @@ pub fn bench(
                             let a = actions.rows(cursor, 1);
                             cursor += 1;
                             if raw_since_reset >= ep_len {
-                                raw.reset();
-                                raw.forward();
+                                restart(&mut raw, start_state);
                                 raw_since_reset = 0;
                             }
                             // SAFETY: ctrl has nu entries.
@@ -293,7 +319,16 @@ pub fn bench(
                         .checked_div(episodes)
                         .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
                         .max(1);
-                    parallel_ceiling(&model, &actions, threads, slice, fs, rne, ep_len)
+                    parallel_ceiling(
+                        &model,
+                        &actions,
+                        threads,
+                        slice,
+                        fs,
+                        rne,
+                        ep_len,
+                        start_state,
+                    )
                 }
                 _ => match &mut vec {
                     None => f64::NAN,
