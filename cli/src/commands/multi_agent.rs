@@ -164,23 +164,8 @@ pub fn show(env: &MultiAgentEnv) -> Result<Outcome> {
         }
         writeln!(o, "  observation:")?;
         for s in &a.observation {
-            let mut how = vec![];
-            if let Some((lo, hi)) = s.clip {
-                how.push(format!("clipped to [{lo}, {hi}]"));
-            }
-            let how = if how.is_empty() {
-                String::new()
-            } else {
-                format!("  ({})", how.join(", "))
-            };
-            writeln!(
-                o,
-                "    [{}:{}]  {}  = {}{how}",
-                s.offset,
-                s.offset + s.len(),
-                s.name,
-                s.element_names().join(", ")
-            )?;
+            let line = crate::commands::show::segment_line(s, &s.element_names().join(", "));
+            writeln!(o, "    {line}")?;
         }
     }
     print!("{o}");

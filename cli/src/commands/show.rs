@@ -96,23 +96,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 
     writeln!(o, "\nobservation ({} float64):", spec.obs_dim)?;
     for s in &spec.observation {
-        let mut how = vec![];
-        if let Some((lo, hi)) = s.clip {
-            how.push(format!("clipped to [{lo}, {hi}]"));
-        }
-        let how = if how.is_empty() {
-            String::new()
-        } else {
-            format!("  ({})", how.join(", "))
-        };
-        writeln!(
-            o,
-            "  [{}:{}]  {}  = {}{how}",
-            s.offset,
-            s.offset + s.len(),
-            s.name,
-            s.source.text
-        )?;
+        writeln!(o, "  {}", segment_line(s, &s.source.text))?;
         writeln!(o, "{}", wrap(&s.element_names(), 6, 100))?;
     }
 
@@ -189,4 +173,18 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     print!("{o}");
     Ok(Outcome::Ok)
+}
+
+/// One observation segment as `show` prints it: `[a:b]  name  = what (clipped to [lo, hi])`.
+pub fn segment_line(s: &envspec::ir::Segment, what: &str) -> String {
+    let clip = s
+        .clip
+        .map(|(lo, hi)| format!("  (clipped to [{lo}, {hi}])"))
+        .unwrap_or_default();
+    format!(
+        "[{}:{}]  {}  = {what}{clip}",
+        s.offset,
+        s.offset + s.len(),
+        s.name
+    )
 }
