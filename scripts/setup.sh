@@ -2,7 +2,8 @@
 # One-time set-up on a fresh machine: a project virtualenv with the Python reference (gymnasium,
 # mujoco, numpy, pinned in tests/reference/requirements.txt) and MuJoCo 3.17.0's C library taken
 # from the `mujoco` wheel, placed where .cargo/config.toml and the build scripts expect it.
-# Idempotent: re-running it only checks that everything is in place.
+# Then builds the envc Python package into that venv. Idempotent: re-running it only checks that
+# everything is in place (and rebuilds the package if its sources changed).
 set -euo pipefail
 MJ_VERSION=3.17.0
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -35,4 +36,11 @@ mkdir -p "$DEST/lib"
 cp -f "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/"
 ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-rs's build script looks for
 rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
-echo "envc setup: MuJoCo $MJ_VERSION in $DEST, reference venv in $VENV"
+# The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
+# Cargo rebuilds only what changed, so re-running this is quick.
+if ! out="$(cd "$ROOT" && "$VENV/bin/maturin" develop --release 2>&1)"; then
+  echo "$out" >&2
+  exit 1
+fi
+"$PY" -c 'import envc' || { echo "envc setup: the envc Python package does not import" >&2; exit 1; }
+echo "envc setup: MuJoCo $MJ_VERSION in $DEST, reference venv and the envc Python package in $VENV"

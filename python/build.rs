@@ -1,0 +1,10 @@
+//! Where the extension finds MuJoCo 3.17.0 at run time, without LD_LIBRARY_PATH: first the
+//! `mujoco` Python package beside it in site-packages (a dependency of `envc`, which carries
+//! `libmujoco.so.3.17.0`), then the library scripts/setup.sh provisions for this checkout.
+fn main() {
+    println!("cargo::rerun-if-env-changed=MUJOCO_DYNAMIC_LINK_DIR");
+    println!("cargo::rustc-link-arg=-Wl,-rpath,$ORIGIN/../mujoco");
+    if let Ok(dir) = std::env::var("MUJOCO_DYNAMIC_LINK_DIR") {
+        println!("cargo::rustc-link-arg=-Wl,-rpath,{dir}");
+    }
+}

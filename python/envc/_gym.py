@@ -1,0 +1,141 @@
+"""Single-agent envs as ``gymnasium.Env``: the task env class and ``envc.make``."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from . import _envc
+
+
+def _toml(value: Any, name: str) -> str:
+    """A Python value as the TOML literal an envc override takes."""
+    if isinstance(value, bool) or isinstance(value, np.bool_):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        x = float(value)
+        if math.isnan(x):
+            return "nan"
+        if math.isinf(x):
+            return "inf" if x > 0 else "-inf"
+        return repr(x)
+    if isinstance(value, (str, os.PathLike)):
+        return json.dumps(os.fspath(value))
+    if isinstance(value, (tuple, list, np.ndarray)):
+        return "[" + ", ".join(_toml(v, name) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml(v, name)}" for k, v in value.items()) + "}"
+    raise ValueError(
+        f"parameter `{name}`: cannot pass a {type(value).__name__} "
+        "(expected a bool, number, string, path, tuple/list or dict)"
+    )
+
+
+def overrides_to_toml(overrides: dict[str, Any]) -> list[tuple[str, str]]:
+    """Keyword arguments as envc overrides: ``[(name, TOML literal), ...]``."""
+    return [(k, _toml(v, k)) for k, v in overrides.items()]
+
+
+def _fps(dt: float) -> int:
+    return int(np.round(1.0 / dt))
+
+
+class EnvcEnv(gym.Env):
+    """A single-agent task env of any envc spec, stepping in Rust.
+
+    ``EnvcEnv("Ant-v5", ctrl_cost_weight=0.1)`` or ``EnvcEnv("my_robot.toml")``. The time limit is
+    Gymnasium's ``TimeLimit`` (``gymnasium.make`` and ``envc.make`` add it), exactly as for the
+    reference's envs; the env itself never truncates.
+
+    Actions: a float64 array (or anything ``np.asarray`` makes one of) steps with float64 costs;
+    a float32 array steps with float32 costs, as numpy computes them in the reference. Bad actions
+    (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` raises ``RuntimeError``.
+    """
+
+    def __init__(self, spec_id: str, render_mode: str | None = None, **overrides: Any):
+        if render_mode is not None:
+            raise ValueError(
+                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
+            )
+        pairs = overrides_to_toml(overrides)
+        if "max_episode_steps" not in overrides:
+            pairs.append(("max_episode_steps", "0"))
+        kind, core = _envc.open(spec_id, pairs)
+        if kind != "task":
+            raise TypeError(
+                f"`{spec_id}` is a {kind} spec; open it with envc.make (mazes) or "
+                "envc.parallel_env (multi-agent specs)"
+            )
+        self._core = core
+        self.render_mode = None
+        self.metadata = {"render_modes": [], "render_fps": _fps(core.dt)}
+        self.observation_space = gym.spaces.Box(
+            low=core.obs_low, high=core.obs_high, dtype=np.float64
+        )
+        self.action_space = gym.spaces.Box(
+            low=core.act_low.astype(np.float32),
+            high=core.act_high.astype(np.float32),
+            dtype=np.float32,
+        )
+        self.frame_skip = None
+        self.dt = core.dt
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        if seed is not None and not 0 <= int(seed) < 2**64:
+            raise ValueError(f"seed must be in [0, 2**64), got {seed}")
+        return self._core.reset(None if seed is None else int(seed))
+
+    def step(self, action):
+        a = np.asarray(action)
+        if a.ndim != 1:
+            raise ValueError(
+                f"action has shape {a.shape}; expected {self.action_space.shape}"
+            )
+        if a.dtype == np.float32:
+            return self._core.step_f32(np.ascontiguousarray(a))
+        return self._core.step(np.ascontiguousarray(a, dtype=np.float64))
+
+    def close(self):
+        self._core = _Closed()
+
+    @property
+    def numerics(self) -> str:
+        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
+        return self._core.numerics
+
+    @numerics.setter
+    def numerics(self, name: str) -> None:
+        self._core.numerics = name
+
+
+class _Closed:
+    """What a closed env steps with: every call raises."""
+
+    def __getattr__(self, name: str):
+        raise RuntimeError("the env is closed")
+
+
+def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> gym.Env:
+    """A Gymnasium env of a bundled id (``"Ant-v5"``, ``"PointMaze_UMaze-v3"``) or a spec file.
+
+    Keyword arguments are the spec's parameters (Python values: bools, numbers, tuples for
+    ranges, a path for ``xml_file``); ``max_episode_steps`` sets the ``TimeLimit``. An unknown
+    keyword raises ``TypeError`` naming the closest parameter; a bad value raises
+    ``envc.SpecError`` (a ``ValueError``) saying which parameter and why.
+
+    The env is wrapped as ``gymnasium.make`` wraps the reference's (``PassiveEnvChecker``,
+    ``OrderEnforcing``, ``TimeLimit``): ``envc.make("Ant-v5")`` is ``gym.make("envc/Ant-v5")``.
+    A spec file is registered under ``envc/<its id>`` first.
+    """
+    from ._registry import env_id_for
+
+    return gym.make(env_id_for(id_or_path), render_mode=render_mode, **overrides)
+

@@ -1,0 +1,54 @@
+"""The ``envc/`` namespace in Gymnasium's registry: every bundled id, and spec files on demand."""
+
+from __future__ import annotations
+
+import os
+
+import gymnasium as gym
+
+from . import _envc
+
+# Entry points by kind; multi-agent specs are PettingZoo envs (envc.parallel_env), not registered.
+_ENTRY = {
+    "task": "envc._gym:EnvcEnv",
+    "maze": "envc._maze:EnvcMazeEnv",
+}
+
+
+def bundled_ids(kind: str | None = None) -> list[str]:
+    """The bundled ids (``"task"``, ``"maze"`` or ``"agents"``; all kinds by default), sorted."""
+    return [i for i, k, _, _ in _envc.registry() if kind is None or k == kind]
+
+
+def _register(env_id: str, kind: str, spec_id: str, max_steps: int | None) -> None:
+    gym.register(
+        id=env_id,
+        entry_point=_ENTRY[kind],
+        kwargs={"spec_id": spec_id},
+        max_episode_steps=max_steps or None,
+    )
+
+
+def register_all() -> None:
+    """Register every bundled single-agent id as ``envc/<id>`` (idempotent)."""
+    for spec_id, kind, max_steps, _example in _envc.registry():
+        if kind in _ENTRY and f"envc/{spec_id}" not in gym.registry:
+            _register(f"envc/{spec_id}", kind, spec_id, max_steps)
+
+
+def env_id_for(id_or_path: str) -> str:
+    """The Gymnasium id of a bundled id or a spec file (registered as ``envc/<its id>``)."""
+    name = id_or_path[5:] if id_or_path.startswith("envc/") else id_or_path
+    if f"envc/{name}" in gym.registry and not os.path.isfile(name):
+        return f"envc/{name}"
+    kind, spec_id, max_steps = _envc.describe(os.fspath(name))
+    if kind not in _ENTRY:
+        raise TypeError(
+            f"`{id_or_path}` is a multi-agent spec: open it with envc.parallel_env"
+        )
+    env_id = f"envc/{spec_id}"
+    path = os.path.abspath(name) if os.path.isfile(name) else name
+    if env_id in gym.registry:
+        del gym.registry[env_id]
+    _register(env_id, kind, path, max_steps)
+    return env_id

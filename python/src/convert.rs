@@ -1,0 +1,26 @@
+//! Python ↔ envc values: overrides arrive as `(name, TOML literal)` pairs (the Python layer writes
+//! the literals), infos leave as dicts of floats and float64 arrays.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pub fn overrides(pairs: &[(String, String)]) -> Vec<envc::Override> {
+    pairs
+        .iter()
+        .map(|(k, v)| envc::Override::text(k, v))
+        .collect()
+}
+
+/// An info as Gymnasium envs return it: a scalar entry as a float, a vector entry as an array.
+pub fn info<'py>(py: Python<'py>, info: envc::Info<'_>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in info.iter() {
+        if v.len() == 1 {
+            d.set_item(k, v[0])?;
+        } else {
+            d.set_item(k, PyArray1::from_slice(py, v))?;
+        }
+    }
+    Ok(d)
+}

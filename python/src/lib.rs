@@ -1,0 +1,87 @@
+//! `envc._envc`: the native core of the `envc` Python package. Every spec opens through the one
+//! door (`envc::open`); each kind gets a core object that steps with numpy arrays. The Gymnasium,
+//! vector and PettingZoo classes are Python (`python/envc/`), thin over these cores.
+
+use pyo3::prelude::*;
+
+mod convert;
+mod errors;
+mod maze;
+mod multi_agent;
+mod task;
+mod vector;
+
+/// Open a bundled id or a spec file of any kind with overrides (`(name, TOML literal)` pairs).
+/// Returns `(kind, core)` with kind `"task"`, `"maze"` or `"agents"`.
+#[pyfunction]
+#[pyo3(signature = (id_or_path, overrides = Vec::new()))]
+fn open(py: Python<'_>, id_or_path: &str, overrides: Vec<(String, String)>) -> PyResult<(String, Py<PyAny>)> {
+    let o = convert::overrides(&overrides);
+    let env = envc::open(id_or_path, &o).map_err(errors::env_error)?;
+    Ok(match env {
+        envc::AnyEnv::Task(e) => ("task".into(), Py::new(py, task::TaskCore::new(e))?.into_any()),
+        envc::AnyEnv::Maze(e) => ("maze".into(), Py::new(py, maze::MazeCore::new(*e))?.into_any()),
+        envc::AnyEnv::Agents(e) => (
+            "agents".into(),
+            Py::new(py, multi_agent::AgentsCore::new(e))?.into_any(),
+        ),
+    })
+}
+
+/// Every bundled id as `(id, kind, max_episode_steps or None, example)`, sorted by id.
+#[pyfunction]
+fn registry() -> Vec<(String, String, Option<u64>, bool)> {
+    envspec::registry::entries()
+        .iter()
+        .map(|e| {
+            let kind = kind_name(e.kind);
+            let max = envspec::open(&e.id, &[]).ok().and_then(|s| match s {
+                envc::AnySpec::Task(t) => t.max_episode_steps,
+                envc::AnySpec::Maze(m) => m.max_episode_steps,
+                envc::AnySpec::Agents(a) => a.base.max_episode_steps,
+            });
+            (e.id.clone(), kind.to_string(), max, e.example)
+        })
+        .collect()
+}
+
+/// What a spec is without building it: `(kind, id, max_episode_steps or None)`.
+#[pyfunction]
+fn describe(id_or_path: &str) -> PyResult<(String, String, Option<u64>)> {
+    let spec = envspec::open(id_or_path, &[]).map_err(errors::diagnostics)?;
+    let max = match &spec {
+        envc::AnySpec::Task(t) => t.max_episode_steps,
+        envc::AnySpec::Maze(m) => m.max_episode_steps,
+        envc::AnySpec::Agents(a) => a.base.max_episode_steps,
+    };
+    Ok((kind_name(spec.kind()).into(), spec.id().to_string(), max))
+}
+
+fn kind_name(k: envspec::Kind) -> &'static str {
+    match k {
+        envspec::Kind::Task => "task",
+        envspec::Kind::Maze => "maze",
+        envspec::Kind::Agents => "agents",
+    }
+}
+
+/// The parameters of a spec: `(name, type name, default as TOML text, doc)`.
+#[pyfunction]
+fn parameters(id_or_path: &str) -> PyResult<Vec<(String, String, String, String)>> {
+    task::parameters(id_or_path)
+}
+
+#[pymodule]
+fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(open, m)?)?;
+    m.add_function(wrap_pyfunction!(registry, m)?)?;
+    m.add_function(wrap_pyfunction!(parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(describe, m)?)?;
+    m.add_class::<task::TaskCore>()?;
+    m.add_class::<maze::MazeCore>()?;
+    m.add_class::<multi_agent::AgentsCore>()?;
+    m.add_class::<vector::VecCore>()?;
+    m.add("SpecError", m.py().get_type::<errors::SpecError>())?;
+    m.add("__mujoco_version__", envc::mujoco_version())?;
+    Ok(())
+}
