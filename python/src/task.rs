@@ -19,7 +19,44 @@ impl TaskCore {
     }
 }
 
-type StepOut<'py> = (Bound<'py, PyArray1<f64>>, f64, bool, bool, Bound<'py, PyDict>);
+/// Run `f` with MuJoCo's process-wide timer callback `mjcb_time` cleared, and put it back after.
+///
+/// `import mujoco` (MuJoCo's Python bindings, which Gymnasium's MuJoCo envs import) installs a
+/// clock there, and every `mj_step` then reads it for each of its profiling timers (`mjData.timer`):
+/// about 2.5 µs per `mj_step` on the benchmark machine, +60 % on InvertedPendulum's physics
+/// (docs/PERFORMANCE.md). envc never reads `mjData.timer`, and timers do not change the physics.
+/// The GIL is held throughout, so no Python code installs or reads the callback meanwhile; a
+/// `mujoco.mj_step` on another thread (the bindings release the GIL) may record one timer sample
+/// without the clock, nothing else.
+pub fn without_mujoco_timer<T>(f: impl FnOnce() -> T) -> T {
+    struct Restore(Option<unsafe extern "C" fn() -> f64>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            // SAFETY: a pointer-sized global of libmujoco, written back as it was found.
+            unsafe { mjcb_time = self.0 };
+        }
+    }
+    // SAFETY: as above; MuJoCo calls the callback only when it is non-null.
+    let _restore = unsafe {
+        let saved = Restore(mjcb_time);
+        mjcb_time = None;
+        saved
+    };
+    f()
+}
+
+unsafe extern "C" {
+    /// `mjfTime mjcb_time` (mujoco.h): the clock MuJoCo's profiling timers read, or null.
+    static mut mjcb_time: Option<unsafe extern "C" fn() -> f64>;
+}
+
+type StepOut<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    f64,
+    bool,
+    bool,
+    Bound<'py, PyDict>,
+);
 
 fn step_out<'py>(py: Python<'py>, s: envc::Step<'_>) -> PyResult<StepOut<'py>> {
     Ok((
@@ -40,13 +77,18 @@ impl TaskCore {
         py: Python<'py>,
         seed: Option<u64>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
-        let (obs, info) = self.env.reset(seed);
+        let (obs, info) = without_mujoco_timer(|| self.env.reset(seed));
         Ok((PyArray1::from_slice(py, obs), convert::info(py, info)?))
     }
 
     /// Step with a float64 action.
-    fn step<'py>(&mut self, py: Python<'py>, action: PyReadonlyArray1<'py, f64>) -> PyResult<StepOut<'py>> {
-        let s = self.env.step(action.as_slice()?).map_err(errors::env_error)?;
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<StepOut<'py>> {
+        let action = action.as_slice()?;
+        let s = without_mujoco_timer(|| self.env.step(action)).map_err(errors::env_error)?;
         step_out(py, s)
     }
 
@@ -56,7 +98,8 @@ impl TaskCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self.env.step_f32(action.as_slice()?).map_err(errors::env_error)?;
+        let action = action.as_slice()?;
+        let s = without_mujoco_timer(|| self.env.step_f32(action)).map_err(errors::env_error)?;
         step_out(py, s)
     }
 

@@ -1,0 +1,454 @@
+#!/usr/bin/env python3
+"""What stepping envc from Python costs, side by side with Gymnasium and EnvPool (one interleaved run).
+
+Every round, for every env (rotated order) and every contender (rotated order), back to back:
+
+single env, µs per step (thread CPU time and wall time, reset calls not counted):
+  - ``envc bench X``: envc's Rust rates (physics ceiling and single env; thread CPU time), the
+    Rust ``VecEnv`` with 8 envs on 2 threads (wall time), run as a subprocess;
+  - the physics ceiling in Python: ``mujoco.mj_step(model, data, nstep=frame_skip)`` (+
+    ``mj_rnePostConstraint`` where the spec reads contact forces, as ``envc bench``) on the
+    reference's own model, restarting from its reset state every mean episode length;
+  - ``gymnasium.make("envc/X")`` (the standard wrappers) and its ``.unwrapped`` (another instance),
+    and the native core under ``.unwrapped`` (``_core.step_f32``: the binding without the Python
+    class), so that what envc adds splits into the binding, the class and Gymnasium's wrappers;
+  - Gymnasium's ``gymnasium.make("X")`` and its ``.unwrapped``;
+  - EnvPool ``make_gymnasium(X, num_envs=1, num_threads=1)`` (wall time only: it steps on its own
+    worker thread; autoreset calls not counted);
+  - a no-op ``step`` in the same loop: the harness's own cost.
+
+vector, steps/s (wall time, autoreset calls not counted), 8 and 16 envs: ``envc.make_vec(X, n,
+num_threads=2)`` if this ``envc`` has it (else skipped, with a message), Gymnasium's
+``SyncVectorEnv`` and ``AsyncVectorEnv`` (``gymnasium.make_vec``), EnvPool (``num_threads=2``).
+
+Tables of medians over rounds go to stdout (Markdown) and, with ``--markdown``, to a file; the
+per-round samples to ``--json``. Actions: uniform random float32 in the action space (what
+``action_space.sample()`` and Stable-Baselines3 give), the same stream for every contender.
+
+    PYTHONPATH=python /work/venv-bench/bin/python benches/python_overhead.py \\
+        --envc target/release/envc --rounds 5 --seconds 0.5
+
+Needs a venv with gymnasium and mujoco at the reference pins (tests/reference/requirements.txt),
+the ``envc`` package (built extension in ``python/envc/``) and, optionally, ``envpool``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import gc
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ENVS = ["Ant", "Humanoid", "Walker2d", "Hopper", "InvertedPendulum"]
+HEAVY = {"Ant", "Humanoid", "Walker2d"}
+SINGLE = ["ceiling_py", "envc_gym", "envc_raw", "envc_core", "gym_gym", "gym_raw", "envpool"]
+VEC_SIZES = (8, 16)
+VECTOR = ["envc_vec", "sync", "async", "envpool_vec"]
+BLOCK = 64  # steps timed as one block (a block also ends at the end of an episode)
+NACT = 4096
+
+wall_ns, cpu_ns = time.perf_counter_ns, time.thread_time_ns
+
+
+def timer_cost() -> tuple[float, float]:
+    """ns that one timed block adds to a measurement (four clock reads), wall and CPU."""
+    w, c = [], []
+    for _ in range(20000):
+        w0, c0 = wall_ns(), cpu_ns()
+        w1, c1 = wall_ns(), cpu_ns()
+        w.append(w1 - w0)
+        c.append(c1 - c0)
+    return statistics.median(w), statistics.median(c)
+
+
+class Tally:
+    """Steps and time of one measurement, reset calls excluded, timer cost subtracted."""
+
+    def __init__(self, cost):
+        self.steps, self.wall, self.cpu, self.blocks, self.cost = 0, 0, 0, 0, cost
+
+    def add(self, steps, w, c):
+        self.steps, self.wall, self.cpu, self.blocks = (
+            self.steps + steps, self.wall + w, self.cpu + c, self.blocks + 1)
+
+    def us(self):
+        w = (self.wall - self.blocks * self.cost[0]) / self.steps / 1e3
+        c = (self.cpu - self.blocks * self.cost[1]) / self.steps / 1e3
+        return w, c
+
+
+def gym_block(env, acts, k):
+    """Up to BLOCK steps of a Gymnasium-API env, stopping at the end of an episode."""
+    for i in range(BLOCK):
+        _, _, term, trunc, _ = env.step(acts[(k + i) % NACT])
+        if term or trunc:
+            return i + 1, True
+    return BLOCK, False
+
+
+def measure_env(env, acts, seconds, cost):
+    """µs/step (wall, CPU) of ``env.step``; resets are outside the timed blocks."""
+    def run(budget):
+        t, k, done = Tally(cost), 0, True
+        while t.wall < budget:
+            if done:
+                env.reset()
+            w0, c0 = wall_ns(), cpu_ns()
+            n, done = gym_block(env, acts, k)
+            c1, w1 = cpu_ns(), wall_ns()
+            t.add(n, w1 - w0, c1 - c0)
+            k += n
+        return t
+    run(seconds * 0.25e9)
+    return run(seconds * 1e9).us()
+
+
+def measure_ceiling(mujoco, model, start, fs, rne, ep_len, acts, seconds, cost):
+    """µs/step of the raw loop through the ``mujoco`` bindings (restarts outside the blocks)."""
+    data = mujoco.MjData(model)
+    qpos, qvel = start
+
+    def restart():
+        mujoco.mj_resetData(model, data)
+        data.qpos[:] = qpos
+        data.qvel[:] = qvel
+        mujoco.mj_forward(model, data)
+
+    def block(k, n):
+        ctrl, step, post = data.ctrl, mujoco.mj_step, mujoco.mj_rnePostConstraint
+        for i in range(n):
+            ctrl[:] = acts[(k + i) % NACT]
+            step(model, data, nstep=fs)
+            if rne:
+                post(model, data)
+
+    def run(budget):
+        t, k = Tally(cost), 0
+        while t.wall < budget:
+            restart()
+            left = ep_len
+            while left > 0:
+                n = min(BLOCK, left)
+                w0, c0 = wall_ns(), cpu_ns()
+                block(k, n)
+                c1, w1 = cpu_ns(), wall_ns()
+                t.add(n, w1 - w0, c1 - c0)
+                k, left = k + n, left - n
+        return t
+    run(seconds * 0.25e9)
+    return run(seconds * 1e9).us()
+
+
+class NoOp:
+    """A step that does nothing: what the timing loop itself costs per step."""
+
+    _out = (None, 0.0, False, False, {})
+
+    def reset(self):
+        return None, {}
+
+    def step(self, action):
+        return self._out
+
+
+class CoreEnv:
+    """An envc env's native core as the timing loop calls it: ``step`` is ``_core.step_f32``."""
+
+    def __init__(self, env):
+        self.env, self.step = env, env._core.step_f32
+
+    def reset(self, seed=None):
+        return self.env.reset(seed=seed)
+
+
+def measure_envpool(env, seconds):
+    """µs/step (wall) of an EnvPool env of one env; autoreset calls are not counted."""
+    n_act = env.action_space.shape[0]
+    acts = np.random.default_rng(1).uniform(env.action_space.low, env.action_space.high,
+                                            size=(NACT, 1, n_act)).astype(np.float32)
+
+    def run(budget):
+        steps, k, start = 0, 0, wall_ns()
+        while wall_ns() - start < budget:
+            for _ in range(16):
+                info = env.step(acts[k % NACT])[4]
+                k += 1
+                steps += int(info["elapsed_step"][0] != 0)
+        return (wall_ns() - start) / max(steps, 1) / 1e3
+    env.reset()
+    run(seconds * 0.25e9)
+    return run(seconds * 1e9)
+
+
+def measure_vec(env, n, seconds, envpool=False):
+    """Steps/s (wall) of a vector env; autoreset calls (envs done at the previous call) not counted."""
+    space = getattr(env, "single_action_space", None) or env.action_space  # EnvPool: one env's
+    acts = np.random.default_rng(2).uniform(space.low, space.high,
+                                            size=(256, n) + space.shape).astype(np.float32)
+    env.reset() if envpool else env.reset(seed=0)
+    prev_done = np.zeros(n, dtype=bool)
+
+    def run(budget):
+        nonlocal prev_done
+        steps, k, start = 0, 0, wall_ns()
+        while wall_ns() - start < budget:
+            for _ in range(8):
+                _, _, term, trunc, info = env.step(acts[k % 256])
+                k += 1
+                if envpool:
+                    steps += int(np.count_nonzero(info["elapsed_step"] != 0))
+                else:
+                    steps += n - int(np.count_nonzero(prev_done))
+                    prev_done = np.logical_or(term, trunc)
+        return steps / ((wall_ns() - start) / 1e9)
+    run(seconds * 0.25e9)
+    return run(seconds * 1e9)
+
+
+def envc_bench(binary, env_id, seconds):
+    out = subprocess.run([binary, "bench", env_id, "--rounds", "1", "--seconds", str(4 * seconds),
+                          "--envs", "8", "--threads", "2", "--format", "json"],
+                         check=True, capture_output=True, text=True).stdout
+    return json.loads(out)[0]
+
+
+def make_envc_vec(envc, env_id, n):
+    try:
+        return envc.make_vec(env_id, n, num_threads=2)
+    except TypeError:
+        return envc.make_vec(env_id, n)
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(ln.split(":", 1)[1].strip() for ln in f if ln.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return (f"{cpu}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}, "
+            f"Python {platform.python_version()}; load average {load:.1f} at the start")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--envc", default=os.path.join(ROOT, "target", "release", "envc"),
+                    help="the envc CLI binary (release build) for the Rust rates")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--seconds", type=float, default=0.5, help="per measurement per round")
+    ap.add_argument("--envs", nargs="*", default=ENVS)
+    ap.add_argument("--no-vector", action="store_true", help="skip the vector measurements")
+    ap.add_argument("--markdown", help="also write the tables to this file")
+    ap.add_argument("--json", help="write the per-round samples to this file")
+    args = ap.parse_args()
+
+    import gymnasium as gym
+    import mujoco
+
+    import envc
+    try:
+        import envpool
+        ep_note = f"EnvPool {envpool.__version__}"
+    except Exception as e:  # noqa: BLE001 - reported in the tables' notes
+        envpool, ep_note = None, f"EnvPool not measured ({type(e).__name__}: {e})"
+    has_vec = hasattr(envc, "make_vec") and not args.no_vector
+    if not hasattr(envc, "make_vec"):
+        print("envc.make_vec is absent in this envc: the envc vector column is skipped", flush=True)
+
+    cost = timer_cost()
+    print(f"envc {envc.__file__}; timer cost per block {cost[0]:.0f} ns wall, {cost[1]:.0f} ns CPU",
+          flush=True)
+    started = datetime.datetime.now(datetime.timezone.utc)
+    head = machine()
+
+    s = {name: {} for name in args.envs}  # per env: key -> list of samples over rounds
+    objs = {}
+    for name in args.envs:
+        env_id = f"{name}-v5"
+        e_w, e_r = gym.make(f"envc/{env_id}"), gym.make(f"envc/{env_id}").unwrapped
+        e_c = CoreEnv(gym.make(f"envc/{env_id}").unwrapped)
+        g_w, g_r = gym.make(env_id), gym.make(env_id).unwrapped
+        for env in (e_w, e_r, e_c, g_w, g_r):
+            env.reset(seed=0)
+        space = g_r.action_space
+        acts = list(np.random.default_rng(0).uniform(space.low, space.high, size=(NACT,) + space.shape)
+                    .astype(np.float32))
+        g_r.reset(seed=0)
+        start = (g_r.data.qpos.copy(), g_r.data.qvel.copy())
+        ep = envpool.make_gymnasium(env_id, num_envs=1, batch_size=1, num_threads=1, seed=0) \
+            if envpool is not None else None
+        objs[name] = dict(envc_gym=e_w, envc_raw=e_r, envc_core=e_c, gym_gym=g_w, gym_raw=g_r, acts=acts,
+                          start=start, envpool=ep, fs=g_r.frame_skip)
+    noop = NoOp()
+    harness = []
+
+    for r in range(args.rounds):
+        names = args.envs[r % len(args.envs):] + args.envs[:r % len(args.envs)]
+        harness.append(measure_env(noop, objs[names[0]]["acts"], args.seconds, cost))
+        for name in names:
+            env_id, o, row = f"{name}-v5", objs[name], s[name]
+            b = envc_bench(args.envc, env_id, args.seconds)
+            row.setdefault("rust_ceiling", []).append(1e6 / b["ceiling_steps_per_s"])
+            row.setdefault("rust_single", []).append(1e6 / b["single_steps_per_s"])
+            row.setdefault("rust_vec8", []).append(b["vector_steps_per_s"])
+            o.setdefault("rne", b["rne_post_constraint"])
+            o.setdefault("ep_len", max(1, round(b["mean_episode_len"])))
+            order = SINGLE[r % len(SINGLE):] + SINGLE[:r % len(SINGLE)]
+            for c in order:
+                gc.collect()
+                if c == "ceiling_py":
+                    v = measure_ceiling(mujoco, o["gym_raw"].model, o["start"], o["fs"], o["rne"],
+                                        o["ep_len"], o["acts"], args.seconds, cost)
+                elif c == "envpool":
+                    if o["envpool"] is None:
+                        continue
+                    v = (measure_envpool(o["envpool"], args.seconds), float("nan"))
+                else:
+                    v = measure_env(o[c], o["acts"], args.seconds, cost)
+                row.setdefault(c + "_wall", []).append(v[0])
+                row.setdefault(c + "_cpu", []).append(v[1])
+            if not args.no_vector:
+                vorder = [(c, n) for n in VEC_SIZES for c in VECTOR]
+                vorder = vorder[r % len(vorder):] + vorder[:r % len(vorder)]
+                for c, n in vorder:
+                    if c == "envc_vec" and not has_vec:
+                        continue
+                    if c == "envpool_vec" and envpool is None:
+                        continue
+                    gc.collect()
+                    if c == "envc_vec":
+                        env = make_envc_vec(envc, env_id, n)
+                    elif c == "envpool_vec":
+                        env = envpool.make_gymnasium(env_id, num_envs=n, batch_size=n,
+                                                     num_threads=2, seed=0)
+                    else:
+                        env = gym.make_vec(env_id, num_envs=n, vectorization_mode=c)
+                    try:
+                        row.setdefault(f"{c}{n}", []).append(
+                            measure_vec(env, n, args.seconds, envpool=c == "envpool_vec"))
+                    finally:
+                        env.close()
+            print(f"round {r + 1}/{args.rounds} {env_id}: "
+                  + ", ".join(f"{k} {v[-1]:.2f}" for k, v in row.items()), flush=True)
+
+    md = tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco)
+    print(md)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(md)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"started": started.isoformat(), "machine": head, "harness": harness,
+                       "samples": s}, f, indent=1)
+
+
+def med(v):
+    v = [x for x in v if x == x]
+    return statistics.median(v) if v else float("nan")
+
+
+def paired(row, f, *keys):
+    """Median over rounds of f(sample of each key in that round)."""
+    if not all(k in row for k in keys):
+        return float("nan")
+    return med([f(*xs) for xs in zip(*(row[k] for k in keys))])
+
+
+def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
+    f2 = lambda x: "–" if x != x else f"{x:.2f}"  # noqa: E731
+    f0 = lambda x: "–" if x != x else f"{x:,.0f}"  # noqa: E731
+    hw, hc = med([h[0] for h in harness]), med([h[1] for h in harness])
+    out = [
+        f"Measured {started:%Y-%m-%d %H:%M} UTC by `benches/python_overhead.py` ({args.rounds} rounds, "
+        f"{args.seconds:g} s per measurement per round; medians over rounds, ratios and differences "
+        "medians of the per-round values).",
+        f"Machine: {head}. Gymnasium {gym.__version__}, MuJoCo {mujoco.__version__} (Python bindings "
+        f"and envc's library), {ep_note}.",
+        f"Harness (a no-op `step` in the same timing loop): {hw:.2f} µs wall, {hc:.2f} µs CPU per step; "
+        "included in every Python column below.",
+        "",
+        "Single env, µs per step, thread CPU time (reset calls not counted):",
+        "",
+        "| env | ceiling (Rust) | envc (Rust) | ceiling (`mujoco` Python) | envc core | envc `.unwrapped` | "
+        "envc `gym.make` | Gym `.unwrapped` | Gym `gym.make` |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in args.envs:
+        r = s[name]
+        out.append(f"| {name} | " + " | ".join(f2(med(r.get(k, []))) for k in (
+            "rust_ceiling", "rust_single", "ceiling_py_cpu", "envc_core_cpu", "envc_raw_cpu",
+            "envc_gym_cpu", "gym_raw_cpu", "gym_gym_cpu")) + " |")
+    out += [
+        "",
+        "Single env, µs per step, wall time:",
+        "",
+        "| env | ceiling (`mujoco` Python) | envc core | envc `.unwrapped` | envc `gym.make` | "
+        "Gym `.unwrapped` | Gym `gym.make` | EnvPool (1 env, 1 thread) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in args.envs:
+        r = s[name]
+        out.append(f"| {name} | " + " | ".join(f2(med(r.get(k, []))) for k in (
+            "ceiling_py_wall", "envc_core_wall", "envc_raw_wall", "envc_gym_wall", "gym_raw_wall",
+            "gym_gym_wall", "envpool_wall")) + " |")
+    d = lambda a, b: a - b  # noqa: E731
+    q = lambda a, b: b / a  # noqa: E731
+    out += [
+        "",
+        "What envc adds in Python, µs per step (thread CPU time; medians of per-round differences): "
+        "the binding (core − envc's Rust step), the Python class (`.unwrapped` − core), "
+        "Gymnasium's wrappers (`gym.make` − `.unwrapped`), in all (`gym.make` − Rust); the same "
+        "difference for the `mujoco` bindings' raw loop shows the noise between processes. Rates "
+        "against the Rust physics ceiling (CPU time) and envc against Gymnasium (wall time):",
+        "",
+        "| env | binding | class | wrappers | in all | `mujoco` Python − Rust ceiling | "
+        "envc `gym.make` ÷ ceiling | Gym `gym.make` ÷ ceiling | envc ÷ Gym (`gym.make`, wall) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in args.envs:
+        r = s[name]
+        out.append(f"| {name}{' (heavy)' if name in HEAVY else ''} | "
+                   f"{f2(paired(r, d, 'envc_core_cpu', 'rust_single'))} | "
+                   f"{f2(paired(r, d, 'envc_raw_cpu', 'envc_core_cpu'))} | "
+                   f"{f2(paired(r, d, 'envc_gym_cpu', 'envc_raw_cpu'))} | "
+                   f"{f2(paired(r, d, 'envc_gym_cpu', 'rust_single'))} | "
+                   f"{f2(paired(r, d, 'ceiling_py_cpu', 'rust_ceiling'))} | "
+                   f"{f2(paired(r, q, 'envc_gym_cpu', 'rust_ceiling'))} | "
+                   f"{f2(paired(r, q, 'gym_gym_cpu', 'rust_ceiling'))} | "
+                   f"{f2(paired(r, q, 'envc_gym_wall', 'gym_gym_wall'))} |")
+    if not args.no_vector:
+        out += [
+            "",
+            "Vector envs, steps/s, wall time, 2 threads where the API takes a thread count "
+            "(autoreset calls not counted)"
+            + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
+            "",
+            "| env | n | envc `make_vec` | Gym Sync | Gym Async | EnvPool | envc `VecEnv` (Rust, 8) "
+            "| envc ÷ EnvPool | envc ÷ best Gym |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for name in args.envs:
+            r = s[name]
+            for n in VEC_SIZES:
+                ev, ep = f"envc_vec{n}", f"envpool_vec{n}"
+                out.append(
+                    f"| {name} | {n} | {f0(med(r.get(ev, [])))} | {f0(med(r.get(f'sync{n}', [])))} | "
+                    f"{f0(med(r.get(f'async{n}', [])))} | {f0(med(r.get(ep, [])))} | "
+                    f"{f0(med(r['rust_vec8'])) if n == 8 else '–'} | "
+                    f"{f2(paired(r, lambda a, b: a / b, ev, ep))} | "
+                    f"{f2(paired(r, lambda a, b, c: a / max(b, c), ev, f'sync{n}', f'async{n}'))} |")
+    return "\n".join(out) + "\n"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
