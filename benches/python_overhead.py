@@ -8,7 +8,9 @@ single env, µs per step (thread CPU time and wall time, reset calls not counted
     Rust ``VecEnv`` with 8 envs on 2 threads (wall time), run as a subprocess;
   - the physics ceiling in Python: ``mujoco.mj_step(model, data, nstep=frame_skip)`` (+
     ``mj_rnePostConstraint`` where the spec reads contact forces, as ``envc bench``) on the
-    reference's own model, restarting from its reset state every mean episode length;
+    reference's own model, restarting from its reset state every mean episode length; once as
+    the bindings run by default (``import mujoco`` installs MuJoCo's timer callback ``mjcb_time``,
+    read by every ``mj_step``'s profiling timers) and once with that callback cleared;
   - ``gymnasium.make("envc/X")`` (the standard wrappers) and its ``.unwrapped`` (another instance),
     and the native core under ``.unwrapped`` (``_core.step_f32``: the binding without the Python
     class), so that what envc adds splits into the binding, the class and Gymnasium's wrappers;
@@ -35,6 +37,8 @@ the ``envc`` package (built extension in ``python/envc/``) and, optionally, ``en
 from __future__ import annotations
 
 import argparse
+import contextlib
+import ctypes
 import datetime
 import gc
 import json
@@ -50,7 +54,9 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ENVS = ["Ant", "Humanoid", "Walker2d", "Hopper", "InvertedPendulum"]
 HEAVY = {"Ant", "Humanoid", "Walker2d"}
-SINGLE = ["ceiling_py", "envc_gym", "envc_raw", "envc_core", "gym_gym", "gym_raw", "envpool"]
+SINGLE = [
+    "ceiling_py", "ceiling_nt", "envc_gym", "envc_raw", "envc_core", "gym_gym", "gym_raw", "envpool",
+]
 VEC_SIZES = (8, 16)
 VECTOR = ["envc_vec", "sync", "async", "envpool_vec"]
 BLOCK = 64  # steps timed as one block (a block also ends at the end of an episode)
@@ -146,6 +152,19 @@ def measure_ceiling(mujoco, model, start, fs, rne, ep_len, acts, seconds, cost):
         return t
     run(seconds * 0.25e9)
     return run(seconds * 1e9).us()
+
+
+@contextlib.contextmanager
+def mujoco_timer(on: bool):
+    """MuJoCo's ``mjcb_time`` as the bindings set it (``on``) or cleared, for a ``with`` block."""
+    cell = ctypes.c_void_p.in_dll(ctypes.CDLL("libmujoco.so.3.17.0"), "mjcb_time")
+    saved = cell.value
+    if not on:
+        cell.value = None
+    try:
+        yield
+    finally:
+        cell.value = saved
 
 
 class NoOp:
@@ -306,9 +325,10 @@ def main():
             order = SINGLE[r % len(SINGLE):] + SINGLE[:r % len(SINGLE)]
             for c in order:
                 gc.collect()
-                if c == "ceiling_py":
-                    v = measure_ceiling(mujoco, o["gym_raw"].model, o["start"], o["fs"], o["rne"],
-                                        o["ep_len"], o["acts"], args.seconds, cost)
+                if c in ("ceiling_py", "ceiling_nt"):
+                    with mujoco_timer(c == "ceiling_py"):
+                        v = measure_ceiling(mujoco, o["gym_raw"].model, o["start"], o["fs"],
+                                            o["rne"], o["ep_len"], o["acts"], args.seconds, cost)
                 elif c == "envpool":
                     if o["envpool"] is None:
                         continue
@@ -379,27 +399,29 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
         "",
         "Single env, µs per step, thread CPU time (reset calls not counted):",
         "",
-        "| env | ceiling (Rust) | envc (Rust) | ceiling (`mujoco` Python) | envc core | envc `.unwrapped` | "
-        "envc `gym.make` | Gym `.unwrapped` | Gym `gym.make` |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| env | ceiling (Rust) | envc (Rust) | ceiling (`mujoco` Python) | same, timer callback "
+        "cleared | envc core | envc `.unwrapped` | envc `gym.make` | Gym `.unwrapped` | Gym `gym.make` |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for name in args.envs:
         r = s[name]
         out.append(f"| {name} | " + " | ".join(f2(med(r.get(k, []))) for k in (
-            "rust_ceiling", "rust_single", "ceiling_py_cpu", "envc_core_cpu", "envc_raw_cpu",
+            "rust_ceiling", "rust_single", "ceiling_py_cpu", "ceiling_nt_cpu", "envc_core_cpu",
+            "envc_raw_cpu",
             "envc_gym_cpu", "gym_raw_cpu", "gym_gym_cpu")) + " |")
     out += [
         "",
         "Single env, µs per step, wall time:",
         "",
-        "| env | ceiling (`mujoco` Python) | envc core | envc `.unwrapped` | envc `gym.make` | "
-        "Gym `.unwrapped` | Gym `gym.make` | EnvPool (1 env, 1 thread) |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| env | ceiling (`mujoco` Python) | same, timer callback cleared | envc core | "
+        "envc `.unwrapped` | envc `gym.make` | Gym `.unwrapped` | Gym `gym.make` | "
+        "EnvPool (1 env, 1 thread) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for name in args.envs:
         r = s[name]
         out.append(f"| {name} | " + " | ".join(f2(med(r.get(k, []))) for k in (
-            "ceiling_py_wall", "envc_core_wall", "envc_raw_wall", "envc_gym_wall", "gym_raw_wall",
+            "ceiling_py_wall", "ceiling_nt_wall", "envc_core_wall", "envc_raw_wall", "envc_gym_wall", "gym_raw_wall",
             "gym_gym_wall", "envpool_wall")) + " |")
     d = lambda a, b: a - b  # noqa: E731
     q = lambda a, b: b / a  # noqa: E731
@@ -408,12 +430,14 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
         "What envc adds in Python, µs per step (thread CPU time; medians of per-round differences): "
         "the binding (core − envc's Rust step), the Python class (`.unwrapped` − core), "
         "Gymnasium's wrappers (`gym.make` − `.unwrapped`), in all (`gym.make` − Rust); the same "
-        "difference for the `mujoco` bindings' raw loop shows the noise between processes. Rates "
+        "difference for the `mujoco` bindings' raw loop (timer callback cleared: the bindings' own "
+        "call cost plus the noise between processes) and the timer callback's cost (`mujoco` Python "
+        "loop with − without it). Rates "
         "against the Rust physics ceiling (CPU time) and envc against Gymnasium (wall time):",
         "",
-        "| env | binding | class | wrappers | in all | `mujoco` Python − Rust ceiling | "
+        "| env | binding | class | wrappers | in all | `mujoco` Python − Rust ceiling | timer callback | "
         "envc `gym.make` ÷ ceiling | Gym `gym.make` ÷ ceiling | envc ÷ Gym (`gym.make`, wall) |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for name in args.envs:
         r = s[name]
@@ -422,7 +446,8 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
                    f"{f2(paired(r, d, 'envc_raw_cpu', 'envc_core_cpu'))} | "
                    f"{f2(paired(r, d, 'envc_gym_cpu', 'envc_raw_cpu'))} | "
                    f"{f2(paired(r, d, 'envc_gym_cpu', 'rust_single'))} | "
-                   f"{f2(paired(r, d, 'ceiling_py_cpu', 'rust_ceiling'))} | "
+                   f"{f2(paired(r, d, 'ceiling_nt_cpu', 'rust_ceiling'))} | "
+                   f"{f2(paired(r, d, 'ceiling_py_cpu', 'ceiling_nt_cpu'))} | "
                    f"{f2(paired(r, q, 'envc_gym_cpu', 'rust_ceiling'))} | "
                    f"{f2(paired(r, q, 'gym_gym_cpu', 'rust_ceiling'))} | "
                    f"{f2(paired(r, q, 'envc_gym_wall', 'gym_gym_wall'))} |")

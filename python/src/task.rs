@@ -3,6 +3,7 @@
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::{Mutex, MutexGuard};
 
 use crate::convert;
 use crate::errors;
@@ -25,23 +26,41 @@ impl TaskCore {
 /// clock there, and every `mj_step` then reads it for each of its profiling timers (`mjData.timer`):
 /// about 2.5 µs per `mj_step` on the benchmark machine, +60 % on InvertedPendulum's physics
 /// (docs/PERFORMANCE.md). envc never reads `mjData.timer`, and timers do not change the physics.
-/// The GIL is held throughout, so no Python code installs or reads the callback meanwhile; a
-/// `mujoco.mj_step` on another thread (the bindings release the GIL) may record one timer sample
-/// without the clock, nothing else.
+/// Safe to nest and to call from threads that released the GIL: the first caller in clears the
+/// callback, the last one out puts it back. Meanwhile a `mujoco.mj_step` on another thread runs
+/// without the clock (its timer statistics miss those steps, nothing else).
 pub fn without_mujoco_timer<T>(f: impl FnOnce() -> T) -> T {
-    struct Restore(Option<unsafe extern "C" fn() -> f64>);
-    impl Drop for Restore {
+    type Clock = Option<unsafe extern "C" fn() -> f64>;
+    // Callers inside, and the callback they found.
+    static INSIDE: Mutex<(usize, Clock)> = Mutex::new((0, None));
+    fn lock() -> MutexGuard<'static, (usize, Clock)> {
+        INSIDE.lock().unwrap_or_else(|e| e.into_inner())
+    }
+    struct Leave;
+    impl Drop for Leave {
         fn drop(&mut self) {
-            // SAFETY: a pointer-sized global of libmujoco, written back as it was found.
-            unsafe { mjcb_time = self.0 };
+            let mut inside = lock();
+            inside.0 -= 1;
+            if inside.0 == 0 {
+                // SAFETY: a pointer-sized global of libmujoco, written back as the first caller
+                // found it; every writer from envc holds the lock.
+                unsafe { mjcb_time = inside.1 };
+            }
         }
     }
-    // SAFETY: as above; MuJoCo calls the callback only when it is non-null.
-    let _restore = unsafe {
-        let saved = Restore(mjcb_time);
-        mjcb_time = None;
-        saved
-    };
+    {
+        let mut inside = lock();
+        if inside.0 == 0 {
+            // SAFETY: as above; MuJoCo calls the callback only when it is non-null.
+            inside.1 = unsafe {
+                let found = mjcb_time;
+                mjcb_time = None;
+                found
+            };
+        }
+        inside.0 += 1;
+    }
+    let _leave = Leave;
     f()
 }
 
