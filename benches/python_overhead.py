@@ -31,7 +31,10 @@ per-round samples to ``--json``. Actions: uniform random float32 in the action s
         --envc target/release/envc --rounds 5 --seconds 0.5
 
 Needs a venv with gymnasium and mujoco at the reference pins (tests/reference/requirements.txt),
-the ``envc`` package (built extension in ``python/envc/``) and, optionally, ``envpool``.
+the ``envc`` package (built extension in ``python/envc/``) and, optionally, ``envpool``. On a
+machine where others rebuild envc or re-run scripts/setup.sh meanwhile, run copies (the CLI
+binary, ``python/envc``, and ``LD_LIBRARY_PATH`` at the ``mujoco`` wheel's identical
+``libmujoco``): a library rewritten under a running process kills it (SIGBUS).
 """
 
 from __future__ import annotations
@@ -157,7 +160,9 @@ def measure_ceiling(mujoco, model, start, fs, rne, ep_len, acts, seconds, cost):
 @contextlib.contextmanager
 def mujoco_timer(on: bool):
     """MuJoCo's ``mjcb_time`` as the bindings set it (``on``) or cleared, for a ``with`` block."""
-    cell = ctypes.c_void_p.in_dll(ctypes.CDLL("libmujoco.so.3.17.0"), "mjcb_time")
+    import mujoco
+
+    cell = ctypes.c_void_p.in_dll(ctypes.CDLL(f"libmujoco.so.{mujoco.__version__}"), "mjcb_time")
     saved = cell.value
     if not on:
         cell.value = None
