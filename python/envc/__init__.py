@@ -14,6 +14,7 @@ vector envs, ``envc.parallel_env`` for multi-agent specs.
 from __future__ import annotations
 
 from . import _envc
+from ._datasets import collect
 from ._envc import SpecError
 from ._gym import EnvcEnv, make, overrides_to_toml
 from ._registry import bundled_ids, register_all
@@ -22,6 +23,7 @@ __all__ = [
     "EnvcEnv",
     "SpecError",
     "bundled_ids",
+    "collect",
     "make",
     "overrides_to_toml",
 ]

@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 
+mod collect;
 mod convert;
 mod errors;
 mod maze;
@@ -87,6 +88,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(registry, m)?)?;
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
+    m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
     m.add_class::<multi_agent::AgentsCore>()?;
