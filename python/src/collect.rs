@@ -5,9 +5,10 @@ use pyo3::prelude::*;
 use crate::{convert, errors};
 
 /// Record `episodes` episodes of a task or maze spec into a Minari dataset; returns
-/// `(dataset directory, steps)`. The GIL is released while the episodes run.
+/// `(dataset directory, steps)`. The GIL is released while the episodes run. `env_spec`: the
+/// Gymnasium `EnvSpec` JSON to store instead of the reference's (the Python layer's `"envc"`).
 #[pyfunction]
-#[pyo3(signature = (id_or_path, dataset_id, episodes, policy = "random", seed = None, format = "arrow", root = None, overrides = Vec::new(), actions = None, author = None, description = None))]
+#[pyo3(signature = (id_or_path, dataset_id, episodes, policy = "random", seed = None, format = "arrow", root = None, overrides = Vec::new(), actions = None, author = None, description = None, env_spec = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn collect(
     py: Python<'_>,
@@ -22,6 +23,7 @@ pub fn collect(
     actions: Option<Vec<f32>>,
     author: Option<String>,
     description: Option<String>,
+    env_spec: Option<String>,
 ) -> PyResult<(String, u64)> {
     use envc::dataset::{CollectOptions, DatasetInfo, Format, Plan, PlanPolicy};
     use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -69,6 +71,7 @@ pub fn collect(
         description: Some(
             description.unwrap_or_else(|| envc::dataset::default_description(&plan, &id)),
         ),
+        env_spec,
         ..DatasetInfo::default()
     };
     let opts = CollectOptions {

@@ -89,3 +89,22 @@ def test_minari_data_collector_records_an_envc_env(tmp_path, monkeypatch):
         for t in range(len(ep)):
             obs, r, *_ = rec.step(ep.actions[t])
             assert np.array_equal(obs, ep.observations[t + 1]) and r == ep.rewards[t]
+
+
+def test_a_dataset_can_name_envcs_own_entry_point(tmp_path, monkeypatch):
+    import minari
+
+    envc.collect("Walker2d-v5", "tests/w-v0", 2, seed=4, root=tmp_path, env_spec="envc", reset_noise_scale=0.01, max_episode_steps=25)
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path))
+    ds = minari.load_dataset("tests/w-v0")
+    env = ds.recover_environment()
+    assert env.spec.id == "envc/Walker2d-v5" and env.spec.max_episode_steps == 25
+    assert env.spec.kwargs["reset_noise_scale"] == 0.01
+    metas = list(ds.storage.get_episode_metadata(range(ds.total_episodes)))
+    for ep, meta in zip(ds.iterate_episodes(), metas):
+        obs, _ = env.reset(seed=int(meta["seed"]))
+        assert np.array_equal(obs, ep.observations[0])
+        for t in range(len(ep)):
+            obs, r, term, trunc, _ = env.step(ep.actions[t])
+            assert np.array_equal(obs, ep.observations[t + 1]) and r == ep.rewards[t]
+            assert (term, trunc) == (ep.terminations[t], ep.truncations[t])
