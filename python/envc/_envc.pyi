@@ -1,0 +1,61 @@
+"""Type stubs of envc's native core (the `envc-python` crate). The public API is `envc`'s Python
+classes; these are the objects they wrap."""
+
+from os import PathLike
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+__mujoco_version__: str
+
+class SpecError(ValueError):
+    """A spec, parameter or model that does not check out; `code` is its stable error code."""
+
+    code: str
+
+def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, Any]:
+    """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
+
+def registry() -> list[tuple[str, str, int | None, bool]]:
+    """Every bundled id: `(id, kind, max_episode_steps, example)`."""
+
+def describe(id_or_path: str) -> tuple[str, str, int | None]:
+    """`(kind, id, max_episode_steps)` without building the env."""
+
+def parameters(id_or_path: str) -> list[tuple[str, str, str, str]]:
+    """`(name, type, default as TOML, doc)` of every parameter."""
+
+def collect(
+    id_or_path: str,
+    dataset_id: str,
+    episodes: int,
+    policy: str = ...,
+    seed: int | None = ...,
+    format: str = ...,
+    root: str | PathLike[str] | None = ...,
+    overrides: list[tuple[str, str]] = ...,
+    actions: list[float] | None = ...,
+    author: str | None = ...,
+    description: str | None = ...,
+    env_spec: str | None = ...,
+) -> tuple[str, int]: ...
+
+class TaskCore:
+    id: str
+    dt: float
+    max_episode_steps: int | None
+    obs_low: npt.NDArray[np.float64]
+    obs_high: npt.NDArray[np.float64]
+    act_low: npt.NDArray[np.float64]
+    act_high: npt.NDArray[np.float64]
+    numerics: str
+    warnings: list[str]
+    params: list[tuple[str, str]]
+    def reset(self, seed: int | None = ...) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
+    def step(
+        self, action: npt.NDArray[np.float64]
+    ) -> tuple[npt.NDArray[np.float64], float, bool, bool, dict[str, Any]]: ...
+    def step_f32(
+        self, action: npt.NDArray[np.float32]
+    ) -> tuple[npt.NDArray[np.float64], float, bool, bool, dict[str, Any]]: ...
