@@ -17,8 +17,8 @@ class SpecError(ValueError):
 def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, Any]:
     """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
 
-def registry() -> list[tuple[str, str, int | None, bool]]:
-    """Every bundled id: `(id, kind, max_episode_steps, example)`."""
+def registry() -> list[tuple[str, str, int | None, bool, float | None]]:
+    """Every bundled id: `(id, kind, max_episode_steps, example, reward_threshold)`."""
 
 def describe(id_or_path: str) -> tuple[str, str, int | None]:
     """`(kind, id, max_episode_steps)` without building the env."""

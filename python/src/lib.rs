@@ -39,19 +39,26 @@ fn open(
     })
 }
 
-/// Every bundled id as `(id, kind, max_episode_steps or None, example)`, sorted by id.
+/// Every bundled id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`,
+/// sorted by id.
 #[pyfunction]
-fn registry() -> Vec<(String, String, Option<u64>, bool)> {
+fn registry() -> Vec<(String, String, Option<u64>, bool, Option<f64>)> {
     envspec::registry::entries()
         .iter()
         .map(|e| {
-            let kind = kind_name(e.kind);
-            let max = envspec::open(&e.id, &[]).ok().and_then(|s| match s {
-                envc::AnySpec::Task(t) => t.max_episode_steps,
-                envc::AnySpec::Maze(m) => m.max_episode_steps,
-                envc::AnySpec::Agents(a) => a.base.max_episode_steps,
-            });
-            (e.id.clone(), kind.to_string(), max, e.example)
+            let (max, threshold) = match envspec::open(&e.id, &[]) {
+                Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
+                Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
+                Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
+                Err(_) => (None, None),
+            };
+            (
+                e.id.clone(),
+                kind_name(e.kind).into(),
+                max,
+                e.example,
+                threshold,
+            )
         })
         .collect()
 }

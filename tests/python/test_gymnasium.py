@@ -56,6 +56,7 @@ def _rollout_pair(env_id: str, seed: int, steps: int, **kwargs) -> int:
     assert ours.observation_space == ref.observation_space
     assert ours.action_space == ref.action_space
     assert ours.spec.max_episode_steps == ref.spec.max_episode_steps
+    assert ours.spec.reward_threshold == ref.spec.reward_threshold
     assert ours.metadata["render_fps"] == ref.metadata["render_fps"]
     rng = np.random.default_rng(seed)
     o1, i1 = ref.reset(seed=seed)
