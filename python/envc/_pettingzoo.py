@@ -110,11 +110,15 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
             raise ValueError(
                 f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
             )
-        kind, core = _envc.open(spec, overrides)
+        try:
+            kind = _envc.describe(spec)[0]
+        except _envc.SpecError:
+            kind = "agents"  # a spec that needs its overrides to check out: open reports the rest
         if kind != "agents":
             raise TypeError(
                 f"`{spec}` is a {kind} spec, not a multi-agent one; open it with envc.make"
             )
+        _, core = _envc.open(spec, overrides)
         self._core = core
         self.render_mode = None
         self.metadata = {
@@ -144,6 +148,7 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         )
         self.agent_conf = core.conf
         self.agent_obsk = core.k
+        self._single = core.conf == _SINGLE_AGENT
         self.dt = core.dt
         self.max_episode_steps = core.max_episode_steps
 
@@ -176,7 +181,13 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         every possible agent; reward, flags and info are shared by all agents. When the episode
         ends, ``agents`` becomes empty.
         """
-        obs, reward, term, trunc, info = self._core.step(self._local_actions(actions))
+        local = self._local_actions(actions)
+        if self._single and np.asarray(actions[self.possible_agents[0]]).dtype == np.float32:
+            # Single-agent mode hands the action to the task as given (float32 costs).
+            step = self._core.step_global_f32(local[0].astype(np.float32))
+        else:
+            step = self._core.step(local)
+        obs, reward, term, trunc, info = step
         if term or trunc:
             self.agents = []
         agents = self.possible_agents
@@ -204,7 +215,10 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
 
     def map_local_actions_to_global_action(self, actions: dict[str, Any]) -> np.ndarray:
         """The single-agent (global) action of ``{agent: action}`` (float64)."""
-        return self._core.local_actions_to_global(self._local_actions(actions))
+        local = self._local_actions(actions)
+        if self._single and np.asarray(actions[self.possible_agents[0]]).dtype == np.float32:
+            return local[0].astype(np.float32)  # the agent's action as given, as the reference
+        return self._core.local_actions_to_global(local)
 
     def map_global_action_to_local_actions(self, action: Any) -> dict[str, np.ndarray]:
         """``{agent: its share of the global action}``, in the global action's float dtype."""

@@ -93,6 +93,19 @@ impl AgentsCore {
         step_out(py, s)
     }
 
+    /// Step with a float32 global action (float32 control costs, as numpy computes them).
+    fn step_global_f32<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: PyReadonlyArray1<'py, f32>,
+    ) -> PyResult<StepOut<'py>> {
+        let s = self
+            .env
+            .step_global_f32(action.as_slice()?)
+            .map_err(errors::env_error)?;
+        step_out(py, s)
+    }
+
     /// The global state: the single-agent env's observation.
     fn state<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, self.env.state())
