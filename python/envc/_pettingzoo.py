@@ -2,7 +2,12 @@
 
 ``envc.parallel_env("Ant", "2x4", agent_obsk=1)`` is a drop-in for
 ``gymnasium_robotics.mamujoco_v1.parallel_env("Ant", "2x4", agent_obsk=1)``: the same agents,
-spaces, observations, rewards, flags and infos, bit for bit under the same seeds and actions.
+spaces, observations, rewards, flags and infos, bit for bit under the same seeds and actions
+(tests/python/test_pettingzoo.py). Known gaps: CoupledHalfCheetah's info lacks reward_run,
+reward_ctrl1 and reward_ctrl2, and its single-agent mode with float32 actions rounds the control
+cost differently (specs/mamujoco/coupled_half_cheetah.toml). Where the reference's
+``map_global_state_to_local_observations`` returns values the agents do not observe (Walker2d's
+clipped qvel, ManySegmentAnt v1's wrong ids), envc raises ``ValueError`` instead.
 """
 
 from __future__ import annotations
@@ -105,7 +110,11 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
     (``RuntimeError``).
     """
 
-    def __init__(self, spec: str, overrides: list[tuple[str, str]], render_mode: str | None = None):
+    def __init__(
+        self, spec: str, overrides: list[tuple[str, str]] = (), render_mode: str | None = None
+    ):
+        """Open a multi-agent spec (id or path) with overrides as ``(name, TOML literal)`` pairs
+        (``envc.overrides_to_toml`` writes them); ``envc.parallel_env`` is the friendlier door."""
         if render_mode is not None:
             raise ValueError(
                 f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
@@ -118,7 +127,7 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
             raise TypeError(
                 f"`{spec}` is a {kind} spec, not a multi-agent one; open it with envc.make"
             )
-        _, core = _envc.open(spec, overrides)
+        _, core = _envc.open(spec, list(overrides))
         self._core = core
         self.render_mode = None
         self.metadata = {
