@@ -220,6 +220,21 @@ def test_bit_identical_to_mamujoco(case):
     ref.close()
 
 
+def test_stepping_past_the_time_limit_matches_mamujoco():
+    """Both keep stepping after the episode ends, truncated on every later step (TimeLimit)."""
+    ours, ref = envc_env("Hopper", "3x1", 1, max_episode_steps=3), reference_env("Hopper", "3x1", 1, max_episode_steps=3)
+    ours.reset(seed=SEED)
+    ref.reset(seed=SEED)
+    rng = np.random.default_rng(SEED)
+    for t in range(6):
+        actions = {a: rng.uniform(-1, 1, size=1) for a in ref.possible_agents}
+        got, want = ours.step(actions), ref.step(actions)
+        for a in ref.possible_agents:
+            assert same_array(got[0][a], want[0][a]), (t, a)
+        assert got[1:4] == want[1:4] and ours.agents == ref.agents, t
+        assert got[3]["agent_0"] == (t >= 2)
+
+
 # Where the reference's index map does not give the agents' observations, envc has no map and
 # raises ValueError (an agent observes a value the state does not hold).
 REFERENCE_MAP_WRONG = {
