@@ -17,15 +17,18 @@ from . import _envc
 from ._datasets import collect
 from ._envc import SpecError
 from ._gym import EnvcEnv, make, overrides_to_toml
+from ._pettingzoo import EnvcParallelEnv, parallel_env
 from ._registry import bundled_ids, register_all
 
 __all__ = [
     "EnvcEnv",
+    "EnvcParallelEnv",
     "SpecError",
     "bundled_ids",
     "collect",
     "make",
     "overrides_to_toml",
+    "parallel_env",
 ]
 __version__ = "0.1.0"
 __mujoco_version__ = _envc.__mujoco_version__
