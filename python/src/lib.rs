@@ -41,8 +41,10 @@ fn open(
 
 /// Every bundled id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`,
 /// sorted by id.
+type RegistryRow = (String, String, Option<u64>, bool, Option<f64>);
+
 #[pyfunction]
-fn registry() -> Vec<(String, String, Option<u64>, bool, Option<f64>)> {
+fn registry() -> Vec<RegistryRow> {
     envspec::registry::entries()
         .iter()
         .map(|e| {
