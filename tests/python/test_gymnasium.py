@@ -119,10 +119,15 @@ def _check_env_warnings(env_id: str) -> list[str]:
     return sorted({str(x.message) for x in w if "out of date" not in str(x.message)})
 
 
-def test_check_env_passes_with_no_warning_beyond_the_references():
+@pytest.mark.parametrize("env_id", TASKS)
+def test_check_env_passes_with_no_warning_beyond_the_references(env_id):
     # The reference's own spaces draw check_env's "-infinity" warnings; envc must add none.
-    for env_id in ["Ant-v5", "Humanoid-v5", "Reacher-v5", "InvertedPendulum-v4"]:
-        assert _check_env_warnings(f"envc/{env_id}") == _check_env_warnings(env_id)
+    ours = _check_env_warnings(f"envc/{env_id}")
+    try:
+        ref = _check_env_warnings(env_id)
+    except ImportError as e:  # Pusher-v4 refuses mujoco>=3 in the reference itself
+        pytest.skip(f"the reference cannot build {env_id}: {e}")
+    assert ours == ref
 
 
 def test_parameter_errors_say_which_and_why():
