@@ -35,7 +35,11 @@ fn obs_dict<'py>(py: Python<'py>, o: &MazeObs) -> PyResult<Bound<'py, PyDict>> {
 }
 
 /// The robot's info with `success` added last, as the reference's maze envs do.
-fn info_dict<'py>(py: Python<'py>, robot: envc::Info<'_>, success: bool) -> PyResult<Bound<'py, PyDict>> {
+fn info_dict<'py>(
+    py: Python<'py>,
+    robot: envc::Info<'_>,
+    success: bool,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = convert::info(py, robot)?;
     d.set_item("success", success)?;
     Ok(d)
@@ -51,11 +55,14 @@ fn step_out<'py>(py: Python<'py>, s: envc::maze::MazeStep<'_>) -> PyResult<StepO
     ))
 }
 
+/// Goal (x, y) rows.
+type Goals = Vec<[f64; 2]>;
+
 /// `[N, 2]` goal batches as pairs of rows; both must have the same shape.
 fn goal_rows(
     achieved: &PyReadonlyArray2<'_, f64>,
     desired: &PyReadonlyArray2<'_, f64>,
-) -> PyResult<(Vec<[f64; 2]>, Vec<[f64; 2]>)> {
+) -> PyResult<(Goals, Goals)> {
     let (a, d) = (achieved.as_array(), desired.as_array());
     if a.shape() != d.shape() || a.shape()[1] != 2 {
         return Err(PyValueError::new_err(format!(
@@ -64,7 +71,7 @@ fn goal_rows(
             d.shape()
         )));
     }
-    let rows = |m: numpy::ndarray::ArrayView2<'_, f64>| -> Vec<[f64; 2]> {
+    let rows = |m: numpy::ndarray::ArrayView2<'_, f64>| -> Goals {
         m.outer_iter().map(|r| [r[0], r[1]]).collect()
     };
     Ok((rows(a), rows(d)))
@@ -94,8 +101,15 @@ impl MazeCore {
     }
 
     /// Step with a float64 action.
-    fn step<'py>(&mut self, py: Python<'py>, action: PyReadonlyArray1<'py, f64>) -> PyResult<StepOut<'py>> {
-        let s = self.env.step(action.as_slice()?).map_err(errors::env_error)?;
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<StepOut<'py>> {
+        let s = self
+            .env
+            .step(action.as_slice()?)
+            .map_err(errors::env_error)?;
         step_out(py, s)
     }
 
@@ -105,7 +119,10 @@ impl MazeCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self.env.step_f32(action.as_slice()?).map_err(errors::env_error)?;
+        let s = self
+            .env
+            .step_f32(action.as_slice()?)
+            .map_err(errors::env_error)?;
         step_out(py, s)
     }
 
