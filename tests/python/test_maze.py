@@ -12,6 +12,8 @@ Seeds: a fixed one and a fresh one per run (``ENVC_LIVE_SEED`` if set), printed.
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 import warnings
 
 import gymnasium as gym
@@ -51,6 +53,8 @@ FIXED_CASES = [
     ("PointMaze_UMaze-v3", {"maze_map": NEAR_GOAL, "continuing_task": False}),
     ("PointMaze_OpenDense-v3", {"maze_map": COMBINED, "reset_target": True}),
     ("PointMaze_Open-v3", {"maze_map": COMBINED, "reset_target": True, "continuing_task": False}),
+    # Robot parameters go to the robot (its info's costs), as the reference passes them to AntEnv.
+    ("AntMaze_OpenDense-v5", {"ctrl_cost_weight": 0.1, "healthy_z_range": (0.3, 1.0)}),
 ]
 
 
@@ -205,6 +209,9 @@ def test_goal_functions_batched(case, seed):
 
     want = r.compute_reward(a, d, info)
     got = e.compute_reward(a, d, info)
+    # As SB3's HerReplayBuffer calls it through the wrappers (infos as an array of dicts).
+    her = env.get_wrapper_attr("compute_reward")(a, d, np.array(info, dtype=object))
+    assert her.tobytes() == want.tobytes()
     assert isinstance(got, np.ndarray) and got.dtype == np.float64 and got.shape == (n,)
     assert got.tobytes() == want.tobytes()
     if r.reward_type == "sparse":
@@ -376,3 +383,21 @@ def test_bad_input():
     env = gym.make("envc/PointMaze_UMaze-v3")
     with pytest.raises(gym.error.ResetNeeded):
         env.step(np.zeros(2))
+
+
+def test_without_gymnasium_robotics():
+    """Without Gymnasium-Robotics the maze class is a plain ``gymnasium.Env`` with the same API."""
+    code = (
+        "import sys; sys.modules['gymnasium_robotics'] = None\n"
+        "import gymnasium as gym, numpy as np, envc\n"
+        "env = gym.make('envc/PointMaze_UMaze-v3')\n"
+        "assert type(env.unwrapped).__mro__[1] is gym.Env\n"
+        "o, _ = env.reset(seed=1)\n"
+        "o, r, *_ = env.step(np.ones(2))\n"
+        "assert env.unwrapped.compute_reward(o['achieved_goal'], o['desired_goal'], {}) == r\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=os.environ
+    )
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
