@@ -216,6 +216,11 @@ def test_goal_functions_batched(case, seed):
     assert got.tobytes() == want.tobytes()
     if r.reward_type == "sparse":
         assert 0 < got.sum() < n  # both outcomes are exercised
+    # Non-finite and huge goals (a relabelled buffer may hold anything).
+    odd = np.array([[np.nan, 0.0], [np.inf, 0.0], [np.inf, np.inf], [1e308, -1e308], [0.0, 0.0]])
+    with np.errstate(over="ignore", invalid="ignore"):
+        want_odd = r.compute_reward(odd, np.zeros_like(odd), {})
+    assert e.compute_reward(odd, np.zeros_like(odd), {}).tobytes() == want_odd.tobytes()
 
     # Leading dimensions and broadcasting, as numpy's `norm(..., axis=-1)` takes them.
     a3, d3 = a[:512].reshape(8, 64, 2), d[:512].reshape(8, 64, 2)
