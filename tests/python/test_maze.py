@@ -406,3 +406,19 @@ def test_without_gymnasium_robotics():
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=os.environ
     )
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+
+
+def test_spec_file():
+    """A maze spec file opens like its bundled id (here the file PointMaze_UMaze-v3 comes from)."""
+    env = EnvcMazeEnv(os.path.join(REPO, "specs", "robotics", "maze", "point_maze.toml"))
+    ref = gym.make("PointMaze_UMaze-v3").unwrapped
+    o1, i1 = ref.reset(seed=LIVE_SEED)
+    o2, i2 = env.reset(seed=LIVE_SEED)
+    assert_same_obs(o1, o2, "spec file reset")
+    rng = np.random.default_rng(LIVE_SEED)
+    for t in range(50):
+        a = rng.uniform(-1, 1, 2)
+        s1, s2 = ref.step(a), env.step(a)
+        assert_same_obs(s1[0], s2[0], f"spec file step {t}")
+        assert s1[1:4] == s2[1:4]
+        assert_same_info(s1[4], s2[4], f"spec file step {t}")
