@@ -44,9 +44,12 @@ def _goal_batches(achieved_goal, desired_goal) -> tuple[np.ndarray, np.ndarray, 
         ) from None
     if a.ndim == 0 or a.shape[-1] != 2:
         raise ValueError(f"goals have shape {a.shape}; expected [..., 2] (x, y)")
-    lead = a.shape[:-1]
-    rows = lambda x: np.ascontiguousarray(x.reshape(-1, 2))  # noqa: E731
-    return rows(a), rows(d), lead
+    rows = (np.ascontiguousarray(x.reshape(-1, 2)) for x in (a, d))
+    return *rows, a.shape[:-1]
+
+
+def _unbounded(n: int) -> gym.spaces.Box:
+    return gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype="float64")
 
 
 class EnvcMazeEnv(_Base):
@@ -106,12 +109,12 @@ class EnvcMazeEnv(_Base):
         self._core = core
         self.render_mode = None
         self.dt = core.dt
-        box = lambda n: gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype="float64")  # noqa: E731
+        # As the reference builds it (spaces.Dict sorts the keys).
         self.observation_space = gym.spaces.Dict(
             dict(
-                observation=box(core.observation_dim),
-                achieved_goal=box(2),
-                desired_goal=box(2),
+                observation=_unbounded(core.observation_dim),
+                achieved_goal=_unbounded(2),
+                desired_goal=_unbounded(2),
             )
         )
         self.action_space = gym.spaces.Box(
