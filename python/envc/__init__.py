@@ -17,12 +17,15 @@ from . import _envc
 from ._envc import SpecError
 from ._gym import EnvcEnv, make, overrides_to_toml
 from ._registry import bundled_ids, register_all
+from ._vector import EnvcVectorEnv, make_vec
 
 __all__ = [
     "EnvcEnv",
+    "EnvcVectorEnv",
     "SpecError",
     "bundled_ids",
     "make",
+    "make_vec",
     "overrides_to_toml",
 ]
 __version__ = "0.1.0"

@@ -26,6 +26,7 @@ def _register(env_id: str, kind: str, spec_id: str, max_steps: int | None) -> No
         entry_point=_ENTRY[kind],
         kwargs={"spec_id": spec_id},
         max_episode_steps=max_steps or None,
+        vector_entry_point="envc._vector:EnvcVectorEnv" if kind == "task" else None,
     )
 
 
