@@ -15,22 +15,12 @@ mod vector;
 /// Returns `(kind, core)` with kind `"task"`, `"maze"` or `"agents"`.
 #[pyfunction]
 #[pyo3(signature = (id_or_path, overrides = Vec::new()))]
-fn open(
-    py: Python<'_>,
-    id_or_path: &str,
-    overrides: Vec<(String, String)>,
-) -> PyResult<(String, Py<PyAny>)> {
+fn open(py: Python<'_>, id_or_path: &str, overrides: Vec<(String, String)>) -> PyResult<(String, Py<PyAny>)> {
     let o = convert::overrides(&overrides);
     let env = envc::open(id_or_path, &o).map_err(errors::env_error)?;
     Ok(match env {
-        envc::AnyEnv::Task(e) => (
-            "task".into(),
-            Py::new(py, task::TaskCore::new(e))?.into_any(),
-        ),
-        envc::AnyEnv::Maze(e) => (
-            "maze".into(),
-            Py::new(py, maze::MazeCore::new(*e))?.into_any(),
-        ),
+        envc::AnyEnv::Task(e) => ("task".into(), Py::new(py, task::TaskCore::new(e))?.into_any()),
+        envc::AnyEnv::Maze(e) => ("maze".into(), Py::new(py, maze::MazeCore::new(*e))?.into_any()),
         envc::AnyEnv::Agents(e) => (
             "agents".into(),
             Py::new(py, multi_agent::AgentsCore::new(e))?.into_any(),

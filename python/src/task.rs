@@ -19,13 +19,7 @@ impl TaskCore {
     }
 }
 
-type StepOut<'py> = (
-    Bound<'py, PyArray1<f64>>,
-    f64,
-    bool,
-    bool,
-    Bound<'py, PyDict>,
-);
+type StepOut<'py> = (Bound<'py, PyArray1<f64>>, f64, bool, bool, Bound<'py, PyDict>);
 
 fn step_out<'py>(py: Python<'py>, s: envc::Step<'_>) -> PyResult<StepOut<'py>> {
     Ok((
@@ -51,15 +45,8 @@ impl TaskCore {
     }
 
     /// Step with a float64 action.
-    fn step<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step(action.as_slice()?)
-            .map_err(errors::env_error)?;
+    fn step<'py>(&mut self, py: Python<'py>, action: PyReadonlyArray1<'py, f64>) -> PyResult<StepOut<'py>> {
+        let s = self.env.step(action.as_slice()?).map_err(errors::env_error)?;
         step_out(py, s)
     }
 
@@ -69,10 +56,7 @@ impl TaskCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step_f32(action.as_slice()?)
-            .map_err(errors::env_error)?;
+        let s = self.env.step_f32(action.as_slice()?).map_err(errors::env_error)?;
         step_out(py, s)
     }
 
