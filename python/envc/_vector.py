@@ -167,7 +167,9 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         """Stop the threads and free the envs."""
-        self._core.close()
+        core = getattr(self, "_core", None)  # None when __init__ failed
+        if core is not None:
+            core.close()
 
     def _obs(self) -> np.ndarray:
         obs = self._buf["obs"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import random
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -134,8 +135,8 @@ def test_matches_sync_vector_env(env_id, seed, mode, dtype):
         a = (low - 0.1 * span + 1.2 * span * rng.random((NUM_ENVS, low.size))).astype(dtype)
         r = ref.step(a)
         for k, ours in enumerate(envs):
-            same_step(ours.step(a), r, f"{env_id} {mode.value} {np.dtype(dtype)} "
-                      f"threads={k + 1} step {t}")
+            what = f"{env_id} {mode.value} {np.dtype(dtype)} threads={k + 1} step {t}"
+            same_step(ours.step(a), r, what)
         ended += int(np.sum(r[2] | r[3]))
     assert ended >= 2, f"{env_id}: only {ended} episodes ended in {STEPS} steps"
     for e in (*envs, ref):
@@ -199,6 +200,10 @@ def test_bad_construction_raises():
         envc.make_vec("Hopper-v5", 2, no_such_parameter=1)
     with pytest.raises(envc.SpecError):
         envc.make_vec("Hopper-v5", 2, frame_skip=-1)
+    with pytest.raises(TypeError, match="not a task spec"):
+        envc.make_vec("PointMaze_UMaze-v3", 2)
+    with pytest.raises(TypeError, match="multi-agent"):
+        envc.make_vec(envc.bundled_ids("agents")[0], 2)
 
 
 def test_registered_vector_entry_point():
@@ -209,3 +214,12 @@ def test_registered_vector_entry_point():
     for _ in range(50):
         out = env.step(np.zeros((2, 2), dtype=np.float32))
     assert out[3].all() and not out[2].any()  # Reacher's time limit, 50 steps
+    env.close()
+    # A spec file registers as envc/<its id>, with the vector entry point.
+    path = Path(__file__).resolve().parents[2] / "specs/examples/reacher_goal.toml"
+    env = envc.make_vec(str(path), 2, max_episode_steps=3)
+    assert env.spec.id == "envc/ReacherGoal-v0"
+    obs, _ = env.reset(seed=1)
+    assert obs.shape == (2, *env.single_observation_space.shape)
+    flags = [env.step(env.action_space.sample())[3] for _ in range(3)]
+    assert not flags[1].any() and flags[2].all()  # max_episode_steps=3
