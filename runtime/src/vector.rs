@@ -8,6 +8,8 @@
 //!   [`VecEnv::final_obs`] and its info stays readable through [`VecEnv::final_info`].
 //! * Observations, rewards, terminated and truncated live in contiguous batch buffers
 //!   (env-major) that the caller reads in place.
+//! * [`VecEnv::step_f32`] steps a float32 action batch as a float32 policy steps the reference
+//!   (each env through `Env::step_f32`).
 //!
 //! `threads = M` means M threads run envs: the caller plus M − 1 pool workers that live as long
 //! as the `VecEnv`. The caller works too, so a step costs one wake-up hand-off, not two. Envs are
