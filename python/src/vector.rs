@@ -24,8 +24,6 @@ pub struct VecCore {
     /// Info key index of each step-info slot and of each reset-info slot.
     step_map: Vec<usize>,
     reset_map: Vec<usize>,
-    /// Total info values per env (`L`).
-    info_len: usize,
     out: Buffers,
 }
 
@@ -229,7 +227,6 @@ impl VecCore {
             keys,
             step_map,
             reset_map,
-            info_len: offset,
             out,
         })
     }
@@ -305,15 +302,6 @@ impl VecCore {
             .iter()
             .map(|k| (k.name.clone(), k.offset, k.len, k.f32_with_f32_actions))
             .collect()
-    }
-    /// The keys of the step info (every key) and of the reset info, as indices into `info_keys`.
-    #[getter]
-    fn reset_keys(&self) -> Vec<usize> {
-        self.reset_map.clone()
-    }
-    #[getter]
-    fn info_len(&self) -> usize {
-        self.info_len
     }
     #[getter]
     fn num_envs(&self) -> PyResult<usize> {
