@@ -124,9 +124,14 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         seed: int | list[int | None] | None = None,
         options: dict[str, Any] | None = None,
     ):
-        """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env."""
-        if options and "reset_mask" in options:
-            raise NotImplementedError("envc vector envs reset every env (no reset_mask yet)")
+        """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
+
+        ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
+        as Gymnasium's vector envs do; the infos are then those of the masked envs.
+        """
+        mask = None if options is None else options.get("reset_mask")
+        if mask is not None:
+            mask = self._check_mask(mask)
         if seed is None:
             seeds = None
         elif isinstance(seed, (int, np.integer)):
@@ -141,8 +146,25 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         for s in seeds or ():
             if s is not None and not 0 <= s < 2**64:
                 raise ValueError(f"seeds must be in [0, 2**64), got {s}")
-        self._core.reset(seeds)
-        return self._obs(), self._infos(False)
+        self._core.reset(seeds, None if mask is None else mask.tolist())
+        return self._obs(), self._infos(False, final=False)
+
+    def _check_mask(self, mask) -> np.ndarray:
+        """A ``reset_mask`` as Gymnasium's vector envs check it."""
+        if not isinstance(mask, np.ndarray):
+            raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+        if mask.shape != (self.num_envs,):
+            raise ValueError(
+                f"`options['reset_mask']` must have shape `({self.num_envs},)`, got {mask.shape}"
+            )
+        if mask.dtype != np.bool_:
+            raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+        if not mask.any():
+            raise ValueError(
+                "`options['reset_mask']` must contain a boolean array with at least one True "
+                f"value, got reset_mask={mask}"
+            )
+        return mask
 
     def step(self, actions):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
@@ -181,8 +203,8 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         v = values[off] if n == 1 else values[off : off + n].T
         return np.ascontiguousarray(v, dtype=np.float32 if f32 and is_f32 else np.float64)
 
-    def _infos(self, f32: bool) -> dict[str, Any]:
-        """The last call's infos in Gymnasium's vector form."""
+    def _infos(self, f32: bool, final: bool = True) -> dict[str, Any]:
+        """The last call's infos in Gymnasium's vector form (``final``: SameStep's finals)."""
         b = self._buf
         info: dict[str, Any] = {}
         mask = b["info_mask"]
@@ -191,7 +213,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
                 info[name] = self._values(b["info"], k, f32)
                 info["_" + name] = mask[k].copy()
         ended = b["has_final"]
-        if self.autoreset_mode == AutoresetMode.SAME_STEP and ended.any():
+        if final and self.autoreset_mode == AutoresetMode.SAME_STEP and ended.any():
             final_obs = np.full(self.num_envs, None, dtype=object)
             for i in np.flatnonzero(ended):
                 final_obs[i] = b["final_obs"][i].copy()

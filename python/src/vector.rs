@@ -69,8 +69,9 @@ impl VecCore {
         self.env.as_ref().ok_or_else(closed)
     }
 
-    /// Copy the batch of the last reset or step into the numpy buffers.
-    fn fill(&self, py: Python<'_>) -> PyResult<()> {
+    /// Copy the batch of the last reset or step into the numpy buffers; infos only of the envs
+    /// in `only` (a masked reset), else of every env.
+    fn fill(&self, py: Python<'_>, only: Option<&[bool]>) -> PyResult<()> {
         let env = self.env()?;
         let n = env.num_envs();
         let b = &self.out;
@@ -97,6 +98,9 @@ impl VecCore {
         values.fill(0.0);
         mask.fill(false);
         for (i, e) in env.envs().iter().enumerate() {
+            if only.is_some_and(|m| !m[i]) {
+                continue;
+            }
             // As `VecEnv::info`: an (auto)reset leaves the env at 0 elapsed steps.
             let (info, map) = if e.elapsed_steps() == 0 {
                 (e.reset_info(), &self.reset_map)
@@ -231,27 +235,34 @@ impl VecCore {
         })
     }
 
-    /// Reset every env: `seeds` is one seed (or `None`) per env, or `None` to continue every
-    /// env's stream. Fills the buffers.
-    #[pyo3(signature = (seeds = None))]
-    fn reset(&mut self, py: Python<'_>, seeds: Option<Vec<Option<u64>>>) -> PyResult<()> {
+    /// Reset every env, or those where `mask` is true: `seeds` is one seed (or `None`) per
+    /// env, or `None` to continue every env's stream. Fills the buffers.
+    #[pyo3(signature = (seeds = None, mask = None))]
+    fn reset(
+        &mut self,
+        py: Python<'_>,
+        seeds: Option<Vec<Option<u64>>>,
+        mask: Option<Vec<bool>>,
+    ) -> PyResult<()> {
         let env = self.env.as_mut().ok_or_else(closed)?;
-        match seeds {
+        let n = env.num_envs();
+        let seeds = seeds.unwrap_or_else(|| vec![None; n]);
+        if seeds.len() != n || mask.as_ref().is_some_and(|m| m.len() != n) {
+            return Err(PyValueError::new_err(format!(
+                "{} seeds and {:?} mask entries for {n} envs",
+                seeds.len(),
+                mask.as_ref().map(Vec::len)
+            )));
+        }
+        match &mask {
             None => {
-                env.reset(None);
+                env.reset_each(seeds);
             }
-            Some(s) if s.len() == env.num_envs() => {
-                env.reset_each(s);
-            }
-            Some(s) => {
-                return Err(PyValueError::new_err(format!(
-                    "{} seeds for {} envs",
-                    s.len(),
-                    env.num_envs()
-                )));
+            Some(m) => {
+                env.reset_masked(seeds, m).map_err(errors::env_error)?;
             }
         }
-        self.fill(py)
+        self.fill(py, mask.as_deref())
     }
 
     /// Step with a float64 `(num_envs, act_dim)` C-contiguous batch; fills the buffers.
@@ -260,7 +271,7 @@ impl VecCore {
         let a = actions.as_slice()?;
         let env = self.env.as_mut().ok_or_else(closed)?;
         py.detach(|| env.step(a)).map_err(errors::env_error)?;
-        self.fill(py)
+        self.fill(py, None)
     }
 
     /// Step with a float32 batch (float32 action costs, as numpy computes them).
@@ -269,7 +280,7 @@ impl VecCore {
         let a = actions.as_slice()?;
         let env = self.env.as_mut().ok_or_else(closed)?;
         py.detach(|| env.step_f32(a)).map_err(errors::env_error)?;
-        self.fill(py)
+        self.fill(py, None)
     }
 
     /// Stop the threads and drop the envs; later calls raise `RuntimeError`.

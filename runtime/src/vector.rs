@@ -404,6 +404,35 @@ impl VecEnv {
         &self.obs
     }
 
+    /// Reset only the envs where `mask` is true, each with its seed (Gymnasium's
+    /// `reset(options={"reset_mask": mask})`); the others keep their state, observation, flags
+    /// and pending autoreset. Every env must have been reset once before.
+    pub fn reset_masked(
+        &mut self,
+        seeds: impl IntoIterator<Item = Option<u64>>,
+        mask: &[bool],
+    ) -> Result<&[f64], EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        let job = &self.shared.job;
+        let od = job.obs_dim;
+        let masked = seeds.into_iter().take(job.n).enumerate().zip(mask);
+        for ((i, seed), _) in masked.filter(|(_, m)| **m) {
+            // SAFETY: no step is running; i < n; slots sized as in `run_one`.
+            unsafe {
+                let (obs, _) = (*job.envs.add(i)).reset(seed);
+                std::ptr::copy_nonoverlapping(obs.as_ptr(), job.obs.add(i * od), od);
+                *job.rewards.add(i) = 0.0;
+                *job.terminated.add(i) = false;
+                *job.truncated.add(i) = false;
+                *job.has_final.add(i) = false;
+                *job.pending.add(i) = false;
+            }
+        }
+        Ok(&self.obs)
+    }
+
     /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
     /// batch buffers hold the results.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {

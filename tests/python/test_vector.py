@@ -123,13 +123,19 @@ def test_matches_sync_vector_env(env_id, seed, mode, dtype):
     low, high = ref.single_action_space.low, ref.single_action_space.high
     span = (high - low).astype(np.float64)
     ended = 0
+    mask = rng.random(NUM_ENVS) < 0.5
+    mask[rng.integers(NUM_ENVS)] = True
+    resets = {
+        0: lambda: {"seed": seed},
+        STEPS // 2: dict,  # no seed: each env's stream continues
+        3 * STEPS // 4: lambda: {"seed": seed + 1, "options": {"reset_mask": mask.copy()}},
+    }
     for t in range(STEPS):
-        if t in (0, STEPS // 2):
-            # The second reset has no seed: each env's stream continues.
-            kw = {"seed": seed} if t == 0 else {}
+        if t in resets:
+            kw = resets[t]()
             r = ref.reset(**kw)
             for ours in envs:
-                o, info = ours.reset(**kw)
+                o, info = ours.reset(**resets[t]())
                 same_bits(o, r[0], f"{env_id} reset({kw}) obs")
                 same_info(info, r[1], f"{env_id} reset({kw}) info")
         a = (low - 0.1 * span + 1.2 * span * rng.random((NUM_ENVS, low.size))).astype(dtype)
@@ -162,6 +168,8 @@ def test_bad_input_raises_and_moves_nothing():
     ours = envc.make_vec("Hopper-v5", 2)
     with pytest.raises(RuntimeError, match="reset"):
         ours.step(np.zeros((2, 3)))
+    with pytest.raises(RuntimeError, match="reset"):
+        ours.reset(options={"reset_mask": np.array([True, False])})
     ours.reset(seed=3)
     ref.reset(seed=3)
     bad = [
@@ -182,6 +190,14 @@ def test_bad_input_raises_and_moves_nothing():
         ours.reset(seed=[1, 2, 3])
     with pytest.raises(ValueError):
         ours.reset(seed=-1)
+    for mask, error in [
+        ([True, False], TypeError),
+        (np.array([1, 0]), TypeError),
+        (np.array([True]), ValueError),
+        (np.array([False, False]), ValueError),
+    ]:
+        with pytest.raises(error, match="reset_mask"):
+            ours.reset(options={"reset_mask": mask})
     ours.close()
     with pytest.raises(RuntimeError, match="closed"):
         ours.step(a)
