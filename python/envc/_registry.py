@@ -29,6 +29,7 @@ def _register(
         kwargs={"spec_id": spec_id},
         max_episode_steps=max_steps or None,
         reward_threshold=threshold,
+        vector_entry_point="envc._vector:EnvcVectorEnv" if kind == "task" else None,
     )
 
 
