@@ -153,7 +153,9 @@ AGENT_IDS = envc.bundled_ids("agents")
 
 def test_bundled_ids_cover_every_scenario():
     assert len(AGENT_IDS) >= 50
-    for scenario, spec_id in envc._pettingzoo._SCENARIOS.items():
+    from envc import _pettingzoo
+
+    for scenario, spec_id in _pettingzoo._SCENARIOS.items():
         assert spec_id in AGENT_IDS, scenario
 
 
