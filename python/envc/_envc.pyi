@@ -95,3 +95,63 @@ class AgentsCore:
     def obs_high(self, agent: int) -> _F64: ...
     def act_low(self, agent: int) -> _F64: ...
     def act_high(self, agent: int) -> _F64: ...
+
+class MazeCore:
+    """A maze env (`envc.EnvcMazeEnv` wraps it): dict observations, batched goal functions."""
+
+    id: str
+    dt: float
+    max_episode_steps: int | None
+    observation_dim: int
+    act_low: _F64
+    act_high: _F64
+    goal: _F64
+    map_shape: tuple[int, int]
+    continuing_task: bool
+    reset_target: bool
+    reward_type: str
+    numerics: str
+    warnings: list[str]
+    def reset(
+        self,
+        seed: int | None = ...,
+        goal_cell: tuple[int, int] | None = ...,
+        reset_cell: tuple[int, int] | None = ...,
+    ) -> tuple[dict[str, _F64], dict[str, Any]]: ...
+    def step(self, action: _F64) -> tuple[dict[str, _F64], float, bool, bool, dict[str, Any]]: ...
+    def step_f32(
+        self, action: npt.NDArray[np.float32]
+    ) -> tuple[dict[str, _F64], float, bool, bool, dict[str, Any]]: ...
+    def compute_reward(self, achieved: _F64, desired: _F64) -> _F64: ...
+    def compute_terminated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
+    def compute_truncated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
+
+class VecCore:
+    """Many task envs stepped by Rust threads into numpy buffers filled in place
+    (`envc.EnvcVectorEnv` wraps it)."""
+
+    def __init__(
+        self,
+        id_or_path: str,
+        overrides: list[tuple[str, str]],
+        num_envs: int,
+        threads: int,
+        autoreset: str,
+    ) -> None: ...
+    num_envs: int
+    threads: int
+    autoreset: str
+    id: str
+    dt: float
+    max_episode_steps: int | None
+    obs_low: _F64
+    obs_high: _F64
+    act_low: _F64
+    act_high: _F64
+    numerics: str
+    info_keys: list[tuple[str, int, int, bool]]
+    buffers: dict[str, np.ndarray]
+    def reset(self, seeds: list[int | None] | None = ..., mask: npt.NDArray[np.bool_] | None = ...) -> None: ...
+    def step(self, actions: npt.NDArray[np.float64]) -> None: ...
+    def step_f32(self, actions: npt.NDArray[np.float32]) -> None: ...
+    def close(self) -> None: ...
