@@ -38,7 +38,7 @@ ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-r
 rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
 # The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
 # Cargo rebuilds only what changed, so re-running this is quick.
-if ! out="$(cd "$ROOT" && "$VENV/bin/maturin" develop --release 2>&1)"; then
+if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release 2>&1)"; then
   echo "$out" >&2
   exit 1
 fi

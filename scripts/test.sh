@@ -8,7 +8,8 @@
 #      OPENBLAS_CORETYPE this CPU runs, numpy's exp with and without X86_V4) recorded live, and
 #      envc's `auto` must pick the same profile and give the same bits; `envc rollout` checked
 #      against the reference under several of those settings;
-#   5. live cross-checks: the Python reference records fresh trajectories under a new random seed
+#   5. the Python package's tests (tests/python, pytest) against the live reference;
+#   6. live cross-checks: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
 # The reference and envc both read OPENBLAS_CORETYPE and NPY_*_CPU_FEATURES from the environment,
 # so every check holds for whatever this machine (or its environment) makes numpy compute.
@@ -34,6 +35,11 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
 checks=$((checks + 1))
 
 cargo test --workspace
+checks=$((checks + 1))
+
+# The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
+# vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
+"$PY" -m pytest -q -p no:cacheprovider tests/python
 checks=$((checks + 1))
 
 LIVE="$(mktemp -d)"

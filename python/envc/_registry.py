@@ -17,23 +17,27 @@ _ENTRY = {
 
 def bundled_ids(kind: str | None = None) -> list[str]:
     """The bundled ids (``"task"``, ``"maze"`` or ``"agents"``; all kinds by default), sorted."""
-    return [i for i, k, _, _ in _envc.registry() if kind is None or k == kind]
+    return [e[0] for e in _envc.registry() if kind is None or e[1] == kind]
 
 
-def _register(env_id: str, kind: str, spec_id: str, max_steps: int | None) -> None:
+def _register(
+    env_id: str, kind: str, spec_id: str, max_steps: int | None, threshold: float | None = None
+) -> None:
     gym.register(
         id=env_id,
         entry_point=_ENTRY[kind],
         kwargs={"spec_id": spec_id},
         max_episode_steps=max_steps or None,
+        reward_threshold=threshold,
+        vector_entry_point="envc._vector:EnvcVectorEnv" if kind == "task" else None,
     )
 
 
 def register_all() -> None:
     """Register every bundled single-agent id as ``envc/<id>`` (idempotent)."""
-    for spec_id, kind, max_steps, _example in _envc.registry():
+    for spec_id, kind, max_steps, _example, threshold in _envc.registry():
         if kind in _ENTRY and f"envc/{spec_id}" not in gym.registry:
-            _register(f"envc/{spec_id}", kind, spec_id, max_steps)
+            _register(f"envc/{spec_id}", kind, spec_id, max_steps, threshold)
 
 
 def env_id_for(id_or_path: str) -> str:

@@ -4,8 +4,8 @@
 
 use envspec::Code;
 use pyo3::PyErr;
-use pyo3::prelude::PyAnyMethods;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::prelude::PyAnyMethods;
 
 pyo3::create_exception!(
     _envc,

@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 
+mod collect;
 mod convert;
 mod errors;
 mod maze;
@@ -15,12 +16,22 @@ mod vector;
 /// Returns `(kind, core)` with kind `"task"`, `"maze"` or `"agents"`.
 #[pyfunction]
 #[pyo3(signature = (id_or_path, overrides = Vec::new()))]
-fn open(py: Python<'_>, id_or_path: &str, overrides: Vec<(String, String)>) -> PyResult<(String, Py<PyAny>)> {
+fn open(
+    py: Python<'_>,
+    id_or_path: &str,
+    overrides: Vec<(String, String)>,
+) -> PyResult<(String, Py<PyAny>)> {
     let o = convert::overrides(&overrides);
     let env = envc::open(id_or_path, &o).map_err(errors::env_error)?;
     Ok(match env {
-        envc::AnyEnv::Task(e) => ("task".into(), Py::new(py, task::TaskCore::new(e))?.into_any()),
-        envc::AnyEnv::Maze(e) => ("maze".into(), Py::new(py, maze::MazeCore::new(*e))?.into_any()),
+        envc::AnyEnv::Task(e) => (
+            "task".into(),
+            Py::new(py, task::TaskCore::new(e))?.into_any(),
+        ),
+        envc::AnyEnv::Maze(e) => (
+            "maze".into(),
+            Py::new(py, maze::MazeCore::new(*e))?.into_any(),
+        ),
         envc::AnyEnv::Agents(e) => (
             "agents".into(),
             Py::new(py, multi_agent::AgentsCore::new(e))?.into_any(),
@@ -28,19 +39,28 @@ fn open(py: Python<'_>, id_or_path: &str, overrides: Vec<(String, String)>) -> P
     })
 }
 
-/// Every bundled id as `(id, kind, max_episode_steps or None, example)`, sorted by id.
+/// Every bundled id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`,
+/// sorted by id.
+type RegistryRow = (String, String, Option<u64>, bool, Option<f64>);
+
 #[pyfunction]
-fn registry() -> Vec<(String, String, Option<u64>, bool)> {
+fn registry() -> Vec<RegistryRow> {
     envspec::registry::entries()
         .iter()
         .map(|e| {
-            let kind = kind_name(e.kind);
-            let max = envspec::open(&e.id, &[]).ok().and_then(|s| match s {
-                envc::AnySpec::Task(t) => t.max_episode_steps,
-                envc::AnySpec::Maze(m) => m.max_episode_steps,
-                envc::AnySpec::Agents(a) => a.base.max_episode_steps,
-            });
-            (e.id.clone(), kind.to_string(), max, e.example)
+            let (max, threshold) = match envspec::open(&e.id, &[]) {
+                Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
+                Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
+                Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
+                Err(_) => (None, None),
+            };
+            (
+                e.id.clone(),
+                kind_name(e.kind).into(),
+                max,
+                e.example,
+                threshold,
+            )
         })
         .collect()
 }
@@ -77,6 +97,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(registry, m)?)?;
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
+    m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
     m.add_class::<multi_agent::AgentsCore>()?;

@@ -8,6 +8,8 @@
 //!   [`VecEnv::final_obs`] and its info stays readable through [`VecEnv::final_info`].
 //! * Observations, rewards, terminated and truncated live in contiguous batch buffers
 //!   (env-major) that the caller reads in place.
+//! * [`VecEnv::step_f32`] steps a float32 action batch as a float32 policy steps the reference
+//!   (each env through `Env::step_f32`).
 //!
 //! `threads = M` means M threads run envs: the caller plus M − 1 pool workers that live as long
 //! as the `VecEnv`. The caller works too, so a step costs one wake-up hand-off, not two. Envs are
@@ -45,6 +47,8 @@ const SPIN: Duration = Duration::from_micros(50);
 struct Job {
     envs: *mut Env,
     actions: *const f64,
+    /// The float32 rows of [`VecEnv::step_f32`] (the same layout as `actions`).
+    actions_f32: *const f32,
     obs: *mut f64,
     rewards: *mut f64,
     terminated: *mut bool,
@@ -79,6 +83,8 @@ struct Shared {
     lock: Mutex<()>,
     work: Condvar,
     finished: Condvar,
+    /// The current step's actions are float32 (`actions_f32`), stepped with `Env::step_f32`.
+    action_f32: AtomicBool,
     /// Test hook: a nonzero seed delays each env by a pseudo-random few µs, shuffling completion.
     jitter: AtomicU64,
     /// The first env error or panic of the step, by env index (both are internal bugs after the
@@ -107,7 +113,7 @@ impl Shared {
             }
             // SAFETY: index i was claimed by this thread alone for this step.
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| unsafe {
-                run_one(&self.job, i)
+                run_one(&self.job, i, self.action_f32.load(Relaxed))
             }));
             let failure = match r {
                 Ok(Ok(())) => None,
@@ -174,7 +180,7 @@ fn splitmix(mut x: u64) -> u64 {
 ///
 /// # Safety
 /// `i < job.n`, claimed by the calling thread alone, and the buffers are live.
-unsafe fn run_one(job: &Job, i: usize) -> Result<(), EnvError> {
+unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError> {
     let (od, ad) = (job.obs_dim, job.act_dim);
     // SAFETY (all below): disjoint per-env slots of buffers sized n, n×obs_dim or n×act_dim.
     let env = unsafe { &mut *job.envs.add(i) };
@@ -195,8 +201,11 @@ unsafe fn run_one(job: &Job, i: usize) -> Result<(), EnvError> {
         *pending = false;
         return Ok(());
     }
-    let action = unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) };
-    let s = env.step(action)?;
+    let s = if f32_actions {
+        env.step_f32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })?
+    } else {
+        env.step(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })?
+    };
     *reward = s.reward;
     *terminated = s.terminated;
     *truncated = s.truncated;
@@ -229,6 +238,7 @@ pub struct VecEnv {
     // reads through the Vecs); never resized.
     envs: Vec<Env>,
     actions: Vec<f64>,
+    actions_f32: Vec<f32>,
     obs: Vec<f64>,
     rewards: Vec<f64>,
     terminated: Vec<bool>,
@@ -270,6 +280,7 @@ impl VecEnv {
                 job: Job {
                     envs: std::ptr::null_mut(),
                     actions: std::ptr::null(),
+                    actions_f32: std::ptr::null(),
                     obs: std::ptr::null_mut(),
                     rewards: std::ptr::null_mut(),
                     terminated: std::ptr::null_mut(),
@@ -291,12 +302,14 @@ impl VecEnv {
                 lock: Mutex::new(()),
                 work: Condvar::new(),
                 finished: Condvar::new(),
+                action_f32: AtomicBool::new(false),
                 jitter: AtomicU64::new(0),
                 failure: Mutex::new(None),
             }),
             workers: vec![],
             envs,
             actions: vec![0.0; n * ad],
+            actions_f32: vec![0.0; n * ad],
             obs: vec![0.0; n * od],
             rewards: vec![0.0; n],
             terminated: vec![false; n],
@@ -310,6 +323,7 @@ impl VecEnv {
         let job = &mut Arc::get_mut(&mut v.shared).expect("unshared").job;
         job.envs = v.envs.as_mut_ptr();
         job.actions = v.actions.as_mut_ptr();
+        job.actions_f32 = v.actions_f32.as_mut_ptr();
         job.obs = v.obs.as_mut_ptr();
         job.rewards = v.rewards.as_mut_ptr();
         job.terminated = v.terminated.as_mut_ptr();
@@ -390,35 +404,90 @@ impl VecEnv {
         &self.obs
     }
 
-    /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
-    /// batch buffers hold the results.
-    pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
+    /// Reset only the envs where `mask` is true, each with its seed (Gymnasium's
+    /// `reset(options={"reset_mask": mask})`); the others keep their state, observation, flags
+    /// and pending autoreset. Every env must have been reset once before.
+    pub fn reset_masked(
+        &mut self,
+        seeds: impl IntoIterator<Item = Option<u64>>,
+        mask: &[bool],
+    ) -> Result<&[f64], EnvError> {
         if !self.has_reset {
             return Err(EnvError::NotReset);
         }
-        if actions.len() != self.actions.len() {
-            return Err(EnvError::ActionLength {
-                env: self.spec().map(|s| s.id.clone()).unwrap_or_default(),
-                expected: self.actions.len(),
-                got: actions.len(),
-            });
+        let job = &self.shared.job;
+        let od = job.obs_dim;
+        let masked = seeds.into_iter().take(job.n).enumerate().zip(mask);
+        for ((i, seed), _) in masked.filter(|(_, m)| **m) {
+            // SAFETY: no step is running; i < n; slots sized as in `run_one`.
+            unsafe {
+                let (obs, _) = (*job.envs.add(i)).reset(seed);
+                std::ptr::copy_nonoverlapping(obs.as_ptr(), job.obs.add(i * od), od);
+                *job.rewards.add(i) = 0.0;
+                *job.terminated.add(i) = false;
+                *job.truncated.add(i) = false;
+                *job.has_final.add(i) = false;
+                *job.pending.add(i) = false;
+            }
         }
-        // Checked here so a bad action fails the whole batch before any env moves.
-        if let Some(index) = actions.iter().position(|a| !a.is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: actions[index],
-            });
-        }
-        let s = &*self.shared;
+        Ok(&self.obs)
+    }
+
+    /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
+    /// batch buffers hold the results.
+    pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
+        self.check_actions(actions.len(), |i| actions[i])?;
         // SAFETY: no step is running; the buffer has exactly actions.len() entries.
         unsafe {
             std::ptr::copy_nonoverlapping(
                 actions.as_ptr(),
-                s.job.actions as *mut f64,
+                self.shared.job.actions as *mut f64,
                 actions.len(),
             )
         };
+        self.run(false)
+    }
+
+    /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
+    /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
+    pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
+        self.check_actions(actions.len(), |i| actions[i] as f64)?;
+        // SAFETY: as in `step`.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                actions.as_ptr(),
+                self.shared.job.actions_f32 as *mut f32,
+                actions.len(),
+            )
+        };
+        self.run(true)
+    }
+
+    /// Checked before any env moves, so a bad action fails the whole batch.
+    fn check_actions(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
+        if !self.has_reset {
+            return Err(EnvError::NotReset);
+        }
+        if len != self.actions.len() {
+            return Err(EnvError::ActionLength {
+                env: self.spec().map(|s| s.id.clone()).unwrap_or_default(),
+                expected: self.actions.len(),
+                got: len,
+            });
+        }
+        match (0..len).find(|&i| !value(i).is_finite()) {
+            Some(index) => Err(EnvError::NonFiniteAction {
+                index,
+                value: value(index),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Run one step of every env over the action buffer just written.
+    fn run(&mut self, f32_actions: bool) -> Result<(), EnvError> {
+        let s = &*self.shared;
+        s.action_f32.store(f32_actions, SeqCst);
         s.done.store(0, SeqCst);
         s.next.store(0, SeqCst);
         if !self.workers.is_empty() {

@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use envc::dataset::{CollectOptions, Collector, DatasetInfo, Format, Recordable};
-use envc::rng::NumpyRng;
+use envc::dataset::{
+    CollectOptions, DatasetInfo, Format, Plan, PlanPolicy, Recordable, default_description,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::Outcome;
@@ -104,28 +105,27 @@ pub fn run(args: Args) -> Result<Outcome> {
 
 fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
     let act_dim = env.action_space().dim();
-    let space = env.action_space().clone();
-    let actions = match (args.policy, &args.actions) {
-        (PolicyKind::Replay, Some(p)) => read_actions(p, act_dim)?,
+    let policy = match (args.policy, &args.actions) {
+        (PolicyKind::Replay, Some(p)) => PlanPolicy::Replay(read_actions(p, act_dim)?),
         (PolicyKind::Replay, None) => bail!("--policy replay needs --actions A.npy"),
         (_, Some(_)) => bail!("--actions is only used with --policy replay"),
-        _ => vec![],
+        (PolicyKind::Zero, None) => PlanPolicy::Zero,
+        (PolicyKind::Random, None) => PlanPolicy::Random,
     };
-    let description = args.description.clone().unwrap_or_else(|| {
-        format!(
-            "{} episodes of {} with a {} policy, collected by envc {}",
-            args.episodes,
-            id,
-            policy_name(args.policy),
-            env!("CARGO_PKG_VERSION")
-        )
-    });
+    let plan = Plan {
+        episodes: args.episodes,
+        policy,
+        seed: args.seed,
+    };
     let info = DatasetInfo {
         author: vec![args.author.clone()],
         author_email: args.author_email.iter().cloned().collect(),
-        algorithm_name: Some(policy_name(args.policy).to_string()),
         code_permalink: args.code_permalink.clone(),
-        description: Some(description),
+        description: Some(
+            args.description
+                .clone()
+                .unwrap_or_else(|| default_description(&plan, id)),
+        ),
         ..DatasetInfo::default()
     };
     let opts = CollectOptions {
@@ -134,28 +134,6 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
         format,
         info,
     };
-    let mut collector = Collector::new(env, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let base_seed = args.seed;
-    let mut seed_rng = NumpyRng::from_entropy();
-    let mut policy_rng = NumpyRng::from_seed(args.seed.unwrap_or_else(|| seed_rng.next_u64()));
-    let mut cursor = 0usize;
-    let kind = args.policy;
-    let mut policy = |_obs: &E::Obs, a: &mut [f32]| match kind {
-        PolicyKind::Zero => a.fill(0.0),
-        PolicyKind::Random => {
-            for (i, x) in a.iter_mut().enumerate() {
-                *x = policy_rng.uniform(space.low[i], space.high[i]) as f32;
-            }
-        }
-        PolicyKind::Replay => {
-            if cursor + act_dim > actions.len() {
-                cursor = 0;
-            }
-            a.copy_from_slice(&actions[cursor..cursor + act_dim]);
-            cursor += act_dim;
-        }
-    };
-
     let bar = ProgressBar::new(args.episodes);
     bar.set_style(
         ProgressStyle::with_template(
@@ -166,40 +144,23 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     );
     bar.set_message(format!("{id} → {}", args.dataset_id));
     let start = Instant::now();
-    let mut steps = 0u64;
-    for ep in 0..args.episodes {
-        let seed = match base_seed {
-            Some(s) => s.wrapping_add(ep),
-            None => seed_rng.next_u64(),
-        };
-        let s = collector
-            .episode(seed, &mut policy)
-            .map_err(|e| anyhow::anyhow!("episode {ep}: {e}"))?;
-        steps += s.steps as u64;
+    let r = envc::dataset::record(env, &plan, opts, |episodes, steps| {
         bar.set_prefix(steps.to_string());
-        bar.inc(1);
-    }
+        bar.set_position(episodes);
+    })
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
     bar.finish_and_clear();
     let secs = start.elapsed().as_secs_f64();
-    let warnings: Vec<String> = collector.env().warnings().to_vec();
-    let dir = collector.finish().map_err(|e| anyhow::anyhow!("{e}"))?;
     println!(
-        "{}: {} episodes, {steps} steps ({:.0} steps/s) written to {}",
+        "{}: {} episodes, {} steps ({:.0} steps/s) written to {}",
         args.dataset_id,
         args.episodes,
-        steps as f64 / secs.max(1e-9),
-        dir.display()
+        r.steps,
+        r.steps as f64 / secs.max(1e-9),
+        r.dir.display()
     );
-    for w in warnings {
+    for w in r.warnings {
         println!("  MuJoCo warning: {w}");
     }
     Ok(Outcome::Ok)
-}
-
-fn policy_name(p: PolicyKind) -> &'static str {
-    match p {
-        PolicyKind::Zero => "zero",
-        PolicyKind::Random => "random",
-        PolicyKind::Replay => "replay",
-    }
 }

@@ -188,15 +188,29 @@ impl MultiAgentEnv {
         Ok(self.last_step())
     }
 
+    /// `step_global` with a float32 action: costs computed from the action are float32, as numpy
+    /// computes them (see `Env::step_f32`). MaMuJoCo's single-agent mode (`agent_conf = "none"`)
+    /// hands the agent's action to the task as given, so a float32 policy steps this way there.
+    pub fn step_global_f32(&mut self, action: &[f32]) -> Result<MultiStep<'_>, EnvError> {
+        let s = self.env.step_f32(action)?;
+        let last = (s.reward, s.terminated, s.truncated);
+        self.finish_step(last);
+        Ok(self.last_step())
+    }
+
     fn step_global_inner(&mut self, action: &[f64]) -> Result<(), EnvError> {
         let s = self.env.step(action)?;
-        let (reward, term, trunc) = (s.reward, s.terminated, s.truncated);
+        let last = (s.reward, s.terminated, s.truncated);
+        self.finish_step(last);
+        Ok(())
+    }
+
+    fn finish_step(&mut self, (reward, term, trunc): (f64, bool, bool)) {
         self.last = (reward, term, trunc);
         self.write_obs();
         if term || trunc {
             self.live = false;
         }
-        Ok(())
     }
 
     fn last_step(&self) -> MultiStep<'_> {

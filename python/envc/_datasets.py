@@ -1,0 +1,80 @@
+"""Minari datasets from Python: ``envc.collect`` writes what ``envc collect`` writes."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+
+from . import _envc
+from ._gym import overrides_to_toml
+
+
+def collect(
+    id_or_path: str,
+    dataset_id: str,
+    episodes: int = 10,
+    *,
+    policy: str = "random",
+    seed: int | None = None,
+    format: str = "arrow",
+    root: str | os.PathLike | None = None,
+    actions: Any = None,
+    author: str | None = None,
+    description: str | None = None,
+    env_spec: str = "reference",
+    **overrides: Any,
+) -> str:
+    """Record a Minari dataset of a task or maze spec; returns the dataset's directory.
+
+    The same recording as ``envc collect``: ``policy`` is ``"zero"``, ``"random"`` (uniform
+    float32 in the action bounds) or ``"replay"`` (rows of ``actions``, an array
+    ``[T, act_dim]``); episode ``i`` is reset with ``seed + i`` (OS entropy without a seed).
+    ``root`` defaults to ``$MINARI_DATASETS_PATH``, else ``~/.minari/datasets``; ``format`` is
+    ``"arrow"`` or ``"hdf5"``. Keyword arguments are the spec's parameters, stored as the
+    dataset's env kwargs. The dataset appears only once every episode is written.
+
+    ``env_spec`` is the env ``dataset.recover_environment()`` rebuilds: ``"reference"`` (the
+    default) names the reference's class (Gymnasium's ``AntEnv``, ...), ``"envc"`` names envc's
+    own registration (``envc/<id>``), so that recovering needs only ``import envc``.
+    """
+    rows = None
+    if actions is not None:
+        a = np.asarray(actions, dtype=np.float32)
+        if a.ndim != 2:
+            raise ValueError(f"actions must be a 2-D array [T, act_dim], got shape {a.shape}")
+        rows = a.ravel().tolist()
+    if env_spec not in ("reference", "envc"):
+        raise ValueError(f"env_spec={env_spec!r}: expected 'reference' or 'envc'")
+    spec_json = _envc_spec_json(id_or_path, overrides) if env_spec == "envc" else None
+    directory, _steps = _envc.collect(
+        os.fspath(id_or_path),
+        dataset_id,
+        int(episodes),
+        policy,
+        seed,
+        format,
+        None if root is None else os.fspath(root),
+        overrides_to_toml(overrides),
+        rows,
+        author,
+        description,
+        spec_json,
+    )
+    return directory
+
+
+def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:
+    """Gymnasium's ``EnvSpec.to_json()`` of the envc registration, with the overrides as kwargs."""
+    import gymnasium as gym
+
+    from ._registry import env_id_for
+
+    import dataclasses
+
+    base = gym.spec(env_id_for(os.fspath(id_or_path)))
+    rest = dict(overrides)
+    max_steps = rest.pop("max_episode_steps", base.max_episode_steps)
+    kwargs = {**base.kwargs, **rest}
+    return dataclasses.replace(base, kwargs=kwargs, max_episode_steps=max_steps).to_json()

@@ -1,0 +1,192 @@
+"""Maze envs as Gymnasium-Robotics ``GoalEnv``: dict observations and batched goal functions.
+
+The env class subclasses ``gymnasium_robotics.core.GoalEnv`` when Gymnasium-Robotics is installed
+(``pip install envc[robotics]``); without it, it subclasses ``gymnasium.Env`` and offers the same
+API (``GoalEnv`` adds only the check of the observation space's keys at reset).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from . import _envc
+from ._gym import _Closed, overrides_to_toml
+
+try:
+    from gymnasium_robotics.core import GoalEnv as _Base
+except ImportError:  # Gymnasium-Robotics is an optional dependency.
+    _Base = gym.Env
+
+
+def _cell(options: dict, key: str) -> tuple[int, int] | None:
+    """``options[key]`` as a ``(row, col)`` pair of non-negative ints (``None`` when absent)."""
+    cell = options.get(key)
+    if cell is None:
+        return None
+    c = np.asarray(cell)
+    if c.shape != (2,) or not np.issubdtype(c.dtype, np.integer) or (c < 0).any():
+        raise ValueError(f"options[{key!r}] = {cell!r}: expected a (row, col) pair of cell indices")
+    return int(c[0]), int(c[1])
+
+
+def _goal_batches(achieved_goal, desired_goal) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """Goals broadcast against each other as ``[N, 2]`` float64 rows, and the leading shape."""
+    a = np.asarray(achieved_goal, dtype=np.float64)
+    d = np.asarray(desired_goal, dtype=np.float64)
+    try:
+        a, d = np.broadcast_arrays(a, d)
+    except ValueError:
+        raise ValueError(
+            f"achieved_goal {a.shape} and desired_goal {d.shape} do not broadcast together"
+        ) from None
+    if a.ndim == 0 or a.shape[-1] != 2:
+        raise ValueError(f"goals have shape {a.shape}; expected [..., 2] (x, y)")
+    rows = (np.ascontiguousarray(x.reshape(-1, 2)) for x in (a, d))
+    return *rows, a.shape[:-1]
+
+
+def _unbounded(n: int) -> gym.spaces.Box:
+    return gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype="float64")
+
+
+class EnvcMazeEnv(_Base):
+    """A maze env of any envc maze spec (PointMaze, AntMaze, a robot of your own), stepping in Rust.
+
+    ``EnvcMazeEnv("PointMaze_UMaze-v3", continuing_task=False)``, or through Gymnasium:
+    ``gymnasium.make("envc/AntMaze_Medium_Diverse_GRDense-v5")``. It behaves as the reference's
+    ``PointMazeEnv`` / ``AntMazeEnv`` (Gymnasium-Robotics 1.4.2): same observation dict, rewards,
+    flags and infos for the same seed and actions.
+
+    Keyword arguments: the reference's ``maze_map`` (a list of rows of ``1``, ``0``, ``"r"``,
+    ``"g"``, ``"c"``), ``reward_type`` (``"sparse"`` or ``"dense"``), ``continuing_task``,
+    ``reset_target``, ``maze_size_scaling``, ``maze_height``, ``position_noise_range``; any other
+    keyword is a parameter of the robot's spec (e.g. ``ctrl_cost_weight`` for the ant). The time
+    limit is Gymnasium's ``TimeLimit``, as for the reference.
+
+    ``reset(seed=..., options={"goal_cell": (i, j), "reset_cell": (i, j)})`` places the goal and
+    the robot in given free cells (a wall or out-of-range cell raises ``ValueError``).
+
+    ``compute_reward``, ``compute_terminated`` and ``compute_truncated`` take goals of shape
+    ``[2]`` (returning a scalar, as the reference) or ``[..., 2]`` (returning one value per goal
+    pair, for hindsight relabelling as SB3's ``HerReplayBuffer`` does). They are the env's own goal
+    terms, computed in Rust exactly as the step computes them. Unlike the reference, a batch
+    given to ``compute_terminated`` / ``compute_truncated`` gives one flag per pair (the
+    reference's take the norm of the whole batch and return one bool).
+
+    Actions: float64 or float32 arrays as for ``envc.EnvcEnv``; bad actions (wrong shape, NaN)
+    raise ``ValueError``, ``step`` before ``reset`` raises ``RuntimeError``.
+    """
+
+    # The reference maze classes declare 50 fps whatever their dt; envc does not render.
+    metadata = {"render_modes": [], "render_fps": 50}
+
+    def __init__(
+        self,
+        spec_id: str,
+        render_mode: str | None = None,
+        maze_map: list | None = None,
+        **overrides: Any,
+    ):
+        if render_mode is not None:
+            raise ValueError(
+                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
+            )
+        if maze_map is not None:
+            if "map" in overrides:
+                raise TypeError("pass either `maze_map` or `map`, not both")
+            overrides["map"] = maze_map
+        pairs = overrides_to_toml(overrides)
+        if "max_episode_steps" not in overrides:
+            pairs.append(("max_episode_steps", "0"))
+        kind, core = _envc.open(spec_id, pairs)
+        if kind != "maze":
+            raise TypeError(
+                f"`{spec_id}` is a {kind} spec, not a maze; open it with envc.make"
+            )
+        self._core = core
+        self.render_mode = None
+        self.dt = core.dt
+        # As the reference builds it (spaces.Dict sorts the keys).
+        self.observation_space = gym.spaces.Dict(
+            dict(
+                observation=_unbounded(core.observation_dim),
+                achieved_goal=_unbounded(2),
+                desired_goal=_unbounded(2),
+            )
+        )
+        self.action_space = gym.spaces.Box(
+            low=core.act_low.astype(np.float32),
+            high=core.act_high.astype(np.float32),
+            dtype=np.float32,
+        )
+        self.reward_type = core.reward_type
+        self.continuing_task = core.continuing_task
+        self.reset_target = core.reset_target
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        """Start an episode: ``(obs dict, info)``. ``options`` may hold ``goal_cell`` and
+        ``reset_cell`` (``(row, col)`` of free cells); others are drawn as the reference draws."""
+        super().reset(seed=seed)
+        if seed is not None and not 0 <= int(seed) < 2**64:
+            raise ValueError(f"seed must be in [0, 2**64), got {seed}")
+        opts = options or {}
+        return self._core.reset(
+            None if seed is None else int(seed),
+            _cell(opts, "goal_cell"),
+            _cell(opts, "reset_cell"),
+        )
+
+    def step(self, action):
+        """``(obs dict, reward, terminated, truncated, info)``; ``info["success"]`` says whether
+        the robot is within the goal threshold."""
+        a = np.asarray(action)
+        if a.ndim != 1:
+            raise ValueError(f"action has shape {a.shape}; expected {self.action_space.shape}")
+        if a.dtype == np.float32:
+            obs, reward, terminated, truncated, info = self._core.step_f32(np.ascontiguousarray(a))
+        else:
+            obs, reward, terminated, truncated, info = self._core.step(
+                np.ascontiguousarray(a, dtype=np.float64)
+            )
+        return obs, np.float64(reward), terminated, truncated, info
+
+    def compute_reward(self, achieved_goal, desired_goal, info=None):
+        """The goal reward of ``achieved_goal`` against ``desired_goal`` (``info`` is unused):
+        a float64 scalar for ``[2]`` goals, a float64 array of the leading shape for ``[..., 2]``."""
+        a, d, lead = _goal_batches(achieved_goal, desired_goal)
+        r = self._core.compute_reward(a, d)
+        return r.reshape(lead) if lead else r[0]
+
+    def compute_terminated(self, achieved_goal, desired_goal, info=None):
+        """Whether the episode ends for these goals (reaching the goal, unless the task is
+        continuing): a bool for ``[2]`` goals, a bool array of the leading shape for ``[..., 2]``."""
+        a, d, lead = _goal_batches(achieved_goal, desired_goal)
+        t = self._core.compute_terminated(a, d)
+        return t.reshape(lead) if lead else bool(t[0])
+
+    def compute_truncated(self, achieved_goal, desired_goal, info=None):
+        """Always false (the ``TimeLimit`` truncates): a bool for ``[2]`` goals, a bool array of
+        the leading shape for ``[..., 2]``."""
+        a, d, lead = _goal_batches(achieved_goal, desired_goal)
+        t = self._core.compute_truncated(a, d)
+        return t.reshape(lead) if lead else bool(t[0])
+
+    def close(self):
+        self._core = _Closed()
+
+    @property
+    def goal(self) -> np.ndarray:
+        """The current goal (x, y): the next step's ``desired_goal``."""
+        return self._core.goal
+
+    @property
+    def numerics(self) -> str:
+        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
+        return self._core.numerics
+
+    @numerics.setter
+    def numerics(self, name: str) -> None:
+        self._core.numerics = name

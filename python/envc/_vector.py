@@ -1,0 +1,255 @@
+"""Vector envs as ``gymnasium.vector.VectorEnv``: ``EnvcVectorEnv`` and ``envc.make_vec``."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from . import _envc
+from ._gym import _fps, overrides_to_toml
+
+_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+
+
+def _default_threads(num_envs: int) -> int:
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cpus = os.cpu_count() or 1
+    return max(1, min(num_envs, cpus))
+
+
+class EnvcVectorEnv(gym.vector.VectorEnv):
+    """``num_envs`` copies of one envc task spec, stepped in parallel by Rust threads.
+
+    ``EnvcVectorEnv("Ant-v5", num_envs=8, num_threads=2, ctrl_cost_weight=0.1)``; the same as
+    ``gymnasium.make_vec("envc/Ant-v5", num_envs=8, vectorization_mode="vector_entry_point")``.
+    It behaves as ``gymnasium.make_vec("Ant-v5", num_envs=8, vectorization_mode="sync")`` does,
+    bit for bit under the same seeds and actions:
+
+    * ``reset(seed=s)`` seeds env i with ``s + i`` (a list gives one seed per env); ``None``
+      continues each env's stream.
+    * ``autoreset_mode``: ``AutoresetMode.NEXT_STEP`` (default: the step after an env ended
+      resets it, with reward 0 and both flags false) or ``AutoresetMode.SAME_STEP`` (the ending
+      step resets at once; ``info["final_obs"]`` and ``info["final_info"]`` hold what it ended on).
+    * Infos in Gymnasium's vector form: ``info[key]`` is an array over envs and
+      ``info["_" + key]`` the mask of envs that reported it.
+    * The time limit is the spec's (``max_episode_steps``, as ``TimeLimit`` applies it in the
+      reference); ``max_episode_steps=N`` overrides it, ``0`` turns it off.
+
+    Actions are a ``(num_envs, act_dim)`` batch: float64 steps with float64 costs, float32 with
+    float32 costs as numpy computes them. The batch is written by Rust into numpy buffers
+    allocated once, with the GIL released while the threads step; ``copy=False`` returns the
+    observation buffer itself (overwritten by the next call) instead of a copy. Bad batches
+    (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` and any call after
+    ``close`` raise ``RuntimeError``.
+    """
+
+    def __init__(
+        self,
+        spec_id: str,
+        num_envs: int = 1,
+        *,
+        num_threads: int | None = None,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        max_episode_steps: int | None = None,
+        copy: bool = True,
+        render_mode: str | None = None,
+        **overrides: Any,
+    ):
+        if render_mode is not None:
+            raise ValueError(
+                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
+            )
+        mode = AutoresetMode(autoreset_mode)
+        if mode not in _MODES:
+            raise ValueError(
+                f"autoreset_mode={mode}: envc vector envs support NEXT_STEP and SAME_STEP"
+            )
+        if int(num_envs) < 1:
+            raise ValueError(f"num_envs must be at least 1, got {num_envs}")
+        threads = _default_threads(num_envs) if num_threads is None else int(num_threads)
+        if threads < 1:
+            raise ValueError(f"num_threads must be at least 1, got {num_threads}")
+        pairs = overrides_to_toml(overrides)
+        if max_episode_steps is not None:
+            pairs.append(("max_episode_steps", str(int(max_episode_steps))))
+        core = _envc.VecCore(os.fspath(spec_id), pairs, int(num_envs), threads, mode.value)
+        self._core = core
+        self._buf = core.buffers
+        self._keys = core.info_keys
+        self.copy = copy
+        self.num_envs = int(num_envs)
+        self.autoreset_mode = mode
+        self.render_mode = None
+        self.metadata = {
+            "render_modes": [],
+            "render_fps": _fps(core.dt),
+            "autoreset_mode": mode,
+        }
+        self.single_observation_space = gym.spaces.Box(
+            low=core.obs_low, high=core.obs_high, dtype=np.float64
+        )
+        self.single_action_space = gym.spaces.Box(
+            low=core.act_low.astype(np.float32),
+            high=core.act_high.astype(np.float32),
+            dtype=np.float32,
+        )
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.dt = core.dt
+
+    @property
+    def num_threads(self) -> int:
+        """Threads stepping the envs (the calling thread included)."""
+        return self._core.threads
+
+    @property
+    def numerics(self) -> str:
+        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
+        return self._core.numerics
+
+    @numerics.setter
+    def numerics(self, name: str) -> None:
+        self._core.numerics = name
+
+    def reset(
+        self,
+        *,
+        seed: int | list[int | None] | None = None,
+        options: dict[str, Any] | None = None,
+    ):
+        """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
+
+        ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
+        as Gymnasium's vector envs do; the infos are then those of the masked envs.
+        """
+        mask = None if options is None else options.get("reset_mask")
+        if mask is not None:
+            mask = self._check_mask(mask)
+        if seed is None:
+            seeds = None
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = [None if s is None else int(s) for s in seed]
+            if len(seeds) != self.num_envs:
+                raise ValueError(
+                    f"If seeds are passed as a list the length must match "
+                    f"num_envs={self.num_envs} but got length={len(seeds)}."
+                )
+        for s in seeds or ():
+            if s is not None and not 0 <= s < 2**64:
+                raise ValueError(f"seeds must be in [0, 2**64), got {s}")
+        self._core.reset(seeds, None if mask is None else mask.tolist())
+        return self._obs(), self._infos(False, final=False)
+
+    def _check_mask(self, mask) -> np.ndarray:
+        """A ``reset_mask`` as Gymnasium's vector envs check it."""
+        if not isinstance(mask, np.ndarray):
+            raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+        if mask.shape != (self.num_envs,):
+            raise ValueError(
+                f"`options['reset_mask']` must have shape `({self.num_envs},)`, got {mask.shape}"
+            )
+        if mask.dtype != np.bool_:
+            raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+        if not mask.any():
+            raise ValueError(
+                "`options['reset_mask']` must contain a boolean array with at least one True "
+                f"value, got reset_mask={mask}"
+            )
+        return mask
+
+    def step(self, actions):
+        """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
+        a = np.asarray(actions)
+        if a.ndim != 2:
+            raise ValueError(
+                f"actions have shape {a.shape}; expected {self.action_space.shape}"
+            )
+        f32 = a.dtype == np.float32
+        if f32:
+            self._core.step_f32(np.ascontiguousarray(a))
+        else:
+            self._core.step(np.ascontiguousarray(a, dtype=np.float64))
+        b = self._buf
+        return (
+            self._obs(),
+            b["rewards"].copy(),
+            b["terminated"].copy(),
+            b["truncated"].copy(),
+            self._infos(f32),
+        )
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Stop the threads and free the envs."""
+        core = getattr(self, "_core", None)  # None when __init__ failed
+        if core is not None:
+            core.close()
+
+    def _obs(self) -> np.ndarray:
+        obs = self._buf["obs"]
+        return obs.copy() if self.copy else obs
+
+    def _values(self, values: np.ndarray, k: int, f32: bool) -> np.ndarray:
+        """Info key k's values over envs (``(N,)`` or ``(N, len)``), a fresh array."""
+        _, off, n, is_f32 = self._keys[k]
+        v = values[off] if n == 1 else values[off : off + n].T
+        return np.ascontiguousarray(v, dtype=np.float32 if f32 and is_f32 else np.float64)
+
+    def _infos(self, f32: bool, final: bool = True) -> dict[str, Any]:
+        """The last call's infos in Gymnasium's vector form (``final``: SameStep's finals)."""
+        b = self._buf
+        info: dict[str, Any] = {}
+        mask = b["info_mask"]
+        for k, (name, *_rest) in enumerate(self._keys):
+            if mask[k].any():
+                info[name] = self._values(b["info"], k, f32)
+                info["_" + name] = mask[k].copy()
+        ended = b["has_final"]
+        if final and self.autoreset_mode == AutoresetMode.SAME_STEP and ended.any():
+            final_obs = np.full(self.num_envs, None, dtype=object)
+            for i in np.flatnonzero(ended):
+                final_obs[i] = b["final_obs"][i].copy()
+            final_info: dict[str, Any] = {}
+            for k, (name, *_rest) in enumerate(self._keys):
+                final_info[name] = self._values(b["final_info"], k, f32)
+                final_info["_" + name] = ended.copy()
+            info["final_obs"], info["_final_obs"] = final_obs, ended.copy()
+            info["final_info"], info["_final_info"] = final_info, ended.copy()
+        return info
+
+
+def make_vec(
+    id_or_path: str,
+    num_envs: int = 1,
+    num_threads: int | None = None,
+    autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    **overrides: Any,
+) -> EnvcVectorEnv:
+    """A vector env of a bundled task id (``"Ant-v5"``) or a task spec file.
+
+    ``envc.make_vec("Ant-v5", 8)`` is ``gymnasium.make_vec("envc/Ant-v5", num_envs=8,
+    vectorization_mode="vector_entry_point")``: an :class:`EnvcVectorEnv` stepped by
+    ``num_threads`` Rust threads (default: as many as there are CPUs, at most ``num_envs``).
+    Keyword arguments are the spec's parameters and ``max_episode_steps``, as for ``envc.make``.
+    """
+    from ._registry import env_id_for
+
+    env_id = env_id_for(id_or_path)
+    if gym.spec(env_id).vector_entry_point is None:
+        raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
+    return gym.make_vec(
+        env_id,
+        num_envs=num_envs,
+        vectorization_mode="vector_entry_point",
+        num_threads=num_threads,
+        autoreset_mode=autoreset_mode,
+        **overrides,
+    )
