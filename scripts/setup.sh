@@ -33,7 +33,12 @@ fi
 MJDIR="$("$PY" -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))')"
 DEST="$ROOT/third_party/mujoco"
 mkdir -p "$DEST/lib"
-cp -f "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/"
+# Replaced only when it differs, and by a rename: a library rewritten in place crashes (SIGBUS)
+# every running process that has it mapped.
+if ! cmp -s "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so.$MJ_VERSION"; then
+  cp "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/.libmujoco.so.$MJ_VERSION.new"
+  mv -f "$DEST/lib/.libmujoco.so.$MJ_VERSION.new" "$DEST/lib/libmujoco.so.$MJ_VERSION"
+fi
 ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-rs's build script looks for
 rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
 # The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.

@@ -8,6 +8,7 @@ mod collect;
 mod convert;
 mod errors;
 mod maze;
+mod mujoco_timer;
 mod multi_agent;
 mod task;
 mod vector;

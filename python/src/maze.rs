@@ -93,7 +93,9 @@ impl MazeCore {
             goal_cell,
             reset_cell,
         });
-        let (_, success) = self.env.reset(seed, options).map_err(errors::env_error)?;
+        let (_, success) =
+            crate::mujoco_timer::without_mujoco_timer(|| self.env.reset(seed, options))
+                .map_err(errors::env_error)?;
         Ok((
             obs_dict(py, self.env.obs())?,
             info_dict(py, self.env.robot().reset_info(), success)?,
@@ -106,9 +108,8 @@ impl MazeCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step(action.as_slice()?)
+        let a = action.as_slice()?;
+        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step(a))
             .map_err(errors::env_error)?;
         step_out(py, s)
     }
@@ -119,9 +120,8 @@ impl MazeCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step_f32(action.as_slice()?)
+        let a = action.as_slice()?;
+        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_f32(a))
             .map_err(errors::env_error)?;
         step_out(py, s)
     }

@@ -64,7 +64,7 @@ impl AgentsCore {
         py: Python<'py>,
         seed: Option<u64>,
     ) -> PyResult<(Arrays<'py>, Bound<'py, PyDict>)> {
-        let (obs, info) = self.env.reset(seed);
+        let (obs, info) = crate::mujoco_timer::without_mujoco_timer(|| self.env.reset(seed));
         Ok((arrays(py, obs), convert::info(py, info)?))
     }
 
@@ -76,7 +76,8 @@ impl AgentsCore {
         actions: Vec<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<StepOut<'py>> {
         let a = slices(&actions)?;
-        let s = self.env.step(&a).map_err(errors::env_error)?;
+        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step(&a))
+            .map_err(errors::env_error)?;
         step_out(py, s)
     }
 
@@ -86,9 +87,8 @@ impl AgentsCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step_global(action.as_slice()?)
+        let a = action.as_slice()?;
+        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_global(a))
             .map_err(errors::env_error)?;
         step_out(py, s)
     }
@@ -99,9 +99,8 @@ impl AgentsCore {
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
-        let s = self
-            .env
-            .step_global_f32(action.as_slice()?)
+        let a = action.as_slice()?;
+        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_global_f32(a))
             .map_err(errors::env_error)?;
         step_out(py, s)
     }

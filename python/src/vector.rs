@@ -256,10 +256,11 @@ impl VecCore {
         }
         match &mask {
             None => {
-                env.reset_each(seeds);
+                crate::mujoco_timer::without_mujoco_timer(|| env.reset_each(seeds));
             }
             Some(m) => {
-                env.reset_masked(seeds, m).map_err(errors::env_error)?;
+                crate::mujoco_timer::without_mujoco_timer(|| env.reset_masked(seeds, m))
+                    .map_err(errors::env_error)?;
             }
         }
         self.fill(py, mask.as_deref())
@@ -270,7 +271,8 @@ impl VecCore {
         self.check_batch(actions.shape())?;
         let a = actions.as_slice()?;
         let env = self.env.as_mut().ok_or_else(closed)?;
-        py.detach(|| env.step(a)).map_err(errors::env_error)?;
+        py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step(a)))
+            .map_err(errors::env_error)?;
         self.fill(py, None)
     }
 
@@ -279,7 +281,8 @@ impl VecCore {
         self.check_batch(actions.shape())?;
         let a = actions.as_slice()?;
         let env = self.env.as_mut().ok_or_else(closed)?;
-        py.detach(|| env.step_f32(a)).map_err(errors::env_error)?;
+        py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a)))
+            .map_err(errors::env_error)?;
         self.fill(py, None)
     }
 
