@@ -1,5 +1,6 @@
-//! `envc rollout SPEC|ID --seed S --actions A.npy --out T.npz [--set k=v ...] [--auto-reset]`:
-//! run one action sequence and save the trajectory (format in the README, "Trajectory files").
+//! `envc rollout SPEC|ID --seed S (--actions A.npy | --policy zero|random --steps N) --out T.npz
+//! [--set k=v ...] [--auto-reset]`: run one action sequence and save the trajectory (format in the
+//! README, "Trajectory files"). `--policy` needs no numpy to try an env.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -20,8 +21,15 @@ pub struct Args {
     #[arg(long)]
     seed: Option<u64>,
     /// Actions: a `.npy` array [T, act_dim] of float64 (float32 is stepped as a float32 policy).
-    #[arg(long, value_name = "A.npy")]
-    actions: PathBuf,
+    #[arg(long, value_name = "A.npy", required_unless_present = "policy", conflicts_with_all = ["policy", "steps"])]
+    actions: Option<PathBuf>,
+    /// Instead of `--actions`: all-zero actions, or float32 actions uniform in the action
+    /// space's bounds (drawn from numpy's PCG64 seeded with `--seed`, else 0).
+    #[arg(long, value_enum, requires = "steps")]
+    policy: Option<Policy>,
+    /// With `--policy`: how many steps.
+    #[arg(long, value_name = "N", requires = "policy")]
+    steps: Option<usize>,
     /// Output `.npz` file.
     #[arg(long, value_name = "T.npz")]
     out: PathBuf,
@@ -31,6 +39,25 @@ pub struct Args {
     /// After an episode ends, `reset()` without a seed and go on through all actions.
     #[arg(long)]
     auto_reset: bool,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum Policy {
+    Zero,
+    Random,
+}
+
+/// `steps` actions of `policy` for an action space (float32, as a Box(float32) samples them).
+fn policy_actions(policy: Policy, steps: usize, space: &envc::BoxSpace, seed: u64) -> Matrix {
+    let n = space.dim();
+    let mut rng = envc::rng::NumpyRng::from_seed(seed);
+    let values = (0..steps * n)
+        .map(|k| match policy {
+            Policy::Zero => 0.0,
+            Policy::Random => rng.uniform(space.low[k % n], space.high[k % n]) as f32,
+        })
+        .collect();
+    Matrix::F32(Array2::from_shape_vec((steps, n), values).expect("steps × act_dim values"))
 }
 
 /// Per-key info values collected over steps.
@@ -69,11 +96,26 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let actions = read_matrix(&args.actions)?;
+    let any = crate::target::env(&args.spec, &args.set)?;
+    let (actions, path) = match (&args.actions, args.policy, args.steps) {
+        (Some(p), _, _) => (read_matrix(p)?, p.clone()),
+        (None, Some(policy), Some(steps)) => {
+            let seed = args.seed.unwrap_or(0);
+            let name = match policy {
+                Policy::Zero => "--policy zero",
+                Policy::Random => "--policy random",
+            };
+            (
+                policy_actions(policy, steps, any.action_space(), seed),
+                PathBuf::from(name),
+            )
+        }
+        _ => bail!("give --actions A.npy, or --policy zero|random with --steps N"),
+    };
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
     let as_f64 = || actions.clone().into_f64();
-    let (seed, path, out, auto) = (args.seed, &args.actions, &args.out, args.auto_reset);
-    let mut env = match crate::target::env(&args.spec, &args.set)? {
+    let (seed, path, out, auto) = (args.seed, &path, &args.out, args.auto_reset);
+    let mut env = match any {
         envc::AnyEnv::Task(env) => env,
         envc::AnyEnv::Maze(env) => {
             return crate::commands::maze::rollout(*env, seed, &as_f64(), path, out, auto);
@@ -86,7 +128,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     if width != env.act_dim() {
         bail!(
             "{} has {width} columns but {} takes {} actions",
-            args.actions.display(),
+            path.display(),
             env.spec().id,
             env.act_dim()
         );
