@@ -76,9 +76,15 @@ pub fn run(args: Args) -> Result<Outcome> {
     bar.set_message(env.id().to_string());
     let (mut returns, mut lengths) = (vec![], vec![]);
     let (mut steps, mut terminations) = (0u64, 0u64);
+    // Why episodes ended: reason → (count, an example), and a failing reset state.
+    let mut endings: std::collections::BTreeMap<String, (u64, String)> = Default::default();
+    let mut bad_start: Option<envc::Unhealthy> = None;
     let start = Instant::now();
     for ep in 0..args.episodes {
         env.reset(if ep == 0 { Some(args.seed) } else { None })?;
+        if bad_start.is_none() && env.kind() != envspec::Kind::Maze {
+            bad_start = env.physics_env().unhealthy();
+        }
         let (mut ret, mut len) = (0.0, 0u64);
         loop {
             if let Policy::Random = args.policy {
@@ -91,6 +97,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             len += 1;
             if s.terminated || s.truncated || (limit.is_none() && len >= args.max_steps) {
                 terminations += s.terminated as u64;
+                if s.terminated {
+                    let (reason, example) = ending(&env);
+                    let e = endings.entry(reason).or_insert((0, example));
+                    e.0 += 1;
+                }
                 break;
             }
         }
@@ -112,6 +123,8 @@ pub fn run(args: Args) -> Result<Outcome> {
                 "return": {"mean": rm, "std": rs, "min": rmin, "max": rmax},
                 "length": {"mean": lm, "std": ls, "min": lmin, "max": lmax},
                 "steps_per_second": sps, "warnings": env.warnings(),
+                "terminated_by": endings.iter().map(|(r, (n, e))| serde_json::json!({"reason": r, "count": n, "example": e})).collect::<Vec<_>>(),
+                "reset_state_fails": bad_start.as_ref().map(|u| u.check.clone()),
             }))?
         ),
         Format::Text => {
@@ -123,10 +136,41 @@ pub fn run(args: Args) -> Result<Outcome> {
             println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
             println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
             println!("  {sps:.0} steps/s");
+            for (reason, (n, example)) in &endings {
+                println!("  terminated {n}× by {reason}: {example}");
+            }
+            if let Some(u) = &bad_start {
+                println!(
+                    "  warning: the reset state already fails health check `{}`: {} = {} (healthy when {}); check the spec's reset and the model's initial pose",
+                    u.check, u.element, u.value, u.rule
+                );
+            } else if terminations == args.episodes && lm <= 3.0 {
+                println!(
+                    "  warning: every episode ended within {lmax} steps: the initial state may already be close to failing a check"
+                );
+            }
             for w in env.warnings() {
                 println!("  MuJoCo warning: {w}");
             }
         }
     }
     Ok(Outcome::Ok)
+}
+
+/// Why the last step terminated: a health check with the failing element and its value, a goal
+/// reached, or another termination condition.
+fn ending(env: &envc::AnyEnv) -> (String, String) {
+    if env.kind() == envspec::Kind::Maze {
+        return ("the goal".into(), "the robot reached the goal".into());
+    }
+    match env.physics_env().unhealthy() {
+        Some(u) => (
+            format!("health check `{}`", u.check),
+            format!("{} = {} (healthy when {})", u.element, u.value, u.rule),
+        ),
+        None => (
+            "a termination condition".into(),
+            "the state is healthy: a [termination] condition held".into(),
+        ),
+    }
 }
