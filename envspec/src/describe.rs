@@ -62,7 +62,12 @@ pub fn kernel(t: &RewardTerm) -> String {
                     }
                 })
                 .collect();
-            parts.join(" + ")
+            // A sum in parentheses, so a cost's sign or a weight applies to all of it.
+            if parts.len() > 1 {
+                format!("({})", parts.join(" + "))
+            } else {
+                parts.join(" + ")
+            }
         }
         TermKind::Value { source, divide_by } => match divide_by {
             Some(Divisor::Timestep) => format!("{} / timestep", sel(source)),

@@ -66,11 +66,12 @@ pub fn run(args: Args) -> Result<Outcome> {
         .max_episode_steps
         .map(|n| n.to_string())
         .unwrap_or_else(|| "none".into());
-    writeln!(
-        o,
-        "episode: truncated after {max} steps; an unhealthy state ends it: {}",
-        spec.terminate_when_unhealthy
-    )?;
+    let ending = match (spec.health.is_empty(), spec.terminate_when_unhealthy) {
+        (true, _) => "no health checks, so no unhealthy ending",
+        (false, true) => "an unhealthy state ends it",
+        (false, false) => "an unhealthy state does not end it",
+    };
+    writeln!(o, "episode: truncated after {max} steps; {ending}")?;
     if let Some(t) = spec.reward_threshold {
         writeln!(o, "reward threshold: {t}")?;
     }

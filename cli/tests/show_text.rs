@@ -1,0 +1,39 @@
+//! `envc show` says what the env computes without misleading (issue 17): a cost that is a sum is
+//! printed in parentheses (InvertedDoublePendulum-v5's reference: `reward = alive_bonus −
+//! dist_penalty − vel_penalty`, `dist_penalty = 0.01·x² + (y − 2)²`), and an env with no health
+//! checks does not claim that an unhealthy state ends it.
+
+use std::process::Command;
+
+fn show(id: &str) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+        .args(["show", id])
+        .output()
+        .expect("run envc");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn a_cost_that_is_a_sum_is_parenthesized() {
+    let out = show("InvertedDoublePendulum-v5");
+    assert!(
+        out.contains("−(0.01·site_xpos[tip].x² + (site_xpos[tip].z − 2.0)²)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("−(0.001·qvel[hinge]² + 0.005·qvel[hinge2]²)"),
+        "{out}"
+    );
+}
+
+#[test]
+fn no_health_checks_means_no_unhealthy_ending() {
+    let out = show("Swimmer-v5");
+    assert!(
+        out.contains("no health checks, so no unhealthy ending"),
+        "{out}"
+    );
+    assert!(!out.contains("an unhealthy state ends it"), "{out}");
+    assert!(show("Hopper-v5").contains("an unhealthy state ends it"));
+}
