@@ -65,11 +65,34 @@ impl Report {
         let breaks_policies = self.changes.iter().any(|c| {
             c.breaking && matches!(c.category(), Category::Observation | Category::Action)
         });
-        if breaks_policies && self.old_id == self.new_id {
-            self.flags.push(format!(
-                "this change breaks trained policies but the env id stays `{}`: bump its version",
-                self.new_id
-            ));
+        // Results that change under the same id: a reviewer's signal to bump the version, as
+        // Gymnasium bumps ids for reward, termination and physics fixes too (v4 → v5).
+        let mut alters: Vec<&str> = self
+            .changes
+            .iter()
+            .filter(|c| c.breaking)
+            .filter_map(|c| match c.category() {
+                Category::Reward => Some("reward"),
+                Category::Termination => Some("episode endings"),
+                Category::Reset => Some("initial states"),
+                Category::Dynamics => Some("dynamics"),
+                _ => None,
+            })
+            .collect();
+        alters.dedup();
+        if self.old_id == self.new_id {
+            if breaks_policies {
+                self.flags.push(format!(
+                    "this change breaks trained policies but the env id stays `{}`: bump its version",
+                    self.new_id
+                ));
+            } else if !alters.is_empty() {
+                self.flags.push(format!(
+                    "this change alters results ({}: returns are not comparable) but the env id stays `{}`: bump its version",
+                    alters.join(", "),
+                    self.new_id
+                ));
+            }
         }
     }
 

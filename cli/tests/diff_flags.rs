@@ -1,0 +1,46 @@
+//! A change that alters results under the same env id is flagged for a version bump, whatever
+//! it alters (issue 17: a dynamics-only breaking change raised no flag; Gymnasium bumps ids for
+//! physics, reward and termination fixes too).
+
+use std::process::Command;
+
+#[test]
+fn a_dynamics_only_change_under_the_same_id_is_flagged() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let dir = std::env::temp_dir().join(format!("envc-diff-flags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(format!("{root}/specs/gymnasium/hopper.toml"))
+        .unwrap()
+        .replace("\"../../assets/", &format!("\"{root}/assets/"));
+    let old = dir.join("old.toml");
+    let new = dir.join("new.toml");
+    std::fs::write(&old, &text).unwrap();
+    let changed = text.replace("frame_skip = { default = 4,", "frame_skip = { default = 5,");
+    assert_ne!(changed, text);
+    std::fs::write(&new, changed).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+        .args(["diff", old.to_str().unwrap(), new.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(3), "{out}");
+    assert!(
+        out.contains("flag: this change alters results (dynamics: returns are not comparable) but the env id stays `Hopper-v5`: bump its version"),
+        "{out}"
+    );
+    // The same change with a bumped id is not flagged.
+    std::fs::write(
+        &new,
+        std::fs::read_to_string(&new)
+            .unwrap()
+            .replace("\"Hopper-v5\"", "\"Hopper-v6\""),
+    )
+    .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+        .args(["diff", old.to_str().unwrap(), new.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(!out.contains("flag:"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
