@@ -185,6 +185,21 @@ fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic>
     };
     let mut indices = vec![];
     while !rest.is_empty() {
+        // `.x`, `.tz`: a column by name, as `envc show` prints element names (`xpos[torso].x`).
+        if let Some(col) = rest.strip_prefix('.') {
+            let col = col.trim();
+            if col.is_empty() || !col.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                return Err(syntax_error(loc, &format!("`.{col}` is not a column name")));
+            }
+            if indices.len() != 1 {
+                return Err(syntax_error(
+                    loc,
+                    "a `.column` follows exactly one `[rows]`, as in `xpos[torso].x`",
+                ));
+            }
+            indices.push(Index::Name(col.to_string()));
+            break;
+        }
         let close = rest
             .find(']')
             .ok_or_else(|| syntax_error(loc, "missing `]`"))?;
@@ -198,9 +213,15 @@ fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic>
                 .parse::<i64>()
                 .map_err(|_| syntax_error(loc, &format!("`{s}` is not an integer")))
         };
+        // `joint:part` (`qpos[root:z]`, as `envc show` prints a free joint's elements) is a name,
+        // not a slice: a slice's ends are integers or empty.
+        let slice_end = |x: &str| x.trim().is_empty() || x.trim().parse::<i64>().is_ok();
         let idx = if let Some(p) = inner.strip_prefix('$') {
             Index::Param(p.trim().to_string())
-        } else if let Some((a, b)) = inner.split_once(':') {
+        } else if let Some((a, b)) = inner
+            .split_once(':')
+            .filter(|(a, b)| slice_end(a) && slice_end(b))
+        {
             let a = if a.trim().is_empty() {
                 None
             } else {
@@ -276,13 +297,26 @@ pub fn resolve(
     };
     let col_ids: Vec<usize> = match idx.get(1) {
         None => (0..cols).collect(),
+        // A column by name (`xpos[torso][x]`, `xpos[torso].x`, `cfrc_ext[foot].tz`).
+        Some(Index::Name(n)) if field.col_names().contains(&n.as_str()) => {
+            vec![field.col_names().iter().position(|c| c == n).unwrap_or(0)]
+        }
         Some(Index::Name(n)) | Some(Index::Param(n)) => {
+            let names = field.col_names().join(", ");
             return Err(Diagnostic::new(
                 Code::E0401,
-                format!("columns are selected by number, not by name (`{n}`)"),
+                format!("`{n}` is not a column of `{field_name}`"),
             )
             .at(loc.clone())
-            .label(format!("expected a column index below {cols}")));
+            .label(format!(
+                "expected a column index below {cols}{}",
+                if names.is_empty() {
+                    String::new()
+                } else {
+                    format!(" or one of: {names}")
+                }
+            ))
+            .help_opt(suggest(n, field.col_names().iter().copied())));
         }
         Some(i) => select_ints(i, cols, loc)?,
     };
@@ -382,8 +416,15 @@ fn select_rows(
     loc: &Location,
     param: &dyn Fn(&str) -> Result<ParamIndex, Diagnostic>,
 ) -> Result<Vec<usize>, Diagnostic> {
-    let by_name =
-        |name: &str| -> Result<Vec<usize>, Diagnostic> { rows_by_name(name, field, model, loc) };
+    let by_name = |name: &str| -> Result<Vec<usize>, Diagnostic> {
+        // A row by the name envc prints: one element of a multi-element joint (`root:z`), or
+        // an unnamed element by its generated name (`actuator0`). A joint's own name still
+        // selects all its elements (`qpos[root]`: 7).
+        if let Some(i) = row_names(field, model).iter().position(|r| r == name) {
+            return Ok(vec![i]);
+        }
+        rows_by_name(name, field, model, loc)
+    };
     match idx {
         Index::Name(n) => by_name(n),
         Index::Param(p) => match param(p)? {

@@ -631,7 +631,7 @@ fn bad_selector_syntax() {
     let cases = [
         ("qpos[1", "cannot read selector: missing `]`"),
         ("qpos[]", "cannot read selector: empty `[]`"),
-        ("qpos[a:2]", "cannot read selector: `a` is not an integer"),
+        ("qpos[1,b]", "cannot read selector: `b` is not an integer"),
         (
             "qpos[1][0]",
             "cannot read selector: `qpos` is a vector: one index only",
@@ -640,9 +640,10 @@ fn bad_selector_syntax() {
             "xpos[torso][0][1]",
             "cannot read selector: at most two indices (rows, then columns)",
         ),
+        ("xpos[torso][w]", "`w` is not a column of `xpos`"),
         (
-            "xpos[torso][x]",
-            "columns are selected by number, not by name (`x`)",
+            "xpos[torso].x.y",
+            "cannot read selector: `.x.y` is not a column name",
         ),
     ];
     let s = Scratch::new("selector_syntax");
