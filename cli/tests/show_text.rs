@@ -37,3 +37,24 @@ fn no_health_checks_means_no_unhealthy_ending() {
     assert!(!out.contains("an unhealthy state ends it"), "{out}");
     assert!(show("Hopper-v5").contains("an unhealthy state ends it"));
 }
+
+#[test]
+fn show_model_lists_the_inventory_as_pasteable_selectors() {
+    let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+        .args(["show", "Ant-v5", "--model"])
+        .output()
+        .expect("run envc");
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    // ant.xml: a free joint `root`, 8 unnamed motors, the `torso` body, camera `track`.
+    for want in [
+        "qpos[root:z]",
+        "qvel[root:wz]",
+        "action[actuator7]",
+        "xpos[torso]",
+        "cameras (1):\n  track",
+        "torso_geom",
+    ] {
+        assert!(out.contains(want), "{want} missing from\n{out}");
+    }
+}

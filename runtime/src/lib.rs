@@ -22,6 +22,7 @@ pub mod environment;
 pub mod error;
 pub mod goal;
 pub mod gymnasium;
+pub mod inventory;
 pub mod maze;
 mod model_build;
 pub mod model_diff;

@@ -15,6 +15,10 @@ pub struct Args {
     /// Parameter overrides (`key=value`, TOML literal values).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Print the model's inventory instead: joints, actuators, bodies, sites, tendons as the
+    /// selector text to paste into a spec, then geoms, cameras and lights.
+    #[arg(long)]
+    model: bool,
 }
 
 /// Comma-joined names wrapped to lines of at most `width` characters, each indented by `indent`.
@@ -36,7 +40,24 @@ fn wrap(names: &[String], indent: usize, width: usize) -> String {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let env = match crate::target::env(&args.spec, &args.set)? {
+    let any = crate::target::env(&args.spec, &args.set)?;
+    if args.model {
+        let env = any.physics_env();
+        let mut o = String::new();
+        writeln!(
+            o,
+            "{}: model {} (selectors to paste into a spec)",
+            any.id(),
+            env.spec().model_path.display()
+        )?;
+        for g in envc::inventory::inventory(env.spec(), env.model()) {
+            writeln!(o, "\n{} ({}):", g.title, g.lines.len())?;
+            writeln!(o, "{}", wrap(&g.lines, 2, 100))?;
+        }
+        print!("{o}");
+        return Ok(Outcome::Ok);
+    }
+    let env = match any {
         envc::AnyEnv::Task(env) => env,
         envc::AnyEnv::Maze(env) => return crate::commands::maze::show(&env),
         envc::AnyEnv::Agents(env) => return crate::commands::multi_agent::show(&env),

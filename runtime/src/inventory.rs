@@ -1,0 +1,89 @@
+//! What a compiled model holds, with the selector text to paste into a spec (`envc show --model`).
+//! The selectable kinds come from the spec language's own resolver, so every line pastes back
+//! (`envspec/tests/selector_roundtrip.rs`); geoms, cameras and lights are listed by name (the
+//! spec language reads no geom fields; renderers take cameras by name).
+
+use std::ffi::CStr;
+
+use envspec::ResolvedSpec;
+use envspec::diagnostic::{Location, SourceFile};
+use mujoco_rs::mujoco_c::{mj_id2name, mjModel, mjtObj};
+use mujoco_rs::prelude::MjModel;
+
+/// One kind of model element: a title and one line per element.
+#[derive(Clone, Debug)]
+pub struct Group {
+    pub title: &'static str,
+    pub lines: Vec<String>,
+}
+
+/// The fields listed, with what they read, and whether their rows have columns (`[x]` / `.x`).
+const FIELDS: &[(&str, &str)] = &[
+    ("qpos", "joints, qpos entries"),
+    (
+        "qvel",
+        "joints, dofs (qvel, qfrc_actuator, qfrc_constraint)",
+    ),
+    ("action", "actuators (action, ctrl)"),
+    (
+        "xpos",
+        "bodies (xpos, xipos, cvel, cfrc_ext, cinert, ...; columns by name)",
+    ),
+    ("site_xpos", "sites (site_xpos; columns .x .y .z)"),
+    ("ten_length", "tendons (ten_length, ten_velocity)"),
+];
+
+fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
+    // SAFETY: id is below the object count; MuJoCo returns NULL for unnamed objects.
+    let p = unsafe { mj_id2name(m, obj as i32, id as i32) };
+    if p.is_null() {
+        format!("#{id} (unnamed)")
+    } else {
+        // SAFETY: a NUL-terminated string owned by the model.
+        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+    }
+}
+
+/// The inventory of a spec's model: selectable elements as pasteable selectors (rows of matrix
+/// fields once, e.g. `xpos[torso]`), then geoms, cameras and lights by name.
+pub fn inventory(spec: &ResolvedSpec, model: &MjModel) -> Vec<Group> {
+    let mut out = vec![];
+    for (field, title) in FIELDS {
+        let file = SourceFile::new("inventory", field.to_string());
+        let loc = Location::new(&file, 0..field.len());
+        let Ok(sel) = envspec::selector::resolve(field, &loc, &spec.model, &|_| {
+            Err(envspec::Diagnostic::new(
+                envspec::Code::E0201,
+                "no parameters",
+            ))
+        }) else {
+            continue;
+        };
+        let mut lines: Vec<String> = vec![];
+        for n in &sel.names {
+            // A matrix row once: `xpos[torso].x` → `xpos[torso]`.
+            let row = match n.rfind("].") {
+                Some(i) => n[..=i].to_string(),
+                None => n.clone(),
+            };
+            if lines.last() != Some(&row) {
+                lines.push(row);
+            }
+        }
+        if !lines.is_empty() {
+            out.push(Group { title, lines });
+        }
+    }
+    let m = model.ffi();
+    for (title, obj, n) in [
+        ("geoms", mjtObj::mjOBJ_GEOM, m.ngeom),
+        ("cameras", mjtObj::mjOBJ_CAMERA, m.ncam),
+        ("lights", mjtObj::mjOBJ_LIGHT, m.nlight),
+    ] {
+        let lines: Vec<String> = (0..n.max(0) as usize).map(|i| name(m, obj, i)).collect();
+        if !lines.is_empty() {
+            out.push(Group { title, lines });
+        }
+    }
+    out
+}
