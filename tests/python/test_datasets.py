@@ -108,3 +108,33 @@ def test_a_dataset_can_name_envcs_own_entry_point(tmp_path, monkeypatch):
             obs, r, term, trunc, _ = env.step(ep.actions[t])
             assert np.array_equal(obs, ep.observations[t + 1]) and r == ep.rewards[t]
             assert (term, trunc) == (ep.terminations[t], ep.truncations[t])
+
+
+def test_datasets_of_specs_without_a_python_class_recover_as_envc_envs(tmp_path, monkeypatch):
+    """A custom robot's dataset (no `[env] entry_point`) and a maze's name envc's registration
+    (issue 17: they recorded "(no env spec)"), so recover_environment() rebuilds and replays them."""
+    import minari
+
+    text = open(os.path.join(ROOT, "specs", "gymnasium", "hopper.toml")).read()
+    text = text.replace("../../assets/", os.path.join(ROOT, "assets") + "/")
+    text = text.replace('"Hopper-v5"', '"MyHopper-v0"')
+    text = "\n".join(l for l in text.splitlines() if not l.startswith("entry_point"))
+    spec = tmp_path / "my_hopper.toml"
+    spec.write_text(text)
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path / "ds"))
+    for what, ds_id in [(str(spec), "tests/mine-v0"), ("PointMaze_UMaze-v3", "tests/umaze-v0")]:
+        envc.collect(what, ds_id, 2, seed=9, root=tmp_path / "ds", max_episode_steps=40)
+        ds = minari.load_dataset(ds_id)
+        env = ds.recover_environment()
+        assert env.spec.id.startswith("envc/"), env.spec
+        metas = list(ds.storage.get_episode_metadata(range(ds.total_episodes)))
+        for ep, meta in zip(ds.iterate_episodes(), metas):
+            obs, _ = env.reset(seed=int(meta["seed"]))
+            first = ep.observations[0] if not isinstance(obs, dict) else {k: ep.observations[k][0] for k in obs}
+            if isinstance(obs, dict):
+                assert all(np.array_equal(obs[k], first[k]) for k in obs)
+            else:
+                assert np.array_equal(obs, first)
+            for t in range(len(ep)):
+                obs, r, *_ = env.step(ep.actions[t])
+                assert r == ep.rewards[t], (what, t)

@@ -3,9 +3,10 @@
 //!
 //! The entry point is the spec's `[env] entry_point` (docs/spec-reference.md); the bundled
 //! Gymnasium specs name Gymnasium 1.4.0's classes, checked against `gym.make(id).spec.to_json()`
-//! by `tests/reference/check_minari.py`. A spec without one (e.g. a third-party robot that has no
-//! Python class) gets no `env_spec`: the dataset still loads (the spaces are stored), it just
-//! can't be recovered in Python.
+//! by `tests/reference/check_minari.py`. A spec without one (a third-party robot that has no
+//! Python class, e.g. the Go1) and every maze name the envc Python package's own registration
+//! (`envc/<id>`, [`envc_env_spec_json`]): `recover_environment()` rebuilds them with `envc`
+//! installed.
 
 use envspec::params::Origin;
 use envspec::{ParamValue, ResolvedSpec};
@@ -21,6 +22,71 @@ fn param_json(v: &ParamValue) -> Option<PyJson> {
         ParamValue::Str(s) => PyJson::Str(s.clone()),
         ParamValue::Table(_) => return None,
     })
+}
+
+/// `EnvSpec.to_json()` of the envc Python package's registration of a spec: id `envc/<id>`, the
+/// entry point of the spec's kind, `spec_id` (a bundled id, or the spec file's absolute path) and
+/// the overridden parameters as kwargs.
+pub fn envc_env_spec_json(
+    id: &str,
+    entry_point: &str,
+    spec_arg: &str,
+    max_episode_steps: Option<u64>,
+    overrides: Vec<(String, PyJson)>,
+) -> String {
+    let mut kwargs = vec![("spec_id".to_string(), PyJson::Str(spec_arg.to_string()))];
+    kwargs.extend(overrides);
+    PyJson::Obj(vec![
+        ("id".into(), PyJson::Str(format!("envc/{id}"))),
+        ("entry_point".into(), PyJson::Str(entry_point.into())),
+        ("reward_threshold".into(), PyJson::Null),
+        ("nondeterministic".into(), PyJson::Bool(false)),
+        (
+            "max_episode_steps".into(),
+            max_episode_steps
+                .map(|n| PyJson::Int(n as i128))
+                .unwrap_or(PyJson::Null),
+        ),
+        ("order_enforce".into(), PyJson::Bool(true)),
+        ("disable_env_checker".into(), PyJson::Bool(false)),
+        ("kwargs".into(), PyJson::Obj(kwargs)),
+        ("additional_wrappers".into(), PyJson::List(vec![])),
+        (
+            "vector_entry_point".into(),
+            PyJson::Str("envc._vector:EnvcVectorEnv".into()),
+        ),
+    ])
+    .dump()
+}
+
+/// How a spec is named to `envc`: its bundled id when the registry has it at this path, else
+/// the spec file's absolute path.
+pub fn envc_spec_arg(id: &str, path: &std::path::Path) -> String {
+    let abs = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+    match envspec::registry::lookup(id) {
+        Ok(e) if e.path.canonicalize().ok().as_deref() == Some(abs.as_path()) => id.to_string(),
+        _ => abs.display().to_string(),
+    }
+}
+
+/// The envc registration of a task spec without `[env] entry_point`.
+pub fn envc_task_env_spec_json(spec: &ResolvedSpec) -> Result<String, String> {
+    let mut kwargs = vec![];
+    for p in &spec.params {
+        if p.name == "max_episode_steps" || !matches!(p.origin, Origin::Override(_)) {
+            continue;
+        }
+        let v = param_json(&p.value)
+            .ok_or_else(|| format!("parameter {} (a table) has no Python equivalent", p.name))?;
+        kwargs.push((p.name.clone(), v));
+    }
+    Ok(envc_env_spec_json(
+        &spec.id,
+        "envc._gym:EnvcEnv",
+        &envc_spec_arg(&spec.id, &spec.spec_path),
+        spec.max_episode_steps,
+        kwargs,
+    ))
 }
 
 /// `EnvSpec.to_json()` text for the env, or `None` (with the reason) when Gymnasium can't rebuild it.

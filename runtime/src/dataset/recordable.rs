@@ -4,7 +4,7 @@
 //! datasets are single-agent.
 
 use super::episode::InfoColumn;
-use super::gym_spec::env_spec_json;
+use super::gym_spec::{envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json, env_spec_json};
 use super::space::{Dtype, Space};
 use crate::environment::Environment;
 use crate::error::EnvError;
@@ -93,8 +93,14 @@ impl<E: Environment> Recordable for E {
     fn warnings(&self) -> &[String] {
         Environment::warnings(self)
     }
+    /// The reference's class when the spec names one (`[env] entry_point`), else envc's own
+    /// registration (`envc/<id>`).
     fn env_spec(&self) -> Option<String> {
-        env_spec_json(self.spec()).ok()
+        let spec = self.spec();
+        match spec.entry_point {
+            Some(_) => env_spec_json(spec).ok(),
+            None => envc_task_env_spec_json(spec).ok(),
+        }
     }
     fn policy_obs(&self) -> &[f64] {
         Environment::obs(self)
@@ -171,8 +177,16 @@ impl Recordable for MazeEnv {
     fn warnings(&self) -> &[String] {
         MazeEnv::warnings(self)
     }
+    /// envc's own registration (`envc/<id>`, a `GoalEnv`): the maze id, or its spec file.
     fn env_spec(&self) -> Option<String> {
-        None
+        let m = self.spec();
+        Some(envc_env_spec_json(
+            &m.id,
+            "envc._maze:EnvcMazeEnv",
+            &envc_spec_arg(&m.id, &m.path),
+            m.max_episode_steps,
+            vec![],
+        ))
     }
     fn policy_obs(&self) -> &MazeObs {
         self.obs()
