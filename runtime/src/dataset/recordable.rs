@@ -4,7 +4,7 @@
 //! datasets are single-agent.
 
 use super::episode::InfoColumn;
-use super::gym_spec::{envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json, env_spec_json};
+use super::gym_spec::{env_spec_json, envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json};
 use super::space::{Dtype, Space};
 use crate::environment::Environment;
 use crate::error::EnvError;
