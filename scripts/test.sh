@@ -55,6 +55,24 @@ checks=$((checks + 1))
 # loops off, where the CPU can run them (suite, mazes, MaMuJoCo, and Minari datasets written by
 # `envc collect` and replayed by the real minari).
 cargo build -q -p envc-cli
+
+# A crate of one's own, outside the repository (`envc new`): builds and runs with plain `cargo run`
+# (no environment variables, nothing copied by hand), and its typed env's zero-action episode is
+# the reference's (steps and return).
+target/debug/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
+got="$(cd "$LIVE/newbot" && CARGO_TARGET_DIR="$ROOT/target" cargo run -q)"
+want="$("$PY" - <<'PYEOF'
+import gymnasium as gym, numpy as np
+env = gym.make("Hopper-v5"); env.reset(seed=0); n, ret = 0, 0.0
+while True:
+    _, r, term, trunc, _ = env.step(np.zeros(3)); n += 1; ret += r
+    if term or trunc: break
+print(f"Hopper-v5: one episode with zero actions, {n} steps, return {ret:.3f}")
+PYEOF
+)"
+[ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
+echo "envc new: $got (as the reference)"
+checks=$((checks + 1))
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
 checks=$((checks + 1))
 # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)

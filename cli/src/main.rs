@@ -47,6 +47,8 @@ enum Command {
     Collect(commands::collect::Args),
     /// Inspect Minari datasets (envc's or Python's).
     Dataset(commands::dataset::Args),
+    /// A crate of your own with a typed env of a spec: builds and runs with `cargo run`.
+    New(commands::new::Args),
     /// This machine's CPU features, the numerics profile `auto` picks and why, and the versions
     /// envc matches.
     Info(commands::info::Args),
@@ -89,6 +91,7 @@ fn main() -> ExitCode {
         Command::Collect(a) => commands::collect::run(a),
         Command::Dataset(a) => commands::dataset::run(a),
         Command::Info(a) => commands::info::run(a),
+        Command::New(a) => commands::new::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

@@ -8,6 +8,7 @@ pub mod info;
 pub mod list;
 pub mod maze;
 pub mod multi_agent;
+pub mod new;
 pub mod rollout;
 pub mod run;
 pub mod show;

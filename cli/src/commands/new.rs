@@ -1,0 +1,183 @@
+//! `envc new DIR [--spec SPEC|ID]`: a crate of your own, outside this repository, with a typed env
+//! of a spec. It builds and runs with plain `cargo run`: no environment variables, nothing to copy.
+//!
+//! What it writes, and why each file is needed outside the repository:
+//! - `spec.toml`: the spec, its model path made absolute (the copy lives elsewhere);
+//! - `Cargo.toml`: `envc` by path, and MuJoCo-facing dependencies optimized in debug builds (as
+//!   envc's workspace does: debug physics is ~10× slower);
+//! - `.cargo/config.toml`: where mujoco-rs finds MuJoCo 3.17.0 (the repository's own config does
+//!   not apply to other crates);
+//! - `build.rs`: an rpath to that library (a dependency's link arguments do not reach your binary);
+//! - `Cargo.lock`: this repository's, so the crate builds with the versions envc is tested with;
+//! - `src/main.rs`: the typed env (`envc::env!`) run for one episode.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The new crate's directory (created; must not exist or be empty).
+    dir: PathBuf,
+    /// The task spec to start from: a bundled id or a spec file.
+    #[arg(long, default_value = "Hopper-v5")]
+    spec: String,
+}
+
+/// The repository envc was built from (its runtime crate, MuJoCo, lock file).
+fn repo() -> PathBuf {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    p.canonicalize().unwrap_or(p)
+}
+
+/// A crate name from a directory name: lowercase, `-` for anything else.
+fn crate_name(dir: &Path) -> String {
+    let base = dir
+        .file_name()
+        .map(|s| s.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let name: String = base
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    match name.trim_matches('-') {
+        "" => "my-robot".into(),
+        n if n.starts_with(|c: char| c.is_ascii_digit()) => format!("robot-{n}"),
+        n => n.to_string(),
+    }
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let spec = match envspec::open(&args.spec, &[]).map_err(|d| anyhow::anyhow!("{d}"))? {
+        envc::AnySpec::Task(s) => s,
+        other => {
+            return Err(crate::target::unsupported(
+                "new",
+                other.id(),
+                other.kind(),
+                "makes a typed task env (envc::env!)",
+                "start from a task spec; mazes and factorizations open with envc::open",
+            ));
+        }
+    };
+    let dir = &args.dir;
+    if dir.exists()
+        && dir
+            .read_dir()
+            .map(|mut d| d.next().is_some())
+            .unwrap_or(true)
+    {
+        bail!("{} exists and is not empty", dir.display());
+    }
+    let repo = repo();
+    let mujoco = repo.join("third_party").join("mujoco");
+    if !mujoco.join("lib").is_dir() {
+        bail!(
+            "MuJoCo is not provisioned in {}: run scripts/setup.sh first",
+            mujoco.display()
+        );
+    }
+    // The spec with its model path absolute (relative to the spec file it came from).
+    let text = std::fs::read_to_string(&spec.spec_path)
+        .with_context(|| format!("cannot read {}", spec.spec_path.display()))?;
+    let model = spec
+        .model_path
+        .canonicalize()
+        .unwrap_or(spec.model_path.clone());
+    let text = match spec.params.iter().find(|p| p.name == "xml_file") {
+        Some(p) => text.replacen(
+            &p.default.to_string(),
+            &format!("{:?}", model.display().to_string()),
+            1,
+        ),
+        None => text,
+    };
+    let name = crate_name(dir);
+    let files: Vec<(&str, String)> = vec![
+        ("spec.toml", text),
+        ("Cargo.toml", cargo_toml(&name, &repo)),
+        (".cargo/config.toml", config_toml(&mujoco)),
+        ("build.rs", BUILD_RS.into()),
+        ("src/main.rs", MAIN_RS.into()),
+        (
+            "Cargo.lock",
+            std::fs::read_to_string(repo.join("Cargo.lock")).unwrap_or_default(),
+        ),
+    ];
+    for (rel, body) in &files {
+        let path = dir.join(rel);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
+        }
+        std::fs::write(&path, body).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    println!(
+        "created {} ({} from {}): cd {} && cargo run",
+        dir.display(),
+        name,
+        spec.id,
+        dir.display()
+    );
+    Ok(Outcome::Ok)
+}
+
+fn cargo_toml(name: &str, repo: &Path) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2024\"\n"
+    );
+    let _ = writeln!(
+        o,
+        "[dependencies]\nenvc = {{ path = {:?} }}\n",
+        repo.join("runtime").display().to_string()
+    );
+    let _ = writeln!(
+        o,
+        "# MuJoCo-facing dependencies optimized in debug builds too (debug physics is ~10x slower).\n[profile.dev.package.\"*\"]\nopt-level = 2"
+    );
+    o
+}
+
+fn config_toml(mujoco: &Path) -> String {
+    format!(
+        "# Where mujoco-rs finds MuJoCo 3.17.0 (provisioned by envc's scripts/setup.sh).\n[env]\nMUJOCO_DYNAMIC_LINK_DIR = {:?}\nMUJOCO_INCLUDE_DIR = {:?}\n",
+        mujoco.join("lib").display().to_string(),
+        mujoco.join("include").display().to_string()
+    )
+}
+
+const BUILD_RS: &str = r#"//! An rpath to MuJoCo, so the binary runs from anywhere without LD_LIBRARY_PATH.
+fn main() {
+    println!("cargo::rerun-if-env-changed=MUJOCO_DYNAMIC_LINK_DIR");
+    if let Ok(dir) = std::env::var("MUJOCO_DYNAMIC_LINK_DIR") {
+        println!("cargo::rustc-link-arg=-Wl,-rpath,{dir}");
+    }
+}
+"#;
+
+const MAIN_RS: &str = r#"//! A typed env of `spec.toml` (generated by `envc new`). Edit the spec: the build checks it again,
+//! and a mistake is a compile error pointing at the line.
+
+envc::env!(pub Robot = "spec.toml");
+
+fn main() -> Result<(), envc::EnvError> {
+    let mut env = Robot::make()?;
+    env.reset(Some(0));
+    let (mut steps, mut ret) = (0u64, 0.0);
+    loop {
+        let step = env.step(&RobotAction::zeros())?;
+        steps += 1;
+        ret += step.reward;
+        if step.terminated || step.truncated {
+            break;
+        }
+    }
+    println!("{}: one episode with zero actions, {steps} steps, return {ret:.3}", Robot::ID);
+    Ok(())
+}
+"#;
