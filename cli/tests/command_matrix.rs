@@ -147,6 +147,12 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
         ]
         .map(String::from)
         .to_vec(),
+        "new" => vec![
+            "new".into(),
+            dir.join(format!("crate-{tag}")).display().to_string(),
+            "--spec".into(),
+            spec.into(),
+        ],
         other => return Some(format!("the matrix names an unknown command `{other}`")),
     };
     let o = envc(&args.iter().map(String::as_str).collect::<Vec<_>>());
@@ -216,7 +222,8 @@ fn every_command_on_every_kind() {
             "collect",
             "dataset show",
             "diff",
-            "bench"
+            "bench",
+            "new"
         ],
         "the README matrix lists every command that takes a spec, in this order"
     );
