@@ -455,6 +455,9 @@ pub fn from_document(
             Some(t) => {
                 for c in t {
                     let mut parts = vec![];
+                    // An unknown node is reported once; the partition check would only repeat it
+                    // as an undriven actuator.
+                    let mut unknown = false;
                     match &c.value.kind {
                         ValKind::Array(a) if !a.is_empty() => {
                             for p in a {
@@ -462,7 +465,10 @@ pub fn from_document(
                                 for (n, loc) in str_list(p, "a conf's agent", &mut d) {
                                     match node_ix(&n) {
                                         Some(i) => part.push(i),
-                                        None => d.push(unknown_node(&n, &loc)),
+                                        None => {
+                                            unknown = true;
+                                            d.push(unknown_node(&n, &loc));
+                                        }
                                     }
                                 }
                                 parts.push(part);
@@ -514,7 +520,7 @@ pub fn from_document(
                         .filter(|&a| count[a] == 0)
                         .map(act_name)
                         .collect();
-                    if !missing.is_empty() {
+                    if !missing.is_empty() && !unknown {
                         d.push(err(
                             Code::E0109,
                             &c.key_loc,

@@ -326,14 +326,31 @@ impl From<Diagnostic> for Diagnostics {
 
 /// The closest candidate to `name` (by Jaro-Winkler similarity), as a "did you mean" help text.
 pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
-    let mut best: Option<(f64, &str)> = None;
+    let mut best: Vec<(f64, &str)> = vec![];
     for c in candidates {
         let score = strsim::jaro_winkler(name, c);
-        if score > 0.8 && best.is_none_or(|(s, _)| score > s) {
-            best = Some((score, c));
+        if score <= 0.8 || best.iter().any(|(_, b)| *b == c) {
+            continue;
+        }
+        match best.first() {
+            Some((s, _)) if score > *s => best = vec![(score, c)],
+            Some((s, _)) if score == *s => best.push((score, c)),
+            None => best.push((score, c)),
+            _ => {}
         }
     }
-    best.map(|(_, c)| format!("did you mean `{c}`?"))
+    // Names equally close are all offered: picking one would be a guess.
+    match best.as_slice() {
+        [] => None,
+        [(_, c)] => Some(format!("did you mean `{c}`?")),
+        many => Some(format!(
+            "did you mean one of {}?",
+            many.iter()
+                .map(|(_, c)| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
 }
 
 /// Display helper for paths in messages.
