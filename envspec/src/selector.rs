@@ -512,7 +512,17 @@ fn rows_by_name(
             "expected the name of a {what} of the model ({} named)",
             named.len()
         ))
-        .help_opt(suggest(name, named.iter().copied()))
+        .help_opt(
+            // No such site but a body of that name (URDF models have no sites): its position is
+            // `xpos[name]`.
+            (field == Field::SiteXpos && model.body_id(name).is_some())
+                .then(|| {
+                    format!(
+                        "`{name}` is a body of this model, not a site: its position is `xpos[{name}]`"
+                    )
+                })
+                .or_else(|| suggest(name, named.iter().copied())),
+        )
     })
 }
 

@@ -63,3 +63,21 @@ fn columns_by_name_and_by_dot() {
         err.message
     );
 }
+
+#[test]
+fn a_site_that_is_a_body_points_to_xpos() {
+    // hopper.xml has no site `foot` but a body `foot` (as a URDF's links are bodies, never sites).
+    let root = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../specs/gymnasium/hopper.toml"
+    );
+    let spec = envspec::load(root.as_ref(), &[]).unwrap();
+    let file = SourceFile::new("bad.toml", "site_xpos[foot]".into());
+    let loc = Location::new(&file, 0..15);
+    let err =
+        selector::resolve("site_xpos[foot]", &loc, &spec.model, &|_| unreachable!()).unwrap_err();
+    assert_eq!(
+        err.help.as_deref(),
+        Some("`foot` is a body of this model, not a site: its position is `xpos[foot]`")
+    );
+}
