@@ -204,7 +204,7 @@ impl Report {
             let cell = |v: &Option<String>, p: &Option<Pos>| {
                 let v = v
                     .as_deref()
-                    .map(|v| format!("`{}`", esc(v)))
+                    .map(|v| code_span(&esc(v)))
                     .unwrap_or_else(|| "—".into());
                 match p {
                     Some(p) => format!("{v} <sub>{p}</sub>"),
@@ -277,5 +277,34 @@ impl Report {
             );
         }
         o
+    }
+}
+
+/// A Markdown code span of any text: the fence is one backtick longer than the longest run of
+/// backticks inside (CommonMark), padded when the text starts or ends with one, so a value such
+/// such as one naming a reward term in backticks does not break the table.
+fn code_span(text: &str) -> String {
+    let longest = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
+    let fence = "`".repeat(longest + 1);
+    let pad = if text.starts_with('`') || text.ends_with('`') {
+        " "
+    } else {
+        ""
+    };
+    format!("{fence}{pad}{text}{pad}{fence}")
+}
+
+#[cfg(test)]
+mod code_span_tests {
+    use super::code_span;
+
+    #[test]
+    fn backticks_inside_get_a_longer_fence() {
+        assert_eq!(code_span("0.5"), "`0.5`");
+        assert_eq!(
+            code_span("reward term `alive`"),
+            "`` reward term `alive` ``"
+        );
+        assert_eq!(code_span("a``b"), "```a``b```");
     }
 }
