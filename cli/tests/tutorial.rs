@@ -1,0 +1,102 @@
+//! docs/tutorial.md runs as written: its `toml file=NAME` blocks are written (or, with `append`,
+//! appended) into a fresh directory and its `sh` blocks run there, in page order, with `envc` on
+//! the PATH and `ENVC_REPO` set. Blocks marked `no-test` (a cargo build, Python) are checked
+//! elsewhere (scripts/test.sh, tests/python).
+
+use std::path::Path;
+use std::process::Command;
+
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+enum Block {
+    File {
+        name: String,
+        append: bool,
+        text: String,
+    },
+    Sh(String),
+}
+
+fn blocks(md: &str) -> Vec<Block> {
+    let mut out = vec![];
+    let mut lines = md.lines();
+    while let Some(l) = lines.next() {
+        let Some(info) = l.strip_prefix("```") else {
+            continue;
+        };
+        let body: Vec<&str> = lines
+            .by_ref()
+            .take_while(|l| !l.starts_with("```"))
+            .collect();
+        let text = body.join("\n") + "\n";
+        let words: Vec<&str> = info.split_whitespace().collect();
+        match words.as_slice() {
+            ["toml", file, rest @ ..] if file.starts_with("file=") => out.push(Block::File {
+                name: file["file=".len()..].to_string(),
+                append: rest.contains(&"append"),
+                text,
+            }),
+            ["sh"] => out.push(Block::Sh(text)),
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn the_tutorial_runs_as_written() {
+    let md = std::fs::read_to_string(format!("{ROOT}/docs/tutorial.md")).unwrap();
+    let dir = std::env::temp_dir().join(format!("envc-tutorial-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bin = Path::new(env!("CARGO_BIN_EXE_envc")).parent().unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let root = Path::new(ROOT).canonicalize().unwrap();
+    let (mut files, mut commands) = (0, 0);
+    for b in blocks(&md) {
+        match b {
+            Block::File { name, append, text } => {
+                let p = dir.join(name);
+                let mut all = if append {
+                    std::fs::read_to_string(&p).unwrap()
+                } else {
+                    String::new()
+                };
+                all.push_str(&text);
+                std::fs::write(&p, all).unwrap();
+                files += 1;
+            }
+            Block::Sh(script) => {
+                let o = Command::new("sh")
+                    .args(["-euc", &script])
+                    .current_dir(&dir)
+                    .env("PATH", &path)
+                    .env("ENVC_REPO", &root)
+                    .output()
+                    .unwrap();
+                assert!(
+                    o.status.success(),
+                    "tutorial block failed:\n{script}\nstdout:\n{}\nstderr:\n{}",
+                    String::from_utf8_lossy(&o.stdout),
+                    String::from_utf8_lossy(&o.stderr)
+                );
+                commands += 1;
+            }
+        }
+    }
+    assert!(
+        files >= 2 && commands >= 6,
+        "{files} files, {commands} blocks"
+    );
+    // What the page promises: a trajectory, a dataset, a crate.
+    assert!(dir.join("arm.npz").is_file());
+    assert!(
+        dir.join("datasets/me/my-arm-random-v0/data/metadata.json")
+            .is_file()
+    );
+    assert!(dir.join("my-arm-crate/src/main.rs").is_file());
+    std::fs::remove_dir_all(&dir).ok();
+}
