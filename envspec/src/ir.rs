@@ -450,11 +450,80 @@ pub struct ModelEdits {
     /// `mjOption.timestep`, when the spec sets it.
     pub timestep: Option<f64>,
     pub integrator: Option<Integrator>,
+    /// Elements added to the model (`[bodies]`, `[sites]`, `[geoms]`, `[cameras]`, `[lights]`).
+    pub added: Vec<AddedElement>,
+}
+
+/// A model element a spec adds. Bodies hang from the world, after the model's own bodies, so
+/// every existing index stays; sites, geoms and cameras attach to any body (`world` by default).
+#[derive(Clone, Debug, PartialEq)]
+pub enum AddedElement {
+    Body {
+        name: String,
+        pos: [f64; 3],
+        /// (name, slide?, axis): slide or hinge joints along or about a world axis, in order.
+        joints: Vec<(String, bool, [f64; 3])>,
+        /// A marker geom (no contacts): type, size, rgba.
+        geom: Option<(AddedGeomType, [f64; 3], [f32; 4])>,
+    },
+    Site {
+        name: String,
+        body: String,
+        pos: [f64; 3],
+        size: f64,
+        rgba: [f32; 4],
+    },
+    Geom {
+        name: String,
+        body: String,
+        kind: AddedGeomType,
+        pos: [f64; 3],
+        size: [f64; 3],
+        rgba: [f32; 4],
+        contact: bool,
+    },
+    Camera {
+        name: String,
+        body: String,
+        pos: [f64; 3],
+        xyaxes: Option<[f64; 6]>,
+        fovy: Option<f64>,
+    },
+    Light {
+        name: String,
+        body: String,
+        pos: [f64; 3],
+        dir: [f64; 3],
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AddedGeomType {
+    Sphere,
+    Box,
+    Capsule,
+    Cylinder,
+}
+
+impl AddedGeomType {
+    pub const NAMES: &'static [&'static str] = &["sphere", "box", "capsule", "cylinder"];
+    pub fn parse(s: &str) -> Option<AddedGeomType> {
+        Some(match s {
+            "sphere" => AddedGeomType::Sphere,
+            "box" => AddedGeomType::Box,
+            "capsule" => AddedGeomType::Capsule,
+            "cylinder" => AddedGeomType::Cylinder,
+            _ => return None,
+        })
+    }
 }
 
 impl ModelEdits {
     pub fn is_empty(&self) -> bool {
-        self.actuators.is_empty() && self.timestep.is_none() && self.integrator.is_none()
+        self.actuators.is_empty()
+            && self.timestep.is_none()
+            && self.integrator.is_none()
+            && self.added.is_empty()
     }
 }
 

@@ -78,6 +78,8 @@ pub struct ModelInfo {
     pub bodies: Vec<String>,
     pub joints: Vec<Joint>,
     pub sites: Vec<String>,
+    /// The body of each site (sites are numbered body by body, in body order).
+    pub site_bodies: Vec<usize>,
     pub actuators: Vec<Actuator>,
     pub tendons: Vec<String>,
     pub nq: usize,
@@ -107,6 +109,7 @@ impl ModelInfo {
                 bodies: vec!["world".into()],
                 joints: vec![],
                 sites: vec![],
+                site_bodies: vec![],
                 actuators: vec![],
                 tendons: vec![],
                 nq: 0,
@@ -225,10 +228,12 @@ impl Reader {
                             let b = self.read_body(path, child, None)?;
                             self.world_children.push(b);
                         }
-                        "site" => self
-                            .info
-                            .sites
-                            .push(child.attribute("name").unwrap_or("").into()),
+                        "site" => {
+                            self.info
+                                .sites
+                                .push(child.attribute("name").unwrap_or("").into());
+                            self.info.site_bodies.push(0);
+                        }
                         "frame" => {
                             let mut holder = BodyNode {
                                 name: String::new(),
@@ -240,6 +245,7 @@ impl Reader {
                             if !holder.joints.is_empty() {
                                 return Err(malformed(path, "joints in the world body"));
                             }
+                            self.info.site_bodies.extend(holder.sites.iter().map(|_| 0));
                             self.info.sites.extend(holder.sites);
                             self.world_children.extend(holder.children);
                         }
@@ -416,6 +422,7 @@ impl Reader {
                 self.info.nv += kind.nv();
             }
             self.info.sites.extend(b.sites.iter().cloned());
+            self.info.site_bodies.extend(b.sites.iter().map(|_| id));
             stack.extend(b.children.iter().rev());
         }
         Ok(())

@@ -10,6 +10,7 @@ use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
+mod added;
 mod edits;
 mod goal;
 

@@ -71,6 +71,45 @@ pub struct Spec {
     pub actuators: Vec<Section>,
     /// `[physics]`: simulation options set when the model is loaded.
     pub physics: Option<Section>,
+    /// `[bodies.<name>]`, `[sites.<name>]`, `[geoms.<name>]`, `[cameras.<name>]`,
+    /// `[lights.<name>]`: elements added to the model when it is loaded, in that table order.
+    pub added: Vec<(AddedKind, Section)>,
+}
+
+/// The kinds of model element a spec can add.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AddedKind {
+    Body,
+    Site,
+    Geom,
+    Camera,
+    Light,
+}
+
+impl AddedKind {
+    pub const ALL: [(AddedKind, &'static str, &'static [&'static str]); 5] = [
+        (
+            AddedKind::Body,
+            "bodies",
+            &["pos", "joints", "geom", "size", "rgba", "doc"],
+        ),
+        (
+            AddedKind::Site,
+            "sites",
+            &["body", "pos", "size", "rgba", "doc"],
+        ),
+        (
+            AddedKind::Geom,
+            "geoms",
+            &["body", "type", "pos", "size", "rgba", "contact", "doc"],
+        ),
+        (
+            AddedKind::Camera,
+            "cameras",
+            &["body", "pos", "xyaxes", "fovy", "doc"],
+        ),
+        (AddedKind::Light, "lights", &["body", "pos", "dir", "doc"]),
+    ];
 }
 
 impl Spec {
@@ -120,6 +159,11 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "termination",
     "actuators",
     "physics",
+    "bodies",
+    "sites",
+    "geoms",
+    "cameras",
+    "lights",
     "agents",
     "maze",
 ];
@@ -260,6 +304,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         info: vec![],
         actuators: vec![],
         physics: None,
+        added: vec![],
     };
 
     if let Some(e) = get("maze") {
@@ -440,6 +485,12 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             d,
         );
         require(s, "joint", &format!("[actuators.{}]", s.name), d);
+    }
+    for (kind, table_name, keys) in AddedKind::ALL {
+        for s in sections(get(table_name), table_name, &[], d) {
+            check_keys(&s.entries, keys, &format!("[{table_name}.{}]", s.name), d);
+            spec.added.push((kind, s));
+        }
     }
     if let Some(e) = get("physics")
         && let Some(t) = table(&e.value, "[physics]", d)

@@ -98,6 +98,7 @@ impl ModelInfo {
             bodies: vec!["world".into()],
             joints: vec![],
             sites: vec![],
+            site_bodies: vec![],
             actuators: vec![],
             tendons: vec![],
             nq: 0,

@@ -2,10 +2,12 @@
 //! `[physics]`, the file loaded into an mjSpec, edited and compiled. Works the same for MJCF and
 //! URDF files (MuJoCo reads both).
 
-use envspec::ir::{ActuatorKind, AddedActuator, Integrator, ModelEdits};
+use envspec::ir::{
+    ActuatorKind, AddedActuator, AddedElement, AddedGeomType, Integrator, ModelEdits,
+};
 use mujoco_rs::mujoco_c::mjtIntegrator;
 use mujoco_rs::prelude::*;
-use mujoco_rs::wrappers::mj_editing::{MjtLimited, PositionConfig};
+use mujoco_rs::wrappers::mj_editing::{MjsBody, MjtLimited, PositionConfig};
 
 /// Load the model file into an mjSpec, apply the edits and compile it.
 pub(crate) fn compile_edited(
@@ -31,10 +33,131 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
             Integrator::ImplicitFast => mjtIntegrator::mjINT_IMPLICITFAST,
         } as i32;
     }
+    for e in &edits.added {
+        add_element(&mut spec, e)?;
+    }
     for a in &edits.actuators {
         add_actuator(&mut spec, a)?;
     }
     Ok(spec)
+}
+
+fn geom_type(t: AddedGeomType) -> MjtGeomBase {
+    match t {
+        AddedGeomType::Sphere => MjtGeomBase::mjGEOM_SPHERE,
+        AddedGeomType::Box => MjtGeomBase::mjGEOM_BOX,
+        AddedGeomType::Capsule => MjtGeomBase::mjGEOM_CAPSULE,
+        AddedGeomType::Cylinder => MjtGeomBase::mjGEOM_CYLINDER,
+    }
+}
+
+/// The body an added element hangs from (`world`, a model body, or one added before).
+fn body_named<'s>(spec: &'s mut MjSpec, name: &str) -> Result<&'s mut MjsBody, String> {
+    if name == "world" {
+        return Ok(spec.world_body_mut());
+    }
+    spec.body_mut(name)
+        .ok_or_else(|| format!("no body `{name}` to attach to"))
+}
+
+/// Add a spec's `[bodies]`, `[sites]`, `[geoms]`, `[cameras]` or `[lights]` element.
+fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
+    let named = |what: &str, name: &str, r: Result<(), MjEditError>| {
+        r.map_err(|err| format!("cannot add {what} `{name}`: {err}"))
+    };
+    match e {
+        AddedElement::Body {
+            name,
+            pos,
+            joints,
+            geom,
+        } => {
+            let b = spec.world_body_mut().add_body();
+            named("body", name, b.set_name(name))?;
+            *b.pos_mut() = *pos;
+            for (j, slide, axis) in joints {
+                let jt = b.add_joint();
+                named("joint", j, jt.set_name(j))?;
+                jt.set_type(if *slide {
+                    MjtJoint::mjJNT_SLIDE
+                } else {
+                    MjtJoint::mjJNT_HINGE
+                });
+                *jt.axis_mut() = *axis;
+            }
+            if let Some((t, size, rgba)) = geom {
+                // A marker: no contacts, and a small mass so the joints have inertia.
+                let g = b.add_geom();
+                g.set_type(geom_type(*t));
+                *g.size_mut() = *size;
+                *g.rgba_mut() = *rgba;
+                g.set_contype(0);
+                g.set_conaffinity(0);
+            }
+        }
+        AddedElement::Site {
+            name,
+            body,
+            pos,
+            size,
+            rgba,
+        } => {
+            let s = body_named(spec, body)?.add_site();
+            named("site", name, s.set_name(name))?;
+            *s.pos_mut() = *pos;
+            s.size_mut()[0] = *size;
+            *s.rgba_mut() = *rgba;
+        }
+        AddedElement::Geom {
+            name,
+            body,
+            kind,
+            pos,
+            size,
+            rgba,
+            contact,
+        } => {
+            let g = body_named(spec, body)?.add_geom();
+            named("geom", name, g.set_name(name))?;
+            g.set_type(geom_type(*kind));
+            *g.pos_mut() = *pos;
+            *g.size_mut() = *size;
+            *g.rgba_mut() = *rgba;
+            if !contact {
+                g.set_contype(0);
+                g.set_conaffinity(0);
+            }
+        }
+        AddedElement::Camera {
+            name,
+            body,
+            pos,
+            xyaxes,
+            fovy,
+        } => {
+            let c = body_named(spec, body)?.add_camera();
+            named("camera", name, c.set_name(name))?;
+            *c.pos_mut() = *pos;
+            if let Some(x) = xyaxes {
+                c.alt_mut().set_xy_axis(x);
+            }
+            if let Some(f) = fovy {
+                c.set_fovy(*f);
+            }
+        }
+        AddedElement::Light {
+            name,
+            body,
+            pos,
+            dir,
+        } => {
+            let l = body_named(spec, body)?.add_light();
+            named("light", name, l.set_name(name))?;
+            *l.pos_mut() = *pos;
+            *l.dir_mut() = *dir;
+        }
+    }
+    Ok(())
 }
 
 fn add_actuator(spec: &mut MjSpec, a: &AddedActuator) -> Result<(), String> {

@@ -14,6 +14,7 @@ impl Ctx<'_> {
     pub(super) fn model_edits(&mut self) -> ModelEdits {
         let mut edits = ModelEdits::default();
         let spec = self.spec;
+        edits.added = self.added_elements();
         for s in &spec.actuators {
             self.actuator_section(s, &mut edits.actuators);
         }
@@ -199,6 +200,7 @@ impl Ctx<'_> {
 
 /// Fold the edits into the model info: added actuators come after the model's own.
 pub(super) fn apply(edits: &ModelEdits, model: &mut ModelInfo) {
+    super::added::apply(&edits.added, model);
     model
         .actuators
         .extend(edits.actuators.iter().map(|a| Actuator {

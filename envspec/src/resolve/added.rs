@@ -1,0 +1,290 @@
+//! `[bodies]`, `[sites]`, `[geoms]`, `[cameras]`, `[lights]`: elements a spec adds to the model
+//! (a target to reach on an arm whose model has none, a fingertip site on a URDF link, a camera).
+//! Resolved with the other model edits, then folded into the `ModelInfo`, so selectors
+//! (`xpos[target]`, `qpos[target_x]`, `site_xpos[tip]`) see them.
+
+use crate::diagnostic::{Code, Diagnostic};
+use crate::ir::{AddedElement, AddedGeomType};
+use crate::mjcf::{Joint, JointKind, ModelInfo};
+use crate::syntax::{AddedKind, Section};
+use crate::value::{Val, ValKind};
+
+use super::Ctx;
+
+const AXES: [(&str, [f64; 3]); 3] = [
+    ("x", [1., 0., 0.]),
+    ("y", [0., 1., 0.]),
+    ("z", [0., 0., 1.]),
+];
+
+impl Ctx<'_> {
+    pub(super) fn added_elements(&mut self) -> Vec<AddedElement> {
+        let spec = self.spec;
+        let mut out: Vec<AddedElement> = vec![];
+        for (kind, s) in &spec.added {
+            if let Some(e) = self.added(*kind, s, &out) {
+                out.push(e);
+            }
+        }
+        out
+    }
+
+    fn vec_n<const N: usize>(
+        &mut self,
+        s: &Section,
+        key: &str,
+        default: [f64; N],
+    ) -> Option<[f64; N]> {
+        let Some(v) = s.get(key) else {
+            return Some(default);
+        };
+        match &v.kind {
+            ValKind::Array(a) if a.len() == N => {
+                let mut out = [0.0; N];
+                for (o, x) in out.iter_mut().zip(a) {
+                    *o = self.num(x, key)?;
+                }
+                Some(out)
+            }
+            _ => {
+                self.d
+                    .push(v.type_error(key, &format!("an array of {N} numbers")));
+                None
+            }
+        }
+    }
+
+    fn rgba(&mut self, s: &Section, default: [f32; 4]) -> Option<[f32; 4]> {
+        let v = self.vec_n(s, "rgba", default.map(f64::from))?;
+        Some(v.map(|x| x as f32))
+    }
+
+    /// The body an element attaches to: the world, a body of the model, or one added before.
+    fn parent(&mut self, s: &Section, added: &[AddedElement]) -> Option<String> {
+        let Some(v) = s.get("body") else {
+            return Some("world".into());
+        };
+        let Some(name) = v.as_str() else {
+            self.d.push(v.type_error("body", "a body name"));
+            return None;
+        };
+        let added_body = added
+            .iter()
+            .any(|e| matches!(e, AddedElement::Body { name: n, .. } if n == name));
+        if name == "world" || self.model.body_id(name).is_some() || added_body {
+            return Some(name.to_string());
+        }
+        self.d.push(
+            Diagnostic::new(Code::E0303, format!("the model has no body named `{name}`"))
+                .at(v.loc.clone())
+                .label("expected a body of the model, one added by [bodies], or `world`")
+                .help_opt(crate::diagnostic::suggest(
+                    name,
+                    self.model.bodies.iter().map(String::as_str),
+                )),
+        );
+        None
+    }
+
+    fn geom_type(&mut self, v: Option<&Val>, default: AddedGeomType) -> Option<AddedGeomType> {
+        let Some(v) = v else { return Some(default) };
+        let t = v.as_str().and_then(AddedGeomType::parse);
+        if t.is_none() {
+            self.d.push(
+                Diagnostic::new(Code::E0104, "unknown geom type")
+                    .at(v.loc.clone())
+                    .label(format!(
+                        "expected one of: {}",
+                        AddedGeomType::NAMES.join(", ")
+                    )),
+            );
+        }
+        t
+    }
+
+    fn added(
+        &mut self,
+        kind: AddedKind,
+        s: &Section,
+        added: &[AddedElement],
+    ) -> Option<AddedElement> {
+        let name = s.name.clone();
+        let taken = match kind {
+            AddedKind::Body => self.model.body_id(&name).is_some(),
+            AddedKind::Site => self.model.sites.contains(&name),
+            _ => false,
+        };
+        if taken {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0106,
+                    format!("the model already has a {kind:?} named `{name}`").to_lowercase(),
+                )
+                .at(s.name_loc.clone())
+                .label("expected a new name"),
+            );
+            return None;
+        }
+        Some(match kind {
+            AddedKind::Body => {
+                let pos = self.vec_n(s, "pos", [0.0; 3])?;
+                let mut joints = vec![];
+                if let Some(v) = s.get("joints") {
+                    let Some(t) = v.as_table() else {
+                        self.d
+                            .push(v.type_error("joints", "a table `name = \"slide x\"`"));
+                        return None;
+                    };
+                    for j in t {
+                        let spec_text = j.value.as_str().unwrap_or("");
+                        let mut words = spec_text.split_whitespace();
+                        let (kind, axis) = (words.next(), words.next());
+                        let slide = match kind {
+                            Some("slide") => true,
+                            Some("hinge") => false,
+                            _ => {
+                                self.d.push(
+                                    Diagnostic::new(
+                                        Code::E0104,
+                                        format!("joint `{}`: `{spec_text}`", j.key),
+                                    )
+                                    .at(j.value.loc.clone())
+                                    .label("expected \"slide x|y|z\" or \"hinge x|y|z\""),
+                                );
+                                return None;
+                            }
+                        };
+                        let Some(axis) = AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1)
+                        else {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0104,
+                                    format!("joint `{}`: `{spec_text}`", j.key),
+                                )
+                                .at(j.value.loc.clone())
+                                .label("expected an axis x, y or z after the joint type"),
+                            );
+                            return None;
+                        };
+                        if self.model.joint(&j.key).is_some() {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0106,
+                                    format!("the model already has a joint named `{}`", j.key),
+                                )
+                                .at(j.key_loc.clone())
+                                .label("expected a new name"),
+                            );
+                            return None;
+                        }
+                        joints.push((j.key.clone(), slide, axis));
+                    }
+                }
+                let geom = match s.get("geom") {
+                    None => None,
+                    Some(g) => {
+                        let t = self.geom_type(Some(g), AddedGeomType::Sphere)?;
+                        let size = match s.get("size") {
+                            Some(v) if v.as_f64().is_some() => {
+                                let r = self.num(v, "size")?;
+                                [r, r, r]
+                            }
+                            _ => self.vec_n(s, "size", [0.02; 3])?,
+                        };
+                        Some((t, size, self.rgba(s, [0.9, 0.2, 0.2, 1.0])?))
+                    }
+                };
+                AddedElement::Body {
+                    name,
+                    pos,
+                    joints,
+                    geom,
+                }
+            }
+            AddedKind::Site => AddedElement::Site {
+                body: self.parent(s, added)?,
+                pos: self.vec_n(s, "pos", [0.0; 3])?,
+                size: match s.get("size") {
+                    Some(v) => self.num(v, "size")?,
+                    None => 0.01,
+                },
+                rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
+                name,
+            },
+            AddedKind::Geom => AddedElement::Geom {
+                body: self.parent(s, added)?,
+                kind: self.geom_type(s.get("type"), AddedGeomType::Sphere)?,
+                pos: self.vec_n(s, "pos", [0.0; 3])?,
+                size: self.vec_n(s, "size", [0.02; 3])?,
+                rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
+                contact: match s.get("contact") {
+                    None => true,
+                    Some(v) => match &v.kind {
+                        ValKind::Bool(b) => *b,
+                        _ => {
+                            self.d.push(v.type_error("contact", "true or false"));
+                            return None;
+                        }
+                    },
+                },
+                name,
+            },
+            AddedKind::Camera => AddedElement::Camera {
+                body: self.parent(s, added)?,
+                pos: self.vec_n(s, "pos", [0.0; 3])?,
+                xyaxes: match s.get("xyaxes") {
+                    None => None,
+                    Some(_) => Some(self.vec_n(s, "xyaxes", [0.0; 6])?),
+                },
+                fovy: match s.get("fovy") {
+                    None => None,
+                    Some(v) => Some(self.num(v, "fovy")?),
+                },
+                name,
+            },
+            AddedKind::Light => AddedElement::Light {
+                body: self.parent(s, added)?,
+                pos: self.vec_n(s, "pos", [0.0, 0.0, 3.0])?,
+                dir: self.vec_n(s, "dir", [0.0, 0.0, -1.0])?,
+                name,
+            },
+        })
+    }
+}
+
+/// Fold added bodies (after the model's own, under the world) and their joints, and added sites
+/// (numbered body by body), into the model info.
+pub(super) fn apply(added: &[AddedElement], model: &mut ModelInfo) {
+    for e in added {
+        match e {
+            AddedElement::Body { name, joints, .. } => {
+                let id = model.bodies.len();
+                model.bodies.push(name.clone());
+                for (j, slide, _) in joints {
+                    let kind = if *slide {
+                        JointKind::Slide
+                    } else {
+                        JointKind::Hinge
+                    };
+                    model.joints.push(Joint {
+                        name: j.clone(),
+                        kind,
+                        body: id,
+                        qposadr: model.nq,
+                        dofadr: model.nv,
+                    });
+                    model.nq += 1;
+                    model.nv += 1;
+                }
+            }
+            AddedElement::Site { name, body, .. } => {
+                let b = model.body_id(body).unwrap_or(0);
+                // After every site of this body and of the bodies before it.
+                let at = model.site_bodies.iter().filter(|&&sb| sb <= b).count();
+                model.sites.insert(at, name.clone());
+                model.site_bodies.insert(at, b);
+            }
+            _ => {}
+        }
+    }
+}
