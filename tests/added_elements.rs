@@ -66,3 +66,30 @@ fn added_names_collide_with_a_coded_error() {
     assert_eq!(e.code(), envc::envspec::Code::E0106, "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn gear_can_be_one_per_joint() {
+    let dir = std::env::temp_dir().join(format!("envc-gears-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(SPEC)
+        .unwrap()
+        .replace(
+            "arm.urdf",
+            &format!("{}/fixtures/urdf/arm.urdf", env!("CARGO_MANIFEST_DIR")),
+        )
+        .replace("gear = 5.0", "gear = [5.0, 4.0, 3.0]");
+    let p = dir.join("gears.toml");
+    std::fs::write(&p, &text).unwrap();
+    let env = Env::from_spec_file(&p, &[]).unwrap();
+    let m = env.model().ffi();
+    // SAFETY: actuator_gear holds nu × 6 numbers.
+    let gear = unsafe { std::slice::from_raw_parts(m.actuator_gear, m.nu as usize * 6) };
+    assert_eq!([gear[0], gear[6], gear[12]], [5.0, 4.0, 3.0]);
+    // Two gears for three joints: a coded error.
+    std::fs::write(&p, text.replace("[5.0, 4.0, 3.0]", "[5.0, 4.0]")).unwrap();
+    let Err(e) = Env::from_spec_file(&p, &[]) else {
+        panic!("two gears for three joints must not load");
+    };
+    assert_eq!(e.code(), envc::envspec::Code::E0403, "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -102,9 +102,32 @@ impl Ctx<'_> {
             }
         };
 
-        let gear = match s.get("gear") {
-            Some(v) => self.num(v, &what("gear")).unwrap_or(1.0),
-            None => 1.0,
+        // One gear for every joint, or one per joint in the `joint` list's order.
+        let gears: Vec<f64> = match s.get("gear") {
+            None => vec![1.0; targets.len()],
+            Some(v) => match &v.kind {
+                ValKind::Array(a) if a.len() == targets.len() => a
+                    .iter()
+                    .map(|x| self.num(x, &what("gear")).unwrap_or(1.0))
+                    .collect(),
+                ValKind::Array(a) => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0403,
+                            format!(
+                                "{} gears for {} joints in [actuators.{}]",
+                                a.len(),
+                                targets.len(),
+                                s.name
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected one gear, or one per joint"),
+                    );
+                    vec![1.0; targets.len()]
+                }
+                _ => vec![self.num(v, &what("gear")).unwrap_or(1.0); targets.len()],
+            },
         };
         let ctrlrange = match s.get("ctrlrange") {
             Some(v) => self.range(v, &what("ctrlrange")).unwrap_or((-1.0, 1.0)),
@@ -124,7 +147,7 @@ impl Ctx<'_> {
             _ => ActuatorKind::Motor,
         };
 
-        for (name, joint) in targets {
+        for ((name, joint), gear) in targets.into_iter().zip(gears) {
             let taken = self.model.actuators.iter().any(|a| a.name == name)
                 || out.iter().any(|a| a.name == name);
             if taken {
