@@ -58,3 +58,17 @@ fn show_model_lists_the_inventory_as_pasteable_selectors() {
         assert!(out.contains(want), "{want} missing from\n{out}");
     }
 }
+
+#[test]
+fn actuators_the_spec_adds_show_their_kind_and_gear() {
+    let spec = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/fixtures/urdf/reach_arm.toml"
+    );
+    let out = show(spec);
+    // reach_arm.toml: `kind = "motor"`, `gear = "motor_gear"` (default 5.0) on three joints.
+    assert!(
+        out.contains("elbow                -> elbow                [-1, 1]  motor, gear 5 (added by the spec)"),
+        "{out}"
+    );
+}

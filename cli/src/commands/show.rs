@@ -135,9 +135,26 @@ pub fn run(args: Args) -> Result<Outcome> {
         } else {
             a.name.as_str()
         };
+        // Actuators the spec adds: their kind and gear (the model's own are in its file).
+        let added = spec
+            .model_edits
+            .actuators
+            .iter()
+            .find(|x| x.name == a.name)
+            .map(|x| {
+                let kind = match x.kind {
+                    envspec::ir::ActuatorKind::Motor => "motor".to_string(),
+                    envspec::ir::ActuatorKind::Position { kp, kv } => {
+                        format!("position kp {kp} kv {}", kv.unwrap_or(0.0))
+                    }
+                    envspec::ir::ActuatorKind::Velocity { kv } => format!("velocity kv {kv}"),
+                };
+                format!("  {kind}, gear {} (added by the spec)", x.gear)
+            })
+            .unwrap_or_default();
         writeln!(
             o,
-            "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]",
+            "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]{added}",
             sp.low[i], sp.high[i]
         )?;
     }
