@@ -24,3 +24,10 @@ pub fn info<'py>(py: Python<'py>, info: envc::Info<'_>) -> PyResult<Bound<'py, P
     }
     Ok(d)
 }
+
+/// A numerics profile by name (`auto` or e.g. `openblas-haswell+svml`), as every core's
+/// `numerics` setter takes it; an unknown name is the envc error E1301.
+pub fn profile(name: &str) -> PyResult<envc::numerics::Profile> {
+    envc::numerics::Profile::resolve(name, "numerics")
+        .map_err(|e| crate::errors::env_error(e.into()))
+}

@@ -230,8 +230,7 @@ impl MazeCore {
     }
     #[setter]
     fn set_numerics(&mut self, name: &str) -> PyResult<()> {
-        let p = envc::numerics::Profile::resolve(name, "numerics")
-            .map_err(|e| errors::env_error(e.into()))?;
+        let p = crate::convert::profile(name)?;
         self.env.set_numerics(p);
         Ok(())
     }

@@ -380,8 +380,7 @@ impl VecCore {
     }
     #[setter]
     fn set_numerics(&mut self, name: &str) -> PyResult<()> {
-        let p = envc::numerics::Profile::resolve(name, "numerics")
-            .map_err(|e| errors::env_error(e.into()))?;
+        let p = crate::convert::profile(name)?;
         self.env.as_mut().ok_or_else(closed)?.set_numerics(p);
         Ok(())
     }
