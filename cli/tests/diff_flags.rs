@@ -44,3 +44,54 @@ fn a_dynamics_only_change_under_the_same_id_is_flagged() {
     assert!(!out.contains("flag:"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Ant-v5 with its floor's friction changed: MuJoCo takes the larger friction of two geoms in
+/// contact, and the ant's geoms have 1.0, so a floor at 0.6 changes no contact (a rollout is
+/// bit-identical: compatible), while a floor at 1.5 does (breaking). Issue 17: the first was
+/// reported as breaking dynamics.
+#[test]
+fn a_model_change_that_reaches_no_rollout_is_compatible() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let dir = std::env::temp_dir().join(format!("envc-diff-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let xml = std::fs::read_to_string(format!("{root}/assets/gymnasium/ant.xml")).unwrap();
+    let spec = std::fs::read_to_string(format!("{root}/specs/gymnasium/ant.toml")).unwrap();
+    let write = |name: &str, floor: Option<&str>| {
+        let x = match floor {
+            Some(f) => xml.replacen(
+                "name=\"floor\"",
+                &format!("name=\"floor\" friction=\"{f} 0.005 0.0001\""),
+                1,
+            ),
+            None => xml.clone(),
+        };
+        let xp = dir.join(format!("{name}.xml"));
+        std::fs::write(&xp, x).unwrap();
+        let s = spec.replace(
+            "\"../../assets/gymnasium/ant.xml\"",
+            &format!("{:?}", xp.display().to_string()),
+        );
+        let sp = dir.join(format!("{name}.toml"));
+        std::fs::write(&sp, s).unwrap();
+        sp.display().to_string()
+    };
+    let base = write("base", None);
+    let diff = |new: &str| {
+        let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+            .args(["diff", &base, new])
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        )
+    };
+    let (code, out) = diff(&write("low", Some("0.6")));
+    assert_eq!(code, Some(1), "{out}");
+    assert!(out.contains("no effect on a rollout"), "{out}");
+    assert!(out.contains("geom_friction"), "{out}");
+    let (code, out) = diff(&write("high", Some("1.5")));
+    assert_eq!(code, Some(3), "{out}");
+    assert!(!out.contains("no effect on a rollout"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
