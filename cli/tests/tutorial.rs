@@ -1,4 +1,4 @@
-//! docs/tutorial.md runs as written: its `toml file=NAME` blocks are written (or, with `append`,
+//! docs/tutorial.md runs as written: its `LANG file=NAME` blocks (TOML, MJCF) are written (or, with `append`,
 //! appended) into a fresh directory and its `sh` blocks run there, in page order, with `envc` on
 //! the PATH and `ENVC_REPO` set. Blocks marked `no-test` (a cargo build, Python) are checked
 //! elsewhere (scripts/test.sh, tests/python).
@@ -31,7 +31,7 @@ fn blocks(md: &str) -> Vec<Block> {
         let text = body.join("\n") + "\n";
         let words: Vec<&str> = info.split_whitespace().collect();
         match words.as_slice() {
-            ["toml", file, rest @ ..] if file.starts_with("file=") => out.push(Block::File {
+            [_lang, file, rest @ ..] if file.starts_with("file=") => out.push(Block::File {
                 name: file["file=".len()..].to_string(),
                 append: rest.contains(&"append"),
                 text,
