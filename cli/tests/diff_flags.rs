@@ -95,3 +95,42 @@ fn a_model_change_that_reaches_no_rollout_is_compatible() {
     assert!(!out.contains("no effect on a rollout"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A new default for a parameter whose every use is switched off by default (Ant-v4's
+/// `contact_cost_weight`, read only with `use_contact_forces = false`) changes nothing a default
+/// env computes: compatible, and said so; moving the term's lines is no change at all (issue 17:
+/// such a case printed "resolved value: was absent, now absent — same text, different value").
+#[test]
+fn a_default_read_only_by_switched_off_terms_is_compatible() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let dir = std::env::temp_dir().join(format!("envc-diff-dormant-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(format!("{root}/specs/gymnasium/ant_v4.toml"))
+        .unwrap()
+        .replace("\"../../assets/", &format!("\"{root}/assets/"));
+    let old = dir.join("old.toml");
+    std::fs::write(&old, &text).unwrap();
+    let changed = text
+        .replace(
+            "contact_cost_weight = { default = 5e-4,",
+            "contact_cost_weight = { default = 1e-3,",
+        )
+        .replace("[reward.contact]", "# moved\n# down\n[reward.contact]");
+    let new = dir.join("new.toml");
+    std::fs::write(&new, changed).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_envc"))
+        .args(["diff", old.to_str().unwrap(), new.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(
+        out.contains(
+            "used by reward.contact, switched off under the default parameters before and after"
+        ),
+        "{out}"
+    );
+    assert!(!out.contains("now absent"), "{out}");
+    assert!(!out.contains("flag:"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}

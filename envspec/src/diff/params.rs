@@ -3,6 +3,7 @@
 
 use super::rules::{Category, RuleId};
 use super::{Change, Ctx, pos};
+use crate::ir::ResolvedSpec;
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
@@ -126,17 +127,30 @@ pub(super) fn params(cx: &mut Ctx) {
         let new_at = Some(pos(&q.name_loc));
         if p.default.to_toml() != q.default.to_toml() {
             let used = uses(n, &q.name);
+            // Every use switched off under the default parameters, before and after: the new
+            // default changes nothing a default env computes.
+            let dormant = !used.is_empty()
+                && used
+                    .iter()
+                    .all(|(_, u)| !active(cx.old_r, u) && !active(cx.new_r, u));
             let witness = if used.is_empty() {
                 "not used by the env's behaviour".into()
+            } else if dormant {
+                format!(
+                    "{}, switched off under the default parameters before and after",
+                    used_by(&used)
+                )
             } else {
                 used_by(&used)
             };
-            cx.add(
-                Change::new(default_rule(&used), &subject, "default")
-                    .values(Some(p.default.to_toml()), Some(q.default.to_toml()))
-                    .at(at.clone(), new_at.clone())
-                    .witness(witness),
-            );
+            let mut change = Change::new(default_rule(&used), &subject, "default")
+                .values(Some(p.default.to_toml()), Some(q.default.to_toml()))
+                .at(at.clone(), new_at.clone())
+                .witness(witness);
+            if dormant {
+                change = change.breaking(false);
+            }
+            cx.add(change);
         }
         if p.fixed != q.fixed {
             let f = |fixed: bool| if fixed { "no (fixed)" } else { "yes" }.to_string();
@@ -170,5 +184,23 @@ pub(super) fn params(cx: &mut Ctx) {
             }
             cx.add(c);
         }
+    }
+}
+
+/// Whether a use named `kind.name` (as [`uses`] names it) is switched on in a resolved spec. Uses
+/// that are not sections (the time limit, built-ins) always are.
+fn active(r: &ResolvedSpec, use_name: &str) -> bool {
+    let Some((kind, name)) = use_name.split_once('.') else {
+        return true;
+    };
+    match kind {
+        "reward" => r.reward.iter().any(|t| t.name == name),
+        "observation" => r.observation.iter().any(|s| s.name == name),
+        "health" if name == "terminate" => true,
+        "health" => r.health.iter().any(|c| c.name == name),
+        "termination" => r.termination.iter().any(|t| t.name == name),
+        "reset" => r.reset.iter().any(|x| x.name == name),
+        "info" => r.info.iter().any(|i| i.key == name),
+        _ => true,
     }
 }
