@@ -95,6 +95,10 @@ pub enum Code {
     E0108,
     /// A multi-agent partition that does not drive every actuator exactly once.
     E0109,
+    /// A value beyond envc's limits (`envspec::limits`): a file too large or not a regular file,
+    /// a MuJoCo size that would exhaust memory, `frame_skip` or `max_episode_steps` too large, a
+    /// reset condition that cannot be met.
+    E0110,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.
@@ -103,6 +107,8 @@ pub enum Code {
     E0203,
     /// An override of a parameter the spec declares `fixed` (not a constructor argument).
     E0204,
+    /// The same parameter overridden twice (`--set a=1 --set a=2`).
+    E0205,
     /// The model file does not exist or cannot be read.
     E0301,
     /// The model file is not well-formed MJCF.
@@ -157,16 +163,23 @@ pub enum Code {
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.
     E1002,
+    /// The compiled model holds values envc cannot run: a control range that is not finite, a
+    /// non-finite or out-of-bounds position.
+    E1003,
     /// An action of the wrong length.
     E1101,
     /// An action with a NaN or infinite entry.
     E1102,
     /// `step` before the first `reset`.
     E1103,
+    /// A reset whose `resample_until` condition was not met within `limits::MAX_RESAMPLE_DRAWS`.
+    E1104,
     /// An unknown numerics profile name.
     E1301,
     /// `auto` numerics under CPU-feature settings numpy itself refuses to import with.
     E1302,
+    /// A command that would never end on an env without a time limit: it needs `--max-steps`.
+    E1401,
 }
 
 impl fmt::Display for Code {

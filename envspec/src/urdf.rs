@@ -27,9 +27,9 @@ fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
         .label("expected a well-formed URDF")
 }
 
-fn unreadable(path: &Path, e: std::io::Error) -> Diagnostic {
+fn unreadable(path: &Path, e: crate::limits::ReadError) -> Diagnostic {
     Diagnostic::new(
-        Code::E0301,
+        e.code(Code::E0301),
         format!("cannot read model file {}: {e}", path.display()),
     )
     .label("expected an existing, readable MJCF or URDF file")
@@ -43,7 +43,8 @@ fn is_urdf(text: &str) -> bool {
 impl ModelInfo {
     /// Read a model file: a URDF when its root element is `<robot>`, MJCF otherwise.
     pub fn from_file(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = std::fs::read_to_string(path).map_err(|e| unreadable(path, e))?;
+        let text = crate::limits::read_text(path, crate::limits::MAX_MODEL_BYTES)
+            .map_err(|e| unreadable(path, e))?;
         if is_urdf(&text) {
             ModelInfo::from_urdf_str(path, &text)
         } else {
@@ -53,7 +54,8 @@ impl ModelInfo {
 
     /// Read a URDF file.
     pub fn from_urdf(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = std::fs::read_to_string(path).map_err(|e| unreadable(path, e))?;
+        let text = crate::limits::read_text(path, crate::limits::MAX_MODEL_BYTES)
+            .map_err(|e| unreadable(path, e))?;
         ModelInfo::from_urdf_str(path, &text)
     }
 

@@ -119,9 +119,9 @@ pub fn read_document(
     at: Option<&Location>,
     what: &str,
 ) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = crate::limits::read_text(path, crate::limits::MAX_SPEC_BYTES).map_err(|e| {
         Diagnostic::new(
-            Code::E0600,
+            e.code(Code::E0600),
             format!("cannot read {what} {}: {e}", path.display()),
         )
         .at_opt(at.cloned())
