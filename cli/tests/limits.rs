@@ -399,3 +399,23 @@ fn non_finite_or_huge_model_positions_are_refused() {
         assert!(text.contains("body `torso`"), "{text}");
     }
 }
+
+#[test]
+fn reset_draws_beyond_the_coordinate_limit_are_refused() {
+    let text = refused(
+        &envc(&[
+            "run",
+            "Hopper-v5",
+            "--set",
+            "reset_noise_scale=1e300",
+            "--episodes",
+            "1",
+        ]),
+        "E0110",
+    );
+    assert!(
+        text.contains("[reset.qpos]: a draw as large as 1e300")
+            && text.contains("hopper.toml:76:9"),
+        "{text}"
+    );
+}

@@ -1007,6 +1007,30 @@ impl Ctx<'_> {
                 }
                 _ => continue,
             };
+            let widest = match &dist {
+                Distribution::Uniform { low, high } => {
+                    low.iter().chain(high).fold(0.0, |m: f64, x| m.max(x.abs()))
+                }
+                Distribution::Normal { scale } => scale.abs(),
+                Distribution::Constant { value } => value.abs(),
+            };
+            if widest > limits::MAX_COORDINATE {
+                let at = ["scale", "low", "high", "value"]
+                    .iter()
+                    .find_map(|k| s.get(k))
+                    .map(|v| v.loc.clone())
+                    .unwrap_or(s.name_loc.clone());
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0110,
+                        format!("[reset.{}]: a draw as large as {widest:e} is beyond envc's limit of {:e}", s.name, limits::MAX_COORDINATE),
+                    )
+                    .at(at)
+                    .label("expected a distribution within ±1e6")
+                    .help("MuJoCo takes seconds per step from such a state, or resets it; see docs/limits.md"),
+                );
+                continue;
+            }
             if let Distribution::Uniform { low, high } = &dist {
                 // numpy refuses these (and so would reset); report them with the spec's location.
                 if let Some(i) = (0..n).find(|&i| {

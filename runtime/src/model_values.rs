@@ -65,8 +65,9 @@ pub(crate) fn check(path: &std::path::Path, m: &mjModel) -> Result<(), EnvError>
             )));
         }
     }
-    let coords: [(&str, *const f64, i64, usize, mjtObj); 6] = [
+    let coords: [(&str, *const f64, i64, usize, mjtObj); 7] = [
         ("qpos0 of joint", m.qpos0, m.nq, 1, mjtObj::mjOBJ_UNKNOWN),
+        ("pos of joint", m.jnt_pos, m.njnt, 3, mjtObj::mjOBJ_JOINT),
         ("pos of body", m.body_pos, m.nbody, 3, mjtObj::mjOBJ_BODY),
         ("ipos of body", m.body_ipos, m.nbody, 3, mjtObj::mjOBJ_BODY),
         ("pos of geom", m.geom_pos, m.ngeom, 3, mjtObj::mjOBJ_GEOM),
