@@ -419,3 +419,27 @@ fn reset_draws_beyond_the_coordinate_limit_are_refused() {
         "{text}"
     );
 }
+
+#[test]
+fn option_numbers_must_be_finite_and_the_timestep_positive() {
+    let dir = Scratch::new("option");
+    for (option, attr) in [
+        (r#"<option timestep="0"/>"#, "timestep"),
+        (r#"<option timestep="-1"/>"#, "timestep"),
+        (r#"<option timestep="nan"/>"#, "timestep"),
+        (r#"<option timestep="1e10"/>"#, "timestep"),
+        (r#"<option gravity="nan 0 -9.81"/>"#, "gravity"),
+        (r#"<option wind="0 inf 0"/>"#, "wind"),
+    ] {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[],
+            &[("<worldbody>", &format!("{option}\n  <worldbody>"))],
+        );
+        let text = refused(&envc(&["run", s(&spec), "--episodes", "1"]), "E0105");
+        assert!(
+            text.contains(&format!("<option {attr}=")) && text.contains("model.xml:"),
+            "{text}"
+        );
+    }
+}

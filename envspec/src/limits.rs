@@ -31,6 +31,8 @@ pub const MAX_BUFFER_ENTRIES: i64 = 100_000_000;
 /// Texture pixels (width × height), heightfield samples (nrow × ncol), replicated copies and
 /// composite/flexcomp elements.
 pub const MAX_GRID: i64 = 100_000_000;
+/// MuJoCo's `<option timestep>`, in seconds (Gymnasium's largest is 0.01; MuJoCo's default 0.002).
+pub const MAX_TIMESTEP: f64 = 1.0;
 /// Model coordinates (qpos0, body and geom positions, geom sizes), in metres or radians: beyond
 /// this MuJoCo's collision and integration take seconds per step or reset the state.
 pub const MAX_COORDINATE: f64 = 1e6;
@@ -131,7 +133,8 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, ReadError> {
 
 /// The sizes an MJCF document states that make MuJoCo allocate: `<size>`'s user and buffer
 /// sizes and `memory`, texture and heightfield grids, replicate and composite counts. Each one
-/// over its limit is an E0110 at its attribute. `source` is the document's text as a located file.
+/// over its limit is an E0110 at its attribute. Also `<option>`'s numbers: finite, with a
+/// timestep in (0, `MAX_TIMESTEP`] (E0105). `source` is the document's text as a located file.
 pub fn check_mjcf_sizes(
     doc: &roxmltree::Document,
     source: &std::sync::Arc<SourceFile>,
@@ -152,22 +155,55 @@ pub fn check_mjcf_sizes(
             .ok()
             .map(|x| x as i64)
     };
-    let mut over = |node: roxmltree::Node, attr: &str, value: String, limit: String| {
-        out.push(
-            Diagnostic::new(
-                Code::E0110,
-                format!(
-                    "<{} {attr}> asks MuJoCo for {value}, beyond envc's limit of {limit}",
-                    node.tag_name().name()
-                ),
-            )
-            .at(at(node, attr))
-            .label(format!("expected at most {limit}"))
-            .help("MuJoCo would try to allocate it (and abort when it cannot); see docs/limits.md"),
-        );
+    let over = |node: roxmltree::Node, attr: &str, value: String, limit: String| {
+        Diagnostic::new(
+            Code::E0110,
+            format!(
+                "<{} {attr}> asks MuJoCo for {value}, beyond envc's limit of {limit}",
+                node.tag_name().name()
+            ),
+        )
+        .at(at(node, attr))
+        .label(format!("expected at most {limit}"))
+        .help("MuJoCo would try to allocate it (and abort when it cannot); see docs/limits.md")
     };
     for node in doc.descendants().filter(|n| n.is_element()) {
         match node.tag_name().name() {
+            "option" => {
+                // Every number of <option> must be finite (a NaN gravity makes every reward NaN),
+                // and the timestep in (0, MAX_TIMESTEP].
+                for a in node.attributes() {
+                    let nums: Vec<f64> = a
+                        .value()
+                        .split_whitespace()
+                        .map_while(|x| x.parse().ok())
+                        .collect();
+                    let bad = nums.iter().any(|x| !x.is_finite())
+                        || (a.name() == "timestep"
+                            && nums
+                                .first()
+                                .is_some_and(|&t| !(t > 0.0 && t <= MAX_TIMESTEP)));
+                    if bad {
+                        let expected = if a.name() == "timestep" {
+                            format!("a timestep in (0, {MAX_TIMESTEP}] seconds")
+                        } else {
+                            "finite numbers".to_string()
+                        };
+                        out.push(
+                            Diagnostic::new(
+                                Code::E0105,
+                                format!(
+                                    "<option {}=\"{}\"> is not {expected}",
+                                    a.name(),
+                                    a.value()
+                                ),
+                            )
+                            .at(at(node, a.name()))
+                            .label(format!("expected {expected}")),
+                        );
+                    }
+                }
+            }
             "size" => {
                 for a in node.attributes() {
                     let name = a.name();
@@ -181,19 +217,19 @@ pub fn check_mjcf_sizes(
                     if let Some(n) = int(node, name)
                         && n > limit
                     {
-                        over(node, name, n.to_string(), limit.to_string());
+                        out.push(over(node, name, n.to_string(), limit.to_string()));
                     }
                 }
                 if let Some(m) = node.attribute("memory")
                     && let Some(bytes) = memory_bytes(m)
                     && bytes > MAX_ARENA_BYTES as f64
                 {
-                    over(
+                    out.push(over(
                         node,
                         "memory",
                         m.trim().to_string(),
                         human_bytes(MAX_ARENA_BYTES),
-                    );
+                    ));
                 }
             }
             tag @ ("texture" | "hfield") => {
@@ -205,12 +241,12 @@ pub fn check_mjcf_sizes(
                 let n = int(node, a).unwrap_or(1).max(1) as i128
                     * int(node, b).unwrap_or(1).max(1) as i128;
                 if n > MAX_GRID as i128 {
-                    over(
+                    out.push(over(
                         node,
                         a,
                         format!("{n} samples ({a} × {b})"),
                         MAX_GRID.to_string(),
-                    );
+                    ));
                 }
             }
             tag @ ("replicate" | "composite" | "flexcomp") => {
@@ -224,12 +260,12 @@ pub fn check_mjcf_sizes(
                     })
                     .unwrap_or(1);
                 if n > MAX_GRID as i128 {
-                    over(
+                    out.push(over(
                         node,
                         "count",
                         format!("{n} copies of <{tag}>"),
                         MAX_GRID.to_string(),
-                    );
+                    ));
                 }
             }
             _ => {}

@@ -22,13 +22,19 @@ impl Ctx<'_> {
             if let Some(v) = p.get("timestep")
                 && let Some(ts) = self.num(v, "physics.timestep")
             {
-                if ts.is_finite() && ts > 0.0 {
+                if ts > 0.0 && ts <= crate::limits::MAX_TIMESTEP {
                     edits.timestep = Some(ts);
                 } else {
                     self.d.push(
-                        Diagnostic::new(Code::E0105, format!("timestep {ts} is not positive"))
-                            .at(v.loc.clone())
-                            .label("expected a positive number of seconds"),
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!(
+                                "timestep {ts} is not in (0, {}] seconds",
+                                crate::limits::MAX_TIMESTEP
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected a positive number of seconds, at most 1"),
                     );
                 }
             }
