@@ -406,3 +406,91 @@ fn collect_into_an_unwritable_root_or_a_full_disk_fails_cleanly() {
     }
     let _ = std::fs::remove_dir_all(&base);
 }
+
+fn write_actions(path: &Path, steps: usize, width: usize) {
+    let a = ndarray::Array2::<f64>::zeros((steps, width));
+    ndarray_npy::write_npy(path, &a).unwrap();
+}
+
+#[test]
+fn rollout_never_overwrites_its_input_and_replaces_out_whole() {
+    let d = tmp("rollout");
+    let a = d.join("A.npy");
+    write_actions(&a, 5, 3);
+    let before = std::fs::read(&a).unwrap();
+    std::fs::hard_link(&a, d.join("hard.npz")).unwrap();
+    std::os::unix::fs::symlink(&a, d.join("soft.npz")).unwrap();
+    for out in ["A.npy", "hard.npz", "soft.npz"] {
+        let out = d.join(out);
+        let o = envc(&[
+            "rollout",
+            "Hopper-v5",
+            "--seed",
+            "0",
+            "--actions",
+            a.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        assert_one_clean_line(&text(&o.stderr), "E1411");
+        assert_eq!(std::fs::read(&a).unwrap(), before);
+    }
+    // An existing --out is replaced whole; no temporary file stays.
+    let t = d.join("T.npz");
+    std::fs::write(&t, b"old").unwrap();
+    let o = envc(&[
+        "rollout",
+        "Hopper-v5",
+        "--seed",
+        "0",
+        "--actions",
+        a.to_str().unwrap(),
+        "--out",
+        t.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(&std::fs::read(&t).unwrap()[..2], b"PK");
+    let mut names: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["A.npy", "T.npz", "hard.npz", "soft.npz"]);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn rollout_onto_a_full_disk_keeps_the_old_file_and_says_so_once() {
+    if !unshare_works() {
+        return;
+    }
+    let d = tmp("rollout-full");
+    let a = d.join("A.npy");
+    write_actions(&a, 2000, 17); // Humanoid: 2000 × 348 observations, ~5.6 MB
+    let m = d.join("mnt");
+    std::fs::create_dir_all(&m).unwrap();
+    let (m, a) = (m.to_str().unwrap(), a.to_str().unwrap());
+    for (spec, policy) in [
+        ("Humanoid-v5", format!("--actions {a}")),
+        ("PointMaze_UMaze-v3", "--policy random --steps 20000".into()),
+        ("MaMuJoCo-Ant-v1", "--policy random --steps 3000".into()),
+    ] {
+        let o = in_mount_ns(&format!(
+            "mount -t tmpfs -o size=256k tmpfs {m} && printf old > {m}/T.npz && \
+             \"$ENVC\" rollout {spec} --seed 0 {policy} --auto-reset --out {m}/T.npz; rc=$?; \
+             cat {m}/T.npz; echo; ls -A {m}; exit $rc"
+        ));
+        assert_eq!(o.status.code(), Some(2), "{spec}: {}", text(&o.stderr));
+        let err = text(&o.stderr);
+        assert_one_clean_line(&err, "E1410");
+        assert!(
+            err.contains("No space left on device") && err.contains("existing file is unchanged"),
+            "{err}"
+        );
+        // The old file, and nothing else.
+        assert_eq!(text(&o.stdout), "old\nT.npz\n", "{spec}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
