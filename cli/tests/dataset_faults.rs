@@ -98,9 +98,21 @@ fn locks(root: &Path) -> Vec<PathBuf> {
         .unwrap_or_default()
 }
 
+/// The staging directories under `root`.
+fn staging_dirs(root: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(root.join(".envc-staging"))
+        .map(|d| {
+            d.flatten()
+                .map(|e| e.path())
+                .filter(|p| p.is_dir())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
 fn wait_for_staging(root: &Path, child: &mut Child) {
     let t0 = Instant::now();
-    while locks(root).is_empty() {
+    while staging_dirs(root).is_empty() {
         if let Ok(Some(s)) = child.try_wait() {
             panic!("collect ended ({s}) before staging anything");
         }
@@ -163,7 +175,7 @@ fn two_collectors_in_two_pid_namespaces_both_publish_complete_datasets() {
     let root = tmp("pidns");
     let r = root.to_str().unwrap();
     // The first runs as pid 2 of its namespace (the shell is pid 1): a pid the second collector,
-    // in a namespace of its own, does not see. A pid check would take its staging for an orphan.
+    // in a namespace of its own, does not see. A pid check takes its staging for an orphan.
     let long = collect_args("Hopper-v5", r, "ns/long-v0", "400", "arrow").join(" ");
     let mut a = Command::new("unshare")
         .args(["--pid", "--fork", "--mount-proc", "sh", "-c"])
@@ -174,11 +186,16 @@ fn two_collectors_in_two_pid_namespaces_both_publish_complete_datasets() {
         .spawn()
         .unwrap();
     wait_for_staging(&root, &mut a);
-    let short = collect_args("InvertedPendulum-v5", r, "ns/short-v0", "3", "hdf5").join(" ");
+    // The second runs as pid 1 of its own namespace, so the first one's pid 2 is not there.
     let b = Command::new("unshare")
-        .args(["--pid", "--fork", "--mount-proc", "sh", "-c"])
-        .arg(format!("\"$ENVC\" {short}; exit $?"))
-        .env("ENVC", ENVC)
+        .args(["--pid", "--fork", "--mount-proc", ENVC])
+        .args(collect_args(
+            "InvertedPendulum-v5",
+            r,
+            "ns/short-v0",
+            "3",
+            "hdf5",
+        ))
         .output()
         .unwrap();
     assert!(b.status.success(), "{}", text(&b.stderr));
@@ -257,9 +274,9 @@ fn kill_9_at_random_points_leaves_nothing_wrong_and_the_next_collect_cleans_up()
                 "{id} published after a kill at {delay} ms"
             );
             assert_nothing_wrong(&root);
-            let left = locks(&root);
+            let left = staging_dirs(&root);
             assert_eq!(left.len(), 1, "{left:?}");
-            let staged = left[0].with_extension("");
+            let staged = left[0].clone();
             // The next collection of the same id works and names what it removed.
             let o = envc(&collect_args(spec, r, &id, "2", format));
             assert!(o.status.success(), "{}", text(&o.stderr));
@@ -293,7 +310,7 @@ fn a_staging_directory_removed_under_a_running_collection_is_an_error() {
         let mut child = spawn(&collect_args("Hopper-v5", r, &id, "600", format));
         wait_for_staging(&root, &mut child);
         std::thread::sleep(Duration::from_millis(150));
-        let staged = locks(&root)[0].with_extension("");
+        let staged = staging_dirs(&root)[0].clone();
         // `rm -rf` races the writer adding files (ENOTEMPTY): repeat until it is gone.
         let t0 = Instant::now();
         while std::fs::remove_dir_all(&staged).is_err() && staged.exists() {
