@@ -427,3 +427,106 @@ pub fn dir_size(dir: &Path) -> std::io::Result<u64> {
     }
     Ok(total)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::space::Dtype;
+    use super::*;
+
+    fn writer(tag: &str) -> (PathBuf, DatasetWriter) {
+        let root = std::env::temp_dir().join(format!("envc-writer-{tag}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&root);
+        let obs = Space::box1(Dtype::F64, &[-1.0; 2], &[1.0; 2]);
+        let act = Space::box1(Dtype::F32, &[-1.0], &[1.0]);
+        let w = DatasetWriter::create(
+            Some(&root),
+            "ns/x-v0",
+            Format::Arrow,
+            obs,
+            act,
+            DatasetInfo::default(),
+        )
+        .unwrap();
+        (root, w)
+    }
+
+    fn write(w: &mut DatasetWriter, steps: usize) {
+        let obs = vec![0.5; (steps + 1) * 2];
+        let actions = vec![0.25f32; steps];
+        let rewards = vec![1.0; steps];
+        let flags = vec![false; steps];
+        w.write_episode(&EpisodeRecord {
+            seed: Some(0),
+            observations: &obs,
+            actions: &actions,
+            rewards: &rewards,
+            terminations: &flags,
+            truncations: &flags,
+            infos: &[],
+        })
+        .unwrap();
+    }
+
+    /// Episodes damaged on disk after they were written: the metadata would lie, so nothing is
+    /// published (E1210), and the staging directory is removed.
+    #[test]
+    fn a_dataset_that_disagrees_with_its_metadata_is_not_published() {
+        for damage in ["missing episode", "wrong length"] {
+            let (root, mut w) = writer(&damage.replace(' ', "-"));
+            for steps in [3, 5, 4] {
+                write(&mut w, steps);
+            }
+            let data = w.staging().join("ds").join("data");
+            match damage {
+                "missing episode" => fs::remove_dir_all(data.join("1")).unwrap(),
+                _ => {
+                    // Episode 0's file (3 steps) and metadata in place of episode 1's (5 steps).
+                    for f in ["part-0.arrow", "metadata.json"] {
+                        fs::copy(data.join("0").join(f), data.join("1").join(f)).unwrap();
+                    }
+                }
+            }
+            let target = w.target();
+            let e = w.finish().unwrap_err();
+            assert_eq!(e.code(), "E1210", "{damage}: {e}");
+            let why = e.to_string();
+            match damage {
+                "missing episode" => assert!(
+                    why.contains("2 episodes are stored but total_episodes is 3"),
+                    "{why}"
+                ),
+                _ => assert!(
+                    why.contains("the episodes hold 10 steps but total_steps is 12"),
+                    "{why}"
+                ),
+            }
+            assert!(!target.exists());
+            assert!(!root.join(STAGING_DIR).exists());
+            let _ = fs::remove_dir_all(&root);
+        }
+    }
+
+    #[test]
+    fn ids_inside_a_dataset_are_refused_before_anything_is_written() {
+        let (root, mut w) = writer("nested");
+        write(&mut w, 2);
+        w.finish().unwrap();
+        for id in ["ns/x-v0/data/0/y-v0", "ns/x-v0/y-v0", "ns/x-v0/data/y-v0"] {
+            let obs = Space::box1(Dtype::F64, &[-1.0; 2], &[1.0; 2]);
+            let act = Space::box1(Dtype::F32, &[-1.0], &[1.0]);
+            let e = DatasetWriter::create(
+                Some(&root),
+                id,
+                Format::Arrow,
+                obs,
+                act,
+                DatasetInfo::default(),
+            )
+            .err()
+            .unwrap();
+            assert_eq!(e.code(), "E1208", "{id}: {e}");
+        }
+        assert!(!root.join(STAGING_DIR).exists());
+        let _ = fs::remove_dir_all(&root);
+    }
+}
