@@ -127,6 +127,23 @@ fn cause(e: &DatasetError) -> String {
     }
 }
 
+/// Create `path` with `bytes` whole or not at all (a full disk never leaves a truncated file that
+/// Minari would fail to parse), and never over a file that appeared meanwhile.
+fn write_new(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(
+        ".{}.envc-{}.tmp",
+        name.unwrap_or_default(),
+        std::process::id()
+    ));
+    let linked = fs::write(&tmp, bytes).and_then(|()| match fs::hard_link(&tmp, path) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        other => other,
+    });
+    let _ = fs::remove_file(&tmp);
+    linked.map_err(io(path))
+}
+
 /// Flush everything under `dir`'s file system to stable storage (one `syncfs`, not one fsync per
 /// episode file), so the rename that publishes the dataset never reaches the disk before its data.
 fn sync_fs(dir: &Path) -> Result<(), DatasetError> {
@@ -337,7 +354,7 @@ impl DatasetWriter {
             fs::create_dir_all(&dir).map_err(io(&dir))?;
             let f = dir.join("namespace_metadata.json");
             if !f.exists() {
-                fs::write(&f, "{}").map_err(io(&f))?;
+                write_new(&f, b"{}")?;
             }
         }
         // One rename: the dataset appears complete or not at all. Onto a directory another
