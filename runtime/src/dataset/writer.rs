@@ -89,15 +89,26 @@ fn check_place(root: &Path, id: &DatasetId) -> Result<(), DatasetError> {
         path: target.clone(),
         why,
     };
-    for level in id.namespace_levels() {
-        let dir = root.join(&level);
+    // The root itself too: `--root` pointing into a dataset.
+    let levels = std::iter::once(String::new()).chain(id.namespace_levels());
+    for level in levels {
+        let dir = if level.is_empty() {
+            root.to_path_buf()
+        } else {
+            root.join(&level)
+        };
+        let place = if level.is_empty() {
+            "the datasets root".to_string()
+        } else {
+            format!("`{level}`")
+        };
         for meta in [
             dir.join("metadata.json"),
             dir.join("data").join("metadata.json"),
         ] {
             if meta.exists() {
                 return Err(nested(format!(
-                    "inside `{level}`, which holds a dataset ({})",
+                    "inside {place}, which holds a dataset ({})",
                     meta.display()
                 )));
             }
@@ -528,11 +539,18 @@ mod tests {
         let (root, mut w) = writer("nested");
         write(&mut w, 2);
         w.finish().unwrap();
-        for id in ["ns/x-v0/data/0/y-v0", "ns/x-v0/y-v0", "ns/x-v0/data/y-v0"] {
+        let inside = root.join("ns").join("x-v0").join("data");
+        for (root, id) in [
+            (&root, "ns/x-v0/data/0/y-v0"),
+            (&root, "ns/x-v0/y-v0"),
+            (&root, "ns/x-v0/data/y-v0"),
+            (&inside, "y-v0"),
+            (&inside.join("0"), "y-v0"),
+        ] {
             let obs = Space::box1(Dtype::F64, &[-1.0; 2], &[1.0; 2]);
             let act = Space::box1(Dtype::F32, &[-1.0], &[1.0]);
             let e = DatasetWriter::create(
-                Some(&root),
+                Some(root),
                 id,
                 Format::Arrow,
                 obs,
