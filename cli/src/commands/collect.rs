@@ -165,6 +165,12 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
             c.display()
         );
     }
+    for d in &r.unlocked {
+        println!(
+            "  left alone (no lock file: an older envc's or not envc's; remove it once no collection runs there): {}",
+            d.display()
+        );
+    }
     for w in r.warnings {
         println!("  MuJoCo warning: {w}");
     }

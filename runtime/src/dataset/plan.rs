@@ -49,6 +49,8 @@ pub struct Recording {
     pub warnings: Vec<String>,
     /// Staging directories of interrupted collections removed before this one started.
     pub cleaned: Vec<PathBuf>,
+    /// Directories in the staging root without a lock file, left alone.
+    pub unlocked: Vec<PathBuf>,
 }
 
 /// The description a dataset gets when none is given.
@@ -114,11 +116,13 @@ pub fn record<E: Recordable>(
     }
     let warnings = collector.env().warnings().to_vec();
     let cleaned = collector.writer().cleaned().to_vec();
+    let unlocked = collector.writer().unlocked().to_vec();
     let dir = collector.finish()?;
     Ok(Recording {
         dir,
         steps,
         warnings,
         cleaned,
+        unlocked,
     })
 }

@@ -144,17 +144,30 @@ impl Drop for Staging {
     }
 }
 
+/// What [`sweep`] did.
+#[derive(Default)]
+pub(crate) struct Swept {
+    /// Staging directories of collections that are gone (their lock was free), removed.
+    pub removed: Vec<PathBuf>,
+    /// Directories without a lock file (an older envc's, or not envc's), left alone.
+    pub unlocked: Vec<PathBuf>,
+}
+
 /// Remove the staging directories of collections that are gone (their lock is free) under
-/// `root`; returns their paths. Live collections, in any PID namespace or on any host sharing the
-/// directory, hold their lock and are left alone, as is anything without a lock file.
-pub(crate) fn sweep(root: &Path) -> Vec<PathBuf> {
-    let mut removed = vec![];
+/// `root`. Live collections, in any PID namespace or on any host sharing the directory, hold
+/// their lock and are left alone, as is anything without a lock file.
+pub(crate) fn sweep(root: &Path) -> Swept {
+    let mut swept = Swept::default();
     let Ok(entries) = fs::read_dir(root) else {
-        return removed;
+        return swept;
     };
+    let mut dirs = vec![];
     for e in entries.flatten() {
         let lock_path = e.path();
         if lock_path.extension().is_none_or(|x| x != LOCK_EXT) {
+            if e.file_type().is_ok_and(|t| t.is_dir()) {
+                dirs.push(lock_path);
+            }
             continue;
         }
         let Ok(f) = OpenOptions::new().read(true).open(&lock_path) else {
@@ -165,13 +178,21 @@ pub(crate) fn sweep(root: &Path) -> Vec<PathBuf> {
         }
         let dir = lock_path.with_extension("");
         match fs::remove_dir_all(&dir) {
-            Ok(()) => removed.push(dir),
+            Ok(()) => swept.removed.push(dir),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
             Err(_) => continue, // keep the lock file: the directory is still there
         }
         let _ = fs::remove_file(&lock_path);
     }
-    removed
+    // A claim creates its lock file before its directory, so a directory seen without one
+    // was not made by this scheme.
+    let lock_of = |d: &Path| PathBuf::from(format!("{}.{LOCK_EXT}", d.display()));
+    swept.unlocked = dirs
+        .into_iter()
+        .filter(|d| !swept.removed.contains(d) && !lock_of(d).exists() && d.exists())
+        .collect();
+    swept.unlocked.sort();
+    swept
 }
 
 #[cfg(test)]
@@ -195,8 +216,9 @@ mod tests {
         fs::write(root.join("y-v0.1.2.lock"), b"").unwrap();
         // No lock file at all: cannot be proven abandoned.
         fs::create_dir_all(root.join("z-v0.3.4")).unwrap();
-        let removed = sweep(&root);
-        assert_eq!(removed, vec![dead.clone()]);
+        let swept = sweep(&root);
+        assert_eq!(swept.removed, vec![dead.clone()]);
+        assert_eq!(swept.unlocked, vec![root.join("z-v0.3.4")]);
         assert!(live.dir().join("episode").is_file());
         assert!(!dead.exists() && !root.join("y-v0.1.2.lock").exists());
         assert!(root.join("z-v0.3.4").is_dir());

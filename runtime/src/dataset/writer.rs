@@ -52,6 +52,8 @@ pub struct DatasetWriter {
     staging: Staging,
     /// Staging directories of dead collections removed when this one started.
     cleaned: Vec<PathBuf>,
+    /// Directories in the staging root without a lock file, left alone.
+    unlocked: Vec<PathBuf>,
     /// Each written episode's length, checked against the disk before publishing.
     lengths: Vec<u64>,
     data: PathBuf,
@@ -185,7 +187,7 @@ impl DatasetWriter {
         let root = root.map(Path::to_path_buf).unwrap_or_else(default_root);
         check_place(&root, &id)?;
         let staging_root = root.join(STAGING_DIR);
-        let cleaned = staging::sweep(&staging_root);
+        let swept = staging::sweep(&staging_root);
         let staging = Staging::claim(&staging_root, &format!("{}-v{}", id.name, id.version))?;
         let data = staging.dir().join("ds").join("data");
         fs::create_dir_all(&data).map_err(io(&data))?;
@@ -202,7 +204,8 @@ impl DatasetWriter {
             id,
             root,
             staging,
-            cleaned,
+            cleaned: swept.removed,
+            unlocked: swept.unlocked,
             lengths: vec![],
             data,
             format,
@@ -235,6 +238,11 @@ impl DatasetWriter {
     /// Staging directories of interrupted collections (their lock free) this writer removed.
     pub fn cleaned(&self) -> &[PathBuf] {
         &self.cleaned
+    }
+    /// Directories in the staging root without a lock file (an older envc's, or not envc's):
+    /// never removed, since nothing proves their collection is gone.
+    pub fn unlocked(&self) -> &[PathBuf] {
+        &self.unlocked
     }
 
     /// Write one whole episode to disk.
