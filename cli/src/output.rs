@@ -1,7 +1,8 @@
 //! Output files (`--out`): written whole to a hidden temporary file beside the target, synced, and
 //! renamed over it, so an existing file is either left exactly as it was or replaced whole, never
-//! truncated or half-written (a full disk, a kill). An output that is one of the command's inputs
-//! is refused before anything runs. Codes E1410 and E1411 (docs/errors.md).
+//! truncated or half-written (a full disk, a kill). A killed run's temporary (hidden, its `flock`
+//! free) is removed by the next run writing the same file. An output that is one of the command's
+//! inputs is refused before anything runs. Codes E1410 and E1411 (docs/errors.md).
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
@@ -40,6 +41,32 @@ fn cannot_write(target: &Path, existed: bool, e: &io::Error) -> anyhow::Error {
             "nothing was written"
         }
     )
+}
+
+/// Non-blocking exclusive flock.
+fn try_lock(f: &File) -> bool {
+    use std::os::fd::AsRawFd;
+    // SAFETY: flock on a descriptor we own; no memory is passed.
+    unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) == 0 }
+}
+
+/// Remove temporaries `<dir>/<prefix>….tmp` left by killed runs (their lock is free).
+fn sweep_temps(dir: &Path, prefix: &str) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let name = name.to_string_lossy();
+        if !(name.starts_with(prefix) && name.ends_with(".tmp")) {
+            continue;
+        }
+        if let Ok(f) = File::open(e.path())
+            && try_lock(&f)
+        {
+            let _ = fs::remove_file(e.path());
+        }
+    }
 }
 
 /// A writer that keeps the first I/O error and swallows what follows, so a library writing
@@ -136,14 +163,29 @@ impl Output {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "out".into());
-        let tmp = dir.join(format!(".{name}.envc-{}.tmp", std::process::id()));
+        let prefix = format!(".{name}.envc-");
+        sweep_temps(&dir, &prefix);
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0);
+        let tmp = dir.join(format!("{prefix}{}-{nanos}.tmp", std::process::id()));
         let existed = existing.map(|m| m.permissions());
         let file = OpenOptions::new()
             .write(true)
-            .create(true)
-            .truncate(true)
+            .create_new(true)
             .open(&tmp)
             .map_err(|e| cannot_write(path, existed.is_some(), &e))?;
+        // Held until the file is renamed or removed: a later run removes only temporaries whose
+        // lock it can take (a killed run's), never a running one's, in any PID namespace.
+        if !try_lock(&file) {
+            let _ = fs::remove_file(&tmp);
+            return Err(cannot_write(
+                path,
+                existed.is_some(),
+                &io::Error::other("could not lock the temporary file"),
+            ));
+        }
         let out = Output {
             target,
             shown: path.to_path_buf(),
@@ -216,6 +258,23 @@ mod tests {
         w.write_all(b"new").unwrap();
         out.commit(w).unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"new");
+        assert_eq!(fs::read_dir(&d).unwrap().count(), 1);
+        let _ = fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn a_killed_runs_temporary_is_removed_a_running_ones_is_not() {
+        let d = tmp_dir("temps");
+        let p = d.join("t.npz");
+        let dead = d.join(".t.npz.envc-1-2.tmp");
+        fs::write(&dead, b"partial").unwrap();
+        let (running, w) = Output::create(&p).unwrap();
+        let (out, w2) = Output::create(&p).unwrap();
+        assert!(!dead.exists());
+        // Both runs' temporaries are there, each held by its own lock.
+        assert_eq!(fs::read_dir(&d).unwrap().count(), 2);
+        out.commit(w2).unwrap();
+        running.commit(w).unwrap();
         assert_eq!(fs::read_dir(&d).unwrap().count(), 1);
         let _ = fs::remove_dir_all(&d);
     }
