@@ -29,3 +29,17 @@ pub fn unsupported(command: &str, id: &str, kind: Kind, why: &str, help: &str) -
         .help(help)
     )
 }
+
+/// E1401: an env without a time limit, and no `--max-steps`.
+pub fn needs_max_steps(command: &str, id: &str, also: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}",
+        envspec::Diagnostic::new(
+            envspec::Code::E1401,
+            format!("`{id}` has no time limit, so `envc {command}` might never end an episode"),
+        )
+        .help(format!(
+            "{also}set max_episode_steps in the spec (--set max_episode_steps=N)"
+        ))
+    )
+}

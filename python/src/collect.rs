@@ -66,6 +66,12 @@ pub fn collect(
         }
         e => e.id().to_string(),
     };
+    if env.max_episode_steps().is_none() {
+        // E1401, as `envc collect`: an episode might never end.
+        return Err(PyValueError::new_err(format!(
+            "error[E1401]: `{id}` has no time limit, so collect might never end an episode; pass max_episode_steps=N as an override"
+        )));
+    }
     let info = DatasetInfo {
         author: vec![author.unwrap_or_else(|| "envc".into())],
         description: Some(

@@ -87,6 +87,9 @@ pub fn run(args: Args) -> Result<Outcome> {
     // One collector for every kind that has a Minari form.
     let env = crate::target::env(&args.spec, &args.set)?;
     let id = env.id().to_string();
+    if env.max_episode_steps().is_none() {
+        return Err(crate::target::needs_max_steps("collect", &id, ""));
+    }
     match env {
         envc::AnyEnv::Task(env) => record(env, &id, &args, format),
         envc::AnyEnv::Maze(env) => record(*env, &id, &args, format),

@@ -57,18 +57,6 @@ fn stats(x: &[f64]) -> (f64, f64, f64, f64) {
     (mean, var.sqrt(), min, max)
 }
 
-/// E1401: an env without a time limit, and no `--max-steps`.
-pub fn needs_max_steps(command: &str, id: &str) -> anyhow::Error {
-    anyhow::anyhow!(
-        "{}",
-        envspec::Diagnostic::new(
-            envspec::Code::E1401,
-            format!("`{id}` has no time limit, so `envc {command}` might never end an episode"),
-        )
-        .help("give --max-steps N (steps per episode), or set max_episode_steps in the spec (--set max_episode_steps=N)")
-    )
-}
-
 pub fn run(args: Args) -> Result<Outcome> {
     let mut env = crate::target::env(&args.spec, &args.set)?;
     let space = env.action_space().clone();
@@ -77,7 +65,11 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut action = vec![0.0; env.act_dim()];
     let limit = env.max_episode_steps();
     let Some(cap) = args.max_steps.or(limit) else {
-        return Err(needs_max_steps("run", env.id()));
+        return Err(crate::target::needs_max_steps(
+            "run",
+            env.id(),
+            "give --max-steps N (steps per episode), or ",
+        ));
     };
     let bar = if args.format == Format::Text {
         ProgressBar::new(args.episodes)
