@@ -278,6 +278,20 @@ fn a_reset_condition_that_is_merely_improbable_gives_up_with_e1104() {
 fn an_env_without_a_time_limit_needs_max_steps() {
     let text = refused(&envc(&["run", "Point-v0"]), "E1401");
     assert!(text.contains("--max-steps"), "{text}");
+    let text = refused(
+        &envc(&[
+            "collect",
+            "Point-v0",
+            "--dataset-id",
+            "tt/point-v0",
+            "--episodes",
+            "1",
+            "--root",
+            "/nonexistent-envc-root",
+        ]),
+        "E1401",
+    );
+    assert!(text.contains("--set max_episode_steps=N"), "{text}");
     let o = envc(&[
         "run",
         "Point-v0",
