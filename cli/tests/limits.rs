@@ -457,3 +457,23 @@ fn option_numbers_must_be_finite_and_the_timestep_positive() {
         );
     }
 }
+
+#[test]
+fn a_rollout_too_long_to_hold_in_memory_is_refused_before_stepping() {
+    let out = std::env::temp_dir().join(format!("envc-limits-{}-huge.npz", std::process::id()));
+    let text = refused(
+        &envc(&[
+            "rollout",
+            "Hopper-v5",
+            "--policy",
+            "random",
+            "--steps",
+            "100000000000",
+            "--out",
+            s(&out),
+        ]),
+        "E1402",
+    );
+    assert!(text.contains("beyond envc's limit of 4 GiB"), "{text}");
+    assert!(!out.exists());
+}

@@ -182,6 +182,8 @@ pub enum Code {
     E1302,
     /// A command that would never end on an env without a time limit: it needs `--max-steps`.
     E1401,
+    /// A rollout whose trajectory would exceed `limits::MAX_TRAJECTORY_BYTES` in memory.
+    E1402,
 }
 
 impl fmt::Display for Code {

@@ -18,6 +18,9 @@ pub const MAX_ASSET_BYTES: u64 = 512 << 20;
 pub const MAX_FRAME_SKIP: i64 = 1000;
 /// Steps per episode (Gymnasium's largest is 1000). 0 means no time limit.
 pub const MAX_EPISODE_STEPS: i64 = 10_000_000;
+/// A trajectory `envc rollout` holds in memory before writing it (observations, actions, rewards
+/// and info, 8 bytes a number): about a million Humanoid steps.
+pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
 /// Draws one `resample_until` may take at reset before it gives up (E1104). Gymnasium loops for
 /// ever; Reacher's goal is accepted with probability π/4, so a real spec never gets near this.
 pub const MAX_RESAMPLE_DRAWS: u32 = 1_000_000;
@@ -82,6 +85,7 @@ impl ReadError {
 /// `4 MiB`, `512 MiB`, `4 GiB`.
 pub fn human_bytes(n: u64) -> String {
     match n {
+        n if n >= 10 << 30 && n % (1 << 30) != 0 => format!("{} GiB", n >> 30),
         n if n >= 1 << 30 && n % (1 << 30) == 0 => format!("{} GiB", n >> 30),
         n if n >= 1 << 20 && n % (1 << 20) == 0 => format!("{} MiB", n >> 20),
         n => format!("{n} bytes"),

@@ -94,11 +94,37 @@ impl InfoColumns {
     }
 }
 
+/// E1402: a trajectory of `steps` steps would not fit envc's in-memory limit.
+fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
+    let limit = envspec::limits::MAX_TRAJECTORY_BYTES;
+    // Observation, action, reward, flags and a few info numbers per step (an estimate).
+    let per_step = (env.physics_env().obs_dim() + env.act_dim() + 8) as u64 * 8;
+    if (steps as u64).saturating_mul(per_step) <= limit {
+        return Ok(());
+    }
+    Err(anyhow::anyhow!(
+        "{}",
+        envspec::Diagnostic::new(
+            envspec::Code::E1402,
+            format!(
+                "a rollout of {steps} steps of {} would hold about {} in memory, beyond envc's limit of {}",
+                env.id(),
+                envspec::limits::human_bytes((steps as u64).saturating_mul(per_step)),
+                envspec::limits::human_bytes(limit)
+            ),
+        )
+        .help(format!("at most {} steps; split it into several rollouts (see docs/limits.md)", limit / per_step))
+    ))
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     if let Some(a) = &args.actions {
         crate::output::refuse_input(&args.out, &[("--actions", a)])?;
     }
     let any = crate::target::env(&args.spec, &args.set)?;
+    if let Some(steps) = args.steps {
+        check_size(steps, &any)?;
+    }
     let (actions, path) = match (&args.actions, args.policy, args.steps) {
         (Some(p), _, _) => (read_matrix(p)?, p.clone()),
         (None, Some(policy), Some(steps)) => {
@@ -114,6 +140,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         _ => bail!("give --actions A.npy, or --policy zero|random with --steps N"),
     };
+    check_size(actions.dim().0, &any)?;
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
     let as_f64 = || actions.clone().into_f64();
     let (seed, path, out, auto) = (args.seed, &path, &args.out, args.auto_reset);
