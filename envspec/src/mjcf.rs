@@ -9,7 +9,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::{Code, Diagnostic};
+use crate::diagnostic::{Code, Diagnostic, Location};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum JointKind {
@@ -166,15 +166,20 @@ impl Reader {
                 "<include> nesting deeper than 32 (a cycle?)",
             ));
         }
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let file = crate::diagnostic::read_source(path, Code::E0301, "model", |e| {
             Diagnostic::new(
                 Code::E0301,
                 format!("cannot read model file {}: {e}", path.display()),
             )
             .label("expected an existing, readable MJCF file")
         })?;
-        let doc = roxmltree::Document::parse(&text)
-            .map_err(|e| malformed(path, format!("not well-formed XML: {e}")))?;
+        let text = &file.text;
+        let doc = roxmltree::Document::parse(text).map_err(|e| {
+            let pos = e.pos();
+            let at = file.offset(pos.row as usize, pos.col as usize);
+            malformed(path, format!("not well-formed XML: {e}"))
+                .at_opt(at.map(|o| Location::new(&file, o..o)))
+        })?;
         let root = doc.root_element();
         match root.tag_name().name() {
             "mujoco" => {}

@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::diagnostic::{Code, Diagnostic};
+use crate::diagnostic::{Code, Diagnostic, read_source};
 use crate::mjcf::{Joint, JointKind, ModelInfo};
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
@@ -43,9 +43,10 @@ fn is_urdf(text: &str) -> bool {
 impl ModelInfo {
     /// Read a model file: a URDF when its root element is `<robot>`, MJCF otherwise.
     pub fn from_file(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = std::fs::read_to_string(path).map_err(|e| unreadable(path, e))?;
-        if is_urdf(&text) {
-            ModelInfo::from_urdf_str(path, &text)
+        let text = read_source(path, Code::E0301, "model", |e| unreadable(path, e))?;
+        let text = &text.text;
+        if is_urdf(text) {
+            ModelInfo::from_urdf_str(path, text)
         } else {
             ModelInfo::from_mjcf(path)
         }
@@ -53,8 +54,9 @@ impl ModelInfo {
 
     /// Read a URDF file.
     pub fn from_urdf(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = std::fs::read_to_string(path).map_err(|e| unreadable(path, e))?;
-        ModelInfo::from_urdf_str(path, &text)
+        let text = read_source(path, Code::E0301, "model", |e| unreadable(path, e))?;
+        let text = &text.text;
+        ModelInfo::from_urdf_str(path, text)
     }
 
     /// Read a URDF given as text (`path` is used for messages).

@@ -119,7 +119,7 @@ pub fn read_document(
     at: Option<&Location>,
     what: &str,
 ) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let file = crate::diagnostic::read_source(path, Code::E0600, what, |e| {
         Diagnostic::new(
             Code::E0600,
             format!("cannot read {what} {}: {e}", path.display()),
@@ -127,7 +127,6 @@ pub fn read_document(
         .at_opt(at.cloned())
         .label(format!("expected a readable TOML {what} file"))
     })?;
-    let file = SourceFile::new(path, text);
     let root = parse_document(&file)?;
     Ok((file, root))
 }
