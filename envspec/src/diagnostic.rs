@@ -147,6 +147,8 @@ pub enum Code {
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.
     E0121,
+    /// A maze's `robot` names a multi-agent spec that has no task of its own.
+    E0122,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.
