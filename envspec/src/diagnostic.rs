@@ -60,38 +60,47 @@ impl SourceFile {
     }
 }
 
-/// Read a text file for a reader that quotes it. A file that is not UTF-8 is diagnosed with
-/// `code` at the line and column of its first bad byte (`what` names the file's role, e.g.
-/// "spec"); `io_error` words any other failure to read it.
+/// Read a text file for a reader that quotes it, within `limit` bytes
+/// ([`crate::limits::read_text`]). A file that is not UTF-8 is diagnosed with `code` at the line
+/// and column of its first bad byte (`what` names the file's role, e.g. "spec"); `unreadable`
+/// words any other failure.
 pub fn read_source(
     path: &Path,
+    limit: u64,
     code: Code,
     what: &str,
-    io_error: impl FnOnce(std::io::Error) -> Diagnostic,
+    unreadable: impl FnOnce(crate::limits::ReadError) -> Diagnostic,
 ) -> Result<Arc<SourceFile>, Diagnostic> {
-    let bytes = std::fs::read(path).map_err(io_error)?;
-    match String::from_utf8(bytes) {
-        Ok(text) => Ok(SourceFile::new(path, text)),
-        Err(e) => {
-            let err = e.utf8_error();
-            let at = err.valid_up_to();
-            let bad = e.as_bytes()[at..]
-                .iter()
-                .take(err.error_len().unwrap_or(4))
-                .map(|b| format!("0x{b:02x}"))
-                .collect::<Vec<_>>()
-                .join(" ");
-            // The lossy text equals the file up to the first bad byte, so the offset holds, and
-            // the line can be shown (U+FFFD where the bad bytes are).
-            let file = SourceFile::new(path, String::from_utf8_lossy(e.as_bytes()).into_owned());
-            Err(
-                Diagnostic::new(code, format!("the {what} file is not UTF-8 text"))
-                    .at(Location::new(&file, at..at + '\u{fffd}'.len_utf8()))
-                    .label(format!("invalid UTF-8 byte {bad}"))
-                    .help("save the file as UTF-8"),
-            )
-        }
+    use std::io::Read;
+    let at = match crate::limits::read_text(path, limit) {
+        Ok(text) => return Ok(SourceFile::new(path, text)),
+        Err(crate::limits::ReadError::NotUtf8 { offset }) => offset,
+        Err(e) => return Err(unreadable(e)),
+    };
+    // Read again (as bounded) for the bytes: the lossy text equals the file up to the first bad
+    // byte, so the offset holds, and the line can be shown (U+FFFD where the bad bytes are).
+    let mut bytes = vec![];
+    let read = std::fs::File::open(path).and_then(|f| f.take(limit).read_to_end(&mut bytes));
+    if let Err(e) = read {
+        return Err(unreadable(crate::limits::ReadError::Io(e)));
     }
+    let at = at.min(bytes.len());
+    let len = match std::str::from_utf8(&bytes[at..]) {
+        Err(e) => e.error_len().unwrap_or(bytes.len() - at),
+        Ok(_) => 0,
+    };
+    let bad = bytes[at..at + len.min(4)]
+        .iter()
+        .map(|b| format!("0x{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let file = SourceFile::new(path, String::from_utf8_lossy(&bytes).into_owned());
+    Err(
+        Diagnostic::new(code, format!("the {what} file is not UTF-8 text"))
+            .at(Location::new(&file, at..at + '\u{fffd}'.len_utf8()))
+            .label(format!("invalid UTF-8 byte {bad}"))
+            .help("save the file as UTF-8"),
+    )
 }
 
 /// A location: a byte range in a source file.
@@ -143,6 +152,10 @@ pub enum Code {
     E0108,
     /// A multi-agent partition that does not drive every actuator exactly once.
     E0109,
+    /// A value beyond envc's limits (`envspec::limits`): a file too large or not a regular file,
+    /// a MuJoCo size that would exhaust memory, `frame_skip` or `max_episode_steps` too large, a
+    /// reset condition that cannot be met.
+    E0110,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.
@@ -157,6 +170,8 @@ pub enum Code {
     E0203,
     /// An override of a parameter the spec declares `fixed` (not a constructor argument).
     E0204,
+    /// The same parameter overridden twice (`--set a=1 --set a=2`).
+    E0205,
     /// The model file does not exist or cannot be read.
     E0301,
     /// The model file is not well-formed MJCF.
@@ -211,16 +226,23 @@ pub enum Code {
     E1001,
     /// The compiled model disagrees with what the spec resolved from the MJCF.
     E1002,
+    /// The compiled model holds values envc cannot run: a control range that is not finite, a
+    /// non-finite or out-of-bounds position.
+    E1003,
     /// An action of the wrong length.
     E1101,
     /// An action with a NaN or infinite entry.
     E1102,
     /// `step` before the first `reset`.
     E1103,
+    /// A reset whose `resample_until` condition was not met within `limits::MAX_RESAMPLE_DRAWS`.
+    E1104,
     /// An unknown numerics profile name.
     E1301,
     /// `auto` numerics under CPU-feature settings numpy itself refuses to import with.
     E1302,
+    /// A command that would never end on an env without a time limit: it needs `--max-steps`.
+    E1401,
     /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
     E1430,
 }

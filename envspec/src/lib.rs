@@ -21,6 +21,7 @@ pub mod diagnostic;
 pub mod diff;
 pub mod goal;
 pub mod ir;
+pub mod limits;
 pub mod maze;
 pub mod mjcf;
 pub mod open;

@@ -9,7 +9,8 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::{Code, Diagnostic, Location};
+use crate::diagnostic::{Code, Diagnostic, Location, SourceFile};
+use crate::limits;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum JointKind {
@@ -115,6 +116,7 @@ impl ModelInfo {
                 nq: 0,
                 nv: 0,
             },
+            asset_dirs: Default::default(),
             defaults: HashMap::new(),
             world_children: vec![],
             depth: 0,
@@ -135,6 +137,8 @@ struct BodyNode {
 
 struct Reader {
     info: ModelInfo,
+    /// `<compiler>`'s `assetdir`, `meshdir`, `texturedir`, as far as read.
+    asset_dirs: [Option<String>; 3],
     /// default class -> (parent class, joint type set in that class)
     defaults: HashMap<String, (Option<String>, Option<JointKind>)>,
     /// The world body's own joints are not allowed; its sites and child bodies are kept here.
@@ -166,20 +170,24 @@ impl Reader {
                 "<include> nesting deeper than 32 (a cycle?)",
             ));
         }
-        let file = crate::diagnostic::read_source(path, Code::E0301, "model", |e| {
+        let limit = limits::MAX_MODEL_BYTES;
+        let source = crate::diagnostic::read_source(path, limit, Code::E0301, "model", |e| {
             Diagnostic::new(
-                Code::E0301,
+                e.code(Code::E0301),
                 format!("cannot read model file {}: {e}", path.display()),
             )
             .label("expected an existing, readable MJCF file")
         })?;
-        let text = &file.text;
-        let doc = roxmltree::Document::parse(text).map_err(|e| {
+        let doc = roxmltree::Document::parse(&source.text).map_err(|e| {
             let pos = e.pos();
-            let at = file.offset(pos.row as usize, pos.col as usize);
+            let at = source.offset(pos.row as usize, pos.col as usize);
             malformed(path, format!("not well-formed XML: {e}"))
-                .at_opt(at.map(|o| Location::new(&file, o..o)))
+                .at_opt(at.map(|o| Location::new(&source, o..o)))
         })?;
+        if let Some(d) = limits::check_mjcf_sizes(&doc, &source).into_iter().next() {
+            return Err(d);
+        }
+        self.check_assets(path, &doc, &source)?;
         let root = doc.root_element();
         match root.tag_name().name() {
             "mujoco" => {}
@@ -202,6 +210,51 @@ impl Reader {
             self.read_section(path, dir, section)?;
         }
         self.depth -= 1;
+        Ok(())
+    }
+
+    /// The mesh, texture, heightfield and skin files a model names are read by MuJoCo: each one
+    /// that exists must be a regular file within `limits::MAX_ASSET_BYTES` (a FIFO or
+    /// `/dev/zero` would block or never end). A missing one is MuJoCo's to report.
+    fn check_assets(
+        &mut self,
+        path: &Path,
+        doc: &roxmltree::Document,
+        source: &std::sync::Arc<SourceFile>,
+    ) -> Result<(), Diagnostic> {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        for node in doc.descendants().filter(|n| n.is_element()) {
+            let tag = node.tag_name().name();
+            if tag == "compiler" {
+                for (i, a) in ["assetdir", "meshdir", "texturedir"].iter().enumerate() {
+                    if let Some(v) = node.attribute(*a) {
+                        self.asset_dirs[i] = Some(v.to_string());
+                    }
+                }
+                continue;
+            }
+            let sub = match tag {
+                "mesh" | "hfield" | "skin" => self.asset_dirs[1].as_ref(),
+                "texture" => self.asset_dirs[2].as_ref(),
+                _ => continue,
+            }
+            .or(self.asset_dirs[0].as_ref());
+            let Some(file) = node.attribute_node("file") else {
+                continue;
+            };
+            let full = dir.join(sub.map_or("", String::as_str)).join(file.value());
+            if !full.exists() {
+                continue;
+            }
+            if let Err(e) = limits::check_file(&full, limits::MAX_ASSET_BYTES) {
+                return Err(Diagnostic::new(
+                    e.code(Code::E0301),
+                    format!("cannot use <{tag}> file {}: {e}", full.display()),
+                )
+                .at(Location::new(source, file.range_value()))
+                .label("expected a regular file MuJoCo can read"));
+            }
+        }
         Ok(())
     }
 

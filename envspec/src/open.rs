@@ -82,7 +82,8 @@ pub struct Target {
 /// path, so a missing file is reported as unreadable) or a bundled id (E0601 otherwise).
 pub fn locate(id_or_path: &str) -> Result<Target, Diagnostics> {
     let p = Path::new(id_or_path);
-    if p.is_file() || p.extension().is_some_and(|x| x == "toml") {
+    // Devices and FIFOs count as files here, so reading them is refused with a reason (E0600).
+    if (p.exists() && !p.is_dir()) || p.extension().is_some_and(|x| x == "toml") {
         return Ok(Target {
             path: p.to_path_buf(),
             id: None,

@@ -203,6 +203,16 @@ fn type_ok(value: &ParamValue, ty: ParamType) -> bool {
     )
 }
 
+/// NaN is never a meaningful parameter value: every comparison with it is false, so a NaN
+/// range or weight silently switches a check or a term off.
+fn has_nan(v: &ParamValue) -> bool {
+    match v {
+        ParamValue::Float(x) => x.is_nan(),
+        ParamValue::Range(a, b) => a.is_nan() || b.is_nan(),
+        _ => false,
+    }
+}
+
 /// Defaults from the spec, then the overrides, each checked. All problems are reported together.
 pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>, Diagnostics> {
     let mut d = Diagnostics::default();
@@ -210,6 +220,14 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
     for p in &spec.params {
         let ty = decl_type(p);
         match convert(&p.default, ty) {
+            Some(value) if has_nan(&value) => d.push(
+                Diagnostic::new(
+                    Code::E0105,
+                    format!("default of parameter `{}` is NaN", p.name),
+                )
+                .at(p.default.loc.clone())
+                .label("expected a number (NaN compares false with everything)"),
+            ),
             Some(value) => params.push(Param {
                 name: p.name.clone(),
                 ty,
@@ -229,7 +247,18 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             ),
         }
     }
-    for o in overrides {
+    for (i, o) in overrides.iter().enumerate() {
+        if overrides[..i].iter().any(|earlier| earlier.name == o.name) {
+            d.push(
+                Diagnostic::new(
+                    Code::E0205,
+                    format!("parameter `{}` is overridden more than once", o.name),
+                )
+                .label("expected each parameter at most once")
+                .help("keep the one value you mean; envc does not let the last one win silently"),
+            );
+            continue;
+        }
         let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
             d.push(
                 Diagnostic::new(
@@ -289,6 +318,14 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             }
         };
         match value {
+            Some(v) if has_nan(&v) => d.push(
+                Diagnostic::new(Code::E0105, format!("override of `{}` is NaN", o.name))
+                    .at_opt(loc)
+                    .label(format!(
+                        "expected a number; the default is {}",
+                        param.default
+                    )),
+            ),
             Some(v) => {
                 param.value = v;
                 param.origin = Origin::Override(o.name.clone());

@@ -133,7 +133,7 @@ fn scan(root: &Path) -> Vec<Entry> {
 
 /// The ids one file declares (none for map files and files that do not parse).
 fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Ok(text) = crate::limits::read_text(path, crate::limits::MAX_SPEC_BYTES) else {
         return vec![];
     };
     let file = SourceFile::new(path, text);

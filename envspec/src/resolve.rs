@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, suggest};
 use crate::ir::*;
+use crate::limits;
 use crate::mjcf::ModelInfo;
 use crate::params::{Origin, Override, Param, ParamValue, resolve_params};
 use crate::selector::{self, Field, ParamIndex, Selection};
@@ -40,7 +41,13 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
             Origin::Override(_) => None,
         };
         let help = format!("xml_file resolved to {}", model_path.display());
-        Diagnostics::from(e.at_opt(at).help(help))
+        // A problem inside the model keeps its own location; else point at `xml_file`.
+        let e = if e.location.is_some() {
+            e
+        } else {
+            e.at_opt(at)
+        };
+        Diagnostics::from(e.help(help))
     })?;
 
     // `[actuators]` / `[physics]` change the model itself: resolve them first.
@@ -63,13 +70,45 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
-        Some(ParamValue::Int(n)) if *n >= 1 && *n <= u32::MAX as i64 => *n as u32,
+        Some(ParamValue::Int(n)) if (1..=limits::MAX_FRAME_SKIP).contains(n) => *n as u32,
+        Some(ParamValue::Int(n)) if *n > limits::MAX_FRAME_SKIP => {
+            let mut e = cx.param_error(
+                "frame_skip",
+                &format!(
+                    "frame_skip {n} is beyond envc's limit of {} physics steps per env step",
+                    limits::MAX_FRAME_SKIP
+                ),
+            );
+            e.code = Code::E0110;
+            cx.d.push(e);
+            1
+        }
         _ => {
             cx.d.push(cx.param_error("frame_skip", "frame_skip must be a positive integer"));
             1
         }
     };
+    // 0 means no time limit (the reference's `max_episode_steps=None`).
     let max_episode_steps = match param("max_episode_steps").map(|p| &p.value) {
+        Some(ParamValue::Int(n)) if *n > limits::MAX_EPISODE_STEPS => {
+            let mut e = cx.param_error(
+                "max_episode_steps",
+                &format!(
+                    "max_episode_steps {n} is beyond envc's limit of {}",
+                    limits::MAX_EPISODE_STEPS
+                ),
+            );
+            e.code = Code::E0110;
+            cx.d.push(e);
+            None
+        }
+        Some(ParamValue::Int(n)) if *n < 0 => {
+            cx.d.push(cx.param_error(
+                "max_episode_steps",
+                "max_episode_steps must be ≥ 0 (0: no time limit)",
+            ));
+            None
+        }
         Some(ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
         _ => None,
     };
@@ -153,6 +192,41 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
 
 /// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the
 /// sum, where a list left empty disappears from its parent (the top level stays, summing to 0).
+/// Why no draw of `dist` (n values) can meet `until`, if that is certain: a norm below a bound ≤ 0,
+/// a uniform box whose nearest point is not below the bound, or whose farthest is not above it.
+fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
+    let norm = |f: &dyn Fn(usize) -> f64| (0..n).map(|i| f(i) * f(i)).sum::<f64>().sqrt();
+    // The smallest and largest norm a draw can have.
+    let (lo, hi) = match dist {
+        Distribution::Uniform { low, high } => (
+            norm(&|i| {
+                if low[i] <= 0.0 && 0.0 <= high[i] {
+                    0.0
+                } else {
+                    low[i].abs().min(high[i].abs())
+                }
+            }),
+            norm(&|i| low[i].abs().max(high[i].abs())),
+        ),
+        Distribution::Normal { scale } if *scale == 0.0 => (0.0, 0.0),
+        Distribution::Normal { .. } => (0.0, f64::INFINITY),
+        Distribution::Constant { value } => {
+            let v = norm(&|_| *value);
+            (v, v)
+        }
+    };
+    match until {
+        Until::NormBelow(x) if x <= 0.0 => Some(format!("a norm is never below {x}")),
+        Until::NormBelow(x) if lo >= x => Some(format!(
+            "the smallest norm a draw can have is {lo}, not below {x}"
+        )),
+        Until::NormAbove(x) if hi <= x => Some(format!(
+            "the largest norm a draw can have is {hi}, not above {x}"
+        )),
+        _ => None,
+    }
+}
+
 fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>, SumNode) {
     let mut map = Vec::with_capacity(terms.len());
     let mut kept = vec![];
@@ -191,9 +265,17 @@ impl Ctx<'_> {
             Origin::Default(l) => Some(l.clone()),
             Origin::Override(_) => None,
         });
+        let help = self.param(name).and_then(|p| match &p.origin {
+            Origin::Override(_) => Some(format!(
+                "the value {} comes from an override of `{name}`",
+                p.value
+            )),
+            Origin::Default(_) => None,
+        });
         Diagnostic::new(Code::E0105, msg.to_string())
             .at_opt(loc)
             .label("invalid value")
+            .help_opt(help)
     }
 
     fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {
@@ -231,8 +313,47 @@ impl Ctx<'_> {
         );
     }
 
-    /// A number, or the name of a numeric parameter.
+    /// A finite number, or the name of a numeric parameter holding one. NaN and ±inf are refused
+    /// here (a weight, gain, scale or size of `inf` makes every reward or state non-finite);
+    /// range bounds, which may be infinite, go through [`Ctx::range`].
     fn num(&mut self, v: &Val, what: &str) -> Option<f64> {
+        let x = self.num_or_inf(v, what)?;
+        if x.is_finite() {
+            return Some(x);
+        }
+        let via = match &v.kind {
+            ValKind::Str(name) => format!(" (the value of parameter `{name}`)"),
+            _ => String::new(),
+        };
+        self.d.push(
+            Diagnostic::new(
+                Code::E0105,
+                format!(
+                    "{what} is {}{via}; it must be a finite number",
+                    crate::value::format_float(x)
+                ),
+            )
+            .at(v.loc.clone())
+            .label("expected a finite number"),
+        );
+        None
+    }
+
+    /// A number, or the name of a numeric parameter; ±inf allowed, NaN refused.
+    fn num_or_inf(&mut self, v: &Val, what: &str) -> Option<f64> {
+        let x = self.any_num(v, what)?;
+        if x.is_nan() {
+            self.d.push(
+                Diagnostic::new(Code::E0105, format!("{what} is NaN"))
+                    .at(v.loc.clone())
+                    .label("expected a number (NaN compares false with everything)"),
+            );
+            return None;
+        }
+        Some(x)
+    }
+
+    fn any_num(&mut self, v: &Val, what: &str) -> Option<f64> {
         match &v.kind {
             ValKind::Int(i) => Some(*i as f64),
             ValKind::Float(x) => Some(*x),
@@ -256,7 +377,7 @@ impl Ctx<'_> {
     fn range(&mut self, v: &Val, what: &str) -> Option<(f64, f64)> {
         let r = match &v.kind {
             ValKind::Array(a) if a.len() == 2 => {
-                Some((self.num(&a[0], what)?, self.num(&a[1], what)?))
+                Some((self.num_or_inf(&a[0], what)?, self.num_or_inf(&a[1], what)?))
             }
             ValKind::Str(name) => match self.lookup(name, &v.loc, "a range")? {
                 ParamValue::Range(a, b) => Some((a, b)),
@@ -886,6 +1007,30 @@ impl Ctx<'_> {
                 }
                 _ => continue,
             };
+            let widest = match &dist {
+                Distribution::Uniform { low, high } => {
+                    low.iter().chain(high).fold(0.0, |m: f64, x| m.max(x.abs()))
+                }
+                Distribution::Normal { scale } => scale.abs(),
+                Distribution::Constant { value } => value.abs(),
+            };
+            if widest > limits::MAX_COORDINATE {
+                let at = ["scale", "low", "high", "value"]
+                    .iter()
+                    .find_map(|k| s.get(k))
+                    .map(|v| v.loc.clone())
+                    .unwrap_or(s.name_loc.clone());
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0110,
+                        format!("[reset.{}]: a draw as large as {widest:e} is beyond envc's limit of {:e}", s.name, limits::MAX_COORDINATE),
+                    )
+                    .at(at)
+                    .label("expected a distribution within ±1e6")
+                    .help("MuJoCo takes seconds per step from such a state, or resets it; see docs/limits.md"),
+                );
+                continue;
+            }
             if let Distribution::Uniform { low, high } = &dist {
                 // numpy refuses these (and so would reset); report them with the spec's location.
                 if let Some(i) = (0..n).find(|&i| {
@@ -928,7 +1073,27 @@ impl Ctx<'_> {
                     }
                 }
             };
-            let resample_until = s.get("resample_until").and_then(|v| self.until(v));
+            let resample_until = s.get("resample_until").and_then(|v| {
+                let until = self.until(v)?;
+                match unmet(&dist, n, until) {
+                    None => Some(until),
+                    Some(why) => {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0110,
+                                format!(
+                                    "[reset.{}]: resample_until can never be met: {why}",
+                                    s.name
+                                ),
+                            )
+                            .at(v.loc.clone())
+                            .label("expected a condition some draw of the distribution meets")
+                            .help("the reference would redraw for ever at reset"),
+                        );
+                        None
+                    }
+                }
+            });
             out.push(ResetStep {
                 name: s.name.clone(),
                 doc: s.doc(),

@@ -27,12 +27,18 @@ fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
         .label("expected a well-formed URDF")
 }
 
-fn unreadable(path: &Path, e: std::io::Error) -> Diagnostic {
+fn unreadable(path: &Path, e: crate::limits::ReadError) -> Diagnostic {
     Diagnostic::new(
-        Code::E0301,
+        e.code(Code::E0301),
         format!("cannot read model file {}: {e}", path.display()),
     )
     .label("expected an existing, readable MJCF or URDF file")
+}
+
+/// A model file's text (a file that is not UTF-8 is located at its first bad byte).
+fn read_model(path: &Path) -> Result<String, Diagnostic> {
+    let limit = crate::limits::MAX_MODEL_BYTES;
+    read_source(path, limit, Code::E0301, "model", |e| unreadable(path, e)).map(|f| f.text.clone())
 }
 
 /// Whether the text is a URDF (its root element is `<robot>`).
@@ -43,10 +49,9 @@ fn is_urdf(text: &str) -> bool {
 impl ModelInfo {
     /// Read a model file: a URDF when its root element is `<robot>`, MJCF otherwise.
     pub fn from_file(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = read_source(path, Code::E0301, "model", |e| unreadable(path, e))?;
-        let text = &text.text;
-        if is_urdf(text) {
-            ModelInfo::from_urdf_str(path, text)
+        let text = read_model(path)?;
+        if is_urdf(text.as_str()) {
+            ModelInfo::from_urdf_str(path, &text)
         } else {
             ModelInfo::from_mjcf(path)
         }
@@ -54,9 +59,7 @@ impl ModelInfo {
 
     /// Read a URDF file.
     pub fn from_urdf(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = read_source(path, Code::E0301, "model", |e| unreadable(path, e))?;
-        let text = &text.text;
-        ModelInfo::from_urdf_str(path, text)
+        ModelInfo::from_urdf_str(path, &read_model(path)?)
     }
 
     /// Read a URDF given as text (`path` is used for messages).

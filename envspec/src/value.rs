@@ -119,9 +119,10 @@ pub fn read_document(
     at: Option<&Location>,
     what: &str,
 ) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
-    let file = crate::diagnostic::read_source(path, Code::E0600, what, |e| {
+    let limit = crate::limits::MAX_SPEC_BYTES;
+    let file = crate::diagnostic::read_source(path, limit, Code::E0600, what, |e| {
         Diagnostic::new(
-            Code::E0600,
+            e.code(Code::E0600),
             format!("cannot read {what} {}: {e}", path.display()),
         )
         .at_opt(at.cloned())

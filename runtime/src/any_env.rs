@@ -126,7 +126,10 @@ impl AnyEnv {
                 e.reset(seed);
             }
         }
-        Ok(())
+        match self.physics_env().reset_error() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
 
     /// One step with a joint action (float64).

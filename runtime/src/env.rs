@@ -259,6 +259,9 @@ pub struct Env {
     draw: Vec<f64>,
     elapsed: u64,
     has_reset: bool,
+    /// The reset step whose `resample_until` went unmet (E1104): `step` refuses until a reset
+    /// succeeds.
+    unmet_reset: Option<usize>,
     /// The current step's action came as float32 (numpy then computes action costs in float32).
     action_f32: bool,
     warnings: Vec<String>,
@@ -298,6 +301,7 @@ impl Env {
     ) -> Result<Env, EnvError> {
         mujoco_log::install();
         check_model(&spec, &model, world_sites)?;
+        crate::model_values::check(&spec.model_path, model.ffi())?;
         let data = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
             path: spec.model_path.clone(),
             message: format!("cannot allocate mjData: {e}"),
@@ -418,6 +422,7 @@ impl Env {
             uses_mass_center,
             elapsed: 0,
             has_reset: false,
+            unmet_reset: None,
             action_f32: false,
             warnings,
             observation_space,
@@ -554,10 +559,12 @@ impl Env {
         };
         qpos.copy_from_slice(&self.qpos_init);
         qvel.copy_from_slice(&self.qvel_init);
-        for step in &self.spec.reset {
+        self.unmet_reset = None;
+        for (k, step) in self.spec.reset.iter().enumerate() {
             let n = step.target.len();
             let draw = &mut self.draw[..n];
-            loop {
+            // The reference redraws for ever; envc gives up after a bound no real spec reaches.
+            for attempt in 1.. {
                 match &step.dist {
                     Distribution::Uniform { low, high } => {
                         for i in 0..n {
@@ -577,6 +584,10 @@ impl Env {
                     Some(Until::NormAbove(x)) => norm(numerics, n, &|i| draw[i]) > x,
                 };
                 if done {
+                    break;
+                }
+                if attempt >= envspec::limits::MAX_RESAMPLE_DRAWS {
+                    self.unmet_reset = Some(k);
                     break;
                 }
             }
@@ -600,7 +611,7 @@ impl Env {
         }
         self.sim.update_ten_j();
         self.elapsed = 0;
-        self.has_reset = true;
+        self.has_reset = self.unmet_reset.is_none();
         self.write_obs();
         let mut off = 0;
         for item in self.spec.reset_info() {
@@ -648,9 +659,19 @@ impl Env {
         self.advance()
     }
 
+    /// Why the last reset did not give a valid start (E1104), if it did not.
+    pub fn reset_error(&self) -> Option<EnvError> {
+        let step = &self.spec.reset[self.unmet_reset?];
+        Some(EnvError::ResampleUnmet {
+            env: self.spec.id.clone(),
+            step: step.name.clone(),
+            draws: envspec::limits::MAX_RESAMPLE_DRAWS,
+        })
+    }
+
     fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
         if !self.has_reset {
-            return Err(EnvError::NotReset);
+            return Err(self.reset_error().unwrap_or(EnvError::NotReset));
         }
         if len != self.sim.nu {
             return Err(EnvError::ActionLength {

@@ -24,6 +24,16 @@ pub enum EnvError {
     NonFiniteAction { index: usize, value: f64 },
     #[error("error[E1103]: step() called before the first reset()")]
     NotReset,
+    #[error(
+        "error[E1104]: {env}: the reset step [reset.{step}] drew {draws} times without meeting its resample_until condition; reset again with another seed, or widen the condition"
+    )]
+    ResampleUnmet {
+        env: String,
+        step: String,
+        draws: u32,
+    },
+    #[error("error[E1003]: {} cannot be run: {what}", path.display())]
+    BadModelValues { path: PathBuf, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
 }
@@ -38,6 +48,8 @@ impl EnvError {
             EnvError::ActionLength { .. } => Code::E1101,
             EnvError::NonFiniteAction { .. } => Code::E1102,
             EnvError::NotReset => Code::E1103,
+            EnvError::ResampleUnmet { .. } => Code::E1104,
+            EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Numerics(e) => e.code(),
         }
     }

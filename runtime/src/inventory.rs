@@ -33,7 +33,7 @@ const FIELDS: &[(&str, &str)] = &[
     ("ten_length", "tendons (ten_length, ten_velocity)"),
 ];
 
-fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
+pub(crate) fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
     // SAFETY: id is below the object count; MuJoCo returns NULL for unnamed objects.
     let p = unsafe { mj_id2name(m, obj as i32, id as i32) };
     if p.is_null() {

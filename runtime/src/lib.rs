@@ -26,6 +26,7 @@ pub mod inventory;
 pub mod maze;
 mod model_build;
 pub mod model_diff;
+mod model_values;
 mod mujoco_log;
 pub mod multi_agent;
 pub mod npy;

@@ -34,9 +34,13 @@ pub(crate) fn compile_error_text(path: &std::path::Path, message: &str) -> Strin
     else {
         return plain();
     };
-    let no_io = |e: std::io::Error| envspec::Diagnostic::new(envspec::Code::E1001, e.to_string());
-    let Ok(file) = envspec::diagnostic::read_source(path, envspec::Code::E1001, "model", no_io)
-    else {
+    // (MuJoCo has read the file, so it is within the limit; any failure keeps the plain form)
+    let limit = envspec::limits::MAX_MODEL_BYTES;
+    let unreadable = |e: envspec::limits::ReadError| {
+        envspec::Diagnostic::new(envspec::Code::E1001, e.to_string())
+    };
+    let read = envspec::diagnostic::read_source(path, limit, envspec::Code::E1001, "", unreadable);
+    let Ok(file) = read else {
         return plain();
     };
     let Some(start) = file.offset(line, 1) else {

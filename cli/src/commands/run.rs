@@ -24,10 +24,11 @@ pub struct Args {
     /// Parameter overrides (`key=value`, TOML literal values).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// Episode length cap for envs without a time limit (a continuing maze, a spec without
-    /// `max_episode_steps`), so a run always ends.
-    #[arg(long, default_value_t = 1000, value_name = "N")]
-    max_steps: u64,
+    /// Episode length cap. Required for envs without a time limit (a continuing maze, a spec
+    /// with `max_episode_steps = 0`), which might otherwise never end; for others it caps
+    /// episodes below their own limit.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    max_steps: Option<u64>,
     #[arg(long, value_enum, default_value = "text")]
     format: Format,
 }
@@ -56,6 +57,18 @@ fn stats(x: &[f64]) -> (f64, f64, f64, f64) {
     (mean, var.sqrt(), min, max)
 }
 
+/// E1401: an env without a time limit, and no `--max-steps`.
+pub fn needs_max_steps(command: &str, id: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}",
+        envspec::Diagnostic::new(
+            envspec::Code::E1401,
+            format!("`{id}` has no time limit, so `envc {command}` might never end an episode"),
+        )
+        .help("give --max-steps N (steps per episode), or set max_episode_steps in the spec (--set max_episode_steps=N)")
+    )
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     let mut env = crate::target::env(&args.spec, &args.set)?;
     let space = env.action_space().clone();
@@ -63,6 +76,9 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut policy_rng = NumpyRng::from_seed(args.seed);
     let mut action = vec![0.0; env.act_dim()];
     let limit = env.max_episode_steps();
+    let Some(cap) = args.max_steps.or(limit) else {
+        return Err(needs_max_steps("run", env.id()));
+    };
     let bar = if args.format == Format::Text {
         ProgressBar::new(args.episodes)
     } else {
@@ -95,7 +111,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             let s = env.step(&action)?;
             ret += s.reward;
             len += 1;
-            if s.terminated || s.truncated || (limit.is_none() && len >= args.max_steps) {
+            if s.terminated || s.truncated || len >= cap {
                 terminations += s.terminated as u64;
                 if s.terminated {
                     let (reason, example) = ending(&env);

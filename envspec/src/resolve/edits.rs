@@ -22,13 +22,19 @@ impl Ctx<'_> {
             if let Some(v) = p.get("timestep")
                 && let Some(ts) = self.num(v, "physics.timestep")
             {
-                if ts.is_finite() && ts > 0.0 {
+                if ts > 0.0 && ts <= crate::limits::MAX_TIMESTEP {
                     edits.timestep = Some(ts);
                 } else {
                     self.d.push(
-                        Diagnostic::new(Code::E0105, format!("timestep {ts} is not positive"))
-                            .at(v.loc.clone())
-                            .label("expected a positive number of seconds"),
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!(
+                                "timestep {ts} is not in (0, {}] seconds",
+                                crate::limits::MAX_TIMESTEP
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected a positive number of seconds, at most 1"),
                     );
                 }
             }
@@ -130,7 +136,29 @@ impl Ctx<'_> {
             },
         };
         let ctrlrange = match s.get("ctrlrange") {
-            Some(v) => self.range(v, &what("ctrlrange")).unwrap_or((-1.0, 1.0)),
+            Some(v) => match self.range(v, &what("ctrlrange")) {
+                // The action space is [low, high] in float32: it must be finite there, and so
+                // must its width, or sampling an action is meaningless.
+                Some((lo, hi))
+                    if !(lo as f32).is_finite()
+                        || !(hi as f32).is_finite()
+                        || !(hi - lo).is_finite() =>
+                {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!(
+                                "{}: [{lo}, {hi}] is not a finite control range",
+                                what("ctrlrange")
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected finite bounds (within float32, ±3.4e38)"),
+                    );
+                    (-1.0, 1.0)
+                }
+                r => r.unwrap_or((-1.0, 1.0)),
+            },
             None => (-1.0, 1.0),
         };
         let forcerange = s

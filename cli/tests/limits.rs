@@ -1,0 +1,445 @@
+//! Issue 16's crashes, aborts, runaway memory and hangs, each as the user met it: every input
+//! here once panicked, aborted, grew past gigabytes or never returned. Each now ends within
+//! seconds, under a memory cap, with a coded error at the offending line (`envspec::limits` holds
+//! the bounds; docs/limits.md explains them).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+/// `envc ARGS` under a 4 GB address-space cap and a 60 s wall clock (a regression must fail the
+/// test, not the machine).
+fn envc(args: &[&str]) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(r#"ulimit -v 4000000; exec timeout -s KILL 60 "$0" "$@""#)
+        .arg(env!("CARGO_BIN_EXE_envc"))
+        .args(args)
+        .output()
+        .expect("run envc")
+}
+
+/// The exit status is 1 (problems found) or 2 (refused) and stderr or stdout names `code`; never
+/// a signal (abort, OOM kill, timeout) or a panic.
+fn refused(o: &Output, code: &str) -> String {
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        matches!(o.status.code(), Some(1 | 2)),
+        "status {:?} (a signal is an abort, an OOM kill or the timeout):\n{text}",
+        o.status
+    );
+    assert!(!text.contains("panicked"), "{text}");
+    assert!(
+        text.contains(&format!("[{code}]")),
+        "expected {code}:\n{text}"
+    );
+    text
+}
+
+/// A scratch directory holding a copy of a bundled spec and its model, edited.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("envc-limits-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Scratch(dir)
+    }
+    /// `specs/gymnasium/<spec>` with `edit` applied, its model copied beside it with `edit_xml`.
+    fn spec(&self, spec: &str, edit: &[(&str, &str)], edit_xml: &[(&str, &str)]) -> PathBuf {
+        let mut text =
+            std::fs::read_to_string(Path::new(ROOT).join("specs/gymnasium").join(spec)).unwrap();
+        let xml_line = text
+            .lines()
+            .find(|l| l.starts_with("xml_file"))
+            .unwrap()
+            .to_string();
+        let xml_rel = xml_line.split('"').nth(1).unwrap().to_string();
+        let mut xml =
+            std::fs::read_to_string(Path::new(ROOT).join("specs/gymnasium").join(&xml_rel))
+                .unwrap();
+        for (a, b) in edit_xml {
+            assert!(xml.contains(a), "{a} not in {xml_rel}");
+            xml = xml.replacen(a, b, 1);
+        }
+        std::fs::write(self.0.join("model.xml"), xml).unwrap();
+        text = text.replace(&xml_rel, "model.xml");
+        for (a, b) in edit {
+            assert!(text.contains(a), "{a} not in {spec}");
+            text = text.replacen(a, b, 1);
+        }
+        let p = self.0.join(spec);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Text replacements applied to a spec.
+type Edits<'a> = &'a [(&'a str, &'a str)];
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn an_infinite_control_range_in_the_model_is_refused_not_a_panic() {
+    let dir = Scratch::new("ctrlrange");
+    for range in ["-1e308 1e308", "-inf inf", "-1e39 1e39"] {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[],
+            &[(
+                r#"gear="200" ctrllimited="true" ctrlrange="-1 1""#,
+                &format!(r#"gear="200" ctrllimited="true" ctrlrange="{range}""#),
+            )],
+        );
+        for cmd in [
+            &["run", s(&spec), "--episodes", "1"][..],
+            &["check", "--compile", s(&spec)],
+            &[
+                "collect",
+                s(&spec),
+                "--dataset-id",
+                "x/y-v0",
+                "--episodes",
+                "1",
+                "--policy",
+                "random",
+            ],
+        ] {
+            let text = refused(&envc(cmd), "E1003");
+            assert!(
+                text.contains("actuator #0 (on joint `thigh_joint`)")
+                    && text.contains(&format!("ctrlrange [{range}]")),
+                "{text}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_infinite_control_range_in_the_spec_is_located() {
+    let dir = Scratch::new("spec-ctrlrange");
+    let arm = std::fs::read_to_string(Path::new(ROOT).join("tests/fixtures/urdf/reach_arm.toml"))
+        .unwrap();
+    std::fs::copy(
+        Path::new(ROOT).join("tests/fixtures/urdf/arm.urdf"),
+        dir.0.join("arm.urdf"),
+    )
+    .unwrap();
+    let spec = dir.0.join("arm.toml");
+    std::fs::write(
+        &spec,
+        arm.replace("ctrlrange = [-1.0, 1.0]", "ctrlrange = [-inf, inf]"),
+    )
+    .unwrap();
+    let text = refused(&envc(&["check", s(&spec)]), "E0105");
+    assert!(text.contains("arm.toml:25:13"), "{text}");
+    std::fs::write(&spec, arm.replace("gear = \"motor_gear\"", "gear = inf")).unwrap();
+    let text = refused(&envc(&["check", s(&spec)]), "E0105");
+    assert!(
+        text.contains("arm.toml:24:8") && text.contains("must be a finite number"),
+        "{text}"
+    );
+}
+
+#[test]
+fn mujoco_sizes_that_would_exhaust_memory_are_refused_before_mujoco_allocates() {
+    let dir = Scratch::new("sizes");
+    let cases = [
+        (r#"<size nuser_geom="999999999"/>"#, "nuser_geom"),
+        (r#"<size memory="64G"/>"#, "memory"),
+        (
+            r#"<asset><texture name="huge" builtin="checker" width="100000" height="100000"/></asset>"#,
+            "width",
+        ),
+        (
+            r#"<asset><hfield name="huge" nrow="100000" ncol="100000" size="1 1 1 1"/></asset>"#,
+            "nrow",
+        ),
+    ];
+    for (element, attr) in cases {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[],
+            &[("<worldbody>", &format!("{element}\n  <worldbody>"))],
+        );
+        for cmd in [&["check", "--compile", s(&spec)][..], &["show", s(&spec)]] {
+            let text = refused(&envc(cmd), "E0110");
+            assert!(text.contains(attr) && text.contains("model.xml:"), "{text}");
+        }
+    }
+}
+
+#[test]
+fn devices_and_fifos_are_not_read() {
+    let dir = Scratch::new("devices");
+    let spec = dir.spec("hopper.toml", &[("model.xml", "/dev/zero")], &[]);
+    let text = refused(&envc(&["check", "--compile", s(&spec)]), "E0301");
+    assert!(text.contains("device, not a regular file"), "{text}");
+    let text = refused(&envc(&["check", "/dev/zero"]), "E0600");
+    assert!(text.contains("device, not a regular file"), "{text}");
+    // A FIFO would block the open until a writer comes.
+    let fifo = dir.0.join("fifo.toml");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let text = refused(&envc(&["check", s(&fifo)]), "E0600");
+    assert!(text.contains("FIFO"), "{text}");
+    // A spec over the size limit (a long comment keeps it valid TOML).
+    let big = dir.0.join("big.toml");
+    let hopper = std::fs::read_to_string(dir.spec("hopper.toml", &[], &[])).unwrap();
+    std::fs::write(&big, format!("{hopper}\n#{}\n", "x".repeat(5 << 20))).unwrap();
+    let text = refused(&envc(&["check", s(&big)]), "E0110");
+    assert!(text.contains("4 MiB"), "{text}");
+}
+
+#[test]
+fn a_resample_condition_that_cannot_be_met_is_a_spec_error() {
+    let dir = Scratch::new("resample");
+    for (cond, code, why) in [
+        ("{ norm_below = 0.0 }", "E0110", "never below 0"),
+        ("{ norm_below = -1.0 }", "E0110", "never below -1"),
+        ("{ norm_below = nan }", "E0105", "NaN"),
+        ("{ norm_below = 0.01 }", "E0110", "smallest norm"),
+    ] {
+        // Reacher's goal is drawn from [-0.2, 0.2]²; the last case also moves it away from 0.
+        let low = if why == "smallest norm" {
+            "low = 0.1\nhigh = 0.2\nmode = \"set\""
+        } else {
+            "low = -0.2\nhigh = 0.2\nmode = \"set\""
+        };
+        let spec = dir.spec(
+            "reacher.toml",
+            &[
+                ("low = -0.2\nhigh = 0.2\nmode = \"set\"", low),
+                (
+                    "resample_until = { norm_below = 0.2 }",
+                    &format!("resample_until = {cond}"),
+                ),
+            ],
+            &[],
+        );
+        for cmd in [
+            &["check", "--compile", s(&spec)][..],
+            &["run", s(&spec), "--episodes", "1"],
+        ] {
+            let text = refused(&envc(cmd), code);
+            assert!(
+                text.contains(why) && text.contains("reacher.toml:61:"),
+                "{text}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_reset_condition_that_is_merely_improbable_gives_up_with_e1104() {
+    // Possible (the box touches the ball) but with probability ~1e-30 per draw.
+    let dir = Scratch::new("improbable");
+    let spec = dir.spec(
+        "reacher.toml",
+        &[
+            (
+                "low = -0.2\nhigh = 0.2\nmode = \"set\"",
+                "low = -1e6\nhigh = 1e6\nmode = \"set\"",
+            ),
+            (
+                "resample_until = { norm_below = 0.2 }",
+                "resample_until = { norm_below = 1e-9 }",
+            ),
+        ],
+        &[],
+    );
+    let text = refused(&envc(&["run", s(&spec), "--episodes", "1"]), "E1104");
+    assert!(
+        text.contains("[reset.goal]") && text.contains("1000000 times"),
+        "{text}"
+    );
+}
+
+#[test]
+fn an_env_without_a_time_limit_needs_max_steps() {
+    let text = refused(&envc(&["run", "Point-v0"]), "E1401");
+    assert!(text.contains("--max-steps"), "{text}");
+    let o = envc(&[
+        "run",
+        "Point-v0",
+        "--episodes",
+        "2",
+        "--max-steps",
+        "30",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["steps"], 60);
+}
+
+#[test]
+fn frame_skip_and_episode_length_have_limits_in_the_spec_and_in_overrides() {
+    let dir = Scratch::new("steps");
+    let spec = dir.spec("hopper.toml", &[], &[]);
+    for (set, code, what) in [
+        ("frame_skip=1000000000", "E0110", "limit of 1000"),
+        ("frame_skip=0", "E0105", "positive"),
+        ("max_episode_steps=2147483648", "E0110", "limit of 10000000"),
+        ("max_episode_steps=-1", "E0105", "≥ 0"),
+    ] {
+        for cmd in [
+            &["check", "--compile", s(&spec), "--set", set][..],
+            &["run", s(&spec), "--set", set],
+        ] {
+            let text = refused(&envc(cmd), code);
+            assert!(text.contains(what) && text.contains("override"), "{text}");
+        }
+    }
+    let spec = dir.spec(
+        "hopper.toml",
+        &[("default = 4,", "default = 1000000000,")],
+        &[],
+    );
+    let text = refused(&envc(&["check", s(&spec)]), "E0110");
+    assert!(text.contains("hopper.toml:10:"), "{text}");
+}
+
+#[test]
+fn nan_and_infinite_values_are_refused_where_they_make_a_spec_meaningless() {
+    let dir = Scratch::new("nan");
+    let cases: [(Edits, &str, &str); 3] = [
+        (
+            &[("weight = \"ctrl_cost_weight\"", "weight = nan")],
+            "E0105",
+            "weight is NaN",
+        ),
+        (
+            &[("default = [0.7, inf]", "default = [nan, nan]")],
+            "E0105",
+            "is NaN",
+        ),
+        (
+            &[("weight = \"ctrl_cost_weight\"", "weight = -inf")],
+            "E0105",
+            "must be a finite number",
+        ),
+    ];
+    for (edit, code, what) in cases {
+        let spec = dir.spec("hopper.toml", edit, &[]);
+        let text = refused(&envc(&["check", s(&spec)]), code);
+        assert!(
+            text.contains(what) && text.contains("hopper.toml:"),
+            "{text}"
+        );
+    }
+    let text = refused(
+        &envc(&["run", "Hopper-v5", "--set", "ctrl_cost_weight=nan"]),
+        "E0105",
+    );
+    assert!(
+        text.contains("override of `ctrl_cost_weight` is NaN"),
+        "{text}"
+    );
+    let text = refused(
+        &envc(&["run", "Hopper-v5", "--set", "ctrl_cost_weight=inf"]),
+        "E0105",
+    );
+    assert!(
+        text.contains("inf") && text.contains("ctrl_cost_weight"),
+        "{text}"
+    );
+    let text = refused(
+        &envc(&[
+            "run",
+            "Hopper-v5",
+            "--set",
+            "ctrl_cost_weight=0.1",
+            "--set",
+            "ctrl_cost_weight=0.2",
+        ]),
+        "E0205",
+    );
+    assert!(text.contains("more than once"), "{text}");
+}
+
+#[test]
+fn non_finite_or_huge_model_positions_are_refused() {
+    let dir = Scratch::new("positions");
+    for pos in ["1e308 0 0", "nan 0 0", "0 0 1e7"] {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[],
+            &[(
+                r#"<body name="torso" pos="0 0 1.25">"#,
+                &format!(r#"<body name="torso" pos="{pos}">"#),
+            )],
+        );
+        let text = refused(&envc(&["run", s(&spec), "--episodes", "1"]), "E1003");
+        assert!(text.contains("body `torso`"), "{text}");
+    }
+}
+
+#[test]
+fn reset_draws_beyond_the_coordinate_limit_are_refused() {
+    let text = refused(
+        &envc(&[
+            "run",
+            "Hopper-v5",
+            "--set",
+            "reset_noise_scale=1e300",
+            "--episodes",
+            "1",
+        ]),
+        "E0110",
+    );
+    assert!(
+        text.contains("[reset.qpos]: a draw as large as 1e300")
+            && text.contains("hopper.toml:76:9"),
+        "{text}"
+    );
+}
+
+#[test]
+fn option_numbers_must_be_finite_and_the_timestep_positive() {
+    let dir = Scratch::new("option");
+    for (option, attr) in [
+        (r#"<option timestep="0"/>"#, "timestep"),
+        (r#"<option timestep="-1"/>"#, "timestep"),
+        (r#"<option timestep="nan"/>"#, "timestep"),
+        (r#"<option timestep="1e10"/>"#, "timestep"),
+        (r#"<option gravity="nan 0 -9.81"/>"#, "gravity"),
+        (r#"<option wind="0 inf 0"/>"#, "wind"),
+    ] {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[],
+            &[("<worldbody>", &format!("{option}\n  <worldbody>"))],
+        );
+        let text = refused(&envc(&["run", s(&spec), "--episodes", "1"]), "E0105");
+        assert!(
+            text.contains(&format!("<option {attr}=")) && text.contains("model.xml:"),
+            "{text}"
+        );
+    }
+}

@@ -1,0 +1,330 @@
+//! envc's limits, in one place: how large a file, a MuJoCo size, a `frame_skip` or an episode may
+//! be before envc refuses it (E0110) instead of hanging, aborting or exhausting memory. Every
+//! bound is far above what any published environment uses; `docs/limits.md` lists them with the
+//! reasons.
+
+use std::io::Read;
+use std::path::Path;
+
+use crate::diagnostic::{Code, Diagnostic, Location, SourceFile};
+
+/// A spec, map, registry or agents file (the largest bundled spec is about 10 KB).
+pub const MAX_SPEC_BYTES: u64 = 4 << 20;
+/// One MJCF or URDF file, each `<include>` counted separately (Menagerie's largest is ~1 MB).
+pub const MAX_MODEL_BYTES: u64 = 64 << 20;
+/// A mesh, texture, heightfield or skin file a model names (read by MuJoCo, not by envspec).
+pub const MAX_ASSET_BYTES: u64 = 512 << 20;
+/// Physics steps per env step (Gymnasium's largest is 5).
+pub const MAX_FRAME_SKIP: i64 = 1000;
+/// Steps per episode (Gymnasium's largest is 1000). 0 means no time limit.
+pub const MAX_EPISODE_STEPS: i64 = 10_000_000;
+/// Draws one `resample_until` may take at reset before it gives up (E1104). Gymnasium loops for
+/// ever; Reacher's goal is accepted with probability π/4, so a real spec never gets near this.
+pub const MAX_RESAMPLE_DRAWS: u32 = 1_000_000;
+/// MuJoCo sizes a model states in its MJCF, checked before MuJoCo allocates them: an absurd
+/// `nuser_geom` or texture size otherwise ends in an uncatchable C++ `std::bad_alloc`.
+pub const MAX_ARENA_BYTES: u64 = 4 << 30;
+/// Each `nuser_*` (user numbers per element), `nkey`.
+pub const MAX_PER_ELEMENT: i64 = 100_000;
+/// `nuserdata`, `nconmax`, `njmax`, `nstack` (entries, not bytes).
+pub const MAX_BUFFER_ENTRIES: i64 = 100_000_000;
+/// Texture pixels (width × height), heightfield samples (nrow × ncol), replicated copies and
+/// composite/flexcomp elements.
+pub const MAX_GRID: i64 = 100_000_000;
+/// MuJoCo's `<option timestep>`, in seconds (Gymnasium's largest is 0.01; MuJoCo's default 0.002).
+pub const MAX_TIMESTEP: f64 = 1.0;
+/// Model coordinates (qpos0, body and geom positions, geom sizes), in metres or radians: beyond
+/// this MuJoCo's collision and integration take seconds per step or reset the state.
+pub const MAX_COORDINATE: f64 = 1e6;
+
+/// Why a file could not be read.
+#[derive(Debug)]
+pub enum ReadError {
+    Io(std::io::Error),
+    /// A device, FIFO, socket or directory: reading it could block or never end.
+    NotAFile(&'static str),
+    TooLarge {
+        limit: u64,
+    },
+    /// Not UTF-8: the byte offset of the first invalid byte.
+    NotUtf8 {
+        offset: usize,
+    },
+}
+
+impl std::fmt::Display for ReadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReadError::Io(e) => write!(f, "{e}"),
+            ReadError::NotAFile(kind) => write!(f, "it is a {kind}, not a regular file"),
+            ReadError::TooLarge { limit } => write!(
+                f,
+                "it is larger than envc's limit of {} (envspec::limits)",
+                human_bytes(*limit)
+            ),
+            ReadError::NotUtf8 { offset } => {
+                write!(f, "it is not UTF-8 text (invalid byte at offset {offset})")
+            }
+        }
+    }
+}
+
+impl ReadError {
+    /// E0110 for a size limit, else the caller's code for an unreadable file.
+    pub fn code(&self, unreadable: Code) -> Code {
+        match self {
+            ReadError::TooLarge { .. } => Code::E0110,
+            _ => unreadable,
+        }
+    }
+}
+
+/// `4 MiB`, `512 MiB`, `4 GiB`.
+pub fn human_bytes(n: u64) -> String {
+    match n {
+        n if n >= 1 << 30 && n % (1 << 30) == 0 => format!("{} GiB", n >> 30),
+        n if n >= 1 << 20 && n % (1 << 20) == 0 => format!("{} MiB", n >> 20),
+        n => format!("{n} bytes"),
+    }
+}
+
+/// The kind of a non-regular file, or None for a regular file.
+fn not_a_file(meta: &std::fs::Metadata) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    let t = meta.file_type();
+    match () {
+        _ if t.is_file() => None,
+        _ if t.is_dir() => Some("directory"),
+        _ if t.is_char_device() || t.is_block_device() => Some("device"),
+        _ if t.is_fifo() => Some("FIFO"),
+        _ if t.is_socket() => Some("socket"),
+        _ => Some("special file"),
+    }
+}
+
+/// Check that `path` is a regular file of at most `limit` bytes, without opening it (opening a
+/// FIFO blocks until a writer comes).
+pub fn check_file(path: &Path, limit: u64) -> Result<(), ReadError> {
+    let meta = std::fs::metadata(path).map_err(ReadError::Io)?;
+    if let Some(kind) = not_a_file(&meta) {
+        return Err(ReadError::NotAFile(kind));
+    }
+    if meta.len() > limit {
+        return Err(ReadError::TooLarge { limit });
+    }
+    Ok(())
+}
+
+/// Read a text file of at most `limit` bytes. The read itself is bounded too, so a file that
+/// grows while it is read cannot exhaust memory.
+pub fn read_text(path: &Path, limit: u64) -> Result<String, ReadError> {
+    check_file(path, limit)?;
+    let mut bytes = vec![];
+    std::fs::File::open(path)
+        .and_then(|f| f.take(limit + 1).read_to_end(&mut bytes))
+        .map_err(ReadError::Io)?;
+    if bytes.len() as u64 > limit {
+        return Err(ReadError::TooLarge { limit });
+    }
+    String::from_utf8(bytes).map_err(|e| ReadError::NotUtf8 {
+        offset: e.utf8_error().valid_up_to(),
+    })
+}
+
+/// The sizes an MJCF document states that make MuJoCo allocate: `<size>`'s user and buffer
+/// sizes and `memory`, texture and heightfield grids, replicate and composite counts. Each one
+/// over its limit is an E0110 at its attribute. Also `<option>`'s numbers: finite, with a
+/// timestep in (0, `MAX_TIMESTEP`] (E0105). `source` is the document's text as a located file.
+pub fn check_mjcf_sizes(
+    doc: &roxmltree::Document,
+    source: &std::sync::Arc<SourceFile>,
+) -> Vec<Diagnostic> {
+    let mut out = vec![];
+    let at = |node: roxmltree::Node, attr: &str| -> Location {
+        let span = node
+            .attribute_node(attr)
+            .map(|a| a.range_value())
+            .unwrap_or_else(|| node.range());
+        Location::new(source, span)
+    };
+    // An integer attribute (MuJoCo reads ints with strtol; a non-number is MuJoCo's to report).
+    let int = |node: roxmltree::Node, attr: &str| -> Option<i64> {
+        node.attribute(attr)?
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .map(|x| x as i64)
+    };
+    let over = |node: roxmltree::Node, attr: &str, value: String, limit: String| {
+        Diagnostic::new(
+            Code::E0110,
+            format!(
+                "<{} {attr}> asks MuJoCo for {value}, beyond envc's limit of {limit}",
+                node.tag_name().name()
+            ),
+        )
+        .at(at(node, attr))
+        .label(format!("expected at most {limit}"))
+        .help("MuJoCo would try to allocate it (and abort when it cannot); see docs/limits.md")
+    };
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        match node.tag_name().name() {
+            "option" => {
+                // Every number of <option> must be finite (a NaN gravity makes every reward NaN),
+                // and the timestep in (0, MAX_TIMESTEP].
+                for a in node.attributes() {
+                    let nums: Vec<f64> = a
+                        .value()
+                        .split_whitespace()
+                        .map_while(|x| x.parse().ok())
+                        .collect();
+                    let bad = nums.iter().any(|x| !x.is_finite())
+                        || (a.name() == "timestep"
+                            && nums
+                                .first()
+                                .is_some_and(|&t| !(t > 0.0 && t <= MAX_TIMESTEP)));
+                    if bad {
+                        let expected = if a.name() == "timestep" {
+                            format!("a timestep in (0, {MAX_TIMESTEP}] seconds")
+                        } else {
+                            "finite numbers".to_string()
+                        };
+                        out.push(
+                            Diagnostic::new(
+                                Code::E0105,
+                                format!(
+                                    "<option {}=\"{}\"> is not {expected}",
+                                    a.name(),
+                                    a.value()
+                                ),
+                            )
+                            .at(at(node, a.name()))
+                            .label(format!("expected {expected}")),
+                        );
+                    }
+                }
+            }
+            "size" => {
+                for a in node.attributes() {
+                    let name = a.name();
+                    let limit = if name.starts_with("nuser_") || name == "nkey" {
+                        MAX_PER_ELEMENT
+                    } else if matches!(name, "nuserdata" | "nconmax" | "njmax" | "nstack") {
+                        MAX_BUFFER_ENTRIES
+                    } else {
+                        continue;
+                    };
+                    if let Some(n) = int(node, name)
+                        && n > limit
+                    {
+                        out.push(over(node, name, n.to_string(), limit.to_string()));
+                    }
+                }
+                if let Some(m) = node.attribute("memory")
+                    && let Some(bytes) = memory_bytes(m)
+                    && bytes > MAX_ARENA_BYTES as f64
+                {
+                    out.push(over(
+                        node,
+                        "memory",
+                        m.trim().to_string(),
+                        human_bytes(MAX_ARENA_BYTES),
+                    ));
+                }
+            }
+            tag @ ("texture" | "hfield") => {
+                let (a, b) = if tag == "texture" {
+                    ("width", "height")
+                } else {
+                    ("nrow", "ncol")
+                };
+                let n = int(node, a).unwrap_or(1).max(1) as i128
+                    * int(node, b).unwrap_or(1).max(1) as i128;
+                if n > MAX_GRID as i128 {
+                    out.push(over(
+                        node,
+                        a,
+                        format!("{n} samples ({a} × {b})"),
+                        MAX_GRID.to_string(),
+                    ));
+                }
+            }
+            tag @ ("replicate" | "composite" | "flexcomp") => {
+                let n: i128 = node
+                    .attribute("count")
+                    .map(|c| {
+                        c.split_whitespace()
+                            .filter_map(|x| x.parse::<f64>().ok())
+                            .map(|x| (x as i128).max(1))
+                            .product()
+                    })
+                    .unwrap_or(1);
+                if n > MAX_GRID as i128 {
+                    out.push(over(
+                        node,
+                        "count",
+                        format!("{n} copies of <{tag}>"),
+                        MAX_GRID.to_string(),
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// MuJoCo's `memory` size: a number of bytes with an optional K/M/G/T/P/E suffix (powers of 1024).
+fn memory_bytes(s: &str) -> Option<f64> {
+    let s = s.trim();
+    let (num, scale) = match s.char_indices().last()? {
+        (i, c) if c.is_ascii_alphabetic() => {
+            let p = "KMGTPE".find(c.to_ascii_uppercase())? as i32 + 1;
+            (&s[..i], 1024f64.powi(p))
+        }
+        _ => (s, 1.0),
+    };
+    num.trim().parse::<f64>().ok().map(|n| n * scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_sizes_read_like_mujoco() {
+        assert_eq!(memory_bytes("100M"), Some(100.0 * 1024.0 * 1024.0));
+        assert_eq!(memory_bytes("2G"), Some(2.0 * 1024f64.powi(3)));
+        assert_eq!(memory_bytes("4096"), Some(4096.0));
+        assert_eq!(memory_bytes("1Q"), None);
+    }
+
+    #[test]
+    fn devices_and_directories_are_not_files() {
+        assert!(matches!(
+            read_text(Path::new("/dev/zero"), MAX_SPEC_BYTES),
+            Err(ReadError::NotAFile("device"))
+        ));
+        assert!(matches!(
+            read_text(Path::new("/"), MAX_SPEC_BYTES),
+            Err(ReadError::NotAFile("directory"))
+        ));
+    }
+
+    #[test]
+    fn stated_sizes_over_the_limits_are_located() {
+        let text = "<mujoco>\n  <size nuser_geom=\"999999999\" memory=\"64G\"/>\n  <asset><texture name=\"t\" builtin=\"checker\" width=\"100000\" height=\"100000\"/></asset>\n</mujoco>\n";
+        let file = SourceFile::new("m.xml", text.to_string());
+        let doc = roxmltree::Document::parse(text).unwrap();
+        let d = check_mjcf_sizes(&doc, &file);
+        let msgs: Vec<_> = d.iter().map(|d| (d.code, d.position())).collect();
+        assert_eq!(
+            msgs,
+            [
+                (Code::E0110, Some("m.xml:2:21".to_string())),
+                (Code::E0110, Some("m.xml:2:40".to_string())),
+                (Code::E0110, Some("m.xml:3:53".to_string())),
+            ]
+        );
+    }
+}
