@@ -416,6 +416,7 @@ fn runtime_maze_checks_point_at_the_spec() {
             .unwrap(),
     );
     assert_eq!(d.code, envspec::Code::E0707);
+    assert!(d.message.contains("has 1 qpos entry;"), "{d}");
     assert!(d.position().unwrap().ends_with("m.toml:3:9"), "{d}");
     // A spec changed after reading skips the reader's checks; `new` still refuses it.
     let mut spec = envspec::maze::load_maze(&specs.join("point_maze.toml"), &[]).unwrap();
@@ -497,6 +498,19 @@ fn maze_errors_about_the_robot_point_into_the_maze_spec() {
 
     let (d, at) = case(&point, "goal_threshold = -0.5");
     assert_eq!((d.code, at.as_str()), (Code::E0803, "m.toml:7:18"), "{d}");
+
+    // A robot whose own goal terms use a goal vector of 1 element (the maze's has 2).
+    let goal_robot = std::fs::read_to_string(&point).unwrap().replace(
+        "../../../assets",
+        &format!("{}/../assets", env!("CARGO_MANIFEST_DIR")),
+    ) + "\n[reward.near]\nkind = \"goal_sparse\"\nachieved = \"qpos[0:1]\"\ndesired = \"goal\"\nthreshold = 0.1\n";
+    std::fs::write(dir.join("goal_robot.toml"), goal_robot).unwrap();
+    let (d, at) = case("goal_robot.toml", "");
+    assert_eq!((d.code, at.as_str()), (Code::E0801, "m.toml:3:9"), "{d}");
+    assert_eq!(
+        d.label.as_deref(),
+        Some("the robot spec, with goal terms of its own")
+    );
 
     // A robot model with a site named `target`, the maze's goal marker.
     std::fs::write(

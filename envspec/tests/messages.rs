@@ -196,3 +196,14 @@ fn a_base_that_is_a_multi_agent_spec_names_the_task_it_splits() {
     let help = e.help.as_deref().unwrap_or_default();
     assert!(help.ends_with("specs/gymnasium/ant.toml"), "{help}");
 }
+
+#[test]
+fn one_is_singular() {
+    let text = "[maze]\nid = \"M-v0\"\nrobot = \"r.toml\"\nmaze_size_scaling = 1.0\nmaze_height = 0.4\nmap = \"1 1\\n1\"\n";
+    let file = envspec::SourceFile::new("m.toml", text.to_string());
+    let root = envspec::value::parse_document(&file).expect("TOML");
+    let d = envspec::maze::from_document(&file, &root, &[]).expect_err("ragged");
+    assert_eq!(d.0[0].message, "maze row 1 has 1 cell but row 0 has 2");
+    assert_eq!(d.0[0].label.as_deref(), Some("expected 2 cells"));
+    assert!(d.to_string().ends_with("\n1 error found"), "{d}");
+}

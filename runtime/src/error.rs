@@ -12,9 +12,12 @@ pub enum EnvError {
     Spec(#[from] Diagnostics),
     #[error("{}", crate::model_build::compile_error_text(path, message))]
     Compile { path: PathBuf, message: String },
-    #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {what}", path.display())]
+    #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {}", path.display(), envspec::diagnostic::escape(what))]
     ModelMismatch { path: PathBuf, what: String },
-    #[error("error[E1101]: action has {got} entries but {env} expects {expected}")]
+    #[error(
+        "error[E1101]: action has {got} entries but {} expects {expected}",
+        envspec::diagnostic::escape(env)
+    )]
     ActionLength {
         env: String,
         expected: usize,

@@ -191,8 +191,12 @@ impl MazeEnv {
                 Diagnostic::new(
                     Code::E0707,
                     format!(
-                        "the robot `{}` has {} qpos entries; a maze robot needs its root x, y in qpos[0:2]",
-                        robot_spec.id, robot_spec.model.nq
+                        "the robot `{}` has {}; a maze robot needs its root x, y in qpos[0:2]",
+                        robot_spec.id,
+                        match robot_spec.model.nq {
+                            1 => "1 qpos entry".to_string(),
+                            n => format!("{n} qpos entries"),
+                        }
                     ),
                 )
                 .at_opt(spec.locations.robot.clone())
@@ -217,10 +221,25 @@ impl MazeEnv {
         }
         let model = Arc::new(build_world(&spec, &robot_spec)?);
         fit::check_robot_fits(&spec, &robot_spec, &model)?;
-        let task = spec
-            .goal_task(&robot_spec.model)
-            .map_err(Diagnostics::from)?;
-        let robot_spec = task.apply(robot_spec).map_err(Diagnostics::from)?;
+        // The goal terms' errors have no place of their own: the threshold's is the maze's, the
+        // others (a robot with a goal vector of its own) the robot's.
+        let place = |d: Diagnostic| {
+            let (at, what) = match d.code {
+                Code::E0803 => (&spec.locations.maze, "the maze's goal task"),
+                _ => (
+                    &spec.locations.robot,
+                    "the robot spec, with goal terms of its own",
+                ),
+            };
+            let d = match (&d.location, &d.label) {
+                (Some(_), _) => d,
+                (None, None) => d.at_opt(at.clone()).label(what),
+                (None, Some(_)) => d.at_opt(at.clone()),
+            };
+            Diagnostics::from(d)
+        };
+        let task = spec.goal_task(&robot_spec.model).map_err(place)?;
+        let robot_spec = task.apply(robot_spec).map_err(place)?;
         let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
         let obs = MazeObs {
             observation: vec![0.0; robot.obs_dim()],
