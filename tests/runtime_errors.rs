@@ -195,7 +195,7 @@ fn instability_warnings_are_retrievable() {
     let xml = dir.join("unstable.xml");
     std::fs::write(
         &xml,
-        r#"<mujoco><option timestep="10"/><worldbody><body name="b"><joint name="j" type="slide" stiffness="1e9"/>
+        r#"<mujoco><option timestep="1"/><worldbody><body name="b"><joint name="j" type="slide" stiffness="1e9"/>
            <geom type="sphere" size="0.1"/></body></worldbody><actuator><motor joint="j" gear="1e6"/></actuator></mujoco>"#,
     )
     .unwrap();
@@ -240,4 +240,74 @@ fn negative_reset_noise_is_a_spec_error_not_a_panic() {
         .unwrap();
     assert_eq!(e.code(), Code::E0105);
     assert!(e.to_string().contains("[reset.qpos]"), "{e}");
+}
+
+/// A Hopper whose MuJoCo arena (`<size memory>`) holds a contact-free state but overflows once
+/// the robot touches the floor: MuJoCo's `mju_error` used to print `ERROR:` on stdout, append to
+/// MUJOCO_LOG.TXT in the working directory and end the process with exit(1).
+fn hopper_with_arena(dir: &Path, memory: &str) -> PathBuf {
+    let xml = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/gymnasium/hopper.xml"),
+    )
+    .unwrap()
+    .replacen(
+        "<worldbody>",
+        &format!("<size memory=\"{memory}\"/>\n  <worldbody>"),
+        1,
+    );
+    std::fs::write(dir.join("hopper.xml"), xml).unwrap();
+    let toml = std::fs::read_to_string(spec("hopper.toml"))
+        .unwrap()
+        .replace("../../assets/gymnasium/hopper.xml", "hopper.xml");
+    let p = dir.join("hopper.toml");
+    std::fs::write(&p, toml).unwrap();
+    p
+}
+
+#[test]
+fn a_mujoco_error_in_a_step_is_an_error_value_and_a_reset_recovers() {
+    let dir = tempdir("arena");
+    let mut env = Env::from_spec_file(hopper_with_arena(&dir, "17K"), &[]).unwrap();
+    // Steps until the arena overflows, from the reset of `seed`.
+    let run = |env: &mut Env, seed: u64| -> usize {
+        env.reset(Some(seed));
+        for n in 1..=1000 {
+            if let Err(e) = env.step(&[1.0, -1.0, 1.0]) {
+                assert_eq!(e.code(), Code::E1004, "{e}");
+                let text = e.to_string();
+                assert!(
+                    text.contains("mj_stackAlloc: out of memory") && text.contains("in a step"),
+                    "{text}"
+                );
+                return n;
+            }
+        }
+        panic!("no arena overflow in 1000 steps")
+    };
+    let first = run(&mut env, 7);
+    // No step from MuJoCo's mid-error state.
+    assert_eq!(env.step(&[0.0; 3]).unwrap_err().code(), Code::E1103);
+    // A reset gives exactly the state a fresh env gives for the same seed, and the same run fails
+    // at the same step again.
+    let mut fresh = Env::make("Hopper-v5", &[]).unwrap();
+    assert_eq!(
+        env.reset(Some(7)).0.to_vec(),
+        fresh.reset(Some(7)).0.to_vec()
+    );
+    assert_eq!(run(&mut env, 7), first);
+    assert!(!dir.join("MUJOCO_LOG.TXT").exists() && !Path::new("MUJOCO_LOG.TXT").exists());
+}
+
+#[test]
+fn a_model_mujoco_cannot_run_at_all_is_refused_when_the_env_is_built() {
+    let dir = tempdir("arena-tiny");
+    let e = Env::from_spec_file(hopper_with_arena(&dir, "10K"), &[])
+        .err()
+        .unwrap();
+    assert_eq!(e.code(), Code::E1004, "{e}");
+    assert!(
+        e.to_string()
+            .contains("in a trial mj_forward when building the env"),
+        "{e}"
+    );
 }

@@ -229,6 +229,8 @@ pub enum Code {
     /// The compiled model holds values envc cannot run: a control range that is not finite, a
     /// non-finite or out-of-bounds position.
     E1003,
+    /// MuJoCo raised an error (`mju_error`) while stepping or resetting, e.g. its arena overflowed.
+    E1004,
     /// An action of the wrong length.
     E1101,
     /// An action with a NaN or infinite entry.

@@ -18,6 +18,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use envspec::{Override, ResolvedSpec};
+use mujoco_rs::mujoco_c::{mjData, mjModel};
 use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
@@ -149,7 +150,7 @@ struct StartState {
     qvel: Vec<f64>,
 }
 
-fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) {
+fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) -> Result<(), String> {
     raw.reset();
     // SAFETY: qpos has nq and qvel nv entries, the lengths of the env's state of the same model.
     unsafe {
@@ -157,7 +158,28 @@ fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) {
         std::slice::from_raw_parts_mut(d.qpos, s.qpos.len()).copy_from_slice(&s.qpos);
         std::slice::from_raw_parts_mut(d.qvel, s.qvel.len()).copy_from_slice(&s.qvel);
     }
-    raw.forward();
+    let m: *const mjModel = raw.model().ffi();
+    // SAFETY: the raw loop's own model and data.
+    let d: *mut mjData = unsafe { raw.ffi_mut() };
+    // SAFETY: as above.
+    crate::mujoco_log::guard(|| unsafe { crate::mujoco_log::ffi::mj_forward(m, d) })
+}
+
+/// One env step of raw physics on `raw` with `action`; MuJoCo's errors returned (the data is then
+/// reset by the next `restart`).
+fn raw_step(
+    raw: &mut MjData<Arc<MjModel>>,
+    action: &[f64],
+    fs: u32,
+    rne: bool,
+) -> Result<(), String> {
+    let m: *const mjModel = raw.model().ffi();
+    // SAFETY: ctrl has nu = action.len() entries; the raw loop's own model and data.
+    unsafe {
+        let d = raw.ffi_mut();
+        std::slice::from_raw_parts_mut(d.ctrl, action.len()).copy_from_slice(action);
+        crate::mujoco_log::physics_step(m, d, fs, rne)
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -170,44 +192,36 @@ fn parallel_ceiling(
     rne: bool,
     ep_len: u64,
     start_state: &StartState,
-) -> f64 {
+) -> Result<f64, String> {
     let start = Instant::now();
     let steps: u64 = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
                 scope.spawn(move || {
                     let Ok(mut raw) = MjData::try_new(Arc::clone(model)) else {
-                        return 0;
+                        return Ok(0);
                     };
-                    let nu = actions.act_dim;
                     let mut n = 0u64;
                     while start.elapsed() < slice {
                         for _ in 0..CHUNK {
                             if n.is_multiple_of(ep_len) {
-                                restart(&mut raw, start_state);
+                                restart(&mut raw, start_state)?;
                             }
                             let a = actions.rows(t * 997 + n as usize, 1);
-                            // SAFETY: ctrl has nu entries.
-                            unsafe {
-                                std::slice::from_raw_parts_mut(raw.ffi_mut().ctrl, nu)
-                                    .copy_from_slice(a)
-                            };
-                            for _ in 0..fs {
-                                raw.step();
-                            }
-                            if rne {
-                                raw.rne_post_constraint();
-                            }
+                            raw_step(&mut raw, a, fs, rne)?;
                             n += 1;
                         }
                     }
-                    n
+                    Ok(n)
                 })
             })
             .collect();
-        handles.into_iter().map(|h| h.join().unwrap_or(0)).sum()
-    });
-    steps as f64 / start.elapsed().as_secs_f64()
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or(Ok(0)))
+            .sum::<Result<u64, String>>()
+    })?;
+    Ok(steps as f64 / start.elapsed().as_secs_f64())
 }
 
 /// Benchmark one env (bundled id or spec path).
@@ -238,11 +252,7 @@ pub fn bench(
         path: spec.model_path.clone(),
         message: format!("cannot allocate mjData: {e}"),
     })?;
-    let (fs, rne, nu) = (
-        spec.frame_skip,
-        spec.needs_rne_post_constraint,
-        actions.act_dim,
-    );
+    let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
     env.reset(Some(0))?;
     let start_state = {
         let (qpos, qvel) = env.physics_env().state();
@@ -263,6 +273,9 @@ pub fn bench(
     let slice = Duration::from_secs_f64((cfg.seconds / (4 * rounds) as f64).max(0.01));
     let (mut c, mut s, mut v, mut sr, mut vr) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut p, mut pr) = (vec![], vec![]);
+    // A MuJoCo error in the raw loops (the env's own come back from `step`).
+    let mut mujoco_error: Option<String> = None;
+    let mut env_error: Option<EnvError> = None;
 
     // Round 0 is a warm-up (caches, page faults, first episode lengths) and is not reported.
     for round in 0..=rounds {
@@ -280,20 +293,14 @@ pub fn bench(
                         for _ in 0..CHUNK {
                             let a = actions.rows(cursor, 1);
                             cursor += 1;
+                            let mut stepped = Ok(());
                             if raw_since_reset >= ep_len {
-                                restart(&mut raw, start_state);
+                                stepped = restart(&mut raw, start_state);
                                 raw_since_reset = 0;
                             }
-                            // SAFETY: ctrl has nu entries.
-                            unsafe {
-                                std::slice::from_raw_parts_mut(raw.ffi_mut().ctrl, nu)
-                                    .copy_from_slice(a)
-                            };
-                            for _ in 0..fs {
-                                raw.step();
-                            }
-                            if rne {
-                                raw.rne_post_constraint();
+                            if let Err(e) = stepped.and_then(|()| raw_step(&mut raw, a, fs, rne)) {
+                                mujoco_error.get_or_insert(e);
+                                raw_since_reset = ep_len;
                             }
                             raw_since_reset += 1;
                         }
@@ -304,10 +311,16 @@ pub fn bench(
                     for _ in 0..CHUNK {
                         let a = actions.rows(cursor, 1);
                         cursor += 1;
-                        // The action has the env's length and is finite: step cannot fail.
-                        let done = env.step(a).map(|s| s.terminated || s.truncated);
+                        // The action has the env's length and is finite: only MuJoCo can fail.
+                        let done = match env.step(a) {
+                            Ok(s) => s.terminated || s.truncated,
+                            Err(e) => {
+                                env_error.get_or_insert(e);
+                                true
+                            }
+                        };
                         steps += 1;
-                        if done.unwrap_or(true) {
+                        if done {
                             episodes += 1;
                             let _ = env.reset(None);
                         }
@@ -329,6 +342,10 @@ pub fn bench(
                         ep_len,
                         start_state,
                     )
+                    .unwrap_or_else(|e| {
+                        mujoco_error.get_or_insert(e);
+                        f64::NAN
+                    })
                 }
                 _ => match &mut vec {
                     None => f64::NAN,
@@ -337,7 +354,8 @@ pub fn bench(
                         for _ in 0..CHUNK / 4 {
                             let a = actions.rows(cursor, envs);
                             cursor += 1;
-                            if vec.step(a).is_err() {
+                            if let Err(e) = vec.step(a) {
+                                env_error.get_or_insert(e);
                                 return 0;
                             }
                             // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
@@ -347,6 +365,16 @@ pub fn bench(
                     }),
                 },
             };
+        }
+        if let Some(e) = env_error.take() {
+            return Err(e);
+        }
+        if let Some(message) = mujoco_error.take() {
+            return Err(EnvError::Mujoco {
+                env: id,
+                during: "in the benchmark's raw mj_step loop",
+                message,
+            });
         }
         if round > 0 {
             c.push(got[0]);

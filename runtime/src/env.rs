@@ -17,7 +17,7 @@ use mujoco_rs::mujoco_c::{mjData, mjModel};
 use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
-use crate::mujoco_log;
+use crate::mujoco_log::{self, ffi};
 use crate::numerics::{Profile, clip, default_profile, norm, pairwise_sum, square_pow};
 use crate::rng::NumpyRng;
 
@@ -126,7 +126,37 @@ unsafe fn view<'a>(ptr: *const f64, len: usize) -> &'a [f64] {
     }
 }
 
+/// Why a reset gave no valid start.
+enum ResetFailure {
+    /// The reset step (index) whose `resample_until` went unmet.
+    Unmet(usize),
+    /// A MuJoCo error (`mju_error`) in `mj_resetData` or `mj_forward`.
+    Mujoco(String),
+}
+
 impl Sim {
+    /// A MuJoCo call on this model and data that may raise `mju_error` (which ends the process
+    /// unless caught): the error's message comes back as `Err`, and the data is reset so it is
+    /// never used in MuJoCo's mid-error state. `f` gets the model and data pointers (SAFETY for
+    /// every caller: it only passes them to MuJoCo).
+    fn call(&mut self, f: impl FnOnce(*const mjModel, *mut mjData)) -> Result<(), String> {
+        self.call_guarded(|m, d| mujoco_log::guard(|| f(m, d)))
+    }
+
+    /// [`Sim::call`] for an `f` that catches MuJoCo's errors itself.
+    fn call_guarded(
+        &mut self,
+        f: impl FnOnce(*const mjModel, *mut mjData) -> Result<(), String>,
+    ) -> Result<(), String> {
+        let m: *const mjModel = self.model.ffi();
+        // SAFETY: our own model/data pair; MuJoCo is the only user of the pointers meanwhile.
+        let d: *mut mjData = unsafe { self.data.ffi_mut() };
+        f(m, d).inspect_err(|_| {
+            // SAFETY: as above; resetting clears the arena and stack an error left marked.
+            unsafe { mujoco_rs::mujoco_c::mj_resetData(m, d) };
+        })
+    }
+
     fn m(&self) -> &mjModel {
         self.model.ffi()
     }
@@ -259,9 +289,9 @@ pub struct Env {
     draw: Vec<f64>,
     elapsed: u64,
     has_reset: bool,
-    /// The reset step whose `resample_until` went unmet (E1104): `step` refuses until a reset
+    /// Why the last reset gave no valid start (E1104, E1004): `step` refuses until a reset
     /// succeeds.
-    unmet_reset: Option<usize>,
+    reset_failure: Option<ResetFailure>,
     /// The current step's action came as float32 (numpy then computes action costs in float32).
     action_f32: bool,
     warnings: Vec<String>,
@@ -328,6 +358,20 @@ impl Env {
         // SAFETY: body_mass has nbody entries.
         let mass = unsafe { view(m.body_mass, sim.nbody) };
         sim.mass_sum = pairwise_sum(mass.len(), &|i| mass[i]);
+        // A trial `mj_forward` at qpos0, so a model MuJoCo cannot run (its arena too small, say)
+        // is refused when the env is built (`check --compile`), not at the first reset. Every
+        // reset starts with `mj_resetData`, so nothing of it carries over; its warnings are dropped.
+        let mut warnings = vec![];
+        mujoco_log::drain_into(&mut warnings);
+        let trial = sim.call(|m, d| unsafe { ffi::mj_forward(m, d) });
+        mujoco_log::drain_into(&mut vec![]);
+        if let Err(message) = trial {
+            return Err(EnvError::Mujoco {
+                env: spec.id.clone(),
+                during: "in a trial mj_forward when building the env",
+                message,
+            });
+        }
         let timestep = m.opt.timestep;
         let dt = timestep * spec.frame_skip as f64;
 
@@ -392,7 +436,6 @@ impl Env {
         };
         let max_draw = spec.reset.iter().map(|r| r.target.len()).max().unwrap_or(0);
 
-        let mut warnings = vec![];
         mujoco_log::drain_into(&mut warnings);
         Ok(Env {
             before: vec![0.0; velocity_sources.len()],
@@ -422,7 +465,7 @@ impl Env {
             uses_mass_center,
             elapsed: 0,
             has_reset: false,
-            unmet_reset: None,
+            reset_failure: None,
             action_f32: false,
             warnings,
             observation_space,
@@ -509,14 +552,23 @@ impl Env {
     }
 
     /// Clip the current qvel to `±limit` and `mj_forward` (Gymnasium's `set_state(qpos, clip(qvel))`).
-    pub(crate) fn clip_qvel(&mut self, limit: f64) {
+    pub(crate) fn clip_qvel(&mut self, limit: f64) -> Result<(), EnvError> {
         let nv = self.sim.nv;
         // SAFETY: qvel has nv entries; no other borrow of it is alive.
         let qvel = unsafe { std::slice::from_raw_parts_mut(self.sim.data.ffi_mut().qvel, nv) };
         for v in qvel {
             *v = crate::numerics::clip(*v, -limit, limit);
         }
-        self.sim.data.forward();
+        self.sim
+            .call(|m, d| unsafe { ffi::mj_forward(m, d) })
+            .map_err(|message| {
+                self.has_reset = false;
+                EnvError::Mujoco {
+                    env: self.spec.id.clone(),
+                    during: "in a step (reset before stepping again)",
+                    message,
+                }
+            })
     }
 
     /// Current `qpos` and `qvel`.
@@ -544,8 +596,10 @@ impl Env {
             None => {}
         }
         let rng = self.rng.as_mut().expect("set above");
-        // SAFETY: plain MuJoCo calls on our own model/data pair.
-        unsafe { mujoco_rs::mujoco_c::mj_resetData(self.sim.model.ffi(), self.sim.data.ffi_mut()) };
+        let mut mujoco_error = self
+            .sim
+            .call(|m, d| unsafe { ffi::mj_resetData(m, d) })
+            .err();
 
         let (nq, nv) = (self.sim.nq, self.sim.nv);
         let numerics = self.sim.numerics;
@@ -559,7 +613,7 @@ impl Env {
         };
         qpos.copy_from_slice(&self.qpos_init);
         qvel.copy_from_slice(&self.qvel_init);
-        self.unmet_reset = None;
+        self.reset_failure = None;
         for (k, step) in self.spec.reset.iter().enumerate() {
             let n = step.target.len();
             let draw = &mut self.draw[..n];
@@ -587,7 +641,7 @@ impl Env {
                     break;
                 }
                 if attempt >= envspec::limits::MAX_RESAMPLE_DRAWS {
-                    self.unmet_reset = Some(k);
+                    self.reset_failure = Some(ResetFailure::Unmet(k));
                     break;
                 }
             }
@@ -605,13 +659,18 @@ impl Env {
             }
         }
         // Gymnasium's set_state: qpos, qvel, then mj_forward.
-        self.sim.data.forward();
+        if mujoco_error.is_none() {
+            mujoco_error = self.sim.call(|m, d| unsafe { ffi::mj_forward(m, d) }).err();
+        }
+        if let Some(message) = mujoco_error {
+            self.reset_failure = Some(ResetFailure::Mujoco(message));
+        }
         if self.uses_mass_center {
             self.sim.update_mass_center();
         }
         self.sim.update_ten_j();
         self.elapsed = 0;
-        self.has_reset = self.unmet_reset.is_none();
+        self.has_reset = self.reset_failure.is_none();
         self.write_obs();
         let mut off = 0;
         for item in self.spec.reset_info() {
@@ -661,11 +720,17 @@ impl Env {
 
     /// Why the last reset did not give a valid start (E1104), if it did not.
     pub fn reset_error(&self) -> Option<EnvError> {
-        let step = &self.spec.reset[self.unmet_reset?];
-        Some(EnvError::ResampleUnmet {
-            env: self.spec.id.clone(),
-            step: step.name.clone(),
-            draws: envspec::limits::MAX_RESAMPLE_DRAWS,
+        Some(match self.reset_failure.as_ref()? {
+            ResetFailure::Unmet(k) => EnvError::ResampleUnmet {
+                env: self.spec.id.clone(),
+                step: self.spec.reset[*k].name.clone(),
+                draws: envspec::limits::MAX_RESAMPLE_DRAWS,
+            },
+            ResetFailure::Mujoco(message) => EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in reset (reset again, or fix the model)",
+                message: message.clone(),
+            },
         })
     }
 
@@ -711,11 +776,19 @@ impl Env {
             let d = self.sim.data.ffi_mut();
             std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu).copy_from_slice(&self.sim.action);
         }
-        for _ in 0..self.spec.frame_skip {
-            self.sim.data.step();
-        }
-        if self.spec.needs_rne_post_constraint {
-            self.sim.data.rne_post_constraint();
+        let (n, rne) = (self.spec.frame_skip, self.spec.needs_rne_post_constraint);
+        // SAFETY: as in `Sim::call`.
+        let stepped = self
+            .sim
+            .call_guarded(|m, d| unsafe { mujoco_log::physics_step(m, d, n, rne) });
+        if let Err(message) = stepped {
+            // The state is MuJoCo's mid-error state: no step before the next reset.
+            self.has_reset = false;
+            return Err(EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in a step (reset before stepping again)",
+                message,
+            });
         }
         if self.uses_mass_center {
             self.sim.update_mass_center();

@@ -35,6 +35,12 @@ pub enum EnvError {
         step: String,
         draws: u32,
     },
+    #[error("error[E1004]: {env}: MuJoCo failed {during}: {message}")]
+    Mujoco {
+        env: String,
+        during: &'static str,
+        message: String,
+    },
     #[error("error[E1003]: {} cannot be run: {what}", path.display())]
     BadModelValues { path: PathBuf, what: String },
     #[error("{0}")]
@@ -53,6 +59,7 @@ impl EnvError {
             EnvError::NotReset => Code::E1103,
             EnvError::ResampleUnmet { .. } => Code::E1104,
             EnvError::BadModelValues { .. } => Code::E1003,
+            EnvError::Mujoco { .. } => Code::E1004,
             EnvError::Numerics(e) => e.code(),
         }
     }

@@ -159,6 +159,18 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
         r.steps as f64 / secs.max(1e-9),
         r.dir.display()
     );
+    for c in &r.cleaned {
+        println!(
+            "  removed the staging directory of an interrupted collection: {}",
+            c.display()
+        );
+    }
+    for d in &r.unlocked {
+        println!(
+            "  left alone (no lock file: an older envc's or not envc's; remove it once no collection runs there): {}",
+            d.display()
+        );
+    }
     for w in r.warnings {
         println!("  MuJoCo warning: {w}");
     }

@@ -1,6 +1,6 @@
 //! `envc dataset show PATH|ID`: summary of a Minari dataset (envc's or Python's).
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use envc::dataset::Dataset;
 
 use crate::Outcome;
@@ -100,6 +100,20 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
     if no_episodes || ds.is_empty() {
         return Ok(Outcome::Ok);
     }
+    // Loadable is not enough: every stored episode must be the one the metadata counts.
+    let stored = ds.stored_episodes().map_err(|e| anyhow::anyhow!("{e}"))?;
+    if stored != ds.total_episodes {
+        bail!(
+            "{}",
+            envc::dataset::DatasetError::Malformed {
+                path: ds.data_path.clone(),
+                why: format!(
+                    "{stored} episodes are stored but total_episodes is {}",
+                    ds.total_episodes
+                ),
+            }
+        );
+    }
     let (mut lens, mut rets, mut terms) = (vec![], vec![], 0u64);
     let mut info_keys: Vec<String> = vec![];
     for ep in ds.episodes() {
@@ -132,11 +146,16 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
         }
     );
     if steps as u64 != ds.total_steps {
-        println!(
-            "  warning: the episodes hold {steps} steps but total_steps is {}",
-            ds.total_steps
+        bail!(
+            "{}",
+            envc::dataset::DatasetError::Malformed {
+                path: ds.data_path.clone(),
+                why: format!(
+                    "the episodes hold {steps} steps but total_steps is {}",
+                    ds.total_steps
+                ),
+            }
         );
-        return Ok(Outcome::Problems);
     }
     Ok(Outcome::Ok)
 }

@@ -2,7 +2,6 @@
 //! `PointMaze_UMaze-v3`, or a maze spec: a file with a `[maze]` table).
 
 use std::fmt::Write;
-use std::fs::File;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
@@ -34,7 +33,12 @@ impl DictObs {
         self.desired.extend_from_slice(&o.desired_goal);
         self.rows += 1;
     }
-    fn write(self, npz: &mut NpzWriter<File>, prefix: &str, dim: usize) -> Result<()> {
+    fn write(
+        self,
+        npz: &mut NpzWriter<crate::output::Sticky>,
+        prefix: &str,
+        dim: usize,
+    ) -> Result<()> {
         let n = self.rows;
         npz.add_array(
             format!("{prefix}.observation"),
@@ -121,7 +125,7 @@ pub fn rollout(
         }
     }
     let n = reward.len();
-    let f = File::create(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let (dest, f) = crate::output::Output::create(out)?;
     let mut npz = NpzWriter::new(f);
     obs.write(&mut npz, "obs", dim)?;
     npz.add_array("reward", &Array1::from(reward))?;
@@ -147,7 +151,7 @@ pub fn rollout(
         reset_obs.write(&mut npz, "reset_obs", dim)?;
         npz.add_array("reset_at", &Array1::from(reset_at))?;
     }
-    npz.finish()?;
+    dest.commit(npz.finish()?)?;
     for w in env.warnings() {
         eprintln!("MuJoCo warning: {w}");
     }

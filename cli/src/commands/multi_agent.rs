@@ -1,10 +1,9 @@
 //! `envc rollout` and `envc show` for multi-agent specs (a spec with an `[agents]` table).
 
 use std::fmt::Write;
-use std::fs::File;
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use envc::multi_agent::MultiAgentEnv;
 use envspec::agents::AgentsSpec;
 use ndarray::{Array1, Array2};
@@ -71,7 +70,7 @@ pub fn rollout(
         }
     }
     let n = reward.len();
-    let f = File::create(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let (dest, f) = crate::output::Output::create(out)?;
     let mut npz = NpzWriter::new(f);
     let names: Vec<String> = env
         .possible_agents()
@@ -105,7 +104,7 @@ pub fn rollout(
         )?;
         npz.add_array("reset_at", &Array1::from(reset_at))?;
     }
-    npz.finish()?;
+    dest.commit(npz.finish()?)?;
     eprintln!(
         "{} ({} agents, conf {}, k {}): {n} steps written to {}",
         env.spec().base.id,

@@ -3,7 +3,6 @@
 //! README, "Trajectory files"). `--policy` needs no numpy to try an env.
 
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
@@ -96,6 +95,9 @@ impl InfoColumns {
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
+    if let Some(a) = &args.actions {
+        crate::output::refuse_input(&args.out, &[("--actions", a)])?;
+    }
     let any = crate::target::env(&args.spec, &args.set)?;
     let (actions, path) = match (&args.actions, args.policy, args.steps) {
         (Some(p), _, _) => (read_matrix(p)?, p.clone()),
@@ -175,8 +177,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
 
     let n = reward.len();
-    let file =
-        File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    let (dest, file) = crate::output::Output::create(&args.out)?;
     let mut npz = NpzWriter::new(file);
     npz.add_array("obs", &Array2::from_shape_vec((n + 1, obs_dim), obs)?)?;
     npz.add_array("reward", &Array1::from(reward))?;
@@ -198,7 +199,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         )?;
         npz.add_array("reset_at", &Array1::from(reset_at))?;
     }
-    npz.finish()?;
+    dest.commit(npz.finish()?)?;
     let warnings = env.warnings();
     for w in warnings {
         eprintln!("MuJoCo warning: {w}");

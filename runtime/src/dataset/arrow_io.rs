@@ -47,16 +47,25 @@ pub fn write_episode(
     let obs_dim = obs_space.flat_len().unwrap_or(0);
     let dir = data.join(index.to_string());
     let path = dir.join("part-0.arrow");
-    let werr = |e: arrow_schema::ArrowError| DatasetError::Write {
-        path: path.clone(),
-        why: e.to_string(),
+    // An I/O failure (a full disk) is reported as the OS error on the path (E1203), not as an
+    // Arrow error wrapping it.
+    let werr = |e: arrow_schema::ArrowError| match e {
+        arrow_schema::ArrowError::IoError(_, source) => DatasetError::Io {
+            path: path.clone(),
+            source,
+        },
+        other => DatasetError::Write {
+            path: path.clone(),
+            why: other.to_string(),
+        },
     };
     if t > MAX_ARROW_STEPS {
         return Err(DatasetError::Unsupported(format!(
             "an episode of {t} steps in the arrow format (Minari's reader splits episodes above {MAX_ARROW_STEPS} steps); use --format hdf5"
         )));
     }
-    fs::create_dir_all(&dir).map_err(io(&dir))?;
+    // Not `create_dir_all`: a removed staging directory must not be silently recreated.
+    fs::create_dir(&dir).map_err(io(&dir))?;
 
     let obs: ArrayRef = match obs_space {
         // Dict observations: a struct with one fixed-size-list field per key, cut from the

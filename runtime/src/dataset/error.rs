@@ -26,6 +26,16 @@ pub enum DatasetError {
     BackendMissing(&'static str),
     #[error("error[E1207]: writing {}: {why}", path.display())]
     Write { path: PathBuf, why: String },
+    #[error("error[E1208]: dataset id `{id}` would put a dataset at {}, {why}; choose an id outside every existing dataset", path.display())]
+    Nested {
+        id: String,
+        path: PathBuf,
+        why: String,
+    },
+    #[error("error[E1209]: the staging directory {} was removed or replaced while this collection was writing to it; nothing was published", path.display())]
+    StagingLost { path: PathBuf },
+    #[error("error[E1210]: the episodes written to {} do not match the metadata: {why}; nothing was published", path.display())]
+    Unverified { path: PathBuf, why: String },
     /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
     #[error("{0}")]
     Env(#[from] EnvError),
@@ -42,6 +52,9 @@ impl DatasetError {
             DatasetError::Unsupported(_) => "E1205".into(),
             DatasetError::BackendMissing(_) => "E1206".into(),
             DatasetError::Write { .. } => "E1207".into(),
+            DatasetError::Nested { .. } => "E1208".into(),
+            DatasetError::StagingLost { .. } => "E1209".into(),
+            DatasetError::Unverified { .. } => "E1210".into(),
             DatasetError::Env(e) => format!("{:?}", e.code()),
         }
     }

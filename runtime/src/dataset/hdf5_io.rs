@@ -22,9 +22,26 @@ pub struct Hdf5Writer {
 }
 
 fn werr(path: &Path) -> impl Fn(h5::Error) -> DatasetError + '_ {
-    move |e| DatasetError::Write {
-        path: path.to_path_buf(),
-        why: e.to_string(),
+    move |e| h5_error(path, &e.to_string())
+}
+
+/// libhdf5's error text spans lines and embeds the OS error as `errno = N`: report that as the OS
+/// error on the path (E1203, e.g. a full disk), anything else on one line (E1207).
+fn h5_error(path: &Path, text: &str) -> DatasetError {
+    let errno = text
+        .split("errno = ")
+        .nth(1)
+        .and_then(|rest| rest.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|digits| digits.parse::<i32>().ok());
+    match errno {
+        Some(n) if n > 0 => DatasetError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::from_raw_os_error(n),
+        },
+        _ => DatasetError::Write {
+            path: path.to_path_buf(),
+            why: text.split_whitespace().collect::<Vec<_>>().join(" "),
+        },
     }
 }
 
@@ -251,6 +268,15 @@ impl Hdf5Reader {
         }
         let file = h5::File::open(&path).map_err(|e| malformed(&path, e.to_string()))?;
         Ok(Hdf5Reader { path, file })
+    }
+
+    /// The number of `episode_<i>` groups in the file.
+    pub fn episode_count(&self) -> Result<u64, DatasetError> {
+        let names = self
+            .file
+            .member_names()
+            .map_err(|e| malformed(&self.path, e.to_string()))?;
+        Ok(names.iter().filter(|n| n.starts_with("episode_")).count() as u64)
     }
 
     pub fn episode(

@@ -35,6 +35,7 @@ mod plan;
 mod reader;
 mod recordable;
 mod space;
+mod staging;
 mod tensor;
 mod writer;
 

@@ -47,6 +47,10 @@ pub struct Recording {
     pub dir: PathBuf,
     pub steps: u64,
     pub warnings: Vec<String>,
+    /// Staging directories of interrupted collections removed before this one started.
+    pub cleaned: Vec<PathBuf>,
+    /// Directories in the staging root without a lock file, left alone.
+    pub unlocked: Vec<PathBuf>,
 }
 
 /// The description a dataset gets when none is given.
@@ -111,10 +115,14 @@ pub fn record<E: Recordable>(
         progress(ep + 1, steps);
     }
     let warnings = collector.env().warnings().to_vec();
+    let cleaned = collector.writer().cleaned().to_vec();
+    let unlocked = collector.writer().unlocked().to_vec();
     let dir = collector.finish()?;
     Ok(Recording {
         dir,
         steps,
         warnings,
+        cleaned,
+        unlocked,
     })
 }

@@ -31,6 +31,23 @@ pub struct Dataset {
     hdf5: Option<super::hdf5_io::Hdf5Reader>,
 }
 
+/// An episode's own record of its length (`total_steps` attribute / per-episode metadata),
+/// when stored, must match its arrays.
+fn check_recorded_length(
+    path: &Path,
+    index: u64,
+    recorded: Option<&Value>,
+    len: usize,
+) -> Result<(), DatasetError> {
+    match recorded.and_then(Value::as_u64) {
+        Some(n) if n != len as u64 => Err(malformed(
+            path,
+            format!("episode {index} holds {len} steps but records total_steps {n}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn to_bool1(t: Tensor, path: &Path, what: &str) -> Result<Array1<bool>, DatasetError> {
     let a = match t {
         Tensor::Bool(a) => a,
@@ -212,6 +229,7 @@ impl Dataset {
                     },
                     None => vec![],
                 };
+                check_recorded_length(path, index, meta.get("total_steps"), t)?;
                 Ok(Episode {
                     id: index,
                     seed: meta.get("seed").and_then(Value::as_u64),
@@ -230,6 +248,12 @@ impl Dataset {
                     .as_ref()
                     .ok_or_else(|| malformed(path, "main_data.hdf5 is not open"))?;
                 let raw = r.episode(index, &self.observation_space, &self.action_space)?;
+                check_recorded_length(
+                    path,
+                    index,
+                    raw.attrs.get("total_steps"),
+                    raw.terminations.rows(),
+                )?;
                 Ok(Episode {
                     id: index,
                     seed: raw.attrs.get("seed").and_then(Value::as_u64),
@@ -244,6 +268,66 @@ impl Dataset {
             #[cfg(not(feature = "hdf5"))]
             Format::Hdf5 => Err(DatasetError::BackendMissing("hdf5")),
         }
+    }
+
+    /// How many episodes are stored on disk (whatever `total_episodes` says): numbered episode
+    /// directories (arrow) or `episode_<i>` groups (hdf5).
+    pub fn stored_episodes(&self) -> Result<u64, DatasetError> {
+        match self.format {
+            Format::Arrow => {
+                let entries = std::fs::read_dir(&self.data_path).map_err(io(&self.data_path))?;
+                let mut n = 0;
+                for e in entries {
+                    let e = e.map_err(io(&self.data_path))?;
+                    let name = e.file_name();
+                    let name = name.to_string_lossy();
+                    if !name.is_empty() && name.bytes().all(|b| b.is_ascii_digit()) {
+                        n += 1;
+                    }
+                }
+                Ok(n)
+            }
+            #[cfg(feature = "hdf5")]
+            Format::Hdf5 => self
+                .hdf5
+                .as_ref()
+                .ok_or_else(|| malformed(&self.data_path, "main_data.hdf5 is not open"))?
+                .episode_count(),
+            #[cfg(not(feature = "hdf5"))]
+            Format::Hdf5 => Err(DatasetError::BackendMissing("hdf5")),
+        }
+    }
+
+    /// Read every episode and check the dataset is what its metadata says: exactly
+    /// `total_episodes` episodes stored, each readable and as long as its own record says, their
+    /// steps summing to `total_steps`. Returns each episode's length. A dataset that `open`s but
+    /// fails this would load in Minari and fail when iterated.
+    pub fn verify(&self) -> Result<Vec<u64>, DatasetError> {
+        let stored = self.stored_episodes()?;
+        if stored != self.total_episodes {
+            return Err(malformed(
+                &self.data_path,
+                format!(
+                    "{stored} episodes are stored but total_episodes is {}",
+                    self.total_episodes
+                ),
+            ));
+        }
+        let mut lengths = Vec::with_capacity(self.len());
+        for ep in self.episodes() {
+            lengths.push(ep?.len() as u64);
+        }
+        let steps: u64 = lengths.iter().sum();
+        if steps != self.total_steps {
+            return Err(malformed(
+                &self.data_path,
+                format!(
+                    "the episodes hold {steps} steps but total_steps is {}",
+                    self.total_steps
+                ),
+            ));
+        }
+        Ok(lengths)
     }
 
     /// Every episode in order, read lazily.

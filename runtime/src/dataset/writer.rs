@@ -1,8 +1,9 @@
-//! Writing a dataset: episodes stream into a hidden staging directory inside the datasets root;
-//! `finish` writes `metadata.json` last and renames the directory into place in one step. A
-//! collection that fails or is dropped removes its staging directory; one that is killed leaves
-//! only a hidden `.envc-staging/…` directory without `metadata.json`, which Minari neither lists
-//! nor loads (and which the next `DatasetWriter` in the same root removes once its process is gone).
+//! Writing a dataset: episodes stream into a hidden staging directory inside the datasets root,
+//! owned through a lock (`staging`); `finish` writes `metadata.json`, reads the staged dataset back
+//! and checks it against what was written, syncs, and renames the directory into place in one
+//! step. A collection that fails or is dropped removes its staging directory; one that is killed
+//! leaves only a hidden `.envc-staging/…` directory, which Minari neither lists nor loads and which
+//! the next `DatasetWriter` in the same root removes once the lock is free.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -12,7 +13,9 @@ use serde_json::{Map, Value, json};
 use super::episode::EpisodeRecord;
 use super::error::{DatasetError, io};
 use super::id::DatasetId;
+use super::reader::Dataset;
 use super::space::Space;
+use super::staging::{self, Staging};
 use super::{Format, MINARI_VERSION, arrow_io};
 
 /// Name of the staging directory inside the datasets root (hidden: Minari skips it).
@@ -45,8 +48,14 @@ enum Backend {
 pub struct DatasetWriter {
     id: DatasetId,
     root: PathBuf,
-    /// `root/.envc-staging/<unique>`; the dataset directory is `staging/ds`.
-    staging: PathBuf,
+    /// `root/.envc-staging/<unique>`, held by its lock; the dataset directory is `staging/ds`.
+    staging: Staging,
+    /// Staging directories of dead collections removed when this one started.
+    cleaned: Vec<PathBuf>,
+    /// Directories in the staging root without a lock file, left alone.
+    unlocked: Vec<PathBuf>,
+    /// Each written episode's length, checked against the disk before publishing.
+    lengths: Vec<u64>,
     data: PathBuf,
     format: Format,
     backend: Option<Backend>,
@@ -55,7 +64,6 @@ pub struct DatasetWriter {
     info: DatasetInfo,
     episodes: u64,
     steps: u64,
-    done: bool,
 }
 
 /// `MINARI_DATASETS_PATH`, or Minari's default `~/.minari/datasets`.
@@ -71,25 +79,94 @@ pub fn default_root() -> PathBuf {
     }
 }
 
-fn pid_alive(pid: u32) -> bool {
-    Path::new("/proc").join(pid.to_string()).exists()
-}
-
-/// Remove staging directories left by killed collections (their pid is gone).
-fn sweep_stale(staging_root: &Path) {
-    let Ok(entries) = fs::read_dir(staging_root) else {
-        return;
+/// Refuse an id whose directory would sit inside another dataset (Minari would read the new one's
+/// files as the outer dataset's episodes, or the outer one's as its own) or that names an existing
+/// directory which is not a dataset (a namespace holding datasets). `target` exists as a dataset:
+/// E1202.
+fn check_place(root: &Path, id: &DatasetId) -> Result<(), DatasetError> {
+    let text = id.as_string();
+    let target = root.join(&text);
+    let nested = |why: String| DatasetError::Nested {
+        id: text.clone(),
+        path: target.clone(),
+        why,
     };
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let pid = name.rsplit('.').nth(1).and_then(|p| p.parse::<u32>().ok());
-        if let Some(pid) = pid
-            && pid != std::process::id()
-            && !pid_alive(pid)
-        {
-            let _ = fs::remove_dir_all(e.path());
+    // The root itself too: `--root` pointing into a dataset.
+    let levels = std::iter::once(String::new()).chain(id.namespace_levels());
+    for level in levels {
+        let dir = if level.is_empty() {
+            root.to_path_buf()
+        } else {
+            root.join(&level)
+        };
+        let place = if level.is_empty() {
+            "the datasets root".to_string()
+        } else {
+            format!("`{level}`")
+        };
+        for meta in [
+            dir.join("metadata.json"),
+            dir.join("data").join("metadata.json"),
+        ] {
+            if meta.exists() {
+                return Err(nested(format!(
+                    "inside {place}, which holds a dataset ({})",
+                    meta.display()
+                )));
+            }
         }
     }
+    if target.join("data").join("metadata.json").is_file() {
+        return Err(DatasetError::Exists {
+            id: text,
+            path: target,
+        });
+    }
+    if fs::symlink_metadata(&target).is_ok() {
+        return Err(nested(
+            "which exists and is not a dataset (a namespace holding other datasets?)".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The text of an error found while checking the staged dataset, without its own code (it is
+/// reported under E1210).
+fn cause(e: &DatasetError) -> String {
+    match e {
+        DatasetError::Malformed { path, why } => format!("{}: {why}", path.display()),
+        DatasetError::Io { path, source } => format!("{}: {source}", path.display()),
+        other => other.to_string(),
+    }
+}
+
+/// Create `path` with `bytes` whole or not at all (a full disk never leaves a truncated file that
+/// Minari would fail to parse), and never over a file that appeared meanwhile.
+fn write_new(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(
+        ".{}.envc-{}.tmp",
+        name.unwrap_or_default(),
+        std::process::id()
+    ));
+    let linked = fs::write(&tmp, bytes).and_then(|()| match fs::hard_link(&tmp, path) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        other => other,
+    });
+    let _ = fs::remove_file(&tmp);
+    linked.map_err(io(path))
+}
+
+/// Flush everything under `dir`'s file system to stable storage (one `syncfs`, not one fsync per
+/// episode file), so the rename that publishes the dataset never reaches the disk before its data.
+fn sync_fs(dir: &Path) -> Result<(), DatasetError> {
+    use std::os::fd::AsRawFd;
+    let f = fs::File::open(dir).map_err(io(dir))?;
+    // SAFETY: syncfs on a descriptor we own.
+    if unsafe { libc::syncfs(f.as_raw_fd()) } != 0 {
+        return Err(io(dir)(std::io::Error::last_os_error()));
+    }
+    Ok(())
 }
 
 impl DatasetWriter {
@@ -108,23 +185,11 @@ impl DatasetWriter {
             return Err(DatasetError::BackendMissing("hdf5"));
         }
         let root = root.map(Path::to_path_buf).unwrap_or_else(default_root);
-        let target = root.join(id.as_string());
-        if target.exists() {
-            return Err(DatasetError::Exists {
-                id: id.as_string(),
-                path: target,
-            });
-        }
+        check_place(&root, &id)?;
         let staging_root = root.join(STAGING_DIR);
-        fs::create_dir_all(&staging_root).map_err(io(&staging_root))?;
-        sweep_stale(&staging_root);
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0);
-        let unique = format!("{}-v{}.{}.{nanos}", id.name, id.version, std::process::id());
-        let staging = staging_root.join(unique);
-        let data = staging.join("ds").join("data");
+        let swept = staging::sweep(&staging_root);
+        let staging = Staging::claim(&staging_root, &format!("{}-v{}", id.name, id.version))?;
+        let data = staging.dir().join("ds").join("data");
         fs::create_dir_all(&data).map_err(io(&data))?;
         let backend = match format {
             Format::Arrow => Backend::Arrow,
@@ -139,6 +204,9 @@ impl DatasetWriter {
             id,
             root,
             staging,
+            cleaned: swept.removed,
+            unlocked: swept.unlocked,
+            lengths: vec![],
             data,
             format,
             backend: Some(backend),
@@ -147,7 +215,6 @@ impl DatasetWriter {
             info,
             episodes: 0,
             steps: 0,
-            done: false,
         })
     }
 
@@ -166,7 +233,16 @@ impl DatasetWriter {
     }
     /// The staging directory (hidden) episodes are written to.
     pub fn staging(&self) -> &Path {
-        &self.staging
+        self.staging.dir()
+    }
+    /// Staging directories of interrupted collections (their lock free) this writer removed.
+    pub fn cleaned(&self) -> &[PathBuf] {
+        &self.cleaned
+    }
+    /// Directories in the staging root without a lock file (an older envc's, or not envc's):
+    /// never removed, since nothing proves their collection is gone.
+    pub fn unlocked(&self) -> &[PathBuf] {
+        &self.unlocked
     }
 
     /// Write one whole episode to disk.
@@ -199,15 +275,22 @@ impl DatasetWriter {
                 t + 1
             )));
         }
+        // HDF5 would go on writing into a removed (unlinked) file: check ownership every episode.
+        self.staging.check_owned()?;
         let index = self.episodes;
-        match self.backend.as_mut() {
+        let written = match self.backend.as_mut() {
             Some(Backend::Arrow) => {
-                arrow_io::write_episode(&self.data, index, ep, &self.obs_space, act_dim)?
+                arrow_io::write_episode(&self.data, index, ep, &self.obs_space, act_dim)
             }
             #[cfg(feature = "hdf5")]
-            Some(Backend::Hdf5(w)) => w.write_episode(index, ep, &self.obs_space, act_dim)?,
+            Some(Backend::Hdf5(w)) => w.write_episode(index, ep, &self.obs_space, act_dim),
             None => return Err(bad("the writer is finished".into())),
+        };
+        // A write that failed because the directory vanished says so, not "no such file".
+        if let Err(e) = written {
+            return Err(self.lost_or(e));
         }
+        self.lengths.push(t as u64);
         self.episodes += 1;
         self.steps += t as u64;
         Ok(())
@@ -217,9 +300,14 @@ impl DatasetWriter {
     pub fn finish(mut self) -> Result<PathBuf, DatasetError> {
         match self.backend.take() {
             #[cfg(feature = "hdf5")]
-            Some(Backend::Hdf5(w)) => w.close()?,
+            Some(Backend::Hdf5(w)) => {
+                if let Err(e) = w.close() {
+                    return Err(self.lost_or(e));
+                }
+            }
             _ => {}
         }
+        self.staging.check_owned()?;
         let target = self.target();
         if self.episodes == 0 {
             return Err(DatasetError::Write {
@@ -227,7 +315,7 @@ impl DatasetWriter {
                 why: "no episodes were recorded".into(),
             });
         }
-        let size = dir_size(&self.data).map_err(io(&self.data))?;
+        let size = dir_size(&self.data).map_err(|e| self.lost_or(io(&self.data)(e)))?;
         let mut m = Map::new();
         m.insert("total_episodes".into(), json!(self.episodes));
         m.insert("total_steps".into(), json!(self.steps));
@@ -270,42 +358,94 @@ impl DatasetWriter {
             path: meta_path.clone(),
             why: e.to_string(),
         })?;
-        fs::write(&meta_path, text).map_err(io(&meta_path))?;
+        fs::write(&meta_path, text).map_err(|e| self.lost_or(io(&meta_path)(e)))?;
 
+        // The metadata must describe exactly the episodes on disk, read back as a reader will.
+        self.verify_staged()?;
+        sync_fs(&self.data)?;
+        self.staging.check_owned()?;
+
+        // Checked again: another dataset may have appeared around the id since we started.
+        check_place(&self.root, &self.id)?;
         // Namespaces (each level gets namespace_metadata.json, as Minari's create_dataset does).
         for level in self.id.namespace_levels() {
             let dir = self.root.join(&level);
             fs::create_dir_all(&dir).map_err(io(&dir))?;
             let f = dir.join("namespace_metadata.json");
             if !f.exists() {
-                fs::write(&f, "{}").map_err(io(&f))?;
+                write_new(&f, b"{}")?;
             }
         }
+        // One rename: the dataset appears complete or not at all. Onto a directory another
+        // collection of the same id just published, it fails (ENOTEMPTY): never overwritten.
+        if let Err(e) = fs::rename(self.staging.dir().join("ds"), &target) {
+            return Err(
+                if matches!(e.raw_os_error(), Some(libc::ENOTEMPTY | libc::EEXIST)) {
+                    DatasetError::Exists {
+                        id: self.id.as_string(),
+                        path: target,
+                    }
+                } else {
+                    io(&target)(e)
+                },
+            );
+        }
         if let Some(parent) = target.parent() {
-            fs::create_dir_all(parent).map_err(io(parent))?;
+            // The rename itself reaches the disk (best effort: the dataset is already in place).
+            let _ = fs::File::open(parent).and_then(|d| d.sync_all());
         }
-        if target.exists() {
-            return Err(DatasetError::Exists {
-                id: self.id.as_string(),
-                path: target,
-            });
-        }
-        // One rename: the dataset appears complete or not at all.
-        fs::rename(self.staging.join("ds"), &target).map_err(io(&target))?;
-        self.done = true;
-        let _ = fs::remove_dir_all(&self.staging);
-        let _ = fs::remove_dir(self.root.join(STAGING_DIR));
         Ok(target)
+    }
+
+    /// `e`, or E1209 when it comes from the staging directory having been taken away: it is no
+    /// longer ours, or a path we created inside it is gone (seen mid-way through an `rm -rf`).
+    fn lost_or(&self, e: DatasetError) -> DatasetError {
+        let missing = matches!(&e, DatasetError::Io { source, .. }
+            if source.kind() == std::io::ErrorKind::NotFound);
+        match self.staging.check_owned() {
+            Err(lost) => lost,
+            Ok(()) if missing => DatasetError::StagingLost {
+                path: self.staging.dir().to_path_buf(),
+            },
+            Ok(()) => e,
+        }
+    }
+
+    /// Read the staged dataset back and compare it with what was written.
+    fn verify_staged(&self) -> Result<(), DatasetError> {
+        let unverified = |why: String| DatasetError::Unverified {
+            path: self.staging.dir().to_path_buf(),
+            why,
+        };
+        let lengths = Dataset::open_data(&self.data)
+            .and_then(|ds| {
+                if ds.total_episodes != self.episodes || ds.total_steps != self.steps {
+                    return Err(DatasetError::Write {
+                        path: self.data.clone(),
+                        why: "metadata.json was not written as recorded".into(),
+                    });
+                }
+                ds.verify()
+            })
+            .map_err(|e| match self.staging.check_owned() {
+                // A vanished directory is reported as such.
+                Err(lost) => lost,
+                Ok(()) => unverified(cause(&e)),
+            })?;
+        if let Some(i) = (0..self.lengths.len()).find(|&i| lengths[i] != self.lengths[i]) {
+            return Err(unverified(format!(
+                "episode {i} holds {} steps on disk; {} were written",
+                lengths[i], self.lengths[i]
+            )));
+        }
+        Ok(())
     }
 }
 
 impl Drop for DatasetWriter {
     fn drop(&mut self) {
-        if !self.done {
-            self.backend = None; // close files before removing them
-            let _ = fs::remove_dir_all(&self.staging);
-            let _ = fs::remove_dir(self.root.join(STAGING_DIR));
-        }
+        // Close files before `staging` (dropped next) removes them, unless already published.
+        self.backend = None;
     }
 }
 
@@ -322,4 +462,114 @@ pub fn dir_size(dir: &Path) -> std::io::Result<u64> {
         };
     }
     Ok(total)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::space::Dtype;
+    use super::*;
+
+    fn writer(tag: &str) -> (PathBuf, DatasetWriter) {
+        let root = std::env::temp_dir().join(format!("envc-writer-{tag}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&root);
+        let obs = Space::box1(Dtype::F64, &[-1.0; 2], &[1.0; 2]);
+        let act = Space::box1(Dtype::F32, &[-1.0], &[1.0]);
+        let w = DatasetWriter::create(
+            Some(&root),
+            "ns/x-v0",
+            Format::Arrow,
+            obs,
+            act,
+            DatasetInfo::default(),
+        )
+        .unwrap();
+        (root, w)
+    }
+
+    fn write(w: &mut DatasetWriter, steps: usize) {
+        let obs = vec![0.5; (steps + 1) * 2];
+        let actions = vec![0.25f32; steps];
+        let rewards = vec![1.0; steps];
+        let flags = vec![false; steps];
+        w.write_episode(&EpisodeRecord {
+            seed: Some(0),
+            observations: &obs,
+            actions: &actions,
+            rewards: &rewards,
+            terminations: &flags,
+            truncations: &flags,
+            infos: &[],
+        })
+        .unwrap();
+    }
+
+    /// Episodes damaged on disk after they were written: the metadata would lie, so nothing is
+    /// published (E1210), and the staging directory is removed.
+    #[test]
+    fn a_dataset_that_disagrees_with_its_metadata_is_not_published() {
+        for damage in ["missing episode", "wrong length"] {
+            let (root, mut w) = writer(&damage.replace(' ', "-"));
+            for steps in [3, 5, 4] {
+                write(&mut w, steps);
+            }
+            let data = w.staging().join("ds").join("data");
+            match damage {
+                "missing episode" => fs::remove_dir_all(data.join("1")).unwrap(),
+                _ => {
+                    // Episode 0's file (3 steps) and metadata in place of episode 1's (5 steps).
+                    for f in ["part-0.arrow", "metadata.json"] {
+                        fs::copy(data.join("0").join(f), data.join("1").join(f)).unwrap();
+                    }
+                }
+            }
+            let target = w.target();
+            let e = w.finish().unwrap_err();
+            assert_eq!(e.code(), "E1210", "{damage}: {e}");
+            let why = e.to_string();
+            match damage {
+                "missing episode" => assert!(
+                    why.contains("2 episodes are stored but total_episodes is 3"),
+                    "{why}"
+                ),
+                _ => assert!(
+                    why.contains("the episodes hold 10 steps but total_steps is 12"),
+                    "{why}"
+                ),
+            }
+            assert!(!target.exists());
+            assert!(!root.join(STAGING_DIR).exists());
+            let _ = fs::remove_dir_all(&root);
+        }
+    }
+
+    #[test]
+    fn ids_inside_a_dataset_are_refused_before_anything_is_written() {
+        let (root, mut w) = writer("nested");
+        write(&mut w, 2);
+        w.finish().unwrap();
+        let inside = root.join("ns").join("x-v0").join("data");
+        for (root, id) in [
+            (&root, "ns/x-v0/data/0/y-v0"),
+            (&root, "ns/x-v0/y-v0"),
+            (&root, "ns/x-v0/data/y-v0"),
+            (&inside, "y-v0"),
+            (&inside.join("0"), "y-v0"),
+        ] {
+            let obs = Space::box1(Dtype::F64, &[-1.0; 2], &[1.0; 2]);
+            let act = Space::box1(Dtype::F32, &[-1.0], &[1.0]);
+            let e = DatasetWriter::create(
+                Some(root),
+                id,
+                Format::Arrow,
+                obs,
+                act,
+                DatasetInfo::default(),
+            )
+            .err()
+            .unwrap();
+            assert_eq!(e.code(), "E1208", "{id}: {e}");
+        }
+        assert!(!root.join(STAGING_DIR).exists());
+        let _ = fs::remove_dir_all(&root);
+    }
 }

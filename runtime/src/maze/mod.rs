@@ -434,7 +434,7 @@ impl MazeEnv {
     pub fn step(&mut self, action: &[f64]) -> Result<MazeStep<'_>, EnvError> {
         self.check_action(action.len(), |i| action[i])?;
         if let Some(v) = self.spec.velocity_clip {
-            self.robot.clip_qvel(v);
+            self.robot.clip_qvel(v)?;
         }
         let s = self.robot.step(action)?;
         let (reward, terminated) = (s.reward, s.terminated);
@@ -447,7 +447,7 @@ impl MazeEnv {
     pub fn step_f32(&mut self, action: &[f32]) -> Result<MazeStep<'_>, EnvError> {
         self.check_action(action.len(), |i| f64::from(action[i]))?;
         if let Some(v) = self.spec.velocity_clip {
-            self.robot.clip_qvel(v);
+            self.robot.clip_qvel(v)?;
         }
         let s = self.robot.step_f32(action)?;
         let (reward, terminated) = (s.reward, s.terminated);
