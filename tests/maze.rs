@@ -416,6 +416,7 @@ fn runtime_maze_checks_point_at_the_spec() {
             .unwrap(),
     );
     assert_eq!(d.code, envspec::Code::E0707);
+    assert!(d.message.contains("has 1 qpos entry;"), "{d}");
     assert!(d.position().unwrap().ends_with("m.toml:3:9"), "{d}");
     // A spec changed after reading skips the reader's checks; `new` still refuses it.
     let mut spec = envspec::maze::load_maze(&specs.join("point_maze.toml"), &[]).unwrap();
@@ -424,8 +425,9 @@ fn runtime_maze_checks_point_at_the_spec() {
     }
     let d = first(MazeEnv::new(spec).err().unwrap());
     assert_eq!(d.code, envspec::Code::E0703);
+    // (at the grid, in the map file the spec names)
     assert!(
-        d.position().unwrap().ends_with("point_maze.toml:7:7"),
+        d.position().unwrap().ends_with("maps/umaze.toml:4:8"),
         "{d}"
     );
     // A reset option outside the 5×5 U-maze.
@@ -439,6 +441,117 @@ fn runtime_maze_checks_point_at_the_spec() {
     assert_eq!(
         d.message,
         "reset_cell [1, 9] is not a free cell of the 5×5 maze"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Errors found while building a maze's robot point into the maze spec (issue 16: they had no
+/// location): a missing robot file at `robot`, a bad `robot_params` value at its entry, a robot
+/// that is a maze (or the maze itself) or a multi-agent spec as one error at `robot`, a robot
+/// model using the maze's own names (E0106), a negative `goal_threshold` (E0803) and a reset
+/// option on a wall (E0708) at the map.
+#[test]
+fn maze_errors_about_the_robot_point_into_the_maze_spec() {
+    let dir = std::env::temp_dir().join(format!("envc-maze-located-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let point = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/robotics/maze/point.toml");
+    let first = |e: EnvError| match e {
+        EnvError::Spec(d) => {
+            assert_eq!(d.len(), 1, "{d}");
+            d.0[0].clone()
+        }
+        e => panic!("not a spec error: {e}"),
+    };
+    let case = |robot: &str, extra: &str| {
+        let p = dir.join("m.toml");
+        std::fs::write(
+            &p,
+            format!(
+                "[maze]\nid = \"X-v0\"\nrobot = {robot:?}\nmaze_height = 0.4\nmaze_size_scaling = 1.0\nmap = \"1 r 0 g 1\"\n{extra}"
+            ),
+        )
+        .unwrap();
+        let d = first(MazeEnv::from_spec_file(&p, &[]).err().expect("rejected"));
+        let at = d.position().expect("a location");
+        let at = at.rsplit('/').next().unwrap_or_default().to_string();
+        (d, at)
+    };
+    let point = point.display().to_string();
+    use envspec::Code;
+
+    let (d, at) = case("nothing.toml", "");
+    assert_eq!((d.code, at.as_str()), (Code::E0600, "m.toml:3:9"), "{d}");
+    let (d, at) = case(&point, "robot_params = { velocity = 1.0 }");
+    assert_eq!((d.code, at.as_str()), (Code::E0202, "m.toml:7:18"), "{d}");
+    let (d, at) = case(&point, "robot_params = { frame_skip = \"x\" }");
+    assert_eq!((d.code, at.as_str()), (Code::E0203, "m.toml:7:18"), "{d}");
+    let (d, at) = case(&point, "robot_params = { frame_skip = -3 }");
+    assert_eq!((d.code, at.as_str()), (Code::E0105, "m.toml:7:18"), "{d}");
+    assert_eq!(d.message, "frame_skip must be a positive integer");
+
+    let (d, at) = case("m.toml", "");
+    assert_eq!((d.code, at.as_str()), (Code::E0108, "m.toml:3:9"), "{d}");
+    assert_eq!(d.message, "`robot` names this maze file itself");
+    let agents = Path::new(env!("CARGO_MANIFEST_DIR")).join("../specs/mamujoco/ant.toml");
+    let (d, at) = case(&agents.display().to_string(), "");
+    assert_eq!((d.code, at.as_str()), (Code::E0122, "m.toml:3:9"), "{d}");
+
+    let (d, at) = case(&point, "goal_threshold = -0.5");
+    assert_eq!((d.code, at.as_str()), (Code::E0803, "m.toml:7:18"), "{d}");
+
+    // A robot whose own goal terms use a goal vector of 1 element (the maze's has 2).
+    let goal_robot = std::fs::read_to_string(&point).unwrap().replace(
+        "../../../assets",
+        &format!("{}/../assets", env!("CARGO_MANIFEST_DIR")),
+    ) + "\n[reward.near]\nkind = \"goal_sparse\"\nachieved = \"qpos[0:1]\"\ndesired = \"goal\"\nthreshold = 0.1\n";
+    std::fs::write(dir.join("goal_robot.toml"), goal_robot).unwrap();
+    let (d, at) = case("goal_robot.toml", "");
+    assert_eq!((d.code, at.as_str()), (Code::E0801, "m.toml:3:9"), "{d}");
+    assert_eq!(
+        d.label.as_deref(),
+        Some("the robot spec, with goal terms of its own")
+    );
+
+    // A robot model with a site named `target`, the maze's goal marker.
+    std::fs::write(
+        dir.join("clash.xml"),
+        "<mujoco><worldbody><site name=\"target\"/><body><joint name=\"x\" type=\"slide\" axis=\"1 0 0\"/><joint name=\"y\" type=\"slide\" axis=\"0 1 0\"/><geom size=\"0.05\"/></body></worldbody><actuator><motor joint=\"x\"/><motor joint=\"y\"/></actuator></mujoco>",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("clash.toml"),
+        "[env]\nid = \"Clash-v0\"\n[params]\nxml_file = \"clash.xml\"\nframe_skip = 1\nmax_episode_steps = 0\n[observation.qpos]\nsource = \"qpos\"\n",
+    )
+    .unwrap();
+    let (d, at) = case("clash.toml", "");
+    assert_eq!((d.code, at.as_str()), (Code::E0106, "m.toml:3:9"), "{d}");
+    assert!(
+        d.message.ends_with(
+            "already has an element named `target`, the name the maze gives its goal marker"
+        ),
+        "{d}"
+    );
+
+    // A reset option on a wall: at that cell of the map file; outside the map: at the grid.
+    let mut env = MazeEnv::make("PointMaze_UMaze-v3", &[]).unwrap();
+    let opt = ResetOptions {
+        goal_cell: Some([0, 0]),
+        reset_cell: None,
+    };
+    let d = first(env.reset(Some(0), Some(opt)).err().unwrap());
+    assert_eq!(d.code, Code::E0708);
+    assert!(
+        d.position().unwrap().ends_with("maps/umaze.toml:5:1"),
+        "{d}"
+    );
+    let opt = ResetOptions {
+        goal_cell: None,
+        reset_cell: Some([7, 0]),
+    };
+    let d = first(env.reset(Some(0), Some(opt)).err().unwrap());
+    assert!(
+        d.position().unwrap().ends_with("maps/umaze.toml:4:8"),
+        "{d}"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

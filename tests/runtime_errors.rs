@@ -112,6 +112,64 @@ fn a_model_mujoco_rejects_is_a_compile_error() {
     assert!(e.to_string().contains("bad.xml"), "{e}");
 }
 
+/// E1001 points into the model file: MuJoCo's `Element ..., line N` becomes `model.xml:N:col`
+/// with the line shown (issue 16: it was a bare message without a location).
+#[test]
+fn a_compile_error_names_the_model_line() {
+    let dir = tempdir("badmodel-line");
+    let toml = dir.join("bad.toml");
+    std::fs::write(
+        &toml,
+        "[env]\nid = \"Bad-v0\"\n[params]\nxml_file = \"bad.xml\"\nframe_skip = 1\nmax_episode_steps = 10\n[observation.qpos]\nsource = \"qpos\"\n",
+    )
+    .unwrap();
+    let xml = dir.join("bad.xml");
+    let model = |joint_attrs: &str, size: &str| {
+        format!(
+            "<mujoco>\n  <worldbody>\n    <body name=\"b\">\n      <joint name=\"j\" type=\"hinge\"{joint_attrs}/>\n      <geom type=\"sphere\" size=\"{size}\"/>\n    </body>\n  </worldbody>\n  <actuator><motor joint=\"j\"/></actuator>\n</mujoco>\n"
+        )
+    };
+    // A compile error: the element's line, its tag under the caret.
+    std::fs::write(&xml, model("", "-1")).unwrap();
+    let e = Env::from_spec_file(&toml, &[]).err().unwrap();
+    assert_eq!(e.code(), Code::E1001, "{e}");
+    let text = e.to_string();
+    assert!(
+        text.starts_with(
+            "error[E1001]: MuJoCo could not compile {p}: Error: size 0 must be positive in geom\n"
+                .replace("{p}", &xml.display().to_string())
+                .as_str()
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(" --> {}:5:7\n", xml.display())),
+        "{text}"
+    );
+    assert!(
+        text.contains("5 |       <geom type=\"sphere\" size=\"-1\"/>\n"),
+        "{text}"
+    );
+    assert!(
+        text.ends_with("  |       ^^^^^ MuJoCo's error is about this <geom>"),
+        "{text}"
+    );
+    // An XML schema error: the attribute it names.
+    std::fs::write(&xml, model(" bogus=\"1\"", "0.1")).unwrap();
+    let e = Env::from_spec_file(&toml, &[]).err().unwrap();
+    let text = e.to_string();
+    assert!(text.contains("unrecognized attribute: 'bogus'\n"), "{text}");
+    assert!(
+        text.contains(&format!(" --> {}:4:36\n", xml.display())),
+        "{text}"
+    );
+    assert!(
+        text.ends_with("^^^^^ MuJoCo's error is about this <joint>"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn mujoco_warnings_are_captured_not_logged() {
     // HalfCheetah's model uses the deprecated settotalmass, which MuJoCo warns about at load

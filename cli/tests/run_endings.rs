@@ -48,3 +48,28 @@ fn a_healthy_start_gets_no_warning() {
     assert!(out.contains("by health check `"), "{out}");
     assert!(!out.contains("warning"), "{out}");
 }
+
+/// `--episodes 0` is an honest summary, not `min inf max -inf` (issue 16); one episode is one
+/// episode, not "1 episodes".
+#[test]
+fn no_episodes_and_one_episode_are_said_as_such() {
+    let out = run(&["run", "Hopper-v5", "--episodes", "0"]);
+    assert_eq!(out, "Hopper-v5: no episodes run (--episodes 0)\n");
+    let out = run(&["run", "Hopper-v5", "--episodes", "0", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["episodes"], 0);
+    assert!(v["return"].is_null() && v["length"].is_null(), "{out}");
+    assert!(!out.contains("inf"), "{out}");
+    let out = run(&[
+        "run",
+        "Hopper-v5",
+        "--episodes",
+        "1",
+        "--set",
+        "healthy_z_range=[2.0, 3.0]",
+    ]);
+    assert!(
+        out.contains("Hopper-v5: 1 episode, 1 step (1 terminated)"),
+        "{out}"
+    );
+}

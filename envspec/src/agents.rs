@@ -189,6 +189,91 @@ fn range(v: &Val, what: &str, d: &mut Diagnostics) -> Option<(f64, f64)> {
     None
 }
 
+/// Whether a document is a multi-agent spec without a task of its own (its `[agents] base`
+/// holds the task), and that base.
+fn delegates(root: &Val) -> Option<Option<&Val>> {
+    let top = root.as_table()?;
+    let agents = top.iter().find(|e| e.key == "agents")?.value.as_table()?;
+    if top.iter().any(|e| e.key == "env") {
+        return None;
+    }
+    Some(agents.iter().find(|e| e.key == "base").map(|e| &e.value))
+}
+
+/// Follow `base` from `this` (whose `base` at `at` names `first`) through multi-agent specs
+/// that only compose: a chain that returns to a file already on it is E0120, a chain that ends
+/// at another multi-agent spec is E0121 (a base must be a task spec). Files that cannot be read
+/// are left for the base's own load to report.
+fn base_chain(this: &Path, first: &Path, at: &Location) -> Result<(), Diagnostic> {
+    // Two spellings of one file (`./a.toml`, `../x/a.toml`) are the same link.
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    let show = |chain: &[PathBuf]| {
+        chain
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(" → ")
+    };
+    let mut chain = vec![this.to_path_buf()];
+    let mut next = first.to_path_buf();
+    loop {
+        if chain.iter().any(|p| same(p, &next)) {
+            chain.push(next);
+            let msg = if chain.len() == 2 {
+                "`base` names this file itself".to_string()
+            } else {
+                format!(
+                    "`base` leads back to a spec already on its chain: {}",
+                    show(&chain)
+                )
+            };
+            return Err(err(Code::E0120, at, msg, "expected the path of a task spec")
+                .help(format!(
+                    "a cycle of bases has no task to split: {}; point `base` at a task spec (one with `[env]`)",
+                    show(&chain)
+                )));
+        }
+        let task = match crate::value::read_document(&next, None, "spec") {
+            Ok((_, root)) => match delegates(&root) {
+                Some(base) => {
+                    chain.push(next.clone());
+                    match base.and_then(Val::as_str) {
+                        Some(s) if chain.len() <= 64 => {
+                            let dir = next.parent().unwrap_or(Path::new(""));
+                            next = crate::path::normalize(&dir.join(s));
+                            continue;
+                        }
+                        _ => None,
+                    }
+                }
+                None => Some(next),
+            },
+            Err(_) => None,
+        };
+        if chain.len() == 1 {
+            // `first` itself is a task spec (or unreadable: its load says why).
+            return Ok(());
+        }
+        let help = match task {
+            Some(t) => format!("point `base` at the task spec it splits, {}", t.display()),
+            None => "point `base` at a task spec (one with `[env]`)".to_string(),
+        };
+        return Err(err(
+            Code::E0121,
+            at,
+            format!(
+                "`base` names a multi-agent spec, not a task spec: {}",
+                show(&chain)
+            ),
+            "expected the path of a task spec (one with `[env]`)",
+        )
+        .help(help));
+    }
+}
+
 /// Load a multi-agent spec with overrides (`agent_conf`, `agent_obsk`, and any base parameter).
 pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnostics> {
     let (file, root) = crate::value::read_document(path, None, "spec")?;
@@ -302,6 +387,7 @@ pub fn from_document(
         Some(v) => match v.as_str() {
             Some(s) => {
                 let p = crate::path::normalize(&path.parent().unwrap_or(Path::new("")).join(s));
+                base_chain(path, &p, &v.loc)?;
                 crate::resolve::load(&p, &base_overrides).map_err(|mut e| {
                     e.push(
                         err(

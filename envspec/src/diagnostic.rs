@@ -38,6 +38,17 @@ impl SourceFile {
         (line + 1, col)
     }
 
+    /// Byte offset of a 1-based line and column (in characters); None outside the file.
+    pub fn offset(&self, line: usize, col: usize) -> Option<usize> {
+        let start = *self.line_starts.get(line.checked_sub(1)?)?;
+        let text = self.line_text(line);
+        let within = match text.char_indices().nth(col.checked_sub(1)?) {
+            Some((i, _)) => i,
+            None => text.len(),
+        };
+        Some(start + within)
+    }
+
     fn line_text(&self, line: usize) -> &str {
         let start = self.line_starts[line - 1];
         let end = self
@@ -47,6 +58,49 @@ impl SourceFile {
             .unwrap_or(self.text.len());
         self.text[start..end].trim_end_matches(['\n', '\r'])
     }
+}
+
+/// Read a text file for a reader that quotes it, within `limit` bytes
+/// ([`crate::limits::read_text`]). A file that is not UTF-8 is diagnosed with `code` at the line
+/// and column of its first bad byte (`what` names the file's role, e.g. "spec"); `unreadable`
+/// words any other failure.
+pub fn read_source(
+    path: &Path,
+    limit: u64,
+    code: Code,
+    what: &str,
+    unreadable: impl FnOnce(crate::limits::ReadError) -> Diagnostic,
+) -> Result<Arc<SourceFile>, Diagnostic> {
+    use std::io::Read;
+    let at = match crate::limits::read_text(path, limit) {
+        Ok(text) => return Ok(SourceFile::new(path, text)),
+        Err(crate::limits::ReadError::NotUtf8 { offset }) => offset,
+        Err(e) => return Err(unreadable(e)),
+    };
+    // Read again (as bounded) for the bytes: the lossy text equals the file up to the first bad
+    // byte, so the offset holds, and the line can be shown (U+FFFD where the bad bytes are).
+    let mut bytes = vec![];
+    let read = std::fs::File::open(path).and_then(|f| f.take(limit).read_to_end(&mut bytes));
+    if let Err(e) = read {
+        return Err(unreadable(crate::limits::ReadError::Io(e)));
+    }
+    let at = at.min(bytes.len());
+    let len = match std::str::from_utf8(&bytes[at..]) {
+        Err(e) => e.error_len().unwrap_or(bytes.len() - at),
+        Ok(_) => 0,
+    };
+    let bad = bytes[at..at + len.min(4)]
+        .iter()
+        .map(|b| format!("0x{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let file = SourceFile::new(path, String::from_utf8_lossy(&bytes).into_owned());
+    Err(
+        Diagnostic::new(code, format!("the {what} file is not UTF-8 text"))
+            .at(Location::new(&file, at..at + '\u{fffd}'.len_utf8()))
+            .label(format!("invalid UTF-8 byte {bad}"))
+            .help("save the file as UTF-8"),
+    )
 }
 
 /// A location: a byte range in a source file.
@@ -67,7 +121,10 @@ impl Location {
     /// `path:line:col`
     pub fn position(&self) -> String {
         let (line, col) = self.file.line_col(self.span.start);
-        format!("{}:{line}:{col}", self.file.path.display())
+        format!(
+            "{}:{line}:{col}",
+            escape(&self.file.path.display().to_string())
+        )
     }
 }
 
@@ -99,6 +156,12 @@ pub enum Code {
     /// a MuJoCo size that would exhaust memory, `frame_skip` or `max_episode_steps` too large, a
     /// reset condition that cannot be met.
     E0110,
+    /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
+    E0120,
+    /// `[agents] base` names a multi-agent spec that has no task of its own.
+    E0121,
+    /// A maze's `robot` names a multi-agent spec that has no task of its own.
+    E0122,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.
@@ -184,6 +247,8 @@ pub enum Code {
     E1401,
     /// A rollout whose trajectory would exceed `limits::MAX_TRAJECTORY_BYTES` in memory.
     E1402,
+    /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
+    E1430,
 }
 
 impl fmt::Display for Code {
@@ -208,7 +273,7 @@ impl Diagnostic {
     pub fn new(code: Code, message: impl Into<String>) -> Self {
         Diagnostic {
             code,
-            message: message.into(),
+            message: tidy(message.into()),
             location: None,
             label: None,
             help: None,
@@ -223,16 +288,16 @@ impl Diagnostic {
         self
     }
     pub fn label(mut self, label: impl Into<String>) -> Self {
-        self.label = Some(label.into());
+        self.label = Some(tidy(label.into()));
         self
     }
     pub fn help(mut self, help: impl Into<String>) -> Self {
-        self.help = Some(help.into());
+        self.help = Some(tidy(help.into()));
         self
     }
     pub fn help_opt(mut self, help: Option<String>) -> Self {
-        if help.is_some() {
-            self.help = help;
+        if let Some(h) = help {
+            self.help = Some(tidy(h));
         }
         self
     }
@@ -253,7 +318,6 @@ impl fmt::Display for Diagnostic {
             let pad = " ".repeat(gutter);
             writeln!(f, "{pad}--> {}", loc.position())?;
             writeln!(f, "{pad} |")?;
-            writeln!(f, "{line} | {text}")?;
             let line_end = loc
                 .file
                 .line_starts
@@ -266,12 +330,9 @@ impl fmt::Display for Diagnostic {
                 .chars()
                 .count()
                 .max(1);
-            let lead: String = text
-                .chars()
-                .take(col - 1)
-                .map(|c| if c == '\t' { '\t' } else { ' ' })
-                .collect();
-            write!(f, "{pad} | {lead}{}", "^".repeat(width))?;
+            let (shown, lead, carets) = snippet(text, col - 1, width);
+            writeln!(f, "{line} | {shown}")?;
+            write!(f, "{pad} | {lead}{}", "^".repeat(carets))?;
             match &self.label {
                 Some(label) => writeln!(f, " {label}")?,
                 None => writeln!(f)?,
@@ -288,6 +349,98 @@ impl fmt::Display for Diagnostic {
         }
         Ok(())
     }
+}
+
+/// Characters never echoed raw: bidi overrides, embeddings, isolates and marks (they reorder what
+/// a terminal shows, "Trojan Source") and C0/C1 controls other than tab and newline (they move
+/// the cursor or recolour the terminal).
+fn is_hidden(c: char) -> bool {
+    matches!(c,
+        '\u{0}'..='\u{8}' | '\u{b}'..='\u{1f}' | '\u{7f}'..='\u{9f}'
+        | '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// `s` with every hidden character written as a Rust escape (`\u{202e}`), so what a user reads
+/// is what the file holds.
+pub fn escape(s: &str) -> std::borrow::Cow<'_, str> {
+    if !s.chars().any(is_hidden) {
+        return s.into();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if is_hidden(c) {
+            out.push_str(&c.escape_unicode().to_string());
+        } else {
+            out.push(c);
+        }
+    }
+    out.into()
+}
+
+/// Longest message, label or help text kept (in characters): a name or value taken from the
+/// input can be megabytes long, and is clipped rather than echoed whole.
+const MAX_TEXT: usize = 400;
+/// Characters of a source line shown around the caret.
+const WINDOW: usize = 120;
+
+/// Escaped and clipped text of a message, label or help.
+fn tidy(s: String) -> String {
+    let s = match escape(&s) {
+        std::borrow::Cow::Borrowed(_) => s,
+        std::borrow::Cow::Owned(e) => e,
+    };
+    match s.char_indices().nth(MAX_TEXT) {
+        Some((cut, _)) => {
+            let rest = s[cut..].chars().count();
+            format!("{}… ({rest} more characters)", &s[..cut])
+        }
+        None => s,
+    }
+}
+
+/// The source line as shown under a diagnostic: at most [`WINDOW`] characters around the
+/// caret (`…` where clipped), hidden characters escaped. `col` is the 0-based character column
+/// of the span, `width` its length in characters. Returns the shown text, the blank lead before
+/// the caret (tabs kept, so it lines up) and the caret count.
+fn snippet(text: &str, col: usize, width: usize) -> (String, String, usize) {
+    let chars: Vec<char> = text.chars().collect();
+    let n = chars.len();
+    let (start, end) = if n <= WINDOW {
+        (0, n)
+    } else {
+        // The caret sits a third into the window, or the window ends at the line's end.
+        let start = col.saturating_sub(WINDOW / 3).min(n - WINDOW);
+        (start, start + WINDOW)
+    };
+    let col = col.clamp(start, end);
+    let (mut shown, mut lead) = (String::new(), String::new());
+    if start > 0 {
+        shown.push('…');
+        lead.push(' ');
+    }
+    let mut carets = 0;
+    for (i, &c) in chars.iter().enumerate().take(end).skip(start) {
+        let e = if is_hidden(c) {
+            c.escape_unicode().to_string()
+        } else {
+            c.to_string()
+        };
+        let w = e.chars().count();
+        if i < col {
+            lead.push_str(&if c == '\t' {
+                "\t".into()
+            } else {
+                " ".repeat(w)
+            });
+        } else if i < col + width {
+            carets += w;
+        }
+        shown.push_str(&e);
+    }
+    if end < n {
+        shown.push('…');
+    }
+    (shown, lead, carets.max(1))
 }
 
 /// Every diagnostic found in one pass (a spec reports all its errors at once).

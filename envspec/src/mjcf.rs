@@ -170,16 +170,20 @@ impl Reader {
                 "<include> nesting deeper than 32 (a cycle?)",
             ));
         }
-        let text = limits::read_text(path, limits::MAX_MODEL_BYTES).map_err(|e| {
+        let limit = limits::MAX_MODEL_BYTES;
+        let source = crate::diagnostic::read_source(path, limit, Code::E0301, "model", |e| {
             Diagnostic::new(
                 e.code(Code::E0301),
                 format!("cannot read model file {}: {e}", path.display()),
             )
             .label("expected an existing, readable MJCF file")
         })?;
-        let doc = roxmltree::Document::parse(&text)
-            .map_err(|e| malformed(path, format!("not well-formed XML: {e}")))?;
-        let source = SourceFile::new(path, text.clone());
+        let doc = roxmltree::Document::parse(&source.text).map_err(|e| {
+            let pos = e.pos();
+            let at = source.offset(pos.row as usize, pos.col as usize);
+            malformed(path, format!("not well-formed XML: {e}"))
+                .at_opt(at.map(|o| Location::new(&source, o..o)))
+        })?;
         if let Some(d) = limits::check_mjcf_sizes(&doc, &source).into_iter().next() {
             return Err(d);
         }

@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::diagnostic::{Code, Diagnostic};
+use crate::diagnostic::{Code, Diagnostic, read_source};
 use crate::mjcf::{Joint, JointKind, ModelInfo};
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
@@ -35,6 +35,12 @@ fn unreadable(path: &Path, e: crate::limits::ReadError) -> Diagnostic {
     .label("expected an existing, readable MJCF or URDF file")
 }
 
+/// A model file's text (a file that is not UTF-8 is located at its first bad byte).
+fn read_model(path: &Path) -> Result<String, Diagnostic> {
+    let limit = crate::limits::MAX_MODEL_BYTES;
+    read_source(path, limit, Code::E0301, "model", |e| unreadable(path, e)).map(|f| f.text.clone())
+}
+
 /// Whether the text is a URDF (its root element is `<robot>`).
 fn is_urdf(text: &str) -> bool {
     roxmltree::Document::parse(text).is_ok_and(|d| d.root_element().tag_name().name() == "robot")
@@ -43,9 +49,8 @@ fn is_urdf(text: &str) -> bool {
 impl ModelInfo {
     /// Read a model file: a URDF when its root element is `<robot>`, MJCF otherwise.
     pub fn from_file(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = crate::limits::read_text(path, crate::limits::MAX_MODEL_BYTES)
-            .map_err(|e| unreadable(path, e))?;
-        if is_urdf(&text) {
+        let text = read_model(path)?;
+        if is_urdf(text.as_str()) {
             ModelInfo::from_urdf_str(path, &text)
         } else {
             ModelInfo::from_mjcf(path)
@@ -54,9 +59,7 @@ impl ModelInfo {
 
     /// Read a URDF file.
     pub fn from_urdf(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        let text = crate::limits::read_text(path, crate::limits::MAX_MODEL_BYTES)
-            .map_err(|e| unreadable(path, e))?;
-        ModelInfo::from_urdf_str(path, &text)
+        ModelInfo::from_urdf_str(path, &read_model(path)?)
     }
 
     /// Read a URDF given as text (`path` is used for messages).

@@ -119,7 +119,8 @@ pub fn read_document(
     at: Option<&Location>,
     what: &str,
 ) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
-    let text = crate::limits::read_text(path, crate::limits::MAX_SPEC_BYTES).map_err(|e| {
+    let limit = crate::limits::MAX_SPEC_BYTES;
+    let file = crate::diagnostic::read_source(path, limit, Code::E0600, what, |e| {
         Diagnostic::new(
             e.code(Code::E0600),
             format!("cannot read {what} {}: {e}", path.display()),
@@ -127,7 +128,6 @@ pub fn read_document(
         .at_opt(at.cloned())
         .label(format!("expected a readable TOML {what} file"))
     })?;
-    let file = SourceFile::new(path, text);
     let root = parse_document(&file)?;
     Ok((file, root))
 }

@@ -10,11 +10,14 @@ pub enum EnvError {
     /// The spec, an override or the model's MJCF did not check out.
     #[error("{0}")]
     Spec(#[from] Diagnostics),
-    #[error("error[E1001]: MuJoCo could not compile {}: {message}", path.display())]
+    #[error("{}", crate::model_build::compile_error_text(path, message))]
     Compile { path: PathBuf, message: String },
-    #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {what}", path.display())]
+    #[error("error[E1002]: the compiled model {} disagrees with its MJCF as read by envspec: {}", path.display(), envspec::diagnostic::escape(what))]
     ModelMismatch { path: PathBuf, what: String },
-    #[error("error[E1101]: action has {got} entries but {env} expects {expected}")]
+    #[error(
+        "error[E1101]: action has {got} entries but {} expects {expected}",
+        envspec::diagnostic::escape(env)
+    )]
     ActionLength {
         env: String,
         expected: usize,

@@ -9,6 +9,81 @@ use mujoco_rs::mujoco_c::mjtIntegrator;
 use mujoco_rs::prelude::*;
 use mujoco_rs::wrappers::mj_editing::{MjsBody, MjtLimited, PositionConfig};
 
+/// E1001 as people read it. MuJoCo's message ends by naming the element and its line in the
+/// model file (`Element 'joint', line 4` for XML errors, `Element name 'torso', id 1, line 7`
+/// for compile errors); the error is then a diagnostic at `model.xml:line:col` showing that line,
+/// as spec errors are. Line 0 (an element from an `<include>`d file) or no line keeps the plain
+/// form.
+pub(crate) fn compile_error_text(path: &std::path::Path, message: &str) -> String {
+    let message = message.trim_start_matches("model load failed: ").trim();
+    let plain = || {
+        format!(
+            "error[E1001]: MuJoCo could not compile {}: {}",
+            path.display(),
+            envspec::diagnostic::escape(message)
+        )
+    };
+    let (what, element) = match message.rfind("\nElement ") {
+        Some(i) => (message[..i].trim(), &message[i + 1..]),
+        None => return plain(),
+    };
+    let Some(line) = element
+        .rsplit_once(", line ")
+        .and_then(|(_, n)| n.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+    else {
+        return plain();
+    };
+    // (MuJoCo has read the file, so it is within the limit; any failure keeps the plain form)
+    let limit = envspec::limits::MAX_MODEL_BYTES;
+    let unreadable = |e: envspec::limits::ReadError| {
+        envspec::Diagnostic::new(envspec::Code::E1001, e.to_string())
+    };
+    let read = envspec::diagnostic::read_source(path, limit, envspec::Code::E1001, "", unreadable);
+    let Ok(file) = read else {
+        return plain();
+    };
+    let Some(start) = file.offset(line, 1) else {
+        return plain();
+    };
+    let quoted = |after: &str| -> Option<String> {
+        let rest = &what[what.find(after)? + after.len()..];
+        Some(rest[..rest.find('\'')?].to_string())
+    };
+    let text = &file.text[start..];
+    let text = &text[..text.find('\n').unwrap_or(text.len())];
+    // The span: the attribute an XML error names, else the element's tag (`Element 'joint'`),
+    // else the line's first non-blank text.
+    // (a compile error names the kind last: "size 0 must be positive in geom")
+    let tag = element
+        .strip_prefix("Element '")
+        .and_then(|t| t.split('\'').next())
+        .or_else(|| what.rsplit_once(" in ").map(|(_, k)| k.trim()))
+        .filter(|t| !t.is_empty() && text.contains(&format!("<{t}")));
+    let attr = quoted("attribute: '").or_else(|| quoted("attribute '"));
+    let find = |needle: &str| text.find(needle).map(|i| (i, needle.len()));
+    let (at, len) = attr
+        .and_then(|a| find(&format!("{a}=")).map(|(i, _)| (i, a.len())))
+        .or_else(|| tag.and_then(|t| find(&format!("<{t}"))))
+        .unwrap_or_else(|| {
+            let i = text.len() - text.trim_start().len();
+            (i, text.trim().len().max(1))
+        });
+    let label = match tag {
+        Some(t) => format!("MuJoCo's error is about this <{t}>"),
+        None => format!("MuJoCo's error is about this element ({})", element.trim()),
+    };
+    envspec::Diagnostic::new(
+        envspec::Code::E1001,
+        format!("MuJoCo could not compile {}: {what}", path.display()),
+    )
+    .at(envspec::Location::new(&file, start + at..start + at + len))
+    .label(label)
+    .to_string()
+    .trim_end()
+    .to_string()
+}
+
 /// Load the model file into an mjSpec, apply the edits and compile it.
 pub(crate) fn compile_edited(
     path: &std::path::Path,

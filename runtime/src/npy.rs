@@ -12,10 +12,12 @@
 //! ```
 
 use std::fs::File;
+use std::io::Seek;
 use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
-use ndarray_npy::ReadNpyExt;
+use ndarray_npy::npy::header::Header;
+use ndarray_npy::{ReadNpyError, ReadNpyExt};
 
 /// A 2-D `.npy` array as stored.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,13 +29,28 @@ pub enum Matrix {
 /// Why a `.npy` file could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum NpyError {
-    #[error("cannot open {}: {source}", path.display())]
+    #[error("error[E1430]: cannot open {}: {source}", path.display())]
     Open {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{}: expected a 2-D float64 or float32 .npy array [T, width]: {why}", path.display())]
+    #[error("error[E1430]: {}: expected a 2-D float64 or float32 .npy array [T, width]: {why}", path.display())]
     Format { path: PathBuf, why: String },
+    #[error("error[E1430]: {} is truncated: expected {expected} bytes of data for shape {shape:?} ({descr}), found {found}", path.display())]
+    Truncated {
+        path: PathBuf,
+        shape: Vec<usize>,
+        descr: String,
+        expected: u64,
+        found: u64,
+    },
+}
+
+impl NpyError {
+    /// The stable code of every `.npy` problem (docs/errors.md).
+    pub fn code(&self) -> envspec::Code {
+        envspec::Code::E1430
+    }
 }
 
 impl Matrix {
@@ -71,15 +88,53 @@ pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
     // ndarray-npy checks the header's dtype and shape against the requested type, so a failed
     // float64 read of a float32 file is a clean error and the file is read again as float32.
     // Fortran-order files are copied into C order, so every row is a contiguous slice.
-    if let Ok(a) = Array2::<f64>::read_npy(open()?) {
-        return Ok(Matrix::F64(a.as_standard_layout().into_owned()));
+    let e64 = match Array2::<f64>::read_npy(open()?) {
+        Ok(a) => return Ok(Matrix::F64(a.as_standard_layout().into_owned())),
+        Err(e) => e,
+    };
+    // Only a float64 read refused for its dtype is retried as float32: any other failure of a
+    // float64 file (truncated, extra bytes) is that file's problem, not a dtype mismatch.
+    let e = match e64 {
+        ReadNpyError::WrongDescriptor(_) => match Array2::<f32>::read_npy(open()?) {
+            Ok(a) => return Ok(Matrix::F32(a.as_standard_layout().into_owned())),
+            Err(e) => e,
+        },
+        e => e,
+    };
+    if let ReadNpyError::MissingData = e
+        && let Some(t) = truncation(path)
+    {
+        return Err(t);
     }
-    Array2::<f32>::read_npy(open()?)
-        .map(|a| Matrix::F32(a.as_standard_layout().into_owned()))
-        .map_err(|e| NpyError::Format {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })
+    Err(NpyError::Format {
+        path: path.to_path_buf(),
+        why: e.to_string(),
+    })
+}
+
+/// A file whose header promises more data than it holds: the sizes, from the header.
+fn truncation(path: &Path) -> Option<NpyError> {
+    let mut f = File::open(path).ok()?;
+    let header = Header::from_reader(&mut f).ok()?;
+    let data_start = f.stream_position().ok()?;
+    let found = f.metadata().ok()?.len().saturating_sub(data_start);
+    let descr = header.type_descriptor.to_string();
+    let item: u64 = match descr.trim_matches('\'') {
+        "<f8" | ">f8" | "=f8" | "f8" => 8,
+        "<f4" | ">f4" | "=f4" | "f4" => 4,
+        _ => return None,
+    };
+    let expected = header
+        .shape
+        .iter()
+        .try_fold(item, |n, &d| n.checked_mul(d as u64))?;
+    (found < expected).then(|| NpyError::Truncated {
+        path: path.to_path_buf(),
+        shape: header.shape.clone(),
+        descr: descr.trim_matches('\'').to_string(),
+        expected,
+        found,
+    })
 }
 
 #[cfg(test)]
@@ -115,6 +170,45 @@ mod tests {
         assert!(g.is_standard_layout());
         assert_eq!(g, array![[1.0, 4.0], [2.0, 5.0], [3.0, 6.0]]);
         let _ = (std::fs::remove_file(p), std::fs::remove_file(p64));
+    }
+
+    #[test]
+    fn a_truncated_file_is_said_to_be_truncated() {
+        // A float64 file cut short is not a dtype problem (it was reported as "incorrect
+        // descriptor ('<f8')" after the float32 retry).
+        for (name, full) in [
+            ("t64.npy", {
+                let p = tmp("full64.npy");
+                ndarray_npy::write_npy(&p, &Array2::<f64>::zeros((10, 3))).unwrap();
+                p
+            }),
+            ("t32.npy", {
+                let p = tmp("full32.npy");
+                ndarray_npy::write_npy(&p, &Array2::<f32>::zeros((10, 3))).unwrap();
+                p
+            }),
+        ] {
+            let bytes = std::fs::read(&full).unwrap();
+            let p = tmp(name);
+            std::fs::write(&p, &bytes[..bytes.len() - 7]).unwrap();
+            let e = read_matrix(&p).unwrap_err();
+            let (item, descr) = if name == "t64.npy" {
+                (8, "<f8")
+            } else {
+                (4, "<f4")
+            };
+            assert_eq!(
+                e.to_string(),
+                format!(
+                    "error[E1430]: {} is truncated: expected {} bytes of data for shape [10, 3] ({descr}), found {}",
+                    p.display(),
+                    30 * item,
+                    30 * item - 7
+                )
+            );
+            assert_eq!(e.code(), envspec::Code::E1430);
+            let _ = (std::fs::remove_file(p), std::fs::remove_file(full));
+        }
     }
 
     #[test]

@@ -123,6 +123,22 @@ pub fn run(args: Args) -> Result<Outcome> {
     let (rm, rs, rmin, rmax) = stats(&returns);
     let (lm, ls, lmin, lmax) = stats(&lengths);
     let sps = steps as f64 / secs.max(1e-9);
+    if returns.is_empty() {
+        // No episode, no statistics: min/max of nothing would print as inf / -inf.
+        match args.format {
+            Format::Json => println!(
+                "{}",
+                serde_json::to_string_pretty(&serde_json::json!({
+                    "env": env.id(), "episodes": 0, "steps": 0, "terminations": 0,
+                    "return": null, "length": null, "steps_per_second": null,
+                    "warnings": env.warnings(), "terminated_by": [], "reset_state_fails": null,
+                }))?
+            ),
+            Format::Text => println!("{}: no episodes run (--episodes 0)", env.id()),
+        }
+        return Ok(Outcome::Ok);
+    }
+    let plural = |n: u64, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     match args.format {
         Format::Json => println!(
             "{}",
@@ -137,9 +153,10 @@ pub fn run(args: Args) -> Result<Outcome> {
         ),
         Format::Text => {
             println!(
-                "{}: {} episodes, {steps} steps ({terminations} terminated)",
+                "{}: {}, {} ({terminations} terminated)",
                 env.id(),
-                args.episodes
+                plural(args.episodes, "episode", "episodes"),
+                plural(steps, "step", "steps"),
             );
             println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
             println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
@@ -154,7 +171,8 @@ pub fn run(args: Args) -> Result<Outcome> {
                 );
             } else if terminations == args.episodes && lm <= 3.0 {
                 println!(
-                    "  warning: every episode ended within {lmax} steps: the initial state may already be close to failing a check"
+                    "  warning: every episode ended within {}: the initial state may already be close to failing a check",
+                    plural(lmax as u64, "step", "steps")
                 );
             }
             for w in env.warnings() {

@@ -145,15 +145,23 @@ pub(super) fn read_grid(v: &Val, d: &mut Diagnostics) -> Option<Grid> {
             d.push(
                 Diagnostic::new(
                     Code::E0701,
-                    format!("maze row {i} has {} cells but row 0 has {width}", row.len()),
+                    format!(
+                        "maze row {i} has {} but row 0 has {width}",
+                        cells(row.len())
+                    ),
                 )
                 .at(g.row_locs[i].clone())
-                .label(format!("expected {width} cells"))
+                .label(format!("expected {}", cells(width)))
                 .help("every row of a maze has the same number of cells (walls are `1`)"),
             );
         }
     }
     (d.len() == before).then_some(g)
+}
+
+/// `1 cell`, `3 cells`.
+fn cells(n: usize) -> String {
+    format!("{n} cell{}", if n == 1 { "" } else { "s" })
 }
 
 /// Whitespace-separated tokens of `line` with their byte ranges (offset by `base`).

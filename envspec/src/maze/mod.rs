@@ -97,8 +97,14 @@ pub struct MazeLocations {
     /// The `maze` key of the `[maze]` table.
     pub maze: Option<Location>,
     pub robot: Option<Location>,
+    /// The grid as written: in the map file when `map` names one.
     pub map: Option<Location>,
     pub maze_size_scaling: Option<Location>,
+    /// Each `robot_params` entry the robot receives as written (a user's override of the same
+    /// name replaces it), for the robot spec's errors about it.
+    pub robot_params: Vec<(String, Location)>,
+    /// Each cell, `[row][col]` (empty when the grid was not read).
+    pub cells: Vec<Vec<Location>>,
 }
 
 /// `path:line:col` of each location (not the whole source files they hold).
@@ -110,6 +116,15 @@ impl std::fmt::Debug for MazeLocations {
             .field("robot", &at(&self.robot))
             .field("map", &at(&self.map))
             .field("maze_size_scaling", &at(&self.maze_size_scaling))
+            .field(
+                "robot_params",
+                &self
+                    .robot_params
+                    .iter()
+                    .map(|(k, l)| (k, l.position()))
+                    .collect::<Vec<_>>(),
+            )
+            .field("cells", &self.cells.iter().map(Vec::len).sum::<usize>())
             .finish()
     }
 }

@@ -77,6 +77,8 @@ pub fn from_document(
         entries: table.to_vec(),
         maze_loc: maze.key_loc.clone(),
         d,
+        grid_loc: None,
+        cell_locs: vec![],
     };
     let mut robot_overrides = vec![];
     let mut map_dir = dir.clone();
@@ -107,23 +109,39 @@ pub fn from_document(
         .map(|s| dir.join(s))
         .unwrap_or_default();
     let mut base_overrides = r.robot_params(&dir);
+    let robot_params = r
+        .get("robot_params")
+        .and_then(Val::as_table)
+        .unwrap_or(&[])
+        .iter()
+        .filter(|e| !robot_overrides.iter().any(|o| o.name == e.key))
+        .map(|e| {
+            let span = e.key_loc.span.start..e.value.loc.span.end;
+            (e.key.clone(), Location::new(&e.key_loc.file, span))
+        })
+        .collect();
     base_overrides.extend(robot_overrides);
     let maze_size_scaling = r.positive("maze_size_scaling");
     let maze_height = r.positive("maze_height");
     let position_noise_range = r.float("position_noise_range").unwrap_or(0.25);
-    let goal_threshold = r.float("goal_threshold").unwrap_or(0.45);
+    let goal_threshold = r.goal_threshold();
     let velocity_clip = r.float("velocity_clip");
     let continuing_task = r.boolean("continuing_task").unwrap_or(true);
     let reset_target = r.boolean("reset_target").unwrap_or(false);
     let reward_type = r.reward_type();
     let max_episode_steps = r.max_episode_steps();
+    let grid = r.map(&map_dir);
     let locations = MazeLocations {
         maze: Some(r.maze_loc.clone()),
         robot: r.get("robot").map(|v| v.loc.clone()),
-        map: r.get("map").map(|v| v.loc.clone()),
+        map: r
+            .grid_loc
+            .take()
+            .or_else(|| r.get("map").map(|v| v.loc.clone())),
         maze_size_scaling: r.get("maze_size_scaling").map(|v| v.loc.clone()),
+        robot_params,
+        cells: std::mem::take(&mut r.cell_locs),
     };
-    let grid = r.map(&map_dir);
     r.d.into_result(MazeSpec {
         id,
         path: file.path.clone(),
@@ -161,6 +179,9 @@ struct Reader {
     entries: Vec<Entry>,
     maze_loc: Location,
     d: Diagnostics,
+    /// Where the grid's cells are written (in the map file when `map` names one), and each cell.
+    grid_loc: Option<Location>,
+    cell_locs: Vec<Vec<Location>>,
 }
 
 impl Reader {
@@ -210,6 +231,22 @@ impl Reader {
         };
         self.d.push(e);
         None
+    }
+
+    /// The goal's reach (E0803 below 0, where the goal term would find it without a location).
+    fn goal_threshold(&mut self) -> f64 {
+        let Some(x) = self.float("goal_threshold") else {
+            return 0.45;
+        };
+        if x < 0.0 {
+            let loc = self.get("goal_threshold").map(|v| v.loc.clone());
+            self.d.push(
+                Diagnostic::new(Code::E0803, format!("`goal_threshold` is {x}"))
+                    .at_opt(loc)
+                    .label("expected a distance ≥ 0 (the reference's is 0.45)"),
+            );
+        }
+        x
     }
 
     fn positive(&mut self, key: &str) -> f64 {
@@ -326,6 +363,12 @@ impl Reader {
         if self.d.len() > before {
             return vec![];
         }
+        self.grid_loc = Some(map_loc);
+        self.cell_locs = grid
+            .cells
+            .iter()
+            .map(|row| row.iter().map(|(_, l)| l.clone()).collect())
+            .collect();
         grid.cells()
     }
 }

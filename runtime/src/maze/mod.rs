@@ -80,8 +80,83 @@ pub struct MazeEnv {
     success: bool,
 }
 
-fn spec_error(code: Code, msg: String) -> EnvError {
-    EnvError::Spec(Diagnostics(vec![Diagnostic::new(code, msg)]))
+/// A maze's robot must be a task spec: a maze or a multi-agent spec without `[env]` there is one
+/// error at `robot = ...` (it was the robot file's every missing task key, at 1:1).
+fn check_robot_kind(spec: &MazeSpec) -> Result<(), EnvError> {
+    let Ok((_, root)) = envspec::value::read_document(&spec.robot, None, "spec") else {
+        return Ok(()); // the robot's load says why
+    };
+    let top = root.as_table().unwrap_or(&[]);
+    let has = |k: &str| top.iter().any(|e| e.key == k);
+    let same = match (spec.robot.canonicalize(), spec.path.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => spec.robot == spec.path,
+    };
+    let (code, what) = if same {
+        (
+            Code::E0108,
+            "`robot` names this maze file itself".to_string(),
+        )
+    } else if has("maze") {
+        (
+            Code::E0108,
+            format!(
+                "`robot` names a maze spec ({}), not a robot task spec",
+                spec.robot.display()
+            ),
+        )
+    } else if has("agents") && !has("env") {
+        (
+            Code::E0122,
+            format!(
+                "`robot` names a multi-agent spec ({}), not a robot task spec",
+                spec.robot.display()
+            ),
+        )
+    } else {
+        return Ok(());
+    };
+    Err(EnvError::Spec(
+        Diagnostic::new(code, what)
+            .at_opt(spec.locations.robot.clone())
+            .label("expected the path of a robot task spec (one with `[env]`)")
+            .help("e.g. robot = \"../../gymnasium/ant.toml\"")
+            .into(),
+    ))
+}
+
+/// Whether `word` occurs in `text` as a whole name (not inside a longer one).
+fn names_word(text: &str, word: &str) -> bool {
+    let name = |c: char| c.is_alphanumeric() || c == '_';
+    text.match_indices(word).any(|(i, _)| {
+        !text[..i].chars().next_back().is_some_and(name)
+            && !text[i + word.len()..].chars().next().is_some_and(name)
+    })
+}
+
+/// The robot spec's errors that have no place in the robot's own file point into the maze spec:
+/// a `robot_params` value at its entry, an unreadable robot file at `robot = ...`.
+fn locate_robot_errors(mut d: Diagnostics, spec: &MazeSpec) -> Diagnostics {
+    for x in &mut d.0 {
+        let in_override = x
+            .location
+            .as_ref()
+            .is_some_and(|l| l.file.path.to_string_lossy().starts_with("<override "));
+        if x.location.is_some() && !in_override {
+            continue;
+        }
+        let param = spec
+            .locations
+            .robot_params
+            .iter()
+            .find(|(k, _)| names_word(&x.message, k));
+        if let Some((_, loc)) = param {
+            x.location = Some(loc.clone());
+        } else if x.location.is_none() && matches!(x.code, Code::E0600 | Code::E0601) {
+            x.location = spec.locations.robot.clone();
+        }
+    }
+    d
 }
 
 impl MazeEnv {
@@ -108,14 +183,20 @@ impl MazeEnv {
 
     /// Build the maze world around the robot and the env.
     pub fn new(spec: MazeSpec) -> Result<MazeEnv, EnvError> {
-        let robot_spec = envspec::load(&spec.robot, &spec.robot_overrides)?;
+        check_robot_kind(&spec)?;
+        let robot_spec = envspec::load(&spec.robot, &spec.robot_overrides)
+            .map_err(|d| locate_robot_errors(d, &spec))?;
         if robot_spec.model.nq < 2 {
             return Err(EnvError::Spec(
                 Diagnostic::new(
                     Code::E0707,
                     format!(
-                        "the robot `{}` has {} qpos entries; a maze robot needs its root x, y in qpos[0:2]",
-                        robot_spec.id, robot_spec.model.nq
+                        "the robot `{}` has {}; a maze robot needs its root x, y in qpos[0:2]",
+                        robot_spec.id,
+                        match robot_spec.model.nq {
+                            1 => "1 qpos entry".to_string(),
+                            n => format!("{n} qpos entries"),
+                        }
                     ),
                 )
                 .at_opt(spec.locations.robot.clone())
@@ -140,10 +221,25 @@ impl MazeEnv {
         }
         let model = Arc::new(build_world(&spec, &robot_spec)?);
         fit::check_robot_fits(&spec, &robot_spec, &model)?;
-        let task = spec
-            .goal_task(&robot_spec.model)
-            .map_err(Diagnostics::from)?;
-        let robot_spec = task.apply(robot_spec).map_err(Diagnostics::from)?;
+        // The goal terms' errors have no place of their own: the threshold's is the maze's, the
+        // others (a robot with a goal vector of its own) the robot's.
+        let place = |d: Diagnostic| {
+            let (at, what) = match d.code {
+                Code::E0803 => (&spec.locations.maze, "the maze's goal task"),
+                _ => (
+                    &spec.locations.robot,
+                    "the robot spec, with goal terms of its own",
+                ),
+            };
+            let d = match (&d.location, &d.label) {
+                (Some(_), _) => d,
+                (None, None) => d.at_opt(at.clone()).label(what),
+                (None, Some(_)) => d.at_opt(at.clone()),
+            };
+            Diagnostics::from(d)
+        };
+        let task = spec.goal_task(&robot_spec.model).map_err(place)?;
+        let robot_spec = task.apply(robot_spec).map_err(place)?;
         let robot = Env::with_world_model(Arc::new(robot_spec), model, 1)?;
         let obs = MazeObs {
             observation: vec![0.0; robot.obs_dim()],
@@ -244,13 +340,27 @@ impl MazeEnv {
         if ok {
             Ok(())
         } else {
-            Err(spec_error(
-                Code::E0708,
-                format!(
-                    "{what} {cell:?} is not a free cell of the {}×{} maze",
-                    self.spec.rows(),
-                    self.spec.cols()
-                ),
+            Err(EnvError::Spec(
+                Diagnostic::new(
+                    Code::E0708,
+                    format!(
+                        "{what} {cell:?} is not a free cell of the {}×{} maze",
+                        self.spec.rows(),
+                        self.spec.cols()
+                    ),
+                )
+                .at_opt(
+                    // The wall cell itself, or the whole map for a cell outside it.
+                    self.spec
+                        .locations
+                        .cells
+                        .get(cell[0])
+                        .and_then(|r| r.get(cell[1]))
+                        .or(self.spec.locations.map.as_ref())
+                        .cloned(),
+                )
+                .label("expected a free cell: cells are [row, col] from 0, walls are `1`")
+                .into(),
             ))
         }
     }
@@ -452,6 +562,22 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
         path: robot.model_path.clone(),
         message,
     };
+    // A robot element with a name the maze gives its own (E0106, at `robot = ...`).
+    let taken = |name: &str, what: &str| {
+        EnvError::Spec(
+            Diagnostic::new(
+                Code::E0106,
+                format!(
+                    "the robot's model {} already has an element named `{name}`, the name the maze gives {what}",
+                    robot.model_path.display()
+                ),
+            )
+            .at_opt(maze.locations.robot.clone())
+            .label("a robot whose model uses a name of the maze's world")
+            .help("rename that element of the robot's model (the maze names its walls `block_<row>_<col>` and its goal site `target`)")
+            .into(),
+        )
+    };
     let mut spec =
         crate::model_build::load_edited(&robot.model_path, &robot.model_edits).map_err(&bad)?;
     let s = maze.maze_size_scaling;
@@ -460,7 +586,7 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
     for &(i, j, x, y) in &maze.layout().walls {
         let g = spec.world_body_mut().add_geom();
         g.set_name(&format!("block_{i}_{j}"))
-            .map_err(|e| bad(format!("cannot add wall block_{i}_{j}: {e}")))?;
+            .map_err(|_| taken(&format!("block_{i}_{j}"), "its wall blocks"))?;
         g.set_type(MjtGeomBase::mjGEOM_BOX);
         *g.pos_mut() = [x, y, z];
         *g.size_mut() = [0.5 * s, 0.5 * s, z];
@@ -471,7 +597,7 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
     }
     let t = spec.world_body_mut().add_site();
     t.set_name("target")
-        .map_err(|e| bad(format!("cannot add the target site: {e}")))?;
+        .map_err(|_| taken("target", "its goal marker"))?;
     t.set_type(MjtGeomBase::mjGEOM_SPHERE);
     *t.pos_mut() = [0.0, 0.0, z];
     t.size_mut()[0] = 0.2 * s;
