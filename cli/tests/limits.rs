@@ -477,3 +477,63 @@ fn a_rollout_too_long_to_hold_in_memory_is_refused_before_stepping() {
     assert!(text.contains("beyond envc's limit of 4 GiB"), "{text}");
     assert!(!out.exists());
 }
+
+#[test]
+fn absurd_maze_sizes_and_empty_runs_are_refused_with_a_reason() {
+    let dir = Scratch::new("maze");
+    let maze = std::fs::read_to_string(Path::new(ROOT).join("specs/robotics/maze/point_maze.toml"))
+        .unwrap();
+    let maze = maze
+        .replace(
+            "robot = \"point.toml\"",
+            &format!(
+                "robot = {:?}",
+                format!("{ROOT}/specs/robotics/maze/point.toml")
+            ),
+        )
+        .replace(
+            "map = \"maps/umaze.toml\"",
+            &format!(
+                "map = {:?}",
+                format!("{ROOT}/specs/robotics/maze/maps/umaze.toml")
+            ),
+        );
+    for (line, key) in [
+        ("position_noise_range = 1e308", "position_noise_range"),
+        ("maze_size_scaling = 1e300", "maze_size_scaling"),
+    ] {
+        let kept: Vec<&str> = maze.lines().filter(|l| !l.starts_with(key)).collect();
+        let spec = dir.0.join("maze.toml");
+        std::fs::write(&spec, format!("{}\n{line}\n", kept.join("\n"))).unwrap();
+        let text = refused(&envc(&["run", s(&spec), "--episodes", "1"]), "E0110");
+        assert!(
+            text.contains(&format!("`{key}` is")) && text.contains("maze.toml:"),
+            "{text}"
+        );
+    }
+    let out = dir.0.join("t.npz");
+    let o = envc(&[
+        "rollout",
+        "Hopper-v5",
+        "--policy",
+        "zero",
+        "--steps",
+        "0",
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--steps"));
+    let o = envc(&[
+        "collect",
+        "Hopper-v5",
+        "--dataset-id",
+        "tt/h-v0",
+        "--episodes",
+        "0",
+        "--root",
+        s(&dir.0),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--episodes"));
+}

@@ -36,6 +36,9 @@ pub const MAX_BUFFER_ENTRIES: i64 = 100_000_000;
 pub const MAX_GRID: i64 = 100_000_000;
 /// MuJoCo's `<option timestep>`, in seconds (Gymnasium's largest is 0.01; MuJoCo's default 0.002).
 pub const MAX_TIMESTEP: f64 = 1.0;
+/// A maze's `maze_size_scaling`, `maze_height` and `position_noise_range` (the reference's are
+/// at most 4): beyond, the walls leave `MAX_COORDINATE` or the goal noise draw overflows.
+pub const MAX_MAZE_SCALE: f64 = 1000.0;
 /// Model coordinates (qpos0, body and geom positions, geom sizes), in metres or radians: beyond
 /// this MuJoCo's collision and integration take seconds per step or reset the state.
 pub const MAX_COORDINATE: f64 = 1e6;

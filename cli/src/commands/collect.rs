@@ -19,7 +19,8 @@ pub struct Args {
     /// Minari dataset id, `(namespace/)name-vN`.
     #[arg(long)]
     dataset_id: String,
-    #[arg(long, default_value_t = 10)]
+    /// Episodes to record (at least 1: a dataset holds at least one episode).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     episodes: u64,
     #[arg(long, value_enum, default_value = "random")]
     policy: PolicyKind,

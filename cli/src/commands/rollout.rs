@@ -27,7 +27,7 @@ pub struct Args {
     #[arg(long, value_enum, requires = "steps")]
     policy: Option<Policy>,
     /// With `--policy`: how many steps.
-    #[arg(long, value_name = "N", requires = "policy")]
+    #[arg(long, value_name = "N", requires = "policy", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     steps: Option<usize>,
     /// Output `.npz` file.
     #[arg(long, value_name = "T.npz")]

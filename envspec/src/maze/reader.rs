@@ -124,6 +124,18 @@ pub fn from_document(
     let maze_size_scaling = r.positive("maze_size_scaling");
     let maze_height = r.positive("maze_height");
     let position_noise_range = r.float("position_noise_range").unwrap_or(0.25);
+    if position_noise_range < 0.0 {
+        let loc = r.get("position_noise_range").map(|v| v.loc.clone());
+        r.d.push(
+            Diagnostic::new(
+                Code::E0105,
+                format!("`position_noise_range` is {position_noise_range}"),
+            )
+            .at_opt(loc)
+            .label("expected a number ≥ 0 (the reference's is 0.25)"),
+        );
+    }
+    r.within_maze_scale("position_noise_range", position_noise_range);
     let goal_threshold = r.goal_threshold();
     let velocity_clip = r.float("velocity_clip");
     let continuing_task = r.boolean("continuing_task").unwrap_or(true);
@@ -264,7 +276,26 @@ impl Reader {
                     .label("expected a positive number"),
             );
         }
+        self.within_maze_scale(key, x);
         x
+    }
+
+    /// A maze length or noise beyond `limits::MAX_MAZE_SCALE` (E0110): the walls would leave
+    /// MuJoCo's range, or the noise draw overflow.
+    fn within_maze_scale(&mut self, key: &str, x: f64) {
+        let max = crate::limits::MAX_MAZE_SCALE;
+        if x.abs() > max {
+            let loc = self.get(key).map(|v| v.loc.clone());
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!("`{key}` is {x}, beyond envc's limit of {max}"),
+                )
+                .at_opt(loc)
+                .label(format!("expected at most {max}"))
+                .help("see docs/limits.md"),
+            );
+        }
     }
 
     fn boolean(&mut self, key: &str) -> Option<bool> {
