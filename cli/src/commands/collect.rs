@@ -19,8 +19,8 @@ pub struct Args {
     /// Minari dataset id, `(namespace/)name-vN`.
     #[arg(long)]
     dataset_id: String,
-    /// Episodes to record (at least 1: a dataset holds at least one episode).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Episodes to record (1 to 10,000,000; Minari's largest MuJoCo datasets hold a few thousand).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     episodes: u64,
     #[arg(long, value_enum, default_value = "random")]
     policy: PolicyKind,

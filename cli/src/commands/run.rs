@@ -14,7 +14,8 @@ use crate::Outcome;
 pub struct Args {
     /// Spec file or bundled env id.
     spec: String,
-    #[arg(long, default_value_t = 10)]
+    /// Episodes to run (at most 10,000,000: each keeps its return and length for the summary).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     episodes: u64,
     #[arg(long, value_enum, default_value = "random")]
     policy: Policy,
