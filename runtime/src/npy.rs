@@ -12,10 +12,12 @@
 //! ```
 
 use std::fs::File;
+use std::io::Seek;
 use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
 use ndarray_npy::ReadNpyExt;
+use ndarray_npy::npy::header::Header;
 
 /// A 2-D `.npy` array as stored.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +70,7 @@ pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
             source,
         })
     };
+    check_size(path, &mut open()?)?;
     // ndarray-npy checks the header's dtype and shape against the requested type, so a failed
     // float64 read of a float32 file is a clean error and the file is read again as float32.
     // Fortran-order files are copied into C order, so every row is a contiguous slice.
@@ -80,6 +83,36 @@ pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
             path: path.to_path_buf(),
             why: e.to_string(),
         })
+}
+
+/// ndarray-npy allocates the whole array its header describes before reading the data, so a
+/// 128-byte file claiming a shape of 10⁹ × 3 would abort the process (the allocation fails). The
+/// header's shape is checked first against the bytes a regular file really holds.
+fn check_size(path: &Path, file: &mut File) -> Result<(), NpyError> {
+    let format = |why: String| NpyError::Format {
+        path: path.to_path_buf(),
+        why,
+    };
+    let header = Header::from_reader(file).map_err(|e| format(e.to_string()))?;
+    let (Ok(meta), Ok(at)) = (file.metadata(), file.stream_position()) else {
+        return Ok(());
+    };
+    if !meta.is_file() {
+        return Ok(());
+    }
+    let data = meta.len().saturating_sub(at);
+    // float32, the smaller of the two element types read.
+    let need = header
+        .shape
+        .iter()
+        .try_fold(4u64, |n, &d| n.checked_mul(d as u64));
+    match need {
+        Some(need) if need <= data => Ok(()),
+        _ => Err(format(format!(
+            "its header's shape {:?} needs more data than the {data} bytes the file holds",
+            header.shape
+        ))),
+    }
 }
 
 #[cfg(test)]
@@ -124,6 +157,20 @@ mod tests {
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
         ndarray_npy::write_npy(&p, &array![1.0f64, 2.0]).unwrap();
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
+        // A header claiming far more data than the file holds is refused before anything is
+        // allocated for it (it used to abort: "memory allocation of 23999999976 bytes failed").
+        let h = "{'descr': '<f8', 'fortran_order': False, 'shape': (999999999, 3), }";
+        let h = format!("{h:<117}\n");
+        let mut huge = b"\x93NUMPY\x01\x00".to_vec();
+        huge.extend((h.len() as u16).to_le_bytes());
+        huge.extend(h.as_bytes());
+        huge.extend([0u8; 8]);
+        std::fs::write(&p, &huge).unwrap();
+        let e = read_matrix(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("shape [999999999, 3] needs more data than the 8 bytes"),
+            "{e}"
+        );
         std::fs::write(&p, b"not an npy file").unwrap();
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
         let _ = std::fs::remove_file(&p);
