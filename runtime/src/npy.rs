@@ -85,6 +85,21 @@ pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
             source,
         })
     };
+    // A device or FIFO would block or never end; a regular file is bounded by what a rollout may
+    // hold in memory.
+    envspec::limits::check_file(path, envspec::limits::MAX_TRAJECTORY_BYTES).map_err(
+        |e| match e {
+            envspec::limits::ReadError::Io(source) => NpyError::Open {
+                path: path.to_path_buf(),
+                source,
+            },
+            e => NpyError::Format {
+                path: path.to_path_buf(),
+                why: e.to_string(),
+            },
+        },
+    )?;
+    check_size(path, &mut open()?)?;
     // ndarray-npy checks the header's dtype and shape against the requested type, so a failed
     // float64 read of a float32 file is a clean error and the file is read again as float32.
     // Fortran-order files are copied into C order, so every row is a contiguous slice.
@@ -101,40 +116,48 @@ pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
         },
         e => e,
     };
-    if let ReadNpyError::MissingData = e
-        && let Some(t) = truncation(path)
-    {
-        return Err(t);
-    }
     Err(NpyError::Format {
         path: path.to_path_buf(),
         why: e.to_string(),
     })
 }
 
-/// A file whose header promises more data than it holds: the sizes, from the header.
-fn truncation(path: &Path) -> Option<NpyError> {
-    let mut f = File::open(path).ok()?;
-    let header = Header::from_reader(&mut f).ok()?;
-    let data_start = f.stream_position().ok()?;
-    let found = f.metadata().ok()?.len().saturating_sub(data_start);
+/// ndarray-npy allocates the whole array its header describes before reading the data, so a
+/// 128-byte file claiming a shape of 10⁹ × 3 would abort the process (the allocation fails). The
+/// header's shape is checked first against the bytes the file really holds: a shortfall is
+/// `Truncated`, with the sizes. Descriptors other than float32/float64 are left to ndarray-npy,
+/// which refuses them.
+fn check_size(path: &Path, file: &mut File) -> Result<(), NpyError> {
+    let format = |why: String| NpyError::Format {
+        path: path.to_path_buf(),
+        why,
+    };
+    let header = Header::from_reader(&mut *file).map_err(|e| format(e.to_string()))?;
+    let (Ok(meta), Ok(at)) = (file.metadata(), file.stream_position()) else {
+        return Ok(());
+    };
+    let found = meta.len().saturating_sub(at);
     let descr = header.type_descriptor.to_string();
-    let item: u64 = match descr.trim_matches('\'') {
+    let descr = descr.trim_matches('\'');
+    let item: u64 = match descr {
         "<f8" | ">f8" | "=f8" | "f8" => 8,
         "<f4" | ">f4" | "=f4" | "f4" => 4,
-        _ => return None,
+        _ => return Ok(()),
     };
     let expected = header
         .shape
         .iter()
-        .try_fold(item, |n, &d| n.checked_mul(d as u64))?;
-    (found < expected).then(|| NpyError::Truncated {
-        path: path.to_path_buf(),
-        shape: header.shape.clone(),
-        descr: descr.trim_matches('\'').to_string(),
-        expected,
-        found,
-    })
+        .try_fold(item, |n, &d| n.checked_mul(d as u64));
+    match expected {
+        Some(expected) if expected <= found => Ok(()),
+        _ => Err(NpyError::Truncated {
+            path: path.to_path_buf(),
+            shape: header.shape.clone(),
+            descr: descr.to_string(),
+            expected: expected.unwrap_or(u64::MAX),
+            found,
+        }),
+    }
 }
 
 #[cfg(test)]
@@ -218,6 +241,20 @@ mod tests {
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
         ndarray_npy::write_npy(&p, &array![1.0f64, 2.0]).unwrap();
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
+        // A header claiming far more data than the file holds is refused before anything is
+        // allocated for it (it used to abort: "memory allocation of 23999999976 bytes failed").
+        let h = "{'descr': '<f8', 'fortran_order': False, 'shape': (999999999, 3), }";
+        let h = format!("{h:<117}\n");
+        let mut huge = b"\x93NUMPY\x01\x00".to_vec();
+        huge.extend((h.len() as u16).to_le_bytes());
+        huge.extend(h.as_bytes());
+        huge.extend([0u8; 8]);
+        std::fs::write(&p, &huge).unwrap();
+        let e = read_matrix(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("is truncated: expected 23999999976 bytes of data for shape [999999999, 3] (<f8), found 8"),
+            "{e}"
+        );
         std::fs::write(&p, b"not an npy file").unwrap();
         assert!(matches!(read_matrix(&p), Err(NpyError::Format { .. })));
         let _ = std::fs::remove_file(&p);

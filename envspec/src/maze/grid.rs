@@ -240,7 +240,9 @@ fn string_offsets(loc: &Location, text: &str) -> Option<Vec<usize>> {
             let ch = raw[i..].chars().next()?;
             (ch, ch.len_utf8())
         };
-        out.extend(std::iter::repeat_n(base + i, ch.len_utf8()));
+        // Byte k of a character maps to byte k of its source, so a span ending after a cell's
+        // last byte ends on a character boundary (an escape is at least as long as its UTF-8).
+        out.extend((0..ch.len_utf8()).map(|k| base + i + k));
         decoded.push(ch);
         i += len;
     }
