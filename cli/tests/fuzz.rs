@@ -42,40 +42,10 @@ const KEEP_PER_SIGNATURE: usize = 3;
 /// Known problems being fixed elsewhere (issue 16): reported, not failed on, until the fix lands.
 /// Each is (text of the symptom, text of the input files, output or argv, what it is); both must
 /// occur. Remove an entry when its fix is merged; their inputs are in `tests/fuzz/findings/`.
-const KNOWN: &[(&str, &str, &str)] = &[
-    (
-        "",
-        "/dev/zero",
-        "a device file as model or spec is read without end",
-    ),
-    (
-        "",
-        "/dev/urandom",
-        "a device file as model or spec is read without end",
-    ),
-    (
-        "panic",
-        "NumpyRng::uniform",
-        "a NaN or huge ctrlrange panics in `run --policy random`",
-    ),
-    (
-        "signal 6",
-        "bad_alloc",
-        "MuJoCo's std::bad_alloc on huge model sizes (nuser_geom)",
-    ),
-    (
-        "timeout",
-        "resample_until",
-        "resample_until loops when no draw can satisfy it",
-    ),
-    // `--max-steps` caps only envs without a time limit: a huge `max_episode_steps` or
-    // `frame_skip` (in the spec or by `--set`) runs away.
-    (
-        "timeout",
-        "\"run\"",
-        "a runaway `envc run` (huge max_episode_steps or frame_skip)",
-    ),
-];
+/// Empty: the first runs' findings (device files read without end, NumpyRng::uniform on an
+/// infinite ctrlrange, bad_alloc on huge MuJoCo sizes, unmeetable resample_until, runaway runs)
+/// are fixed, with regression tests in `cli/tests/limits.rs` and cases in `tests/catalogue/`.
+const KNOWN: &[(&str, &str, &str)] = &[];
 
 #[derive(Clone, Copy, PartialEq)]
 enum Run {
