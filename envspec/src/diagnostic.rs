@@ -167,6 +167,19 @@ pub enum Code {
     E1301,
     /// `auto` numerics under CPU-feature settings numpy itself refuses to import with.
     E1302,
+    // Rendering (issue 15; envspec::camera and the runtime's renderer).
+    /// No usable EGL / OpenGL library (headless rendering needs Mesa's EGL).
+    E1501,
+    /// EGL is there but gives no headless display or context.
+    E1502,
+    /// A rendering camera or tracked body the model does not have.
+    E1503,
+    /// An unknown render mode.
+    E1504,
+    /// A rendering setting out of range or of the wrong form.
+    E1505,
+    /// A video or frame file could not be written (encoder missing or failed).
+    E1506,
 }
 
 impl fmt::Display for Code {

@@ -229,6 +229,8 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             ),
         }
     }
+    // Gymnasium's rendering arguments, which every task spec has (issue 15).
+    crate::camera::add_render_params(spec, &mut params);
     for o in overrides {
         let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
             d.push(

@@ -26,6 +26,8 @@ pub enum EnvError {
     NotReset,
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
+    #[error("{0}")]
+    Render(#[from] crate::render::RenderError),
 }
 
 impl EnvError {
@@ -39,6 +41,7 @@ impl EnvError {
             EnvError::NonFiniteAction { .. } => Code::E1102,
             EnvError::NotReset => Code::E1103,
             EnvError::Numerics(e) => e.code(),
+            EnvError::Render(e) => e.code(),
         }
     }
 }
