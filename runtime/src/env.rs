@@ -442,9 +442,18 @@ impl Env {
         &mut self,
         mode: crate::render::RenderMode,
     ) -> Result<crate::render::Frame<'_>, EnvError> {
+        self.render_with(mode, |_, _| {})
+    }
+    /// `render` after `prep` adjusts visual-only state (a maze's goal marker).
+    pub(crate) fn render_with(
+        &mut self,
+        mode: crate::render::RenderMode,
+        prep: impl FnOnce(&mujoco_rs::mujoco_c::mjModel, &mut mujoco_rs::mujoco_c::mjData),
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
         let m = self.sim.model.ffi();
         // SAFETY: mjv_updateScene reads the state and writes only visualisation fields.
         let d = unsafe { self.sim.data.ffi_mut() };
+        prep(m, d);
         Ok(self.render.frame(m, d, mode)?)
     }
     /// The spec's rendering settings (size, camera, options).
