@@ -6,11 +6,16 @@ use pyo3::prelude::*;
 
 use crate::errors;
 
-/// Render `env` in `mode` and convert the frame (copied: the renderer reuses its buffers).
-pub fn render(py: Python<'_>, env: &mut envc::Env, mode: &str) -> PyResult<Py<PyAny>> {
+/// Render with `f` (a task env, a maze, a multi-agent spec) in the mode named `mode` and convert
+/// the frame (copied: the renderer reuses its buffers).
+pub fn render<'a>(
+    py: Python<'_>,
+    mode: &str,
+    f: impl FnOnce(envc::render::RenderMode) -> Result<envc::render::Frame<'a>, envc::EnvError>,
+) -> PyResult<Py<PyAny>> {
     let mode = envc::render::RenderMode::parse(mode)
         .map_err(|e| errors::env_error(envc::EnvError::Render(e)))?;
-    let frame = env.render(mode).map_err(errors::env_error)?;
+    let frame = f(mode).map_err(errors::env_error)?;
     let (h, w) = (frame.height, frame.width);
     let rgb = match frame.rgb {
         Some(px) => Some(PyArray1::from_slice(py, px).reshape([h, w, 3])?.into_any()),

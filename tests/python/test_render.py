@@ -134,3 +134,17 @@ def test_record_video_writes_a_playable_file(tmp_path):
     env.close()
     videos = list(tmp_path.glob("*.mp4"))
     assert len(videos) == 1 and videos[0].stat().st_size > 1000
+
+
+@pytest.mark.parametrize("env_id", ["AntMaze_UMaze-v5", "PointMaze_UMaze-v3"])
+def test_maze_frames_match_gymnasium_robotics(env_id):
+    """The maze world, its walls and the goal marker (the `target` site) where the reference draws it."""
+    import gymnasium_robotics
+
+    gym.register_envs(gymnasium_robotics)
+    ref = gym.make(env_id, render_mode="rgb_array")
+    acts = actions_for(env_id, 5, 8)
+    ours = frames(envc.make(env_id, render_mode="rgb_array"), 5, acts)
+    theirs = frames(ref, 5, acts)
+    ref.close()
+    assert compare(ours, theirs) == (0.0, 0.0), env_id
