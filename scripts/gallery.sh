@@ -15,8 +15,7 @@ OUT="$ROOT/docs/gallery"
 mkdir -p "$OUT"
 IDS=(Ant-v5 HalfCheetah-v5 Hopper-v5 Humanoid-v5 HumanoidStandup-v5 InvertedDoublePendulum-v5
      InvertedPendulum-v5 Pusher-v5 Reacher-v5 Swimmer-v5 Walker2d-v5
-     AntMaze_UMaze-v5 MaMuJoCo-Ant-v1)
-# Not the Go1 yet: its shared model keeps only collision geoms (group 3), which mjvOption hides.
+     specs/examples/go1.toml AntMaze_UMaze-v5 MaMuJoCo-Ant-v1)
 # The Go1's model is not bundled (Menagerie); GO1_XML points at a copy (default: the shared one).
 GO1_XML="${GO1_XML:-$ROOT/../shared/models/unitree_go1/scene.xml}"
 for id in "${IDS[@]}"; do

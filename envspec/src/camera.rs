@@ -123,6 +123,9 @@ pub struct RenderSettings {
     pub camera_config: Vec<CameraKey>,
     /// `(mjtVisFlag, on)` in the order written.
     pub visual_options: Vec<(usize, bool)>,
+    /// `(geom group 0..5, shown)`: `geomgroup_N` keys of `visual_options` (an envc extension;
+    /// e.g. a model whose only geoms are collision geoms in group 3).
+    pub geom_groups: Vec<(usize, bool)>,
 }
 
 /// mjtVisFlag names (MuJoCo 3.17), index = flag.
@@ -386,10 +389,20 @@ impl RenderSettings {
             }
         }
         let mut visual_options = vec![];
+        let mut geom_groups = vec![];
         if let Some(p) = param(params, "visual_options")
             && let Some(t) = table_of(p, &mut d)
         {
             for e in t.as_table().unwrap_or(&[]) {
+                let group = e
+                    .key
+                    .strip_prefix("geomgroup_")
+                    .and_then(|g| g.parse::<usize>().ok())
+                    .filter(|&g| g < 6);
+                if let (Some(g), ValKind::Bool(on)) = (group, &e.value.kind) {
+                    geom_groups.push((g, *on));
+                    continue;
+                }
                 let flag = VIS_FLAGS
                     .iter()
                     .position(|f| f.eq_ignore_ascii_case(e.key.trim_start_matches("mjVIS_")))
@@ -404,7 +417,7 @@ impl RenderSettings {
                     (None, _) => d.push(
                         Diagnostic::new(Code::E1505, format!("`{}` is not a visual option", e.key))
                             .at(e.key_loc.clone())
-                            .label("expected an mjtVisFlag name without mjVIS_ (e.g. contactpoint) or its number")
+                            .label("expected an mjtVisFlag name without mjVIS_ (e.g. contactpoint), its number, or geomgroup_0 … geomgroup_5")
                             .help_opt(crate::diagnostic::suggest(&e.key, VIS_FLAGS.iter().copied())),
                     ),
                     (_, None) => d.push(e.value.type_error(&e.key, "true or false").with_code(Code::E1505)),
@@ -418,6 +431,7 @@ impl RenderSettings {
             camera,
             camera_config,
             visual_options,
+            geom_groups,
         })
     }
 }

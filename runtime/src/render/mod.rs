@@ -299,6 +299,9 @@ impl Renderer {
         for &(flag, on) in &s.visual_options {
             opt.flags[flag] = on as u8;
         }
+        for &(g, on) in &s.geom_groups {
+            opt.geomgroup[g] = on as u8;
+        }
         let (w, h) = (s.width as i32, s.height as i32);
         let made = ctx.current(|| {
             // The model as MujocoEnv leaves it: offscreen buffer grown to the frame, never
