@@ -148,3 +148,23 @@ def test_maze_frames_match_gymnasium_robotics(env_id):
     theirs = frames(ref, 5, acts)
     ref.close()
     assert compare(ours, theirs) == (0.0, 0.0), env_id
+
+
+def test_mamujoco_renders_the_whole_robot_as_the_reference():
+    from gymnasium_robotics import mamujoco_v1
+
+    ref = mamujoco_v1.parallel_env("Ant", "2x4", render_mode="rgb_array")
+    ours = envc.parallel_env("Ant", "2x4", render_mode="rgb_array")
+    ref.reset(seed=2)
+    ours.reset(seed=2)
+    rng = np.random.default_rng(0)
+    got, want = [ours.render()], [ref.render()]
+    for _ in range(4):
+        acts = {a: rng.uniform(-1, 1, ref.action_space(a).shape).astype(np.float32) for a in ref.agents}
+        ref.step(acts)
+        ours.step(acts)
+        got.append(ours.render())
+        want.append(ref.render())
+    ref.close()
+    assert got[0].shape == (480, 480, 3)
+    assert compare(got, want) == (0.0, 0.0)

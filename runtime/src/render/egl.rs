@@ -33,6 +33,8 @@ const EGL_RENDERABLE_TYPE: EGLint = 0x3040;
 const EGL_OPENGL_BIT: EGLint = 0x0008;
 const EGL_OPENGL_API: u32 = 0x30A2;
 const EGL_PLATFORM_DEVICE_EXT: u32 = 0x313F;
+const EGL_DRAW: EGLint = 0x3059;
+const EGL_READ: EGLint = 0x305A;
 
 /// What to install when libEGL or Mesa's drivers are missing (Debian / Ubuntu names).
 pub const PACKAGES: &str = "libegl1 libegl-mesa0 libgl1-mesa-dri libgl1";
@@ -54,6 +56,9 @@ struct Api {
     make_current:
         unsafe extern "C" fn(EGLDisplay, *mut c_void, *mut c_void, EGLContext) -> EGLBoolean,
     destroy_context: unsafe extern "C" fn(EGLDisplay, EGLContext) -> EGLBoolean,
+    get_current_context: unsafe extern "C" fn() -> EGLContext,
+    get_current_display: unsafe extern "C" fn() -> EGLDisplay,
+    get_current_surface: unsafe extern "C" fn(EGLint) -> *mut c_void,
     /// The initialised device display, shared by every context of the process (as in Python).
     display: EGLDisplay,
 }
@@ -104,6 +109,9 @@ fn load() -> Result<Api, RenderError> {
         create_context: sym!(b"eglCreateContext"),
         make_current: sym!(b"eglMakeCurrent"),
         destroy_context: sym!(b"eglDestroyContext"),
+        get_current_context: sym!(b"eglGetCurrentContext"),
+        get_current_display: sym!(b"eglGetCurrentDisplay"),
+        get_current_surface: sym!(b"eglGetCurrentSurface"),
         display: std::ptr::null_mut(),
         _lib: lib,
     };
@@ -228,11 +236,22 @@ impl Context {
         Ok(Context { ctx })
     }
 
-    /// Run `f` with this context current on the calling thread, then release it.
+    /// Run `f` with this context current on the calling thread, then give the thread back the
+    /// context it had (another renderer's in the same process, e.g. Gymnasium's, which assumes
+    /// its context stays current), or none.
     pub fn current<T>(&self, f: impl FnOnce() -> T) -> Result<T, RenderError> {
         let api = api()?;
         let _guard = GL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let none = std::ptr::null_mut();
+        // SAFETY: plain queries of the calling thread's EGL state.
+        let previous = unsafe {
+            (
+                (api.get_current_display)(),
+                (api.get_current_surface)(EGL_DRAW),
+                (api.get_current_surface)(EGL_READ),
+                (api.get_current_context)(),
+            )
+        };
         // SAFETY: our context on the initialised display, no surfaces (surfaceless GL).
         if unsafe { (api.make_current)(api.display, none, none, self.ctx) } == 0 {
             return Err(RenderError::NoDisplay {
@@ -242,8 +261,16 @@ impl Context {
             });
         }
         let out = f();
-        // SAFETY: release the context so that another thread may make it current.
-        unsafe { (api.make_current)(api.display, none, none, std::ptr::null_mut()) };
+        // SAFETY: restore the thread's previous context (valid: it was current until now), or
+        // release ours so that another thread may make it current.
+        unsafe {
+            match previous {
+                (d, draw, read, ctx) if !ctx.is_null() && !d.is_null() && ctx != self.ctx => {
+                    (api.make_current)(d, draw, read, ctx)
+                }
+                _ => (api.make_current)(api.display, none, none, std::ptr::null_mut()),
+            }
+        };
         Ok(out)
     }
 }
