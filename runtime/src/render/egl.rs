@@ -75,21 +75,26 @@ static API: OnceLock<Result<Api, RenderError>> = OnceLock::new();
 pub(super) static GL_LOCK: Mutex<()> = Mutex::new(());
 
 fn load() -> Result<Api, RenderError> {
-    let lib = ["libEGL.so.1", "libEGL.so"]
+    // ENVC_EGL_LIBRARY names another libEGL (a vendor's, or a missing one to test E1501).
+    let names: Vec<String> = match std::env::var("ENVC_EGL_LIBRARY") {
+        Ok(n) if !n.is_empty() => vec![n],
+        _ => vec!["libEGL.so.1".into(), "libEGL.so".into()],
+    };
+    let lib = names
         .iter()
         .find_map(|name| {
             // RTLD_GLOBAL: MuJoCo resolves GL entry points through the process's libraries.
             // SAFETY: loading libEGL runs its initialisers, which have no preconditions.
             unsafe {
                 libloading::os::unix::Library::open(
-                    Some(name),
+                    Some(name.as_str()),
                     libloading::os::unix::RTLD_NOW | libloading::os::unix::RTLD_GLOBAL,
                 )
             }
             .ok()
         })
         .ok_or_else(|| RenderError::NoGl {
-            what: "libEGL.so.1 could not be loaded".into(),
+            what: format!("{} could not be loaded", names.join(" / ")),
         })?;
     let lib: libloading::Library = lib.into();
     macro_rules! sym {
