@@ -136,7 +136,7 @@ def test_record_video_writes_a_playable_file(tmp_path):
     assert len(videos) == 1 and videos[0].stat().st_size > 1000
 
 
-@pytest.mark.parametrize("env_id", ["AntMaze_UMaze-v5", "PointMaze_UMaze-v3"])
+@pytest.mark.parametrize("env_id", ["AntMaze_UMaze-v5", "PointMaze_UMaze-v3", "PointMaze_Large-v3"])
 def test_maze_frames_match_gymnasium_robotics(env_id):
     """The maze world, its walls and the goal marker (the `target` site) where the reference draws it."""
     import gymnasium_robotics
