@@ -3,6 +3,9 @@
 //! settings (E1505), envs rendering from several threads. Frame-for-frame equality with
 //! Gymnasium is tests/python/test_render.py.
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
 use envc::render::RenderMode;
 use envc::{Env, EnvError, Environment, Override};
 use envspec::Code;
@@ -138,4 +141,72 @@ fn envs_render_from_several_threads() {
     let here = rgb(&mut env);
     let there = std::thread::spawn(move || rgb(&mut env)).join().unwrap();
     assert_eq!(here, there);
+}
+
+// A per-thread counting allocator: a frame after the first allocates nothing.
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new: usize) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+#[test]
+fn a_frame_reuses_the_renderers_buffers() {
+    let mut env = hopper(&[("width", "48"), ("height", "40")]).unwrap();
+    env.reset(Some(0));
+    env.render(RenderMode::RgbdTuple).unwrap();
+    let before = COUNT.with(Cell::get);
+    for _ in 0..5 {
+        env.step(&[0.1, 0.2, 0.3]).unwrap();
+        for mode in [
+            RenderMode::RgbArray,
+            RenderMode::DepthArray,
+            RenderMode::RgbdTuple,
+        ] {
+            let f = env.render(mode).unwrap();
+            std::hint::black_box(f.width);
+        }
+    }
+    assert_eq!(COUNT.with(Cell::get) - before, 0, "rendering allocated");
+}
+
+#[test]
+fn vector_envs_render_each_env() {
+    let o = [
+        Override::text("width", "24"),
+        Override::text("height", "24"),
+    ];
+    let mut v = envc::VecEnv::make("Hopper-v5", &o, 3, 2, envc::Autoreset::NextStep).unwrap();
+    v.reset(Some(0));
+    let frames: Vec<Vec<u8>> = (0..3)
+        .map(|i| {
+            v.render(i, RenderMode::RgbArray)
+                .unwrap()
+                .rgb
+                .unwrap()
+                .to_vec()
+        })
+        .collect();
+    // Different seeds, different starting poses, different frames; each as a single env's.
+    assert_ne!(frames[0], frames[1]);
+    let mut one = hopper(&[("width", "24"), ("height", "24")]).unwrap();
+    one.reset(Some(1));
+    assert_eq!(rgb(&mut one), frames[1]);
 }
