@@ -168,3 +168,24 @@ def test_mamujoco_renders_the_whole_robot_as_the_reference():
     ref.close()
     assert got[0].shape == (480, 480, 3)
     assert compare(got, want) == (0.0, 0.0)
+
+
+def test_vector_envs_render_every_env_as_gymnasiums():
+    """envc's threaded vector env renders each env as Gymnasium's SyncVectorEnv does."""
+    ours = envc.make_vec("Hopper-v5", 3, num_threads=2, render_mode="rgb_array", width=64, height=64)
+    ref = gym.make_vec(
+        "Hopper-v5", 3, vectorization_mode="sync", render_mode="rgb_array", width=64, height=64
+    )
+    ours.reset(seed=4)
+    ref.reset(seed=4)
+    acts = np.tile(np.array([0.3, -0.2, 0.1], dtype=np.float32), (3, 1))
+    got, want = list(ours.render()), list(ref.render())
+    for _ in range(3):
+        ours.step(acts)
+        ref.step(acts)
+        got += list(ours.render())
+        want += list(ref.render())
+    ref.close()
+    ours.close()
+    assert len(got) == 12 and got[0].shape == (64, 64, 3)
+    assert compare(got, want) == (0.0, 0.0)
