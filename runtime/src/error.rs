@@ -26,7 +26,7 @@ pub enum EnvError {
     NotReset,
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
-    #[error("{0}")]
+    #[error(transparent)]
     Render(#[from] crate::render::RenderError),
 }
 
