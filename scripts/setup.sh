@@ -22,6 +22,21 @@ if ! pkg-config --exists hdf5 2>/dev/null && [ ! -e /usr/include/hdf5/serial/hdf
   fi
 fi
 
+# Headless rendering (issue 15): Mesa's EGL with its software rasteriser (llvmpipe) for envc's
+# renderer and the reference's MUJOCO_GL=egl, and ffmpeg for `envc render` and RecordVideo.
+# envc itself starts without them: rendering without EGL is error E1501.
+RENDER_PKGS=""
+ldconfig -p 2>/dev/null | grep -q 'libEGL.so.1 ' || RENDER_PKGS="libegl1 libegl-mesa0 libgl1-mesa-dri libgl1"
+[ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || ls /usr/lib/*/dri/swrast_dri.so >/dev/null 2>&1 || RENDER_PKGS="libegl1 libegl-mesa0 libgl1-mesa-dri libgl1"
+command -v ffmpeg >/dev/null 2>&1 || RENDER_PKGS="$RENDER_PKGS ffmpeg"
+if [ -n "$RENDER_PKGS" ]; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $RENDER_PKGS >/dev/null
+  else
+    echo "envc setup: rendering needs $RENDER_PKGS (sudo apt-get install $RENDER_PKGS); continuing without" >&2
+  fi
+fi
+
 if [ ! -x "$PY" ]; then
   python3 -m venv "$VENV"
 fi

@@ -42,6 +42,11 @@ checks=$((checks + 1))
 "$PY" -m pytest -q -p no:cacheprovider tests/python
 checks=$((checks + 1))
 
+# Rendering (issue 15): tests/python/test_render.py above compares frames with Gymnasium's; here the
+# README's gallery is re-rendered and must equal the committed pictures.
+scripts/gallery.sh --check
+checks=$((checks + 1))
+
 LIVE="$(mktemp -d)"
 trap 'rm -rf "$LIVE"' EXIT
 

@@ -53,6 +53,8 @@ enum Command {
     /// This machine's CPU features, the numerics profile `auto` picks and why, and the versions
     /// envc matches.
     Info(commands::info::Args),
+    /// Render episodes headless to a video (.mp4, .gif) or PNG frames, as Gymnasium renders them.
+    Render(commands::render::Args),
 }
 
 /// How a command ended, mapped to the exit status.
@@ -93,6 +95,7 @@ fn main() -> ExitCode {
         Command::Dataset(a) => commands::dataset::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::New(a) => commands::new::run(a),
+        Command::Render(a) => commands::render::run(a),
     };
     match result {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,

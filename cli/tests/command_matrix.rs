@@ -153,6 +153,16 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
             "--spec".into(),
             spec.into(),
         ],
+        "render" => vec![
+            "render".into(),
+            spec.into(),
+            "--max-steps".into(),
+            "3".into(),
+            "--size".into(),
+            "64x48".into(),
+            "--out".into(),
+            dir.join(format!("{tag}.mp4")).display().to_string(),
+        ],
         other => return Some(format!("the matrix names an unknown command `{other}`")),
     };
     let o = envc(&args.iter().map(String::as_str).collect::<Vec<_>>());
@@ -173,6 +183,25 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
             });
             if !found {
                 return Some(format!("{what}: no {kind} row for {}", case.args[0]));
+            }
+        }
+        if cmd == "render" {
+            // The video plays: ffprobe decodes it back (frame count and size; a reset frame and
+            // one per step, three steps unless the episode ended first).
+            let video = dir.join(format!("{tag}.mp4"));
+            let probe = Command::new("ffprobe")
+                .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+                .args([
+                    "-show_entries",
+                    "stream=nb_read_frames,width,height",
+                    "-of",
+                    "csv=p=0",
+                ])
+                .arg(&video)
+                .output();
+            let got = probe.map(|p| String::from_utf8_lossy(&p.stdout).trim().to_string());
+            if !matches!(got.as_deref(), Ok("64,48,4")) {
+                return Some(format!("{what}: ffprobe says {got:?}, expected 64,48,4"));
             }
         }
         if cmd == "rollout" && !out.is_file() {
@@ -223,7 +252,8 @@ fn every_command_on_every_kind() {
             "dataset show",
             "diff",
             "bench",
-            "new"
+            "new",
+            "render"
         ],
         "the README matrix lists every command that takes a spec, in this order"
     );

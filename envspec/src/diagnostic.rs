@@ -249,6 +249,19 @@ pub enum Code {
     E1402,
     /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
     E1430,
+    // Rendering (issue 15; envspec::camera and the runtime's renderer).
+    /// No usable EGL / OpenGL library (headless rendering needs Mesa's EGL).
+    E1501,
+    /// EGL is there but gives no headless display or context.
+    E1502,
+    /// A rendering camera or tracked body the model does not have.
+    E1503,
+    /// An unknown render mode.
+    E1504,
+    /// A rendering setting out of range or of the wrong form.
+    E1505,
+    /// A video or frame file could not be written (encoder missing or failed).
+    E1506,
 }
 
 impl fmt::Display for Code {

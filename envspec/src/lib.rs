@@ -16,6 +16,7 @@
 //! ```
 
 pub mod agents;
+pub mod camera;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;

@@ -43,6 +43,29 @@ def overrides_to_toml(overrides: dict[str, Any]) -> list[tuple[str, str]]:
     return [(k, _toml(v, k)) for k, v in overrides.items()]
 
 
+RENDER_MODES = ("rgb_array", "depth_array", "rgbd_tuple")
+
+
+def check_render_mode(render_mode: str | None) -> None:
+    if render_mode is not None and render_mode not in RENDER_MODES:
+        raise ValueError(
+            f"render_mode={render_mode!r}: envc renders headless only; expected one of "
+            f"{', '.join(RENDER_MODES)} (wrap with gymnasium.wrappers.HumanRendering to watch)"
+        )
+
+
+def render_overrides(overrides: dict[str, Any]) -> dict[str, Any]:
+    """Gymnasium's rendering keywords as envc parameters: ``None`` is the default (dropped),
+    ``visual_options`` keys may be ``mujoco.mjtVisFlag`` members."""
+    out = dict(overrides)
+    for k in ("camera_id", "camera_name", "visual_options", "default_camera_config"):
+        if k in out and out[k] is None:
+            del out[k]
+    if isinstance(out.get("visual_options"), dict):
+        out["visual_options"] = {int(k): bool(v) for k, v in out["visual_options"].items()}
+    return out
+
+
 def _fps(dt: float) -> int:
     return int(np.round(1.0 / dt))
 
@@ -59,11 +82,12 @@ class EnvcEnv(gym.Env):
     (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` raises ``RuntimeError``.
     """
 
+    # Class-level, for gymnasium.make's render-mode check; instances add their render_fps.
+    metadata = {"render_modes": list(RENDER_MODES)}
+
     def __init__(self, spec_id: str, render_mode: str | None = None, **overrides: Any):
-        if render_mode is not None:
-            raise ValueError(
-                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
-            )
+        check_render_mode(render_mode)
+        overrides = render_overrides(overrides)
         pairs = overrides_to_toml(overrides)
         if "max_episode_steps" not in overrides:
             pairs.append(("max_episode_steps", "0"))
@@ -74,8 +98,8 @@ class EnvcEnv(gym.Env):
                 "envc.parallel_env (multi-agent specs)"
             )
         self._core = core
-        self.render_mode = None
-        self.metadata = {"render_modes": [], "render_fps": _fps(core.dt)}
+        self.render_mode = render_mode
+        self.metadata = {"render_modes": list(RENDER_MODES), "render_fps": _fps(core.dt)}
         self.observation_space = gym.spaces.Box(
             low=core.obs_low, high=core.obs_high, dtype=np.float64
         )
@@ -103,7 +127,17 @@ class EnvcEnv(gym.Env):
             return self._core.step_f32(np.ascontiguousarray(a))
         return self._core.step(np.ascontiguousarray(a, dtype=np.float64))
 
+    def render(self):
+        """A frame in ``render_mode``, as Gymnasium's ``MujocoEnv.render`` (docs/rendering.md)."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
+            return None
+        return self._core.render(self.render_mode)
+
     def close(self):
+        core = self._core
+        if not isinstance(core, _Closed):
+            core.close_renderer()
         self._core = _Closed()
 
     @property

@@ -13,7 +13,7 @@ import gymnasium as gym
 import numpy as np
 
 from . import _envc
-from ._gym import _Closed, overrides_to_toml
+from ._gym import RENDER_MODES, _Closed, check_render_mode, overrides_to_toml, render_overrides
 
 try:
     from gymnasium_robotics.core import GoalEnv as _Base
@@ -80,8 +80,8 @@ class EnvcMazeEnv(_Base):
     raise ``ValueError``, ``step`` before ``reset`` raises ``RuntimeError``.
     """
 
-    # The reference maze classes declare 50 fps whatever their dt; envc does not render.
-    metadata = {"render_modes": [], "render_fps": 50}
+    # The reference maze classes declare 50 fps whatever their dt.
+    metadata = {"render_modes": list(RENDER_MODES), "render_fps": 50}
 
     def __init__(
         self,
@@ -90,10 +90,8 @@ class EnvcMazeEnv(_Base):
         maze_map: list | None = None,
         **overrides: Any,
     ):
-        if render_mode is not None:
-            raise ValueError(
-                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
-            )
+        check_render_mode(render_mode)
+        overrides = render_overrides(overrides)
         if maze_map is not None:
             if "map" in overrides:
                 raise TypeError("pass either `maze_map` or `map`, not both")
@@ -107,7 +105,7 @@ class EnvcMazeEnv(_Base):
                 f"`{spec_id}` is a {kind} spec, not a maze; open it with envc.make"
             )
         self._core = core
-        self.render_mode = None
+        self.render_mode = render_mode
         self.dt = core.dt
         # As the reference builds it (spaces.Dict sorts the keys).
         self.observation_space = gym.spaces.Dict(
@@ -173,6 +171,13 @@ class EnvcMazeEnv(_Base):
         a, d, lead = _goal_batches(achieved_goal, desired_goal)
         t = self._core.compute_truncated(a, d)
         return t.reshape(lead) if lead else bool(t[0])
+
+    def render(self):
+        """A frame of the maze with its goal marker, in ``render_mode`` (docs/rendering.md)."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
+            return None
+        return self._core.render(self.render_mode)
 
     def close(self):
         self._core = _Closed()

@@ -20,7 +20,14 @@ import numpy as np
 import pettingzoo
 
 from . import _envc
-from ._gym import _Closed, _fps, overrides_to_toml
+from ._gym import (
+    RENDER_MODES,
+    _Closed,
+    _fps,
+    check_render_mode,
+    overrides_to_toml,
+    render_overrides,
+)
 
 # MaMuJoCo v1 scenario names → bundled envc ids. The ManySegment scenarios have one spec per
 # segment count n = N·M of their agent_conf "NxM".
@@ -115,10 +122,7 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
     ):
         """Open a multi-agent spec (id or path) with overrides as ``(name, TOML literal)`` pairs
         (``envc.overrides_to_toml`` writes them); ``envc.parallel_env`` is the friendlier door."""
-        if render_mode is not None:
-            raise ValueError(
-                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
-            )
+        check_render_mode(render_mode)
         try:
             kind = _envc.describe(spec)[0]
         except _envc.SpecError:
@@ -129,9 +133,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
             )
         _, core = _envc.open(spec, list(overrides))
         self._core = core
-        self.render_mode = None
+        self.render_mode = render_mode
         self.metadata = {
-            "render_modes": [],
+            "render_modes": list(RENDER_MODES),
             "name": core.id,
             "is_parallelizable": True,
             "render_fps": _fps(core.dt),
@@ -213,8 +217,10 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         return self._core.state()
 
     def render(self):
-        """envc does not render (``render_mode`` must be None)."""
-        return None
+        """A frame of the whole robot in ``render_mode`` (None without one), as MaMuJoCo renders."""
+        if self.render_mode is None:
+            return None
+        return self._core.render(self.render_mode)
 
     def close(self):
         """Release the env; any later use raises ``RuntimeError``."""
@@ -326,4 +332,5 @@ def parallel_env(
                 "(see specs/mamujoco/) and pass its path as the scenario"
             )
     spec, pairs = resolve_scenario(scenario, agent_conf, agent_obsk)
+    overrides = render_overrides(overrides)
     return EnvcParallelEnv(spec, pairs + overrides_to_toml(overrides), render_mode=render_mode)

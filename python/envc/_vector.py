@@ -11,7 +11,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from . import _envc
-from ._gym import _fps, overrides_to_toml
+from ._gym import RENDER_MODES, _fps, check_render_mode, overrides_to_toml, render_overrides
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
 
@@ -62,10 +62,8 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         render_mode: str | None = None,
         **overrides: Any,
     ):
-        if render_mode is not None:
-            raise ValueError(
-                f"render_mode={render_mode!r}: envc does not render yet (no render modes)"
-            )
+        check_render_mode(render_mode)
+        overrides = render_overrides(overrides)
         mode = AutoresetMode(autoreset_mode)
         if mode not in _MODES:
             raise ValueError(
@@ -86,9 +84,9 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         self.copy = copy
         self.num_envs = int(num_envs)
         self.autoreset_mode = mode
-        self.render_mode = None
+        self.render_mode = render_mode
         self.metadata = {
-            "render_modes": [],
+            "render_modes": list(RENDER_MODES),
             "render_fps": _fps(core.dt),
             "autoreset_mode": mode,
         }
@@ -186,6 +184,12 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             b["truncated"].copy(),
             self._infos(f32),
         )
+
+    def render(self):
+        """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
+        if self.render_mode is None:
+            return None
+        return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
 
     def close_extras(self, **kwargs: Any) -> None:
         """Stop the threads and free the envs."""

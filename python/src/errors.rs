@@ -30,6 +30,15 @@ pub fn env_error(e: envc::EnvError) -> PyErr {
             err
         }
         (envc::EnvError::NotReset, _) => PyRuntimeError::new_err(text),
+        // Rendering: a camera name or setting is a spec error; no GL is a runtime error.
+        (envc::EnvError::Render(envc::render::RenderError::Spec(_)), _) => {
+            let err = SpecError::new_err(text);
+            pyo3::Python::attach(|py| {
+                let _ = err.value(py).setattr("code", code.to_string());
+            });
+            err
+        }
+        (envc::EnvError::Render(_), Code::E1501 | Code::E1502) => PyRuntimeError::new_err(text),
         _ => PyValueError::new_err(text),
     }
 }

@@ -10,6 +10,7 @@ mod errors;
 mod maze;
 mod mujoco_timer;
 mod multi_agent;
+mod render;
 mod task;
 mod vector;
 

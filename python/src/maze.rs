@@ -172,6 +172,11 @@ impl MazeCore {
         Ok(PyArray1::from_vec(py, out))
     }
 
+    /// A frame of the maze world with its goal marker, in Gymnasium's `render_mode`.
+    fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
+        crate::render::render(py, mode, |m| self.env.render(m))
+    }
+
     #[getter]
     fn id(&self) -> String {
         self.env.id().to_string()

@@ -194,6 +194,10 @@ impl AgentsCore {
     fn k(&self) -> usize {
         self.env.spec().k
     }
+    /// A frame of the whole robot in Gymnasium's `render_mode` (MaMuJoCo renders its single-agent env).
+    fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
+        crate::render::render(py, mode, |m| self.env.render(m))
+    }
     #[getter]
     fn dt(&self) -> f64 {
         self.env.env().dt()

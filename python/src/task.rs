@@ -73,6 +73,15 @@ impl TaskCore {
         step_out(py, s)
     }
 
+    /// A frame in Gymnasium's `render_mode` ("rgb_array", "depth_array", "rgbd_tuple").
+    fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
+        crate::render::render(py, mode, |m| self.env.render(m))
+    }
+    /// Free the renderer (made again by the next `render`).
+    fn close_renderer(&mut self) {
+        self.env.close_renderer();
+    }
+
     #[getter]
     fn id(&self) -> String {
         self.env.spec().id.clone()

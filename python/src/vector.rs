@@ -286,6 +286,18 @@ impl VecCore {
         self.fill(py, None)
     }
 
+    /// A frame of env `index` in Gymnasium's `render_mode` (each env has its own renderer).
+    fn render(&mut self, py: Python<'_>, index: usize, mode: &str) -> PyResult<Py<PyAny>> {
+        let env = self.env.as_mut().ok_or_else(closed)?;
+        if index >= env.num_envs() {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "env index {index} out of range for {} envs",
+                env.num_envs()
+            )));
+        }
+        crate::render::render(py, mode, |m| env.render(index, m))
+    }
+
     /// Stop the threads and drop the envs; later calls raise `RuntimeError`.
     fn close(&mut self) {
         self.env = None;

@@ -72,6 +72,19 @@ impl AnyEnv {
         }
     }
 
+    /// Render a frame of any kind of env: a task, a maze with its goal marker, a multi-agent
+    /// spec's whole robot.
+    pub fn render(
+        &mut self,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        match self {
+            AnyEnv::Task(e) => e.render(mode),
+            AnyEnv::Maze(e) => e.render(mode),
+            AnyEnv::Agents(e) => e.render(mode),
+        }
+    }
+
     /// The joint action's space (a multi-agent spec: every agent's actions in global order).
     pub fn action_space(&self) -> &BoxSpace {
         match self {

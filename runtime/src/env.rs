@@ -297,6 +297,8 @@ pub struct Env {
     warnings: Vec<String>,
     observation_space: BoxSpace,
     action_space: BoxSpace,
+    /// Rendering settings and the renderer, made on the first frame (issue 15).
+    render: crate::render::EnvRender,
 }
 
 impl Env {
@@ -338,6 +340,7 @@ impl Env {
         })?;
         let numerics = default_profile()?;
         let m = model.ffi();
+        let render = crate::render::EnvRender::new(&spec.params, m)?;
         let size = |x: i64| x as usize;
         let mut sim = Sim {
             numerics,
@@ -471,6 +474,7 @@ impl Env {
             observation_space,
             action_space,
             spec,
+            render,
         })
     }
 
@@ -479,6 +483,34 @@ impl Env {
     }
     pub fn model(&self) -> &Arc<MjModel> {
         &self.sim.model
+    }
+    /// Render the current state as Gymnasium's `render()` does with this `render_mode`; the
+    /// renderer is made on the first call (docs/rendering.md).
+    pub fn render(
+        &mut self,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        self.render_with(mode, |_, _| {})
+    }
+    /// `render` after `prep` adjusts visual-only state (a maze's goal marker).
+    pub(crate) fn render_with(
+        &mut self,
+        mode: crate::render::RenderMode,
+        prep: impl FnOnce(&mujoco_rs::mujoco_c::mjModel, &mut mujoco_rs::mujoco_c::mjData),
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        let m = self.sim.model.ffi();
+        // SAFETY: mjv_updateScene reads the state and writes only visualisation fields.
+        let d = unsafe { self.sim.data.ffi_mut() };
+        prep(m, d);
+        Ok(self.render.frame(m, d, mode)?)
+    }
+    /// The spec's rendering settings (size, camera, options).
+    pub fn render_settings(&self) -> &envspec::camera::RenderSettings {
+        self.render.settings()
+    }
+    /// Free the renderer (Gymnasium's `close()`); rendering again makes a new one.
+    pub fn close_renderer(&mut self) {
+        self.render.close();
     }
     pub fn observation_space(&self) -> &BoxSpace {
         &self.observation_space

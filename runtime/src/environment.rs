@@ -52,6 +52,13 @@ pub trait Environment {
     fn numerics(&self) -> crate::numerics::Profile {
         self.env().numerics()
     }
+    /// A frame in a Gymnasium render mode (docs/rendering.md); the renderer is made on first use.
+    fn render(
+        &mut self,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        self.env_mut().render(mode)
+    }
     fn obs_dim(&self) -> usize {
         self.spec().obs_dim
     }

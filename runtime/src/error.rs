@@ -45,6 +45,8 @@ pub enum EnvError {
     BadModelValues { path: PathBuf, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
+    #[error(transparent)]
+    Render(#[from] crate::render::RenderError),
 }
 
 impl EnvError {
@@ -61,6 +63,7 @@ impl EnvError {
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
             EnvError::Numerics(e) => e.code(),
+            EnvError::Render(e) => e.code(),
         }
     }
 }

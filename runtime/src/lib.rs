@@ -33,6 +33,7 @@ pub mod npy;
 pub mod numerics;
 mod observe;
 pub mod registry;
+pub mod render;
 pub mod rng;
 pub mod typed;
 pub mod vector;

@@ -374,6 +374,15 @@ impl VecEnv {
     pub fn envs(&self) -> &[Env] {
         &self.envs
     }
+    /// Render env `index` (Gymnasium's vector `render()` renders each env in turn); each env has
+    /// its own renderer, made on its first frame. Panics if `index >= num_envs()`.
+    pub fn render(
+        &mut self,
+        index: usize,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        self.envs[index].render(mode)
+    }
 
     /// Gymnasium `reset(seed=s)`: env i gets `s + i`; `None` continues each env's stream.
     pub fn reset(&mut self, seed: Option<u64>) -> &[f64] {

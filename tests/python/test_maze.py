@@ -385,8 +385,12 @@ def test_bad_input():
         gym.make("envc/PointMaze_UMaze-v3", reward_type="sparse-ish")
     with pytest.raises(envc.SpecError):
         gym.make("envc/PointMaze_UMaze-v3", maze_map=[[1, 1], [1, "x"]])
-    with pytest.raises(ValueError, match="render"), pytest.warns(UserWarning, match="render_mode"):
-        gym.make("envc/PointMaze_UMaze-v3", render_mode="human")
+    # "human" is Gymnasium's HumanRendering over rgb_array; the env itself renders headless only.
+    with pytest.warns(UserWarning, match="HumanRendering"):
+        human = gym.make("envc/PointMaze_UMaze-v3", render_mode="human")
+    assert isinstance(human, gym.wrappers.HumanRendering)
+    with pytest.raises(ValueError, match="headless"):
+        envc.EnvcMazeEnv("PointMaze_UMaze-v3", render_mode="human")
     env = gym.make("envc/PointMaze_UMaze-v3")
     with pytest.raises(gym.error.ResetNeeded):
         env.step(np.zeros(2))

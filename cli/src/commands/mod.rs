@@ -9,6 +9,7 @@ pub mod list;
 pub mod maze;
 pub mod multi_agent;
 pub mod new;
+pub mod render;
 pub mod rollout;
 pub mod run;
 pub mod show;

@@ -265,6 +265,34 @@ impl MazeEnv {
     pub fn id(&self) -> &str {
         &self.spec.id
     }
+    /// Render the maze world with its goal marker (the `target` site) at the goal, as
+    /// Gymnasium-Robotics' `update_target_site_pos` shows it (docs/rendering.md).
+    pub fn render(
+        &mut self,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, EnvError> {
+        let (goal, z) = (
+            self.goal,
+            self.spec.maze_height / 2.0 * self.spec.maze_size_scaling,
+        );
+        self.robot.render_with(mode, |m, d| {
+            // SAFETY: a valid model; the name is NUL-terminated.
+            let id = unsafe {
+                mujoco_rs::mujoco_c::mj_name2id(
+                    m,
+                    mujoco_rs::mujoco_c::mjtObj::mjOBJ_SITE as i32,
+                    c"target".as_ptr(),
+                )
+            };
+            if id >= 0 && (id as i64) < m.nsite {
+                // The target hangs on the world body: its world position is its local one.
+                // SAFETY: site_xpos holds nsite × 3 numbers and id < nsite.
+                let p =
+                    unsafe { std::slice::from_raw_parts_mut(d.site_xpos.add(3 * id as usize), 3) };
+                p.copy_from_slice(&[goal[0], goal[1], z]);
+            }
+        })
+    }
     /// The robot env inside the maze (its model is the compiled maze world).
     pub fn robot(&self) -> &Env {
         &self.robot

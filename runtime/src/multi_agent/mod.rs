@@ -133,6 +133,13 @@ impl MultiAgentEnv {
     pub fn env(&self) -> &Env {
         &self.env
     }
+    /// Render the whole robot (MaMuJoCo renders its single-agent env).
+    pub fn render(
+        &mut self,
+        mode: crate::render::RenderMode,
+    ) -> Result<crate::render::Frame<'_>, crate::EnvError> {
+        self.env.render(mode)
+    }
     /// Every agent's name (`agent_0`, ...), in order.
     pub fn possible_agents(&self) -> Vec<&str> {
         self.spec.agents.iter().map(|a| a.name.as_str()).collect()

@@ -1,0 +1,326 @@
+//! `envc render ID|SPEC [--policy zero|random|replay --actions A.npy] [--seed S] [--episodes N]
+//! [--camera NAME] [--size WxH] [--set k=v ...] --out run.mp4|run.gif|frames/`: episodes rendered
+//! headless (EGL) as Gymnasium's `RecordVideo` records them (a frame after every reset and every
+//! step), for every kind of spec (a maze with its goal marker, a multi-agent spec's whole robot).
+//!
+//! Encoding is Debian's `ffmpeg`, run as a subprocess that reads raw rgb24 frames on stdin: it is
+//! what `RecordVideo` (through moviepy / imageio-ffmpeg) runs too, it is packaged and maintained,
+//! and it writes H.264 MP4, GIF (with a per-video palette) and PNG frames without adding a codec
+//! to the build. The output is written under a temporary name and renamed into place.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use anyhow::{Context, Result, anyhow, bail};
+use envc::render::RenderMode;
+use envc::rng::NumpyRng;
+use envspec::{Code, Diagnostic};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::Outcome;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Spec file or bundled env id (task, maze or multi-agent).
+    spec: String,
+    /// `run.mp4` (H.264), `run.gif`, or a directory (ending in `/`, or existing) for PNG frames.
+    #[arg(long, value_name = "PATH")]
+    out: PathBuf,
+    #[arg(long, value_enum, default_value = "random")]
+    policy: Policy,
+    /// With `--policy replay`: a float32 or float64 `.npy` array [T, act_dim]; episodes take rows
+    /// in order.
+    #[arg(long, value_name = "A.npy")]
+    actions: Option<PathBuf>,
+    /// Seed of the first reset (later episodes continue the stream) and of the random policy.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Episodes to render (1 to 10,000: every frame is encoded).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    episodes: u64,
+    /// A camera of the model, by name (the `camera_name` parameter).
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
+    /// Frame size (the `width` and `height` parameters; default 480x480).
+    #[arg(long, value_name = "WxH")]
+    size: Option<String>,
+    /// Episode length cap (a continuing maze, a spec without `max_episode_steps`).
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    max_steps: u64,
+    /// Parameter overrides (`key=value`, TOML literal values).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq)]
+enum Policy {
+    Zero,
+    Random,
+    Replay,
+}
+
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Output {
+    Mp4,
+    Gif,
+    Frames,
+}
+
+fn e1506(message: String, help: &str) -> anyhow::Error {
+    anyhow!("{}", Diagnostic::new(Code::E1506, message).help(help))
+}
+
+fn output_kind(out: &Path) -> Result<Output> {
+    let s = out.to_string_lossy();
+    if s.ends_with('/') || out.is_dir() {
+        return Ok(Output::Frames);
+    }
+    match out.extension().and_then(|e| e.to_str()) {
+        Some("mp4") => Ok(Output::Mp4),
+        Some("gif") => Ok(Output::Gif),
+        _ => Err(e1506(
+            format!("cannot tell what to write to {}", out.display()),
+            "expected a path ending in .mp4 or .gif, or a directory (ending in /) for PNG frames",
+        )),
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| anyhow!("--size {s}: expected WxH, e.g. 640x480"))?;
+    let p = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=16384).contains(&n))
+    };
+    match (p(w), p(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => bail!("--size {s}: expected WxH with both from 1 to 16384"),
+    }
+}
+
+/// ffmpeg reading raw rgb24 frames of `w`×`h` at `fps` on stdin, writing `dest`.
+fn encoder(kind: Output, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::process::Child> {
+    let mut c = Command::new("ffmpeg");
+    c.args([
+        "-hide_banner",
+        "-loglevel",
+        "error",
+        "-y",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+    ])
+    .args(["-s", &format!("{w}x{h}"), "-r", &fps.to_string(), "-i", "-"]);
+    match kind {
+        // yuv420p (what players expect) needs even sides: pad by one pixel when odd.
+        Output::Mp4 => c.args([
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+            "-c:v",
+            "libx264",
+            "-pix_fmt",
+            "yuv420p",
+            "-f",
+            "mp4",
+        ]),
+        Output::Gif => c.args([
+            "-vf",
+            "split[a][b];[a]palettegen[p];[b][p]paletteuse",
+            "-f",
+            "gif",
+        ]),
+        Output::Frames => c.args(["-f", "image2", "-c:v", "png"]),
+    };
+    c.arg(dest)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    c.spawn().map_err(|e| {
+        e1506(
+            format!("cannot run ffmpeg: {e}"),
+            "envc render encodes with ffmpeg: `sudo apt-get install ffmpeg` (scripts/setup.sh installs it as root)",
+        )
+    })
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
+    let kind = output_kind(&args.out)?;
+    let mut sets = args.set.clone();
+    if let Some(c) = &args.camera {
+        sets.push(format!("camera_name={c:?}"));
+    }
+    if let Some(s) = &args.size {
+        let (w, h) = parse_size(s)?;
+        sets.push(format!("width={w}"));
+        sets.push(format!("height={h}"));
+    }
+    let mut env = crate::target::env(&args.spec, &sets)?;
+    let space = env.action_space().clone();
+    let act_dim = env.act_dim();
+    let replay = match (args.policy, &args.actions) {
+        (Policy::Replay, Some(p)) => {
+            let a = envc::npy::read_matrix(p)?.into_f64();
+            if a.ncols() != act_dim || a.nrows() == 0 {
+                bail!(
+                    "{} is [{}, {}]; expected [T ≥ 1, {act_dim}]",
+                    p.display(),
+                    a.nrows(),
+                    a.ncols()
+                );
+            }
+            a.iter().copied().collect::<Vec<f64>>()
+        }
+        (Policy::Replay, None) => bail!("--policy replay needs --actions A.npy"),
+        (_, Some(_)) => bail!("--actions is only used with --policy replay"),
+        _ => vec![],
+    };
+    // Gymnasium's render_fps: round(1/dt); the maze classes declare 50.
+    let fps = if env.kind() == envspec::Kind::Maze {
+        50
+    } else {
+        (1.0 / env.dt()).round().max(1.0) as u32
+    };
+    let limit = env
+        .max_episode_steps()
+        .unwrap_or(args.max_steps)
+        .min(args.max_steps.max(1));
+
+    // Written under a temporary name next to the destination, renamed when complete.
+    let name = args
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frames".into());
+    let parent = match args.out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let tmp = parent.join(format!(".{name}.partial-{}", std::process::id()));
+    let dest = match kind {
+        Output::Frames => {
+            std::fs::create_dir_all(&tmp).map_err(|e| {
+                e1506(
+                    format!("cannot create {}: {e}", tmp.display()),
+                    "check the path",
+                )
+            })?;
+            tmp.join("frame_%06d.png")
+        }
+        _ => tmp.clone(),
+    };
+    let result = (|| -> Result<(u64, u32, u32)> {
+        let mut policy_rng = NumpyRng::from_seed(args.seed);
+        let mut action = vec![0.0; act_dim];
+        let mut row = 0usize;
+        let bar = ProgressBar::new(args.episodes * limit);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} steps ({elapsed}, eta {eta})",
+            )
+            .expect("static template")
+            .progress_chars("=> "),
+        );
+        bar.set_message(format!("rendering {}", env.id()));
+        let mut child: Option<(std::process::Child, u32, u32)> = None;
+        let mut frames = 0u64;
+        let mut write = |env: &mut envc::AnyEnv,
+                         child: &mut Option<(std::process::Child, u32, u32)>|
+         -> Result<()> {
+            let f = env.render(RenderMode::RgbArray)?;
+            let (w, h) = (f.width as u32, f.height as u32);
+            if child.is_none() {
+                *child = Some((encoder(kind, w, h, fps, &dest)?, w, h));
+            }
+            let (c, ..) = child.as_mut().expect("just set");
+            let stdin = c.stdin.as_mut().expect("piped");
+            stdin.write_all(f.rgb.unwrap_or(&[])).map_err(|e| {
+                e1506(
+                    format!("ffmpeg stopped reading frames: {e}"),
+                    "see ffmpeg's message above",
+                )
+            })?;
+            frames += 1;
+            Ok(())
+        };
+        for ep in 0..args.episodes {
+            env.reset(if ep == 0 { Some(args.seed) } else { None })?;
+            write(&mut env, &mut child)?;
+            for t in 0..limit {
+                match args.policy {
+                    Policy::Random => {
+                        for (i, a) in action.iter_mut().enumerate() {
+                            *a = policy_rng.uniform(space.low[i], space.high[i]);
+                        }
+                    }
+                    Policy::Replay => {
+                        let n = replay.len() / act_dim;
+                        if row >= n {
+                            break;
+                        }
+                        action.copy_from_slice(&replay[row * act_dim..(row + 1) * act_dim]);
+                        row += 1;
+                    }
+                    Policy::Zero => {}
+                }
+                let s = env.step(&action)?;
+                let done = s.terminated || s.truncated;
+                write(&mut env, &mut child)?;
+                bar.inc(1);
+                if done {
+                    bar.inc(limit - t - 1);
+                    break;
+                }
+            }
+        }
+        bar.finish_and_clear();
+        let (mut c, w, h) = child.ok_or_else(|| anyhow!("no frame was rendered"))?;
+        drop(c.stdin.take());
+        let out = c.wait_with_output().context("waiting for ffmpeg")?;
+        if !out.status.success() {
+            return Err(e1506(
+                format!(
+                    "ffmpeg failed: {}",
+                    String::from_utf8_lossy(&out.stderr).trim()
+                ),
+                "check the output path and that ffmpeg has libx264 (Debian's ffmpeg does)",
+            ));
+        }
+        Ok((frames, w, h))
+    })();
+    let (frames, w, h) = match result {
+        Ok(x) => x,
+        Err(e) => {
+            let _ = if kind == Output::Frames {
+                std::fs::remove_dir_all(&tmp)
+            } else {
+                std::fs::remove_file(&tmp)
+            };
+            return Err(e);
+        }
+    };
+    if kind == Output::Frames && args.out.is_dir() {
+        // Frames replace an existing directory's frame files, not the directory.
+        for e in std::fs::read_dir(&tmp)?.flatten() {
+            std::fs::rename(e.path(), args.out.join(e.file_name()))?;
+        }
+        std::fs::remove_dir(&tmp)?;
+    } else {
+        std::fs::rename(&tmp, &args.out).map_err(|e| {
+            e1506(
+                format!("cannot move the result to {}: {e}", args.out.display()),
+                "check the path",
+            )
+        })?;
+    }
+    println!(
+        "{}: {frames} frames of {w}x{h} at {fps} fps -> {}",
+        env.id(),
+        args.out.display()
+    );
+    Ok(Outcome::Ok)
+}

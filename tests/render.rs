@@ -1,0 +1,212 @@
+//! Rendering from Rust (docs/rendering.md): frames of the spec's size, settings as parameters,
+//! camera and body names checked when the env is built (E1503 at the value's location), bad
+//! settings (E1505), envs rendering from several threads. Frame-for-frame equality with
+//! Gymnasium is tests/python/test_render.py.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use envc::render::RenderMode;
+use envc::{Env, EnvError, Environment, Override};
+use envspec::Code;
+
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+fn hopper(o: &[(&str, &str)]) -> Result<Env, EnvError> {
+    let o: Vec<Override> = o.iter().map(|(k, v)| Override::text(k, v)).collect();
+    Env::make("Hopper-v5", &o)
+}
+
+/// The rgb bytes of the current state.
+fn rgb(env: &mut Env) -> Vec<u8> {
+    let f = env.render(RenderMode::RgbArray).unwrap();
+    assert!(f.depth.is_none());
+    f.rgb.unwrap().to_vec()
+}
+
+#[test]
+fn frames_have_the_spec_size_and_follow_the_state() {
+    let mut env = hopper(&[("width", "160"), ("height", "96")]).unwrap();
+    env.reset(Some(0));
+    let a = rgb(&mut env);
+    assert_eq!(a.len(), 96 * 160 * 3);
+    // Not blank: the sky (top row) and the floor (bottom row) differ.
+    assert_ne!(a[..160 * 3], a[95 * 160 * 3..]);
+    assert_eq!(rgb(&mut env), a, "same state, same frame");
+    for _ in 0..10 {
+        env.step(&[1.0, -1.0, 1.0]).unwrap();
+    }
+    assert_ne!(rgb(&mut env), a, "the hopper moved");
+    let f = env.render(RenderMode::RgbdTuple).unwrap();
+    let depth = f.depth.unwrap();
+    assert_eq!(
+        (f.rgb.unwrap().len(), depth.len()),
+        (96 * 160 * 3, 96 * 160)
+    );
+    assert!(depth.iter().all(|d| (0.0..=1.0).contains(d)));
+    assert!(
+        depth.iter().any(|&d| d < 0.99),
+        "something is nearer than the far plane"
+    );
+    // The default is Gymnasium's 480 × 480.
+    let mut env = hopper(&[]).unwrap();
+    env.reset(Some(0));
+    let f = env.render(RenderMode::DepthArray).unwrap();
+    assert_eq!(
+        (f.width, f.height, f.depth.unwrap().len()),
+        (480, 480, 480 * 480)
+    );
+}
+
+#[test]
+fn typed_envs_render_through_environment() {
+    let mut env = hopper(&[("width", "32"), ("height", "32")]).unwrap();
+    Environment::reset(&mut env, Some(1));
+    let f = Environment::render(&mut env, RenderMode::RgbArray).unwrap();
+    assert_eq!(f.rgb.unwrap().len(), 32 * 32 * 3);
+}
+
+#[test]
+fn unknown_camera_and_body_names_are_spec_errors_with_locations() {
+    let e = hopper(&[("camera_name", "trak")])
+        .err()
+        .expect("unknown camera");
+    assert_eq!(e.code(), Code::E1503);
+    assert!(e.to_string().contains("no camera `trak`"), "{e}");
+    // In a spec file: the error points at the value.
+    let dir = std::env::temp_dir().join(format!("envc-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(format!("{ROOT}/specs/gymnasium/hopper.toml"))
+        .unwrap()
+        .replace(
+            "\"../../assets/gymnasium/hopper.xml\"",
+            &format!("{:?}", format!("{ROOT}/assets/gymnasium/hopper.xml")),
+        )
+        .replace("trackbodyid = 2,", "trackbodyid = \"torsoo\",");
+    let spec = dir.join("hopper.toml");
+    std::fs::write(&spec, &text).unwrap();
+    let e = Env::from_spec_file(&spec, &[]).err().expect("unknown body");
+    assert_eq!(e.code(), Code::E1503);
+    let line = text.lines().position(|l| l.contains("\"torsoo\"")).unwrap() + 1;
+    let msg = e.to_string();
+    assert!(msg.contains(&format!("hopper.toml:{line}:")), "{msg}");
+    assert!(msg.contains("did you mean `torso`?"), "{msg}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_settings_are_e1505() {
+    for (k, v) in [
+        ("width", "0"),
+        ("max_geom", "0"),
+        ("camera_id", "-2"),
+        ("visual_options", "{ contactpont = true }"),
+        ("default_camera_config", "{ distnce = 2.0 }"),
+    ] {
+        let e = hopper(&[(k, v)])
+            .err()
+            .unwrap_or_else(|| panic!("{k}={v} accepted"));
+        assert_eq!(e.code(), Code::E1505, "{k}={v}: {e}");
+    }
+    let e = hopper(&[("camera_id", "0"), ("camera_name", "track")])
+        .err()
+        .unwrap();
+    assert_eq!(e.code(), Code::E1505);
+    assert!(e.to_string().contains("both `camera_id` and `camera_name`"));
+    let e = envc::render::RenderMode::parse("human").unwrap_err();
+    assert_eq!(e.code(), Code::E1504);
+}
+
+#[test]
+fn envs_render_from_several_threads() {
+    let run = |seed: u64| {
+        let mut env = hopper(&[("width", "64"), ("height", "64")]).unwrap();
+        env.reset(Some(seed));
+        let mut frames = vec![];
+        for _ in 0..3 {
+            env.step(&[0.5, 0.5, -0.5]).unwrap();
+            frames.push(rgb(&mut env));
+        }
+        frames
+    };
+    let alone: Vec<_> = (0..4).map(run).collect();
+    let threaded: Vec<_> = std::thread::scope(|s| {
+        let h: Vec<_> = (0..4).map(|seed| s.spawn(move || run(seed))).collect();
+        h.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert_eq!(alone, threaded);
+    // An env made on one thread renders on another.
+    let mut env = hopper(&[("width", "16"), ("height", "16")]).unwrap();
+    env.reset(Some(0));
+    let here = rgb(&mut env);
+    let there = std::thread::spawn(move || rgb(&mut env)).join().unwrap();
+    assert_eq!(here, there);
+}
+
+// A per-thread counting allocator: a frame after the first allocates nothing.
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new: usize) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+#[test]
+fn a_frame_reuses_the_renderers_buffers() {
+    let mut env = hopper(&[("width", "48"), ("height", "40")]).unwrap();
+    env.reset(Some(0));
+    env.render(RenderMode::RgbdTuple).unwrap();
+    let before = COUNT.with(Cell::get);
+    for _ in 0..5 {
+        env.step(&[0.1, 0.2, 0.3]).unwrap();
+        for mode in [
+            RenderMode::RgbArray,
+            RenderMode::DepthArray,
+            RenderMode::RgbdTuple,
+        ] {
+            let f = env.render(mode).unwrap();
+            std::hint::black_box(f.width);
+        }
+    }
+    assert_eq!(COUNT.with(Cell::get) - before, 0, "rendering allocated");
+}
+
+#[test]
+fn vector_envs_render_each_env() {
+    let o = [
+        Override::text("width", "24"),
+        Override::text("height", "24"),
+    ];
+    let mut v = envc::VecEnv::make("Hopper-v5", &o, 3, 2, envc::Autoreset::NextStep).unwrap();
+    v.reset(Some(0));
+    let frames: Vec<Vec<u8>> = (0..3)
+        .map(|i| {
+            v.render(i, RenderMode::RgbArray)
+                .unwrap()
+                .rgb
+                .unwrap()
+                .to_vec()
+        })
+        .collect();
+    // Different seeds, different starting poses, different frames; each as a single env's.
+    assert_ne!(frames[0], frames[1]);
+    let mut one = hopper(&[("width", "24"), ("height", "24")]).unwrap();
+    one.reset(Some(1));
+    assert_eq!(rgb(&mut one), frames[1]);
+}
