@@ -395,6 +395,22 @@ fn nan_and_infinite_values_are_refused_where_they_make_a_spec_meaningless() {
         "E0205",
     );
     assert!(text.contains("more than once"), "{text}");
+    // Layers are not duplicates: a user's override replaces a bundled id's own (the maze family's
+    // camera), and a family's replaces its spec's `robot_params`.
+    let o = envc(&[
+        "run",
+        "PointMaze_Large-v3",
+        "--episodes",
+        "1",
+        "--set",
+        "default_camera_config={distance=5.0}",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 #[test]

@@ -103,7 +103,10 @@ pub fn locate(id_or_path: &str) -> Result<Target, Diagnostics> {
 /// Open a bundled id or a spec file of any kind with user overrides.
 pub fn open(id_or_path: &str, overrides: &[Override]) -> Result<AnySpec, Diagnostics> {
     let t = locate(id_or_path)?;
+    // The user's overrides replace a bundled id's own of the same name (a layer); only a user's
+    // own duplicates are E0205.
     let mut all = t.overrides;
+    all.retain(|o| !overrides.iter().any(|u| u.name == o.name));
     all.extend(overrides.iter().cloned());
     let mut spec = open_as(&t.path, t.kind, &all)?;
     if let (Some(id), AnySpec::Maze(m)) = (t.id, &mut spec) {

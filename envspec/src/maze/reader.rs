@@ -120,6 +120,9 @@ pub fn from_document(
             (e.key.clone(), Location::new(&e.key_loc.file, span))
         })
         .collect();
+    // A registry family's overrides replace the spec's own `robot_params` of the same name (a
+    // layer, not a user's duplicate, which E0205 refuses).
+    base_overrides.retain(|o| !robot_overrides.iter().any(|r| r.name == o.name));
     base_overrides.extend(robot_overrides);
     let maze_size_scaling = r.positive("maze_size_scaling");
     let maze_height = r.positive("maze_height");
