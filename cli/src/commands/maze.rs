@@ -4,7 +4,7 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use envc::maze::MazeEnv;
 use ndarray::{Array1, Array2, ArrayD, IxDyn};
 use ndarray_npy::NpzWriter;
@@ -64,19 +64,10 @@ pub fn rollout(
     mut env: MazeEnv,
     seed: Option<u64>,
     a: &Array2<f64>,
-    actions: &Path,
     out: &Path,
     auto_reset: bool,
 ) -> Result<Outcome> {
-    let (t_max, width) = a.dim();
-    if width != env.act_dim() {
-        bail!(
-            "{} has {width} columns but {} takes {} actions",
-            actions.display(),
-            env.id(),
-            env.act_dim()
-        );
-    }
+    let t_max = a.dim().0;
     let dim = env.observation_dim();
     let mut obs = DictObs::new();
     let mut reset_obs = DictObs::new();

@@ -3,7 +3,7 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use envc::multi_agent::MultiAgentEnv;
 use envspec::agents::AgentsSpec;
 use ndarray::{Array1, Array2};
@@ -17,19 +17,10 @@ pub fn rollout(
     mut env: MultiAgentEnv,
     seed: Option<u64>,
     a: &Array2<f64>,
-    actions: &Path,
     out: &Path,
     auto_reset: bool,
 ) -> Result<Outcome> {
-    let (t_max, width) = a.dim();
-    let act_dim = env.spec().act_dim();
-    if width != act_dim {
-        bail!(
-            "{} has {width} columns but {} takes {act_dim} global actions",
-            actions.display(),
-            env.spec().id
-        );
-    }
+    let t_max = a.dim().0;
     let n_agents = env.num_agents();
     let mut obs: Vec<Vec<f64>> = vec![vec![]; n_agents];
     let mut state: Vec<f64> = vec![];

@@ -141,27 +141,36 @@ pub fn run(args: Args) -> Result<Outcome> {
         _ => bail!("give --actions A.npy, or --policy zero|random with --steps N"),
     };
     check_size(actions.dim().0, &any)?;
+    // E1101, for every kind: the file's rows are actions of the (joint) action space.
+    let width = actions.dim().1;
+    if width != any.act_dim() {
+        return Err(anyhow::anyhow!(
+            "{}",
+            envspec::Diagnostic::new(
+                envspec::Code::E1101,
+                format!(
+                    "{} has {width} columns but {} takes {} actions",
+                    path.display(),
+                    any.id(),
+                    any.act_dim()
+                ),
+            )
+            .label("expected one column per action (a multi-agent spec: the joint action, every agent's in global order)")
+        ));
+    }
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
     let as_f64 = || actions.clone().into_f64();
-    let (seed, path, out, auto) = (args.seed, &path, &args.out, args.auto_reset);
+    let (seed, out, auto) = (args.seed, &args.out, args.auto_reset);
     let mut env = match any {
         envc::AnyEnv::Task(env) => env,
         envc::AnyEnv::Maze(env) => {
-            return crate::commands::maze::rollout(*env, seed, &as_f64(), path, out, auto);
+            return crate::commands::maze::rollout(*env, seed, &as_f64(), out, auto);
         }
         envc::AnyEnv::Agents(env) => {
-            return crate::commands::multi_agent::rollout(env, seed, &as_f64(), path, out, auto);
+            return crate::commands::multi_agent::rollout(env, seed, &as_f64(), out, auto);
         }
     };
-    let (t_max, width) = actions.dim();
-    if width != env.act_dim() {
-        bail!(
-            "{} has {width} columns but {} takes {} actions",
-            path.display(),
-            env.spec().id,
-            env.act_dim()
-        );
-    }
+    let t_max = actions.dim().0;
     let obs_dim = env.obs_dim();
 
     let mut obs: Vec<f64> = vec![];
