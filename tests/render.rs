@@ -3,9 +3,6 @@
 //! settings (E1505), envs rendering from several threads. Frame-for-frame equality with
 //! Gymnasium is tests/python/test_render.py.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use envc::render::RenderMode;
 use envc::{Env, EnvError, Environment, Override};
 use envspec::Code;
@@ -144,47 +141,28 @@ fn envs_render_from_several_threads() {
 }
 
 // A per-thread counting allocator: a frame after the first allocates nothing.
-struct Counting;
-
-thread_local! {
-    static COUNT: Cell<u64> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new: usize) -> *mut u8 {
-        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new) }
-    }
-}
-
 #[global_allocator]
-static A: Counting = Counting;
+static A: envc_tests::ThreadCounting = envc_tests::ThreadCounting;
 
 #[test]
 fn a_frame_reuses_the_renderers_buffers() {
     let mut env = hopper(&[("width", "48"), ("height", "40")]).unwrap();
     env.reset(Some(0));
     env.render(RenderMode::RgbdTuple).unwrap();
-    let before = COUNT.with(Cell::get);
     for _ in 0..5 {
         env.step(&[0.1, 0.2, 0.3]).unwrap();
-        for mode in [
-            RenderMode::RgbArray,
-            RenderMode::DepthArray,
-            RenderMode::RgbdTuple,
-        ] {
-            let f = env.render(mode).unwrap();
-            std::hint::black_box(f.width);
-        }
+        let frames = envc_tests::allocations(|| {
+            for mode in [
+                RenderMode::RgbArray,
+                RenderMode::DepthArray,
+                RenderMode::RgbdTuple,
+            ] {
+                let f = env.render(mode).unwrap();
+                std::hint::black_box(f.width);
+            }
+        });
+        assert_eq!(frames, 0, "rendering allocated");
     }
-    assert_eq!(COUNT.with(Cell::get) - before, 0, "rendering allocated");
 }
 
 #[test]

@@ -72,15 +72,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
         Some(ParamValue::Int(n)) if (1..=limits::MAX_FRAME_SKIP).contains(n) => *n as u32,
         Some(ParamValue::Int(n)) if *n > limits::MAX_FRAME_SKIP => {
-            let mut e = cx.param_error(
-                "frame_skip",
-                &format!(
-                    "frame_skip {n} is beyond envc's limit of {} physics steps per env step",
-                    limits::MAX_FRAME_SKIP
-                ),
-            );
-            e.code = Code::E0110;
-            cx.d.push(e);
+            cx.over_limit("frame_skip", *n, limits::MAX_FRAME_SKIP);
             1
         }
         _ => {
@@ -91,15 +83,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     // 0 means no time limit (the reference's `max_episode_steps=None`).
     let max_episode_steps = match param("max_episode_steps").map(|p| &p.value) {
         Some(ParamValue::Int(n)) if *n > limits::MAX_EPISODE_STEPS => {
-            let mut e = cx.param_error(
-                "max_episode_steps",
-                &format!(
-                    "max_episode_steps {n} is beyond envc's limit of {}",
-                    limits::MAX_EPISODE_STEPS
-                ),
-            );
-            e.code = Code::E0110;
-            cx.d.push(e);
+            cx.over_limit("max_episode_steps", *n, limits::MAX_EPISODE_STEPS);
             None
         }
         Some(ParamValue::Int(n)) if *n < 0 => {
@@ -276,6 +260,16 @@ impl Ctx<'_> {
             .at_opt(loc)
             .label("invalid value")
             .help_opt(help)
+    }
+
+    /// E0110: an integer parameter above its limit in `envspec::limits`.
+    fn over_limit(&mut self, name: &str, n: i64, limit: i64) {
+        let mut e = self.param_error(
+            name,
+            &format!("{name} {n} is beyond envc's limit of {limit}"),
+        );
+        e.code = Code::E0110;
+        self.d.push(e);
     }
 
     fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {

@@ -275,3 +275,34 @@ pub fn replay(dir: &Path, profile: Profile, case: &Case) -> Mismatches {
     }
     mm
 }
+
+/// A per-thread counting allocator, so other test threads do not interfere: a test binary
+/// installs it with `#[global_allocator] static A: ThreadCounting = ThreadCounting;` and measures
+/// with [`allocations`].
+pub struct ThreadCounting;
+
+thread_local! {
+    static COUNT: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; counting touches only a thread-local integer.
+unsafe impl std::alloc::GlobalAlloc for ThreadCounting {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new: usize) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.realloc(ptr, layout, new) }
+    }
+}
+
+/// Allocations `f` made on this thread (under [`ThreadCounting`]).
+pub fn allocations(f: impl FnOnce()) -> u64 {
+    let before = COUNT.with(std::cell::Cell::get);
+    f();
+    COUNT.with(std::cell::Cell::get) - before
+}
