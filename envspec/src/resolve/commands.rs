@@ -36,7 +36,15 @@ impl Ctx<'_> {
                 match &v.kind {
                     ValKind::Table(entries) if !entries.is_empty() => {
                         for e in entries {
-                            let Some((lo, hi)) = self.range(&e.value, &e.key) else {
+                            // Two numbers read here (a reversed pair is E0130, not E0105),
+                            // or a range parameter.
+                            let r = match &e.value.kind {
+                                ValKind::Array(a) if a.len() == 2 => self
+                                    .num_or_inf(&a[0], &e.key)
+                                    .zip(self.num_or_inf(&a[1], &e.key)),
+                                _ => self.range(&e.value, &e.key),
+                            };
+                            let Some((lo, hi)) = r else {
                                 continue;
                             };
                             if !(lo.is_finite() && hi.is_finite()) || lo > hi {
