@@ -613,6 +613,11 @@ impl Env {
             })
     }
 
+    /// The MuJoCo data, read-only (checks of derived quantities against independent
+    /// implementations read `cvel`, `subtree_com`, `site_xmat`, the contact list).
+    pub fn data(&self) -> &mjData {
+        self.sim.d()
+    }
     /// Current `qpos` and `qvel`.
     pub fn state(&self) -> (&[f64], &[f64]) {
         (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
