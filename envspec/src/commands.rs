@@ -213,3 +213,42 @@ impl LeggedTerm {
         }
     }
 }
+
+impl Command {
+    /// One line for `envc show`: components, ranges, schedule, standing probability.
+    pub fn describe(&self) -> String {
+        let comps: Vec<String> = self
+            .components
+            .iter()
+            .enumerate()
+            .map(|(k, n)| format!("{n} ~ U[{}, {}]", self.low[k], self.high[k]))
+            .collect();
+        let when = match self.resample_seconds {
+            Some(s) => format!("at reset and every {s} s ({} steps)", self.resample_steps),
+            None => "at reset".into(),
+        };
+        format!(
+            "{}; drawn {when}; all zero with probability {}",
+            comps.join(", "),
+            self.standing_probability
+        )
+    }
+}
+
+impl PdActions {
+    /// What `envc show` prints under the action table.
+    pub fn describe(&self) -> String {
+        let pose = match &self.default_pose {
+            DefaultPose::Keyframe { name, .. } => format!("keyframe `{name}`"),
+            DefaultPose::Values(v) => format!("{v:?}"),
+        };
+        let gain = |k: &str, v: Option<f64>| v.map(|x| format!(", {k} {x}")).unwrap_or_default();
+        format!(
+            "PD position targets: ctrl = default_pose + {} × action, default_pose from {pose}{}{}{}",
+            self.scale,
+            gain("kp", self.kp),
+            gain("kd", self.kd),
+            gain("joint damping", self.damping)
+        )
+    }
+}

@@ -185,7 +185,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         .any(|s| s.field.needs_rne_post_constraint());
     resolved.needs_rne_post_constraint = rne;
     let mut d = d;
-    if resolved.actions.is_none() && resolved.reads(Field::DefaultPose) {
+    if spec.actions.is_none() && resolved.reads(Field::DefaultPose) {
         d.push(
             Diagnostic::new(
                 Code::E0132,
