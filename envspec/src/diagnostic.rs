@@ -162,6 +162,10 @@ pub enum Code {
     E0121,
     /// A maze's `robot` names a multi-agent spec that has no task of its own.
     E0122,
+    /// An observation noise's `scale` or `level` negative, or their product beyond envc's limit.
+    E0140,
+    /// An observation `delay` or `[latency] action` that is not a step count within envc's limit.
+    E0141,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.

@@ -47,6 +47,8 @@ pub struct ResolvedSpec {
     /// Actuators and options added to the model at load time (`[actuators]`, `[physics]`); they
     /// are already accounted for in `model` (its actuators and timestep).
     pub model_edits: ModelEdits,
+    /// Observation noise and delay, action latency (`envspec::noise`; empty: none declared).
+    pub corruption: crate::noise::Corruption,
 }
 
 impl ResolvedSpec {

@@ -14,6 +14,7 @@ use crate::value::{Val, ValKind};
 mod added;
 mod edits;
 mod goal;
+mod noise;
 
 struct Ctx<'a> {
     spec: &'a Spec,
@@ -98,6 +99,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     };
 
     let observation = cx.observation();
+    let corruption = cx.corruption(&observation);
     let obs_dim = observation.iter().map(Segment::len).sum();
     let terms = cx.reward_terms();
     let all_terms: Vec<RewardTerm> = terms.iter().map(|(t, _)| t.clone()).collect();
@@ -166,6 +168,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         info,
         needs_rne_post_constraint: false,
         model_edits,
+        corruption,
     };
     let rne = resolved
         .sources()
