@@ -18,6 +18,7 @@ mod behaviour;
 mod change;
 mod info;
 mod maze;
+mod noise;
 mod observation;
 mod params;
 mod report;
@@ -69,6 +70,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     params::env_section(&mut cx);
     params::params(&mut cx);
     observation::observation(&mut cx);
+    noise::noise(&mut cx);
     sections::sections(
         &mut cx,
         &sections::REWARD,
