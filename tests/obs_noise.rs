@@ -329,3 +329,24 @@ fn parameters_switch_and_scale_the_terms() {
     assert_eq!(c.segment("pos").unwrap().noise.unwrap().level, 2.0);
     assert_eq!(c.segment("delayed_pos").unwrap().delay, 3);
 }
+
+// The typed env accepts these terms: it runs the same core.
+envc::env!(NoisyHopper = "noise/hopper_noisy.toml");
+
+#[test]
+fn typed_env_runs_the_same_noisy_trajectory() {
+    assert_eq!(NoisyHopper::OBS_DIM, 11);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("noise/hopper_noisy.toml");
+    let mut dynamic = Env::from_spec_file(&path, &[]).unwrap();
+    let mut typed = NoisyHopper::make().unwrap();
+    let (o, _) = typed.reset(Some(3));
+    assert_eq!(o.qvel().len(), 6);
+    let first = o.as_slice().to_vec();
+    assert_eq!(first, dynamic.reset(Some(3)).0);
+    let inner = typed.inner_mut();
+    for t in 0..50 {
+        let a = actions(t, 3);
+        let x = inner.step(&a).unwrap().obs.to_vec();
+        assert_eq!(x, dynamic.step(&a).unwrap().obs, "t={t}");
+    }
+}

@@ -2,8 +2,10 @@
 //!
 //! `reset(seed)`: reseed (or continue the stream) → `mj_resetData` → reset draws in spec order →
 //! write qpos/qvel → `mj_forward` → observation and reset info.
-//! `step(action)`: read "before" values → ctrl = action → `frame_skip × mj_step` →
-//! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation, info,
+//! `step(action)`: action latency (`latency`: the action given N steps ago) → read "before"
+//! values → ctrl = action → `frame_skip × mj_step` →
+//! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation
+//! (noise and delay: `obs_noise`, also at reset), info,
 //! termination (health and `[termination.*]`), TimeLimit truncation. Goal terms read the env-held
 //! goal vector (`goal_mut`) where they say `desired = "goal"`. No `mj_forward` after stepping: derived quantities are "lagged", exactly
 //! as in the reference. Nothing allocates after construction.
