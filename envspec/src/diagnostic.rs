@@ -178,6 +178,10 @@ pub enum Code {
     /// A legged term over elements of the wrong kind: `joint_limits` over anything but hinge or
     /// slide joint positions, a non-positive `sigma`.
     E0135,
+    /// An observation noise's `scale` or `level` negative, or their product beyond envc's limit.
+    E0140,
+    /// An observation `delay` or `[latency] action` that is not a step count within envc's limit.
+    E0141,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.

@@ -54,6 +54,8 @@ pub struct ResolvedSpec {
     pub command_dim: usize,
     /// `[actions]`: PD position targets (None: `ctrl = action`).
     pub actions: Option<PdActions>,
+    /// Observation noise and delay, action latency (`envspec::noise`; empty: none declared).
+    pub corruption: crate::noise::Corruption,
 }
 
 impl ResolvedSpec {

@@ -26,6 +26,7 @@ pub mod ir;
 pub mod limits;
 pub mod maze;
 pub mod mjcf;
+pub mod noise;
 pub mod open;
 pub mod params;
 pub mod path;

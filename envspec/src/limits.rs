@@ -42,6 +42,12 @@ pub const MAX_MAZE_SCALE: f64 = 1000.0;
 /// Model coordinates (qpos0, body and geom positions, geom sizes), in metres or radians: beyond
 /// this MuJoCo's collision and integration take seconds per step or reset the state.
 pub const MAX_COORDINATE: f64 = 1e6;
+/// Observation delay and action latency, in env steps: each env keeps that many past values of
+/// the segment (or action) for the whole run.
+pub const MAX_DELAY_STEPS: i64 = 10_000;
+/// An observation noise's amplitude (`level × scale`), like reset draws: noise beyond it would
+/// drown every observation or overflow.
+pub const MAX_NOISE: f64 = 1e6;
 
 /// Why a file could not be read.
 #[derive(Debug)]

@@ -15,6 +15,7 @@ mod added;
 mod commands;
 mod edits;
 mod goal;
+mod noise;
 
 struct Ctx<'a> {
     spec: &'a Spec,
@@ -108,6 +109,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let actions = cx.actions();
 
     let observation = cx.observation();
+    let corruption = cx.corruption(&observation);
     let obs_dim = observation.iter().map(Segment::len).sum();
     let terms = cx.reward_terms();
     let all_terms: Vec<RewardTerm> = terms.iter().map(|(t, _)| t.clone()).collect();
@@ -179,6 +181,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         commands,
         command_dim,
         actions,
+        corruption,
     };
     let rne = resolved
         .sources()

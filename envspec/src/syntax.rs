@@ -78,6 +78,8 @@ pub struct Spec {
     pub commands: Vec<Section>,
     /// `[actions]`: PD position targets.
     pub actions: Option<Section>,
+    /// `[latency]`: action latency (`envspec::noise`).
+    pub latency: Option<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -168,6 +170,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "geoms",
     "cameras",
     "lights",
+    "latency",
     "agents",
     "maze",
     "commands",
@@ -185,8 +188,14 @@ const SEGMENT_KEYS: &[&str] = &[
     "clip",
     "when",
     "drop_first",
+    "noise",
+    "delay",
     "doc",
 ];
+/// Keys of an observation segment's `noise` table.
+pub const NOISE_KEYS: &[&str] = &["kind", "scale", "level", "when"];
+/// Keys of `[latency]`.
+pub const LATENCY_KEYS: &[&str] = &["action", "doc"];
 
 /// Term kinds of `[reward.*]` with the keys each accepts besides kind, weight, cost, info, doc.
 pub const REWARD_KINDS: &[(&str, &[&str])] = &[
@@ -337,6 +346,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         added: vec![],
         commands: vec![],
         actions: None,
+        latency: None,
     };
 
     if let Some(e) = get("maze") {
@@ -551,6 +561,17 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         check_keys(t, PHYSICS_KEYS, "[physics]", d);
         spec.physics = Some(Section {
             name: "physics".into(),
+            name_loc: e.key_loc.clone(),
+            loc: e.value.loc.clone(),
+            entries: t.to_vec(),
+        });
+    }
+    if let Some(e) = get("latency")
+        && let Some(t) = table(&e.value, "[latency]", d)
+    {
+        check_keys(t, LATENCY_KEYS, "[latency]", d);
+        spec.latency = Some(Section {
+            name: "latency".into(),
             name_loc: e.key_loc.clone(),
             loc: e.value.loc.clone(),
             entries: t.to_vec(),

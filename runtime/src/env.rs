@@ -2,8 +2,10 @@
 //!
 //! `reset(seed)`: reseed (or continue the stream) → `mj_resetData` → reset draws in spec order →
 //! write qpos/qvel → `mj_forward` → observation and reset info.
-//! `step(action)`: read "before" values → ctrl = action → `frame_skip × mj_step` →
-//! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation, info,
+//! `step(action)`: action latency (`latency`: the action given N steps ago) → read "before"
+//! values → ctrl = action → `frame_skip × mj_step` →
+//! `mj_rnePostConstraint` when contact forces are read → health, reward terms, observation
+//! (noise and delay: `obs_noise`, also at reset), info,
 //! termination (health and `[termination.*]`), TimeLimit truncation. Goal terms read the env-held
 //! goal vector (`goal_mut`) where they say `desired = "goal"`. No `mj_forward` after stepping: derived quantities are "lagged", exactly
 //! as in the reference. Nothing allocates after construction.
@@ -303,6 +305,10 @@ pub struct Env {
     action_space: BoxSpace,
     /// Rendering settings and the renderer, made on the first frame (issue 15).
     render: crate::render::EnvRender,
+    /// Observation noise and delay (None: the spec declares neither).
+    obs_noise: Option<crate::obs_noise::ObsNoise>,
+    /// Action latency (None: none declared).
+    latency: Option<crate::latency::ActionLatency>,
 }
 
 impl Env {
@@ -449,6 +455,7 @@ impl Env {
         };
         let max_draw = spec.reset.iter().map(|r| r.target.len()).max().unwrap_or(0);
 
+        let latency = crate::latency::ActionLatency::new(spec.corruption.action_latency, sim.nu);
         mujoco_log::drain_into(&mut warnings);
         Ok(Env {
             before: vec![0.0; velocity_sources.len()],
@@ -483,6 +490,8 @@ impl Env {
             warnings,
             observation_space,
             action_space,
+            obs_noise: crate::obs_noise::ObsNoise::new(&spec),
+            latency,
             spec,
             render,
         })
@@ -723,7 +732,10 @@ impl Env {
         self.sim.update_ten_j();
         self.elapsed = 0;
         self.has_reset = self.reset_failure.is_none();
-        self.write_obs();
+        if let Some(l) = &mut self.latency {
+            l.clear();
+        }
+        self.write_obs_at(true);
         let mut off = 0;
         for item in self.spec.reset_info() {
             let out = &mut self.reset_info_values[off..off + item.len];
@@ -808,6 +820,9 @@ impl Env {
 
     /// The step proper, with the action already in `sim.action`.
     fn advance(&mut self) -> Result<Step<'_>, EnvError> {
+        if let Some(l) = &mut self.latency {
+            l.apply(&mut self.sim.action);
+        }
         for (k, s) in self.velocity_sources.iter().enumerate() {
             self.before[k] = self.sim.get(s, 0);
         }
@@ -1052,8 +1067,23 @@ impl Env {
     }
 
     fn write_obs(&mut self) {
+        self.write_obs_at(false);
+    }
+
+    /// The observation, with noise and delay where the spec declares them (`reset`: fill the
+    /// delay buffers).
+    fn write_obs_at(&mut self, reset: bool) {
         let sim = &self.sim;
-        crate::observe::write_segments(&self.spec.observation, |f| sim.field(f), &mut self.obs);
+        match (&mut self.obs_noise, &mut self.rng) {
+            (Some(n), Some(rng)) => {
+                n.write(&self.spec, |f| sim.field(f), &mut self.obs, rng, reset)
+            }
+            _ => crate::observe::write_segments(
+                &self.spec.observation,
+                |f| sim.field(f),
+                &mut self.obs,
+            ),
+        }
     }
 }
 

@@ -14,7 +14,19 @@ pub(crate) fn write_segments<'a>(
     field: impl Fn(Field) -> &'a [f64],
     out: &mut [f64],
 ) {
-    for seg in segments {
+    write_segments_with(segments, field, out, |_, x| x);
+}
+
+/// [`write_segments`] with `pre_clip(segment index, x)` applied to each element before its
+/// segment's `clip` (observation noise: Isaac Lab's order, noise then clip), in element order.
+#[inline]
+pub(crate) fn write_segments_with<'a>(
+    segments: &[Segment],
+    field: impl Fn(Field) -> &'a [f64],
+    out: &mut [f64],
+    mut pre_clip: impl FnMut(usize, f64) -> f64,
+) {
+    for (i, seg) in segments.iter().enumerate() {
         let f = field(seg.source.field);
         let minus = seg.minus.as_ref().map(|m| (m, field(m.field)));
         let dst = &mut out[seg.offset..seg.offset + seg.len()];
@@ -28,6 +40,7 @@ pub(crate) fn write_segments<'a>(
                 Some(Apply::Cos) => x.cos(),
                 None => x,
             };
+            x = pre_clip(i, x);
             if let Some((lo, hi)) = seg.clip {
                 x = clip(x, lo, hi);
             }

@@ -215,6 +215,17 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
 
+    let corruption = envspec::noise::describe(&spec);
+    if !corruption.is_empty() {
+        writeln!(
+            o,
+            "\nobservation noise and delay, action latency (noise draws after the reset steps and after each step, in this order):"
+        )?;
+        for l in corruption {
+            writeln!(o, "  {l}")?;
+        }
+    }
+
     writeln!(o, "\ninfo:")?;
     for i in &spec.info {
         let when = if i.at_reset { "reset+step" } else { "step" };

@@ -19,6 +19,7 @@ mod change;
 mod commands;
 mod info;
 mod maze;
+mod noise;
 mod observation;
 mod params;
 mod report;
@@ -70,6 +71,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     params::env_section(&mut cx);
     params::params(&mut cx);
     observation::observation(&mut cx);
+    noise::noise(&mut cx);
     sections::sections(
         &mut cx,
         &sections::REWARD,

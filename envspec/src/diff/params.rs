@@ -62,13 +62,23 @@ fn uses(spec: &Spec, param: &str) -> Vec<(Category, String)> {
     ];
     for (secs, cat, kind) in groups {
         for s in secs {
-            if s.entries
-                .iter()
-                .any(|e| e.key != "doc" && refers(&e.value, param))
-            {
+            // Observation noise and delay read it for the training distribution, not the layout.
+            let noise = |k: &str| kind == "observation" && matches!(k, "noise" | "delay");
+            let refs = |e: &&crate::value::Entry| e.key != "doc" && refers(&e.value, param);
+            if s.entries.iter().filter(refs).any(|e| !noise(&e.key)) {
                 out.push((cat, format!("{kind}.{}", s.name)));
             }
+            if s.entries.iter().filter(refs).any(|e| noise(&e.key)) {
+                out.push((Category::Randomization, format!("noise.{}", s.name)));
+            }
         }
+    }
+    if let Some(l) = &spec.latency
+        && l.entries
+            .iter()
+            .any(|e| e.key != "doc" && refers(&e.value, param))
+    {
+        out.push((Category::Randomization, "latency.action".into()));
     }
     if spec
         .health_terminate
@@ -95,6 +105,7 @@ fn default_rule(used: &[(Category, String)]) -> RuleId {
         Some(Category::Reward) => RuleId::ParamDefaultReward,
         Some(Category::Termination) => RuleId::ParamDefaultTermination,
         Some(Category::Reset) => RuleId::ParamDefaultReset,
+        Some(Category::Randomization) => RuleId::ParamDefaultRandomization,
         Some(Category::Dynamics) => RuleId::ParamDefaultDynamics,
         // `uses` reports no other categories; info is the mildest behavioural one.
         Some(_) => RuleId::ParamDefaultInfo,
@@ -201,6 +212,7 @@ fn active(r: &ResolvedSpec, use_name: &str) -> bool {
         "termination" => r.termination.iter().any(|t| t.name == name),
         "reset" => r.reset.iter().any(|x| x.name == name),
         "info" => r.info.iter().any(|i| i.key == name),
+        "noise" => r.observation.iter().any(|s| s.name == name),
         _ => true,
     }
 }

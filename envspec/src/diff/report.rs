@@ -75,6 +75,7 @@ impl Report {
                 Category::Reward => Some("reward"),
                 Category::Termination => Some("episode endings"),
                 Category::Reset => Some("initial states"),
+                Category::Randomization => Some("training distribution"),
                 Category::Dynamics => Some("dynamics"),
                 _ => None,
             })

@@ -18,12 +18,13 @@ pub enum Category {
     Reward,
     Termination,
     Reset,
+    /// Commands, observation noise and delay, action latency, domain randomization: what the
+    /// policy is trained on (issue 19).
+    Randomization,
     Dynamics,
     Parameters,
     Info,
     Documentation,
-    /// Commands, noise, randomization: what the policy is trained on (issue 19).
-    Randomization,
 }
 
 impl Category {
@@ -33,11 +34,11 @@ impl Category {
         Category::Reward,
         Category::Termination,
         Category::Reset,
+        Category::Randomization,
         Category::Dynamics,
         Category::Parameters,
         Category::Info,
         Category::Documentation,
-        Category::Randomization,
     ];
     /// The name used in JSON and in docs/diff-rules.md.
     pub fn key(self) -> &'static str {
@@ -47,11 +48,11 @@ impl Category {
             Category::Reward => "reward",
             Category::Termination => "termination",
             Category::Reset => "reset",
+            Category::Randomization => "randomization",
             Category::Dynamics => "dynamics",
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation",
-            Category::Randomization => "randomization",
         }
     }
     pub fn title(self) -> &'static str {
@@ -61,11 +62,11 @@ impl Category {
             Category::Reward => "reward",
             Category::Termination => "termination / episode",
             Category::Reset => "reset distribution",
+            Category::Randomization => "randomization / training distribution",
             Category::Dynamics => "dynamics",
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation only",
-            Category::Randomization => "randomization / training distribution",
         }
     }
     /// Who it hurts when the change alters behaviour.
@@ -75,13 +76,13 @@ impl Category {
             Category::Reward => "returns are no longer comparable",
             Category::Termination => "episode lengths and returns change",
             Category::Reset => "initial states change; returns are not comparable",
+            Category::Randomization => {
+                "the training distribution changes: policies may not transfer; returns are not comparable"
+            }
             Category::Dynamics => "the physics changes; trained policies and returns are affected",
             Category::Parameters => "constructor arguments change",
             Category::Info => "logged info changes",
             Category::Documentation => "no behaviour change",
-            Category::Randomization => {
-                "the training distribution changes; policies trained on one may not transfer to the other"
-            }
         }
     }
 }
@@ -169,6 +170,8 @@ rules! {
         "The default of `xml_file` or `frame_skip` changed (the compiled models are compared too).";
     ParamDefaultInfo = "param-default-info", Info, true,
         "A parameter's default changed and only info entries read it.";
+    ParamDefaultRandomization = "param-default-randomization", Randomization, true,
+        "A parameter's default changed and observation noise, an observation delay or the action latency reads it (and nothing more harmful).";
 
     // Observation.
     ObservationLayoutChanged = "observation-layout-changed", Observation, true,
@@ -183,6 +186,18 @@ rules! {
         "A key of a segment was added, removed or changed; compatible when the resolved layout is unchanged.";
     ObservationSegmentResolvedChanged = "observation-segment-resolved-changed", Observation, true,
         "A segment's text is unchanged but it resolves differently (a parameter default or the model changed under it).";
+
+    // Observation noise and delay, action latency (the training distribution).
+    NoiseAdded = "noise-added", Randomization, true,
+        "Observation noise was added to a segment, or switched on under the default parameters: the policy trains on noisy values (witness: the standard deviation).";
+    NoiseRemoved = "noise-removed", Randomization, true,
+        "Observation noise was removed from a segment, or switched off under the default parameters.";
+    NoiseChanged = "noise-changed", Randomization, true,
+        "A segment's noise distribution or amplitude changed under the default parameters (witness: the standard deviation before and after, and their ratio).";
+    LatencyObservationChanged = "latency-observation-changed", Randomization, true,
+        "A segment's observation delay changed (steps and seconds): the policy sees older or newer values.";
+    LatencyActionChanged = "latency-action-changed", Randomization, true,
+        "The action latency changed (steps and seconds): actions take effect later or sooner.";
 
     // Reward.
     RewardTermAdded = "reward-term-added", Reward, true,

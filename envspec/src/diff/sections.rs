@@ -145,7 +145,9 @@ fn key_rule(kind: &Kind, key: &str) -> RuleId {
 
 /// A reward term's `info` key is compared by key with the other info entries (`info_items`).
 fn skipped(kind: &Kind, key: &str) -> bool {
-    kind.name == "reward" && key == "info"
+    (kind.name == "reward" && key == "info")
+        // Observation noise and delay have their own rules (`diff/noise.rs`).
+        || (kind.name == "observation" && matches!(key, "noise" | "delay"))
 }
 
 /// Match sections by name (renames: same content, different name) and report key changes.

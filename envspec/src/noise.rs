@@ -1,0 +1,146 @@
+//! Observation noise and delay per `[observation.*]` segment, and action latency (`[latency]`):
+//! the IR of what corrupts the env's signals in time and value (sim-to-real training terms).
+//! Resolved by `resolve/noise.rs`, executed by the runtime's `obs_noise` and `latency` modules.
+//! A spec that declares none of them has an empty [`Corruption`] and draws nothing new.
+
+use std::fmt;
+
+/// The distribution of one segment's noise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NoiseKind {
+    /// `(2·u − 1) · level · scale`, `u = U[0, 1)` (MuJoCo Playground's noise): uniform on
+    /// `[−level·scale, level·scale)`.
+    Uniform,
+    /// `z · level · scale`, `z` a standard normal: Gaussian with standard deviation `level·scale`.
+    Gaussian,
+}
+
+impl NoiseKind {
+    pub const NAMES: &'static [&'static str] = &["uniform", "gaussian"];
+    pub fn parse(s: &str) -> Option<NoiseKind> {
+        match s {
+            "uniform" => Some(NoiseKind::Uniform),
+            "gaussian" => Some(NoiseKind::Gaussian),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseKind::Uniform => "uniform",
+            NoiseKind::Gaussian => "gaussian",
+        }
+    }
+}
+
+/// Additive noise on every element of a segment, one draw per element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Noise {
+    pub kind: NoiseKind,
+    pub scale: f64,
+    /// A multiplier shared by segments (Playground's `noise_config.level`), 1 by default.
+    pub level: f64,
+}
+
+impl Noise {
+    /// The noise's standard deviation (for reports): `level·scale` (Gaussian) or `level·scale/√3`.
+    pub fn std(&self) -> f64 {
+        let a = self.level * self.scale;
+        match self.kind {
+            NoiseKind::Gaussian => a,
+            NoiseKind::Uniform => a / 3f64.sqrt(),
+        }
+    }
+}
+
+impl fmt::Display for Noise {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.level * self.scale;
+        match self.kind {
+            NoiseKind::Uniform => write!(f, "uniform ±{a}")?,
+            NoiseKind::Gaussian => write!(f, "gaussian std {a}")?,
+        }
+        if self.level != 1.0 {
+            write!(f, " (level {} × scale {})", self.level, self.scale)?;
+        }
+        Ok(())
+    }
+}
+
+/// What corrupts one resolved observation segment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentCorruption {
+    /// The segment's name and index in `ResolvedSpec::observation` (enabled segments only).
+    pub name: String,
+    pub segment: usize,
+    /// Added before the segment's `clip` (Isaac Lab's order: noise, then clip).
+    pub noise: Option<Noise>,
+    /// The segment reports its value from this many env steps ago (0: none).
+    pub delay: usize,
+}
+
+/// Observation noise and delay (segments that declare either, in observation order) and the
+/// action latency, in env steps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Corruption {
+    pub segments: Vec<SegmentCorruption>,
+    /// `[latency] action`: the env applies the action given this many steps earlier (0: none).
+    pub action_latency: usize,
+}
+
+impl Corruption {
+    /// Whether the spec declares none of these terms (the env then draws nothing new).
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty() && self.action_latency == 0
+    }
+    pub fn has_noise(&self) -> bool {
+        self.segments.iter().any(|s| s.noise.is_some())
+    }
+    pub fn has_delay(&self) -> bool {
+        self.segments.iter().any(|s| s.delay > 0)
+    }
+    pub fn segment(&self, name: &str) -> Option<&SegmentCorruption> {
+        self.segments.iter().find(|s| s.name == name)
+    }
+}
+
+/// One line per corrupted segment, then the action latency, for `envc show` (draw order:
+/// segments with noise draw in this order, one value per element, at reset and after each step).
+pub fn describe(r: &crate::ResolvedSpec) -> Vec<String> {
+    let dt = r.dt();
+    let steps = |n: usize| {
+        let s = if n == 1 { "" } else { "s" };
+        format!(
+            "{n} step{s} ({} s)",
+            crate::value::format_float(n as f64 * dt)
+        )
+    };
+    let mut out = vec![];
+    for c in &r.corruption.segments {
+        let seg = &r.observation[c.segment];
+        let mut parts = vec![];
+        if let Some(n) = &c.noise {
+            let clip = seg
+                .clip
+                .map(|(lo, hi)| format!(", then clipped to [{lo}, {hi}]"))
+                .unwrap_or_default();
+            parts.push(format!("noise {n}{clip}"));
+        }
+        if c.delay > 0 {
+            parts.push(format!("delayed {}", steps(c.delay)));
+        }
+        out.push(format!(
+            "{:<14} [{}:{}]  {}",
+            c.name,
+            seg.offset,
+            seg.offset + seg.len(),
+            parts.join("; ")
+        ));
+    }
+    if r.corruption.action_latency > 0 {
+        out.push(format!(
+            "action latency {} (zeros after a reset)",
+            steps(r.corruption.action_latency)
+        ));
+    }
+    out
+}
