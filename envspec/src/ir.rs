@@ -47,6 +47,8 @@ pub struct ResolvedSpec {
     /// Actuators and options added to the model at load time (`[actuators]`, `[physics]`); they
     /// are already accounted for in `model` (its actuators and timestep).
     pub model_edits: ModelEdits,
+    /// `[events.*]` in spec order (domain randomization and pushes; empty: nothing is drawn).
+    pub events: Vec<crate::events::Event>,
 }
 
 impl ResolvedSpec {

@@ -20,6 +20,7 @@ pub mod camera;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;
+pub mod events;
 pub mod goal;
 pub mod ir;
 pub mod limits;

@@ -83,6 +83,9 @@ pub struct ModelInfo {
     pub site_bodies: Vec<usize>,
     pub actuators: Vec<Actuator>,
     pub tendons: Vec<String>,
+    /// Geom names (unnamed geoms: empty), body by body as MuJoCo numbers them; `[events]` select
+    /// geoms by name and the runtime looks the ids up in the compiled model.
+    pub geoms: Vec<String>,
     pub nq: usize,
     pub nv: usize,
 }
@@ -113,6 +116,7 @@ impl ModelInfo {
                 site_bodies: vec![],
                 actuators: vec![],
                 tendons: vec![],
+                geoms: vec![],
                 nq: 0,
                 nv: 0,
             },
@@ -132,6 +136,7 @@ struct BodyNode {
     name: String,
     joints: Vec<(String, JointKind)>,
     sites: Vec<String>,
+    geoms: Vec<String>,
     children: Vec<BodyNode>,
 }
 
@@ -292,11 +297,16 @@ impl Reader {
                                 .push(child.attribute("name").unwrap_or("").into());
                             self.info.site_bodies.push(0);
                         }
+                        "geom" => self
+                            .info
+                            .geoms
+                            .push(child.attribute("name").unwrap_or("").into()),
                         "frame" => {
                             let mut holder = BodyNode {
                                 name: String::new(),
                                 joints: vec![],
                                 sites: vec![],
+                                geoms: vec![],
                                 children: vec![],
                             };
                             self.read_body_content(path, child, None, &mut holder)?;
@@ -305,6 +315,7 @@ impl Reader {
                             }
                             self.info.site_bodies.extend(holder.sites.iter().map(|_| 0));
                             self.info.sites.extend(holder.sites);
+                            self.info.geoms.extend(holder.geoms);
                             self.world_children.extend(holder.children);
                         }
                         "joint" | "freejoint" => {
@@ -410,6 +421,7 @@ impl Reader {
             name: node.attribute("name").unwrap_or("").into(),
             joints: vec![],
             sites: vec![],
+            geoms: vec![],
             children: vec![],
         };
         self.read_body_content(path, node, childclass, &mut body)?;
@@ -443,6 +455,9 @@ impl Reader {
                 )),
                 "site" => body
                     .sites
+                    .push(child.attribute("name").unwrap_or("").into()),
+                "geom" => body
+                    .geoms
                     .push(child.attribute("name").unwrap_or("").into()),
                 "body" => body.children.push(self.read_body(path, child, childclass)?),
                 "frame" => {
@@ -481,6 +496,7 @@ impl Reader {
             }
             self.info.sites.extend(b.sites.iter().cloned());
             self.info.site_bodies.extend(b.sites.iter().map(|_| id));
+            self.info.geoms.extend(b.geoms.iter().cloned());
             stack.extend(b.children.iter().rev());
         }
         Ok(())

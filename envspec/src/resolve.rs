@@ -13,6 +13,7 @@ use crate::value::{Val, ValKind};
 
 mod added;
 mod edits;
+mod events;
 mod goal;
 
 struct Ctx<'a> {
@@ -141,6 +142,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     cx.check_info_keys(&info);
     let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
 
+    let events = cx.events();
     let goal_dim = cx.goal_dim.as_ref().map_or(0, |(n, _)| *n);
     let Ctx { d, .. } = cx;
     let mut resolved = ResolvedSpec {
@@ -166,6 +168,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         info,
         needs_rne_post_constraint: false,
         model_edits,
+        events,
     };
     let rne = resolved
         .sources()

@@ -74,6 +74,8 @@ pub struct Spec {
     /// `[bodies.<name>]`, `[sites.<name>]`, `[geoms.<name>]`, `[cameras.<name>]`,
     /// `[lights.<name>]`: elements added to the model when it is loaded, in that table order.
     pub added: Vec<(AddedKind, Section)>,
+    /// `[events.<name>]`: domain randomization and pushes (`envspec::events`).
+    pub events: Vec<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -166,6 +168,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "lights",
     "agents",
     "maze",
+    "events",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
@@ -236,6 +239,24 @@ pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["kv"]),
 ];
 const ACTUATOR_COMMON: &[&str] = &["joint", "kind", "gear", "ctrlrange", "forcerange", "doc"];
+/// Event kinds of `[events.*]` with the keys each accepts besides `EVENT_COMMON`.
+pub const EVENT_KINDS: &[(&str, &[&str])] = &[
+    (
+        "model",
+        &[
+            "field",
+            "elements",
+            "distribution",
+            "range",
+            "mean",
+            "std",
+            "operation",
+            "shared",
+        ],
+    ),
+    ("push", &["elements", "x", "y"]),
+];
+const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "doc"];
 /// Keys of `[physics]`.
 pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator"];
 
@@ -305,6 +326,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         actuators: vec![],
         physics: None,
         added: vec![],
+        events: vec![],
     };
 
     if let Some(e) = get("maze") {
@@ -491,6 +513,10 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             check_keys(&s.entries, keys, &format!("[{table_name}.{}]", s.name), d);
             spec.added.push((kind, s));
         }
+    }
+    spec.events = sections(get("events"), "events", &[], d);
+    for s in &spec.events {
+        check_kinded(s, "events", Some("model"), EVENT_KINDS, EVENT_COMMON, d);
     }
     if let Some(e) = get("physics")
         && let Some(t) = table(&e.value, "[physics]", d)

@@ -104,6 +104,7 @@ impl ModelInfo {
             joints: vec![],
             sites: vec![],
             site_bodies: vec![],
+            geoms: vec![],
             actuators: vec![],
             tendons: vec![],
             nq: 0,

@@ -43,6 +43,11 @@ pub enum EnvError {
     },
     #[error("error[E1003]: {} cannot be run: {what}", path.display())]
     BadModelValues { path: PathBuf, what: String },
+    #[error(
+        "error[E1120]: {}: the compiled model has no {what}, which an [events] entry names (the MJCF reader and MuJoCo disagree)",
+        envspec::diagnostic::escape(env)
+    )]
+    EventElement { env: String, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
     #[error(transparent)]
@@ -62,6 +67,7 @@ impl EnvError {
             EnvError::ResampleUnmet { .. } => Code::E1104,
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
+            EnvError::EventElement { .. } => Code::E1120,
             EnvError::Numerics(e) => e.code(),
             EnvError::Render(e) => e.code(),
         }
