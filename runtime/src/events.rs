@@ -110,21 +110,105 @@ fn clamp(field: EventField, x: f64) -> f64 {
     field.upper_bound().map_or(x, |hi| x.min(hi))
 }
 
+/// One model value an event writes: where, the kp's negated bias if any, and a label
+/// (`FR`, `trunk.x`, `FR_hip_joint`, `gravity.z`).
+struct Value {
+    at: (Arr, usize),
+    neg: Option<(Arr, usize)>,
+    label: String,
+}
+
+/// The values a model event writes, in draw order: element by element, component by component.
+fn layout(env: &str, e: &Event, m: *const mjModel) -> Result<Vec<Value>, EnvError> {
+    let EventKind::Model {
+        field, elements, ..
+    } = &e.kind
+    else {
+        return Ok(vec![]);
+    };
+    let xyz = ["x", "y", "z"];
+    let one = |at: (Arr, usize), label: String| Value {
+        at,
+        neg: None,
+        label,
+    };
+    let mut out = vec![];
+    match field {
+        EventField::Gravity => {
+            for (k, c) in xyz.iter().enumerate() {
+                out.push(one((Arr::Gravity, k), format!("gravity.{c}")));
+            }
+        }
+        EventField::Timestep => out.push(one((Arr::Timestep, 0), "timestep".into())),
+        _ => {}
+    }
+    for el in elements {
+        let name = &el.name;
+        match *field {
+            EventField::GeomFriction(k) => {
+                let g = geom_id(env, m, name)?;
+                out.push(one((Arr::GeomFriction, 3 * g + k), name.clone()));
+            }
+            EventField::BodyMass => out.push(one((Arr::BodyMass, el.index), name.clone())),
+            EventField::BodyIpos => {
+                for (k, c) in xyz.iter().enumerate() {
+                    out.push(one(
+                        (Arr::BodyIpos, 3 * el.index + k),
+                        format!("{name}.{c}"),
+                    ));
+                }
+            }
+            EventField::JointDamping | EventField::JointArmature => {
+                let arr = if *field == EventField::JointDamping {
+                    Arr::DofDamping
+                } else {
+                    Arr::DofArmature
+                };
+                for k in 0..el.dofs.1 {
+                    let label = if el.dofs.1 == 1 {
+                        name.clone()
+                    } else {
+                        format!("{name}.{k}")
+                    };
+                    out.push(one((arr, el.dofs.0 + k), label));
+                }
+            }
+            EventField::ActuatorGain => {
+                out.push(one((Arr::GainPrm, NPRM * el.index), name.clone()))
+            }
+            EventField::ActuatorBias => {
+                for k in 0..3 {
+                    out.push(one(
+                        (Arr::BiasPrm, NPRM * el.index + k),
+                        format!("{name}.bias{k}"),
+                    ));
+                }
+            }
+            EventField::ActuatorKp => out.push(Value {
+                at: (Arr::GainPrm, NPRM * el.index),
+                neg: Some((Arr::BiasPrm, NPRM * el.index + 1)),
+                label: name.clone(),
+            }),
+            EventField::Gravity | EventField::Timestep => {}
+        }
+    }
+    Ok(out)
+}
+
 impl Events {
     /// Lay out the writes of `events` on model `m` (geoms are looked up by name).
     pub fn new(env: &str, events: &[Event], m: *const mjModel) -> Result<Events, EnvError> {
         let mut slots: Vec<(Arr, usize)> = vec![];
-        let mut slot = |a: Arr, i: usize| match slots.iter().position(|&s| s == (a, i)) {
+        let mut slot = |at: (Arr, usize)| match slots.iter().position(|&s| s == at) {
             Some(k) => k,
             None => {
-                slots.push((a, i));
+                slots.push(at);
                 slots.len() - 1
             }
         };
         let mut out = vec![];
         let (mut set_const, mut changes_mass, mut changes_timestep) = (false, false, false);
         for e in events {
-            let mut writes = vec![];
             let mut rt = Runtime {
                 mode: e.mode,
                 field: None,
@@ -144,81 +228,27 @@ impl Events {
                 }
                 EventKind::Model {
                     field,
-                    elements,
                     dist,
                     operation,
                     shared,
+                    ..
                 } => {
                     set_const |= field.needs_set_const();
                     changes_mass |= *field == EventField::BodyMass;
                     changes_timestep |= *field == EventField::Timestep;
-                    match field {
-                        EventField::Gravity => {
-                            for k in 0..3 {
-                                writes.push(Write {
-                                    slot: slot(Arr::Gravity, k),
-                                    neg: None,
-                                });
-                            }
-                        }
-                        EventField::Timestep => writes.push(Write {
-                            slot: slot(Arr::Timestep, 0),
-                            neg: None,
-                        }),
-                        _ => {
-                            for el in elements {
-                                let index = if let EventField::GeomFriction(_) = field {
-                                    geom_id(env, m, &el.name)?
-                                } else {
-                                    el.index
-                                };
-                                let w = |s: usize| Write { slot: s, neg: None };
-                                match field {
-                                    EventField::GeomFriction(k) => {
-                                        writes.push(w(slot(Arr::GeomFriction, 3 * index + k)))
-                                    }
-                                    EventField::BodyMass => {
-                                        writes.push(w(slot(Arr::BodyMass, index)))
-                                    }
-                                    EventField::BodyIpos => {
-                                        for k in 0..3 {
-                                            writes.push(w(slot(Arr::BodyIpos, 3 * index + k)));
-                                        }
-                                    }
-                                    EventField::JointDamping | EventField::JointArmature => {
-                                        let arr = if *field == EventField::JointDamping {
-                                            Arr::DofDamping
-                                        } else {
-                                            Arr::DofArmature
-                                        };
-                                        for k in 0..el.dofs.1 {
-                                            writes.push(w(slot(arr, el.dofs.0 + k)));
-                                        }
-                                    }
-                                    EventField::ActuatorGain => {
-                                        writes.push(w(slot(Arr::GainPrm, NPRM * index)))
-                                    }
-                                    EventField::ActuatorBias => {
-                                        for k in 0..3 {
-                                            writes.push(w(slot(Arr::BiasPrm, NPRM * index + k)));
-                                        }
-                                    }
-                                    EventField::ActuatorKp => writes.push(Write {
-                                        slot: slot(Arr::GainPrm, NPRM * index),
-                                        neg: Some(slot(Arr::BiasPrm, NPRM * index + 1)),
-                                    }),
-                                    EventField::Gravity | EventField::Timestep => {}
-                                }
-                            }
-                        }
-                    }
+                    rt.writes = layout(env, e, m)?
+                        .into_iter()
+                        .map(|v| Write {
+                            slot: slot(v.at),
+                            neg: v.neg.map(&mut slot),
+                        })
+                        .collect();
                     rt.field = Some(*field);
                     rt.dist = *dist;
                     rt.operation = *operation;
                     rt.shared = *shared;
                 }
             }
-            rt.writes = writes;
             out.push(rt);
         }
         // SAFETY: every slot's index is within its array: element indices come from the
@@ -368,4 +398,82 @@ fn geom_id(env: &str, m: *const mjModel, name: &str) -> Result<usize, EnvError> 
     // SAFETY: a live model and a NUL-terminated name.
     let id = unsafe { mujoco_rs::mujoco_c::mj_name2id(m, mjtObj::mjOBJ_GEOM as i32, c.as_ptr()) };
     usize::try_from(id).map_err(|_| missing())
+}
+
+/// One row of the randomization table (`envc show`): a value an event writes.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub event: String,
+    /// `startup`, `reset`, `interval 5–10 s`.
+    pub mode: String,
+    pub field: &'static str,
+    pub element: String,
+    /// `uniform[0.9, 1.1]`, `gaussian(mean 0, std 0.1)`; pushes: the x and y ranges.
+    pub distribution: String,
+    pub operation: &'static str,
+    /// The compiled value (pushes: none, they add to the velocity).
+    pub compiled: Option<f64>,
+    /// The values it can take (a Gaussian: mean ± 3 std), clamped to the field's bounds.
+    pub range: (f64, f64),
+}
+
+/// The randomization table of an env's spec over its compiled model values (the env's model
+/// before its first reset).
+pub fn table(env: &crate::Env) -> Result<Vec<Row>, EnvError> {
+    let spec = env.spec();
+    let m: *const mjModel = env.model().ffi();
+    let mut rows = vec![];
+    for e in &spec.events {
+        let mode = match e.mode {
+            EventMode::Interval { low, high } if low == high => format!("interval {low} s"),
+            EventMode::Interval { low, high } => format!("interval {low}–{high} s"),
+            _ => e.mode.name().to_string(),
+        };
+        match &e.kind {
+            EventKind::Push { joints, x, y } => {
+                for j in joints {
+                    for (c, r) in [("vx", x), ("vy", y)] {
+                        rows.push(Row {
+                            event: e.name.clone(),
+                            mode: mode.clone(),
+                            field: "push",
+                            element: format!("{}.{c}", j.name),
+                            distribution: format!("uniform[{}, {}]", r.0, r.1),
+                            operation: "add",
+                            compiled: None,
+                            range: *r,
+                        });
+                    }
+                }
+            }
+            EventKind::Model {
+                field,
+                dist,
+                operation,
+                shared,
+                ..
+            } => {
+                for v in layout(&spec.id, e, m)? {
+                    // SAFETY: as in `Events::new`.
+                    let base = unsafe { *addr(m.cast_mut(), v.at.0, v.at.1) };
+                    let (lo, hi) = operation.apply_range(base, dist.support());
+                    rows.push(Row {
+                        event: e.name.clone(),
+                        mode: mode.clone(),
+                        field: field.name(),
+                        element: v.label,
+                        distribution: if *shared {
+                            format!("{} (shared)", dist.describe())
+                        } else {
+                            dist.describe()
+                        },
+                        operation: operation.name(),
+                        compiled: Some(base),
+                        range: (clamp(*field, lo), clamp(*field, hi)),
+                    });
+                }
+            }
+        }
+    }
+    Ok(rows)
 }

@@ -20,7 +20,7 @@ pub mod dataset;
 pub mod env;
 pub mod environment;
 pub mod error;
-mod events;
+pub mod events;
 pub mod goal;
 pub mod gymnasium;
 pub mod inventory;

@@ -76,6 +76,7 @@ impl Report {
                 Category::Termination => Some("episode endings"),
                 Category::Reset => Some("initial states"),
                 Category::Dynamics => Some("dynamics"),
+                Category::Randomization => Some("the training distribution"),
                 _ => None,
             })
             .collect();

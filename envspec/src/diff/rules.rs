@@ -19,6 +19,7 @@ pub enum Category {
     Termination,
     Reset,
     Dynamics,
+    Randomization,
     Parameters,
     Info,
     Documentation,
@@ -32,6 +33,7 @@ impl Category {
         Category::Termination,
         Category::Reset,
         Category::Dynamics,
+        Category::Randomization,
         Category::Parameters,
         Category::Info,
         Category::Documentation,
@@ -45,6 +47,7 @@ impl Category {
             Category::Termination => "termination",
             Category::Reset => "reset",
             Category::Dynamics => "dynamics",
+            Category::Randomization => "randomization",
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation",
@@ -58,6 +61,7 @@ impl Category {
             Category::Termination => "termination / episode",
             Category::Reset => "reset distribution",
             Category::Dynamics => "dynamics",
+            Category::Randomization => "randomization / training distribution",
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation only",
@@ -71,6 +75,9 @@ impl Category {
             Category::Termination => "episode lengths and returns change",
             Category::Reset => "initial states change; returns are not comparable",
             Category::Dynamics => "the physics changes; trained policies and returns are affected",
+            Category::Randomization => {
+                "the distribution the policy trains on changes; returns are not comparable"
+            }
             Category::Parameters => "constructor arguments change",
             Category::Info => "logged info changes",
             Category::Documentation => "no behaviour change",
@@ -327,6 +334,26 @@ rules! {
         "The overrides the maze passes to its robot changed; their effect follows as the robot's own changes.";
     MazeRobotUnresolved = "maze-robot-unresolved", Dynamics, true,
         "A robot spec could not be resolved, so its changes are unknown: counted as breaking until reviewed.";
+
+    // Domain randomization (`[events.*]`).
+    EventsAdded = "events-added", Randomization, true,
+        "An `[events.*]` entry was added: the policy trains on randomized models (or is pushed) where it saw one model; returns are not comparable.";
+    EventsRemoved = "events-removed", Randomization, true,
+        "An `[events.*]` entry was removed: the policy trains on the compiled values where it saw a distribution; returns are not comparable.";
+    EventsRangeChanged = "events-range-changed", Randomization, true,
+        "A randomization range (uniform or log-uniform bounds, a Gaussian's mean or std, a push's x or y range) changed; the witness says whether the distribution widened, narrowed or shifted.";
+    EventsDistributionChanged = "events-distribution-changed", Randomization, true,
+        "The distribution (uniform, log_uniform, gaussian) of an event changed: the same range is sampled with other weights.";
+    EventsModeChanged = "events-mode-changed", Randomization, true,
+        "When an event draws changed (startup: once per seed, reset: every episode, interval: during episodes, or the interval itself).";
+    EventsFieldChanged = "events-field-changed", Randomization, true,
+        "The model field an event randomizes changed (or an event became a push).";
+    EventsElementsChanged = "events-elements-changed", Randomization, true,
+        "The elements an event randomizes changed (resolved names; compatible when patterns were rewritten but match the same elements).";
+    EventsOperationChanged = "events-operation-changed", Randomization, true,
+        "How a draw is applied changed (add, scale, abs): the resulting values differ.";
+    EventsSharedChanged = "events-shared-changed", Randomization, true,
+        "An event switched between one draw per value and one draw shared by all its values (correlated randomization).";
 }
 
 #[cfg(test)]
