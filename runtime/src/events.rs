@@ -58,6 +58,9 @@ struct Write {
     neg: Option<usize>,
 }
 
+/// A push: the first dof of each free joint, and the x and y ranges.
+type Push = (Vec<usize>, (f64, f64), (f64, f64));
+
 struct Runtime {
     mode: EventMode,
     field: Option<EventField>,
@@ -65,8 +68,7 @@ struct Runtime {
     operation: Operation,
     shared: bool,
     writes: Vec<Write>,
-    /// Pushes: the first dof of each free joint, and the x and y ranges.
-    push: Option<(Vec<usize>, (f64, f64), (f64, f64))>,
+    push: Option<Push>,
     /// Interval events: seconds until the next firing.
     time_left: f64,
 }
