@@ -156,6 +156,19 @@ pub enum Code {
     /// a MuJoCo size that would exhaust memory, `frame_skip` or `max_episode_steps` too large, a
     /// reset condition that cannot be met.
     E0110,
+    /// An event's `elements` name no element of the model (a name it lacks, a pattern that
+    /// matches none).
+    E0150,
+    /// An event's distribution parameters are invalid (a reversed or non-finite range, a
+    /// log-uniform bound ≤ 0, a negative standard deviation).
+    E0151,
+    /// An event whose parts do not fit together: elements on a model-wide field or none on a
+    /// per-element field, a push that is not an interval event or acts on no free joint, an
+    /// interval without `interval_seconds` (or one on another mode).
+    E0152,
+    /// An event whose values would leave the field's limits (a timestep outside
+    /// (0, `limits::MAX_TIMESTEP`], a negative mass, friction, damping, armature or kp).
+    E0153,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.
@@ -253,6 +266,8 @@ pub enum Code {
     E1004,
     /// An action of the wrong length.
     E1101,
+    /// A geom an event names is not in the compiled model (the MJCF reader and MuJoCo disagree).
+    E1120,
     /// An action with a NaN or infinite entry.
     E1102,
     /// `step` before the first `reset`.

@@ -56,6 +56,8 @@ pub struct ResolvedSpec {
     pub actions: Option<PdActions>,
     /// Observation noise and delay, action latency (`envspec::noise`; empty: none declared).
     pub corruption: crate::noise::Corruption,
+    /// `[events.*]` in spec order (domain randomization and pushes; empty: nothing is drawn).
+    pub events: Vec<crate::events::Event>,
 }
 
 impl ResolvedSpec {

@@ -21,6 +21,7 @@ pub mod commands;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;
+pub mod events;
 pub mod goal;
 pub mod ir;
 pub mod limits;

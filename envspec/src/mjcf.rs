@@ -83,12 +83,13 @@ pub struct ModelInfo {
     pub site_bodies: Vec<usize>,
     pub actuators: Vec<Actuator>,
     pub tendons: Vec<String>,
+    /// Geom names (unnamed geoms: empty), body by body as MuJoCo numbers them; `[events]` and
+    /// contact terms select geoms by name and the runtime looks the ids up in the compiled model.
+    pub geoms: Vec<String>,
     pub nq: usize,
     pub nv: usize,
     /// Names of the `<keyframe>` keys, in order (legged tasks take a PD default pose from one).
     pub keyframes: Vec<String>,
-    /// Names of the named geoms (contact terms refer to them; ids come from the compiled model).
-    pub geoms: Vec<String>,
 }
 
 impl ModelInfo {
@@ -117,10 +118,10 @@ impl ModelInfo {
                 site_bodies: vec![],
                 actuators: vec![],
                 tendons: vec![],
+                geoms: vec![],
                 nq: 0,
                 nv: 0,
                 keyframes: vec![],
-                geoms: vec![],
             },
             asset_dirs: Default::default(),
             defaults: HashMap::new(),
@@ -138,6 +139,7 @@ struct BodyNode {
     name: String,
     joints: Vec<(String, JointKind)>,
     sites: Vec<String>,
+    geoms: Vec<String>,
     children: Vec<BodyNode>,
 }
 
@@ -293,11 +295,6 @@ impl Reader {
                 }
             }
             "worldbody" => {
-                let named_geoms = node
-                    .descendants()
-                    .filter(|n| n.has_tag_name("geom"))
-                    .filter_map(|n| n.attribute("name"));
-                self.info.geoms.extend(named_geoms.map(String::from));
                 for child in node.children().filter(|n| n.is_element()) {
                     match child.tag_name().name() {
                         "body" => {
@@ -310,11 +307,16 @@ impl Reader {
                                 .push(child.attribute("name").unwrap_or("").into());
                             self.info.site_bodies.push(0);
                         }
+                        "geom" => self
+                            .info
+                            .geoms
+                            .push(child.attribute("name").unwrap_or("").into()),
                         "frame" => {
                             let mut holder = BodyNode {
                                 name: String::new(),
                                 joints: vec![],
                                 sites: vec![],
+                                geoms: vec![],
                                 children: vec![],
                             };
                             self.read_body_content(path, child, None, &mut holder)?;
@@ -323,6 +325,7 @@ impl Reader {
                             }
                             self.info.site_bodies.extend(holder.sites.iter().map(|_| 0));
                             self.info.sites.extend(holder.sites);
+                            self.info.geoms.extend(holder.geoms);
                             self.world_children.extend(holder.children);
                         }
                         "joint" | "freejoint" => {
@@ -428,6 +431,7 @@ impl Reader {
             name: node.attribute("name").unwrap_or("").into(),
             joints: vec![],
             sites: vec![],
+            geoms: vec![],
             children: vec![],
         };
         self.read_body_content(path, node, childclass, &mut body)?;
@@ -461,6 +465,9 @@ impl Reader {
                 )),
                 "site" => body
                     .sites
+                    .push(child.attribute("name").unwrap_or("").into()),
+                "geom" => body
+                    .geoms
                     .push(child.attribute("name").unwrap_or("").into()),
                 "body" => body.children.push(self.read_body(path, child, childclass)?),
                 "frame" => {
@@ -499,6 +506,7 @@ impl Reader {
             }
             self.info.sites.extend(b.sites.iter().cloned());
             self.info.site_bodies.extend(b.sites.iter().map(|_| id));
+            self.info.geoms.extend(b.geoms.iter().cloned());
             stack.extend(b.children.iter().rev());
         }
         Ok(())

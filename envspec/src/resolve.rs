@@ -14,6 +14,7 @@ use crate::value::{Val, ValKind};
 mod added;
 mod commands;
 mod edits;
+mod events;
 mod goal;
 mod noise;
 
@@ -153,6 +154,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     cx.check_info_keys(&info);
     let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
 
+    let events = cx.events();
     let goal_dim = cx.goal_dim.as_ref().map_or(0, |(n, _)| *n);
     let Ctx { d, .. } = cx;
     let mut resolved = ResolvedSpec {
@@ -182,6 +184,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         command_dim,
         actions,
         corruption,
+        events,
     };
     let rne = resolved
         .sources()

@@ -609,3 +609,27 @@ fn select_ints(idx: &Index, n: usize, loc: &Location) -> Result<Vec<usize>, Diag
         Index::Name(_) | Index::Param(_) => unreachable!("names are resolved by the caller"),
     }
 }
+
+/// Whether `name` matches `pattern` (`*`: any run of characters, `?`: one character).
+pub fn glob(pattern: &str, name: &str) -> bool {
+    let (p, n): (Vec<char>, Vec<char>) = (pattern.chars().collect(), name.chars().collect());
+    // Iterative matching with backtracking to the last `*`: linear memory, no recursion.
+    let (mut i, mut j, mut star, mut mark) = (0, 0, None, 0);
+    while j < n.len() {
+        if i < p.len() && (p[i] == '?' || p[i] == n[j]) {
+            i += 1;
+            j += 1;
+        } else if i < p.len() && p[i] == '*' {
+            star = Some(i);
+            mark = j;
+            i += 1;
+        } else if let Some(s) = star {
+            i = s + 1;
+            mark += 1;
+            j = mark;
+        } else {
+            return false;
+        }
+    }
+    p[i..].iter().all(|&c| c == '*')
+}

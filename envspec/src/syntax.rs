@@ -80,6 +80,8 @@ pub struct Spec {
     pub actions: Option<Section>,
     /// `[latency]`: action latency (`envspec::noise`).
     pub latency: Option<Section>,
+    /// `[events.<name>]`: domain randomization and pushes (`envspec::events`).
+    pub events: Vec<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -175,6 +177,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "maze",
     "commands",
     "actions",
+    "events",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
@@ -275,6 +278,24 @@ pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["kv"]),
 ];
 const ACTUATOR_COMMON: &[&str] = &["joint", "kind", "gear", "ctrlrange", "forcerange", "doc"];
+/// Event kinds of `[events.*]` with the keys each accepts besides `EVENT_COMMON`.
+pub const EVENT_KINDS: &[(&str, &[&str])] = &[
+    (
+        "model",
+        &[
+            "field",
+            "elements",
+            "distribution",
+            "range",
+            "mean",
+            "std",
+            "operation",
+            "shared",
+        ],
+    ),
+    ("push", &["elements", "x", "y"]),
+];
+const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "doc"];
 /// Keys of `[physics]`.
 pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator"];
 
@@ -347,6 +368,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         commands: vec![],
         actions: None,
         latency: None,
+        events: vec![],
     };
 
     if let Some(e) = get("maze") {
@@ -554,6 +576,10 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             loc: e.value.loc.clone(),
             entries: t.to_vec(),
         });
+    }
+    spec.events = sections(get("events"), "events", &[], d);
+    for s in &spec.events {
+        check_kinded(s, "events", Some("model"), EVENT_KINDS, EVENT_COMMON, d);
     }
     if let Some(e) = get("physics")
         && let Some(t) = table(&e.value, "[physics]", d)

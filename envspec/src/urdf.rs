@@ -104,12 +104,12 @@ impl ModelInfo {
             joints: vec![],
             sites: vec![],
             site_bodies: vec![],
+            geoms: vec![],
             actuators: vec![],
             tendons: vec![],
             nq: 0,
             nv: 0,
             keyframes: vec![],
-            geoms: vec![],
         };
         let mut walk = Walk {
             robot: &robot,

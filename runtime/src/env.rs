@@ -309,6 +309,8 @@ pub struct Env {
     obs_noise: Option<crate::obs_noise::ObsNoise>,
     /// Action latency (None: none declared).
     latency: Option<crate::latency::ActionLatency>,
+    /// `[events]` (None: the spec has none and nothing is drawn for them).
+    events: Option<crate::events::Events>,
 }
 
 impl Env {
@@ -344,6 +346,22 @@ impl Env {
         mujoco_log::install();
         check_model(&spec, &model, world_sites)?;
         crate::model_values::check(&spec.model_path, model.ffi())?;
+        // Randomized model fields are written in the env's own copy; envs sharing the compiled
+        // model are unaffected.
+        let model = if spec.events.iter().any(envspec::events::Event::writes_model) {
+            Arc::new(MjModel::clone(&model))
+        } else {
+            model
+        };
+        let events = if spec.events.is_empty() {
+            None
+        } else {
+            Some(crate::events::Events::new(
+                &spec.id,
+                &spec.events,
+                model.ffi(),
+            )?)
+        };
         let data = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
             path: spec.model_path.clone(),
             message: format!("cannot allocate mjData: {e}"),
@@ -494,6 +512,7 @@ impl Env {
             latency,
             spec,
             render,
+            events,
         })
     }
 
@@ -651,11 +670,14 @@ impl Env {
             None if self.rng.is_none() => self.rng = Some(NumpyRng::from_entropy()),
             None => {}
         }
+        // Draw order steps 1–2 (docs/spec-reference.md): the events, before `[reset]`.
+        let event_error = self.reset_events(seed.is_some());
         let rng = self.rng.as_mut().expect("set above");
         let mut mujoco_error = self
             .sim
             .call(|m, d| unsafe { ffi::mj_resetData(m, d) })
-            .err();
+            .err()
+            .or(event_error);
 
         let (nq, nv) = (self.sim.nq, self.sim.nv);
         let numerics = self.sim.numerics;
@@ -782,6 +804,84 @@ impl Env {
         self.advance()
     }
 
+    /// The events' part of a reset (draw order steps 1–2), then what MuJoCo and the env derive
+    /// from the changed fields. A MuJoCo error in `mj_setConst` comes back as its message.
+    fn reset_events(&mut self, reseed: bool) -> Option<String> {
+        let (Some(ev), Some(rng)) = (self.events.as_mut(), self.rng.as_mut()) else {
+            return None;
+        };
+        let mut t = crate::events::Target {
+            // SAFETY (for every write through `m`): the env's own copy of the model when any
+            // event writes it (`with_world_model`), shared with nothing but its own data, which
+            // MuJoCo does not use meanwhile.
+            m: (self.sim.model.ffi() as *const mjModel).cast_mut(),
+            // SAFETY: our own data; no other borrow of it is alive.
+            d: unsafe { self.sim.data.ffi_mut() },
+            rng,
+            profile: self.sim.numerics,
+        };
+        ev.reset(&mut t, reseed);
+        let (set_const, mass, timestep) = (ev.set_const, ev.changes_mass, ev.changes_timestep);
+        let m = t.m;
+        let mut error = None;
+        if set_const {
+            // Subtree masses, `dof_invweight0`, `body_invweight0`, `actuator_acc0`, ... from the
+            // new masses, inertia positions and armature (at qpos0; `mj_resetData` follows).
+            error = self
+                .sim
+                .call(|_, d| unsafe { ffi::mj_setConst(m, d) })
+                .err();
+        }
+        self.model_changed(mass, timestep);
+        error
+    }
+
+    /// Interval events due after this step (draw order step 5); when any fired, `mj_forward` so
+    /// what the observation reads agrees with the kicked velocities and new fields.
+    fn interval_events(&mut self) -> Result<(), EnvError> {
+        let (Some(ev), Some(rng)) = (self.events.as_mut(), self.rng.as_mut()) else {
+            return Ok(());
+        };
+        let mut t = crate::events::Target {
+            // SAFETY: as in `reset_events`.
+            m: (self.sim.model.ffi() as *const mjModel).cast_mut(),
+            d: unsafe { self.sim.data.ffi_mut() },
+            rng,
+            profile: self.sim.numerics,
+        };
+        if !ev.step(&mut t, self.dt) {
+            return Ok(());
+        }
+        let timestep = ev.changes_timestep;
+        self.model_changed(false, timestep);
+        if let Err(message) = self.sim.call(|m, d| unsafe { ffi::mj_forward(m, d) }) {
+            self.has_reset = false;
+            return Err(EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in a step (reset before stepping again)",
+                message,
+            });
+        }
+        if self.uses_mass_center {
+            self.sim.update_mass_center();
+        }
+        self.sim.update_ten_j();
+        Ok(())
+    }
+
+    /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
+    fn model_changed(&mut self, mass: bool, timestep: bool) {
+        if mass {
+            // SAFETY: body_mass has nbody entries.
+            let mass = unsafe { view(self.sim.m().body_mass, self.sim.nbody) };
+            self.sim.mass_sum = pairwise_sum(mass.len(), &|i| mass[i]);
+        }
+        if timestep {
+            self.timestep = self.sim.m().opt.timestep;
+            self.dt = self.timestep * self.spec.frame_skip as f64;
+        }
+    }
+
     /// Why the last reset did not give a valid start (E1104), if it did not.
     pub fn reset_error(&self) -> Option<EnvError> {
         Some(match self.reset_failure.as_ref()? {
@@ -880,11 +980,11 @@ impl Env {
         }
         let reward = self.sum(&self.spec.reward_sum);
         self.sim.legged.commit_contacts();
+        // Draw order step 4: commands due are redrawn (the info below shows the new ones).
         if !self.spec.commands.is_empty() {
             let rng = self.rng.as_mut().expect("a reset came first");
             self.sim.legged.resample(&self.spec, rng);
         }
-        self.write_obs();
         let mut off = 0;
         for (j, item) in self.spec.info.iter().enumerate() {
             let out = &mut self.step_info_values[off..off + item.len];
@@ -901,7 +1001,6 @@ impl Env {
             off += item.len;
         }
         self.elapsed += 1;
-        self.sim.legged.end_step(&self.sim.action);
         let terminated = (!healthy && self.spec.terminate_when_unhealthy)
             || self
                 .spec
@@ -912,6 +1011,15 @@ impl Env {
             .spec
             .max_episode_steps
             .is_some_and(|m| self.elapsed >= m);
+        // Draw order step 5: interval events after reward, termination and info, before the
+        // observation.
+        if self.events.is_some() {
+            self.interval_events()?;
+        }
+        // Draw order step 6: the observation (noise, delay); it holds the previous action as
+        // `last_action`, which becomes this step's action only after it is written.
+        self.write_obs();
+        self.sim.legged.end_step(&self.sim.action);
         mujoco_log::drain_into(&mut self.warnings);
         Ok(Step {
             obs: &self.obs,

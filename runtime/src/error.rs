@@ -49,6 +49,11 @@ pub enum EnvError {
         envspec::diagnostic::escape(what)
     )]
     Legged { env: String, what: String },
+    #[error(
+        "error[E1120]: {}: the compiled model has no {what}, which an [events] entry names (the MJCF reader and MuJoCo disagree)",
+        envspec::diagnostic::escape(env)
+    )]
+    EventElement { env: String, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
     #[error(transparent)]
@@ -69,6 +74,7 @@ impl EnvError {
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
             EnvError::Legged { .. } => Code::E1110,
+            EnvError::EventElement { .. } => Code::E1120,
             EnvError::Numerics(e) => e.code(),
             EnvError::Render(e) => e.code(),
         }

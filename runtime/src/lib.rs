@@ -21,6 +21,7 @@ pub mod dataset;
 pub mod env;
 pub mod environment;
 pub mod error;
+pub mod events;
 pub mod goal;
 pub mod gymnasium;
 pub mod inventory;

@@ -93,6 +93,7 @@ pub(crate) mod ffi {
         pub fn mj_forward(m: *const mjModel, d: *mut mjData);
         pub fn mj_resetData(m: *const mjModel, d: *mut mjData);
         pub fn mj_rnePostConstraint(m: *const mjModel, d: *mut mjData);
+        pub fn mj_setConst(m: *mut mjModel, d: *mut mjData);
     }
 }
 

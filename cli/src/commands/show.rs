@@ -226,6 +226,10 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
 
+    if !spec.events.is_empty() {
+        randomization(&mut o, &env)?;
+    }
+
     writeln!(o, "\ninfo:")?;
     for i in &spec.info {
         let when = if i.at_reset { "reset+step" } else { "step" };
@@ -253,4 +257,55 @@ pub fn segment_line(s: &envspec::ir::Segment, what: &str) -> String {
         s.offset + s.len(),
         s.name
     )
+}
+
+/// The `[events]` table: one row per value an event writes, with the values it can take.
+fn randomization(o: &mut String, env: &envc::Env) -> Result<()> {
+    let rows = envc::events::table(env)?;
+    writeln!(
+        o,
+        "\nrandomization ({} events in draw order; values from the compiled model):",
+        env.spec().events.len()
+    )?;
+    let w = |f: &dyn Fn(&envc::events::Row) -> usize, min: usize| {
+        rows.iter().map(f).max().unwrap_or(0).max(min)
+    };
+    let (we, wm, wf, wl, wd) = (
+        w(&|r| r.event.len(), 5),
+        w(&|r| r.mode.chars().count(), 4),
+        w(&|r| r.field.len(), 5),
+        w(&|r| r.element.len(), 7),
+        w(&|r| r.distribution.len(), 12),
+    );
+    writeln!(
+        o,
+        "  {:<we$}  {:<wm$}  {:<wf$}  {:<wl$}  {:<wd$}  {:<9}  {:>10}  values",
+        "event", "mode", "field", "element", "distribution", "operation", "compiled"
+    )?;
+    for r in &rows {
+        let compiled = r.compiled.map(num).unwrap_or("-".into());
+        let mode_pad = wm - r.mode.chars().count().min(wm);
+        writeln!(
+            o,
+            "  {:<we$}  {}{}  {:<wf$}  {:<wl$}  {:<wd$}  {:<9}  {:>10}  [{}, {}]",
+            r.event,
+            r.mode,
+            " ".repeat(mode_pad),
+            r.field,
+            r.element,
+            r.distribution,
+            r.operation,
+            compiled,
+            num(r.range.0),
+            num(r.range.1)
+        )?;
+    }
+    Ok(())
+}
+
+/// At most 6 decimals, trailing zeros dropped.
+fn num(x: f64) -> String {
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
 }

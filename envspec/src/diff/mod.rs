@@ -17,6 +17,7 @@ mod agents;
 mod behaviour;
 mod change;
 mod commands;
+mod events;
 mod info;
 mod maze;
 mod noise;
@@ -116,6 +117,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     info::info_items(&mut cx);
     commands::commands(&mut cx);
     commands::actions(&mut cx);
+    events::events(&mut cx);
 
     let mut report = Report::new(
         &old_r.id,

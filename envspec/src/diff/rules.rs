@@ -370,6 +370,25 @@ rules! {
         "The action scale, default pose or action range changed: the same action means another joint target.";
     ActionsGainsChanged = "actions-gains-changed", Action, true,
         "PD gains or joint damping changed: the same target is tracked differently (the dynamics the policy learned changes).";
+    // Domain randomization (`[events.*]`).
+    EventsAdded = "events-added", Randomization, true,
+        "An `[events.*]` entry was added: the policy trains on randomized models (or is pushed) where it saw one model; returns are not comparable.";
+    EventsRemoved = "events-removed", Randomization, true,
+        "An `[events.*]` entry was removed: the policy trains on the compiled values where it saw a distribution; returns are not comparable.";
+    EventsRangeChanged = "events-range-changed", Randomization, true,
+        "A randomization range (uniform or log-uniform bounds, a Gaussian's mean or std, a push's x or y range) changed; the witness says whether the distribution widened, narrowed or shifted.";
+    EventsDistributionChanged = "events-distribution-changed", Randomization, true,
+        "The distribution (uniform, log_uniform, gaussian) of an event changed: the same range is sampled with other weights.";
+    EventsModeChanged = "events-mode-changed", Randomization, true,
+        "When an event draws changed (startup: once per seed, reset: every episode, interval: during episodes, or the interval itself).";
+    EventsFieldChanged = "events-field-changed", Randomization, true,
+        "The model field an event randomizes changed (or an event became a push).";
+    EventsElementsChanged = "events-elements-changed", Randomization, true,
+        "The elements an event randomizes changed (resolved names; compatible when patterns were rewritten but match the same elements).";
+    EventsOperationChanged = "events-operation-changed", Randomization, true,
+        "How a draw is applied changed (add, scale, abs): the resulting values differ.";
+    EventsSharedChanged = "events-shared-changed", Randomization, true,
+        "An event switched between one draw per value and one draw shared by all its values (correlated randomization).";
 }
 
 #[cfg(test)]

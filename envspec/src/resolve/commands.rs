@@ -357,7 +357,7 @@ impl Ctx<'_> {
             self.d.push(v.type_error(what, "a geom name"));
             return None;
         };
-        if self.model.geoms.iter().any(|g| g == name) {
+        if !name.is_empty() && self.model.geoms.iter().any(|g| g == name) {
             return Some(name.to_string());
         }
         self.d.push(
@@ -371,9 +371,16 @@ impl Ctx<'_> {
             .at(v.loc.clone())
             .label(format!(
                 "expected a named geom of the model ({} named)",
-                self.model.geoms.len()
+                self.model.geoms.iter().filter(|g| !g.is_empty()).count()
             ))
-            .help_opt(suggest(name, self.model.geoms.iter().map(String::as_str))),
+            .help_opt(suggest(
+                name,
+                self.model
+                    .geoms
+                    .iter()
+                    .map(String::as_str)
+                    .filter(|g| !g.is_empty()),
+            )),
         );
         None
     }

@@ -1,0 +1,289 @@
+//! `[events.*]` (domain randomization): what a change does to the distribution the policy trains
+//! on. Events are matched by name and compared resolved (ranges, elements by their model names).
+
+use super::{Ctx, pos};
+use crate::diff::{Change, RuleId};
+use crate::events::{Event, EventDist, EventKind, EventMode};
+
+const NOT_COMPARABLE: &str = "returns are not comparable";
+
+fn fmt_range((lo, hi): (f64, f64)) -> String {
+    format!("[{lo}, {hi}]")
+}
+
+fn mode_text(m: &EventMode) -> String {
+    match *m {
+        EventMode::Interval { low, high } if low == high => format!("interval every {low} s"),
+        EventMode::Interval { low, high } => format!("interval every {low}–{high} s"),
+        _ => m.name().to_string(),
+    }
+}
+
+fn mode_effect(m: &EventMode) -> &'static str {
+    match m {
+        EventMode::Startup => "drawn once per seed",
+        EventMode::Reset => "drawn every episode",
+        EventMode::Interval { .. } => "drawn during episodes",
+    }
+}
+
+/// The ranges of an event as (label, interval) pairs: a distribution's support, a push's x, y.
+fn ranges(e: &Event) -> Vec<(&'static str, (f64, f64), String)> {
+    match &e.kind {
+        EventKind::Model { dist, .. } => {
+            let text = match *dist {
+                EventDist::Uniform { low, high } | EventDist::LogUniform { low, high } => {
+                    fmt_range((low, high))
+                }
+                EventDist::Gaussian { mean, std } => format!("mean {mean}, std {std}"),
+            };
+            vec![("range", dist.support(), text)]
+        }
+        EventKind::Push { x, y, .. } => vec![("x", *x, fmt_range(*x)), ("y", *y, fmt_range(*y))],
+    }
+}
+
+/// Widened, narrowed or shifted, and what that does to training.
+fn range_effect(what: &str, old: (f64, f64), new: (f64, f64), was: &str, now: &str) -> String {
+    let contains = |a: (f64, f64), b: (f64, f64)| a.0 <= b.0 && b.1 <= a.1;
+    let (verb, effect) = if contains(new, old) {
+        ("widened", "the policy trains on a wider distribution")
+    } else if contains(old, new) {
+        (
+            "narrowed",
+            "the policy trains on a narrower distribution and may not cover what it met before",
+        )
+    } else {
+        ("shifted", "the policy trains on other values")
+    };
+    format!("{what} {verb} from {was} to {now}: {effect}; {NOT_COMPARABLE}")
+}
+
+fn names(e: &Event) -> Vec<String> {
+    match &e.kind {
+        EventKind::Model { elements, .. } => elements.iter().map(|x| x.name.clone()).collect(),
+        EventKind::Push { joints, .. } => joints.iter().map(|x| x.name.clone()).collect(),
+    }
+}
+
+pub(super) fn events(cx: &mut Ctx) {
+    let (old, new) = (&cx.old_r.events, &cx.new_r.events);
+    let at = |spec: &crate::syntax::Spec, name: &str| {
+        spec.events
+            .iter()
+            .find(|s| s.name == name)
+            .map(|s| pos(&s.name_loc))
+    };
+    let mut out = vec![];
+    for o in old {
+        let (oa, subject) = (at(cx.old, &o.name), format!("events.{}", o.name));
+        let Some(n) = new.iter().find(|n| n.name == o.name) else {
+            out.push(
+                Change::new(RuleId::EventsRemoved, subject, "removed")
+                    .values(Some(summary(o)), None)
+                    .at(oa, None)
+                    .witness(format!(
+                        "`{}` is no longer randomized ({}): the policy trains on the compiled values; {NOT_COMPARABLE}",
+                        o.field_name(),
+                        mode_effect(&o.mode)
+                    )),
+            );
+            continue;
+        };
+        let na = at(cx.new, &n.name);
+        let change = |rule: RuleId, aspect: &str, was: String, now: String| {
+            Change::new(rule, subject.clone(), aspect)
+                .values(Some(was), Some(now))
+                .at(oa.clone(), na.clone())
+        };
+        if o.field_name() != n.field_name() {
+            out.push(
+                change(
+                    RuleId::EventsFieldChanged,
+                    "field",
+                    o.field_name().into(),
+                    n.field_name().into(),
+                )
+                .witness(format!(
+                    "randomizes `{}` instead of `{}`: the policy trains on another distribution of models; {NOT_COMPARABLE}",
+                    n.field_name(),
+                    o.field_name()
+                )),
+            );
+            continue;
+        }
+        if o.mode != n.mode {
+            out.push(
+                change(
+                    RuleId::EventsModeChanged,
+                    "mode",
+                    mode_text(&o.mode),
+                    mode_text(&n.mode),
+                )
+                .witness(format!(
+                    "{} instead of {}: the policy sees the randomization at another rate; {NOT_COMPARABLE}",
+                    mode_effect(&n.mode),
+                    mode_effect(&o.mode)
+                )),
+            );
+        }
+        let (on, nn) = (names(o), names(n));
+        if on != nn || o.elements_text != n.elements_text {
+            let added: Vec<&String> = nn.iter().filter(|x| !on.contains(x)).collect();
+            let removed: Vec<&String> = on.iter().filter(|x| !nn.contains(x)).collect();
+            let list = |v: &[&String]| v.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ");
+            let mut c = change(
+                RuleId::EventsElementsChanged,
+                "elements",
+                format!("{:?}", o.elements_text),
+                format!("{:?}", n.elements_text),
+            );
+            c = if on == nn {
+                c.breaking(false)
+                    .witness("the same elements are matched: no effect")
+            } else {
+                c.witness(format!(
+                    "randomized now: {}; no longer: {}; {NOT_COMPARABLE}",
+                    if added.is_empty() {
+                        "-".into()
+                    } else {
+                        list(&added)
+                    },
+                    if removed.is_empty() {
+                        "-".into()
+                    } else {
+                        list(&removed)
+                    },
+                ))
+            };
+            out.push(c);
+        }
+        if let (
+            EventKind::Model {
+                dist: od,
+                operation: oo,
+                shared: os,
+                ..
+            },
+            EventKind::Model {
+                dist: nd,
+                operation: no,
+                shared: ns,
+                ..
+            },
+        ) = (&o.kind, &n.kind)
+        {
+            if od.name() != nd.name() {
+                out.push(
+                    change(
+                        RuleId::EventsDistributionChanged,
+                        "distribution",
+                        od.describe(),
+                        nd.describe(),
+                    )
+                    .witness(format!(
+                        "`{}` is drawn {} instead of {}: other values are likely; {NOT_COMPARABLE}",
+                        n.field_name(),
+                        nd.name(),
+                        od.name()
+                    )),
+                );
+            }
+            if oo != no {
+                out.push(
+                    change(
+                        RuleId::EventsOperationChanged,
+                        "operation",
+                        oo.name().into(),
+                        no.name().into(),
+                    )
+                    .witness(format!(
+                        "draws are applied by {} instead of {}: the resulting values differ; {NOT_COMPARABLE}",
+                        no.name(),
+                        oo.name()
+                    )),
+                );
+            }
+            if os != ns {
+                out.push(
+                    change(
+                        RuleId::EventsSharedChanged,
+                        "shared",
+                        os.to_string(),
+                        ns.to_string(),
+                    )
+                    .witness(if *ns {
+                        "one draw for every element: the elements vary together (correlated)"
+                    } else {
+                        "one draw per element: the elements vary independently"
+                    }),
+                );
+            }
+        }
+        for ((label, or, ot), (_, nr, nt)) in ranges(o).into_iter().zip(ranges(n)) {
+            if ot != nt {
+                let what = if label == "range" {
+                    format!("`{}` range", n.field_name())
+                } else {
+                    format!("push {label} range")
+                };
+                out.push(
+                    change(RuleId::EventsRangeChanged, label, ot.clone(), nt.clone())
+                        .witness(range_effect(&what, or, nr, &ot, &nt)),
+                );
+            }
+        }
+    }
+    for n in new {
+        if old.iter().any(|o| o.name == n.name) {
+            continue;
+        }
+        out.push(
+            Change::new(RuleId::EventsAdded, format!("events.{}", n.name), "added")
+                .values(None, Some(summary(n)))
+                .at(None, at(cx.new, &n.name))
+                .witness(if n.writes_model() {
+                    format!(
+                        "`{}` is now randomized ({}): the policy trains on a distribution of models where it saw one; {NOT_COMPARABLE}",
+                        n.field_name(),
+                        mode_effect(&n.mode)
+                    )
+                } else {
+                    format!(
+                        "the robot is now pushed ({}): the policy trains on disturbed episodes; {NOT_COMPARABLE}",
+                        mode_text(&n.mode)
+                    )
+                }),
+        );
+    }
+    for c in out {
+        cx.add(c);
+    }
+}
+
+/// `startup geom_friction.sliding of FR, FL: uniform[0.4, 1] abs`.
+fn summary(e: &Event) -> String {
+    let els = names(e).join(", ");
+    let of = if els.is_empty() {
+        String::new()
+    } else {
+        format!(" of {els}")
+    };
+    match &e.kind {
+        EventKind::Model {
+            dist, operation, ..
+        } => format!(
+            "{} {}{of}: {} {}",
+            mode_text(&e.mode),
+            e.field_name(),
+            dist.describe(),
+            operation.name()
+        ),
+        EventKind::Push { x, y, .. } => format!(
+            "{} push{of}: vx += uniform{}, vy += uniform{}",
+            mode_text(&e.mode),
+            fmt_range(*x),
+            fmt_range(*y)
+        ),
+    }
+}

@@ -1,0 +1,311 @@
+//! Domain randomization (`[events.<name>]`): model fields of named elements redrawn at startup,
+//! at every reset or at an interval, and pushes (velocity kicks). The IR here is what the runtime
+//! executes (`runtime/src/events.rs`) and what `envc show` / `envc diff` describe; the resolver is
+//! `resolve/events.rs`. The draw order is documented in docs/spec-reference.md ("Draw order").
+
+/// A model field an event can write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventField {
+    /// `geom_friction[g][k]`: k = 0 sliding, 1 torsional, 2 rolling.
+    GeomFriction(usize),
+    BodyMass,
+    /// `body_ipos` (the centre of mass in the body frame): x, y, z.
+    BodyIpos,
+    /// `dof_damping` of every dof of the joint.
+    JointDamping,
+    /// `dof_armature` of every dof of the joint.
+    JointArmature,
+    /// `actuator_gainprm[0]`.
+    ActuatorGain,
+    /// `actuator_biasprm[0..3]`.
+    ActuatorBias,
+    /// A position servo's kp: `gainprm[0] = kp` and `biasprm[1] = −kp` from one draw.
+    ActuatorKp,
+    /// `opt.gravity`: x, y, z.
+    Gravity,
+    /// `opt.timestep`.
+    Timestep,
+}
+
+/// What an event's `elements` name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElementKind {
+    Geom,
+    Body,
+    Joint,
+    Actuator,
+    /// Gravity and the timestep: model-wide, no elements.
+    Model,
+}
+
+impl ElementKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementKind::Geom => "geom",
+            ElementKind::Body => "body",
+            ElementKind::Joint => "joint",
+            ElementKind::Actuator => "actuator",
+            ElementKind::Model => "model",
+        }
+    }
+}
+
+pub const FIELDS: &[(&str, EventField)] = &[
+    ("geom_friction.sliding", EventField::GeomFriction(0)),
+    ("geom_friction.torsional", EventField::GeomFriction(1)),
+    ("geom_friction.rolling", EventField::GeomFriction(2)),
+    ("body_mass", EventField::BodyMass),
+    ("body_ipos", EventField::BodyIpos),
+    ("joint_damping", EventField::JointDamping),
+    ("joint_armature", EventField::JointArmature),
+    ("actuator_gain", EventField::ActuatorGain),
+    ("actuator_bias", EventField::ActuatorBias),
+    ("actuator_kp", EventField::ActuatorKp),
+    ("gravity", EventField::Gravity),
+    ("timestep", EventField::Timestep),
+];
+
+impl EventField {
+    pub fn name(self) -> &'static str {
+        FIELDS
+            .iter()
+            .find(|(_, f)| *f == self)
+            .map(|(n, _)| *n)
+            .unwrap_or("?")
+    }
+    pub fn parse(s: &str) -> Option<EventField> {
+        FIELDS.iter().find(|(n, _)| *n == s).map(|(_, f)| *f)
+    }
+    pub fn elements(self) -> ElementKind {
+        match self {
+            EventField::GeomFriction(_) => ElementKind::Geom,
+            EventField::BodyMass | EventField::BodyIpos => ElementKind::Body,
+            EventField::JointDamping | EventField::JointArmature => ElementKind::Joint,
+            EventField::ActuatorGain | EventField::ActuatorBias | EventField::ActuatorKp => {
+                ElementKind::Actuator
+            }
+            EventField::Gravity | EventField::Timestep => ElementKind::Model,
+        }
+    }
+    /// Values of one element that the field holds when it is not per dof (ipos, bias and
+    /// gravity: 3; joint fields: the joint's dof count, see [`Event::components`]).
+    pub fn width(self) -> usize {
+        match self {
+            EventField::BodyIpos | EventField::ActuatorBias | EventField::Gravity => 3,
+            _ => 1,
+        }
+    }
+    /// The smallest value the field may take (results are clamped to it): friction, mass,
+    /// damping, armature and kp are ≥ 0; the timestep is > 0 (and ≤ `limits::MAX_TIMESTEP`).
+    pub fn lower_bound(self) -> Option<f64> {
+        match self {
+            EventField::GeomFriction(_)
+            | EventField::BodyMass
+            | EventField::JointDamping
+            | EventField::JointArmature
+            | EventField::ActuatorKp => Some(0.0),
+            EventField::Timestep => Some(MIN_TIMESTEP),
+            _ => None,
+        }
+    }
+    pub fn upper_bound(self) -> Option<f64> {
+        match self {
+            EventField::Timestep => Some(crate::limits::MAX_TIMESTEP),
+            _ => None,
+        }
+    }
+    /// Whether MuJoCo's derived constants (`mj_setConst`: subtree masses, `dof_invweight0`,
+    /// `body_invweight0`, `actuator_acc0`, ...) depend on the field, so they are recomputed after
+    /// it changes.
+    pub fn needs_set_const(self) -> bool {
+        matches!(
+            self,
+            EventField::BodyMass | EventField::BodyIpos | EventField::JointArmature
+        )
+    }
+}
+
+/// The smallest timestep a randomized timestep is clamped to (a Gaussian draw may go below 0).
+pub const MIN_TIMESTEP: f64 = 1e-6;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EventMode {
+    /// At the first reset and at every reset with a seed (from the compiled values).
+    Startup,
+    /// At every reset.
+    Reset,
+    /// Every `interval` seconds of simulated time; a range draws each interval uniformly.
+    Interval { low: f64, high: f64 },
+}
+
+impl EventMode {
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventMode::Startup => "startup",
+            EventMode::Reset => "reset",
+            EventMode::Interval { .. } => "interval",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EventDist {
+    /// numpy `uniform(low, high)`.
+    Uniform { low: f64, high: f64 },
+    /// `exp(uniform(ln low, ln high))` (numpy's `np.exp` under the env's numerics profile).
+    LogUniform { low: f64, high: f64 },
+    /// `mean + std × standard_normal()`, numpy's `normal(mean, std)`.
+    Gaussian { mean: f64, std: f64 },
+}
+
+impl EventDist {
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventDist::Uniform { .. } => "uniform",
+            EventDist::LogUniform { .. } => "log_uniform",
+            EventDist::Gaussian { .. } => "gaussian",
+        }
+    }
+    /// The interval the draws fall in (a Gaussian: mean ± 3 std, which holds 99.7 %).
+    pub fn support(&self) -> (f64, f64) {
+        match *self {
+            EventDist::Uniform { low, high } | EventDist::LogUniform { low, high } => (low, high),
+            EventDist::Gaussian { mean, std } => (mean - 3.0 * std, mean + 3.0 * std),
+        }
+    }
+    /// `uniform[0.8, 1.2]`, `gaussian(mean 0, std 0.1)`.
+    pub fn describe(&self) -> String {
+        match *self {
+            EventDist::Uniform { low, high } => format!("uniform[{low}, {high}]"),
+            EventDist::LogUniform { low, high } => format!("log_uniform[{low}, {high}]"),
+            EventDist::Gaussian { mean, std } => format!("gaussian(mean {mean}, std {std})"),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Operation {
+    /// `value = base + draw`.
+    Add,
+    /// `value = base × draw`.
+    Scale,
+    /// `value = draw`.
+    Abs,
+}
+
+impl Operation {
+    pub const NAMES: &'static [&'static str] = &["add", "scale", "abs"];
+    pub fn parse(s: &str) -> Option<Operation> {
+        match s {
+            "add" => Some(Operation::Add),
+            "scale" => Some(Operation::Scale),
+            "abs" => Some(Operation::Abs),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Operation::Add => "add",
+            Operation::Scale => "scale",
+            Operation::Abs => "abs",
+        }
+    }
+    /// The range of `op(base, draw)` for draws in `[lo, hi]`.
+    pub fn apply_range(self, base: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
+        let (a, b) = match self {
+            Operation::Add => (base + lo, base + hi),
+            Operation::Scale => (base * lo, base * hi),
+            Operation::Abs => (lo, hi),
+        };
+        (a.min(b), a.max(b))
+    }
+    pub fn apply(self, base: f64, draw: f64) -> f64 {
+        match self {
+            Operation::Add => base + draw,
+            Operation::Scale => base * draw,
+            Operation::Abs => draw,
+        }
+    }
+}
+
+/// A named model element an event writes: its name and its index in the model's numbering
+/// (geoms: in `ModelInfo::geoms`; the runtime looks geom ids up by name).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Element {
+    pub name: String,
+    pub index: usize,
+    /// Joints: the first dof and the dof count (the values a joint field writes).
+    pub dofs: (usize, usize),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum EventKind {
+    /// A model field of each element: `value = operation(base, draw)`.
+    Model {
+        field: EventField,
+        /// Empty for gravity and the timestep.
+        elements: Vec<Element>,
+        dist: EventDist,
+        operation: Operation,
+        /// One draw for every value the event writes (else one per value).
+        shared: bool,
+    },
+    /// `qvel[x] += uniform(x)`, `qvel[y] += uniform(y)` of each free joint.
+    Push {
+        joints: Vec<Element>,
+        x: (f64, f64),
+        y: (f64, f64),
+    },
+}
+
+/// `[events.<name>]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    pub name: String,
+    pub doc: String,
+    pub mode: EventMode,
+    pub kind: EventKind,
+    /// The elements as written (names and patterns), for `show` and `diff`.
+    pub elements_text: Vec<String>,
+}
+
+impl Event {
+    /// Values written per element (joint fields: the joint's dofs).
+    pub fn components(&self, e: &Element) -> usize {
+        match &self.kind {
+            EventKind::Model { field, .. } => match field.elements() {
+                ElementKind::Joint => e.dofs.1,
+                _ => field.width(),
+            },
+            EventKind::Push { .. } => 2,
+        }
+    }
+    /// The field's name (`push` for pushes).
+    pub fn field_name(&self) -> &'static str {
+        match &self.kind {
+            EventKind::Model { field, .. } => field.name(),
+            EventKind::Push { .. } => "push",
+        }
+    }
+    /// Whether the event changes the model (pushes change the state only).
+    pub fn writes_model(&self) -> bool {
+        matches!(self.kind, EventKind::Model { .. })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::selector::glob;
+
+    #[test]
+    fn globs() {
+        assert!(glob("*", "trunk"));
+        assert!(glob("*_calf", "FR_calf"));
+        assert!(!glob("*_calf", "FR_thigh"));
+        assert!(glob("F?_hip", "FL_hip"));
+        assert!(glob("trunk", "trunk"));
+        assert!(!glob("trunk", "trunk2"));
+        assert!(glob("a*b*c", "axxbyyc"));
+        assert!(!glob("a*b*c", "axxbyy"));
+    }
+}
