@@ -849,7 +849,7 @@ impl Env {
         self.sim.update_ten_j();
         let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
         self.sim.legged.update_sites(m, d);
-        self.sim.legged.update_contacts(d, self.dt);
+        self.sim.legged.update_contacts(m, d, self.dt);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {
