@@ -194,6 +194,15 @@ impl Legged {
         Ok(l)
     }
 
+    /// Compute the site velocities and axes from now on (a reader the spec does not know of,
+    /// e.g. an agent's observation).
+    pub fn enable_site_frames(&mut self, nsite: usize) {
+        if !self.site_frames {
+            self.site_frames = true;
+            self.site = std::array::from_fn(|_| vec![0.0; nsite * 3]);
+        }
+    }
+
     /// The field's values, for the fields this module holds.
     pub fn field(&self, f: Field) -> Option<&[f64]> {
         Some(match f {

@@ -630,8 +630,13 @@ impl Env {
     /// Keep the derived fields `sources` read up to date too (a multi-agent env's agents may
     /// observe selections its spec does not). Contact forces are decided by the spec
     /// (`needs_rne_post_constraint`), before the env is built.
-    pub(crate) fn read_also<'a>(&mut self, mut sources: impl Iterator<Item = &'a Selection>) {
-        self.uses_mass_center |= sources.any(|s| s.field == Field::MassCenter);
+    pub(crate) fn read_also<'a>(&mut self, sources: impl Iterator<Item = &'a Selection>) {
+        for s in sources {
+            self.uses_mass_center |= s.field == Field::MassCenter;
+            if s.field.is_site_frame() {
+                self.sim.legged.enable_site_frames(self.sim.nsite);
+            }
+        }
     }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
