@@ -233,3 +233,38 @@ fn terms_match_numpy_from_published_formulas() {
     assert!(out.status.success(), "numpy disagrees");
     assert!(text.contains("all terms agree"), "{text}");
 }
+
+/// Feet named by body (any geom of the body; for models whose foot geoms have no names) and the
+/// floor as `world` give the same contacts as the named geoms while only the feet touch.
+#[test]
+fn feet_by_body_match_feet_by_geom() {
+    let text = std::fs::read_to_string(format!("{ROOT}/specs/examples/go1_joystick.toml")).unwrap();
+    let by_body = text
+        .replace(
+            "feet = [\"FR\", \"FL\", \"RR\", \"RL\"]\nfloor = \"floor\"",
+            "feet = [\"FR_calf\", \"FL_calf\", \"RR_calf\", \"RL_calf\"]\nfloor = \"world\"",
+        )
+        .replace("id = \"Go1Joystick-v0\"", "id = \"Go1JoystickBodies-v0\"");
+    assert_eq!(by_body.matches("floor = \"world\"").count(), 2);
+    let dir = std::env::temp_dir().join(format!("envc-joystick-bodies-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bodies.toml");
+    std::fs::write(&path, by_body).unwrap();
+    let mut b = Env::from_spec_file(&path, &[envc::Override::text("xml_file", GO1)]).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut g = joystick(&[]);
+    b.reset(Some(4));
+    g.reset(Some(4));
+    let mut rng = NumpyRng::from_seed(4);
+    let mut touched = 0.0;
+    for _ in 0..300 {
+        let a: Vec<f64> = (0..12).map(|_| rng.uniform(-0.3, 0.3)).collect();
+        let (sb, sg) = (b.step(&a).unwrap(), g.step(&a).unwrap());
+        assert!(!sg.terminated);
+        for k in ["reward_feet_slip", "reward_feet_air_time"] {
+            assert_eq!(sb.info.scalar(k), sg.info.scalar(k), "{k}");
+        }
+        touched += sg.info.scalar("reward_feet_slip").unwrap().abs();
+    }
+    assert!(touched > 0.0, "feet in contact and slipping");
+}

@@ -66,12 +66,17 @@ pub struct Gate {
     pub below: bool,
 }
 
-/// Contacts of named geoms (feet) with a named geom (the floor): a foot is in contact when any
-/// contact of the last forward pass pairs it with the floor.
+/// Contacts of the feet with the floor: a foot is in contact when any contact of the last forward
+/// pass pairs it with the floor. Each is a geom, or a body (any of its geoms: for models whose
+/// foot geoms have no names; `world` is every geom of the world body).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeetContact {
+    /// Geom or body names of the feet.
     pub geoms: Vec<String>,
+    /// Per foot: the name is a body's, not a geom's.
+    pub bodies: Vec<bool>,
     pub floor: String,
+    pub floor_is_body: bool,
 }
 
 /// Reward kernels of legged locomotion (`TermKind::Legged`).

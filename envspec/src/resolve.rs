@@ -654,7 +654,12 @@ impl Ctx<'_> {
                 None => false,
                 Some(v) => match v.as_str() {
                     Some("after") => false,
-                    Some("before") if matches!(s.kind(""), "velocity" | "healthy") => {
+                    Some("before")
+                        if matches!(
+                            s.kind(""),
+                            "velocity" | "healthy" | "feet_air_time" | "feet_slip"
+                        ) =>
+                    {
                         self.d.push(
                             Diagnostic::new(
                                 Code::E0104,
@@ -664,7 +669,7 @@ impl Ctx<'_> {
                                 ),
                             )
                             .at(v.loc.clone())
-                            .label("expected \"after\" (velocity and healthy terms need the post-step state)"),
+                            .label("expected \"after\" (velocity, healthy and feet terms need the post-step state)"),
                         );
                         false
                     }

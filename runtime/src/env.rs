@@ -658,8 +658,13 @@ impl Env {
     /// Keep the derived fields `sources` read up to date too (a multi-agent env's agents may
     /// observe selections its spec does not). Contact forces are decided by the spec
     /// (`needs_rne_post_constraint`), before the env is built.
-    pub(crate) fn read_also<'a>(&mut self, mut sources: impl Iterator<Item = &'a Selection>) {
-        self.uses_mass_center |= sources.any(|s| s.field == Field::MassCenter);
+    pub(crate) fn read_also<'a>(&mut self, sources: impl Iterator<Item = &'a Selection>) {
+        for s in sources {
+            self.uses_mass_center |= s.field == Field::MassCenter;
+            if s.field.is_site_frame() {
+                self.sim.legged.enable_site_frames(self.sim.nsite);
+            }
+        }
     }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
@@ -964,7 +969,7 @@ impl Env {
         self.sim.update_ten_j();
         let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
         self.sim.legged.update_sites(m, d);
-        self.sim.legged.update_contacts(d, self.dt);
+        self.sim.legged.update_contacts(m, d, self.dt);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {

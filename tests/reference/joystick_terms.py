@@ -47,8 +47,12 @@ def main():
             return R.T @ ang, R.T @ lin
         return ang, lin
 
+    worst = [0.0]
+
     def close(name, got, want, t):
         got, want = np.asarray(got, float), np.asarray(want, float)
+        rel = np.abs(got - want) / np.maximum(np.abs(want), 1e-300)
+        worst[0] = max(worst[0], float(np.max(np.where(got == want, 0.0, rel))))
         if not np.allclose(got, want, rtol=1e-12, atol=1e-15):
             print(f"step {t}: {name}: envc {got} numpy {want}")
             return False
@@ -124,6 +128,7 @@ def main():
         command = obs[45:48]
         checked += 1
     print(f"{checked} steps, gates {gates}, steps where each is nonzero: {nonzero}")
+    print(f"largest relative difference: {worst[0]:.3g}")
     if not ok:
         sys.exit(1)
     if min(gates.values()) == 0 or min(nonzero.values()) == 0:

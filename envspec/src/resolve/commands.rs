@@ -352,13 +352,17 @@ impl Ctx<'_> {
         })
     }
 
-    fn geom_name(&mut self, v: &Val, what: &str) -> Option<String> {
+    /// A geom name, else a body name (`true`): the element a contact term watches.
+    fn geom_name(&mut self, v: &Val, what: &str) -> Option<(String, bool)> {
         let Some(name) = v.as_str() else {
             self.d.push(v.type_error(what, "a geom name"));
             return None;
         };
         if !name.is_empty() && self.model.geoms.iter().any(|g| g == name) {
-            return Some(name.to_string());
+            return Some((name.to_string(), false));
+        }
+        if self.model.body_id(name).is_some() {
+            return Some((name.to_string(), true));
         }
         self.d.push(
             Diagnostic::new(
@@ -370,7 +374,7 @@ impl Ctx<'_> {
             )
             .at(v.loc.clone())
             .label(format!(
-                "expected a named geom of the model ({} named)",
+                "expected a named geom ({} named) or a body of the model",
                 self.model.geoms.iter().filter(|g| !g.is_empty()).count()
             ))
             .help_opt(suggest(
@@ -378,6 +382,7 @@ impl Ctx<'_> {
                 self.model
                     .geoms
                     .iter()
+                    .chain(&self.model.bodies)
                     .map(String::as_str)
                     .filter(|g| !g.is_empty()),
             )),
@@ -409,9 +414,17 @@ impl Ctx<'_> {
             }
         };
         let floor = self.geom_name(fl, "floor");
+        let (geoms, bodies) = geoms
+            .into_iter()
+            .collect::<Option<Vec<_>>>()?
+            .into_iter()
+            .unzip();
+        let (floor, floor_is_body) = floor?;
         Some(FeetContact {
-            geoms: geoms.into_iter().collect::<Option<_>>()?,
-            floor: floor?,
+            geoms,
+            bodies,
+            floor,
+            floor_is_body,
         })
     }
 
