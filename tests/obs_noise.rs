@@ -31,7 +31,7 @@ id = "NoisyHopper-v0"
 xml_file = {xml:?}
 frame_skip = 4
 max_episode_steps = 1000
-noise_level = 0.5
+noise_level = 0.7
 vel_delay = 2
 
 [reset.qpos]
@@ -183,7 +183,7 @@ fn noise_matches_numpy_bit_for_bit_and_delay_is_exact() {
     let (raw_pos, raw_vel) = (seg(&env, "raw_pos"), seg(&env, "raw_vel"));
     let raw_vel2 = (raw_vel.0, 2);
     let noisy = [
-        ("pos", raw_pos, "uniform", 0.5, 0.05, Some([-1.0, 1.0])),
+        ("pos", raw_pos, "uniform", 0.7, 0.05, Some([-1.0, 1.0])),
         ("vel", raw_vel, "gaussian", 1.0, 0.2, Some([-0.5, 0.5])),
         ("delayed_vel", raw_vel2, "uniform", 1.0, 0.01, None),
     ];
@@ -213,7 +213,7 @@ fn noise_matches_numpy_bit_for_bit_and_delay_is_exact() {
         .iter()
         .flat_map(|o| (1..p.1).map(move |k| o[p.0 + k] - o[rp.0 + k]))
         .collect();
-    assert!(d.iter().all(|x| x.abs() <= 0.025 + 1e-12) && d.iter().any(|x| x.abs() > 0.01));
+    assert!(d.iter().all(|x| x.abs() <= 0.035 + 1e-12) && d.iter().any(|x| x.abs() > 0.01));
     assert!(
         obs.iter().all(|o| o[p.0] == 1.0),
         "height 1.25 + noise clipped to 1"
