@@ -31,7 +31,7 @@ id = "NoisyHopper-v0"
 xml_file = {xml:?}
 frame_skip = 4
 max_episode_steps = 1000
-noise_level = 0.5
+noise_level = 0.7
 vel_delay = 2
 
 [reset.qpos]
@@ -183,7 +183,7 @@ fn noise_matches_numpy_bit_for_bit_and_delay_is_exact() {
     let (raw_pos, raw_vel) = (seg(&env, "raw_pos"), seg(&env, "raw_vel"));
     let raw_vel2 = (raw_vel.0, 2);
     let noisy = [
-        ("pos", raw_pos, "uniform", 0.5, 0.05, Some([-1.0, 1.0])),
+        ("pos", raw_pos, "uniform", 0.7, 0.05, Some([-1.0, 1.0])),
         ("vel", raw_vel, "gaussian", 1.0, 0.2, Some([-0.5, 0.5])),
         ("delayed_vel", raw_vel2, "uniform", 1.0, 0.01, None),
     ];
@@ -213,7 +213,7 @@ fn noise_matches_numpy_bit_for_bit_and_delay_is_exact() {
         .iter()
         .flat_map(|o| (1..p.1).map(move |k| o[p.0 + k] - o[rp.0 + k]))
         .collect();
-    assert!(d.iter().all(|x| x.abs() <= 0.025 + 1e-12) && d.iter().any(|x| x.abs() > 0.01));
+    assert!(d.iter().all(|x| x.abs() <= 0.035 + 1e-12) && d.iter().any(|x| x.abs() > 0.01));
     assert!(
         obs.iter().all(|o| o[p.0] == 1.0),
         "height 1.25 + noise clipped to 1"
@@ -348,5 +348,43 @@ fn typed_env_runs_the_same_noisy_trajectory() {
         let a = actions(t, 3);
         let x = inner.step(&a).unwrap().obs.to_vec();
         assert_eq!(x, dynamic.step(&a).unwrap().obs, "t={t}");
+    }
+}
+
+/// Noise, delay and latency in a vector env: member i with seed s + i runs exactly the single env
+/// reset with that seed, on 1 or 2 threads (each env draws from its own stream).
+#[test]
+fn vector_env_members_match_single_envs_on_any_thread_count() {
+    use envc::{Autoreset, VecEnv};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("noise/hopper_noisy.toml");
+    let p = path.to_str().unwrap();
+    let n = 3;
+    let run_vec = |threads: usize| {
+        let mut v = VecEnv::make(p, &[], n, threads, Autoreset::NextStep).unwrap();
+        let mut out = vec![v.reset(Some(10)).to_vec()];
+        for t in 0..40 {
+            let a: Vec<f64> = (0..n).flat_map(|i| actions(t + i, 3)).collect();
+            v.step(&a).unwrap();
+            out.push(v.obs().to_vec());
+        }
+        out
+    };
+    let (one, two) = (run_vec(1), run_vec(2));
+    assert_eq!(one, two);
+    let od = NoisyHopper::OBS_DIM;
+    for i in 0..n {
+        let mut e = Env::from_spec_file(&path, &[]).unwrap();
+        let mut obs = vec![e.reset(Some(10 + i as u64)).0.to_vec()];
+        for t in 0..40 {
+            let s = e.step(&actions(t + i, 3)).unwrap();
+            let done = s.terminated || s.truncated;
+            obs.push(s.obs.to_vec());
+            if done {
+                break;
+            }
+        }
+        for (t, o) in obs.iter().enumerate() {
+            assert_eq!(&one[t][i * od..(i + 1) * od], &o[..], "env {i} at t={t}");
+        }
     }
 }
