@@ -39,6 +39,15 @@ pub enum ElementKind {
 }
 
 impl ElementKind {
+    pub fn plural(self) -> &'static str {
+        match self {
+            ElementKind::Geom => "geoms",
+            ElementKind::Body => "bodies",
+            ElementKind::Joint => "joints",
+            ElementKind::Actuator => "actuators",
+            ElementKind::Model => "model",
+        }
+    }
     pub fn name(self) -> &'static str {
         match self {
             ElementKind::Geom => "geom",

@@ -395,12 +395,15 @@ impl Ctx<'_> {
             self.d.push(
                 Diagnostic::new(
                     Code::E0152,
-                    format!("{ctx}: missing `elements` (the {}s to act on)", kind.name()),
+                    format!(
+                        "{ctx}: missing `elements` (the {} to act on)",
+                        kind.plural()
+                    ),
                 )
                 .at(loc)
                 .label(format!(
-                    "expected elements = [\"name\", \"pattern*\"] naming {}s",
-                    kind.name()
+                    "expected elements = [\"name\", \"pattern*\"] naming {}",
+                    kind.plural()
                 )),
             );
             return None;
@@ -427,8 +430,8 @@ impl Ctx<'_> {
                     )
                     .at(loc.clone())
                     .label(format!(
-                        "expected names or patterns of {}s ({} named)",
-                        kind.name(),
+                        "expected names or patterns of {} ({} named)",
+                        kind.plural(),
                         named.len()
                     ))
                     .help_opt(suggest(p, named.iter().copied())),
