@@ -24,13 +24,14 @@ pub struct Args {
     episodes: u64,
     #[arg(long, value_enum, default_value = "random")]
     policy: PolicyKind,
-    /// With `--policy replay`: a float32 or float64 `.npy` array [T, act_dim]; episodes take rows
-    /// in order (the next episode continues where the last stopped) and reuse them from the start
-    /// when they run out.
+    /// With `--policy replay`: a float32 or float64 `.npy` array [T, act_dim]; every episode
+    /// starts at row 0 and starts over from row 0 when the rows run out.
     #[arg(long, value_name = "A.npy")]
     actions: Option<PathBuf>,
-    /// Episode i is reset with seed S+i (and the random policy is seeded with S). Without it,
-    /// seeds come from OS entropy, as Minari's DataCollector draws them; either way they are stored.
+    /// Episode i is reset with seed S+i (as Minari's DataCollector) and its random actions come
+    /// from numpy's default_rng([S, i]): episode i depends on (S, i) only, so a sharded
+    /// collection (envc.ray) records the same dataset. Without it, one S is drawn from OS
+    /// entropy and printed; episode i's stored seed is S+i either way.
     #[arg(long)]
     seed: Option<u64>,
     #[arg(long, value_enum, default_value = "arrow")]
@@ -156,11 +157,12 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     bar.finish_and_clear();
     let secs = start.elapsed().as_secs_f64();
     println!(
-        "{}: {} episodes, {} steps ({:.0} steps/s) written to {}",
+        "{}: {} episodes, {} steps ({:.0} steps/s, seed {}) written to {}",
         args.dataset_id,
         args.episodes,
         r.steps,
         r.steps as f64 / secs.max(1e-9),
+        r.seed,
         r.dir.display()
     );
     for c in &r.cleaned {

@@ -296,6 +296,52 @@ impl DatasetWriter {
         Ok(())
     }
 
+    /// Take over the episodes workers wrote into the staging directory (`shard.rs`): Arrow
+    /// episodes are already in `data/`; HDF5 ones are appended from their shard files in index
+    /// order. `lengths[i]` is episode i's step count as its worker reported it; [`finish`]
+    /// checks them against the disk.
+    ///
+    /// [`finish`]: DatasetWriter::finish
+    pub fn adopt_shards(&mut self, lengths: &[u64]) -> Result<(), DatasetError> {
+        if self.episodes != 0 {
+            return Err(DatasetError::Write {
+                path: self.data.clone(),
+                why: "shards can only be adopted by a writer that wrote no episode itself".into(),
+            });
+        }
+        self.staging.check_owned()?;
+        match self.format {
+            Format::Arrow => {
+                self.lengths = lengths.to_vec();
+                self.episodes = lengths.len() as u64;
+                self.steps = lengths.iter().sum();
+            }
+            Format::Hdf5 => {
+                for (i, &n) in lengths.iter().enumerate() {
+                    let ep = super::shard::read_shard_episode(self.staging.dir(), i as u64)?;
+                    if ep.rewards.len() as u64 != n {
+                        return Err(DatasetError::Unverified {
+                            path: self.staging.dir().to_path_buf(),
+                            why: format!(
+                                "shard episode {i} holds {} steps; its worker reported {n}",
+                                ep.rewards.len()
+                            ),
+                        });
+                    }
+                    self.write_episode(&ep.record())?;
+                    // The shard file is no longer needed once in the HDF5 file: free the disk.
+                    let _ = fs::remove_file(
+                        self.staging
+                            .dir()
+                            .join(super::shard::SHARDS_DIR)
+                            .join(format!("{i}.episode")),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Write `metadata.json` and move the dataset into place. Returns its directory.
     pub fn finish(mut self) -> Result<PathBuf, DatasetError> {
         match self.backend.take() {

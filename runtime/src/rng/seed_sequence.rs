@@ -92,6 +92,21 @@ impl SeedSequence {
         }
     }
 
+    /// numpy `SeedSequence([a, b, ...])`: each integer's 32-bit words (least significant first,
+    /// `0` is one word `[0]`) concatenated, e.g. `[seed, episode]` for per-episode streams that
+    /// depend on nothing else. `entropy()` is then the first integer only.
+    pub fn from_ints(values: &[u64]) -> Self {
+        let mut words = Vec::with_capacity(2 * values.len());
+        for &v in values {
+            let (w, n) = entropy_words(u128::from(v));
+            words.extend_from_slice(&w[..n]);
+        }
+        SeedSequence {
+            entropy: values.first().map_or(0, |&v| u128::from(v)),
+            pool: mix_entropy(&words),
+        }
+    }
+
     /// `SeedSequence(None)`: 128 bits of fresh OS entropy (`/dev/urandom`; if unavailable, a hash
     /// of std's randomly keyed `RandomState`, the time and the process id). Never panics.
     pub fn from_os_entropy() -> Self {
