@@ -8,6 +8,7 @@ it started (never ``ray stop``, which would stop every Ray on the machine)."""
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -44,16 +45,18 @@ def _free_port() -> int:
 
 
 def _processes_under(tag: str) -> list[int]:
-    """Pids whose command line names our temp dir (the cluster's own processes, nobody else's)."""
+    """Pids whose command line or open files name our temp dir: the cluster's own processes,
+    nobody else's (Ray's agents rename themselves `ray::...`, but keep their logs there open)."""
     pids = []
     for p in Path("/proc").iterdir():
         if not p.name.isdigit() or int(p.name) == os.getpid():
             continue
         try:
             cmd = (p / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            mine = tag in cmd or any(tag in os.readlink(f) for f in (p / "fd").iterdir())
         except OSError:
             continue
-        if tag in cmd:
+        if mine:
             pids.append(int(p.name))
     return pids
 
@@ -91,6 +94,7 @@ def cluster():
         while len([n for n in ray.nodes() if n["Alive"]]) < 2:
             assert time.time() < deadline, "the second node never joined"
             time.sleep(0.5)
+        shutil.rmtree(temp, ignore_errors=True)
         yield address
     finally:
         if ray.is_initialized():
