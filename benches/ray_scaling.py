@@ -31,6 +31,14 @@ import envc.ray
 import ray
 
 
+def _temp_base() -> str:
+    """$ENVC_RAY_TMP, else /dev/shm (out of reach of /tmp cleaners), else /tmp."""
+    base = os.environ.get("ENVC_RAY_TMP")
+    if base:
+        return base
+    return "/dev/shm" if os.access("/dev/shm", os.W_OK) else "/tmp"
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -60,21 +68,24 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--chunk-size", type=int)
     a = ap.parse_args()
-    temp = tempfile.mkdtemp(prefix=f"ray-envc-bench-{os.getpid()}-", dir="/tmp")
+    temp = tempfile.mkdtemp(prefix=f"envcray-bench-{os.getpid()}-", dir=_temp_base())
     out = Path(tempfile.mkdtemp(prefix="envc-scaling-"))
     port = free_port()
+    home = os.path.join(temp, "home")  # not ~/.ray: another Ray's auth token is not ours
+    os.makedirs(home)
     env = {k: v for k, v in os.environ.items() if not k.startswith("RAY_")}
-    base = 20000 + os.getpid() % 20000
+    env.update(HOME=home, RAY_AUTH_MODE="disabled")
+    os.environ["RAY_AUTH_MODE"] = "disabled"
     cmd = [str(Path(sys.executable).parent / "ray"), "start", "--head", "--node-ip-address=127.0.0.1",
            f"--port={port}", f"--temp-dir={temp}", "--include-dashboard=false", "--num-cpus=4",
            "--object-store-memory=200000000", "--disable-usage-stats",
            f"--node-manager-port={free_port()}", f"--object-manager-port={free_port()}",
-           f"--ray-client-server-port={free_port()}", f"--min-worker-port={base}", f"--max-worker-port={base + 200}"]
+           f"--ray-client-server-port={free_port()}"]
     results: dict[str, list[dict]] = {}
     try:
         subprocess.run(cmd, check=True, capture_output=True, timeout=180, env=env)
         ray.init(address=f"127.0.0.1:{port}", log_to_driver=False)
-        contenders = ["envc.collect", "ray x1", "ray x2", "ray x4"]
+        contenders = ["envc.collect", "shards, no Ray", "ray x1", "ray x2", "ray x4"]
         n = 0
         for r in range(a.rounds):
             order = contenders[r % len(contenders):] + contenders[: r % len(contenders)]
@@ -90,6 +101,23 @@ def main() -> None:
 
                     steps = minari.load_dataset(str(root / "bench" / "s-v0")).total_steps
                     row = dict(wall=wall, steps=steps, finish=0.0, worker=wall, workers=1)
+                elif c == "shards, no Ray":
+                    # The sharded path (driver + worker writes + merge) in this process: what
+                    # sharding costs without Ray.
+                    from envc import _envc
+                    from envc._gym import overrides_to_toml
+
+                    ov = overrides_to_toml({"max_episode_steps": a.max_steps})
+                    d = _envc.ShardedCollection(a.env, "bench/s-v0", a.episodes, "random", r, "arrow",
+                                                str(root), ov)
+                    lengths = []
+                    for lo in range(0, a.episodes, 64):
+                        lengths += _envc.collect_shard(a.env, d.staging, lo, min(lo + 64, a.episodes), d.seed,
+                                                       "random", "arrow", ov)
+                    t1 = time.perf_counter()
+                    d.finish(lengths)
+                    wall = time.perf_counter() - t0
+                    row = dict(wall=wall, steps=sum(e[0] for e in lengths), finish=time.perf_counter() - t1, worker=t1 - t0, workers=1)
                 else:
                     w = int(c.split("x")[1])
                     st: dict = {}
@@ -133,7 +161,7 @@ def main() -> None:
         over = med([(r["wall"] * r["workers"] - r["worker"]) / a.episodes * 1e3 for r in rows])
         print(f"| {c} | {med([r['steps'] for r in rows]):.0f} | {wall:.2f} | {med([r['steps'] / r['wall'] for r in rows]):.0f} "
               f"| {med([r['finish'] for r in rows]):.3f} | {med([r['worker'] for r in rows]):.2f} | "
-              f"{'—' if c == 'envc.collect' else f'{over:.2f}'} |")
+              f"{'—' if not c.startswith('ray') else f'{over:.2f}'} |")
     print(f"\nactor start-up + 1 episode + merge (1 worker): {med(starts):.2f} s")
 
 

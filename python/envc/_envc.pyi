@@ -54,8 +54,9 @@ def collect_shard(
     overrides: list[tuple[str, str]] = ...,
     actions: list[float] | None = ...,
     policy_fn: Callable[[npt.NDArray[np.float64], np.random.Generator], Any] | None = ...,
-) -> list[int]:
-    """A worker's episodes `start..end` into a sharded collection's staging directory."""
+) -> list[tuple[int, int]]:
+    """A worker's episodes `start..end` into a sharded collection's staging directory:
+    `(steps, bytes)` of each."""
 
 class ShardedCollection:
     """The driver of a sharded collection (holds the staging directory's lock)."""
@@ -78,7 +79,7 @@ class ShardedCollection:
         env_spec: str | None = ...,
         callable: bool = ...,
     ) -> None: ...
-    def finish(self, lengths: list[int]) -> str: ...
+    def finish(self, episodes: list[tuple[int, int]]) -> str: ...
     def abort(self) -> None: ...
 
 class TaskCore:

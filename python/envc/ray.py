@@ -47,9 +47,10 @@ def _default_root() -> str:
 
 
 def _chunks(episodes: int, workers: int, chunk_size: int | None) -> list[tuple[int, int]]:
-    # About 8 chunks per worker: small enough for stealing and re-running a dead worker's share
-    # cheaply, large enough that Ray's per-task cost (~1 ms) stays small against the episodes.
-    size = chunk_size or max(1, min(64, episodes // (workers * 8) or 1))
+    # About 8 chunks per worker: small enough for stealing (the tail is at most 1/8 of a worker's
+    # share) and for re-running a dead worker's chunk cheaply, few enough that the driver handles
+    # 8 completions per worker in all, however many episodes (docs/SCALING.md).
+    size = chunk_size or max(1, -(-episodes // (workers * 8)))
     return [(a, min(a + size, episodes)) for a in range(0, episodes, size)]
 
 
@@ -138,10 +139,16 @@ def collect(
         fn_ref = ray.put(policy_fn) if policy_fn is not None else None
         rows_ref = ray.put(rows) if rows is not None else None
         pending = list(reversed(_chunks(episodes, num_workers, chunk_size)))
+        n_chunks = len(pending)
         attempts: dict[tuple[int, int], int] = {}
-        lengths: list[int | None] = [None] * episodes
+        done_eps: list[tuple[int, int] | None] = [None] * episodes  # (steps, bytes) of each
         running: dict[Any, tuple[int, tuple[int, int]]] = {}
-        worker_s, retries, n_chunks = 0.0, 0, len(pending)
+        # A dead actor gets no chunk until it answers a ping (Ray restarts it, on another node
+        # if its node is gone, once a CPU is free): a chunk handed to it at once could wait for
+        # a CPU the live actors hold until the end, while they could run it.
+        pings: dict[Any, int] = {}
+        idle: list[int] = []  # live actors with nothing to do (until a dead one's chunk returns)
+        tally = {"worker_s": 0.0, "retries": 0}
 
         def submit(w: int) -> None:
             chunk = pending.pop()
@@ -151,44 +158,71 @@ def collect(
             )
             running[ref] = (w, chunk)
 
-        for w in range(min(num_workers, len(pending))):
-            submit(w)
-        while running:
-            done, _ = ray.wait(list(running), num_returns=1)
-            ref = done[0]
+        def next_for(w: int) -> None:
+            if pending:
+                submit(w)
+            else:
+                idle.append(w)
+
+        def handle(ref: Any) -> None:
+            if ref in pings:
+                w = pings.pop(ref)
+                try:
+                    ray.get(ref)
+                except (ray.exceptions.RayActorError, ray.exceptions.ActorUnavailableError):
+                    time.sleep(0.1)  # still restarting
+                    pings[workers[w].pid.remote()] = w
+                    return
+                next_for(w)
+                return
             w, chunk = running.pop(ref)
             try:
                 got, secs = ray.get(ref)
             except (ray.exceptions.RayActorError, ray.exceptions.ActorUnavailableError) as e:
-                # The actor died (killed, OOM, its node removed): the chunk runs again, on this
-                # actor once Ray has restarted it (elsewhere if its node is gone).
+                # The actor died (killed, out of memory, its node removed): its chunk is queued
+                # again for the next free actor; the dead one rejoins once restarted.
                 attempts[chunk] = attempts.get(chunk, 0) + 1
                 if attempts[chunk] >= MAX_ATTEMPTS:
                     raise RuntimeError(
                         f"episodes {chunk[0]}..{chunk[1]} failed {MAX_ATTEMPTS} times: their worker died each time ({e})"
                     ) from e
-                retries += 1
+                tally["retries"] += 1
                 pending.append(chunk)
-                submit(w)
-                continue
+                pings[workers[w].pid.remote()] = w
+                if idle:
+                    submit(idle.pop())
+                return
             except ray.exceptions.RayTaskError as e:
                 # The policy or envc raised: the same error as on one machine.
                 raise e.as_instanceof_cause() from None
-            worker_s += secs
-            lengths[chunk[0] : chunk[1]] = got
-            if pending:
-                submit(w)
+            tally["worker_s"] += secs
+            done_eps[chunk[0] : chunk[1]] = [tuple(x) for x in got]
+            next_for(w)
+
+        for w in range(num_workers):
+            next_for(w)
+        while pending or running:
+            if not running and not pings:
+                raise RuntimeError("every worker is gone and none can be restarted")
+            refs = list(running) + list(pings)
+            # Every completion that is ready, in one call (a driver of many workers would
+            # otherwise scan all outstanding references once per completion).
+            ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
+            if not ready:
+                ready, _ = ray.wait(refs, num_returns=1)
+            for ref in ready:
+                handle(ref)
         t_finish = time.perf_counter()
-        directory = driver.finish([int(n) for n in lengths])  # type: ignore[arg-type]
+        directory = driver.finish(done_eps)  # type: ignore[arg-type]
         if stats is not None:
             now = time.perf_counter()
             stats.update(
                 total_s=now - t_start,
-                worker_s=worker_s,
+                worker_s=tally["worker_s"],
                 finish_s=now - t_finish,
                 chunks=n_chunks,
-                retries=retries,
-                steps=int(sum(lengths)),  # type: ignore[arg-type]
+                retries=tally["retries"],
+                steps=sum(e[0] for e in done_eps),  # type: ignore[index]
             )
         return directory
     finally:

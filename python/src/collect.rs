@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use envc::dataset::{
     CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, Plan, PlanActor,
-    PlanPolicy,
+    PlanPolicy, ShardEpisode,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
@@ -336,16 +336,20 @@ impl ShardedCollection {
         &self.staging
     }
 
-    /// Publish: `lengths[i]` is episode i's step count as its worker reported it. Returns the
-    /// dataset's directory.
-    fn finish(&mut self, py: Python<'_>, lengths: Vec<u64>) -> PyResult<String> {
+    /// Publish: `episodes[i]` is `(steps, bytes)` as episode i's worker reported it
+    /// (`collect_shard`). Returns the dataset's directory.
+    fn finish(&mut self, py: Python<'_>, episodes: Vec<(u64, u64)>) -> PyResult<String> {
+        let episodes: Vec<ShardEpisode> = episodes
+            .into_iter()
+            .map(|(steps, bytes)| ShardEpisode { steps, bytes })
+            .collect();
         let c = self.collector.take().ok_or_else(|| {
             PyRuntimeError::new_err("the collection is already finished or aborted")
         })?;
         let dir = py
             .detach(|| match c {
-                DriverCollector::Task(c) => c.finish_shards(&lengths),
-                DriverCollector::Maze(c) => c.finish_shards(&lengths),
+                DriverCollector::Task(c) => c.finish_shards(&episodes),
+                DriverCollector::Maze(c) => c.finish_shards(&episodes),
             })
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(dir.display().to_string())
@@ -358,7 +362,8 @@ impl ShardedCollection {
 }
 
 /// A worker's part of a sharded collection: episodes `start..end` of the plan (same arguments as
-/// the driver's, and its resolved `seed`) recorded into `staging`; returns each episode's steps.
+/// the driver's, and its resolved `seed`) recorded into `staging`; returns each episode's
+/// `(steps, bytes)` for the driver's `finish`.
 #[pyfunction]
 #[pyo3(signature = (id_or_path, staging, start, end, seed, policy = "random", format = "arrow", overrides = Vec::new(), actions = None, policy_fn = None))]
 #[allow(clippy::too_many_arguments)]
@@ -374,7 +379,7 @@ pub fn collect_shard(
     overrides: Vec<(String, String)>,
     actions: Option<Vec<f32>>,
     policy_fn: Option<Py<PyAny>>,
-) -> PyResult<Vec<u64>> {
+) -> PyResult<Vec<(u64, u64)>> {
     let plan_policy = plan_policy(policy, actions, policy_fn.is_some())?;
     let format = self::format(format)?;
     let (env, _) = open_env(id_or_path, &overrides)?;
@@ -393,5 +398,6 @@ pub fn collect_shard(
             .and_then(|a| envc::dataset::record_shard(*e, seed, range, &staging, format, a)),
         (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
     });
-    r.map_err(|e| collect_error(e, py_policy.as_mut()))
+    let episodes = r.map_err(|e| collect_error(e, py_policy.as_mut()))?;
+    Ok(episodes.into_iter().map(|e| (e.steps, e.bytes)).collect())
 }

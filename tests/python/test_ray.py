@@ -38,6 +38,15 @@ def _envc_cli() -> str:
     return str(ROOT / "target" / "debug" / "envc")
 
 
+def _temp_base() -> str:
+    """Where the cluster's session files go: $ENVC_RAY_TMP, else /dev/shm (short socket paths,
+    and out of reach of /tmp cleaners, which delete a live cluster's sockets), else /tmp."""
+    base = os.environ.get("ENVC_RAY_TMP")
+    if base:
+        return base
+    return "/dev/shm" if os.access("/dev/shm", os.W_OK) else "/tmp"
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -63,7 +72,7 @@ def _processes_under(tag: str) -> list[int]:
 
 @pytest.fixture(scope="module")
 def cluster():
-    temp = tempfile.mkdtemp(prefix=f"ray-envc-{os.getpid()}-", dir="/tmp")
+    temp = tempfile.mkdtemp(prefix=f"envcray-{os.getpid()}-", dir=_temp_base())
     port = _free_port()
     common = [
         "--num-cpus=1",
@@ -71,11 +80,16 @@ def cluster():
         "--disable-usage-stats",
         f"--node-manager-port={_free_port()}",
         f"--object-manager-port={_free_port()}",
-        f"--min-worker-port={20000 + os.getpid() % 20000}",
-        f"--max-worker-port={20000 + os.getpid() % 20000 + 200}",
     ]
     ray_bin = str(VENV_BIN / "ray")
+    # Our own HOME: another Ray on this machine may have left ~/.ray/auth_token (token
+    # authentication), which is not this cluster's business.
+    home = os.path.join(temp, "home")
+    os.makedirs(home)
     env = {k: v for k, v in os.environ.items() if not k.startswith("RAY_")}
+    env.update(HOME=home, RAY_AUTH_MODE="disabled")
+    saved = {"RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE")}
+    os.environ["RAY_AUTH_MODE"] = "disabled"
     try:
         head = [ray_bin, "start", "--head", "--node-ip-address=127.0.0.1", f"--port={port}",
                 f"--temp-dir={temp}", "--include-dashboard=false",
@@ -83,8 +97,6 @@ def cluster():
         subprocess.run(head, check=True, capture_output=True, timeout=120, env=env)
         common[3] = f"--node-manager-port={_free_port()}"
         common[4] = f"--object-manager-port={_free_port()}"
-        common[5] = f"--min-worker-port={20300 + os.getpid() % 20000}"
-        common[6] = f"--max-worker-port={20300 + os.getpid() % 20000 + 200}"
         node = [ray_bin, "start", f"--address=127.0.0.1:{port}", "--node-ip-address=127.0.0.1", *common]
         r = subprocess.run(node, capture_output=True, timeout=120, env=env)
         assert r.returncode == 0, r.stdout.decode()[-3000:] + r.stderr.decode()[-3000:]
@@ -99,6 +111,11 @@ def cluster():
     finally:
         if ray.is_initialized():
             ray.shutdown()
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
         for _ in range(3):
             pids = _processes_under(temp)
             for pid in pids:
@@ -252,3 +269,31 @@ def test_a_killed_driver_leaves_nothing_loadable_and_a_rerun_starts_over(cluster
     one = envc.collect("Hopper-v5", "tests/k-v0", 60, seed=1, root=tmp_path / "one",
                        policy=lambda o, r: r.uniform(-1.0, 1.0, 3), **HOPPER)
     _same_dataset(Path(one), root / "tests" / "k-v0")
+
+
+@pytest.mark.parametrize("fmt", ["arrow", "hdf5"])
+def test_shards_in_any_order_merge_into_the_one_process_dataset(tmp_path, fmt):
+    """The sharded path without Ray: chunks recorded out of order (one twice, as a re-run after a
+    worker death) merge into the dataset envc.collect writes."""
+    from envc import _envc
+    from envc._gym import overrides_to_toml
+
+    one = Path(envc.collect("Hopper-v5", "tests/sh-v0", 7, seed=3, root=tmp_path / "one", format=fmt, **HOPPER))
+    ov = overrides_to_toml(HOPPER)
+    d = _envc.ShardedCollection("Hopper-v5", "tests/sh-v0", 7, "random", 3, fmt, str(tmp_path / "sh"), ov)
+    got: dict[int, tuple[int, int]] = {}
+    for lo, hi in [(4, 7), (0, 2), (2, 4), (0, 2)]:
+        for i, e in zip(range(lo, hi), _envc.collect_shard("Hopper-v5", d.staging, lo, hi, d.seed, "random", fmt, ov)):
+            got[i] = e
+    out = Path(d.finish([got[i] for i in range(7)]))
+    if fmt == "arrow":
+        _same_dataset(one, out)
+    else:
+        import minari
+
+        a, b = minari.load_dataset(str(one)), minari.load_dataset(str(out))
+        for ea, eb in zip(a.iterate_episodes(), b.iterate_episodes()):
+            np.testing.assert_array_equal(ea.observations, eb.observations)
+            np.testing.assert_array_equal(ea.actions, eb.actions)
+        assert (one / "data" / "metadata.json").read_bytes() == (out / "data" / "metadata.json").read_bytes()
+    assert not (tmp_path / "sh" / ".envc-staging").exists()

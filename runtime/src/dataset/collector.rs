@@ -168,10 +168,13 @@ impl<E: Recordable> Collector<E> {
     }
 
     /// Publish the episodes workers wrote into this collector's staging directory
-    /// ([`super::record_shard`]): `lengths[i]` is episode i's step count as its worker reported
-    /// it. They are checked against the disk (E1210) before the rename, as [`Collector::finish`].
-    pub fn finish_shards(mut self, lengths: &[u64]) -> Result<PathBuf, DatasetError> {
-        self.writer.adopt_shards(lengths)?;
+    /// ([`super::record_shard`]): `episodes[i]` is what episode i's worker reported. They are
+    /// checked against the disk (E1210) before the rename, as [`Collector::finish`].
+    pub fn finish_shards(
+        mut self,
+        episodes: &[super::ShardEpisode],
+    ) -> Result<PathBuf, DatasetError> {
+        self.writer.adopt_shards(episodes)?;
         self.writer.finish()
     }
 

@@ -51,6 +51,7 @@ pub use plan::{
 };
 pub use reader::Dataset;
 pub use recordable::{Recordable, Recorded};
+pub use shard::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
 pub use writer::{DatasetInfo, DatasetWriter, STAGING_DIR, default_root};

@@ -12,7 +12,7 @@ use super::Format;
 use super::collector::{CollectOptions, Collector};
 use super::error::DatasetError;
 use super::recordable::Recordable;
-use super::shard::ShardCollector;
+use super::shard::{ShardCollector, ShardEpisode};
 use crate::BoxSpace;
 use crate::rng::{NumpyRng, SeedSequence};
 
@@ -226,7 +226,7 @@ pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
 
 /// Record episodes `range` of a plan (with its resolved `seed`) into the staging directory of a
 /// sharded collection ([`super::Collector::staging`] of the driver's collector, on storage every
-/// worker shares); returns each episode's step count, in order. Episodes already there (from an
+/// worker shares); returns each episode's steps and bytes, in order. Episodes already there (from an
 /// attempt that died after writing them) are recorded again and left as they were: they are the
 /// same bytes.
 pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
@@ -236,7 +236,7 @@ pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
     staging: &Path,
     format: Format,
     mut policy: P,
-) -> Result<Vec<u64>, DatasetError> {
+) -> Result<Vec<ShardEpisode>, DatasetError> {
     let mut shard = ShardCollector::new(env, staging, format)?;
     let mut lengths = Vec::with_capacity((range.end - range.start) as usize);
     for ep in range {
@@ -246,7 +246,7 @@ pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
         // Checked before writing: episodes in a shared staging directory are never rewritten.
         policy.check()?;
         run?;
-        lengths.push(shard.write(ep)? as u64);
+        lengths.push(shard.write(ep)?);
     }
     Ok(lengths)
 }

@@ -2,9 +2,9 @@
 //! episode ranges straight into the staging directory of a collection whose driver holds the lock
 //! (`staging.rs`); the driver then publishes them with `Collector::finish_shards`.
 //!
-//! Arrow: an episode is written to `<staging>/tmp/<i>.<pid>.<nanos>/<i>/` and renamed to
-//! `<staging>/ds/data/<i>` in one step, so `data/` only ever holds whole episodes, each the same
-//! bytes as one process would write. HDF5 keeps every episode in one file, which only the driver
+//! Arrow: an episode is written to the worker's `<staging>/tmp/0.<pid>.<nanos>/<i>/`, read back
+//! (the worker's share of the E1210 check), and renamed to `<staging>/ds/data/<i>` in one step, so
+//! `data/` only ever holds whole episodes, each the same bytes as one process would write. HDF5 keeps every episode in one file, which only the driver
 //! can write: a worker writes `<staging>/shards/<i>.episode` (the episode's arrays, raw, renamed
 //! into place the same way) and the driver appends them in index order with the one HDF5 writer.
 //! A worker killed mid-episode leaves only a `tmp` entry, never inside the dataset; a rerun of an
@@ -21,6 +21,15 @@ use super::error::{DatasetError, io};
 use super::recordable::Recordable;
 use super::space::Space;
 
+/// What a worker reports of each episode it recorded: all the driver needs to merge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShardEpisode {
+    pub steps: u64,
+    /// Bytes of its Arrow files (`dataset_size` is their sum); 0 for HDF5, where the driver
+    /// measures the one file it writes.
+    pub bytes: u64,
+}
+
 /// Where a worker writes raw HDF5-bound episodes inside the staging directory.
 pub(crate) const SHARDS_DIR: &str = "shards";
 
@@ -34,14 +43,16 @@ pub(crate) struct ShardCollector<E: Recordable> {
     act_dim: usize,
     /// The reset seed of the episode in the buffers.
     seed: u64,
+    /// `<staging>/tmp/<pid>.<nanos>/`: episodes are written here, then renamed into place.
+    tmp: Option<PathBuf>,
 }
 
-fn unique(index: u64) -> String {
+fn unique(n: u64) -> String {
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_nanos())
         .unwrap_or(0);
-    format!("{index}.{}.{nanos}", std::process::id())
+    format!("{n}.{}.{nanos}", std::process::id())
 }
 
 /// `dir` inside `staging`, created if missing, but never the staging directory itself: one that
@@ -94,6 +105,7 @@ impl<E: Recordable> ShardCollector<E> {
             staging: staging.to_path_buf(),
             format,
             seed: 0,
+            tmp: None,
         })
     }
 
@@ -107,29 +119,77 @@ impl<E: Recordable> ShardCollector<E> {
         self.buffers.run(&mut self.env, seed, policy).map(|_| ())
     }
 
-    /// Write the episode just run as episode `index`; returns its step count.
-    pub(crate) fn write(&mut self, index: u64) -> Result<usize, DatasetError> {
+    /// This worker's own directory under `<staging>/tmp`, made once (not per episode).
+    fn tmp(&mut self) -> Result<PathBuf, DatasetError> {
+        if let Some(t) = &self.tmp {
+            return Ok(t.clone());
+        }
+        let t = subdir(&self.staging, "tmp")?.join(unique(0));
+        fs::create_dir(&t).map_err(io(&t))?;
+        self.tmp = Some(t.clone());
+        Ok(t)
+    }
+
+    /// Write the episode just run as episode `index`.
+    pub(crate) fn write(&mut self, index: u64) -> Result<ShardEpisode, DatasetError> {
+        let tmp = self.tmp()?;
         let record = self.buffers.record(self.seed);
-        let tmp = subdir(&self.staging, "tmp")?.join(unique(index));
         match self.format {
             Format::Arrow => {
-                fs::create_dir(&tmp).map_err(io(&tmp))?;
                 let written =
-                    arrow_io::write_episode(&tmp, index, &record, &self.obs_space, self.act_dim);
+                    arrow_io::write_episode(&tmp, index, &record, &self.obs_space, self.act_dim)
+                        .and_then(|()| read_back(&tmp, index, record.steps()));
+                let from = tmp.join(index.to_string());
                 let target = self.staging.join("ds").join("data").join(index.to_string());
-                let published =
-                    written.and_then(|()| publish(&tmp.join(index.to_string()), &target));
-                let _ = fs::remove_dir_all(&tmp);
-                published?;
+                let published = written
+                    .and_then(|()| super::writer::dir_size(&from).map_err(io(&from)))
+                    .and_then(|bytes| publish(&from, &target).map(|()| bytes));
+                if published.is_err() {
+                    let _ = fs::remove_dir_all(&from);
+                }
+                return Ok(ShardEpisode {
+                    steps: record.steps() as u64,
+                    bytes: published?,
+                });
             }
             Format::Hdf5 => {
                 let dir = subdir(&self.staging, SHARDS_DIR)?;
-                fs::write(&tmp, encode(&record)).map_err(io(&tmp))?;
-                publish(&tmp, &dir.join(format!("{index}.episode")))?;
+                let from = tmp.join(format!("{index}.episode"));
+                fs::write(&from, encode(&record)).map_err(io(&from))?;
+                publish(&from, &dir.join(format!("{index}.episode")))?;
             }
         }
-        Ok(record.steps())
+        Ok(ShardEpisode {
+            steps: record.steps() as u64,
+            bytes: 0,
+        })
     }
+}
+
+impl<E: Recordable> Drop for ShardCollector<E> {
+    fn drop(&mut self) {
+        if let Some(t) = &self.tmp {
+            let _ = fs::remove_dir_all(t);
+        }
+    }
+}
+
+/// The worker's share of the read-back check (E1210): the episode just written reads back, from
+/// the shared storage, with its T+1 rows and its own `total_steps`. The driver then only checks
+/// that every episode is in place, so the merge never reads the episode data (docs/SCALING.md).
+fn read_back(tmp: &Path, index: u64, steps: usize) -> Result<(), DatasetError> {
+    let (batch, meta) = arrow_io::read_episode(tmp, index)?;
+    let stored = meta.get("total_steps").and_then(|v| v.as_u64());
+    if batch.num_rows() != steps + 1 || stored != Some(steps as u64) {
+        return Err(DatasetError::Unverified {
+            path: tmp.join(index.to_string()),
+            why: format!(
+                "episode {index} reads back with {} rows and total_steps {stored:?}; {steps} steps were written",
+                batch.num_rows()
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// An episode read back from a shard file.
