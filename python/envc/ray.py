@@ -9,9 +9,10 @@ workers, their speed, and which of them died on the way.
 
 Workers write their episodes straight into the dataset's staging directory (hidden in the
 datasets root, which must be storage every node shares, e.g. NFS); the driver holds that
-directory's lock, collects only the episode lengths, then checks the episodes against the
-metadata and renames the dataset into place (docs/datasets.md, "Sharded collection"). A dead
-actor's chunk is queued again (Ray restarts the actor, on another node if its node is gone); a
+directory's lock, collects only each episode's steps and bytes, then checks that every episode
+is in place and renames the dataset into place (docs/datasets.md, "Sharded collection"). A dead
+actor's chunk goes to the next free actor (Ray restarts the dead one, on another node if its node
+is gone, and it rejoins); a
 killed driver leaves only the hidden staging directory, removed by the next collection in that
 root: a re-run with the same arguments starts over cleanly.
 
@@ -95,7 +96,7 @@ def collect(
 ) -> str:
     """Collect a Minari dataset on Ray; returns its directory. Same arguments and same dataset
     as :func:`envc.collect`, plus ``num_workers`` (actors, one CPU each), ``chunk_size``
-    (episodes per task; default about episodes / (8 * workers), at most 64) and ``address``
+    (episodes per task; default about episodes / (8 * workers)) and ``address``
     (``ray.init(address)`` when Ray is not initialised yet; ``None`` starts a local Ray).
 
     ``policy`` may be a callable ``policy(obs, rng) -> action`` (for example an SB3 model's
