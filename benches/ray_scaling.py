@@ -32,11 +32,12 @@ import ray
 
 
 def _temp_base() -> str:
-    """$ENVC_RAY_TMP, else /dev/shm (out of reach of /tmp cleaners), else /tmp."""
+    """Where the cluster's session files go: $ENVC_RAY_TMP, else /tmp (Ray's unix sockets need a
+    short path)."""
     base = os.environ.get("ENVC_RAY_TMP")
     if base:
         return base
-    return "/dev/shm" if os.access("/dev/shm", os.W_OK) else "/tmp"
+    return "/tmp"
 
 
 def free_port() -> int:
@@ -68,7 +69,7 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--chunk-size", type=int)
     a = ap.parse_args()
-    temp = tempfile.mkdtemp(prefix=f"envcray-bench-{os.getpid()}-", dir=_temp_base())
+    temp = tempfile.mkdtemp(prefix=f"ray-envc-bench-{os.getpid()}-", dir=_temp_base())
     out = Path(tempfile.mkdtemp(prefix="envc-scaling-"))
     port = free_port()
     home = os.path.join(temp, "home")  # not ~/.ray: another Ray's auth token is not ours

@@ -39,12 +39,12 @@ def _envc_cli() -> str:
 
 
 def _temp_base() -> str:
-    """Where the cluster's session files go: $ENVC_RAY_TMP, else /dev/shm (short socket paths,
-    and out of reach of /tmp cleaners, which delete a live cluster's sockets), else /tmp."""
+    """Where the cluster's session files go: $ENVC_RAY_TMP, else /tmp (Ray's unix sockets need a
+    short path)."""
     base = os.environ.get("ENVC_RAY_TMP")
     if base:
         return base
-    return "/dev/shm" if os.access("/dev/shm", os.W_OK) else "/tmp"
+    return "/tmp"
 
 
 def _free_port() -> int:
@@ -72,7 +72,7 @@ def _processes_under(tag: str) -> list[int]:
 
 @pytest.fixture(scope="module")
 def cluster():
-    temp = tempfile.mkdtemp(prefix=f"envcray-{os.getpid()}-", dir=_temp_base())
+    temp = tempfile.mkdtemp(prefix=f"ray-envc-{os.getpid()}-", dir=_temp_base())
     port = _free_port()
     common = [
         "--num-cpus=1",
@@ -106,7 +106,6 @@ def cluster():
         while len([n for n in ray.nodes() if n["Alive"]]) < 2:
             assert time.time() < deadline, "the second node never joined"
             time.sleep(0.5)
-        shutil.rmtree(temp, ignore_errors=True)
         yield address
     finally:
         if ray.is_initialized():
@@ -126,6 +125,7 @@ def cluster():
             if not pids:
                 break
             time.sleep(0.5)
+        shutil.rmtree(temp, ignore_errors=True)
 
 
 def _files(d: Path) -> dict[str, bytes]:
