@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -16,7 +16,7 @@ def collect(
     dataset_id: str,
     episodes: int = 10,
     *,
-    policy: str = "random",
+    policy: str | Callable[[np.ndarray, np.random.Generator], Any] = "random",
     seed: int | None = None,
     format: str = "arrow",
     root: str | os.PathLike | None = None,
@@ -29,8 +29,12 @@ def collect(
     """Record a Minari dataset of a task or maze spec; returns the dataset's directory.
 
     The same recording as ``envc collect``: ``policy`` is ``"zero"``, ``"random"`` (uniform
-    float32 in the action bounds) or ``"replay"`` (rows of ``actions``, an array
-    ``[T, act_dim]``); episode ``i`` is reset with ``seed + i`` (OS entropy without a seed).
+    float32 in the action bounds, episode ``i`` drawing from ``numpy.random.default_rng([seed,
+    i])``), ``"replay"`` (rows of ``actions``, an array ``[T, act_dim]``, from row 0 in every
+    episode) or a callable ``policy(obs, rng) -> action`` (task envs), whose ``rng`` is episode
+    ``i``'s ``default_rng([seed, i])``. Episode ``i`` is reset with ``seed + i``; without a seed
+    one is drawn from OS entropy (episode 0's stored seed). Episode ``i`` depends on ``(seed,
+    i)`` only, so ``envc.ray.collect`` writes the same dataset on any number of machines.
     ``root`` defaults to ``$MINARI_DATASETS_PATH``, else ``~/.minari/datasets``; ``format`` is
     ``"arrow"`` or ``"hdf5"``. Keyword arguments are the spec's parameters, stored as the
     dataset's env kwargs. The dataset appears only once every episode is written.
@@ -39,16 +43,14 @@ def collect(
     default) names the reference's class (Gymnasium's ``AntEnv``, ...), ``"envc"`` names envc's
     own registration (``envc/<id>``), so that recovering needs only ``import envc``.
     """
-    rows = None
-    if actions is not None:
-        a = np.asarray(actions, dtype=np.float32)
-        if a.ndim != 2:
-            raise ValueError(f"actions must be a 2-D array [T, act_dim], got shape {a.shape}")
-        rows = a.ravel().tolist()
+    rows = _replay_rows(actions)
+    policy_fn = None
+    if callable(policy):
+        policy_fn, policy = policy, "callable"
     if env_spec not in ("reference", "envc"):
         raise ValueError(f"env_spec={env_spec!r}: expected 'reference' or 'envc'")
     spec_json = _envc_spec_json(id_or_path, overrides) if env_spec == "envc" else None
-    directory, _steps = _envc.collect(
+    directory, _steps, _seed = _envc.collect(
         os.fspath(id_or_path),
         dataset_id,
         int(episodes),
@@ -61,8 +63,18 @@ def collect(
         author,
         description,
         spec_json,
+        policy_fn,
     )
     return directory
+
+
+def _replay_rows(actions: Any) -> list[float] | None:
+    if actions is None:
+        return None
+    a = np.asarray(actions, dtype=np.float32)
+    if a.ndim != 2:
+        raise ValueError(f"actions must be a 2-D array [T, act_dim], got shape {a.shape}")
+    return a.ravel().tolist()
 
 
 def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:

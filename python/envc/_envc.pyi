@@ -2,7 +2,7 @@
 classes; these are the objects they wrap."""
 
 from os import PathLike
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import numpy.typing as npt
@@ -39,7 +39,48 @@ def collect(
     author: str | None = ...,
     description: str | None = ...,
     env_spec: str | None = ...,
-) -> tuple[str, int]: ...
+    policy_fn: Callable[[npt.NDArray[np.float64], np.random.Generator], Any] | None = ...,
+) -> tuple[str, int, int]:
+    """`(dataset directory, steps, seed)`."""
+
+def collect_shard(
+    id_or_path: str,
+    staging: str | PathLike[str],
+    start: int,
+    end: int,
+    seed: int,
+    policy: str = ...,
+    format: str = ...,
+    overrides: list[tuple[str, str]] = ...,
+    actions: list[float] | None = ...,
+    policy_fn: Callable[[npt.NDArray[np.float64], np.random.Generator], Any] | None = ...,
+) -> list[tuple[int, int]]:
+    """A worker's episodes `start..end` into a sharded collection's staging directory:
+    `(steps, bytes)` of each."""
+
+class ShardedCollection:
+    """The driver of a sharded collection (holds the staging directory's lock)."""
+
+    seed: int
+    staging: str
+    def __init__(
+        self,
+        id_or_path: str,
+        dataset_id: str,
+        episodes: int,
+        policy: str = ...,
+        seed: int | None = ...,
+        format: str = ...,
+        root: str | PathLike[str] | None = ...,
+        overrides: list[tuple[str, str]] = ...,
+        actions: list[float] | None = ...,
+        author: str | None = ...,
+        description: str | None = ...,
+        env_spec: str | None = ...,
+        callable: bool = ...,
+    ) -> None: ...
+    def finish(self, episodes: list[tuple[int, int]]) -> str: ...
+    def abort(self) -> None: ...
 
 class TaskCore:
     id: str

@@ -1,63 +1,53 @@
-//! `envc.collect`: a Minari dataset written by the same code as `envc collect`.
+//! `envc.collect` and the sharded collection under `envc.ray`: Minari datasets written by the same
+//! code as `envc collect`. A sharded collection is a driver (`ShardedCollection`: claims the
+//! staging directory, holds its lock, publishes) and workers (`collect_shard`: record episode
+//! ranges straight into that directory); see runtime/src/dataset/shard.rs.
 
+use std::path::PathBuf;
+
+use envc::dataset::{
+    CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, Plan, PlanActor,
+    PlanPolicy, ShardEpisode,
+};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::{convert, errors};
 
-/// Record `episodes` episodes of a task or maze spec into a Minari dataset; returns
-/// `(dataset directory, steps)`. The GIL is released while the episodes run. `env_spec`: the
-/// Gymnasium `EnvSpec` JSON to store instead of the reference's (the Python layer's `"envc"`).
-#[pyfunction]
-#[pyo3(signature = (id_or_path, dataset_id, episodes, policy = "random", seed = None, format = "arrow", root = None, overrides = Vec::new(), actions = None, author = None, description = None, env_spec = None))]
-#[allow(clippy::too_many_arguments)]
-pub fn collect(
-    py: Python<'_>,
-    id_or_path: &str,
-    dataset_id: &str,
-    episodes: u64,
-    policy: &str,
-    seed: Option<u64>,
-    format: &str,
-    root: Option<std::path::PathBuf>,
-    overrides: Vec<(String, String)>,
-    actions: Option<Vec<f32>>,
-    author: Option<String>,
-    description: Option<String>,
-    env_spec: Option<String>,
-) -> PyResult<(String, u64)> {
-    use envc::dataset::{CollectOptions, DatasetInfo, Format, Plan, PlanPolicy};
-    use pyo3::exceptions::{PyTypeError, PyValueError};
-    let policy = match (policy, actions) {
-        ("zero", None) => PlanPolicy::Zero,
-        ("random", None) => PlanPolicy::Random,
-        ("replay", Some(a)) => PlanPolicy::Replay(a),
-        ("replay", None) => return Err(PyValueError::new_err("policy='replay' needs actions")),
-        ("zero" | "random", Some(_)) => {
+fn plan_policy(policy: &str, actions: Option<Vec<f32>>, has_fn: bool) -> PyResult<PlanPolicy> {
+    Ok(match (policy, actions, has_fn) {
+        ("zero", None, false) => PlanPolicy::Zero,
+        ("random", None, false) => PlanPolicy::Random,
+        ("replay", Some(a), false) => PlanPolicy::Replay(a),
+        ("callable", None, true) => PlanPolicy::Callable,
+        ("replay", None, _) => return Err(PyValueError::new_err("policy='replay' needs actions")),
+        (_, Some(_), _) => {
             return Err(PyValueError::new_err(
                 "actions are only used with policy='replay'",
             ));
         }
-        (other, _) => {
+        (other, _, _) => {
             return Err(PyValueError::new_err(format!(
-                "policy={other:?}: expected 'zero', 'random' or 'replay'"
+                "policy={other:?}: expected 'zero', 'random', 'replay' or a callable policy(obs, rng) -> action"
             )));
         }
-    };
-    let format = match format {
-        "arrow" => Format::Arrow,
-        "hdf5" => Format::Hdf5,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "format={other:?}: expected 'arrow' or 'hdf5'"
-            )));
-        }
-    };
-    let plan = Plan {
-        episodes,
-        policy,
-        seed,
-    };
-    let env = envc::open(id_or_path, &convert::overrides(&overrides)).map_err(errors::env_error)?;
+    })
+}
+
+fn format(name: &str) -> PyResult<Format> {
+    match name {
+        "arrow" => Ok(Format::Arrow),
+        "hdf5" => Ok(Format::Hdf5),
+        other => Err(PyValueError::new_err(format!(
+            "format={other:?}: expected 'arrow' or 'hdf5'"
+        ))),
+    }
+}
+
+/// The env of a collection: a task or a maze with a time limit.
+fn open_env(id_or_path: &str, overrides: &[(String, String)]) -> PyResult<(envc::AnyEnv, String)> {
+    let env = envc::open(id_or_path, &convert::overrides(overrides)).map_err(errors::env_error)?;
     let id = match &env {
         envc::AnyEnv::Agents(_) => {
             return Err(PyTypeError::new_err(format!(
@@ -72,26 +62,342 @@ pub fn collect(
             "error[E1401]: `{id}` has no time limit, so collect might never end an episode; pass max_episode_steps=N as an override"
         )));
     }
+    Ok((env, id))
+}
+
+/// A Python `policy(obs, rng) -> action`, called with the GIL for each step; `rng` is episode i's
+/// `numpy.random.default_rng([seed, i])`. An exception (or a wrong action) is kept and reported
+/// after the episode, which is then never written.
+struct PyPolicy {
+    f: Py<PyAny>,
+    rng: Option<Py<PyAny>>,
+    episode: u64,
+    err: Option<PyErr>,
+}
+
+impl PyPolicy {
+    fn new(f: Py<PyAny>) -> PyPolicy {
+        PyPolicy {
+            f,
+            rng: None,
+            episode: 0,
+            err: None,
+        }
+    }
+    fn call(&mut self, obs: &[f64], action: &mut [f32]) -> PyResult<()> {
+        Python::attach(|py| {
+            let o = PyArray1::from_slice(py, obs);
+            let rng = self.rng.as_ref().map(|r| r.bind(py).clone());
+            let out = self.f.bind(py).call1((o, rng))?;
+            let np = py.import("numpy")?;
+            let a = np
+                .call_method1("asarray", (out, "float32"))?
+                .call_method0("ravel")?;
+            let a = a.cast_into::<PyArray1<f32>>()?;
+            let ro = a.readonly();
+            let v = ro.as_slice()?;
+            if v.len() != action.len() {
+                return Err(PyValueError::new_err(format!(
+                    "the policy returned {} action values; the action space has {}",
+                    v.len(),
+                    action.len()
+                )));
+            }
+            action.copy_from_slice(v);
+            Ok(())
+        })
+    }
+}
+
+impl EpisodePolicy<[f64]> for &mut PyPolicy {
+    fn begin(&mut self, seed: u64, episode: u64) {
+        self.episode = episode;
+        if self.err.is_some() {
+            return;
+        }
+        let made = Python::attach(|py| -> PyResult<Py<PyAny>> {
+            let rng = py
+                .import("numpy.random")?
+                .call_method1("default_rng", (vec![seed, episode],))?;
+            Ok(rng.unbind())
+        });
+        match made {
+            Ok(r) => self.rng = Some(r),
+            Err(e) => self.err = Some(e),
+        }
+    }
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
+        if self.err.is_none()
+            && let Err(e) = self.call(obs, action)
+        {
+            self.err = Some(e);
+        }
+        if self.err.is_some() {
+            action.fill(0.0);
+        }
+    }
+    fn check(&mut self) -> Result<(), DatasetError> {
+        match &self.err {
+            None => Ok(()),
+            Some(e) => Err(DatasetError::PolicyFailed {
+                episode: self.episode,
+                why: e.to_string(),
+            }),
+        }
+    }
+}
+
+/// The Python exception for a collection error: the policy's own exception when it raised.
+fn collect_error(e: DatasetError, policy: Option<&mut PyPolicy>) -> PyErr {
+    if let Some(err) = policy.and_then(|p| p.err.take()) {
+        return err;
+    }
+    PyValueError::new_err(e.to_string())
+}
+
+/// Record `episodes` episodes of a task or maze spec into a Minari dataset; returns
+/// `(dataset directory, steps, seed)`. The GIL is released while the episodes run (a callable
+/// policy takes it for each step). `env_spec`: the Gymnasium `EnvSpec` JSON to store instead of
+/// the reference's (the Python layer's `"envc"`).
+#[pyfunction]
+#[pyo3(signature = (id_or_path, dataset_id, episodes, policy = "random", seed = None, format = "arrow", root = None, overrides = Vec::new(), actions = None, author = None, description = None, env_spec = None, policy_fn = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn collect(
+    py: Python<'_>,
+    id_or_path: &str,
+    dataset_id: &str,
+    episodes: u64,
+    policy: &str,
+    seed: Option<u64>,
+    format: &str,
+    root: Option<PathBuf>,
+    overrides: Vec<(String, String)>,
+    actions: Option<Vec<f32>>,
+    author: Option<String>,
+    description: Option<String>,
+    env_spec: Option<String>,
+    policy_fn: Option<Py<PyAny>>,
+) -> PyResult<(String, u64, u64)> {
+    let plan = Plan {
+        episodes,
+        policy: plan_policy(policy, actions, policy_fn.is_some())?,
+        seed,
+    };
+    let format = self::format(format)?;
+    let (env, id) = open_env(id_or_path, &overrides)?;
+    let opts = options(
+        &plan,
+        &id,
+        dataset_id,
+        format,
+        root,
+        author,
+        description,
+        env_spec,
+    );
+    let mut py_policy = policy_fn.map(PyPolicy::new);
+    let r = py.detach(|| match (env, py_policy.as_mut()) {
+        (envc::AnyEnv::Task(e), Some(p)) => envc::dataset::record_with(e, &plan, opts, p, |_, _| {}),
+        (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
+            "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'".into(),
+        )),
+        (envc::AnyEnv::Task(e), None) => envc::dataset::record(e, &plan, opts, |_, _| {}),
+        (envc::AnyEnv::Maze(e), None) => envc::dataset::record(*e, &plan, opts, |_, _| {}),
+        (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
+    });
+    let r = r.map_err(|e| collect_error(e, py_policy.as_mut()))?;
+    Ok((r.dir.display().to_string(), r.steps, r.seed))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn options(
+    plan: &Plan,
+    id: &str,
+    dataset_id: &str,
+    format: Format,
+    root: Option<PathBuf>,
+    author: Option<String>,
+    description: Option<String>,
+    env_spec: Option<String>,
+) -> CollectOptions {
     let info = DatasetInfo {
         author: vec![author.unwrap_or_else(|| "envc".into())],
         description: Some(
-            description.unwrap_or_else(|| envc::dataset::default_description(&plan, &id)),
+            description.unwrap_or_else(|| envc::dataset::default_description(plan, id)),
         ),
+        algorithm_name: Some(plan.policy.name().to_string()),
         env_spec,
         ..DatasetInfo::default()
     };
-    let opts = CollectOptions {
+    CollectOptions {
         root,
         dataset_id: dataset_id.to_string(),
         format,
         info,
-    };
-    let r = py
-        .detach(|| match env {
-            envc::AnyEnv::Task(e) => envc::dataset::record(e, &plan, opts, |_, _| {}),
-            envc::AnyEnv::Maze(e) => envc::dataset::record(*e, &plan, opts, |_, _| {}),
-            envc::AnyEnv::Agents(_) => unreachable!("refused above"),
+    }
+}
+
+// One per collection, held for its whole life: the size does not matter.
+#[allow(clippy::large_enum_variant)]
+enum DriverCollector {
+    Task(Collector<envc::Env>),
+    Maze(Collector<envc::maze::MazeEnv>),
+}
+
+/// The driver of a sharded collection: claims the dataset's staging directory (and holds its
+/// lock) on creation, so workers can write into `staging`; `finish(lengths)` checks and
+/// publishes. Dropped unfinished (or its process killed), nothing is published and the next
+/// collection in the root removes the staging directory.
+#[pyclass(module = "envc._envc", unsendable)]
+pub struct ShardedCollection {
+    collector: Option<DriverCollector>,
+    seed: u64,
+    staging: String,
+}
+
+#[pymethods]
+impl ShardedCollection {
+    #[new]
+    #[pyo3(signature = (id_or_path, dataset_id, episodes, policy = "random", seed = None, format = "arrow", root = None, overrides = Vec::new(), actions = None, author = None, description = None, env_spec = None, callable = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        id_or_path: &str,
+        dataset_id: &str,
+        episodes: u64,
+        policy: &str,
+        seed: Option<u64>,
+        format: &str,
+        root: Option<PathBuf>,
+        overrides: Vec<(String, String)>,
+        actions: Option<Vec<f32>>,
+        author: Option<String>,
+        description: Option<String>,
+        env_spec: Option<String>,
+        callable: bool,
+    ) -> PyResult<ShardedCollection> {
+        let plan = Plan {
+            episodes,
+            policy: plan_policy(policy, actions, callable)?,
+            seed,
+        };
+        let seed = plan.resolve_seed();
+        let format = self::format(format)?;
+        let (env, id) = open_env(id_or_path, &overrides)?;
+        let opts = options(
+            &plan,
+            &id,
+            dataset_id,
+            format,
+            root,
+            author,
+            description,
+            env_spec,
+        );
+        let err = |e: DatasetError| PyValueError::new_err(e.to_string());
+        let collector = match env {
+            envc::AnyEnv::Task(e) => {
+                if let PlanPolicy::Replay(_) = &plan.policy {
+                    PlanActor::new(&plan.policy, e.action_space()).map_err(err)?;
+                }
+                DriverCollector::Task(Collector::new(e, opts).map_err(err)?)
+            }
+            envc::AnyEnv::Maze(e) => {
+                if callable {
+                    return Err(PyValueError::new_err(
+                        "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'",
+                    ));
+                }
+                DriverCollector::Maze(Collector::new(*e, opts).map_err(err)?)
+            }
+            envc::AnyEnv::Agents(_) => unreachable!("refused by open_env"),
+        };
+        let staging = match &collector {
+            DriverCollector::Task(c) => c.staging(),
+            DriverCollector::Maze(c) => c.staging(),
+        }
+        .display()
+        .to_string();
+        Ok(ShardedCollection {
+            collector: Some(collector),
+            seed,
+            staging,
         })
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok((r.dir.display().to_string(), r.steps))
+    }
+
+    /// The seed every episode derives from (the given one, or the one drawn).
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The staging directory workers write into (hidden in the datasets root).
+    #[getter]
+    fn staging(&self) -> &str {
+        &self.staging
+    }
+
+    /// Publish: `episodes[i]` is `(steps, bytes)` as episode i's worker reported it
+    /// (`collect_shard`). Returns the dataset's directory.
+    fn finish(&mut self, py: Python<'_>, episodes: Vec<(u64, u64)>) -> PyResult<String> {
+        let episodes: Vec<ShardEpisode> = episodes
+            .into_iter()
+            .map(|(steps, bytes)| ShardEpisode { steps, bytes })
+            .collect();
+        let c = self.collector.take().ok_or_else(|| {
+            PyRuntimeError::new_err("the collection is already finished or aborted")
+        })?;
+        let dir = py
+            .detach(|| match c {
+                DriverCollector::Task(c) => c.finish_shards(&episodes),
+                DriverCollector::Maze(c) => c.finish_shards(&episodes),
+            })
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(dir.display().to_string())
+    }
+
+    /// Give up: the staging directory is removed, nothing is published.
+    fn abort(&mut self) {
+        self.collector = None;
+    }
+}
+
+/// A worker's part of a sharded collection: episodes `start..end` of the plan (same arguments as
+/// the driver's, and its resolved `seed`) recorded into `staging`; returns each episode's
+/// `(steps, bytes)` for the driver's `finish`.
+#[pyfunction]
+#[pyo3(signature = (id_or_path, staging, start, end, seed, policy = "random", format = "arrow", overrides = Vec::new(), actions = None, policy_fn = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn collect_shard(
+    py: Python<'_>,
+    id_or_path: &str,
+    staging: PathBuf,
+    start: u64,
+    end: u64,
+    seed: u64,
+    policy: &str,
+    format: &str,
+    overrides: Vec<(String, String)>,
+    actions: Option<Vec<f32>>,
+    policy_fn: Option<Py<PyAny>>,
+) -> PyResult<Vec<(u64, u64)>> {
+    let plan_policy = plan_policy(policy, actions, policy_fn.is_some())?;
+    let format = self::format(format)?;
+    let (env, _) = open_env(id_or_path, &overrides)?;
+    let mut py_policy = policy_fn.map(PyPolicy::new);
+    let range = start..end.max(start);
+    let r = py.detach(|| match (env, py_policy.as_mut()) {
+        (envc::AnyEnv::Task(e), Some(p)) => {
+            envc::dataset::record_shard(e, seed, range, &staging, format, p)
+        }
+        (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
+            "a callable policy needs a task env (flat observations)".into(),
+        )),
+        (envc::AnyEnv::Task(e), None) => PlanActor::new(&plan_policy, e.action_space())
+            .and_then(|a| envc::dataset::record_shard(e, seed, range, &staging, format, a)),
+        (envc::AnyEnv::Maze(e), None) => PlanActor::new(&plan_policy, e.action_space())
+            .and_then(|a| envc::dataset::record_shard(*e, seed, range, &staging, format, a)),
+        (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
+    });
+    let episodes = r.map_err(|e| collect_error(e, py_policy.as_mut()))?;
+    Ok(episodes.into_iter().map(|e| (e.steps, e.bytes)).collect())
 }

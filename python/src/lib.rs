@@ -100,6 +100,8 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
+    m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;
+    m.add_class::<collect::ShardedCollection>()?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
     m.add_class::<multi_agent::AgentsCore>()?;

@@ -24,13 +24,14 @@ pub struct Args {
     episodes: u64,
     #[arg(long, value_enum, default_value = "random")]
     policy: PolicyKind,
-    /// With `--policy replay`: a float32 or float64 `.npy` array [T, act_dim]; episodes take rows
-    /// in order (the next episode continues where the last stopped) and reuse them from the start
-    /// when they run out.
+    /// With `--policy replay`: a float32 or float64 `.npy` array [T, act_dim]; every episode
+    /// starts at row 0 and starts over from row 0 when the rows run out.
     #[arg(long, value_name = "A.npy")]
     actions: Option<PathBuf>,
-    /// Episode i is reset with seed S+i (and the random policy is seeded with S). Without it,
-    /// seeds come from OS entropy, as Minari's DataCollector draws them; either way they are stored.
+    /// Episode i is reset with seed S+i (as Minari's DataCollector) and its random actions come
+    /// from numpy's default_rng([S, i]): episode i depends on (S, i) only, so a sharded
+    /// collection (envc.ray) records the same dataset. Without it, one S is drawn from OS
+    /// entropy and printed; episode i's stored seed is S+i either way.
     #[arg(long)]
     seed: Option<u64>,
     #[arg(long, value_enum, default_value = "arrow")]
@@ -49,6 +50,14 @@ pub struct Args {
     description: Option<String>,
     #[arg(long)]
     code_permalink: Option<String>,
+    /// Collect on the Ray cluster at ADDRESS (HOST:PORT or `auto`): runs
+    /// `$ENVC_PYTHON -m envc.ray collect` (default `python3`) with these arguments, which writes
+    /// the same dataset (docs/datasets.md, "Sharded collection").
+    #[arg(long, value_name = "ADDRESS")]
+    ray: Option<String>,
+    /// With `--ray`: Ray actors (one CPU each).
+    #[arg(long, default_value_t = 2, requires = "ray", value_parser = clap::value_parser!(u32).range(1..))]
+    workers: u32,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy)]
@@ -80,7 +89,64 @@ fn read_actions(path: &Path, act_dim: usize) -> Result<Vec<f32>> {
     Ok(a.iter().copied().collect())
 }
 
+/// `envc collect --ray ADDRESS`: the same arguments to `python -m envc.ray collect`, exec'd.
+fn exec_ray(args: &Args, address: &str) -> Result<Outcome> {
+    use std::os::unix::process::CommandExt;
+    if args.author_email.is_some() || args.code_permalink.is_some() {
+        bail!("--author-email and --code-permalink are not passed to --ray collections yet");
+    }
+    let python = std::env::var_os("ENVC_PYTHON").unwrap_or_else(|| "python3".into());
+    let mut cmd = std::process::Command::new(&python);
+    cmd.args([
+        "-m",
+        "envc.ray",
+        "collect",
+        &args.spec,
+        "--dataset-id",
+        &args.dataset_id,
+    ]);
+    cmd.args(["--episodes", &args.episodes.to_string()]);
+    let policy = match args.policy {
+        PolicyKind::Zero => "zero",
+        PolicyKind::Random => "random",
+        PolicyKind::Replay => "replay",
+    };
+    cmd.args(["--policy", policy]);
+    if let Some(a) = &args.actions {
+        cmd.arg("--actions").arg(a);
+    }
+    if let Some(s) = args.seed {
+        cmd.args(["--seed", &s.to_string()]);
+    }
+    cmd.args([
+        "--format",
+        match args.format {
+            FormatArg::Arrow => "arrow",
+            FormatArg::Hdf5 => "hdf5",
+        },
+    ]);
+    if let Some(r) = &args.root {
+        cmd.arg("--root").arg(r);
+    }
+    for kv in &args.set {
+        cmd.args(["--set", kv]);
+    }
+    cmd.args(["--workers", &args.workers.to_string(), "--address", address]);
+    cmd.args(["--author", &args.author]);
+    if let Some(d) = &args.description {
+        cmd.args(["--description", d]);
+    }
+    let e = cmd.exec();
+    bail!(
+        "--ray: could not run {} -m envc.ray ({e}); set ENVC_PYTHON to a Python with envc and ray installed",
+        std::path::Path::new(&python).display()
+    )
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
+    if let Some(address) = &args.ray {
+        return exec_ray(&args, address);
+    }
     let format = match args.format {
         FormatArg::Arrow => Format::Arrow,
         FormatArg::Hdf5 => Format::Hdf5,
@@ -156,11 +222,12 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     bar.finish_and_clear();
     let secs = start.elapsed().as_secs_f64();
     println!(
-        "{}: {} episodes, {} steps ({:.0} steps/s) written to {}",
+        "{}: {} episodes, {} steps ({:.0} steps/s, seed {}) written to {}",
         args.dataset_id,
         args.episodes,
         r.steps,
         r.steps as f64 / secs.max(1e-9),
+        r.seed,
         r.dir.display()
     );
     for c in &r.cleaned {

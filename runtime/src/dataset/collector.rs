@@ -45,6 +45,11 @@ pub struct EpisodeSummary {
 pub struct Collector<E: Recordable> {
     env: E,
     writer: DatasetWriter,
+    buffers: Buffers,
+}
+
+/// One episode's arrays, reused from episode to episode.
+pub(crate) struct Buffers {
     obs: Vec<f64>,
     actions: Vec<f32>,
     action: Vec<f32>,
@@ -52,6 +57,61 @@ pub struct Collector<E: Recordable> {
     terminations: Vec<bool>,
     truncations: Vec<bool>,
     infos: Vec<InfoColumn>,
+}
+
+impl Buffers {
+    pub(crate) fn new<E: Recordable>(env: &E) -> Buffers {
+        Buffers {
+            obs: vec![],
+            actions: vec![],
+            action: vec![0.0; env.action_space().dim()],
+            rewards: vec![],
+            terminations: vec![],
+            truncations: vec![],
+            infos: env.info_columns(),
+        }
+    }
+
+    /// Run one whole episode of `env` from `reset(seed)`; returns whether it terminated.
+    pub(crate) fn run<E: Recordable>(
+        &mut self,
+        env: &mut E,
+        seed: u64,
+        policy: &mut impl Policy<E::Obs>,
+    ) -> Result<bool, DatasetError> {
+        self.obs.clear();
+        self.actions.clear();
+        self.rewards.clear();
+        self.terminations.clear();
+        self.truncations.clear();
+        for c in &mut self.infos {
+            c.values.clear();
+        }
+        env.record_reset(seed, &mut self.obs, &mut self.infos)?;
+        Ok(loop {
+            policy.act(env.policy_obs(), &mut self.action);
+            let s = env.record_step(&self.action, &mut self.obs, &mut self.infos)?;
+            self.actions.extend_from_slice(&self.action);
+            self.rewards.push(s.reward);
+            self.terminations.push(s.terminated);
+            self.truncations.push(s.truncated);
+            if s.terminated || s.truncated {
+                break s.terminated;
+            }
+        })
+    }
+
+    pub(crate) fn record(&self, seed: u64) -> EpisodeRecord<'_> {
+        EpisodeRecord {
+            seed: Some(seed),
+            observations: &self.obs,
+            actions: &self.actions,
+            rewards: &self.rewards,
+            terminations: &self.terminations,
+            truncations: &self.truncations,
+            infos: &self.infos,
+        }
+    }
 }
 
 impl<E: Recordable> Collector<E> {
@@ -77,18 +137,11 @@ impl<E: Recordable> Collector<E> {
             act_space,
             options.info,
         )?;
-        let infos = env.info_columns();
-        let act_dim = env.action_space().dim();
+        let buffers = Buffers::new(&env);
         Ok(Collector {
             env,
             writer,
-            obs: vec![],
-            actions: vec![],
-            action: vec![0.0; act_dim],
-            rewards: vec![],
-            terminations: vec![],
-            truncations: vec![],
-            infos,
+            buffers,
         })
     }
 
@@ -104,44 +157,25 @@ impl<E: Recordable> Collector<E> {
         seed: u64,
         policy: &mut impl Policy<E::Obs>,
     ) -> Result<EpisodeSummary, DatasetError> {
-        self.obs.clear();
-        self.actions.clear();
-        self.rewards.clear();
-        self.terminations.clear();
-        self.truncations.clear();
-        for c in &mut self.infos {
-            c.values.clear();
-        }
-        self.env
-            .record_reset(seed, &mut self.obs, &mut self.infos)?;
-        let terminated = loop {
-            policy.act(self.env.policy_obs(), &mut self.action);
-            let s = self
-                .env
-                .record_step(&self.action, &mut self.obs, &mut self.infos)?;
-            self.actions.extend_from_slice(&self.action);
-            self.rewards.push(s.reward);
-            self.terminations.push(s.terminated);
-            self.truncations.push(s.truncated);
-            if s.terminated || s.truncated {
-                break s.terminated;
-            }
-        };
-        let record = EpisodeRecord {
-            seed: Some(seed),
-            observations: &self.obs,
-            actions: &self.actions,
-            rewards: &self.rewards,
-            terminations: &self.terminations,
-            truncations: &self.truncations,
-            infos: &self.infos,
-        };
+        let terminated = self.buffers.run(&mut self.env, seed, policy)?;
+        let record = self.buffers.record(seed);
         self.writer.write_episode(&record)?;
         Ok(EpisodeSummary {
-            steps: self.rewards.len(),
-            episode_return: self.rewards.iter().sum(),
+            steps: record.steps(),
+            episode_return: record.rewards.iter().sum(),
             terminated,
         })
+    }
+
+    /// Publish the episodes workers wrote into this collector's staging directory
+    /// ([`super::record_shard`]): `episodes[i]` is what episode i's worker reported. They are
+    /// checked against the disk (E1210) before the rename, as [`Collector::finish`].
+    pub fn finish_shards(
+        mut self,
+        episodes: &[super::ShardEpisode],
+    ) -> Result<PathBuf, DatasetError> {
+        self.writer.adopt_shards(episodes)?;
+        self.writer.finish()
     }
 
     /// Finish the dataset (metadata, then one rename into place); returns its directory.

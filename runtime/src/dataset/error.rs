@@ -36,6 +36,16 @@ pub enum DatasetError {
     StagingLost { path: PathBuf },
     #[error("error[E1210]: the episodes written to {} do not match the metadata: {why}; nothing was published", path.display())]
     Unverified { path: PathBuf, why: String },
+    #[error("error[E1600]: episode {index} of a sharded collection is missing or damaged ({}: {why}); its worker died or the staging directory is not shared by every worker; nothing was published", path.display())]
+    ShardMissing {
+        path: PathBuf,
+        index: u64,
+        why: String,
+    },
+    #[error(
+        "error[E1601]: the policy failed in episode {episode}: {why}; nothing was written for it"
+    )]
+    PolicyFailed { episode: u64, why: String },
     /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
     #[error("{0}")]
     Env(#[from] EnvError),
@@ -55,6 +65,8 @@ impl DatasetError {
             DatasetError::Nested { .. } => "E1208".into(),
             DatasetError::StagingLost { .. } => "E1209".into(),
             DatasetError::Unverified { .. } => "E1210".into(),
+            DatasetError::ShardMissing { .. } => "E1600".into(),
+            DatasetError::PolicyFailed { .. } => "E1601".into(),
             DatasetError::Env(e) => format!("{:?}", e.code()),
         }
     }

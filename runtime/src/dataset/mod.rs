@@ -34,6 +34,7 @@ mod json;
 mod plan;
 mod reader;
 mod recordable;
+mod shard;
 mod space;
 mod staging;
 mod tensor;
@@ -44,9 +45,13 @@ pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
-pub use plan::{Plan, PlanPolicy, Recording, default_description, record};
+pub use plan::{
+    EpisodePolicy, Plan, PlanActor, PlanPolicy, Recording, default_description, episode_rng,
+    episode_seed, record, record_shard, record_with,
+};
 pub use reader::Dataset;
 pub use recordable::{Recordable, Recorded};
+pub use shard::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
 pub use writer::{DatasetInfo, DatasetWriter, STAGING_DIR, default_root};

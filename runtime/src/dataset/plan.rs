@@ -1,24 +1,35 @@
-//! A whole recording as `envc collect` and `envc.collect` (Python) make it: episodes of an env
-//! under a zero, uniformly random or replayed float32 policy, seeded as Minari's DataCollector
-//! seeds (episode i with `seed + i`, else OS entropy), written through the one [`Collector`].
+//! A whole recording as `envc collect`, `envc.collect` and `envc.ray.collect` make it: episodes of
+//! an env under a zero, uniformly random, replayed float32 or caller-supplied policy. Episode `i`
+//! depends on `(seed, i)` only: it is reset with `seed + i` (as Minari's DataCollector seeds), its
+//! random actions come from numpy's `default_rng([seed, i])` and replayed actions restart at row 0.
+//! So any split of the episodes over processes or machines records the same episodes
+//! ([`record_shard`]), and [`record`] is the one-process case.
 
-use std::path::PathBuf;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
 
+use super::Format;
 use super::collector::{CollectOptions, Collector};
 use super::error::DatasetError;
 use super::recordable::Recordable;
-use crate::rng::NumpyRng;
+use super::shard::{ShardCollector, ShardEpisode};
+use crate::BoxSpace;
+use crate::rng::{NumpyRng, SeedSequence};
 
 /// Which actions the recording takes.
 #[derive(Clone, Debug)]
 pub enum PlanPolicy {
     /// All-zero actions.
     Zero,
-    /// Uniform in the action space's bounds (float32), from its own stream seeded with the seed.
+    /// Uniform in the action space's bounds (float32); episode i draws from
+    /// `numpy.random.default_rng([seed, i])`.
     Random,
-    /// Rows of an action matrix (flat, row-major), in order across episodes, from the start again
-    /// when they run out.
+    /// Rows of an action matrix (flat, row-major): every episode starts at row 0 and starts over
+    /// when the rows run out.
     Replay(Vec<f32>),
+    /// Actions from a caller's [`EpisodePolicy`] (a Python callable in `envc.collect`); the
+    /// caller must derive its randomness from `(seed, i)` too.
+    Callable,
 }
 
 impl PlanPolicy {
@@ -27,6 +38,7 @@ impl PlanPolicy {
             PlanPolicy::Zero => "zero",
             PlanPolicy::Random => "random",
             PlanPolicy::Replay(_) => "replay",
+            PlanPolicy::Callable => "callable",
         }
     }
 }
@@ -36,9 +48,106 @@ impl PlanPolicy {
 pub struct Plan {
     pub episodes: u64,
     pub policy: PlanPolicy,
-    /// Episode i is reset with `seed + i` (and the random policy is seeded with `seed`); `None`:
-    /// seeds from OS entropy. Either way they are stored.
+    /// Every episode derives from it (see the module doc); `None`: one seed is drawn from OS
+    /// entropy ([`Plan::resolve_seed`]) and stored as episode 0's seed.
     pub seed: Option<u64>,
+}
+
+impl Plan {
+    /// The seed itself, or one fresh draw from OS entropy (below 2^63, so that every consumer's
+    /// signed 64-bit integers hold it).
+    pub fn resolve_seed(&self) -> u64 {
+        self.seed
+            .unwrap_or_else(|| NumpyRng::from_entropy().next_u64() >> 1)
+    }
+}
+
+/// Episode `episode`'s reset seed: `seed + episode` (wrapping), as Minari's DataCollector.
+pub fn episode_seed(seed: u64, episode: u64) -> u64 {
+    seed.wrapping_add(episode)
+}
+
+/// Episode `episode`'s policy stream: numpy's `default_rng([seed, episode])`.
+pub fn episode_rng(seed: u64, episode: u64) -> NumpyRng {
+    NumpyRng::from_seed_sequence(&SeedSequence::from_ints(&[seed, episode]))
+}
+
+/// Chooses the actions of whole episodes: [`EpisodePolicy::begin`] is called before each one
+/// with the plan's seed and the episode's index in the dataset, so a policy can restart its
+/// state from `(seed, i)` and give the same actions whichever worker runs the episode.
+pub trait EpisodePolicy<O: ?Sized> {
+    fn begin(&mut self, seed: u64, episode: u64);
+    fn act(&mut self, obs: &O, action: &mut [f32]);
+    /// Called after each episode, before it is written: a policy that failed on the way (a
+    /// Python callable that raised) says so here, and the episode is never written (E1601).
+    fn check(&mut self) -> Result<(), DatasetError> {
+        Ok(())
+    }
+}
+
+/// The built-in policies (zero, random, replay) as an [`EpisodePolicy`].
+pub struct PlanActor {
+    policy: PlanPolicy,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    rng: NumpyRng,
+    cursor: usize,
+}
+
+impl PlanActor {
+    /// Fails for a replay matrix that is not whole rows of the action (E1101) and for
+    /// [`PlanPolicy::Callable`], which needs the caller's policy.
+    pub fn new(policy: &PlanPolicy, space: &BoxSpace) -> Result<PlanActor, DatasetError> {
+        let act_dim = space.dim();
+        match policy {
+            PlanPolicy::Replay(rows) if rows.is_empty() || rows.len() % act_dim.max(1) != 0 => {
+                // Not whole rows of the action: the action-length error (E1101).
+                return Err(DatasetError::Env(crate::EnvError::ActionLength {
+                    env: "the replayed actions".into(),
+                    expected: act_dim,
+                    got: rows.len() % act_dim.max(1),
+                }));
+            }
+            PlanPolicy::Callable => {
+                return Err(DatasetError::Unsupported(
+                    "a callable policy needs the caller's policy object".into(),
+                ));
+            }
+            _ => {}
+        }
+        Ok(PlanActor {
+            policy: policy.clone(),
+            low: space.low.clone(),
+            high: space.high.clone(),
+            rng: NumpyRng::from_seed(0),
+            cursor: 0,
+        })
+    }
+}
+
+impl<O: ?Sized> EpisodePolicy<O> for PlanActor {
+    fn begin(&mut self, seed: u64, episode: u64) {
+        self.rng = episode_rng(seed, episode);
+        self.cursor = 0;
+    }
+    fn act(&mut self, _obs: &O, a: &mut [f32]) {
+        match &self.policy {
+            PlanPolicy::Zero | PlanPolicy::Callable => a.fill(0.0),
+            PlanPolicy::Random => {
+                for (i, x) in a.iter_mut().enumerate() {
+                    *x = self.rng.uniform(self.low[i], self.high[i]) as f32;
+                }
+            }
+            PlanPolicy::Replay(rows) => {
+                let n = a.len();
+                if self.cursor + n > rows.len() {
+                    self.cursor = 0;
+                }
+                a.copy_from_slice(&rows[self.cursor..self.cursor + n]);
+                self.cursor += n;
+            }
+        }
+    }
 }
 
 /// The recording's outcome.
@@ -46,6 +155,8 @@ pub struct Plan {
 pub struct Recording {
     pub dir: PathBuf,
     pub steps: u64,
+    /// The seed every episode derived from (the plan's, or the one drawn).
+    pub seed: u64,
     pub warnings: Vec<String>,
     /// Staging directories of interrupted collections removed before this one started.
     pub cleaned: Vec<PathBuf>,
@@ -63,55 +174,40 @@ pub fn default_description(plan: &Plan, env_id: &str) -> String {
     )
 }
 
-/// Record `plan` from `env` into the dataset `options` names; `progress(episodes, steps)` is
-/// called after every episode. The dataset appears only when every episode is written.
+/// Record `plan` from `env` into the dataset `options` names with the built-in policy;
+/// `progress(episodes, steps)` is called after every episode. The dataset appears only when
+/// every episode is written.
 pub fn record<E: Recordable>(
     env: E,
     plan: &Plan,
+    options: CollectOptions,
+    progress: impl FnMut(u64, u64),
+) -> Result<Recording, DatasetError> {
+    let actor = PlanActor::new(&plan.policy, env.action_space())?;
+    record_with(env, plan, options, actor, progress)
+}
+
+/// [`record`] with the caller's policy.
+pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
+    env: E,
+    plan: &Plan,
     mut options: CollectOptions,
+    mut policy: P,
     mut progress: impl FnMut(u64, u64),
 ) -> Result<Recording, DatasetError> {
-    let space = env.action_space().clone();
-    let act_dim = space.dim();
-    if let PlanPolicy::Replay(rows) = &plan.policy
-        && (rows.is_empty() || rows.len() % act_dim.max(1) != 0)
-    {
-        // Not whole rows of the action: the action-length error (E1101).
-        return Err(DatasetError::Env(crate::EnvError::ActionLength {
-            env: "the replayed actions".into(),
-            expected: act_dim,
-            got: rows.len() % act_dim.max(1),
-        }));
-    }
     if options.info.algorithm_name.is_none() {
         options.info.algorithm_name = Some(plan.policy.name().to_string());
     }
+    let seed = plan.resolve_seed();
     let mut collector = Collector::new(env, options)?;
-    let mut seed_rng = NumpyRng::from_entropy();
-    let mut policy_rng = NumpyRng::from_seed(plan.seed.unwrap_or_else(|| seed_rng.next_u64()));
-    let mut cursor = 0usize;
-    let mut policy = |_obs: &E::Obs, a: &mut [f32]| match &plan.policy {
-        PlanPolicy::Zero => a.fill(0.0),
-        PlanPolicy::Random => {
-            for (i, x) in a.iter_mut().enumerate() {
-                *x = policy_rng.uniform(space.low[i], space.high[i]) as f32;
-            }
-        }
-        PlanPolicy::Replay(rows) => {
-            if cursor + act_dim > rows.len() {
-                cursor = 0;
-            }
-            a.copy_from_slice(&rows[cursor..cursor + act_dim]);
-            cursor += act_dim;
-        }
-    };
     let mut steps = 0u64;
     for ep in 0..plan.episodes {
-        let seed = match plan.seed {
-            Some(s) => s.wrapping_add(ep),
-            None => seed_rng.next_u64(),
-        };
-        steps += collector.episode(seed, &mut policy)?.steps as u64;
+        policy.begin(seed, ep);
+        let mut act = |o: &E::Obs, a: &mut [f32]| policy.act(o, a);
+        // A failed policy's episode is written to staging at most, which the error discards.
+        let summary = collector.episode(episode_seed(seed, ep), &mut act);
+        policy.check()?;
+        steps += summary?.steps as u64;
         progress(ep + 1, steps);
     }
     let warnings = collector.env().warnings().to_vec();
@@ -121,8 +217,36 @@ pub fn record<E: Recordable>(
     Ok(Recording {
         dir,
         steps,
+        seed,
         warnings,
         cleaned,
         unlocked,
     })
+}
+
+/// Record episodes `range` of a plan (with its resolved `seed`) into the staging directory of a
+/// sharded collection ([`super::Collector::staging`] of the driver's collector, on storage every
+/// worker shares); returns each episode's steps and bytes, in order. Episodes already there (from an
+/// attempt that died after writing them) are recorded again and left as they were: they are the
+/// same bytes.
+pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
+    env: E,
+    seed: u64,
+    range: Range<u64>,
+    staging: &Path,
+    format: Format,
+    mut policy: P,
+) -> Result<Vec<ShardEpisode>, DatasetError> {
+    let mut shard = ShardCollector::new(env, staging, format)?;
+    let mut lengths = Vec::with_capacity((range.end - range.start) as usize);
+    for ep in range {
+        policy.begin(seed, ep);
+        let mut act = |o: &E::Obs, a: &mut [f32]| policy.act(o, a);
+        let run = shard.run(episode_seed(seed, ep), &mut act);
+        // Checked before writing: episodes in a shared staging directory are never rewritten.
+        policy.check()?;
+        run?;
+        lengths.push(shard.write(ep)?);
+    }
+    Ok(lengths)
 }

@@ -64,6 +64,10 @@ pub struct DatasetWriter {
     info: DatasetInfo,
     episodes: u64,
     steps: u64,
+    /// Arrow episodes adopted from workers, each already read back and measured by its worker:
+    /// their total size. `finish` then checks that every one is in place (one directory
+    /// listing) instead of reading or `stat`ing them all again.
+    shard_bytes: Option<u64>,
 }
 
 /// `MINARI_DATASETS_PATH`, or Minari's default `~/.minari/datasets`.
@@ -215,6 +219,7 @@ impl DatasetWriter {
             info,
             episodes: 0,
             steps: 0,
+            shard_bytes: None,
         })
     }
 
@@ -296,6 +301,54 @@ impl DatasetWriter {
         Ok(())
     }
 
+    /// Take over the episodes workers wrote into the staging directory (`shard.rs`): Arrow
+    /// episodes are already in `data/`; HDF5 ones are appended from their shard files in index
+    /// order. `lengths[i]` is episode i's step count as its worker reported it; [`finish`]
+    /// checks them against the disk.
+    ///
+    /// [`finish`]: DatasetWriter::finish
+    pub fn adopt_shards(&mut self, episodes: &[super::ShardEpisode]) -> Result<(), DatasetError> {
+        if self.episodes != 0 {
+            return Err(DatasetError::Write {
+                path: self.data.clone(),
+                why: "shards can only be adopted by a writer that wrote no episode itself".into(),
+            });
+        }
+        self.staging.check_owned()?;
+        match self.format {
+            Format::Arrow => {
+                self.lengths = episodes.iter().map(|e| e.steps).collect();
+                self.episodes = episodes.len() as u64;
+                self.steps = self.lengths.iter().sum();
+                self.shard_bytes = Some(episodes.iter().map(|e| e.bytes).sum());
+            }
+            Format::Hdf5 => {
+                for (i, e) in episodes.iter().enumerate() {
+                    let ep = super::shard::read_shard_episode(self.staging.dir(), i as u64)?;
+                    if ep.rewards.len() as u64 != e.steps {
+                        return Err(DatasetError::Unverified {
+                            path: self.staging.dir().to_path_buf(),
+                            why: format!(
+                                "shard episode {i} holds {} steps; its worker reported {}",
+                                ep.rewards.len(),
+                                e.steps
+                            ),
+                        });
+                    }
+                    self.write_episode(&ep.record())?;
+                    // The shard file is no longer needed once in the HDF5 file: free the disk.
+                    let _ = fs::remove_file(
+                        self.staging
+                            .dir()
+                            .join(super::shard::SHARDS_DIR)
+                            .join(format!("{i}.episode")),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Write `metadata.json` and move the dataset into place. Returns its directory.
     pub fn finish(mut self) -> Result<PathBuf, DatasetError> {
         match self.backend.take() {
@@ -315,7 +368,10 @@ impl DatasetWriter {
                 why: "no episodes were recorded".into(),
             });
         }
-        let size = dir_size(&self.data).map_err(|e| self.lost_or(io(&self.data)(e)))?;
+        let size = match self.shard_bytes {
+            Some(bytes) => bytes,
+            None => dir_size(&self.data).map_err(|e| self.lost_or(io(&self.data)(e)))?,
+        };
         let mut m = Map::new();
         m.insert("total_episodes".into(), json!(self.episodes));
         m.insert("total_steps".into(), json!(self.steps));
@@ -417,6 +473,9 @@ impl DatasetWriter {
             path: self.staging.dir().to_path_buf(),
             why,
         };
+        if self.shard_bytes.is_some() {
+            return self.verify_in_place();
+        }
         let lengths = Dataset::open_data(&self.data)
             .and_then(|ds| {
                 if ds.total_episodes != self.episodes || ds.total_steps != self.steps {
@@ -437,6 +496,49 @@ impl DatasetWriter {
                 "episode {i} holds {} steps on disk; {} were written",
                 lengths[i], self.lengths[i]
             )));
+        }
+        Ok(())
+    }
+}
+
+impl DatasetWriter {
+    /// Sharded Arrow episodes: each was read back by its worker before it was renamed into
+    /// `data/`, so what is left is that `data/` holds exactly episodes `0..N` (one directory
+    /// listing) and that the metadata parses as a reader's.
+    fn verify_in_place(&self) -> Result<(), DatasetError> {
+        let unverified = |why: String| DatasetError::Unverified {
+            path: self.staging.dir().to_path_buf(),
+            why,
+        };
+        let ds = Dataset::open_data(&self.data).map_err(|e| unverified(cause(&e)))?;
+        if ds.total_episodes != self.episodes || ds.total_steps != self.steps {
+            return Err(unverified(
+                "metadata.json was not written as recorded".into(),
+            ));
+        }
+        let mut seen = vec![false; self.episodes as usize];
+        let entries = fs::read_dir(&self.data).map_err(|e| self.lost_or(io(&self.data)(e)))?;
+        for e in entries {
+            let e = e.map_err(|e| self.lost_or(io(&self.data)(e)))?;
+            let name = e.file_name();
+            let Some(i) = name.to_str().and_then(|n| n.parse::<usize>().ok()) else {
+                continue; // metadata.json
+            };
+            match seen.get_mut(i) {
+                Some(s) => *s = true,
+                None => {
+                    return Err(unverified(format!(
+                        "episode {i} is stored but total_episodes is {}",
+                        self.episodes
+                    )));
+                }
+            }
+        }
+        if let Some(i) = seen.iter().position(|s| !s) {
+            return Err(match self.staging.check_owned() {
+                Err(lost) => lost,
+                Ok(()) => unverified(format!("episode {i} is missing")),
+            });
         }
         Ok(())
     }

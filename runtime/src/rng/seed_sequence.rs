@@ -92,6 +92,21 @@ impl SeedSequence {
         }
     }
 
+    /// numpy `SeedSequence([a, b, ...])`: each integer's 32-bit words (least significant first,
+    /// `0` is one word `[0]`) concatenated, e.g. `[seed, episode]` for per-episode streams that
+    /// depend on nothing else. `entropy()` is then the first integer only.
+    pub fn from_ints(values: &[u64]) -> Self {
+        let mut words = Vec::with_capacity(2 * values.len());
+        for &v in values {
+            let (w, n) = entropy_words(u128::from(v));
+            words.extend_from_slice(&w[..n]);
+        }
+        SeedSequence {
+            entropy: values.first().map_or(0, |&v| u128::from(v)),
+            pool: mix_entropy(&words),
+        }
+    }
+
     /// `SeedSequence(None)`: 128 bits of fresh OS entropy (`/dev/urandom`; if unavailable, a hash
     /// of std's randomly keyed `RandomState`, the time and the process id). Never panics.
     pub fn from_os_entropy() -> Self {
@@ -191,6 +206,30 @@ fn fallback_entropy_u128() -> u128 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `np.random.SeedSequence([a, b])`, values printed by numpy 2.4.6 (multi-word ints too).
+    #[test]
+    fn integer_lists_match_numpy() {
+        for (ints, pool, state) in [
+            (
+                vec![7u64, 3],
+                [3693270713, 2271544259, 605415413, 2511051269],
+                [5061563556724077661u64, 9433490490806083541],
+            ),
+            (
+                vec![(1 << 40) + 5, 1 << 33],
+                [1523050712, 1071355882, 95162771, 806140555],
+                [4444572008089138481, 1397609466882526199],
+            ),
+        ] {
+            let ss = SeedSequence::from_ints(&ints);
+            assert_eq!(ss.pool(), pool, "{ints:?}");
+            assert_eq!(ss.generate_state_u64(2), state, "{ints:?}");
+        }
+        // `default_rng([7, 3]).random()`.
+        let mut rng = super::super::NumpyRng::from_seed_sequence(&SeedSequence::from_ints(&[7, 3]));
+        assert_eq!(rng.next_f64(), 0.9750335537195014);
+    }
 
     #[test]
     fn seed_zero_matches_numpy() {
