@@ -65,6 +65,7 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
 fn term_formula(t: &envspec::ir::RewardTerm) -> String {
     let w = t.weight;
     match &t.kind {
+        TermKind::Legged(l) => format!("{w} × {}", l.formula()),
         TermKind::Velocity { source } => {
             format!("{w} × (x_after − x_before) / dt, x = `{}`", source.text)
         }

@@ -77,6 +77,7 @@ pub fn kernel(t: &RewardTerm) -> String {
         TermKind::Constant => "1".into(),
         TermKind::GoalSparse(c) => format!("1 if {} else 0", goal_check(c)),
         TermKind::GoalDense(g) => format!("exp(−{})", goal_distance(g)),
+        TermKind::Legged(l) => l.formula(),
     }
 }
 

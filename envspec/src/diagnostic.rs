@@ -162,6 +162,22 @@ pub enum Code {
     E0121,
     /// A maze's `robot` names a multi-agent spec that has no task of its own.
     E0122,
+    /// A `[commands.*]` table that cannot be drawn: a component range reversed or not finite, a
+    /// probability outside [0, 1], a negative resample interval, no components.
+    E0130,
+    /// A `command[...]` selector naming a command or component the spec does not declare.
+    E0131,
+    /// An `[actions]` table that does not fit the model: a default pose of another length, a
+    /// negative gain, a non-finite scale, a reversed range; or `default_pose` read without it.
+    E0132,
+    /// A keyframe the model does not have, or an actuator that drives no joint (so the keyframe
+    /// gives it no default position).
+    E0133,
+    /// A legged term naming a geom the model does not have, or feet and sites of different counts.
+    E0134,
+    /// A legged term over elements of the wrong kind: `joint_limits` over anything but hinge or
+    /// slide joint positions, a non-positive `sigma`.
+    E0135,
     /// A reference to a parameter that the spec does not declare.
     E0201,
     /// An override names a parameter that the spec does not declare.
@@ -239,6 +255,9 @@ pub enum Code {
     E1103,
     /// A reset whose `resample_until` condition was not met within `limits::MAX_RESAMPLE_DRAWS`.
     E1104,
+    /// `[actions]` gains on a model whose actuators are not position servos, or a keyframe or
+    /// geom envspec found but the compiled model lacks.
+    E1110,
     /// An unknown numerics profile name.
     E1301,
     /// `auto` numerics under CPU-feature settings numpy itself refuses to import with.

@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+pub use crate::commands::{Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions};
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
 use crate::selector::{Field, Selection};
@@ -47,6 +48,12 @@ pub struct ResolvedSpec {
     /// Actuators and options added to the model at load time (`[actuators]`, `[physics]`); they
     /// are already accounted for in `model` (its actuators and timestep).
     pub model_edits: ModelEdits,
+    /// `[commands.*]` in declared order (the draw order); their components are the env's
+    /// command buffer (`command_dim` entries).
+    pub commands: Vec<Command>,
+    pub command_dim: usize,
+    /// `[actions]`: PD position targets (None: `ctrl = action`).
+    pub actions: Option<PdActions>,
 }
 
 impl ResolvedSpec {
@@ -189,6 +196,9 @@ pub enum TermKind {
     /// `exp(−d)` of a goal distance `d` (spec kind `goal_dense`; numpy's `np.exp` under the env's
     /// numerics profile).
     GoalDense(GoalDistance),
+    /// A legged-locomotion kernel (`tracking`, `sum_abs`, `action_rate`, `feet_air_time`,
+    /// `feet_slip`, `joint_limits`).
+    Legged(LeggedTerm),
 }
 
 impl TermKind {}
@@ -304,6 +314,7 @@ impl TermKind {
             TermKind::GoalSparse(c) => return Either::Goal(c.distance.sources()),
             TermKind::GoalDense(g) => return Either::Goal(g.sources()),
             TermKind::Healthy | TermKind::Constant => (None, None),
+            TermKind::Legged(l) => return Either::Many(l.sources().into_iter()),
         };
         Either::Pair(a.into_iter().chain(b))
     }
@@ -311,7 +322,7 @@ impl TermKind {
 
 impl RewardTerm {
     pub fn kind_name(&self) -> &'static str {
-        match self.kind {
+        match &self.kind {
             TermKind::Velocity { .. } => "velocity",
             TermKind::Healthy => "healthy",
             TermKind::SumSquares { .. } => "sum_squares",
@@ -321,6 +332,7 @@ impl RewardTerm {
             TermKind::Constant => "constant",
             TermKind::GoalSparse(_) => "goal_sparse",
             TermKind::GoalDense(_) => "goal_dense",
+            TermKind::Legged(l) => l.kind_name(),
         }
     }
 }
@@ -581,19 +593,21 @@ impl Integrator {
 
 /// One of two iterators over the selections a term reads (a plain term's one or two, or a goal
 /// distance's), so `sources` allocates nothing.
-enum Either<A, B> {
+enum Either<'a, A, B> {
     Pair(A),
     Goal(B),
+    Many(std::vec::IntoIter<&'a Selection>),
 }
 
 impl<'a, A: Iterator<Item = &'a Selection>, B: Iterator<Item = &'a Selection>> Iterator
-    for Either<A, B>
+    for Either<'a, A, B>
 {
     type Item = &'a Selection;
     fn next(&mut self) -> Option<&'a Selection> {
         match self {
             Either::Pair(a) => a.next(),
             Either::Goal(b) => b.next(),
+            Either::Many(m) => m.next(),
         }
     }
 }

@@ -17,6 +17,7 @@
 
 pub mod agents;
 pub mod camera;
+pub mod commands;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;

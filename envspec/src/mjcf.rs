@@ -85,6 +85,10 @@ pub struct ModelInfo {
     pub tendons: Vec<String>,
     pub nq: usize,
     pub nv: usize,
+    /// Names of the `<keyframe>` keys, in order (legged tasks take a PD default pose from one).
+    pub keyframes: Vec<String>,
+    /// Names of the named geoms (contact terms refer to them; ids come from the compiled model).
+    pub geoms: Vec<String>,
 }
 
 impl ModelInfo {
@@ -115,6 +119,8 @@ impl ModelInfo {
                 tendons: vec![],
                 nq: 0,
                 nv: 0,
+                keyframes: vec![],
+                geoms: vec![],
             },
             asset_dirs: Default::default(),
             defaults: HashMap::new(),
@@ -279,7 +285,19 @@ impl Reader {
                 }
             }
             "default" => self.read_default(path, node, None)?,
+            "keyframe" => {
+                for key in node.children().filter(|n| n.has_tag_name("key")) {
+                    self.info
+                        .keyframes
+                        .push(key.attribute("name").unwrap_or("").into());
+                }
+            }
             "worldbody" => {
+                let named_geoms = node
+                    .descendants()
+                    .filter(|n| n.has_tag_name("geom"))
+                    .filter_map(|n| n.attribute("name"));
+                self.info.geoms.extend(named_geoms.map(String::from));
                 for child in node.children().filter(|n| n.is_element()) {
                     match child.tag_name().name() {
                         "body" => {

@@ -12,6 +12,7 @@ use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
 mod added;
+mod commands;
 mod edits;
 mod goal;
 
@@ -22,6 +23,8 @@ struct Ctx<'a> {
     d: Diagnostics,
     /// Length of the env-held goal vector, and where a `desired = "goal"` first fixed it.
     goal_dim: Option<(usize, Location)>,
+    /// `[commands.*]`, resolved before anything that may select them (`command[...]`).
+    commands: Vec<Command>,
 }
 
 /// Resolve a checked spec with parameter overrides against its model.
@@ -57,6 +60,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         model: &model,
         d: Diagnostics::default(),
         goal_dim: None,
+        commands: vec![],
     };
     let model_edits = cx.model_edits();
     let d = cx.d;
@@ -67,6 +71,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         model: &model,
         d,
         goal_dim: None,
+        commands: vec![],
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
@@ -96,6 +101,11 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         Some(ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
         _ => None,
     };
+
+    let commands = cx.commands(model.timestep * frame_skip as f64);
+    cx.commands = commands.clone();
+    let command_dim = commands.iter().map(Command::len).sum();
+    let actions = cx.actions();
 
     let observation = cx.observation();
     let obs_dim = observation.iter().map(Segment::len).sum();
@@ -166,11 +176,25 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         info,
         needs_rne_post_constraint: false,
         model_edits,
+        commands,
+        command_dim,
+        actions,
     };
     let rne = resolved
         .sources()
         .any(|s| s.field.needs_rne_post_constraint());
     resolved.needs_rne_post_constraint = rne;
+    let mut d = d;
+    if resolved.actions.is_none() && resolved.reads(Field::DefaultPose) {
+        d.push(
+            Diagnostic::new(
+                Code::E0132,
+                "`default_pose` is read but the spec has no [actions] table",
+            )
+            .at(spec.id_loc.clone())
+            .label("expected an [actions] table with default_pose, or another selector"),
+        );
+    }
     d.into_result(resolved)
 }
 
@@ -430,6 +454,12 @@ impl Ctx<'_> {
                 .push(v.type_error(what, "a selector string such as \"qpos[2:]\""));
             return None;
         };
+        if text.trim().starts_with("command")
+            && !text.trim()["command".len()..]
+                .starts_with(|c: char| c.is_alphanumeric() || c == '_')
+        {
+            return self.command_selection(text, &v.loc);
+        }
         let params = self.params;
         let lookup = |name: &str| -> Result<ParamIndex, Diagnostic> {
             match params.iter().find(|p| p.name == name).map(|p| &p.value) {
@@ -725,6 +755,7 @@ impl Ctx<'_> {
                 "goal_dense" => self
                     .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                     .map(TermKind::GoalDense),
+                k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
                 _ => None, // reported by the syntax check
             };
             if let Some(kind) = kind {

@@ -40,6 +40,24 @@ pub enum Field {
     /// Mass-weighted mean of `xipos` over all bodies, summed sequentially (numpy's einsum order)
     /// and divided by the pairwise sum of `body_mass`.
     MassCenter,
+    /// Velocities and frame axes of sites (MuJoCo's `mj_objectVelocity`, lagged like `cvel`):
+    /// linear / angular velocity in the world frame, the same in the site's own frame (a
+    /// velocimeter, a gyro), the site's z axis in the world frame (an up-vector), and the world's
+    /// gravity direction `(0, 0, −1)` in the site's frame (projected gravity).
+    SiteLinvel,
+    SiteAngvel,
+    SiteLocalLinvel,
+    SiteLocalAngvel,
+    SiteZaxis,
+    SiteGravity,
+    /// `actuator_force`: the force (torque) each actuator applies.
+    ActuatorForce,
+    /// The previous step's action (zeros after a reset); updated after the observation.
+    LastAction,
+    /// The PD default pose of each actuator's joint (`[actions]`).
+    DefaultPose,
+    /// The current command vectors (`[commands.*]`), written `command[NAME]`.
+    Command,
 }
 
 /// What the rows of a field are indexed by.
@@ -54,6 +72,8 @@ pub enum Rows {
     TendonDof,
     Actuator,
     Xyz,
+    /// Command components (`[commands.*]`); selected by the resolver, not by name here.
+    Command,
 }
 
 pub const FIELDS: &[(&str, Field)] = &[
@@ -76,6 +96,16 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("ten_velocity", Field::TenVelocity),
     ("ten_J", Field::TenJ),
     ("mass_center", Field::MassCenter),
+    ("site_linvel", Field::SiteLinvel),
+    ("site_angvel", Field::SiteAngvel),
+    ("site_local_linvel", Field::SiteLocalLinvel),
+    ("site_local_angvel", Field::SiteLocalAngvel),
+    ("site_zaxis", Field::SiteZaxis),
+    ("site_gravity", Field::SiteGravity),
+    ("actuator_force", Field::ActuatorForce),
+    ("last_action", Field::LastAction),
+    ("default_pose", Field::DefaultPose),
+    ("command", Field::Command),
 ];
 
 impl Field {
@@ -90,7 +120,12 @@ impl Field {
         match self {
             Field::Qpos | Field::Qpos0 => Rows::Qpos,
             Field::Qvel | Field::QfrcActuator | Field::QfrcConstraint => Rows::Dof,
-            Field::Action | Field::Ctrl => Rows::Actuator,
+            Field::Action
+            | Field::Ctrl
+            | Field::ActuatorForce
+            | Field::LastAction
+            | Field::DefaultPose => Rows::Actuator,
+            Field::Command => Rows::Command,
             Field::CfrcExt
             | Field::CfrcInt
             | Field::Cacc
@@ -98,7 +133,11 @@ impl Field {
             | Field::Cvel
             | Field::Xpos
             | Field::Xipos => Rows::Body,
-            Field::SiteXpos => Rows::Site,
+            Field::SiteXpos | Field::SiteLinvel | Field::SiteAngvel => Rows::Site,
+            Field::SiteLocalLinvel
+            | Field::SiteLocalAngvel
+            | Field::SiteZaxis
+            | Field::SiteGravity => Rows::Site,
             Field::TenLength | Field::TenVelocity => Rows::Tendon,
             Field::TenJ => Rows::TendonDof,
             Field::MassCenter => Rows::Xyz,
@@ -110,8 +149,21 @@ impl Field {
             Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => 6,
             Field::Cinert => 10,
             Field::Xpos | Field::Xipos | Field::SiteXpos => 3,
+            f if f.is_site_frame() => 3,
             _ => 1,
         }
+    }
+    /// The derived site fields (velocities and frame axes), computed when a spec reads them.
+    pub fn is_site_frame(self) -> bool {
+        matches!(
+            self,
+            Field::SiteLinvel
+                | Field::SiteAngvel
+                | Field::SiteLocalLinvel
+                | Field::SiteLocalAngvel
+                | Field::SiteZaxis
+                | Field::SiteGravity
+        )
     }
     /// Whether reading the field needs `mj_rnePostConstraint` after the physics steps.
     pub fn needs_rne_post_constraint(self) -> bool {
@@ -124,6 +176,7 @@ impl Field {
             }
             Field::Cinert => &["i0", "i1", "i2", "i3", "i4", "i5", "mx", "my", "mz", "m"],
             Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
+            f if f.is_site_frame() => &["x", "y", "z"],
             _ => &[""],
         }
     }
@@ -395,6 +448,7 @@ fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
             .map(|(i, a)| or_id(&a.name, "actuator", i))
             .collect(),
         Rows::Xyz => vec!["x".into(), "y".into(), "z".into()],
+        Rows::Command => vec![],
         Rows::TendonDof => {
             let dofs = row_names(Field::Qvel, model);
             let mut out = vec![];
@@ -485,6 +539,7 @@ fn rows_by_name(
                 .map(|i| vec![i]),
         ),
         Rows::TendonDof => ("tendon:dof pair", vec![], None),
+        Rows::Command => ("command", vec![], None),
         Rows::Xyz => (
             "component",
             vec!["x", "y", "z"],

@@ -74,6 +74,10 @@ pub struct Spec {
     /// `[bodies.<name>]`, `[sites.<name>]`, `[geoms.<name>]`, `[cameras.<name>]`,
     /// `[lights.<name>]`: elements added to the model when it is loaded, in that table order.
     pub added: Vec<(AddedKind, Section)>,
+    /// `[commands.<name>]`: command vectors (velocity commands, …), in declared order.
+    pub commands: Vec<Section>,
+    /// `[actions]`: PD position targets.
+    pub actions: Option<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -166,6 +170,8 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "lights",
     "agents",
     "maze",
+    "commands",
+    "actions",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
@@ -193,6 +199,30 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("constant", &[]),
     ("goal_sparse", GOAL_KEYS),
     ("goal_dense", &["achieved", "desired", "norm"]),
+    ("tracking", &["source", "target", "coefs", "sigma"]),
+    ("sum_abs", &["source", "minus", "gate"]),
+    ("action_rate", &[]),
+    ("feet_air_time", &["feet", "floor", "threshold", "gate"]),
+    ("feet_slip", &["feet", "floor", "sites", "gate"]),
+    ("joint_limits", &["source", "factor"]),
+];
+/// Keys of `[commands.<name>]`.
+pub const COMMAND_KEYS: &[&str] = &[
+    "components",
+    "resample_seconds",
+    "standing_probability",
+    "doc",
+];
+/// Keys of `[actions]`.
+pub const ACTION_KEYS: &[&str] = &[
+    "kind",
+    "scale",
+    "default_pose",
+    "range",
+    "kp",
+    "kd",
+    "damping",
+    "doc",
 ];
 /// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
 const GOAL_KEYS: &[&str] = &["achieved", "desired", "threshold", "norm"];
@@ -305,6 +335,8 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         actuators: vec![],
         physics: None,
         added: vec![],
+        commands: vec![],
+        actions: None,
     };
 
     if let Some(e) = get("maze") {
@@ -491,6 +523,27 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             check_keys(&s.entries, keys, &format!("[{table_name}.{}]", s.name), d);
             spec.added.push((kind, s));
         }
+    }
+    spec.commands = sections(get("commands"), "commands", &[], d);
+    for s in &spec.commands {
+        check_keys(
+            &s.entries,
+            COMMAND_KEYS,
+            &format!("[commands.{}]", s.name),
+            d,
+        );
+        require(s, "components", &format!("[commands.{}]", s.name), d);
+    }
+    if let Some(e) = get("actions")
+        && let Some(t) = table(&e.value, "[actions]", d)
+    {
+        check_keys(t, ACTION_KEYS, "[actions]", d);
+        spec.actions = Some(Section {
+            name: "actions".into(),
+            name_loc: e.key_loc.clone(),
+            loc: e.value.loc.clone(),
+            entries: t.to_vec(),
+        });
     }
     if let Some(e) = get("physics")
         && let Some(t) = table(&e.value, "[physics]", d)

@@ -108,6 +108,8 @@ impl ModelInfo {
             tendons: vec![],
             nq: 0,
             nv: 0,
+            keyframes: vec![],
+            geoms: vec![],
         };
         let mut walk = Walk {
             robot: &robot,

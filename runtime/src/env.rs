@@ -114,6 +114,8 @@ struct Sim {
     numerics: Profile,
     /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
     goal: Vec<f64>,
+    /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
+    legged: crate::commands::Legged,
 }
 
 /// # Safety
@@ -190,6 +192,8 @@ impl Sim {
                 Field::TenVelocity => view(d.ten_velocity, self.ntendon),
                 Field::MassCenter => &self.mass_center,
                 Field::TenJ => &self.ten_j,
+                Field::ActuatorForce => view(d.actuator_force, self.nu),
+                other => self.legged.field(other).unwrap_or(&[]),
             }
         }
     }
@@ -355,6 +359,7 @@ impl Env {
             mass_center: [0.0; 3],
             ten_j: vec![0.0; size(m.ntendon) * size(m.nv)],
             mass_sum: 0.0,
+            legged: crate::commands::Legged::new(&spec, &model)?,
             model: Arc::clone(&model),
             data,
         };
@@ -425,7 +430,7 @@ impl Env {
         let qpos_init = unsafe { view(m.qpos0, sim.nq) }.to_vec();
         let ctrlrange = unsafe { view(m.actuator_ctrlrange, sim.nu * 2) };
         // Gymnasium: Box(ctrlrange.astype(float32)); the bounds are the float32-rounded values.
-        let action_space = BoxSpace {
+        let mut action_space = BoxSpace {
             low: (0..sim.nu)
                 .map(|i| ctrlrange[2 * i] as f32 as f64)
                 .collect(),
@@ -433,6 +438,11 @@ impl Env {
                 .map(|i| ctrlrange[2 * i + 1] as f32 as f64)
                 .collect(),
         };
+        // PD actions: the declared action space, not the control range.
+        if let Some(a) = &spec.actions {
+            action_space.low.fill(a.range.0 as f32 as f64);
+            action_space.high.fill(a.range.1 as f32 as f64);
+        }
         let observation_space = BoxSpace {
             low: vec![f64::NEG_INFINITY; spec.obs_dim],
             high: vec![f64::INFINITY; spec.obs_dim],
@@ -697,6 +707,11 @@ impl Env {
         if let Some(message) = mujoco_error {
             self.reset_failure = Some(ResetFailure::Mujoco(message));
         }
+        // Commands are drawn after the `[reset.*]` steps (the design's draw order).
+        let rng = self.rng.as_mut().expect("set above");
+        let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
+        self.sim.legged.update_sites(m, d);
+        self.sim.legged.reset(&self.spec, rng);
         if self.uses_mass_center {
             self.sim.update_mass_center();
         }
@@ -795,10 +810,10 @@ impl Env {
         // Terms with `at = "before"` see the state the previous step (or the reset) left.
         for (i, t) in self.spec.reward.iter().enumerate() {
             if t.before {
-                let v = self.term(t, self.term_slot[i], true, t.weight);
+                let v = self.term(i, t, self.term_slot[i], true, t.weight);
                 self.term_values[i] = if t.cost { -v } else { v };
                 if self.unweighted_terms[i] {
-                    let u = self.term(t, self.term_slot[i], true, 1.0);
+                    let u = self.term(i, t, self.term_slot[i], true, 1.0);
                     self.term_values[n_terms + i] = if t.cost { -u } else { u };
                 }
             }
@@ -806,7 +821,8 @@ impl Env {
         // SAFETY: ctrl has nu entries.
         unsafe {
             let d = self.sim.data.ffi_mut();
-            std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu).copy_from_slice(&self.sim.action);
+            let ctrl = std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu);
+            self.sim.legged.write_ctrl(&self.sim.action, ctrl);
         }
         let (n, rne) = (self.spec.frame_skip, self.spec.needs_rne_post_constraint);
         // SAFETY: as in `Sim::call`.
@@ -826,20 +842,28 @@ impl Env {
             self.sim.update_mass_center();
         }
         self.sim.update_ten_j();
+        let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
+        self.sim.legged.update_sites(m, d);
+        self.sim.legged.update_contacts(d, self.dt);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {
             if t.before {
                 continue;
             }
-            let v = self.term(t, self.term_slot[i], healthy, t.weight);
+            let v = self.term(i, t, self.term_slot[i], healthy, t.weight);
             self.term_values[i] = if t.cost { -v } else { v };
             if self.unweighted_terms[i] {
-                let u = self.term(t, self.term_slot[i], healthy, 1.0);
+                let u = self.term(i, t, self.term_slot[i], healthy, 1.0);
                 self.term_values[n_terms + i] = if t.cost { -u } else { u };
             }
         }
         let reward = self.sum(&self.spec.reward_sum);
+        self.sim.legged.commit_contacts();
+        if !self.spec.commands.is_empty() {
+            let rng = self.rng.as_mut().expect("a reset came first");
+            self.sim.legged.resample(&self.spec, rng);
+        }
         self.write_obs();
         let mut off = 0;
         for (j, item) in self.spec.info.iter().enumerate() {
@@ -857,6 +881,7 @@ impl Env {
             off += item.len;
         }
         self.elapsed += 1;
+        self.sim.legged.end_step(&self.sim.action);
         let terminated = (!healthy && self.spec.terminate_when_unhealthy)
             || self
                 .spec
@@ -913,7 +938,14 @@ impl Env {
     }
 
     /// `weight × kernel` of one term (unsigned); `weight` is the term's, or 1 for `unweighted` info.
-    fn term(&self, t: &RewardTerm, slot: Option<usize>, healthy: bool, weight: f64) -> f64 {
+    fn term(
+        &self,
+        i: usize,
+        t: &RewardTerm,
+        slot: Option<usize>,
+        healthy: bool,
+        weight: f64,
+    ) -> f64 {
         let sim = &self.sim;
         let kernel = match &t.kind {
             TermKind::Velocity { source } => {
@@ -992,6 +1024,10 @@ impl Env {
                 }
             }
             TermKind::Constant => return weight,
+            TermKind::Legged(l) => {
+                sim.legged
+                    .kernel(i, l, sim.numerics, &|f| sim.field(f), &sim.action)
+            }
             TermKind::GoalSparse(GoalCheck { distance: g, .. }) | TermKind::GoalDense(g) => sim
                 .with_goal_diff(g, |diff| crate::goal::kernel(&t.kind, sim.numerics, diff))
                 .expect("a goal kind"),
@@ -1101,11 +1137,13 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     if s.contains('\0') {
         return Err(bad("the path contains a NUL byte".into()));
     }
-    if spec.model_edits.is_empty() {
+    let mut model = if spec.model_edits.is_empty() {
         MjModel::from_xml(path).map_err(|e| bad(e.to_string()))
     } else {
         crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)
-    }
+    }?;
+    crate::commands::apply_gains(spec, &mut model)?;
+    Ok(model)
 }
 
 /// The compiled model must have the numbering envspec derived from the MJCF (otherwise names in

@@ -43,6 +43,12 @@ pub enum EnvError {
     },
     #[error("error[E1003]: {} cannot be run: {what}", path.display())]
     BadModelValues { path: PathBuf, what: String },
+    #[error(
+        "error[E1110]: {}: {}",
+        envspec::diagnostic::escape(env),
+        envspec::diagnostic::escape(what)
+    )]
+    Legged { env: String, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
     #[error(transparent)]
@@ -62,6 +68,7 @@ impl EnvError {
             EnvError::ResampleUnmet { .. } => Code::E1104,
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
+            EnvError::Legged { .. } => Code::E1110,
             EnvError::Numerics(e) => e.code(),
             EnvError::Render(e) => e.code(),
         }

@@ -15,6 +15,7 @@ extern crate self as envc;
 
 mod any_env;
 pub mod bench;
+mod commands;
 #[cfg(feature = "dataset")]
 pub mod dataset;
 pub mod env;

@@ -65,6 +65,8 @@ enum TermKindKey {
     Constant,
     GoalSparse(GoalCheckKey),
     GoalDense(GoalDistanceKey),
+    /// A legged kernel, compared by its whole resolved value.
+    Legged(String),
 }
 
 /// A goal distance: what it compares and how it sums.
@@ -129,6 +131,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         TermKind::Constant => TermKindKey::Constant,
         TermKind::GoalSparse(c) => TermKindKey::GoalSparse(goal_check(c)),
         TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
+        TermKind::Legged(l) => TermKindKey::Legged(format!("{l:?}")),
     };
     TermKey {
         kind,

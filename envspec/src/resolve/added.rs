@@ -284,6 +284,7 @@ pub(super) fn apply(added: &[AddedElement], model: &mut ModelInfo) {
                 model.sites.insert(at, name.clone());
                 model.site_bodies.insert(at, b);
             }
+            AddedElement::Geom { name, .. } => model.geoms.push(name.clone()),
             _ => {}
         }
     }

@@ -1,0 +1,215 @@
+//! Commands (`[commands.*]`), PD position actions (`[actions]`) and the legged-locomotion reward
+//! terms, as resolved into the IR (docs/spec-reference.md, "Commands, PD actions and legged
+//! terms"). The resolver is `resolve/commands.rs`; the runtime `runtime/src/commands.rs`.
+
+use crate::selector::Selection;
+
+/// `[commands.<name>]`: a vector drawn from per-component ranges at reset and every
+/// `resample_steps` steps; with probability `standing_probability` every component is 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Command {
+    pub name: String,
+    pub doc: String,
+    /// Component names, in declared order (the draw order).
+    pub components: Vec<String>,
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    /// `resample_seconds` as written (None: drawn at reset only).
+    pub resample_seconds: Option<f64>,
+    /// `round(resample_seconds / dt)` env steps, at least 1 (0: drawn at reset only).
+    pub resample_steps: u64,
+    pub standing_probability: f64,
+    /// Where the command's components start in the env's command buffer.
+    pub offset: usize,
+}
+
+impl Command {
+    pub fn len(&self) -> usize {
+        self.components.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.components.is_empty()
+    }
+}
+
+/// Where the PD default pose comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DefaultPose {
+    /// A keyframe's `qpos` at each actuator's joint (`qposadr`, one per actuator), read from the
+    /// compiled model.
+    Keyframe { name: String, qposadr: Vec<usize> },
+    /// One value per actuator, as written.
+    Values(Vec<f64>),
+}
+
+/// `[actions]`: an action is a joint target, `ctrl = default_pose + scale × action`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PdActions {
+    pub scale: f64,
+    pub default_pose: DefaultPose,
+    /// The action space (every actuator), not the control range.
+    pub range: (f64, f64),
+    /// Position gain: `gainprm[0] = kp`, `biasprm[1] = −kp` on every actuator.
+    pub kp: Option<f64>,
+    /// Velocity gain of the servo: `biasprm[2] = −kd`.
+    pub kd: Option<f64>,
+    /// Joint damping (`dof_damping`) of every actuated joint (Playground's "Kd").
+    pub damping: Option<f64>,
+}
+
+/// `‖command‖ > threshold` (or `<` with `below`) gates a term: the kernel is multiplied by 1 or 0
+/// (no air-time reward for a standing command; a stand-still cost only for one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gate {
+    pub command: Selection,
+    pub threshold: f64,
+    pub below: bool,
+}
+
+/// Contacts of named geoms (feet) with a named geom (the floor): a foot is in contact when any
+/// contact of the last forward pass pairs it with the floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeetContact {
+    pub geoms: Vec<String>,
+    pub floor: String,
+}
+
+/// Reward kernels of legged locomotion (`TermKind::Legged`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum LeggedTerm {
+    /// `exp(−Σₖ coefₖ·(targetₖ − xₖ)² / σ)`: velocity tracking (`target` a command), or a pose
+    /// kept near a default (`target = "default_pose"`).
+    Tracking {
+        source: Selection,
+        target: Selection,
+        coefs: Vec<f64>,
+        sigma: f64,
+    },
+    /// `Σₖ |xₖ − mₖ|`, optionally gated.
+    SumAbs {
+        source: Selection,
+        minus: Option<Selection>,
+        gate: Option<Gate>,
+    },
+    /// `Σₖ (aₖ − a_prevₖ)²` of the action and the previous step's action.
+    ActionRate,
+    /// Playground / legged_gym feet air time: `Σ (air_time − threshold) · first_contact`, gated.
+    FeetAirTime {
+        feet: FeetContact,
+        threshold: f64,
+        gate: Option<Gate>,
+    },
+    /// `Σ contact · (vx² + vy²)` of the feet sites' world velocities, gated.
+    FeetSlip {
+        feet: FeetContact,
+        /// `site_linvel` rows of the feet sites, x and y of each (2 per foot).
+        velocity: Selection,
+        gate: Option<Gate>,
+    },
+    /// `Σ max(f·lo − q, 0) + max(q − f·hi, 0)` over hinge/slide joints (soft limits: the
+    /// model's range scaled by `factor`); joints without a range add 0.
+    JointLimits {
+        source: Selection,
+        /// Joint id of each element.
+        joints: Vec<usize>,
+        factor: f64,
+    },
+}
+
+impl LeggedTerm {
+    pub const KINDS: &'static [&'static str] = &[
+        "tracking",
+        "sum_abs",
+        "action_rate",
+        "feet_air_time",
+        "feet_slip",
+        "joint_limits",
+    ];
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            LeggedTerm::Tracking { .. } => "tracking",
+            LeggedTerm::SumAbs { .. } => "sum_abs",
+            LeggedTerm::ActionRate => "action_rate",
+            LeggedTerm::FeetAirTime { .. } => "feet_air_time",
+            LeggedTerm::FeetSlip { .. } => "feet_slip",
+            LeggedTerm::JointLimits { .. } => "joint_limits",
+        }
+    }
+    pub fn gate(&self) -> Option<&Gate> {
+        match self {
+            LeggedTerm::SumAbs { gate, .. }
+            | LeggedTerm::FeetAirTime { gate, .. }
+            | LeggedTerm::FeetSlip { gate, .. } => gate.as_ref(),
+            _ => None,
+        }
+    }
+    /// The selections the kernel reads, in order.
+    pub fn sources(&self) -> Vec<&Selection> {
+        let mut out: Vec<&Selection> = match self {
+            LeggedTerm::Tracking { source, target, .. } => vec![source, target],
+            LeggedTerm::SumAbs { source, minus, .. } => {
+                std::iter::once(source).chain(minus.as_ref()).collect()
+            }
+            LeggedTerm::FeetSlip { velocity, .. } => vec![velocity],
+            LeggedTerm::JointLimits { source, .. } => vec![source],
+            LeggedTerm::ActionRate | LeggedTerm::FeetAirTime { .. } => vec![],
+        };
+        out.extend(self.gate().map(|g| &g.command));
+        out
+    }
+    /// The contact pairs the kernel reads.
+    pub fn feet(&self) -> Option<&FeetContact> {
+        match self {
+            LeggedTerm::FeetAirTime { feet, .. } | LeggedTerm::FeetSlip { feet, .. } => Some(feet),
+            _ => None,
+        }
+    }
+    /// The formula, for `envc show` and generated docs.
+    pub fn formula(&self) -> String {
+        let gate = |g: &Option<Gate>| match g {
+            Some(g) => format!(
+                " · [‖{}‖ {} {}]",
+                g.command.text,
+                if g.below { "<" } else { ">" },
+                g.threshold
+            ),
+            None => String::new(),
+        };
+        match self {
+            LeggedTerm::Tracking {
+                source,
+                target,
+                sigma,
+                ..
+            } => format!("exp(−Σ c·({} − {})² / {sigma})", target.text, source.text),
+            LeggedTerm::SumAbs {
+                source,
+                minus,
+                gate: g,
+            } => match minus {
+                Some(m) => format!("Σ |{} − {}|{}", source.text, m.text, gate(g)),
+                None => format!("Σ |{}|{}", source.text, gate(g)),
+            },
+            LeggedTerm::ActionRate => "Σ (action − last_action)²".into(),
+            LeggedTerm::FeetAirTime {
+                feet,
+                threshold,
+                gate: g,
+            } => format!(
+                "Σ (air_time − {threshold}) · first_contact({} on {}){}",
+                feet.geoms.join(","),
+                feet.floor,
+                gate(g)
+            ),
+            LeggedTerm::FeetSlip { feet, gate: g, .. } => format!(
+                "Σ contact({} on {}) · (vx² + vy²){}",
+                feet.geoms.join(","),
+                feet.floor,
+                gate(g)
+            ),
+            LeggedTerm::JointLimits { source, factor, .. } => {
+                format!("Σ out of {factor} × range of {}", source.text)
+            }
+        }
+    }
+}

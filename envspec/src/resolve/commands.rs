@@ -1,0 +1,604 @@
+//! Resolving `[commands.*]`, `[actions]`, `command[...]` selectors and the legged reward kinds
+//! (IR in `crate::commands`).
+
+use super::Ctx;
+use crate::diagnostic::{Code, Diagnostic, Location, suggest};
+use crate::ir::*;
+use crate::mjcf::JointKind;
+use crate::selector::{Field, Selection};
+use crate::syntax::Section;
+use crate::value::{Val, ValKind};
+
+impl Ctx<'_> {
+    /// `[commands.*]` in declared order; `dt` turns `resample_seconds` into steps.
+    pub(super) fn commands(&mut self, dt: f64) -> Vec<Command> {
+        let mut out: Vec<Command> = vec![];
+        let mut offset = 0;
+        for s in &self.spec.commands {
+            let context = format!("[commands.{}]", s.name);
+            let bad = |v: &Val, msg: String, label: &str| {
+                Diagnostic::new(Code::E0130, msg)
+                    .at(v.loc.clone())
+                    .label(label.to_string())
+            };
+            let mut c = Command {
+                name: s.name.clone(),
+                doc: s.doc(),
+                components: vec![],
+                low: vec![],
+                high: vec![],
+                resample_seconds: None,
+                resample_steps: 0,
+                standing_probability: 0.0,
+                offset,
+            };
+            if let Some(v) = s.get("components") {
+                match &v.kind {
+                    ValKind::Table(entries) if !entries.is_empty() => {
+                        for e in entries {
+                            let Some((lo, hi)) = self.range(&e.value, &e.key) else {
+                                continue;
+                            };
+                            if !(lo.is_finite() && hi.is_finite()) || lo > hi {
+                                self.d.push(bad(
+                                    &e.value,
+                                    format!(
+                                        "command component `{}` of {context} has range [{lo}, {hi}]",
+                                        e.key
+                                    ),
+                                    "expected [low, high] with finite low <= high",
+                                ));
+                                continue;
+                            }
+                            c.components.push(e.key.clone());
+                            c.low.push(lo);
+                            c.high.push(hi);
+                        }
+                    }
+                    _ => self.d.push(bad(
+                        v,
+                        format!("{context} has no components"),
+                        "expected a table of ranges, e.g. { lin_vel_x = [-1.0, 1.0] }",
+                    )),
+                }
+            }
+            if let Some(v) = s.get("resample_seconds")
+                && let Some(x) = self.num(v, "resample_seconds")
+            {
+                if x < 0.0 {
+                    self.d.push(bad(
+                        v,
+                        format!("resample_seconds of {context} is {x}"),
+                        "expected seconds >= 0 (0: drawn at reset only)",
+                    ));
+                } else if x > 0.0 {
+                    c.resample_seconds = Some(x);
+                    c.resample_steps = ((x / dt).round() as u64).max(1);
+                }
+            }
+            if let Some(v) = s.get("standing_probability")
+                && let Some(p) = self.num(v, "standing_probability")
+            {
+                if (0.0..=1.0).contains(&p) {
+                    c.standing_probability = p;
+                } else {
+                    self.d.push(bad(
+                        v,
+                        format!("standing_probability of {context} is {p}"),
+                        "expected a probability in [0, 1]",
+                    ));
+                }
+            }
+            offset += c.len();
+            out.push(c);
+        }
+        out
+    }
+
+    /// `command[NAME]`, `command[NAME][i:j]`, `command[NAME][component]`,
+    /// `command[NAME].component` (or `command`: every command).
+    pub(super) fn command_selection(&mut self, text: &str, loc: &Location) -> Option<Selection> {
+        let rest = text.trim().strip_prefix("command")?.trim();
+        let err = |msg: String, label: String, help: Option<String>| {
+            Diagnostic::new(Code::E0131, msg)
+                .at(loc.clone())
+                .label(label)
+                .help_opt(help)
+        };
+        let all = |c: &Command| (0..c.len()).map(|k| c.offset + k).collect::<Vec<_>>();
+        let names = |c: &Command, idx: &[usize]| {
+            idx.iter()
+                .map(|&i| format!("command[{}].{}", c.name, c.components[i - c.offset]))
+                .collect::<Vec<_>>()
+        };
+        if rest.is_empty() {
+            let indices: Vec<usize> = (0..self.commands.iter().map(Command::len).sum()).collect();
+            let names = self
+                .commands
+                .iter()
+                .flat_map(|c| names(c, &all(c)))
+                .collect();
+            return Some(Selection {
+                field: Field::Command,
+                indices,
+                names,
+                text: text.to_string(),
+            });
+        }
+        let Some((name, tail)) = rest
+            .strip_prefix('[')
+            .and_then(|r| r.split_once(']'))
+            .map(|(n, t)| (n.trim(), t.trim()))
+        else {
+            self.d.push(err(
+                format!("cannot read command selector `{text}`"),
+                "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
+                None,
+            ));
+            return None;
+        };
+        let Some(c) = self.commands.iter().find(|c| c.name == name).cloned() else {
+            self.d.push(err(
+                format!("no command named `{name}`"),
+                format!(
+                    "expected one of the [commands.*] tables: {}",
+                    self.commands
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                suggest(name, self.commands.iter().map(|c| c.name.as_str())),
+            ));
+            return None;
+        };
+        let part = tail
+            .strip_prefix('.')
+            .map(str::trim)
+            .or_else(|| tail.strip_prefix('[').and_then(|t| t.strip_suffix(']')))
+            .map(str::trim);
+        let idx: Vec<usize> = match part {
+            None if tail.is_empty() => all(&c),
+            None => {
+                self.d.push(err(
+                    format!("cannot read command selector `{text}`"),
+                    "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
+                    None,
+                ));
+                return None;
+            }
+            Some(p) => {
+                let int = |x: &str, d: i64| -> Option<i64> {
+                    if x.trim().is_empty() {
+                        Some(d)
+                    } else {
+                        x.trim().parse().ok()
+                    }
+                };
+                let n = c.len() as i64;
+                let clamp = |v: i64| if v < 0 { (v + n).max(0) } else { v.min(n) };
+                if let Some((a, b)) = p.split_once(':')
+                    && let (Some(a), Some(b)) = (int(a, 0), int(b, n))
+                {
+                    (clamp(a)..clamp(b).max(clamp(a)))
+                        .map(|k| c.offset + k as usize)
+                        .collect()
+                } else if let Some(k) = c.components.iter().position(|x| x == p) {
+                    vec![c.offset + k]
+                } else if let Ok(k) = p.parse::<i64>()
+                    && (-n..n).contains(&k)
+                {
+                    vec![c.offset + clamp(if k < 0 { k + n } else { k }) as usize]
+                } else {
+                    self.d.push(err(
+                        format!("command `{}` has no component `{p}`", c.name),
+                        format!("expected one of: {}", c.components.join(", ")),
+                        suggest(p, c.components.iter().map(String::as_str)),
+                    ));
+                    return None;
+                }
+            }
+        };
+        Some(Selection {
+            field: Field::Command,
+            names: names(&c, &idx),
+            indices: idx,
+            text: text.to_string(),
+        })
+    }
+
+    /// `[actions]`: PD position targets over every actuator of the model.
+    pub(super) fn actions(&mut self) -> Option<PdActions> {
+        let s = self.spec.actions.as_ref()?;
+        let nu = self.model.nu();
+        let e0132 = |v: &Val, msg: String, label: &str| {
+            Diagnostic::new(Code::E0132, msg)
+                .at(v.loc.clone())
+                .label(label.to_string())
+        };
+        if let Some(v) = s.get("kind")
+            && v.as_str() != Some("pd_position")
+        {
+            self.d.push(
+                Diagnostic::new(Code::E0104, "unknown [actions] kind")
+                    .at(v.loc.clone())
+                    .label("expected \"pd_position\""),
+            );
+        }
+        let scale = match s.get("scale") {
+            Some(v) => self.num(v, "scale")?,
+            None => 1.0,
+        };
+        let range = match s.get("range") {
+            Some(v) => {
+                let r = self.range(v, "range")?;
+                if !(r.0.is_finite() && r.1.is_finite()) {
+                    self.d.push(e0132(
+                        v,
+                        format!("[actions] range [{}, {}] is not finite", r.0, r.1),
+                        "expected a finite action space, e.g. [-1.0, 1.0]",
+                    ));
+                }
+                r
+            }
+            None => (-1.0, 1.0),
+        };
+        let mut gain = |key: &str| -> Option<f64> {
+            let v = s.get(key)?;
+            let x = self.num(v, key)?;
+            if x < 0.0 {
+                self.d.push(e0132(
+                    v,
+                    format!("[actions] {key} is {x}"),
+                    "expected a gain >= 0",
+                ));
+            }
+            Some(x)
+        };
+        let (kp, kd, damping) = (gain("kp"), gain("kd"), gain("damping"));
+        let Some(pose) = s.get("default_pose") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, "missing `default_pose` in [actions]")
+                    .at(s.name_loc.clone())
+                    .label("expected a keyframe name (e.g. \"home\") or one number per actuator"),
+            );
+            return None;
+        };
+        let default_pose = match &pose.kind {
+            ValKind::Str(name) => {
+                if !self.model.keyframes.iter().any(|k| k == name) {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0133,
+                            format!(
+                                "the model {} has no keyframe named `{name}`",
+                                self.model.path.display()
+                            ),
+                        )
+                        .at(pose.loc.clone())
+                        .label(format!(
+                            "expected one of the model's keyframes ({} named)",
+                            self.model
+                                .keyframes
+                                .iter()
+                                .filter(|k| !k.is_empty())
+                                .count()
+                        ))
+                        .help_opt(suggest(
+                            name,
+                            self.model.keyframes.iter().map(String::as_str),
+                        )),
+                    );
+                    return None;
+                }
+                let mut qposadr = vec![];
+                for a in &self.model.actuators {
+                    let joint = a.target.as_deref().and_then(|t| self.model.joint(t));
+                    match joint {
+                        Some(j) if matches!(j.kind, JointKind::Hinge | JointKind::Slide) => {
+                            qposadr.push(j.qposadr)
+                        }
+                        _ => {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0133,
+                                    format!(
+                                        "actuator `{}` drives no hinge or slide joint, so keyframe `{name}` gives it no default position",
+                                        a.name
+                                    ),
+                                )
+                                .at(pose.loc.clone())
+                                .label("expected a model whose actuators each drive one joint")
+                                .help("give default_pose as one number per actuator instead"),
+                            );
+                            return None;
+                        }
+                    }
+                }
+                DefaultPose::Keyframe {
+                    name: name.clone(),
+                    qposadr,
+                }
+            }
+            ValKind::Array(a) if a.len() == nu => DefaultPose::Values(
+                a.iter()
+                    .map(|x| self.num(x, "default_pose"))
+                    .collect::<Option<_>>()?,
+            ),
+            _ => {
+                self.d.push(e0132(
+                    pose,
+                    format!("[actions] default_pose does not fit the model's {nu} actuators"),
+                    &format!("expected a keyframe name or an array of {nu} numbers"),
+                ));
+                return None;
+            }
+        };
+        Some(PdActions {
+            scale,
+            default_pose,
+            range,
+            kp,
+            kd,
+            damping,
+        })
+    }
+
+    fn geom_name(&mut self, v: &Val, what: &str) -> Option<String> {
+        let Some(name) = v.as_str() else {
+            self.d.push(v.type_error(what, "a geom name"));
+            return None;
+        };
+        if self.model.geoms.iter().any(|g| g == name) {
+            return Some(name.to_string());
+        }
+        self.d.push(
+            Diagnostic::new(
+                Code::E0134,
+                format!(
+                    "the model {} has no geom named `{name}`",
+                    self.model.path.display()
+                ),
+            )
+            .at(v.loc.clone())
+            .label(format!(
+                "expected a named geom of the model ({} named)",
+                self.model.geoms.len()
+            ))
+            .help_opt(suggest(name, self.model.geoms.iter().map(String::as_str))),
+        );
+        None
+    }
+
+    fn feet(&mut self, s: &Section) -> Option<FeetContact> {
+        let context = format!("[reward.{}]", s.name);
+        let (Some(f), Some(fl)) = (s.get("feet"), s.get("floor")) else {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("missing `feet` or `floor` in {context}"),
+                )
+                .at(s.name_loc.clone())
+                .label("expected feet = [geom names] and floor = \"geom name\""),
+            );
+            return None;
+        };
+        let geoms = match &f.kind {
+            ValKind::Array(a) if !a.is_empty() => a
+                .iter()
+                .map(|g| self.geom_name(g, "feet"))
+                .collect::<Vec<_>>(),
+            _ => {
+                self.d.push(f.type_error("feet", "an array of geom names"));
+                return None;
+            }
+        };
+        let floor = self.geom_name(fl, "floor");
+        Some(FeetContact {
+            geoms: geoms.into_iter().collect::<Option<_>>()?,
+            floor: floor?,
+        })
+    }
+
+    fn gate(&mut self, s: &Section) -> Option<Option<Gate>> {
+        let Some(v) = s.get("gate") else {
+            return Some(None);
+        };
+        let t = match v.as_table() {
+            Some(t) => t,
+            None => {
+                self.d
+                    .push(v.type_error("gate", "{ command = \"command[NAME]\", above = 0.01 }"));
+                return None;
+            }
+        };
+        let command = t.iter().find(|e| e.key == "command");
+        let bound = t.iter().find(|e| e.key == "above" || e.key == "below");
+        let unknown = t
+            .iter()
+            .find(|e| !["command", "above", "below"].contains(&e.key.as_str()));
+        let (Some(c), Some(a), None) = (command, bound, unknown) else {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0103,
+                    "a gate has `command` and one of `above` / `below`",
+                )
+                .at(v.loc.clone())
+                .label("expected { command = \"command[NAME]\", above = 0.01 }"),
+            );
+            return None;
+        };
+        let command = self.selection(&c.value, "gate.command")?;
+        let threshold = self.num(&a.value, "gate threshold")?;
+        Some(Some(Gate {
+            command,
+            threshold,
+            below: a.key == "below",
+        }))
+    }
+
+    /// The legged kinds of `[reward.*]` (None: not one of them, or an error was reported).
+    pub(super) fn legged_term(&mut self, s: &Section) -> Option<TermKind> {
+        let term = match s.kind("") {
+            "tracking" => {
+                let source = self.need_sel(s, "source")?;
+                let target = self.need_sel(s, "target")?;
+                if !self.same_len(&source, &target, &s.get("target")?.loc) {
+                    return None;
+                }
+                let coefs = self.num_list(s, "coefs", source.len(), 1.0)?;
+                let sigma = match s.get("sigma") {
+                    Some(v) => {
+                        let x = self.num(v, "sigma")?;
+                        if x <= 0.0 {
+                            self.d.push(
+                                Diagnostic::new(Code::E0135, format!("sigma is {x}"))
+                                    .at(v.loc.clone())
+                                    .label("expected a kernel width > 0"),
+                            );
+                            return None;
+                        }
+                        x
+                    }
+                    None => 1.0,
+                };
+                LeggedTerm::Tracking {
+                    source,
+                    target,
+                    coefs,
+                    sigma,
+                }
+            }
+            "sum_abs" => {
+                let source = self.need_sel(s, "source")?;
+                let minus = match s.get("minus") {
+                    Some(v) => {
+                        let m = self.selection(v, "minus")?;
+                        if !self.same_len(&source, &m, &v.loc) {
+                            return None;
+                        }
+                        Some(m)
+                    }
+                    None => None,
+                };
+                LeggedTerm::SumAbs {
+                    source,
+                    minus,
+                    gate: self.gate(s)?,
+                }
+            }
+            "action_rate" => LeggedTerm::ActionRate,
+            "feet_air_time" => {
+                let feet = self.feet(s)?;
+                let threshold = match s.get("threshold") {
+                    Some(v) => self.num(v, "threshold")?,
+                    None => 0.0,
+                };
+                LeggedTerm::FeetAirTime {
+                    feet,
+                    threshold,
+                    gate: self.gate(s)?,
+                }
+            }
+            "feet_slip" => {
+                let feet = self.feet(s)?;
+                let Some(v) = s.get("sites") else {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0103,
+                            format!("missing `sites` in [reward.{}]", s.name),
+                        )
+                        .at(s.name_loc.clone())
+                        .label("expected sites = [one site per foot], whose velocities slip"),
+                    );
+                    return None;
+                };
+                let names: Vec<&Val> = match &v.kind {
+                    ValKind::Array(a) => a.iter().collect(),
+                    _ => {
+                        self.d.push(v.type_error("sites", "an array of site names"));
+                        return None;
+                    }
+                };
+                if names.len() != feet.geoms.len() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0134,
+                            format!("{} sites for {} feet", names.len(), feet.geoms.len()),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected one site per foot geom, in the same order"),
+                    );
+                    return None;
+                }
+                let mut velocity = Selection {
+                    field: Field::SiteLinvel,
+                    indices: vec![],
+                    names: vec![],
+                    text: String::new(),
+                };
+                for n in names {
+                    let text = format!("site_linvel[{}][0:2]", n.as_str().unwrap_or("?"));
+                    let sel = self.selection(
+                        &Val {
+                            kind: ValKind::Str(text),
+                            loc: n.loc.clone(),
+                        },
+                        "sites",
+                    )?;
+                    velocity.indices.extend(sel.indices);
+                    velocity.names.extend(sel.names);
+                }
+                velocity.text = format!("site_linvel of {} sites", feet.geoms.len());
+                LeggedTerm::FeetSlip {
+                    feet,
+                    velocity,
+                    gate: self.gate(s)?,
+                }
+            }
+            "joint_limits" => {
+                let source = self.need_sel(s, "source")?;
+                let loc = s.get("source")?.loc.clone();
+                let mut joints = vec![];
+                for &i in &source.indices {
+                    let j = (source.field == Field::Qpos)
+                        .then(|| {
+                            self.model.joints.iter().position(|j| {
+                                j.qposadr == i
+                                    && matches!(j.kind, JointKind::Hinge | JointKind::Slide)
+                            })
+                        })
+                        .flatten();
+                    match j {
+                        Some(j) => joints.push(j),
+                        None => {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0135,
+                                    format!(
+                                        "joint_limits reads `{}`, which is not the position of a hinge or slide joint",
+                                        source.text
+                                    ),
+                                )
+                                .at(loc)
+                                .label("expected qpos of hinge or slide joints, e.g. \"qpos[7:]\""),
+                            );
+                            return None;
+                        }
+                    }
+                }
+                let factor = match s.get("factor") {
+                    Some(v) => self.num(v, "factor")?,
+                    None => 1.0,
+                };
+                LeggedTerm::JointLimits {
+                    source,
+                    joints,
+                    factor,
+                }
+            }
+            _ => return None,
+        };
+        Some(TermKind::Legged(term))
+    }
+}

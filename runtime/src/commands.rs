@@ -1,0 +1,406 @@
+//! Commands, PD position actions and the legged reward kernels at run time (IR in
+//! `envspec::commands`; docs/spec-reference.md, "Commands, PD actions and legged terms").
+//!
+//! Draws: at reset, after the `[reset.*]` steps, every command in declared order; at a step, after
+//! the reward, the commands whose interval is due. One command draws one numpy `uniform(low,
+//! high)` per component in order, then (only when `standing_probability > 0`) one `random()`:
+//! below the probability, every component is 0. A spec without `[commands]` draws nothing.
+
+use envspec::ir::*;
+use envspec::{Field, ResolvedSpec};
+use mujoco_rs::mujoco_c::{mjData, mjModel, mjtBias, mjtGain, mjtObj};
+use mujoco_rs::prelude::MjModel;
+
+use crate::numerics::{Profile, norm, pairwise_sum};
+use crate::rng::NumpyRng;
+
+/// Why the compiled model cannot serve the spec's `[actions]` or legged terms (E1110).
+pub(crate) fn unfit(spec: &ResolvedSpec, what: String) -> crate::EnvError {
+    crate::EnvError::Legged {
+        env: spec.id.clone(),
+        what,
+    }
+}
+
+fn id(m: &mjModel, obj: mjtObj, name: &str) -> Option<usize> {
+    let c = std::ffi::CString::new(name).ok()?;
+    // SAFETY: a valid model and a NUL-terminated name.
+    let i = unsafe { mujoco_rs::mujoco_c::mj_name2id(m, obj as i32, c.as_ptr()) };
+    (i >= 0).then_some(i as usize)
+}
+
+/// Set the `[actions]` gains on the compiled model (before any env shares it).
+pub(crate) fn apply_gains(spec: &ResolvedSpec, model: &mut MjModel) -> Result<(), crate::EnvError> {
+    let Some(a) = &spec.actions else {
+        return Ok(());
+    };
+    // SAFETY: we own the model; no data uses it yet. Arrays have nu × mjNGAIN / mjNBIAS entries.
+    let m = unsafe { model.ffi_mut() };
+    let nu = m.nu as usize;
+    const N: usize = mujoco_rs::mujoco_c::mjNGAIN as usize;
+    for i in 0..nu {
+        unsafe {
+            if a.kp.is_some() || a.kd.is_some() {
+                let servo = *m.actuator_gaintype.add(i) == mjtGain::mjGAIN_FIXED as i32
+                    && *m.actuator_biastype.add(i) == mjtBias::mjBIAS_AFFINE as i32;
+                if !servo {
+                    return Err(unfit(
+                        spec,
+                        format!(
+                            "actuator {i} is not a position servo (fixed gain, affine bias), so [actions] kp/kd cannot be set on it"
+                        ),
+                    ));
+                }
+            }
+            if let Some(kp) = a.kp {
+                *m.actuator_gainprm.add(i * N) = kp;
+                *m.actuator_biasprm.add(i * N + 1) = -kp;
+            }
+            if let Some(kd) = a.kd {
+                *m.actuator_biasprm.add(i * N + 2) = -kd;
+            }
+            if let Some(damping) = a.damping {
+                let j = *m.actuator_trnid.add(2 * i);
+                if *m.actuator_trntype.add(i) != 0 || j < 0 {
+                    return Err(unfit(
+                        spec,
+                        format!("actuator {i} drives no joint, so [actions] damping cannot be set"),
+                    ));
+                }
+                let dof = *m.jnt_dofadr.add(j as usize) as usize;
+                *m.dof_damping.add(dof) = damping;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Contact state of one feet term.
+#[derive(Clone, Debug, Default)]
+struct Feet {
+    geoms: Vec<i32>,
+    floor: i32,
+    contact: Vec<bool>,
+    last_contact: Vec<bool>,
+    first_contact: Vec<bool>,
+    /// Air time including this step (what the reward reads).
+    air_now: Vec<f64>,
+    air_time: Vec<f64>,
+}
+
+/// What the env holds for commands, PD actions and legged terms.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Legged {
+    pub command: Vec<f64>,
+    steps: u64,
+    pub last_action: Vec<f64>,
+    pub default_pose: Vec<f64>,
+    scale: f64,
+    pd: bool,
+    /// nsite × 3 each: linvel, angvel, local linvel, local angvel, z axis, gravity.
+    pub site: [Vec<f64>; 6],
+    site_frames: bool,
+    /// Per reward term: its feet state (feet terms only).
+    feet: Vec<Option<Feet>>,
+    /// Per joint: the soft-limit range (`joint_limits` reads it), or None when unlimited.
+    jnt_range: Vec<Option<(f64, f64)>>,
+}
+
+impl Legged {
+    pub fn new(spec: &ResolvedSpec, model: &MjModel) -> Result<Legged, crate::EnvError> {
+        let m = model.ffi();
+        let (nu, nsite, nq) = (m.nu as usize, m.nsite as usize, m.nq as usize);
+        let mut l = Legged {
+            command: vec![0.0; spec.command_dim],
+            last_action: vec![0.0; nu],
+            default_pose: vec![0.0; nu],
+            scale: 1.0,
+            ..Default::default()
+        };
+        if let Some(a) = &spec.actions {
+            l.pd = true;
+            l.scale = a.scale;
+            match &a.default_pose {
+                DefaultPose::Values(v) => l.default_pose.copy_from_slice(v),
+                DefaultPose::Keyframe { name, qposadr } => {
+                    let k = id(m, mjtObj::mjOBJ_KEY, name).ok_or_else(|| {
+                        unfit(spec, format!("the compiled model has no keyframe `{name}`"))
+                    })?;
+                    for (i, &adr) in qposadr.iter().enumerate() {
+                        // SAFETY: key_qpos has nkey × nq entries; k < nkey, adr < nq.
+                        l.default_pose[i] = unsafe { *m.key_qpos.add(k * nq + adr) };
+                    }
+                }
+            }
+        }
+        l.site_frames = spec.sources().any(|s| s.field.is_site_frame());
+        if l.site_frames {
+            l.site = std::array::from_fn(|_| vec![0.0; nsite * 3]);
+        }
+        let njnt = m.njnt as usize;
+        for t in &spec.reward {
+            let feet = match &t.kind {
+                TermKind::Legged(lt) => lt.feet(),
+                _ => None,
+            };
+            l.feet.push(match feet {
+                None => None,
+                Some(f) => {
+                    let geom = |n: &str| {
+                        id(m, mjtObj::mjOBJ_GEOM, n)
+                            .map(|i| i as i32)
+                            .ok_or_else(|| {
+                                unfit(spec, format!("the compiled model has no geom `{n}`"))
+                            })
+                    };
+                    let n = f.geoms.len();
+                    Some(Feet {
+                        geoms: f.geoms.iter().map(|g| geom(g)).collect::<Result<_, _>>()?,
+                        floor: geom(&f.floor)?,
+                        contact: vec![false; n],
+                        last_contact: vec![false; n],
+                        first_contact: vec![false; n],
+                        air_now: vec![0.0; n],
+                        air_time: vec![0.0; n],
+                    })
+                }
+            });
+            if let TermKind::Legged(LeggedTerm::JointLimits { factor, .. }) = &t.kind
+                && l.jnt_range.is_empty()
+            {
+                l.jnt_range = (0..njnt)
+                    .map(|j| unsafe {
+                        // SAFETY: jnt_limited has njnt entries, jnt_range 2 × njnt.
+                        (*m.jnt_limited.add(j)).then(|| {
+                            (
+                                factor * *m.jnt_range.add(2 * j),
+                                factor * *m.jnt_range.add(2 * j + 1),
+                            )
+                        })
+                    })
+                    .collect();
+            }
+        }
+        Ok(l)
+    }
+
+    /// The field's values, for the fields this module holds.
+    pub fn field(&self, f: Field) -> Option<&[f64]> {
+        Some(match f {
+            Field::SiteLinvel => &self.site[0],
+            Field::SiteAngvel => &self.site[1],
+            Field::SiteLocalLinvel => &self.site[2],
+            Field::SiteLocalAngvel => &self.site[3],
+            Field::SiteZaxis => &self.site[4],
+            Field::SiteGravity => &self.site[5],
+            Field::LastAction => &self.last_action,
+            Field::DefaultPose => &self.default_pose,
+            Field::Command => &self.command,
+            _ => return None,
+        })
+    }
+
+    /// `ctrl` for an action: `default_pose + scale × action` under `[actions]`, else the action.
+    pub fn write_ctrl(&self, action: &[f64], ctrl: &mut [f64]) {
+        if self.pd {
+            for i in 0..ctrl.len() {
+                ctrl[i] = self.default_pose[i] + self.scale * action[i];
+            }
+        } else {
+            ctrl.copy_from_slice(action);
+        }
+    }
+
+    /// Site velocities and axes from the current (lagged) derived quantities.
+    pub fn update_sites(&mut self, m: &mjModel, d: &mjData) {
+        if !self.site_frames {
+            return;
+        }
+        let nsite = m.nsite as usize;
+        for s in 0..nsite {
+            for (local, off) in [(0, 0), (1, 2)] {
+                let mut res = [0.0f64; 6];
+                // SAFETY: valid model/data and site id; res holds 6 numbers ([angular, linear]).
+                unsafe {
+                    mujoco_rs::mujoco_c::mj_objectVelocity(
+                        m,
+                        d,
+                        mjtObj::mjOBJ_SITE as i32,
+                        s as i32,
+                        &mut res,
+                        local,
+                    )
+                };
+                self.site[off][3 * s..3 * s + 3].copy_from_slice(&res[3..6]);
+                self.site[off + 1][3 * s..3 * s + 3].copy_from_slice(&res[0..3]);
+            }
+            // SAFETY: site_xmat has nsite × 9 entries (row-major rotation, site to world).
+            let r = unsafe { std::slice::from_raw_parts(d.site_xmat.add(9 * s), 9) };
+            self.site[4][3 * s..3 * s + 3].copy_from_slice(&[r[2], r[5], r[8]]);
+            self.site[5][3 * s..3 * s + 3].copy_from_slice(&[-r[6], -r[7], -r[8]]);
+        }
+    }
+
+    /// Reset: zero the previous action and the feet state, draw every command.
+    pub fn reset(&mut self, spec: &ResolvedSpec, rng: &mut NumpyRng) {
+        self.last_action.fill(0.0);
+        self.steps = 0;
+        for f in self.feet.iter_mut().flatten() {
+            f.last_contact.fill(false);
+            f.air_time.fill(0.0);
+            f.air_now.fill(0.0);
+            f.contact.fill(false);
+            f.first_contact.fill(false);
+        }
+        for c in &spec.commands {
+            self.draw(c, rng);
+        }
+    }
+
+    fn draw(&mut self, c: &Command, rng: &mut NumpyRng) {
+        let out = &mut self.command[c.offset..c.offset + c.len()];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = rng.uniform(c.low[k], c.high[k]);
+        }
+        if c.standing_probability > 0.0 && rng.next_f64() < c.standing_probability {
+            out.fill(0.0);
+        }
+    }
+
+    /// After the reward: count the step, redraw the commands whose interval is due.
+    pub fn resample(&mut self, spec: &ResolvedSpec, rng: &mut NumpyRng) {
+        self.steps += 1;
+        for c in &spec.commands {
+            if c.resample_steps > 0 && self.steps.is_multiple_of(c.resample_steps) {
+                self.draw(c, rng);
+            }
+        }
+    }
+
+    /// Before the reward: contacts of the feet with the floor in the last forward pass; the
+    /// first contacts (air time so far > 0 and in contact now or at the previous step) and the
+    /// air time including this step.
+    pub fn update_contacts(&mut self, d: &mjData, dt: f64) {
+        let ncon = d.ncon as usize;
+        for f in self.feet.iter_mut().flatten() {
+            f.contact.fill(false);
+            for c in 0..ncon {
+                // SAFETY: contact has ncon valid entries after a forward pass.
+                let g = unsafe { (*d.contact.add(c)).geom };
+                for (i, &foot) in f.geoms.iter().enumerate() {
+                    if (g[0] == foot && g[1] == f.floor) || (g[1] == foot && g[0] == f.floor) {
+                        f.contact[i] = true;
+                    }
+                }
+            }
+            for i in 0..f.geoms.len() {
+                let filt = f.contact[i] || f.last_contact[i];
+                f.first_contact[i] = f.air_time[i] > 0.0 && filt;
+                f.air_now[i] = f.air_time[i] + dt;
+            }
+        }
+    }
+
+    /// After the reward: the air time restarts on contact; the contact is remembered. The
+    /// action becomes the previous action once the observation is written (`end_step`).
+    pub fn commit_contacts(&mut self) {
+        for f in self.feet.iter_mut().flatten() {
+            for i in 0..f.geoms.len() {
+                f.air_time[i] = if f.contact[i] { 0.0 } else { f.air_now[i] };
+                f.last_contact[i] = f.contact[i];
+            }
+        }
+    }
+
+    pub fn end_step(&mut self, action: &[f64]) {
+        self.last_action.copy_from_slice(action);
+    }
+
+    /// The kernel of a legged term (reward term `i`). `field` reads any field.
+    pub fn kernel<'a>(
+        &self,
+        i: usize,
+        t: &LeggedTerm,
+        numerics: Profile,
+        field: &dyn Fn(Field) -> &'a [f64],
+        action: &[f64],
+    ) -> f64 {
+        let gate = |g: &Option<Gate>| match g {
+            None => 1.0,
+            Some(g) => {
+                let f = field(g.command.field);
+                let n = norm(numerics, g.command.len(), &|k| f[g.command.indices[k]]);
+                let open = if g.below {
+                    n < g.threshold
+                } else {
+                    n > g.threshold
+                };
+                open as u8 as f64
+            }
+        };
+        match t {
+            LeggedTerm::Tracking {
+                source,
+                target,
+                coefs,
+                sigma,
+            } => {
+                let (x, y) = (field(source.field), field(target.field));
+                let s = pairwise_sum(source.len(), &|k| {
+                    let d = y[target.indices[k]] - x[source.indices[k]];
+                    d * d * coefs[k]
+                });
+                (-s / sigma).exp()
+            }
+            LeggedTerm::SumAbs {
+                source,
+                minus,
+                gate: g,
+            } => {
+                let x = field(source.field);
+                let s = match minus {
+                    Some(m) => {
+                        let y = field(m.field);
+                        pairwise_sum(source.len(), &|k| {
+                            (x[source.indices[k]] - y[m.indices[k]]).abs()
+                        })
+                    }
+                    None => pairwise_sum(source.len(), &|k| x[source.indices[k]].abs()),
+                };
+                s * gate(g)
+            }
+            LeggedTerm::ActionRate => pairwise_sum(action.len(), &|k| {
+                let d = action[k] - self.last_action[k];
+                d * d
+            }),
+            LeggedTerm::FeetAirTime {
+                threshold, gate: g, ..
+            } => {
+                let f = self.feet[i].as_ref().expect("feet terms have a state");
+                pairwise_sum(f.geoms.len(), &|k| {
+                    (f.air_now[k] - threshold) * f.first_contact[k] as u8 as f64
+                }) * gate(g)
+            }
+            LeggedTerm::FeetSlip {
+                velocity, gate: g, ..
+            } => {
+                let f = self.feet[i].as_ref().expect("feet terms have a state");
+                let v = field(velocity.field);
+                pairwise_sum(f.geoms.len(), &|k| {
+                    let (vx, vy) = (v[velocity.indices[2 * k]], v[velocity.indices[2 * k + 1]]);
+                    (vx * vx + vy * vy) * f.contact[k] as u8 as f64
+                }) * gate(g)
+            }
+            LeggedTerm::JointLimits { source, joints, .. } => {
+                let x = field(source.field);
+                pairwise_sum(source.len(), &|k| match self.jnt_range[joints[k]] {
+                    None => 0.0,
+                    Some((lo, hi)) => {
+                        let q = x[source.indices[k]];
+                        -(q - lo).min(0.0) + (q - hi).max(0.0)
+                    }
+                })
+            }
+        }
+    }
+}
