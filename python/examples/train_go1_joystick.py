@@ -223,21 +223,21 @@ def plot(rows, zero, trained, track_keys, path: str, title: str) -> None:
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     steps = np.array([r["env_steps"] for r in rows], dtype=float)
-    window = max(1, len(rows) // 40)
+    xs = np.unique(steps)  # one point per rollout: the mean of the episodes that ended in it
+    window = max(1, len(xs) // 30)
 
-    def smooth(y):
-        y = np.asarray(y, dtype=float)
-        if window == 1:
-            return y
-        c = np.cumsum(np.insert(y, 0, 0.0))
-        out = (c[window:] - c[:-window]) / window
-        return np.concatenate([y[: window - 1] * np.nan, out])
+    def smooth(key):
+        y = np.array([r[key] for r in rows], dtype=float)
+        means = np.array([y[steps == x].mean() for x in xs])
+        kernel = np.ones(window) / window
+        return np.convolve(means, kernel, mode="valid"), xs[window - 1 :]
 
     ax = axes[0]
     for j, k in enumerate(track_keys):
         color = f"C{j}"
         ax.plot(steps, [r[k] for r in rows], ".", ms=2, alpha=0.25, color=color)
-        ax.plot(steps, smooth([r[k] for r in rows]), color=color, label=f"{k} (PPO)")
+        y, x = smooth(k)
+        ax.plot(x, y, color=color, label=f"{k} (PPO)")
         ax.axhline(zero[k], color=color, ls="--", label=f"{k} (zero policy)")
     ax.set_xlabel("env steps")
     ax.set_ylabel("tracking reward per episode (sum over steps)")
@@ -245,9 +245,14 @@ def plot(rows, zero, trained, track_keys, path: str, title: str) -> None:
     ax.set_title(title, fontsize=9)
     ax = axes[1]
     ax.plot(steps, [r["return"] for r in rows], ".", ms=2, alpha=0.25, color="C3")
-    ax.plot(steps, smooth([r["return"] for r in rows]), color="C3", label="return (PPO)")
+    y, x = smooth("return")
+    ax.plot(x, y, color="C3", label="return (PPO)")
     ax.axhline(zero["return"], color="C3", ls="--", label="return (zero policy)")
-    ax.plot(steps, smooth([r["length"] for r in rows]), color="C4", label="episode length (PPO)")
+    y, x = smooth("length")
+    ax2 = ax.twinx()
+    ax2.plot(x, y, color="C4", label="episode length (PPO, right axis)")
+    ax2.set_ylabel("episode length")
+    ax2.legend(fontsize=7, loc="lower right")
     ax.set_xlabel("env steps")
     ax.legend(fontsize=7)
     ax.set_title(
