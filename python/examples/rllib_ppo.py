@@ -31,6 +31,8 @@ import os
 import tempfile
 import time
 
+import numpy as np
+
 
 def build(env: str, vector_mode: str, args):
     from ray.rllib.algorithms.ppo import PPOConfig
@@ -69,6 +71,19 @@ def sample_time(result: dict) -> float | None:
     return float(timers["env_runner_sampling_timer"]) if "env_runner_sampling_timer" in timers else None
 
 
+def sampling_rate(algo, steps: int) -> float:
+    """Env steps/s of the env runner's own ``sample()`` (policy inference + env + connectors),
+    timed inside the runner process, without learning."""
+
+    def run(runner):
+        t = time.perf_counter()
+        episodes = runner.sample(num_timesteps=steps, random_actions=False)
+        n = sum(len(e) for e in episodes)
+        return n / (time.perf_counter() - t)
+
+    return float(algo.env_runner_group.foreach_env_runner(run, local_env_runner=False)[0])
+
+
 def main() -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--env", default="Hopper-v5")
@@ -77,6 +92,7 @@ def main() -> dict:
     ap.add_argument("--batch", type=int, default=4000, help="env steps per iteration")
     ap.add_argument("--only", choices=["envc", "gymnasium"], help="run one side only")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--sample-rounds", type=int, default=5, help="interleaved sampling rounds")
     args = ap.parse_args()
 
     import ray
@@ -110,7 +126,7 @@ def main() -> dict:
                 "env_steps_lifetime": int(runners.get("num_env_steps_sampled_lifetime", 0)),
                 "iter_seconds": round(wall, 2),
                 "steps_per_s": round(steps / wall, 1),
-                "sample_steps_per_s": None if not st else round(steps / st, 1),
+                "sample_steps_per_s": None if not st else round(steps / st, 1),  # smoothed timer
             }
             log[name].append(row)
             print(f"{name:>9} it {it:2d}: return {row['episode_return_mean']:8.1f}  "
@@ -132,7 +148,18 @@ def main() -> dict:
                 / sum(r["env_steps"] / r["sample_steps_per_s"] for r in samp), 1)
             if samp else None,
         }
+    # Sampling alone, interleaved rounds (RLlib's own sample timer is a smoothed mean).
+    rates: dict[str, list[float]] = {name: [] for name in algos}
+    for _ in range(args.sample_rounds):
+        for name, algo in algos.items():
+            rates[name].append(sampling_rate(algo, args.batch))
+    for name in algos:
+        summary[name]["runner_sample_steps_per_s_median"] = round(float(np.median(rates[name])), 1)
+        summary[name]["runner_sample_steps_per_s_rounds"] = [round(r, 1) for r in rates[name]]
     if len(log) == 2:
+        summary["ratio_runner_sample_steps_per_s"] = round(
+            summary["envc"]["runner_sample_steps_per_s_median"]
+            / summary["gymnasium"]["runner_sample_steps_per_s_median"], 2)
         summary["ratio_steps_per_s"] = round(
             summary["envc"]["steps_per_s"] / summary["gymnasium"]["steps_per_s"], 2)
         if summary["envc"]["sample_steps_per_s"] and summary["gymnasium"]["sample_steps_per_s"]:

@@ -156,13 +156,21 @@ def track_keys_of(venv, pattern: str) -> list[str]:
     return [k for k in keys if re.search(pattern, k)]
 
 
-def evaluate(venv, episodes: int, act, seed: int, track_keys: list[str]) -> dict[str, float]:
-    """Mean return, length and tracking sums over ``episodes`` episodes of ``act(obs)``."""
+def evaluate(venv, per_env: int, act, seed: int, track_keys: list[str]) -> dict[str, float]:
+    """Mean return, length and tracking sums of ``act(obs)`` over the first ``per_env`` episodes
+    of every env (not the first episodes to end overall, which would over-count falls)."""
     env = EnvcSB3VecEnv(venv, track_keys, seed=seed)
     obs = env.reset()
-    while len(env.episodes) < episodes:
-        obs, *_ = env.step(act(obs))
-    return summarize(env.episodes[:episodes], track_keys)
+    done_count = np.zeros(env.num_envs, dtype=np.int64)
+    kept: list[dict[str, float]] = []
+    while done_count.min() < per_env:
+        before = len(env.episodes)
+        obs, _r, dones, _infos = env.step(act(obs))
+        for i, ep in zip(np.flatnonzero(dones), env.episodes[before:]):
+            done_count[i] += 1
+            if done_count[i] <= per_env:
+                kept.append(ep)
+    return summarize(kept, track_keys)
 
 
 def summarize(eps: list[dict[str, float]], track_keys: list[str]) -> dict[str, float]:
@@ -281,7 +289,7 @@ def main() -> dict:
     ap.add_argument("--ent-coef", type=float, default=0.005)
     ap.add_argument("--net", default="256,128,128", help="hidden layer sizes (policy and value)")
     ap.add_argument("--track-keys", default="tracking", help="regex over info keys")
-    ap.add_argument("--eval-episodes", type=int, default=32)
+    ap.add_argument("--eval-per-env", type=int, default=2, help="evaluation episodes per env")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="docs/go1_joystick_learning", help="output path stem")
     ap.add_argument("--bench-vec", action="store_true")
@@ -304,7 +312,7 @@ def main() -> dict:
     print(f"spec {args.spec}; tracking keys {track_keys}", flush=True)
 
     act_dim = make_venv(args, 1).single_action_space.shape[0]
-    zero = evaluate(make_venv(args, args.num_envs), args.eval_episodes,
+    zero = evaluate(make_venv(args, args.num_envs), args.eval_per_env,
                     lambda o: np.zeros((len(o), act_dim), np.float32), 10_000 + args.seed,
                     track_keys)
     print("zero policy:", json.dumps(zero), flush=True)
@@ -350,11 +358,19 @@ def main() -> dict:
     venv.training = False
     eval_env = make_venv(args, args.num_envs)
     trained = evaluate(
-        eval_env, args.eval_episodes,
+        eval_env, args.eval_per_env,
         lambda o: model.predict(venv.normalize_obs(o), deterministic=True)[0].astype(np.float32),
         10_000 + args.seed, track_keys,
     )
     print("trained policy:", json.dumps(trained), flush=True)
+    stochastic = evaluate(
+        make_venv(args, args.num_envs), args.eval_per_env,
+        lambda o: model.predict(venv.normalize_obs(o), deterministic=False)[0].astype(np.float32),
+        10_000 + args.seed, track_keys,
+    )
+    print("trained policy (stochastic):", json.dumps(stochastic), flush=True)
+    model.save(args.out + "_model.zip")  # not committed: for re-evaluation
+    venv.save(args.out + "_vecnormalize.pkl")
 
     os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
     with open(args.out + ".csv", "w", newline="") as f:
@@ -365,7 +381,7 @@ def main() -> dict:
         "spec": args.spec, "track_keys": track_keys, "env_steps": steps_done,
         "train_seconds": round(train_s, 1), "steps_per_second": round(steps_done / train_s),
         "num_envs": args.num_envs, "threads": args.threads, "zero_policy": zero,
-        "trained_policy": trained,
+        "trained_policy": trained, "trained_policy_stochastic": stochastic,
         "hyper_parameters": {k: getattr(args, k) for k in (
             "n_steps", "batch_size", "n_epochs", "lr", "gamma", "ent_coef", "net", "seed")},
     }
