@@ -337,7 +337,8 @@ def main() -> dict:
             for ep in env.episodes:
                 row = {"env_steps": self.num_timesteps, "wall_s": round(now, 1), "return": ep["r"],
                        "length": ep["l"], "terminated": int(ep["terminated"])}
-                row.update({k: ep[k] for k in track_keys})
+                row["return"] = round(row["return"], 4)
+                row.update({k: round(ep[k], 4) for k in track_keys})
                 rows.append(row)
             recent = env.episodes[-64:]
             env.episodes.clear()
