@@ -14,6 +14,13 @@ const EXAMPLE_MODELS: &[(&str, &str)] = &[
         ),
     ),
     (
+        "Go1Joystick-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/models/unitree_go1/scene.xml"
+        ),
+    ),
+    (
         "ReacherGoal-v0",
         concat!(
             env!("CARGO_MANIFEST_DIR"),

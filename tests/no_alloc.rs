@@ -11,8 +11,26 @@ fn step_and_reset_do_not_allocate() {
     let goal = envc::registry::examples()
         .into_iter()
         .filter(|(id, _)| id == "ReacherGoal-v0");
-    for (id, path) in envc::registry::bundled().into_iter().chain(goal) {
-        let mut env = envc::Env::from_spec_file(&path, &[]).unwrap();
+    // The joystick (commands, PD actions, legged terms) over the shared Go1.
+    let go1 = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/models/unitree_go1/scene.xml"
+    );
+    let joystick = envc::registry::examples()
+        .into_iter()
+        .filter(|(id, _)| id == "Go1Joystick-v0");
+    for (id, path) in envc::registry::bundled()
+        .into_iter()
+        .chain(goal)
+        .chain(joystick)
+    {
+        let xml = envc::Override::text("xml_file", go1);
+        let over = if id == "Go1Joystick-v0" {
+            vec![xml]
+        } else {
+            vec![]
+        };
+        let mut env = envc::Env::from_spec_file(&path, &over).unwrap();
         env.reset(Some(0));
         let a = vec![0.1; env.act_dim()];
         let a32 = vec![0.1f32; env.act_dim()];

@@ -66,12 +66,17 @@ pub struct Gate {
     pub below: bool,
 }
 
-/// Contacts of named geoms (feet) with a named geom (the floor): a foot is in contact when any
-/// contact of the last forward pass pairs it with the floor.
+/// Contacts of the feet with the floor: a foot is in contact when any contact of the last forward
+/// pass pairs it with the floor. Each is a geom, or a body (any of its geoms: for models whose
+/// foot geoms have no names; `world` is every geom of the world body).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeetContact {
+    /// Geom or body names of the feet.
     pub geoms: Vec<String>,
+    /// Per foot: the name is a body's, not a geom's.
+    pub bodies: Vec<bool>,
     pub floor: String,
+    pub floor_is_body: bool,
 }
 
 /// Reward kernels of legged locomotion (`TermKind::Legged`).
@@ -211,5 +216,44 @@ impl LeggedTerm {
                 format!("Σ out of {factor} × range of {}", source.text)
             }
         }
+    }
+}
+
+impl Command {
+    /// One line for `envc show`: components, ranges, schedule, standing probability.
+    pub fn describe(&self) -> String {
+        let comps: Vec<String> = self
+            .components
+            .iter()
+            .enumerate()
+            .map(|(k, n)| format!("{n} ~ U[{}, {}]", self.low[k], self.high[k]))
+            .collect();
+        let when = match self.resample_seconds {
+            Some(s) => format!("at reset and every {s} s ({} steps)", self.resample_steps),
+            None => "at reset".into(),
+        };
+        format!(
+            "{}; drawn {when}; all zero with probability {}",
+            comps.join(", "),
+            self.standing_probability
+        )
+    }
+}
+
+impl PdActions {
+    /// What `envc show` prints under the action table.
+    pub fn describe(&self) -> String {
+        let pose = match &self.default_pose {
+            DefaultPose::Keyframe { name, .. } => format!("keyframe `{name}`"),
+            DefaultPose::Values(v) => format!("{v:?}"),
+        };
+        let gain = |k: &str, v: Option<f64>| v.map(|x| format!(", {k} {x}")).unwrap_or_default();
+        format!(
+            "PD position targets: ctrl = default_pose + {} × action, default_pose from {pose}{}{}{}",
+            self.scale,
+            gain("kp", self.kp),
+            gain("kd", self.kd),
+            gain("joint damping", self.damping)
+        )
     }
 }

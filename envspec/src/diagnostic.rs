@@ -173,7 +173,8 @@ pub enum Code {
     /// A keyframe the model does not have, or an actuator that drives no joint (so the keyframe
     /// gives it no default position).
     E0133,
-    /// A legged term naming a geom the model does not have, or feet and sites of different counts.
+    /// A legged term naming a geom or body the model does not have, or feet and sites of
+    /// different counts.
     E0134,
     /// A legged term over elements of the wrong kind: `joint_limits` over anything but hinge or
     /// slide joint positions, a non-positive `sigma`.

@@ -185,7 +185,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         .any(|s| s.field.needs_rne_post_constraint());
     resolved.needs_rne_post_constraint = rne;
     let mut d = d;
-    if resolved.actions.is_none() && resolved.reads(Field::DefaultPose) {
+    if spec.actions.is_none() && resolved.reads(Field::DefaultPose) {
         d.push(
             Diagnostic::new(
                 Code::E0132,
@@ -648,7 +648,12 @@ impl Ctx<'_> {
                 None => false,
                 Some(v) => match v.as_str() {
                     Some("after") => false,
-                    Some("before") if matches!(s.kind(""), "velocity" | "healthy") => {
+                    Some("before")
+                        if matches!(
+                            s.kind(""),
+                            "velocity" | "healthy" | "feet_air_time" | "feet_slip"
+                        ) =>
+                    {
                         self.d.push(
                             Diagnostic::new(
                                 Code::E0104,
@@ -658,7 +663,7 @@ impl Ctx<'_> {
                                 ),
                             )
                             .at(v.loc.clone())
-                            .label("expected \"after\" (velocity and healthy terms need the post-step state)"),
+                            .label("expected \"after\" (velocity, healthy and feet terms need the post-step state)"),
                         );
                         false
                     }

@@ -78,8 +78,11 @@ pub(crate) fn apply_gains(spec: &ResolvedSpec, model: &mut MjModel) -> Result<()
 /// Contact state of one feet term.
 #[derive(Clone, Debug, Default)]
 struct Feet {
+    /// Geom ids, or body ids where `bodies` says so.
     geoms: Vec<i32>,
+    bodies: Vec<bool>,
     floor: i32,
+    floor_is_body: bool,
     contact: Vec<bool>,
     last_contact: Vec<bool>,
     first_contact: Vec<bool>,
@@ -146,17 +149,24 @@ impl Legged {
             l.feet.push(match feet {
                 None => None,
                 Some(f) => {
-                    let geom = |n: &str| {
-                        id(m, mjtObj::mjOBJ_GEOM, n)
-                            .map(|i| i as i32)
-                            .ok_or_else(|| {
-                                unfit(spec, format!("the compiled model has no geom `{n}`"))
-                            })
+                    let geom = |n: &str, body: bool| {
+                        let (obj, what) = if body {
+                            (mjtObj::mjOBJ_BODY, "body")
+                        } else {
+                            (mjtObj::mjOBJ_GEOM, "geom")
+                        };
+                        id(m, obj, n).map(|i| i as i32).ok_or_else(|| {
+                            unfit(spec, format!("the compiled model has no {what} `{n}`"))
+                        })
                     };
                     let n = f.geoms.len();
                     Some(Feet {
-                        geoms: f.geoms.iter().map(|g| geom(g)).collect::<Result<_, _>>()?,
-                        floor: geom(&f.floor)?,
+                        geoms: (0..n)
+                            .map(|i| geom(&f.geoms[i], f.bodies[i]))
+                            .collect::<Result<_, _>>()?,
+                        bodies: f.bodies.clone(),
+                        floor: geom(&f.floor, f.floor_is_body)?,
+                        floor_is_body: f.floor_is_body,
                         contact: vec![false; n],
                         last_contact: vec![false; n],
                         first_contact: vec![false; n],
@@ -182,6 +192,15 @@ impl Legged {
             }
         }
         Ok(l)
+    }
+
+    /// Compute the site velocities and axes from now on (a reader the spec does not know of,
+    /// e.g. an agent's observation).
+    pub fn enable_site_frames(&mut self, nsite: usize) {
+        if !self.site_frames {
+            self.site_frames = true;
+            self.site = std::array::from_fn(|_| vec![0.0; nsite * 3]);
+        }
     }
 
     /// The field's values, for the fields this module holds.
@@ -280,15 +299,28 @@ impl Legged {
     /// Before the reward: contacts of the feet with the floor in the last forward pass; the
     /// first contacts (air time so far > 0 and in contact now or at the previous step) and the
     /// air time including this step.
-    pub fn update_contacts(&mut self, d: &mjData, dt: f64) {
+    pub fn update_contacts(&mut self, m: &mjModel, d: &mjData, dt: f64) {
         let ncon = d.ncon as usize;
+        // A contact geom as the element a foot or floor names: itself, or its body.
+        let of = |g: i32, body: bool| {
+            if body && g >= 0 {
+                // SAFETY: geom_bodyid has ngeom entries; g is a geom id from the contact list.
+                unsafe { *m.geom_bodyid.add(g as usize) }
+            } else {
+                g
+            }
+        };
         for f in self.feet.iter_mut().flatten() {
             f.contact.fill(false);
             for c in 0..ncon {
                 // SAFETY: contact has ncon valid entries after a forward pass.
                 let g = unsafe { (*d.contact.add(c)).geom };
+                let floor = [of(g[0], f.floor_is_body), of(g[1], f.floor_is_body)];
                 for (i, &foot) in f.geoms.iter().enumerate() {
-                    if (g[0] == foot && g[1] == f.floor) || (g[1] == foot && g[0] == f.floor) {
+                    let b = f.bodies[i];
+                    if (of(g[0], b) == foot && floor[1] == f.floor)
+                        || (of(g[1], b) == foot && floor[0] == f.floor)
+                    {
                         f.contact[i] = true;
                     }
                 }

@@ -613,6 +613,11 @@ impl Env {
             })
     }
 
+    /// The MuJoCo data, read-only (checks of derived quantities against independent
+    /// implementations read `cvel`, `subtree_com`, `site_xmat`, the contact list).
+    pub fn data(&self) -> &mjData {
+        self.sim.d()
+    }
     /// Current `qpos` and `qvel`.
     pub fn state(&self) -> (&[f64], &[f64]) {
         (self.sim.field(Field::Qpos), self.sim.field(Field::Qvel))
@@ -625,8 +630,13 @@ impl Env {
     /// Keep the derived fields `sources` read up to date too (a multi-agent env's agents may
     /// observe selections its spec does not). Contact forces are decided by the spec
     /// (`needs_rne_post_constraint`), before the env is built.
-    pub(crate) fn read_also<'a>(&mut self, mut sources: impl Iterator<Item = &'a Selection>) {
-        self.uses_mass_center |= sources.any(|s| s.field == Field::MassCenter);
+    pub(crate) fn read_also<'a>(&mut self, sources: impl Iterator<Item = &'a Selection>) {
+        for s in sources {
+            self.uses_mass_center |= s.field == Field::MassCenter;
+            if s.field.is_site_frame() {
+                self.sim.legged.enable_site_frames(self.sim.nsite);
+            }
+        }
     }
 
     /// Start an episode. With a seed the RNG restarts from it (numpy `SeedSequence(seed)` →
@@ -844,7 +854,7 @@ impl Env {
         self.sim.update_ten_j();
         let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
         self.sim.legged.update_sites(m, d);
-        self.sim.legged.update_contacts(d, self.dt);
+        self.sim.legged.update_contacts(m, d, self.dt);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {

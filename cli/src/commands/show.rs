@@ -159,6 +159,12 @@ pub fn run(args: Args) -> Result<Outcome> {
         )?;
     }
 
+    if let Some(a) = &spec.actions {
+        let pose = env.field(envspec::Field::DefaultPose);
+        writeln!(o, "  {}", a.describe())?;
+        writeln!(o, "  default_pose = {pose:?}")?;
+    }
+
     writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;
     for t in &spec.reward {
         let info = t
@@ -197,6 +203,16 @@ pub fn run(args: Args) -> Result<Outcome> {
     writeln!(o, "\nreset (in RNG draw order; then mj_forward):")?;
     for r in &spec.reset {
         writeln!(o, "  {:<14} {}", r.name, describe::reset_step(r))?;
+    }
+
+    if !spec.commands.is_empty() {
+        writeln!(
+            o,
+            "\ncommands (drawn after the reset steps, in this order):"
+        )?;
+        for c in &spec.commands {
+            writeln!(o, "  {:<14} {}", c.name, c.describe())?;
+        }
     }
 
     writeln!(o, "\ninfo:")?;

@@ -16,6 +16,7 @@
 mod agents;
 mod behaviour;
 mod change;
+mod commands;
 mod info;
 mod maze;
 mod observation;
@@ -111,6 +112,8 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     );
     whole::reset_order(&mut cx);
     info::info_items(&mut cx);
+    commands::commands(&mut cx);
+    commands::actions(&mut cx);
 
     let mut report = Report::new(
         &old_r.id,

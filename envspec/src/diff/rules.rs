@@ -22,6 +22,8 @@ pub enum Category {
     Parameters,
     Info,
     Documentation,
+    /// Commands, noise, randomization: what the policy is trained on (issue 19).
+    Randomization,
 }
 
 impl Category {
@@ -35,6 +37,7 @@ impl Category {
         Category::Parameters,
         Category::Info,
         Category::Documentation,
+        Category::Randomization,
     ];
     /// The name used in JSON and in docs/diff-rules.md.
     pub fn key(self) -> &'static str {
@@ -48,6 +51,7 @@ impl Category {
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation",
+            Category::Randomization => "randomization",
         }
     }
     pub fn title(self) -> &'static str {
@@ -61,6 +65,7 @@ impl Category {
             Category::Parameters => "parameters",
             Category::Info => "info",
             Category::Documentation => "documentation only",
+            Category::Randomization => "randomization / training distribution",
         }
     }
     /// Who it hurts when the change alters behaviour.
@@ -74,6 +79,9 @@ impl Category {
             Category::Parameters => "constructor arguments change",
             Category::Info => "logged info changes",
             Category::Documentation => "no behaviour change",
+            Category::Randomization => {
+                "the training distribution changes; policies trained on one may not transfer to the other"
+            }
         }
     }
 }
@@ -327,6 +335,26 @@ rules! {
         "The overrides the maze passes to its robot changed; their effect follows as the robot's own changes.";
     MazeRobotUnresolved = "maze-robot-unresolved", Dynamics, true,
         "A robot spec could not be resolved, so its changes are unknown: counted as breaking until reviewed.";
+
+    // Commands and PD actions (issue 19).
+    CommandsAdded = "commands-added", Randomization, true,
+        "A command was added: the policy is asked to follow something new (and its draws shift the RNG stream).";
+    CommandsRemoved = "commands-removed", Randomization, true,
+        "A command was removed.";
+    CommandsComponentsChanged = "commands-components-changed", Randomization, true,
+        "A command's components were added, removed or reordered: the command vector (and an observation of it) changes.";
+    CommandsRangeChanged = "commands-range-changed", Randomization, true,
+        "A command component's range changed: the commands trained on widen or narrow (witness: how the range moved).";
+    CommandsScheduleChanged = "commands-schedule-changed", Randomization, true,
+        "How often commands are redrawn, or the standing-still probability, changed.";
+    ActionsAdded = "actions-added", Action, true,
+        "`[actions]` was added: actions become PD position targets instead of raw controls.";
+    ActionsRemoved = "actions-removed", Action, true,
+        "`[actions]` was removed: actions become raw controls again.";
+    ActionsMappingChanged = "actions-mapping-changed", Action, true,
+        "The action scale, default pose or action range changed: the same action means another joint target.";
+    ActionsGainsChanged = "actions-gains-changed", Action, true,
+        "PD gains or joint damping changed: the same target is tracked differently (the dynamics the policy learned changes).";
 }
 
 #[cfg(test)]

@@ -36,7 +36,15 @@ impl Ctx<'_> {
                 match &v.kind {
                     ValKind::Table(entries) if !entries.is_empty() => {
                         for e in entries {
-                            let Some((lo, hi)) = self.range(&e.value, &e.key) else {
+                            // Two numbers read here (a reversed pair is E0130, not E0105),
+                            // or a range parameter.
+                            let r = match &e.value.kind {
+                                ValKind::Array(a) if a.len() == 2 => self
+                                    .num_or_inf(&a[0], &e.key)
+                                    .zip(self.num_or_inf(&a[1], &e.key)),
+                                _ => self.range(&e.value, &e.key),
+                            };
+                            let Some((lo, hi)) = r else {
                                 continue;
                             };
                             if !(lo.is_finite() && hi.is_finite()) || lo > hi {
@@ -344,13 +352,17 @@ impl Ctx<'_> {
         })
     }
 
-    fn geom_name(&mut self, v: &Val, what: &str) -> Option<String> {
+    /// A geom name, else a body name (`true`): the element a contact term watches.
+    fn geom_name(&mut self, v: &Val, what: &str) -> Option<(String, bool)> {
         let Some(name) = v.as_str() else {
             self.d.push(v.type_error(what, "a geom name"));
             return None;
         };
         if self.model.geoms.iter().any(|g| g == name) {
-            return Some(name.to_string());
+            return Some((name.to_string(), false));
+        }
+        if self.model.body_id(name).is_some() {
+            return Some((name.to_string(), true));
         }
         self.d.push(
             Diagnostic::new(
@@ -362,10 +374,17 @@ impl Ctx<'_> {
             )
             .at(v.loc.clone())
             .label(format!(
-                "expected a named geom of the model ({} named)",
+                "expected a named geom ({} named) or a body of the model",
                 self.model.geoms.len()
             ))
-            .help_opt(suggest(name, self.model.geoms.iter().map(String::as_str))),
+            .help_opt(suggest(
+                name,
+                self.model
+                    .geoms
+                    .iter()
+                    .chain(&self.model.bodies)
+                    .map(String::as_str),
+            )),
         );
         None
     }
@@ -394,9 +413,17 @@ impl Ctx<'_> {
             }
         };
         let floor = self.geom_name(fl, "floor");
+        let (geoms, bodies) = geoms
+            .into_iter()
+            .collect::<Option<Vec<_>>>()?
+            .into_iter()
+            .unzip();
+        let (floor, floor_is_body) = floor?;
         Some(FeetContact {
-            geoms: geoms.into_iter().collect::<Option<_>>()?,
-            floor: floor?,
+            geoms,
+            bodies,
+            floor,
+            floor_is_body,
         })
     }
 
