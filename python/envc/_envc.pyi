@@ -20,8 +20,10 @@ def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, 
 def registry() -> list[tuple[str, str, int | None, bool, float | None]]:
     """Every bundled id: `(id, kind, max_episode_steps, example, reward_threshold)`."""
 
-def describe(id_or_path: str) -> tuple[str, str, int | None]:
-    """`(kind, id, max_episode_steps)` without building the env."""
+def describe(
+    id_or_path: str, overrides: list[tuple[str, str]] = ...
+) -> tuple[str, str, int | None]:
+    """`(kind, id, max_episode_steps)` without building the env, under the overrides."""
 
 def parameters(id_or_path: str) -> list[tuple[str, str, str, str]]:
     """`(name, type, default as TOML, doc)` of every parameter."""

@@ -171,5 +171,5 @@ def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> g
     """
     from ._registry import env_id_for
 
-    return gym.make(env_id_for(id_or_path), render_mode=render_mode, **overrides)
+    return gym.make(env_id_for(id_or_path, overrides), render_mode=render_mode, **overrides)
 

@@ -40,12 +40,26 @@ def register_all() -> None:
             _register(f"envc/{spec_id}", kind, spec_id, max_steps, threshold)
 
 
-def env_id_for(id_or_path: str) -> str:
-    """The Gymnasium id of a bundled id or a spec file (registered as ``envc/<its id>``)."""
+# Keyword arguments `gym.make` takes for itself; the rest are the spec's parameters.
+_GYM_MAKE_KEYS = ("max_episode_steps", "disable_env_checker", "autoreset", "apply_api_compatibility")
+
+
+def env_id_for(id_or_path: str, overrides: dict | None = None) -> str:
+    """The Gymnasium id of a bundled id or a spec file (registered as ``envc/<its id>``).
+    ``overrides`` are the keyword arguments the env will be made with: a spec file whose default
+    model is elsewhere (``xml_file``) resolves only with them."""
     name = id_or_path[5:] if id_or_path.startswith("envc/") else id_or_path
     if f"envc/{name}" in gym.registry and not os.path.isfile(name):
         return f"envc/{name}"
-    kind, spec_id, max_steps = _envc.describe(os.fspath(name))
+    params = {k: v for k, v in (overrides or {}).items() if k not in _GYM_MAKE_KEYS}
+    try:
+        kind, spec_id, max_steps = _envc.describe(os.fspath(name))
+    except _envc.SpecError:
+        if not params:
+            raise
+        from ._gym import overrides_to_toml
+
+        kind, spec_id, max_steps = _envc.describe(os.fspath(name), overrides_to_toml(params))
     if kind not in _ENTRY:
         raise TypeError(
             f"`{id_or_path}` is a multi-agent spec: open it with envc.parallel_env"

@@ -246,7 +246,7 @@ def make_vec(
     """
     from ._registry import env_id_for
 
-    env_id = env_id_for(id_or_path)
+    env_id = env_id_for(id_or_path, overrides)
     if gym.spec(env_id).vector_entry_point is None:
         raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
     return gym.make_vec(

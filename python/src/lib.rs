@@ -67,10 +67,17 @@ fn registry() -> Vec<RegistryRow> {
         .collect()
 }
 
-/// What a spec is without building it: `(kind, id, max_episode_steps or None)`.
+/// What a spec is without building it, under the given overrides (`(name, TOML literal)` pairs:
+/// a spec whose default model is elsewhere resolves only with its `xml_file`): `(kind, id,
+/// max_episode_steps or None)`.
 #[pyfunction]
-fn describe(id_or_path: &str) -> PyResult<(String, String, Option<u64>)> {
-    let spec = envspec::open(id_or_path, &[]).map_err(errors::diagnostics)?;
+#[pyo3(signature = (id_or_path, overrides = Vec::new()))]
+fn describe(
+    id_or_path: &str,
+    overrides: Vec<(String, String)>,
+) -> PyResult<(String, String, Option<u64>)> {
+    let o = convert::overrides(&overrides);
+    let spec = envspec::open(id_or_path, &o).map_err(errors::diagnostics)?;
     let max = match &spec {
         envc::AnySpec::Task(t) => t.max_episode_steps,
         envc::AnySpec::Maze(m) => m.max_episode_steps,
