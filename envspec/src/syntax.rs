@@ -295,7 +295,7 @@ pub const EVENT_KINDS: &[(&str, &[&str])] = &[
     ),
     ("push", &["elements", "x", "y"]),
 ];
-const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "doc"];
+const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "when", "doc"];
 /// Keys of `[physics]`.
 pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator"];
 

@@ -274,3 +274,32 @@ def test_randomized_envs_replay_bit_for_bit_on_any_thread_count_and_position():
         assert np.array_equal(obs, one[t + 1][0][2]) and r == one[t + 1][1][2]
         if term or trunc:
             break
+
+
+def test_events_switched_off_by_when_draw_nothing(tmp_path):
+    # go1_joystick.toml's [events] carry `when = "domain_randomization"` (default false): off, the
+    # env must step exactly as the same spec without any [events]; on, the physics must differ.
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
+    spec = os.path.join(root, "specs", "examples", "go1_joystick.toml")
+    xml = os.path.abspath(os.path.join(root, "..", "shared", "models", "unitree_go1", "scene.xml"))
+    if not os.path.isfile(xml):
+        pytest.skip(f"the shared Go1 model is not at {xml}")
+    text = open(spec).read()
+    stripped = tmp_path / "go1_joystick_no_events.toml"
+    stripped.write_text(text[: text.index("[events.")])
+    actions = np.random.default_rng(1).uniform(-0.3, 0.3, size=(60, 12))
+
+    def run(path, **kw):
+        env = envc.make(str(path), xml_file=xml, **kw).unwrapped
+        obs, _ = env.reset(seed=21)
+        out = [obs.copy()]
+        for a in actions:
+            obs, r, term, trunc, _ = env.step(a)
+            out.append(np.append(obs, r))
+            if term or trunc:
+                break
+        return out
+
+    off, none, on = run(spec), run(stripped), run(spec, domain_randomization=True)
+    assert len(off) == len(none) and all(np.array_equal(a, b) for a, b in zip(off, none))
+    assert not all(np.array_equal(a, b) for a, b in zip(off, on))

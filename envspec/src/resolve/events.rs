@@ -22,6 +22,12 @@ impl Ctx<'_> {
 
     fn event(&mut self, s: &Section) -> Option<Event> {
         let ctx = format!("[events.{}]", s.name);
+        // An event switched off by `when` is still checked (an override must not reveal errors),
+        // then left out: it draws nothing.
+        let enabled = match s.get("when") {
+            Some(w) => self.flag(w, "when").unwrap_or(true),
+            None => true,
+        };
         let push = s.kind("model") == "push";
         let mode = self.event_mode(s, &ctx)?;
         let elements_text = match s.get("elements") {
@@ -157,7 +163,7 @@ impl Ctx<'_> {
                 shared,
             }
         };
-        Some(Event {
+        enabled.then(|| Event {
             name: s.name.clone(),
             doc: s.doc(),
             mode,
