@@ -753,10 +753,7 @@ impl Env {
         let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
         self.sim.legged.update_sites(m, d);
         self.sim.legged.reset(&self.spec, rng);
-        if self.uses_mass_center {
-            self.sim.update_mass_center();
-        }
-        self.sim.update_ten_j();
+        self.derive_after_physics();
         self.elapsed = 0;
         self.has_reset = self.reset_failure.is_none();
         if let Some(l) = &mut self.latency {
@@ -860,18 +857,29 @@ impl Env {
         let timestep = ev.changes_timestep;
         self.model_changed(false, timestep);
         if let Err(message) = self.sim.call(|m, d| unsafe { ffi::mj_forward(m, d) }) {
-            self.has_reset = false;
-            return Err(EnvError::Mujoco {
-                env: self.spec.id.clone(),
-                during: "in a step (reset before stepping again)",
-                message,
-            });
+            return Err(self.step_failed(message));
         }
+        self.derive_after_physics();
+        Ok(())
+    }
+
+    /// A MuJoCo error in a step: the state is MuJoCo's mid-error state, so no step before the
+    /// next reset.
+    fn step_failed(&mut self, message: String) -> EnvError {
+        self.has_reset = false;
+        EnvError::Mujoco {
+            env: self.spec.id.clone(),
+            during: "in a step (reset before stepping again)",
+            message,
+        }
+    }
+
+    /// What the env derives from the state after MuJoCo moved it (only what the spec reads).
+    fn derive_after_physics(&mut self) {
         if self.uses_mass_center {
             self.sim.update_mass_center();
         }
         self.sim.update_ten_j();
-        Ok(())
     }
 
     /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
@@ -955,18 +963,9 @@ impl Env {
             .sim
             .call_guarded(|m, d| unsafe { mujoco_log::physics_step(m, d, n, rne) });
         if let Err(message) = stepped {
-            // The state is MuJoCo's mid-error state: no step before the next reset.
-            self.has_reset = false;
-            return Err(EnvError::Mujoco {
-                env: self.spec.id.clone(),
-                during: "in a step (reset before stepping again)",
-                message,
-            });
+            return Err(self.step_failed(message));
         }
-        if self.uses_mass_center {
-            self.sim.update_mass_center();
-        }
-        self.sim.update_ten_j();
+        self.derive_after_physics();
         let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
         self.sim.legged.update_sites(m, d);
         self.sim.legged.update_contacts(m, d, self.dt);
