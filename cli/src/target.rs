@@ -8,7 +8,12 @@ use envspec::{Code, Diagnostic, Kind};
 /// Parse `--set key=value` arguments.
 pub fn overrides(sets: &[String]) -> Result<Vec<Override>> {
     sets.iter()
-        .map(|s| Override::parse(s).map_err(|d| anyhow::anyhow!("--set {s}: {}", d.message)))
+        .map(|s| {
+            Override::parse(s).map_err(|mut d| {
+                d.message = format!("--set {s}: {}", d.message);
+                anyhow::anyhow!("{d}")
+            })
+        })
         .collect()
 }
 

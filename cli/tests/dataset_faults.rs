@@ -511,3 +511,24 @@ fn rollout_onto_a_full_disk_keeps_the_old_file_and_says_so_once() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn envc_new_onto_a_full_disk_leaves_no_half_made_crate() {
+    if !unshare_works() {
+        return;
+    }
+    let d = tmp("new-full");
+    let m = d.join("mnt");
+    std::fs::create_dir_all(&m).unwrap();
+    let m = m.to_str().unwrap();
+    // 32 KiB: the spec and the small files fit, the lock file (~46 KB) does not.
+    let o = in_mount_ns(&format!(
+        "mount -t tmpfs -o size=32k tmpfs {m} && \"$ENVC\" new {m}/mine; rc=$?; ls -A {m}; exit $rc"
+    ));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert_one_clean_line(&err, "E1410");
+    assert!(err.contains("No space left on device"), "{err}");
+    assert_eq!(text(&o.stdout), "", "nothing is left on the disk");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -649,9 +649,14 @@ pub fn from_document(
     if chosen.is_none() && !single && d.is_empty() {
         let mut names: Vec<&str> = confs.iter().map(|c| c.0.as_str()).collect();
         names.push(SINGLE_AGENT);
+        // An override is E0203 (it has no place in the file); the spec's own key is E0104.
+        let (code, loc) = match conf_override {
+            Some(_) => (Code::E0203, None),
+            None => (Code::E0104, get("agent_conf").map(|v| v.loc.clone())),
+        };
         d.push(
-            Diagnostic::new(Code::E0203, format!("unknown agent_conf `{conf_name}`"))
-                .at_opt(get("agent_conf").map(|v| v.loc.clone()))
+            Diagnostic::new(code, format!("unknown agent_conf `{conf_name}`"))
+                .at_opt(loc)
                 .label(format!("expected one of: {}", names.join(", ")))
                 .help_opt(suggest(&conf_name, names.iter().copied())),
         );

@@ -70,7 +70,10 @@ pub fn run(args: Args) -> Result<Outcome> {
             .map(|mut d| d.next().is_some())
             .unwrap_or(true)
     {
-        bail!("{} exists and is not empty", dir.display());
+        bail!(
+            "error[E1412]: {} exists and is not empty; `envc new` never writes into an existing crate",
+            dir.display()
+        );
     }
     let repo = repo();
     let mujoco = repo.join("third_party").join("mujoco");
@@ -107,14 +110,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             std::fs::read_to_string(repo.join("Cargo.lock")).unwrap_or_default(),
         ),
     ];
-    for (rel, body) in &files {
-        let path = dir.join(rel);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent)
-                .with_context(|| format!("cannot create {}", parent.display()))?;
-        }
-        std::fs::write(&path, body).with_context(|| format!("cannot write {}", path.display()))?;
-    }
+    write_whole(dir, &files)?;
     println!(
         "created {} ({} from {}): cd {} && cargo run",
         dir.display(),
@@ -123,6 +119,45 @@ pub fn run(args: Args) -> Result<Outcome> {
         dir.display()
     );
     Ok(Outcome::Ok)
+}
+
+/// Write the crate into a hidden sibling directory and rename it to `dir` only when every file is
+/// written, so a full disk or a kill leaves no half-made crate under the user's name (E1410).
+fn write_whole(dir: &Path, files: &[(&str, String)]) -> Result<()> {
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let cannot = |what: &Path, e: std::io::Error| {
+        anyhow::anyhow!(
+            "error[E1410]: cannot write {}: {e}; nothing was written",
+            what.display()
+        )
+    };
+    let tmp = parent.join(format!(".{name}.envc-new-{}", std::process::id()));
+    let write = || -> Result<()> {
+        for (rel, body) in files {
+            let path = tmp.join(rel);
+            if let Some(p) = path.parent() {
+                std::fs::create_dir_all(p).map_err(|e| cannot(dir, e))?;
+            }
+            std::fs::write(&path, body).map_err(|e| cannot(dir, e))?;
+        }
+        // An empty directory may stand where the crate goes: rename replaces only that.
+        if dir.is_dir() {
+            std::fs::remove_dir(dir).map_err(|e| cannot(dir, e))?;
+        }
+        std::fs::rename(&tmp, dir).map_err(|e| cannot(dir, e))
+    };
+    let written = write();
+    if written.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    written
 }
 
 fn cargo_toml(name: &str, repo: &Path) -> String {
