@@ -42,6 +42,10 @@ pub const MAX_MAZE_SCALE: f64 = 1000.0;
 /// Model coordinates (qpos0, body and geom positions, geom sizes), in metres or radians: beyond
 /// this MuJoCo's collision and integration take seconds per step or reset the state.
 pub const MAX_COORDINATE: f64 = 1e6;
+/// Command ranges, `[actions]` gains, scales and ranges, and event draws and pushes: like reset
+/// draws, a value beyond this makes the simulation diverge within a step (`kp = 1e308` gave NaN
+/// accelerations, a command range of ±1e308 overflowed numpy's `uniform`).
+pub const MAX_MAGNITUDE: f64 = 1e6;
 /// Observation delay and action latency, in env steps: each env keeps that many past values of
 /// the segment (or action) for the whole run.
 pub const MAX_DELAY_STEPS: i64 = 10_000;

@@ -302,6 +302,23 @@ impl Ctx<'_> {
         self.d.push(e);
     }
 
+    /// E0110 when `x` (read from `v`) is beyond `limit` in magnitude; `Some(x)` otherwise.
+    fn within(&mut self, v: &Val, x: f64, what: &str, limit: f64) -> Option<f64> {
+        if x.abs() <= limit {
+            return Some(x);
+        }
+        self.d.push(
+            Diagnostic::new(
+                Code::E0110,
+                format!("{what} of {x:e} is beyond envc's limit of ±{limit:e}"),
+            )
+            .at(v.loc.clone())
+            .label(format!("expected a value within ±{limit:e}"))
+            .help("beyond it the simulation diverges or overflows; see docs/limits.md"),
+        );
+        None
+    }
+
     fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {
         Diagnostic::new(
             Code::E0201,

@@ -4,6 +4,7 @@
 use super::Ctx;
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
 use crate::ir::*;
+use crate::limits;
 use crate::mjcf::JointKind;
 use crate::selector::{Field, Selection};
 use crate::syntax::Section;
@@ -56,6 +57,13 @@ impl Ctx<'_> {
                                     ),
                                     "expected [low, high] with finite low <= high",
                                 ));
+                                continue;
+                            }
+                            let what = format!("command component `{}`", e.key);
+                            let max = limits::MAX_MAGNITUDE;
+                            if self.within(&e.value, lo, &what, max).is_none()
+                                || self.within(&e.value, hi, &what, max).is_none()
+                            {
                                 continue;
                             }
                             c.components.push(e.key.clone());
@@ -233,8 +241,12 @@ impl Ctx<'_> {
                     .label("expected \"pd_position\""),
             );
         }
+        let max = limits::MAX_MAGNITUDE;
         let scale = match s.get("scale") {
-            Some(v) => self.num(v, "scale")?,
+            Some(v) => {
+                let x = self.num(v, "[actions] scale")?;
+                self.within(v, x, "[actions] scale", max)?
+            }
             None => 1.0,
         };
         let range = match s.get("range") {
@@ -246,6 +258,9 @@ impl Ctx<'_> {
                         format!("[actions] range [{}, {}] is not finite", r.0, r.1),
                         "expected a finite action space, e.g. [-1.0, 1.0]",
                     ));
+                } else {
+                    self.within(v, r.0, "[actions] range", max)?;
+                    self.within(v, r.1, "[actions] range", max)?;
                 }
                 r
             }
@@ -254,6 +269,7 @@ impl Ctx<'_> {
         let mut gain = |key: &str| -> Option<f64> {
             let v = s.get(key)?;
             let x = self.num(v, key)?;
+            let x = self.within(v, x, &format!("[actions] {key}"), max)?;
             if x < 0.0 {
                 self.d.push(e0132(
                     v,
@@ -330,7 +346,10 @@ impl Ctx<'_> {
             }
             ValKind::Array(a) if a.len() == nu => DefaultPose::Values(
                 a.iter()
-                    .map(|x| self.num(x, "default_pose"))
+                    .map(|x| {
+                        let n = self.num(x, "default_pose")?;
+                        self.within(x, n, "a default_pose value", limits::MAX_COORDINATE)
+                    })
                     .collect::<Option<_>>()?,
             ),
             _ => {

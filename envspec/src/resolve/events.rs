@@ -281,6 +281,11 @@ impl Ctx<'_> {
                 let mv = self.need(s, "mean", ctx)?;
                 let sv = self.need(s, "std", ctx)?;
                 let (mean, std) = (self.num(mv, "mean")?, self.num(sv, "std")?);
+                let max = crate::limits::MAX_MAGNITUDE;
+                let (mean, std) = (
+                    self.within(mv, mean, "mean", max)?,
+                    self.within(sv, std, "std", max)?,
+                );
                 if std < 0.0 {
                     bad(
                         self,
@@ -492,6 +497,9 @@ impl Ctx<'_> {
 
     fn finite_range(&mut self, r: (f64, f64), v: &Val, what: &str) -> Option<(f64, f64)> {
         if r.0.is_finite() && r.1.is_finite() && r.0 <= r.1 {
+            let max = crate::limits::MAX_MAGNITUDE;
+            self.within(v, r.0, what, max)?;
+            self.within(v, r.1, what, max)?;
             return Some(r);
         }
         if r.0 > r.1 {
