@@ -167,8 +167,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             }
             if let Some(u) = &bad_start {
                 println!(
-                    "  warning: the reset state already fails health check `{}`: {} = {} (healthy when {}); check the spec's reset and the model's initial pose",
-                    u.check, u.element, u.value, u.rule
+                    "  warning: the reset state already fails health check `{}`: {} = {} ({}); check the spec's reset and the model's initial pose",
+                    u.check,
+                    u.element,
+                    u.value,
+                    rule(&u.rule)
                 );
             } else if terminations == args.episodes && lm <= 3.0 {
                 println!(
@@ -184,6 +187,16 @@ pub fn run(args: Args) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
+/// A check's rule as a clause: the range and finite kinds say when the state is healthy,
+/// `fails_if` already says when it is not (`describe::check`).
+fn rule(rule: &str) -> String {
+    if rule.starts_with("unhealthy") {
+        rule.to_string()
+    } else {
+        format!("healthy when {rule}")
+    }
+}
+
 /// Why the last step terminated: a health check with the failing element and its value, a goal
 /// reached, or another termination condition.
 fn ending(env: &envc::AnyEnv) -> (String, String) {
@@ -193,7 +206,7 @@ fn ending(env: &envc::AnyEnv) -> (String, String) {
     match env.physics_env().unhealthy() {
         Some(u) => (
             format!("health check `{}`", u.check),
-            format!("{} = {} (healthy when {})", u.element, u.value, u.rule),
+            format!("{} = {} ({})", u.element, u.value, rule(&u.rule)),
         ),
         None => (
             "a termination condition".into(),
