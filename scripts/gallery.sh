@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The README's gallery: one picture per bundled v5 env, the Go1, a maze and a MaMuJoCo split,
+# The README's gallery: one picture per bundled v5 env, the Go1, a maze and a MaMuJoCo split
+# (its agents coloured),
 # rendered headless by `envc render` (zero policy, seed 0, the frame after 10 steps) into
 # docs/gallery/*.png. `scripts/gallery.sh --check` re-renders into a temporary directory and
 # fails if any committed picture differs in more than 1 % of its pixels, so the gallery cannot go
@@ -24,6 +25,8 @@ for id in "${IDS[@]}"; do
   frames="$(mktemp -d)"
   set_args=()
   [ "$name" = go1 ] && set_args=(--set "xml_file=$GO1_XML")
+  # The split itself is the picture: each agent's limbs in its own colour.
+  case "$name" in MaMuJoCo-*) set_args=(--color-agents) ;; esac
   "$ENVC" render "$id" "${set_args[@]}" --policy zero --seed 0 --episodes 1 --max-steps 10 --size 320x240 --out "$frames/" >/dev/null
   last="$(ls "$frames" | sort | tail -n 1)"
   cp "$frames/$last" "$OUT/$name.png"

@@ -188,3 +188,65 @@ fn vector_envs_render_each_env() {
     one.reset(Some(1));
     assert_eq!(rgb(&mut one), frames[1]);
 }
+
+#[test]
+fn color_agents_tints_each_agents_limbs_and_nothing_else() {
+    use envc::multi_agent::MultiAgentEnv;
+    let mut env = MultiAgentEnv::from_spec_file(
+        format!(
+            "{}/specs/mamujoco/ant.toml",
+            env!("CARGO_MANIFEST_DIR").trim_end_matches("/tests")
+        ),
+        &[
+            envc::Override::text("width", "160"),
+            envc::Override::text("height", "120"),
+        ],
+    )
+    .unwrap();
+    env.reset(Some(0));
+    let plain = env
+        .render(RenderMode::RgbArray)
+        .unwrap()
+        .rgb
+        .unwrap()
+        .to_vec();
+    env.color_agents(true);
+    let tinted = env
+        .render(RenderMode::RgbArray)
+        .unwrap()
+        .rgb
+        .unwrap()
+        .to_vec();
+    env.color_agents(false);
+    let again = env
+        .render(RenderMode::RgbArray)
+        .unwrap()
+        .rgb
+        .unwrap()
+        .to_vec();
+    assert_eq!(
+        plain, again,
+        "switching the colours off restores the model's"
+    );
+    // Pixels that are clearly blue (agent 0) and clearly orange (agent 1) appear only when tinted:
+    // the Ant's own colours are beige limbs on a checkered floor.
+    let count = |f: &[u8], pred: fn(i32, i32, i32) -> bool| {
+        f.chunks_exact(3)
+            .filter(|p| pred(p[0] as i32, p[1] as i32, p[2] as i32))
+            .count()
+    };
+    let blue = |r: i32, g: i32, b: i32| b > r + 60 && b > g + 20;
+    // Ratios, so that shading (which scales every channel) keeps the hue: the Ant's beige is
+    // r/g 1.33, the palette's orange 2.
+    let orange = |r: i32, g: i32, b: i32| r > 60 && 10 * r > 16 * g && g > 2 * b;
+    assert_eq!((count(&plain, blue), count(&plain, orange)), (0, 0));
+    assert!(count(&tinted, blue) > 20, "{}", count(&tinted, blue));
+    assert!(count(&tinted, orange) > 20, "{}", count(&tinted, orange));
+    // The torso keeps its colour: only the agents' limbs change.
+    let changed = plain
+        .chunks_exact(3)
+        .zip(tinted.chunks_exact(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed < plain.len() / 3 / 4, "{changed} pixels changed");
+}

@@ -57,6 +57,12 @@ enum Command {
     Render(commands::render::Args),
 }
 
+/// `1 episode`, `2 episodes`.
+pub fn plural(n: impl Into<u64>, one: &str, many: &str) -> String {
+    let n = n.into();
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// How a command ended, mapped to the exit status.
 pub enum Outcome {
     Ok,

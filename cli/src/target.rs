@@ -48,3 +48,30 @@ pub fn needs_max_steps(command: &str, id: &str, also: &str) -> anyhow::Error {
         ))
     )
 }
+
+/// E1101: an action file whose shape is not `[T ≥ 1, act_dim]` of `id` (every command that reads
+/// one: rollout, collect, render; every kind: a multi-agent spec's rows are joint actions).
+pub fn action_file_shape(
+    path: &std::path::Path,
+    (rows, cols): (usize, usize),
+    id: &str,
+    act_dim: usize,
+) -> Result<()> {
+    if cols == act_dim && rows > 0 {
+        return Ok(());
+    }
+    let message = if cols != act_dim {
+        format!(
+            "{} has {cols} columns but {id} takes {act_dim} actions",
+            path.display()
+        )
+    } else {
+        format!("{} has no rows", path.display())
+    };
+    Err(anyhow::anyhow!(
+        "{}",
+        Diagnostic::new(Code::E1101, message).label(
+            "expected [T ≥ 1, act_dim]: one column per action (a multi-agent spec: the joint action, every agent's in global order)"
+        )
+    ))
+}

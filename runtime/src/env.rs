@@ -542,6 +542,11 @@ impl Env {
         prep(m, d);
         Ok(self.render.frame(m, d, mode)?)
     }
+    /// Draw geom `g` in `tint[g]` where given, in every later frame (empty: the model's own
+    /// colours). Visual only: the model, shared with other envs, is not changed.
+    pub fn set_render_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
+        self.render.set_tint(tint);
+    }
     /// The spec's rendering settings (size, camera, options).
     pub fn render_settings(&self) -> &envspec::camera::RenderSettings {
         self.render.settings()

@@ -29,10 +29,11 @@ pub enum Matrix {
 /// Why a `.npy` file could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum NpyError {
-    #[error("error[E1430]: cannot open {}: {source}", path.display())]
+    // Not `source`: the message already says why, and a source would be printed again after it.
+    #[error("error[E1430]: cannot open {}: {error}", path.display())]
     Open {
         path: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("error[E1430]: {}: expected a 2-D float64 or float32 .npy array [T, width]: {why}", path.display())]
     Format { path: PathBuf, why: String },
@@ -80,18 +81,18 @@ impl Matrix {
 /// Read a 2-D float64 or float32 `.npy` file.
 pub fn read_matrix(path: &Path) -> Result<Matrix, NpyError> {
     let open = || {
-        File::open(path).map_err(|source| NpyError::Open {
+        File::open(path).map_err(|error| NpyError::Open {
             path: path.to_path_buf(),
-            source,
+            error,
         })
     };
     // A device or FIFO would block or never end; a regular file is bounded by what a rollout may
     // hold in memory.
     envspec::limits::check_file(path, envspec::limits::MAX_TRAJECTORY_BYTES).map_err(
         |e| match e {
-            envspec::limits::ReadError::Io(source) => NpyError::Open {
+            envspec::limits::ReadError::Io(error) => NpyError::Open {
                 path: path.to_path_buf(),
-                source,
+                error,
             },
             e => NpyError::Format {
                 path: path.to_path_buf(),

@@ -76,16 +76,9 @@ enum FormatArg {
     Hdf5,
 }
 
-fn read_actions(path: &Path, act_dim: usize) -> Result<Vec<f32>> {
+fn read_actions(path: &Path, id: &str, act_dim: usize) -> Result<Vec<f32>> {
     let a = envc::npy::read_matrix(path)?.into_f32();
-    if a.ncols() != act_dim || a.nrows() == 0 {
-        bail!(
-            "{} is [{}, {}]; expected [T ≥ 1, {act_dim}]",
-            path.display(),
-            a.nrows(),
-            a.ncols()
-        );
-    }
+    crate::target::action_file_shape(path, a.dim(), id, act_dim)?;
     Ok(a.iter().copied().collect())
 }
 
@@ -176,7 +169,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
     let act_dim = env.action_space().dim();
     let policy = match (args.policy, &args.actions) {
-        (PolicyKind::Replay, Some(p)) => PlanPolicy::Replay(read_actions(p, act_dim)?),
+        (PolicyKind::Replay, Some(p)) => PlanPolicy::Replay(read_actions(p, &args.spec, act_dim)?),
         (PolicyKind::Replay, None) => bail!("--policy replay needs --actions A.npy"),
         (_, Some(_)) => bail!("--actions is only used with --policy replay"),
         (PolicyKind::Zero, None) => PlanPolicy::Zero,
@@ -222,10 +215,10 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     bar.finish_and_clear();
     let secs = start.elapsed().as_secs_f64();
     println!(
-        "{}: {} episodes, {} steps ({:.0} steps/s, seed {}) written to {}",
+        "{}: {}, {} ({:.0} steps/s, seed {}) written to {}",
         args.dataset_id,
-        args.episodes,
-        r.steps,
+        crate::plural(args.episodes, "episode", "episodes"),
+        crate::plural(r.steps, "step", "steps"),
         r.steps as f64 / secs.max(1e-9),
         r.seed,
         r.dir.display()

@@ -136,7 +136,10 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
     let steps: f64 = lens.iter().sum();
     println!("  length            {}", stat(&lens));
     println!("  return            {}", stat(&rets));
-    println!("  terminated        {terms} of {} episodes", lens.len());
+    println!(
+        "  terminated        {terms} of {}",
+        crate::plural(lens.len() as u64, "episode", "episodes")
+    );
     println!(
         "  infos             {}",
         if info_keys.is_empty() {

@@ -51,6 +51,9 @@ pub struct Args {
     /// Parameter overrides (`key=value`, TOML literal values).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// A multi-agent spec: draw each agent's limbs in its own colour (MaMuJoCo draws the model's).
+    #[arg(long)]
+    color_agents: bool,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq)]
@@ -160,19 +163,26 @@ pub fn run(args: Args) -> Result<Outcome> {
         sets.push(format!("height={h}"));
     }
     let mut env = crate::target::env(&args.spec, &sets)?;
+    if args.color_agents {
+        match &mut env {
+            envc::AnyEnv::Agents(e) => e.color_agents(true),
+            other => {
+                return Err(crate::target::unsupported(
+                    "render --color-agents",
+                    other.id(),
+                    other.kind(),
+                    "colours the agents of a multi-agent spec",
+                    "leave out --color-agents, or render a factorization (e.g. MaMuJoCo-Ant-v1)",
+                ));
+            }
+        }
+    }
     let space = env.action_space().clone();
     let act_dim = env.act_dim();
     let replay = match (args.policy, &args.actions) {
         (Policy::Replay, Some(p)) => {
             let a = envc::npy::read_matrix(p)?.into_f64();
-            if a.ncols() != act_dim || a.nrows() == 0 {
-                bail!(
-                    "{} is [{}, {}]; expected [T ≥ 1, {act_dim}]",
-                    p.display(),
-                    a.nrows(),
-                    a.ncols()
-                );
-            }
+            crate::target::action_file_shape(p, a.dim(), env.id(), act_dim)?;
             a.iter().copied().collect::<Vec<f64>>()
         }
         (Policy::Replay, None) => bail!("--policy replay needs --actions A.npy"),

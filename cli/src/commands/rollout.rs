@@ -141,23 +141,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         _ => bail!("give --actions A.npy, or --policy zero|random with --steps N"),
     };
     check_size(actions.dim().0, &any)?;
-    // E1101, for every kind: the file's rows are actions of the (joint) action space.
-    let width = actions.dim().1;
-    if width != any.act_dim() {
-        return Err(anyhow::anyhow!(
-            "{}",
-            envspec::Diagnostic::new(
-                envspec::Code::E1101,
-                format!(
-                    "{} has {width} columns but {} takes {} actions",
-                    path.display(),
-                    any.id(),
-                    any.act_dim()
-                ),
-            )
-            .label("expected one column per action (a multi-agent spec: the joint action, every agent's in global order)")
-        ));
-    }
+    crate::target::action_file_shape(&path, actions.dim(), any.id(), any.act_dim())?;
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
     let as_f64 = || actions.clone().into_f64();
     let (seed, out, auto) = (args.seed, &args.out, args.auto_reset);

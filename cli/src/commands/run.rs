@@ -139,7 +139,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         return Ok(Outcome::Ok);
     }
-    let plural = |n: u64, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    use crate::plural;
     match args.format {
         Format::Json => println!(
             "{}",

@@ -50,9 +50,9 @@ pub fn write_episode(
     // An I/O failure (a full disk) is reported as the OS error on the path (E1203), not as an
     // Arrow error wrapping it.
     let werr = |e: arrow_schema::ArrowError| match e {
-        arrow_schema::ArrowError::IoError(_, source) => DatasetError::Io {
+        arrow_schema::ArrowError::IoError(_, error) => DatasetError::Io {
             path: path.clone(),
-            source,
+            error,
         },
         other => DatasetError::Write {
             path: path.clone(),

@@ -10,11 +10,11 @@ pub enum DatasetError {
     BadId { id: String, why: String },
     #[error("error[E1202]: dataset `{id}` already exists at {}; Minari datasets are never overwritten, bump the version (-vN)", path.display())]
     Exists { id: String, path: PathBuf },
-    #[error("error[E1203]: {}: {source}", path.display())]
+    // `error`, not `source`: the message says why, and a source would be printed again after it.
+    #[error("error[E1203]: {}: {error}", path.display())]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("error[E1204]: {}: not a readable Minari dataset: {why}", path.display())]
     Malformed { path: PathBuf, why: String },
@@ -74,7 +74,7 @@ impl DatasetError {
 
 pub(crate) fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> DatasetError {
     let path = path.into();
-    move |source| DatasetError::Io { path, source }
+    move |error| DatasetError::Io { path, error }
 }
 
 pub(crate) fn malformed(path: impl Into<PathBuf>, why: impl Into<String>) -> DatasetError {

@@ -36,7 +36,7 @@ fn h5_error(path: &Path, text: &str) -> DatasetError {
     match errno {
         Some(n) if n > 0 => DatasetError::Io {
             path: path.to_path_buf(),
-            source: std::io::Error::from_raw_os_error(n),
+            error: std::io::Error::from_raw_os_error(n),
         },
         _ => DatasetError::Write {
             path: path.to_path_buf(),

@@ -139,7 +139,7 @@ fn check_place(root: &Path, id: &DatasetId) -> Result<(), DatasetError> {
 fn cause(e: &DatasetError) -> String {
     match e {
         DatasetError::Malformed { path, why } => format!("{}: {why}", path.display()),
-        DatasetError::Io { path, source } => format!("{}: {source}", path.display()),
+        DatasetError::Io { path, error } => format!("{}: {error}", path.display()),
         other => other.to_string(),
     }
 }
@@ -456,8 +456,8 @@ impl DatasetWriter {
     /// `e`, or E1209 when it comes from the staging directory having been taken away: it is no
     /// longer ours, or a path we created inside it is gone (seen mid-way through an `rm -rf`).
     fn lost_or(&self, e: DatasetError) -> DatasetError {
-        let missing = matches!(&e, DatasetError::Io { source, .. }
-            if source.kind() == std::io::ErrorKind::NotFound);
+        let missing = matches!(&e, DatasetError::Io { error, .. }
+            if error.kind() == std::io::ErrorKind::NotFound);
         match self.staging.check_owned() {
             Err(lost) => lost,
             Ok(()) if missing => DatasetError::StagingLost {

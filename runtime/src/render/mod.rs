@@ -374,11 +374,14 @@ impl Renderer {
     }
 
     /// Render the current state. Allocates nothing: the frame lives in this renderer's buffers.
+    /// `tint[g]`, where given, replaces geom `g`'s colour in this frame only (the model is shared
+    /// and stays untouched).
     pub fn render(
         &mut self,
         m: &mjModel,
         d: &mut mjData,
         mode: RenderMode,
+        tint: &[Option<[f32; 4]>],
     ) -> Result<Frame<'_>, RenderError> {
         // OffScreenViewer.render: camera_id is never None by then (-1 for the free camera).
         if self.camera.id == -1 {
@@ -417,6 +420,18 @@ impl Renderer {
                 mjtCatBit::mjCAT_ALL as i32,
                 &mut **scn,
             );
+            if !tint.is_empty() {
+                // SAFETY: mjv_updateScene filled `ngeom` entries of `geoms`.
+                let geoms = std::slice::from_raw_parts_mut(scn.geoms, scn.ngeom.max(0) as usize);
+                for g in geoms {
+                    if g.objtype == mjtObj::mjOBJ_GEOM as i32
+                        && let Some(Some(rgba)) =
+                            usize::try_from(g.objid).ok().and_then(|i| tint.get(i))
+                    {
+                        g.rgba = *rgba;
+                    }
+                }
+            }
             c::mjr_render(*viewport, &mut **scn, &**con);
             c::mjr_readPixels(
                 if rgb {
@@ -478,6 +493,8 @@ impl Drop for Renderer {
 pub struct EnvRender {
     settings: RenderSettings,
     renderer: Option<Box<Renderer>>,
+    /// Per-geom colour overrides (empty: the model's colours).
+    tint: Vec<Option<[f32; 4]>>,
 }
 
 impl EnvRender {
@@ -488,7 +505,12 @@ impl EnvRender {
         Ok(EnvRender {
             settings,
             renderer: None,
+            tint: vec![],
         })
+    }
+    /// Draw geom `g` in `tint[g]` where given (empty: the model's colours).
+    pub fn set_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
+        self.tint = tint;
     }
     pub fn settings(&self) -> &RenderSettings {
         &self.settings
@@ -504,7 +526,7 @@ impl EnvRender {
             Some(r) => r,
             slot => slot.insert(Box::new(Renderer::new(m, d, &self.settings)?)),
         };
-        r.render(m, d, mode)
+        r.render(m, d, mode, &self.tint)
     }
     /// Drop the renderer (Gymnasium's `close`); the next frame makes a new one.
     pub fn close(&mut self) {
