@@ -216,6 +216,12 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         """The global state: the single-agent task's observation (float64)."""
         return self._core.state()
 
+    def color_agents(self, on: bool = True) -> None:
+        """Draw each agent's limbs in its own colour in later frames (``False``: the model's
+        colours, which is what MaMuJoCo draws). A picture of the factorization; the model and
+        every observation are unchanged."""
+        self._core.color_agents(on)
+
     def render(self):
         """A frame of the whole robot in ``render_mode`` (None without one), as MaMuJoCo renders."""
         if self.render_mode is None:

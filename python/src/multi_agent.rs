@@ -194,6 +194,10 @@ impl AgentsCore {
     fn k(&self) -> usize {
         self.env.spec().k
     }
+    /// Draw each agent's limbs in its own colour in later frames (False: the model's colours).
+    fn color_agents(&mut self, on: bool) {
+        self.env.color_agents(on);
+    }
     /// A frame of the whole robot in Gymnasium's `render_mode` (MaMuJoCo renders its single-agent env).
     fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
         crate::render::render(py, mode, |m| self.env.render(m))

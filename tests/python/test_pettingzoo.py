@@ -383,3 +383,20 @@ def test_bad_input_raises():
         env.reset()
     with pytest.raises(RuntimeError, match="closed"):
         env.state()
+
+
+def test_color_agents_changes_the_picture_only():
+    """`color_agents` tints each agent's limbs; observations stay MaMuJoCo's, and switching it
+    off gives MaMuJoCo's frame back."""
+    env = envc.parallel_env("Ant", "2x4", render_mode="rgb_array", width=96, height=72)
+    obs, _ = env.reset(seed=0)
+    plain = env.render()
+    env.color_agents(True)
+    tinted = env.render()
+    env.color_agents(False)
+    assert np.array_equal(env.render(), plain)
+    assert tinted.shape == plain.shape and not np.array_equal(tinted, plain)
+    obs_again, _ = env.reset(seed=0)
+    for a in env.possible_agents:
+        assert np.array_equal(obs[a], obs_again[a])
+    env.close()
