@@ -1,0 +1,79 @@
+//! Every model envc parses or compiles goes through here: MuJoCo's parser and compiler called
+//! from the C++ shim `csrc/mujoco_catch.cc`, so a C++ exception escaping them (MuJoCo catches
+//! only its own errors; a `std::bad_alloc` when a model needs more memory than the process may
+//! have) or an `mju_error` becomes an `Err` with a message, instead of ending the process
+//! (mujoco-rs calls them `extern "C"`, where an exception aborts). docs/limits.md.
+
+use mujoco_rs::mujoco_c::{mjModel, mjSpec};
+use mujoco_rs::prelude::*;
+use std::ffi::{CString, c_char, c_int};
+use std::path::Path;
+
+// `C`, not `C-unwind`: the shim lets nothing escape. (It runs MuJoCo with a thread log handler
+// of its own, so envc's `mju_error` handler — a Rust panic — is never entered beneath it.)
+unsafe extern "C" {
+    fn envc_check_parse(path: *const c_char, error: *mut c_char, n: c_int) -> c_int;
+    fn envc_compile(s: *mut mjSpec, into: *mut mjModel, error: *mut c_char, n: c_int) -> c_int;
+}
+
+/// The shim's answer as a message: 1 MuJoCo's own refusal, 2 a C++ exception ("<type>: <what>"),
+/// 3 an `mju_error`.
+fn message(status: c_int, buf: &[c_char]) -> String {
+    // SAFETY: the shim always NUL-terminates within the buffer (snprintf / MuJoCo's own copy).
+    let text = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }
+        .to_string_lossy()
+        .trim()
+        .to_string();
+    match status {
+        2 if text.starts_with("std::bad_alloc")
+            || text.starts_with("std::bad_array_new_length") =>
+        {
+            format!(
+                "MuJoCo threw {text}: the model needs more memory than is available to envc \
+                 (the machine's memory or a limit such as `ulimit -v`); make the model smaller \
+                 (its <size> numbers, textures, meshes, element counts) or allow more memory"
+            )
+        }
+        2 => format!("MuJoCo threw a C++ exception, {text}"),
+        _ => text,
+    }
+}
+
+/// Parse a model file (MJCF or URDF) into an mjSpec; MuJoCo's message on failure.
+pub(crate) fn parse(path: &Path) -> Result<MjSpec, String> {
+    crate::mujoco_log::install();
+    let s = path.to_str().ok_or("the path is not valid UTF-8")?;
+    let c = CString::new(s).map_err(|_| "the path contains a NUL byte".to_string())?;
+    let mut buf = [0 as c_char; 1024];
+    // SAFETY: a NUL-terminated path and a writable buffer of the length given.
+    let status = unsafe { envc_check_parse(c.as_ptr(), buf.as_mut_ptr(), buf.len() as c_int) };
+    if status != 0 {
+        return Err(message(status, &buf));
+    }
+    // mujoco-rs has no constructor from a raw mjSpec, so the file the shim has just parsed
+    // without incident is parsed again by mujoco-rs (a few per cent of a compile; docs/limits.md).
+    MjSpec::from_xml(path).map_err(|e| e.to_string())
+}
+
+/// Compile an mjSpec; MuJoCo's message on failure. The model is byte for byte what
+/// `MjSpec::compile` makes (the shim moves mj_compile's result into a model mujoco-rs owns).
+pub(crate) fn compile(spec: &mut MjSpec) -> Result<MjModel, String> {
+    crate::mujoco_log::install();
+    // An empty model owned by mujoco-rs, whose contents the shim replaces.
+    let mut model = MjSpec::new().compile().map_err(|e| e.to_string())?;
+    let mut buf = [0 as c_char; 1024];
+    // SAFETY: live spec and model pointers, used by nothing else during the call; the shim
+    // replaces the model's contents only with a whole compiled model (and frees the old ones).
+    let status = unsafe {
+        envc_compile(
+            spec.ffi_mut(),
+            model.ffi_mut(),
+            buf.as_mut_ptr(),
+            buf.len() as c_int,
+        )
+    };
+    if status != 0 {
+        return Err(message(status, &buf));
+    }
+    Ok(model)
+}
