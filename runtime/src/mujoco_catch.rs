@@ -77,3 +77,81 @@ pub(crate) fn compile(spec: &mut MjSpec) -> Result<MjModel, String> {
     }
     Ok(model)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every bundled model (and the URDF fixtures) compiled through the shim is byte for byte
+    /// the model mujoco-rs's own `mj_loadXML` makes: its mjb file and its whole buffer.
+    #[test]
+    fn shim_models_are_mujoco_rs_models_byte_for_byte() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut files = vec![];
+        let mut dirs = vec![root.join("assets"), root.join("tests/fixtures/urdf")];
+        while let Some(d) = dirs.pop() {
+            for e in std::fs::read_dir(&d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    dirs.push(p);
+                } else if matches!(p.extension().and_then(|x| x.to_str()), Some("xml" | "urdf")) {
+                    files.push(p);
+                }
+            }
+        }
+        files.sort();
+        let mut compared = 0;
+        for p in &files {
+            let Ok(reference) = MjModel::from_xml(p) else {
+                continue; // an include fragment, or a fixture that is meant to fail
+            };
+            let ours = compile(&mut parse(p).unwrap()).unwrap();
+            let mjb = |m: &MjModel| {
+                let mut b = vec![0u8; m.size()];
+                m.save_to_buffer(&mut b).unwrap();
+                b
+            };
+            assert!(
+                mjb(&reference) == mjb(&ours),
+                "{}: mjb differs",
+                p.display()
+            );
+            let buffer = |m: &MjModel| {
+                // SAFETY: `buffer` holds `nbuffer` bytes for as long as the model lives.
+                unsafe {
+                    std::slice::from_raw_parts(
+                        m.ffi().buffer as *const u8,
+                        m.ffi().nbuffer as usize,
+                    )
+                }
+                .to_vec()
+            };
+            assert!(
+                buffer(&reference) == buffer(&ours),
+                "{}: buffer differs",
+                p.display()
+            );
+            compared += 1;
+        }
+        assert!(compared >= 40, "only {compared} models compared");
+    }
+
+    /// MuJoCo's own refusals keep their message (now whole: mujoco-rs cut it at 99 bytes).
+    #[test]
+    fn refusals_carry_mujocos_message() {
+        let dir = std::env::temp_dir().join(format!("envc-catch-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let bad = dir.join("bad.xml");
+        std::fs::write(
+            &bad,
+            "<mujoco><worldbody><geom size=\"0\"/></worldbody></mujoco>",
+        )
+        .unwrap();
+        let e = compile(&mut parse(&bad).unwrap()).unwrap_err();
+        assert!(e.contains("size 0 must be positive in geom"), "{e}");
+        std::fs::write(&bad, "<mujoco><worldbody><bogus/></worldbody></mujoco>").unwrap();
+        let e = parse(&bad).err().unwrap();
+        assert!(e.contains("Schema violation: unrecognized element"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
