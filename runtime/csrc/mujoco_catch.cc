@@ -221,3 +221,9 @@ extern "C" int envc_compile(mjSpec* s, mjModel* into, char* error, int n) {
   mj_deleteModel(m);
   return 0;
 }
+
+// For the unit test of the mju_error path (no model is known to raise one while parsing): raise
+// `message` through MuJoCo's mju_error inside the shim. Statuses as above.
+extern "C" int envc_raise_mju_error(const char* message, char* error, int n) {
+  return caught([&] { mju_error("%s", message); }, error, n);
+}

@@ -14,6 +14,8 @@ use std::path::Path;
 unsafe extern "C" {
     fn envc_check_parse(path: *const c_char, error: *mut c_char, n: c_int) -> c_int;
     fn envc_compile(s: *mut mjSpec, into: *mut mjModel, error: *mut c_char, n: c_int) -> c_int;
+    #[cfg(test)]
+    fn envc_raise_mju_error(message: *const c_char, error: *mut c_char, n: c_int) -> c_int;
 }
 
 /// The shim's answer as a message: 1 MuJoCo's own refusal, 2 a C++ exception ("<type>: <what>"),
@@ -134,6 +136,24 @@ mod tests {
             compared += 1;
         }
         assert!(compared >= 40, "only {compared} models compared");
+    }
+
+    /// An `mju_error` beneath the shim comes back as status 3 with its message, without
+    /// entering envc's Rust handler; MuJoCo works as before afterwards, on the same thread.
+    #[test]
+    fn an_mju_error_beneath_the_shim_is_returned() {
+        crate::mujoco_log::install();
+        for _ in 0..3 {
+            let mut buf = [0 as c_char; 1024];
+            let msg = CString::new("a test error").unwrap();
+            // SAFETY: a NUL-terminated message and a writable buffer of the length given.
+            let status =
+                unsafe { envc_raise_mju_error(msg.as_ptr(), buf.as_mut_ptr(), buf.len() as c_int) };
+            assert_eq!(status, 3);
+            assert_eq!(message(status, &buf), "a test error");
+        }
+        let hopper = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/gymnasium/hopper.xml");
+        assert!(compile(&mut parse(&hopper).unwrap()).is_ok());
     }
 
     /// MuJoCo's own refusals keep their message (now whole: mujoco-rs cut it at 99 bytes).
