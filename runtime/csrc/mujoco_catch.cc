@@ -6,13 +6,13 @@
 // libmujoco.so carries its own hidden libc++ *and* its own unwinder (LLVM libunwind). Its
 // exceptions are raised by that unwinder, which hands the frames it walks its own context type:
 // a g++ `catch` here (libstdc++'s personality, which reads the context through libgcc's
-// _Unwind_* functions) crashes on it (measured: SIGSEGV). So the catching frame gets a
+// _Unwind_* functions) crashes on it (measured: SIGSEGV or abort). So the catching frame gets a
 // personality routine of its own, `envc_personality`, that never touches the context:
 //  - search phase: a libc++ exception ("CLNGC++\0") is handled by our frame; anything else (a
 //    Rust panic) passes through untouched, so a panic is never swallowed here;
 //  - cleanup phase, at our frame: every MuJoCo frame in between has run its destructors (the
-//    unwinder runs them with MuJoCo's own personality); we record the exception's type and
-//    what(), free it and longjmp back to `caught`, which returns an error code.
+//    unwinder runs them with MuJoCo's own personality); we longjmp back to `caught`, which
+//    reads the exception's type and what(), frees it and returns an error code.
 // An mju_error outside the compiler's own handling (while parsing) would otherwise reach envc's
 // Rust handler and unwind as a Rust panic through MuJoCo's C++ frames (the same mismatch, the
 // other way round); for the duration of each call a thread-local MuJoCo log handler longjmps
