@@ -22,6 +22,17 @@ if ! pkg-config --exists hdf5 2>/dev/null && [ ! -e /usr/include/hdf5/serial/hdf
   fi
 fi
 
+# A C++ compiler for runtime/csrc/mujoco_catch.cc (the shim that turns MuJoCo's C++ exceptions
+# into errors), built by the `cc` crate.
+if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends g++ >/dev/null
+  else
+    echo "envc setup: g++ is missing; install it (sudo apt-get install g++)" >&2
+    exit 1
+  fi
+fi
+
 # Headless rendering (issue 15): Mesa's EGL with its software rasteriser (llvmpipe) for envc's
 # renderer and the reference's MUJOCO_GL=egl, and ffmpeg for `envc render` and RecordVideo.
 # envc itself starts without them: rendering without EGL is error E1501.

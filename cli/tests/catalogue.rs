@@ -12,7 +12,9 @@
 //!   `old` must occur), as `{spec}`; its relative paths still resolve (the repository is mirrored
 //!   around it with symbolic links);
 //! - `files` (name → text), `npy` (name → rows of float64 written as `.npy`), `env` (variables),
-//!   `before` (command lines run first, e.g. to create a dataset), `status` (default 1 or 2).
+//!   `before` (command lines run first, e.g. to create a dataset), `status` (default 1 or 2),
+//!   `memory_kb` (an address-space cap, `ulimit -v`, for the case's command: a model that needs
+//!   more memory than a process may have).
 //!
 //! Placeholders in `args`, `files` and `before`: `{spec}`, `{tmp}` (the case's scratch directory,
 //! also the working directory), `{root}` (the repository). Inputs the API tests already pin with
@@ -46,6 +48,8 @@ struct Case {
     before: Vec<Vec<String>>,
     #[serde(default)]
     status: Option<i32>,
+    #[serde(default)]
+    memory_kb: Option<u64>,
 }
 
 #[derive(serde::Deserialize)]
@@ -168,8 +172,18 @@ fn run(name: &str, extra: &Option<PathBuf>, case: &Case, scratch: &Path) -> Ran 
         let a = ndarray::Array2::from_shape_fn((rows.len(), rows[0].len()), |(i, j)| rows[i][j]);
         ndarray_npy::write_npy(tmp.join(f), &a).unwrap();
     }
-    let envc = |args: &[String]| {
-        Command::new(env!("CARGO_BIN_EXE_envc"))
+    let envc = |args: &[String], memory_kb: Option<u64>| {
+        let mut command = match memory_kb {
+            Some(kb) => {
+                let mut c = Command::new("sh");
+                c.arg("-c")
+                    .arg(format!(r#"ulimit -v {kb}; exec "$0" "$@""#))
+                    .arg(env!("CARGO_BIN_EXE_envc"));
+                c
+            }
+            None => Command::new(env!("CARGO_BIN_EXE_envc")),
+        };
+        command
             .args(args.iter().map(|a| fill(a, &vars)))
             .current_dir(&tmp)
             .env("HOME", &tmp)
@@ -182,14 +196,14 @@ fn run(name: &str, extra: &Option<PathBuf>, case: &Case, scratch: &Path) -> Ran 
             .expect("run envc")
     };
     for b in &case.before {
-        let o = envc(b);
+        let o = envc(b, None);
         assert!(
             o.status.success(),
             "{name}: `before` command {b:?} failed: {}",
             String::from_utf8_lossy(&o.stderr)
         );
     }
-    let o = envc(&case.args);
+    let o = envc(&case.args, case.memory_kb);
     Ran {
         status: o.status.code(),
         text: format!(

@@ -553,3 +553,83 @@ fn absurd_maze_sizes_and_empty_runs_are_refused_with_a_reason() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--episodes"));
 }
+
+/// `envc ARGS` in `cwd` under an address-space cap of `kb` KiB and a 60 s wall clock.
+fn envc_capped(kb: u64, cwd: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            r#"ulimit -v {kb}; exec timeout -s KILL 60 "$0" "$@""#
+        ))
+        .arg(env!("CARGO_BIN_EXE_envc"))
+        .args(args)
+        .current_dir(cwd)
+        .env("MINARI_DATASETS_PATH", cwd.join("datasets"))
+        .output()
+        .expect("run envc")
+}
+
+#[test]
+fn a_model_needing_more_memory_than_allowed_is_a_coded_error_not_an_abort() {
+    let dir = Scratch::new("bad-alloc");
+    // 10^8 heightfield samples, within envc's limits: MuJoCo's compiler asks for 400 MB in one
+    // std::vector, more than a 400 MB address space leaves, and throws std::bad_alloc (which
+    // ended the process: "terminating due to uncaught exception").
+    let hfield =
+        r#"<asset><hfield name="terrain" nrow="10000" ncol="10000" size="1 1 1 1"/></asset>"#;
+    let with_hfield = format!("{hfield}\n  <worldbody>");
+    let spec = dir.spec("hopper.toml", &[], &[("<worldbody>", &with_hfield)]);
+    // A maze compiles its robot's model with its walls added: the same, through the maze.
+    let point = Path::new(ROOT).join("specs/robotics/maze");
+    let xml = std::fs::read_to_string(Path::new(ROOT).join("assets/robotics/point.xml")).unwrap();
+    std::fs::write(
+        dir.0.join("point.xml"),
+        xml.replacen("<worldbody>", &with_hfield, 1),
+    )
+    .unwrap();
+    let robot = std::fs::read_to_string(point.join("point.toml"))
+        .unwrap()
+        .replace("../../../assets/robotics/point.xml", "point.xml");
+    std::fs::write(dir.0.join("point.toml"), robot).unwrap();
+    let maze = std::fs::read_to_string(point.join("point_maze.toml"))
+        .unwrap()
+        .replace(
+            "map = \"maps/umaze.toml\"",
+            &format!("map = {:?}", point.join("maps/umaze.toml")),
+        );
+    let maze_spec = dir.0.join("maze.toml");
+    std::fs::write(&maze_spec, maze).unwrap();
+    let collect = [
+        "collect",
+        s(&spec),
+        "--dataset-id",
+        "x/y-v0",
+        "--episodes",
+        "1",
+        "--policy",
+        "random",
+    ];
+    for cmd in [
+        &["check", "--compile", s(&spec)][..],
+        &["show", s(&spec)],
+        &["run", s(&spec), "--episodes", "1"],
+        &collect,
+        &["check", "--compile", s(&maze_spec)],
+        &["run", s(&maze_spec), "--episodes", "1"],
+    ] {
+        let o = envc_capped(400_000, &dir.0, cmd);
+        let text = refused(&o, "E1001");
+        assert!(
+            text.contains(
+                "MuJoCo threw std::bad_alloc: the model needs more memory than is available"
+            ),
+            "{cmd:?}: {text}"
+        );
+        assert!(!text.contains("terminat"), "{cmd:?}: {text}");
+        if cmd[0] != "check" {
+            // (`check` reports on stdout; the others' errors go to stderr, nothing else is printed)
+            assert!(o.stdout.is_empty(), "{cmd:?}: {text}");
+        }
+        assert!(!dir.0.join("MUJOCO_LOG.TXT").exists(), "{cmd:?}");
+    }
+}

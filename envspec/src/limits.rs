@@ -25,7 +25,8 @@ pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
 /// ever; Reacher's goal is accepted with probability π/4, so a real spec never gets near this.
 pub const MAX_RESAMPLE_DRAWS: u32 = 1_000_000;
 /// MuJoCo sizes a model states in its MJCF, checked before MuJoCo allocates them: an absurd
-/// `nuser_geom` or texture size otherwise ends in an uncatchable C++ `std::bad_alloc`.
+/// `nuser_geom` or texture size otherwise makes MuJoCo allocate gigabytes (or throw
+/// `std::bad_alloc`, caught by `runtime/csrc/mujoco_catch.cc` as E1001).
 pub const MAX_ARENA_BYTES: u64 = 4 << 30;
 /// Each `nuser_*` (user numbers per element), `nkey`.
 pub const MAX_PER_ELEMENT: i64 = 100_000;

@@ -1289,11 +1289,8 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     if s.contains('\0') {
         return Err(bad("the path contains a NUL byte".into()));
     }
-    let mut model = if spec.model_edits.is_empty() {
-        MjModel::from_xml(path).map_err(|e| bad(e.to_string()))
-    } else {
-        crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)
-    }?;
+    // (with no edits, the same parse and compile as `mj_loadXML`)
+    let mut model = crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)?;
     crate::commands::apply_gains(spec, &mut model)?;
     Ok(model)
 }

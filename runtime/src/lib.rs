@@ -30,6 +30,7 @@ pub mod maze;
 mod model_build;
 pub mod model_diff;
 mod model_values;
+mod mujoco_catch;
 mod mujoco_log;
 pub mod multi_agent;
 pub mod npy;

@@ -89,14 +89,12 @@ pub(crate) fn compile_edited(
     path: &std::path::Path,
     edits: &ModelEdits,
 ) -> Result<MjModel, String> {
-    load_edited(path, edits)?
-        .compile()
-        .map_err(|e| e.to_string())
+    crate::mujoco_catch::compile(&mut load_edited(path, edits)?)
 }
 
 /// Load the model file into an mjSpec and apply the edits (a maze then adds its world).
 pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<MjSpec, String> {
-    let mut spec = MjSpec::from_xml(path).map_err(|e| e.to_string())?;
+    let mut spec = crate::mujoco_catch::parse(path)?;
     if let Some(ts) = edits.timestep {
         spec.option_mut().timestep = ts;
     }

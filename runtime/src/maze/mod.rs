@@ -630,5 +630,5 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
     *t.pos_mut() = [0.0, 0.0, z];
     t.size_mut()[0] = 0.2 * s;
     *t.rgba_mut() = [1.0, 0.0, 0.0, 0.7];
-    spec.compile().map_err(|e| bad(e.to_string()))
+    crate::mujoco_catch::compile(&mut spec).map_err(bad)
 }
