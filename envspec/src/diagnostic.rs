@@ -286,6 +286,8 @@ pub enum Code {
     E1401,
     /// A rollout whose trajectory would exceed `limits::MAX_TRAJECTORY_BYTES` in memory.
     E1402,
+    /// A vector env whose envs would need more memory than the process can have.
+    E1403,
     /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
     E1430,
     // Rendering (issue 15; envspec::camera and the runtime's renderer).

@@ -47,6 +47,8 @@ pub const MAX_COORDINATE: f64 = 1e6;
 /// draws, a value beyond this makes the simulation diverge within a step (`kp = 1e308` gave NaN
 /// accelerations, a command range of ±1e308 overflowed numpy's `uniform`).
 pub const MAX_MAGNITUDE: f64 = 1e6;
+/// Envs in one vector env (each holds its own `mjData`; the memory they need is checked too).
+pub const MAX_VEC_ENVS: usize = 100_000;
 /// Observation delay and action latency, in env steps: each env keeps that many past values of
 /// the segment (or action) for the whole run.
 pub const MAX_DELAY_STEPS: i64 = 10_000;

@@ -362,10 +362,14 @@ impl Env {
                 model.ffi(),
             )?)
         };
-        let data = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
-            path: spec.model_path.clone(),
-            message: format!("cannot allocate mjData: {e}"),
-        })?;
+        // mj_makeData raises mju_error when the allocation fails: guarded, it is an error too.
+        let data = crate::mujoco_log::guard(|| MjData::try_new(Arc::clone(&model)))
+            .map_err(|e| e.to_string())
+            .and_then(|d| d.map_err(|e| e.to_string()))
+            .map_err(|e| EnvError::Compile {
+                path: spec.model_path.clone(),
+                message: format!("cannot allocate mjData: {e}"),
+            })?;
         let numerics = default_profile()?;
         let m = model.ffi();
         let render = crate::render::EnvRender::new(&spec.params, m)?;
@@ -518,6 +522,11 @@ impl Env {
 
     pub fn spec(&self) -> &Arc<ResolvedSpec> {
         &self.spec
+    }
+    /// Bytes of this env's `mjData` (its buffer and arena): what each more env of a model costs.
+    pub fn data_bytes(&self) -> u64 {
+        let d = self.sim.data.ffi();
+        (d.nbuffer as u64).saturating_add(d.narena as u64)
     }
     pub fn model(&self) -> &Arc<MjModel> {
         &self.sim.model

@@ -54,6 +54,8 @@ pub enum EnvError {
         envspec::diagnostic::escape(env)
     )]
     EventElement { env: String, what: String },
+    #[error("error[E1403]: {}: {what}", envspec::diagnostic::escape(env))]
+    TooLarge { env: String, what: String },
     #[error("{0}")]
     Numerics(#[from] crate::numerics::NumericsError),
     #[error(transparent)]
@@ -74,6 +76,7 @@ impl EnvError {
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
             EnvError::Legged { .. } => Code::E1110,
+            EnvError::TooLarge { .. } => Code::E1403,
             EnvError::EventElement { .. } => Code::E1120,
             EnvError::Numerics(e) => e.code(),
             EnvError::Render(e) => e.code(),

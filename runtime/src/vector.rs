@@ -270,9 +270,34 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
+        let too_large = |what: String| EnvError::TooLarge {
+            env: spec.id.clone(),
+            what,
+        };
+        if num_envs > envspec::limits::MAX_VEC_ENVS {
+            return Err(too_large(format!(
+                "{num_envs} envs are beyond envc's limit of {} per vector env",
+                envspec::limits::MAX_VEC_ENVS
+            )));
+        }
         let model = Arc::new(compile(&spec)?);
-        let envs = (0..num_envs)
-            .map(|_| Env::with_model(Arc::clone(&spec), Arc::clone(&model)))
+        let first = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
+        // Each env holds an mjData (its buffer and arena): refuse before allocating them all
+        // rather than fail (or be killed) part-way.
+        let per_env = first.data_bytes();
+        if let Some(free) = memory_available() {
+            let need = per_env.saturating_mul(num_envs as u64);
+            if need > free {
+                return Err(too_large(format!(
+                    "{num_envs} envs need about {:.1} GiB of memory ({:.1} MiB each), and {:.1} GiB is available; use fewer envs",
+                    need as f64 / (1u64 << 30) as f64,
+                    per_env as f64 / (1u64 << 20) as f64,
+                    free as f64 / (1u64 << 30) as f64
+                )));
+            }
+        }
+        let envs = std::iter::once(Ok(first))
+            .chain((1..num_envs).map(|_| Env::with_model(Arc::clone(&spec), Arc::clone(&model))))
             .collect::<Result<Vec<Env>, _>>()?;
         let (n, od, ad) = (num_envs, spec.obs_dim, spec.act_dim());
         let mut v = VecEnv {
@@ -596,5 +621,38 @@ impl Drop for VecEnv {
         for w in self.workers.drain(..) {
             let _ = w.join();
         }
+    }
+}
+
+/// Bytes this process may still allocate: the smaller of the machine's available memory and what
+/// the address-space limit (`ulimit -v`) leaves. None when neither can be read.
+fn memory_available() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
+        t.lines()
+            .find_map(|l| l.strip_prefix("MemAvailable:"))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+            .map(|kb| kb * 1024)
+    });
+    let mut lim = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit writes the struct we pass.
+    let limit = (unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut lim) } == 0
+        && lim.rlim_cur != libc::RLIM_INFINITY)
+        .then(|| {
+            let used = std::fs::read_to_string("/proc/self/status")
+                .ok()
+                .and_then(|t| {
+                    t.lines()
+                        .find_map(|l| l.strip_prefix("VmSize:"))
+                        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+                        .map(|kb| kb * 1024)
+                });
+            (lim.rlim_cur as u64).saturating_sub(used.unwrap_or(0))
+        });
+    match (meminfo, limit) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
     }
 }

@@ -220,6 +220,10 @@ def test_bad_construction_raises():
         envc.make_vec("PointMaze_UMaze-v3", 2)
     with pytest.raises(TypeError, match="multi-agent"):
         envc.make_vec(envc.bundled_ids("agents")[0], 2)
+    # More envs than memory allows is refused before allocating them (was a PanicException
+    # part-way through, when an mjData allocation failed).
+    with pytest.raises(ValueError, match=r"E1403.*1000000 envs"):
+        envc.make_vec("Hopper-v5", 10**6)
 
 
 def test_registered_vector_entry_point():
