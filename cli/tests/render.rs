@@ -166,6 +166,91 @@ fn png_frames_need_no_ffmpeg_and_hold_the_rendered_pixels() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// The Go1 joystick spec with its commands, observation noise and events (randomized masses and
+/// friction at startup, trunk pushes) on, their intervals shortened so a few steps see several
+/// command draws and pushes: `envc render` runs it, and every frame is what an `Env` of the same
+/// spec draws after the same seed and steps (so commands, noise and events ran the same way).
+#[test]
+fn go1_joystick_with_commands_noise_and_events_renders() {
+    let go1 = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/models/unitree_go1/scene.xml"
+    );
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../specs/examples/go1_joystick.toml"
+    ))
+    .unwrap();
+    let push = "interval_seconds = [5.0, 10.0]";
+    assert!(text.contains(push));
+    let d = tmp("go1");
+    let spec = d.join("go1_joystick.toml");
+    std::fs::write(&spec, text.replace(push, "interval_seconds = [0.04, 0.1]")).unwrap();
+    let sets = [
+        ("xml_file", format!("{go1:?}")),
+        ("observation_noise", "true".to_string()),
+        ("domain_randomization", "true".to_string()),
+        ("command_resample_seconds", "0.1".to_string()),
+    ];
+    let frames = d.join("frames/");
+    const STEPS: usize = 12;
+    let mut args: Vec<String> = [
+        "render",
+        spec.to_str().unwrap(),
+        "--policy",
+        "zero",
+        "--seed",
+        "2",
+        "--max-steps",
+        &STEPS.to_string(),
+        "--size",
+        "32x24",
+        "--out",
+        frames.to_str().unwrap(),
+    ]
+    .map(String::from)
+    .into();
+    for (k, v) in &sets {
+        args.push("--set".into());
+        args.push(format!("{k}={v}"));
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = envc(&args, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut pngs: Vec<_> = std::fs::read_dir(&frames)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    pngs.sort();
+    assert_eq!(pngs.len(), 1 + STEPS);
+
+    let mut ov: Vec<envc::Override> = sets
+        .iter()
+        .map(|(k, v)| envc::Override::text(k, v))
+        .collect();
+    ov.push(envc::Override::text("width", "32"));
+    ov.push(envc::Override::text("height", "24"));
+    let mut env = envc::Env::from_spec_file(&spec, &ov).unwrap();
+    env.reset(Some(2));
+    let zeros = vec![0.0; env.act_dim()];
+    let mut commands = std::collections::BTreeSet::new();
+    for (t, png) in pngs.iter().enumerate() {
+        if t > 0 {
+            let s = env.step(&zeros).unwrap();
+            assert!(!s.terminated && !s.truncated);
+        }
+        let o = env.obs();
+        commands.insert(format!("{:?}", &o[o.len() - 3..]));
+        let (w, h, got) = decode_png(png);
+        assert_eq!((w, h), (32, 24));
+        let f = env.render(envc::render::RenderMode::RgbArray).unwrap();
+        assert!(got == f.rgb.unwrap(), "frame {t} differs from Env::render");
+    }
+    assert!(commands.len() >= 3, "the command was redrawn: {commands:?}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 #[test]
 fn failures_are_coded_and_leave_nothing_behind() {
     let d = tmp("fail");
