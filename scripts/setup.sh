@@ -34,7 +34,8 @@ if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1; then
 fi
 
 # Headless rendering (issue 15): Mesa's EGL with its software rasteriser (llvmpipe) for envc's
-# renderer and the reference's MUJOCO_GL=egl, and ffmpeg for `envc render` and RecordVideo.
+# renderer and the reference's MUJOCO_GL=egl, and ffmpeg for `envc render`'s videos (PNG frames need
+# none) and RecordVideo.
 # envc itself starts without them: rendering without EGL is error E1501.
 RENDER_PKGS=""
 ldconfig -p 2>/dev/null | grep -q 'libEGL.so.1 ' || RENDER_PKGS="libegl1 libegl-mesa0 libgl1-mesa-dri libgl1"

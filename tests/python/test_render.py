@@ -189,3 +189,71 @@ def test_vector_envs_render_every_env_as_gymnasiums():
     ours.close()
     assert len(got) == 12 and got[0].shape == (64, 64, 3)
     assert compare(got, want) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    "env_id,seed,reset_cell",
+    # PointMaze starts in the cell next to the goal and is driven onto it; the ant (hard to steer
+    # by script) starts in the goal's cell, with a seed whose noise puts it within reach.
+    [("PointMaze_UMaze-v3", 3, [1, 2]), ("AntMaze_UMaze-v5", 84, [1, 1])],
+)
+def test_maze_goal_marker_follows_a_resampled_goal_as_the_reference(env_id, seed, reset_cell):
+    """A continuing maze with reset_target: the goal is reached and resampled mid-episode. The
+    reference writes the marker's `site_pos` after that step, so the marker moves at the next
+    physics step's kinematics; every frame through the resample matches."""
+    import gymnasium_robotics
+
+    gym.register_envs(gymnasium_robotics)
+    kw = dict(continuing_task=True, reset_target=True, render_mode="rgb_array", width=96, height=96)
+    ref = gym.make(env_id, **kw)
+    ours = envc.make(env_id, **kw)
+    opts = {"goal_cell": np.array([1, 1]), "reset_cell": np.array(reset_cell)}
+    obs, _ = ref.reset(seed=seed, options=opts)
+    ours.reset(seed=seed, options=opts)
+    got, want = [ours.render()], [ref.render()]
+    first_goal, resampled_at = obs["desired_goal"].copy(), None
+    for t in range(300):
+        act = np.zeros(ref.action_space.shape, dtype=np.float32)
+        if env_id.startswith("Point"):  # a PD law on x, y towards the goal
+            err = obs["desired_goal"] - obs["achieved_goal"]
+            act = np.clip(2.0 * err - 0.3 * obs["observation"][2:4], -1, 1).astype(np.float32)
+        obs, _, _, _, _ = ref.step(act)
+        mine, _, _, _, _ = ours.step(act)
+        assert np.array_equal(mine["desired_goal"], obs["desired_goal"]), t
+        got.append(ours.render())
+        want.append(ref.render())
+        if resampled_at is None and not np.array_equal(obs["desired_goal"], first_goal):
+            resampled_at = t
+        if resampled_at is not None and t >= resampled_at + 2:
+            break
+    ref.close()
+    assert resampled_at is not None, "the goal was never reached"
+    assert compare(got, want) == (0.0, 0.0)
+
+
+def test_no_gl_is_a_clear_error_naming_the_packages():
+    """Without libEGL (ENVC_EGL_LIBRARY names a missing one, set before envc loads it) making and
+    stepping work; the first frame raises RuntimeError with E1501 and the Debian packages."""
+    import subprocess
+    import sys
+
+    code = """
+import envc, numpy as np
+env = envc.make("Hopper-v5", render_mode="rgb_array")
+env.reset(seed=0)
+env.step(np.zeros(3, dtype=np.float32))
+try:
+    env.render()
+except Exception as e:
+    print(type(e).__name__)
+    print(e)
+else:
+    print("no error")
+"""
+    env = dict(os.environ, ENVC_EGL_LIBRARY="/nonexistent/libEGL.so.1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    kind, message = out.stdout.split("\n", 1)
+    assert kind == "RuntimeError", out.stdout
+    assert "E1501" in message and "/nonexistent/libEGL.so.1" in message, message
+    assert "libegl1 libegl-mesa0 libgl1-mesa-dri libgl1" in message, message

@@ -3,12 +3,13 @@
 //! headless (EGL) as Gymnasium's `RecordVideo` records them (a frame after every reset and every
 //! step), for every kind of spec (a maze with its goal marker, a multi-agent spec's whole robot).
 //!
-//! Encoding is Debian's `ffmpeg`, run as a subprocess that reads raw rgb24 frames on stdin: it is
-//! what `RecordVideo` (through moviepy / imageio-ffmpeg) runs too, it is packaged and maintained,
-//! and it writes H.264 MP4, GIF (with a per-video palette) and PNG frames without adding a codec
-//! to the build. The output is written under a temporary name and renamed into place.
+//! Videos are encoded by Debian's `ffmpeg`, run as a subprocess that reads raw rgb24 frames on
+//! stdin: it is what `RecordVideo` (through moviepy / imageio-ffmpeg) runs too, it is packaged and
+//! maintained, and it writes H.264 MP4 and GIF (with a per-video palette) without adding a codec
+//! to the build. PNG frames are written by the `png` crate, so they need no ffmpeg. The output is
+//! written under a temporary name and renamed into place.
 
-use std::io::Write;
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -105,8 +106,87 @@ fn parse_size(s: &str) -> Result<(u32, u32)> {
     }
 }
 
-/// ffmpeg reading raw rgb24 frames of `w`×`h` at `fps` on stdin, writing `dest`.
-fn encoder(kind: Output, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::process::Child> {
+/// Where frames go: ffmpeg's stdin (a video), or one PNG file per frame in a directory.
+enum Sink {
+    Ffmpeg(std::process::Child),
+    Png { dir: PathBuf, next: u64 },
+}
+
+impl Sink {
+    fn open(kind: Output, w: u32, h: u32, fps: u32, dest: &Path) -> Result<Sink> {
+        match kind {
+            Output::Frames => Ok(Sink::Png {
+                dir: dest.to_path_buf(),
+                next: 1,
+            }),
+            Output::Mp4 => encoder(false, w, h, fps, dest).map(Sink::Ffmpeg),
+            Output::Gif => encoder(true, w, h, fps, dest).map(Sink::Ffmpeg),
+        }
+    }
+
+    fn write(&mut self, rgb: &[u8], w: u32, h: u32) -> Result<()> {
+        match self {
+            Sink::Ffmpeg(c) => {
+                let stdin = c.stdin.as_mut().expect("piped");
+                stdin.write_all(rgb).map_err(|e| {
+                    e1506(
+                        format!("ffmpeg stopped reading frames: {e}"),
+                        "see ffmpeg's message above",
+                    )
+                })
+            }
+            Sink::Png { dir, next } => {
+                // Numbered from 1, as ffmpeg's image2 muxer numbers them.
+                let path = dir.join(format!("frame_{next:06}.png"));
+                write_png(&path, rgb, w, h).map_err(|e| {
+                    e1506(
+                        format!("cannot write {}: {e}", path.display()),
+                        "check the path and the free space",
+                    )
+                })?;
+                *next += 1;
+                Ok(())
+            }
+        }
+    }
+
+    /// Waits for ffmpeg to finish the video; PNG frames are complete once written.
+    fn finish(self) -> Result<()> {
+        let Sink::Ffmpeg(mut c) = self else {
+            return Ok(());
+        };
+        drop(c.stdin.take());
+        let out = c.wait_with_output().context("waiting for ffmpeg")?;
+        if !out.status.success() {
+            return Err(e1506(
+                format!(
+                    "ffmpeg failed: {}",
+                    String::from_utf8_lossy(&out.stderr).trim()
+                ),
+                "check the output path and that ffmpeg has libx264 (Debian's ffmpeg does)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One 8-bit RGB PNG, rows top first (as `render` returns them).
+fn write_png(path: &Path, rgb: &[u8], w: u32, h: u32) -> Result<()> {
+    let file = std::fs::File::create(path)?;
+    let mut enc = png::Encoder::new(BufWriter::new(file), w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    // Frames of a run are many: fast deflate, still lossless.
+    enc.set_compression(png::Compression::Fast);
+    let mut writer = enc.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()?;
+    Ok(())
+}
+
+/// ffmpeg reading raw rgb24 frames of `w`×`h` at `fps` on stdin, writing `dest` (H.264 MP4, or
+/// a GIF).
+fn encoder(gif: bool, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::process::Child> {
     let mut c = Command::new("ffmpeg");
     c.args([
         "-hide_banner",
@@ -119,9 +199,16 @@ fn encoder(kind: Output, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::p
         "rgb24",
     ])
     .args(["-s", &format!("{w}x{h}"), "-r", &fps.to_string(), "-i", "-"]);
-    match kind {
+    if gif {
+        c.args([
+            "-vf",
+            "split[a][b];[a]palettegen[p];[b][p]paletteuse",
+            "-f",
+            "gif",
+        ]);
+    } else {
         // yuv420p (what players expect) needs even sides: pad by one pixel when odd.
-        Output::Mp4 => c.args([
+        c.args([
             "-vf",
             "pad=ceil(iw/2)*2:ceil(ih/2)*2",
             "-c:v",
@@ -130,23 +217,16 @@ fn encoder(kind: Output, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::p
             "yuv420p",
             "-f",
             "mp4",
-        ]),
-        Output::Gif => c.args([
-            "-vf",
-            "split[a][b];[a]palettegen[p];[b][p]paletteuse",
-            "-f",
-            "gif",
-        ]),
-        Output::Frames => c.args(["-f", "image2", "-c:v", "png"]),
-    };
+        ]);
+    }
     c.arg(dest)
         .stdin(Stdio::piped())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
     c.spawn().map_err(|e| {
         e1506(
-            format!("cannot run ffmpeg: {e}"),
-            "envc render encodes with ffmpeg: `sudo apt-get install ffmpeg` (scripts/setup.sh installs it as root)",
+            format!("cannot run ffmpeg, which encodes .mp4 and .gif: {e}"),
+            "install Debian's ffmpeg: `sudo apt-get install ffmpeg` (scripts/setup.sh installs it as root); PNG frames (`--out frames/`) need no ffmpeg",
         )
     })
 }
@@ -219,7 +299,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                     "check the path",
                 )
             })?;
-            tmp.join("frame_%06d.png")
+            tmp.clone()
         }
         _ => tmp.clone(),
     };
@@ -236,27 +316,20 @@ pub fn run(args: Args) -> Result<Outcome> {
             .progress_chars("=> "),
         );
         bar.set_message(format!("rendering {}", env.id()));
-        let mut child: Option<(std::process::Child, u32, u32)> = None;
+        let mut child: Option<(Sink, u32, u32)> = None;
         let mut frames = 0u64;
-        let mut write = |env: &mut envc::AnyEnv,
-                         child: &mut Option<(std::process::Child, u32, u32)>|
-         -> Result<()> {
-            let f = env.render(RenderMode::RgbArray)?;
-            let (w, h) = (f.width as u32, f.height as u32);
-            if child.is_none() {
-                *child = Some((encoder(kind, w, h, fps, &dest)?, w, h));
-            }
-            let (c, ..) = child.as_mut().expect("just set");
-            let stdin = c.stdin.as_mut().expect("piped");
-            stdin.write_all(f.rgb.unwrap_or(&[])).map_err(|e| {
-                e1506(
-                    format!("ffmpeg stopped reading frames: {e}"),
-                    "see ffmpeg's message above",
-                )
-            })?;
-            frames += 1;
-            Ok(())
-        };
+        let mut write =
+            |env: &mut envc::AnyEnv, child: &mut Option<(Sink, u32, u32)>| -> Result<()> {
+                let f = env.render(RenderMode::RgbArray)?;
+                let (w, h) = (f.width as u32, f.height as u32);
+                if child.is_none() {
+                    *child = Some((Sink::open(kind, w, h, fps, &dest)?, w, h));
+                }
+                let (sink, ..) = child.as_mut().expect("just set");
+                sink.write(f.rgb.unwrap_or(&[]), w, h)?;
+                frames += 1;
+                Ok(())
+            };
         for ep in 0..args.episodes {
             env.reset(if ep == 0 { Some(args.seed) } else { None })?;
             write(&mut env, &mut child)?;
@@ -288,18 +361,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             }
         }
         bar.finish_and_clear();
-        let (mut c, w, h) = child.ok_or_else(|| anyhow!("no frame was rendered"))?;
-        drop(c.stdin.take());
-        let out = c.wait_with_output().context("waiting for ffmpeg")?;
-        if !out.status.success() {
-            return Err(e1506(
-                format!(
-                    "ffmpeg failed: {}",
-                    String::from_utf8_lossy(&out.stderr).trim()
-                ),
-                "check the output path and that ffmpeg has libx264 (Debian's ffmpeg does)",
-            ));
-        }
+        let (sink, w, h) = child.ok_or_else(|| anyhow!("no frame was rendered"))?;
+        sink.finish()?;
         Ok((frames, w, h))
     })();
     let (frames, w, h) = match result {

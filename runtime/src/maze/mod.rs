@@ -74,6 +74,10 @@ pub struct MazeEnv {
     layout: Layout,
     rng: Option<NumpyRng>,
     goal: [f64; 2],
+    /// Where the goal marker is drawn: the goal in force at the last kinematics pass (reset's
+    /// forward, or the last step's physics). The reference moves the marker's `site_pos` after a
+    /// step resamples the goal, so its `site_xpos` follows only at the next step.
+    marker: [f64; 2],
     obs: MazeObs,
     elapsed: u64,
     has_reset: bool,
@@ -252,6 +256,7 @@ impl MazeEnv {
             layout,
             rng: None,
             goal: [0.0; 2],
+            marker: [0.0; 2],
             obs,
             elapsed: 0,
             has_reset: false,
@@ -265,14 +270,15 @@ impl MazeEnv {
     pub fn id(&self) -> &str {
         &self.spec.id
     }
-    /// Render the maze world with its goal marker (the `target` site) at the goal, as
-    /// Gymnasium-Robotics' `update_target_site_pos` shows it (docs/rendering.md).
+    /// Render the maze world with its goal marker (the `target` site) where Gymnasium-Robotics'
+    /// `update_target_site_pos` shows it: at the goal of the last kinematics pass, so a goal
+    /// resampled by a step shows from the next step (docs/rendering.md).
     pub fn render(
         &mut self,
         mode: crate::render::RenderMode,
     ) -> Result<crate::render::Frame<'_>, EnvError> {
         let (goal, z) = (
-            self.goal,
+            self.marker,
             self.spec.maze_height / 2.0 * self.spec.maze_size_scaling,
         );
         self.robot.render_with(mode, |m, d| {
@@ -440,6 +446,7 @@ impl MazeEnv {
         init[0] = reset[0];
         init[1] = reset[1];
         self.robot.goal_mut().copy_from_slice(&self.goal);
+        self.marker = self.goal;
         let (obs, _) = self.robot.reset(seed);
         self.obs.observation.copy_from_slice(obs);
         self.fill_goals();
@@ -464,6 +471,7 @@ impl MazeEnv {
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
+        self.marker = self.goal;
         let s = self.robot.step(action)?;
         let (reward, terminated) = (s.reward, s.terminated);
         self.obs.observation.copy_from_slice(self.robot.obs());
@@ -477,6 +485,7 @@ impl MazeEnv {
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
+        self.marker = self.goal;
         let s = self.robot.step_f32(action)?;
         let (reward, terminated) = (s.reward, s.terminated);
         self.obs.observation.copy_from_slice(self.robot.obs());
