@@ -649,7 +649,7 @@ fn memory_available() -> Option<u64> {
                         .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
                         .map(|kb| kb * 1024)
                 });
-            (lim.rlim_cur as u64).saturating_sub(used.unwrap_or(0))
+            lim.rlim_cur.saturating_sub(used.unwrap_or(0))
         });
     match (meminfo, limit) {
         (Some(a), Some(b)) => Some(a.min(b)),
