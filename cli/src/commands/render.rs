@@ -25,7 +25,7 @@ use crate::Outcome;
 pub struct Args {
     /// Spec file or bundled env id (task, maze or multi-agent).
     spec: String,
-    /// `run.mp4` (H.264), `run.gif`, or a directory (ending in `/`, or existing) for PNG frames.
+    /// `run.mp4` (H.264), `run.gif`, or a new or empty directory (ending in `/`) for PNG frames.
     #[arg(long, value_name = "PATH")]
     out: PathBuf,
     #[arg(long, value_enum, default_value = "random")]
@@ -233,6 +233,18 @@ fn encoder(gif: bool, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::proc
 
 pub fn run(args: Args) -> Result<Outcome> {
     let kind = output_kind(&args.out)?;
+    // Frames go into a directory of their own: never mixed with (or over) files already there.
+    if kind == Output::Frames
+        && args
+            .out
+            .read_dir()
+            .is_ok_and(|mut entries| entries.next().is_some())
+    {
+        bail!(
+            "error[E1412]: {} exists and is not empty; `envc render` writes PNG frames into a new or empty directory, never over files already there",
+            args.out.display()
+        );
+    }
     let mut sets = args.set.clone();
     if let Some(c) = &args.camera {
         sets.push(format!("camera_name={c:?}"));
@@ -376,20 +388,16 @@ pub fn run(args: Args) -> Result<Outcome> {
             return Err(e);
         }
     };
+    // An empty directory may stand where the frames go (checked empty before rendering).
     if kind == Output::Frames && args.out.is_dir() {
-        // Frames replace an existing directory's frame files, not the directory.
-        for e in std::fs::read_dir(&tmp)?.flatten() {
-            std::fs::rename(e.path(), args.out.join(e.file_name()))?;
-        }
-        std::fs::remove_dir(&tmp)?;
-    } else {
-        std::fs::rename(&tmp, &args.out).map_err(|e| {
-            e1506(
-                format!("cannot move the result to {}: {e}", args.out.display()),
-                "check the path",
-            )
-        })?;
+        let _ = std::fs::remove_dir(&args.out);
     }
+    std::fs::rename(&tmp, &args.out).map_err(|e| {
+        e1506(
+            format!("cannot move the result to {}: {e}", args.out.display()),
+            "check the path",
+        )
+    })?;
     println!(
         "{}: {frames} frames of {w}x{h} at {fps} fps -> {}",
         env.id(),
