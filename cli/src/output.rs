@@ -145,10 +145,17 @@ impl Output {
     /// Start writing `path`: returns the destination and the writer of the temporary file.
     pub fn create(path: &Path) -> Result<(Output, Sticky)> {
         let existing = fs::metadata(path).ok();
-        if existing.as_ref().is_some_and(|m| m.is_dir()) {
+        // The finished file is renamed over the target: over a device (`/dev/null`), a FIFO or a
+        // socket that would replace the node itself, for every program on the machine.
+        if let Some(m) = existing.as_ref().filter(|m| !m.is_file()) {
             bail!(
-                "error[E1410]: cannot write {}: it is a directory",
-                path.display()
+                "error[E1410]: cannot write {}: it is {}, not a regular file; envc writes an output whole and renames it into place",
+                path.display(),
+                if m.is_dir() {
+                    "a directory"
+                } else {
+                    "a device, FIFO or socket"
+                }
             );
         }
         let target = match existing {

@@ -532,3 +532,41 @@ fn envc_new_onto_a_full_disk_leaves_no_half_made_crate() {
     assert_eq!(text(&o.stdout), "", "nothing is left on the disk");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn an_output_never_replaces_a_device_or_fifo() {
+    use std::os::unix::fs::FileTypeExt;
+    let d = tmp("out-fifo");
+    std::fs::create_dir_all(&d).unwrap();
+    // A FIFO stands in for /dev/null: renaming the finished file over either would replace the
+    // node itself (a fuzzing run once turned /dev/urandom into a zip file this way).
+    for name in ["t.npz", "v.mp4"] {
+        let fifo = d.join(name);
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+        let args: Vec<&str> = if name.ends_with(".npz") {
+            vec![
+                "rollout",
+                "Hopper-v5",
+                "--policy",
+                "zero",
+                "--steps",
+                "3",
+                "--out",
+            ]
+        } else {
+            vec!["render", "Hopper-v5", "--max-steps", "2", "--out"]
+        };
+        let o = Command::new(ENVC)
+            .args(&args)
+            .arg(&fifo)
+            .output()
+            .expect("run envc");
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", text(&o.stderr));
+        assert_one_clean_line(&text(&o.stderr), "E1410");
+        let m = std::fs::symlink_metadata(&fifo).unwrap();
+        assert!(m.file_type().is_fifo(), "{name} is still the FIFO");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=256))]
     threads: u32,
     /// Measuring time per env, split over the rounds and the three measurements.
-    #[arg(long, default_value_t = 6.0)]
+    #[arg(long, default_value_t = 6.0, value_parser = seconds)]
     seconds: f64,
     /// Interleaved rounds (medians are reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
@@ -48,10 +48,15 @@ fn json(r: &BenchResult) -> serde_json::Value {
     })
 }
 
-pub fn run(args: Args) -> Result<Outcome> {
-    if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= 86_400.0) {
-        anyhow::bail!("--seconds must be a positive number of seconds (at most a day)");
+/// `--seconds`: a positive, finite duration of at most a day (an argument error otherwise).
+fn seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x <= 86_400.0 => Ok(x),
+        _ => Err("expected a positive number of seconds, at most a day (86400)".into()),
     }
+}
+
+pub fn run(args: Args) -> Result<Outcome> {
     let overrides = crate::target::overrides(&args.set)?;
     let ids: Vec<String> = if args.envs_or_all.iter().any(|a| a == "all") {
         envspec::registry::bundled().map(|e| e.id.clone()).collect()

@@ -144,7 +144,9 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
         && !rev.is_empty()
         && !path.is_empty()
     {
-        return Ok(file(checkout(rev, path, &tmp.join(side))?));
+        return checkout(rev, path, &tmp.join(side)).map(file).map_err(|e| {
+            anyhow::anyhow!("error[E0906]: cannot take `{path}` at git revision `{rev}`: {e:#}")
+        });
     }
     // A bundled id of any kind, through the one door.
     let t = envspec::open::locate(arg).map_err(|d| anyhow::anyhow!("{d}"))?;

@@ -233,6 +233,17 @@ fn encoder(gif: bool, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::proc
 
 pub fn run(args: Args) -> Result<Outcome> {
     let kind = output_kind(&args.out)?;
+    // The result is renamed over `--out`: never over a device, FIFO or socket (the node itself
+    // would be replaced, for every program on the machine).
+    if let Ok(m) = std::fs::metadata(&args.out)
+        && !m.is_file()
+        && !(m.is_dir() && kind == Output::Frames)
+    {
+        bail!(
+            "error[E1410]: cannot write {}: it is not a regular file; envc writes an output whole and renames it into place",
+            args.out.display()
+        );
+    }
     // Frames go into a directory of their own: never mixed with (or over) files already there.
     if kind == Output::Frames
         && args
