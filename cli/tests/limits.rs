@@ -490,8 +490,62 @@ fn a_rollout_too_long_to_hold_in_memory_is_refused_before_stepping() {
         ]),
         "E1402",
     );
-    assert!(text.contains("beyond envc's limit of 4 GiB"), "{text}");
+    // envc's 4 GiB, or half the memory left when a machine has less than 8 GiB free.
+    assert!(
+        text.contains("beyond envc's limit (4.00 GiB)") || text.contains("beyond half the memory"),
+        "{text}"
+    );
     assert!(!out.exists());
+}
+
+#[test]
+fn a_rollout_or_an_episode_beyond_the_memory_left_is_e1402_not_an_abort() {
+    let dir = Scratch::new("episode-memory");
+    // Under a 600 MB address space: a 300 000-step Humanoid rollout (about 0.8 GiB) aborted with
+    // "memory allocation of 729808896 bytes failed"; it is refused before stepping.
+    let o = envc_capped(
+        600_000,
+        &dir.0,
+        &[
+            "rollout",
+            "Humanoid-v5",
+            "--policy",
+            "zero",
+            "--steps",
+            "300000",
+            "--auto-reset",
+            "--out",
+            "t.npz",
+        ],
+    );
+    let text = refused(&o, "E1402");
+    assert!(
+        text.contains("half the memory this process may still allocate"),
+        "{text}"
+    );
+    // A collected episode that never ends grows until the memory left is spent: it stops with
+    // E1402 (it aborted), and nothing is published.
+    let o = envc_capped(
+        600_000,
+        &dir.0,
+        &[
+            "collect",
+            "Humanoid-v5",
+            "--dataset-id",
+            "tt/long-v0",
+            "--episodes",
+            "1",
+            "--format",
+            "hdf5",
+            "--set",
+            "max_episode_steps=10000000",
+            "--set",
+            "terminate_when_unhealthy=false",
+        ],
+    );
+    let text = refused(&o, "E1402");
+    assert!(text.contains("nothing was published"), "{text}");
+    assert!(!dir.0.join("datasets/tt/long-v0").exists());
 }
 
 #[test]

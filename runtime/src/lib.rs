@@ -27,6 +27,7 @@ pub mod gymnasium;
 pub mod inventory;
 mod latency;
 pub mod maze;
+pub mod memory;
 mod model_build;
 pub mod model_diff;
 mod model_values;

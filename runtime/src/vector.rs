@@ -285,7 +285,7 @@ impl VecEnv {
         // Each env holds an mjData (its buffer and arena): refuse before allocating them all
         // rather than fail (or be killed) part-way.
         let per_env = first.data_bytes();
-        if let Some(free) = memory_available() {
+        if let Some(free) = crate::memory::available() {
             let need = per_env.saturating_mul(num_envs as u64);
             if need > free {
                 return Err(too_large(format!(
@@ -621,38 +621,5 @@ impl Drop for VecEnv {
         for w in self.workers.drain(..) {
             let _ = w.join();
         }
-    }
-}
-
-/// Bytes this process may still allocate: the smaller of the machine's available memory and what
-/// the address-space limit (`ulimit -v`) leaves. None when neither can be read.
-fn memory_available() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
-        t.lines()
-            .find_map(|l| l.strip_prefix("MemAvailable:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-            .map(|kb| kb * 1024)
-    });
-    let mut lim = libc::rlimit {
-        rlim_cur: 0,
-        rlim_max: 0,
-    };
-    // SAFETY: getrlimit writes the struct we pass.
-    let limit = (unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut lim) } == 0
-        && lim.rlim_cur != libc::RLIM_INFINITY)
-        .then(|| {
-            let used = std::fs::read_to_string("/proc/self/status")
-                .ok()
-                .and_then(|t| {
-                    t.lines()
-                        .find_map(|l| l.strip_prefix("VmSize:"))
-                        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-                        .map(|kb| kb * 1024)
-                });
-            lim.rlim_cur.saturating_sub(used.unwrap_or(0))
-        });
-    match (meminfo, limit) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
     }
 }

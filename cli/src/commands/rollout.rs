@@ -96,7 +96,17 @@ impl InfoColumns {
 
 /// E1402: a trajectory of `steps` steps would not fit envc's in-memory limit.
 fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
-    let limit = envspec::limits::MAX_TRAJECTORY_BYTES;
+    // envc's limit, or half of what the process may still allocate (the arrays are copied
+    // once more while the .npz is written), whichever is smaller.
+    let free = envc::memory::available().map(|b| b / 2);
+    let limit = free.map_or(envspec::limits::MAX_TRAJECTORY_BYTES, |f| {
+        f.min(envspec::limits::MAX_TRAJECTORY_BYTES)
+    });
+    let which = if limit < envspec::limits::MAX_TRAJECTORY_BYTES {
+        "half the memory this process may still allocate"
+    } else {
+        "envc's limit"
+    };
     // Observation, action, reward, flags and a few info numbers per step (an estimate).
     let per_step = (env.physics_env().obs_dim() + env.act_dim() + 8) as u64 * 8;
     if (steps as u64).saturating_mul(per_step) <= limit {
@@ -107,10 +117,10 @@ fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
         envspec::Diagnostic::new(
             envspec::Code::E1402,
             format!(
-                "a rollout of {steps} steps of {} would hold about {} in memory, beyond envc's limit of {}",
+                "a rollout of {steps} steps of {} would hold about {:.2} GiB in memory, beyond {which} ({:.2} GiB)",
                 env.id(),
-                envspec::limits::human_bytes((steps as u64).saturating_mul(per_step)),
-                envspec::limits::human_bytes(limit)
+                (steps as u64).saturating_mul(per_step) as f64 / (1u64 << 30) as f64,
+                limit as f64 / (1u64 << 30) as f64
             ),
         )
         .help(format!("at most {} steps; split it into several rollouts (see docs/limits.md)", limit / per_step))

@@ -57,11 +57,16 @@ pub(crate) struct Buffers {
     terminations: Vec<bool>,
     truncations: Vec<bool>,
     infos: Vec<InfoColumn>,
+    /// Bytes an episode's observations and actions may take: a quarter of what the process may
+    /// still allocate when it starts (a growing vector briefly holds old and new, and the writer
+    /// copies once more), so a long episode is an error, not an abort part-way.
+    budget: u64,
 }
 
 impl Buffers {
     pub(crate) fn new<E: Recordable>(env: &E) -> Buffers {
         Buffers {
+            budget: crate::memory::available().map_or(u64::MAX, |b| b / 4),
             obs: vec![],
             actions: vec![],
             action: vec![0.0; env.action_space().dim()],
@@ -97,6 +102,16 @@ impl Buffers {
             self.truncations.push(s.truncated);
             if s.terminated || s.truncated {
                 break s.terminated;
+            }
+            let bytes =
+                (self.obs.len() * 8 + self.actions.len() * 4 + self.rewards.len() * 10) as u64;
+            if bytes > self.budget {
+                let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+                return Err(DatasetError::EpisodeTooLong {
+                    steps: self.rewards.len() as u64,
+                    gib: gib(bytes),
+                    budget_gib: gib(self.budget),
+                });
             }
         })
     }

@@ -36,6 +36,14 @@ pub enum DatasetError {
     StagingLost { path: PathBuf },
     #[error("error[E1210]: the episodes written to {} do not match the metadata: {why}; nothing was published", path.display())]
     Unverified { path: PathBuf, why: String },
+    #[error(
+        "error[E1402]: an episode reached {steps} steps, about {gib:.2} GiB in memory, beyond what this process may safely allocate ({budget_gib:.2} GiB); nothing was published"
+    )]
+    EpisodeTooLong {
+        steps: u64,
+        gib: f64,
+        budget_gib: f64,
+    },
     #[error("error[E1600]: episode {index} of a sharded collection is missing or damaged ({}: {why}); its worker died or the staging directory is not shared by every worker; nothing was published", path.display())]
     ShardMissing {
         path: PathBuf,
@@ -65,6 +73,7 @@ impl DatasetError {
             DatasetError::Nested { .. } => "E1208".into(),
             DatasetError::StagingLost { .. } => "E1209".into(),
             DatasetError::Unverified { .. } => "E1210".into(),
+            DatasetError::EpisodeTooLong { .. } => "E1402".into(),
             DatasetError::ShardMissing { .. } => "E1600".into(),
             DatasetError::PolicyFailed { .. } => "E1601".into(),
             DatasetError::Env(e) => format!("{:?}", e.code()),
