@@ -303,6 +303,8 @@ pub enum Code {
     E1505,
     /// A video or frame file could not be written (encoder missing or failed).
     E1506,
+    /// MuJoCo's renderer raised an error (e.g. an offscreen buffer it cannot allocate).
+    E1507,
 }
 
 impl fmt::Display for Code {

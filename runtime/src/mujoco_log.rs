@@ -13,6 +13,9 @@ use std::sync::Once;
 
 thread_local! {
     static PENDING: RefCell<Vec<String>> = const { RefCell::new(Vec::new()) };
+    /// How many `guard`s are running on this thread: an error outside every guard is a bug to
+    /// report, not a value in flight.
+    static GUARDED: std::cell::Cell<u32> = const { std::cell::Cell::new(0) };
 }
 
 unsafe extern "C" fn on_warning(msg: *const c_char) {
@@ -65,8 +68,14 @@ pub fn install() {
         // The panic is an error value in flight, not a bug: keep it off stderr.
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            if !info.payload().is::<MujocoError>() {
-                previous(info);
+            match info.payload().downcast_ref::<MujocoError>() {
+                Some(_) if GUARDED.with(|g| g.get()) > 0 => {}
+                // A MuJoCo call envc does not guard yet: say what MuJoCo said, not nothing.
+                Some(e) => eprintln!(
+                    "envc: error[E1004]: MuJoCo failed outside a guarded call: {}",
+                    e.0
+                ),
+                None => previous(info),
             }
         }));
     });
@@ -75,11 +84,12 @@ pub fn install() {
 /// Run MuJoCo calls that may raise `mju_error`; the error's message comes back as `Err`. Other
 /// panics pass through.
 pub(crate) fn guard<R>(f: impl FnOnce() -> R) -> Result<R, String> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
-        match payload.downcast::<MujocoError>() {
-            Ok(e) => e.0,
-            Err(other) => std::panic::resume_unwind(other),
-        }
+    GUARDED.with(|g| g.set(g.get() + 1));
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    GUARDED.with(|g| g.set(g.get() - 1));
+    r.map_err(|payload| match payload.downcast::<MujocoError>() {
+        Ok(e) => e.0,
+        Err(other) => std::panic::resume_unwind(other),
     })
 }
 

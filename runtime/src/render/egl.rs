@@ -265,7 +265,9 @@ impl Context {
                 }),
             });
         }
-        let out = f();
+        // MuJoCo's renderer raises mju_error (an offscreen buffer it cannot allocate, say):
+        // guarded, it is an error after the context is given back, not a silent exit.
+        let out = crate::mujoco_log::guard(f);
         // SAFETY: restore the thread's previous context (valid: it was current until now), or
         // release ours so that another thread may make it current.
         unsafe {
@@ -276,7 +278,7 @@ impl Context {
                 _ => (api.make_current)(api.display, none, none, std::ptr::null_mut()),
             }
         };
-        Ok(out)
+        out.map_err(RenderError::Mujoco)
     }
 }
 

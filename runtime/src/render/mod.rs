@@ -48,6 +48,10 @@ pub enum RenderError {
     Mode(String),
     #[error("error[E1505]: {0}")]
     Setting(String),
+    #[error(
+        "error[E1507]: MuJoCo's renderer failed: {0}; a smaller frame (width, height) or max_geom may fit"
+    )]
+    Mujoco(String),
 }
 
 impl RenderError {
@@ -58,6 +62,7 @@ impl RenderError {
             RenderError::Spec(d) => d.0.first().map(|d| d.code).unwrap_or(Code::E1505),
             RenderError::Mode(_) => Code::E1504,
             RenderError::Setting(_) => Code::E1505,
+            RenderError::Mujoco(_) => Code::E1507,
         }
     }
 }
