@@ -119,6 +119,26 @@ def test_unknown_camera_is_a_spec_error():
         envc.EnvcEnv("Ant-v5", render_mode="human")
 
 
+def test_human_rendering_shows_gymnasiums_frame(monkeypatch):
+    """`render_mode="human"` through gymnasium.make is HumanRendering over envc's rgb_array; its
+    (headless, SDL's dummy driver) pygame window holds exactly the frame Gymnasium renders."""
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    pygame = pytest.importorskip("pygame")
+    with pytest.warns(UserWarning, match="HumanRendering"):
+        env = gym.make("envc/Hopper-v5", render_mode="human", width=64, height=48)
+    assert isinstance(env, gym.wrappers.HumanRendering)
+    ref = gym.make("Hopper-v5", render_mode="rgb_array", width=64, height=48)
+    for e in (env, ref):
+        e.reset(seed=3)
+        for _ in range(5):
+            e.step(np.full(3, 0.3))
+    shown = pygame.surfarray.array3d(pygame.display.get_surface()).transpose(1, 0, 2)
+    assert shown.shape == (48, 64, 3)
+    assert np.array_equal(shown, ref.render())
+    env.close()
+    ref.close()
+
+
 def test_record_video_writes_a_playable_file(tmp_path):
     from gymnasium.wrappers import RecordVideo
 
