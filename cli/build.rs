@@ -3,8 +3,8 @@
 //! link args do not propagate, so each package that links MuJoCo has this file.)
 fn main() {
     println!("cargo::rerun-if-env-changed=MUJOCO_DYNAMIC_LINK_DIR");
-    match std::env::var("MUJOCO_DYNAMIC_LINK_DIR") {
-        Ok(dir) => println!("cargo::rustc-link-arg=-Wl,-rpath,{dir}"),
-        Err(_) => println!("cargo::warning=MUJOCO_DYNAMIC_LINK_DIR is unset: run scripts/setup.sh"),
+    // Without it, MuJoCo comes from pkg-config and the loader's cache (scripts/install-mujoco.sh).
+    if let Ok(dir) = std::env::var("MUJOCO_DYNAMIC_LINK_DIR") {
+        println!("cargo::rustc-link-arg=-Wl,-rpath,{dir}");
     }
 }

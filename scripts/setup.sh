@@ -70,7 +70,14 @@ ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-r
 rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
 # The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
 # Cargo rebuilds only what changed, so re-running this is quick.
-if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release 2>&1)"; then
+# MuJoCo for crates outside this workspace (a crate that depends on envc builds with plain
+# `cargo build`: mujoco-rs finds it through pkg-config) and for `cargo install`ed binaries.
+if [ "$(id -u)" = 0 ]; then
+  PYTHON="$PY" bash "$ROOT/scripts/install-mujoco.sh" /usr/local >/dev/null
+fi
+# Release builds link HDF5 built from source (`hdf5-static`), as the wheel does: the package
+# installed here and the wheel's are the same build.
+if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release --features hdf5-static 2>&1)"; then
   echo "$out" >&2
   exit 1
 fi

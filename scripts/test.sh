@@ -78,6 +78,11 @@ PYEOF
 [ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
 echo "envc new: $got (as the reference)"
 checks=$((checks + 1))
+
+# envc outside its checkout: the wheel of scripts/build-wheel.sh in a fresh venv, and a hand-made
+# crate built with plain `cargo build`, both run with the checkout hidden (tests/wheel/run.sh).
+tests/wheel/run.sh "$LIVE/wheel"
+checks=$((checks + 1))
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
 checks=$((checks + 1))
 # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)

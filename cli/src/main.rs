@@ -89,6 +89,16 @@ fn main() -> ExitCode {
             }
         }
     }
+    // A spec of one's own (ENVC_SPEC_PATH) that is unreadable or claims a taken id stops every
+    // command, rather than being left out of the registry unseen.
+    let problems = envspec::registry::spec_path_problems();
+    if !problems.is_empty() {
+        for d in &problems {
+            eprint!("{d}");
+        }
+        eprintln!("envc: ENVC_SPEC_PATH names specs envc cannot register (above)");
+        return ExitCode::from(2);
+    }
     let result = match cli.command {
         Command::List(a) => commands::list::run(a),
         Command::Check(a) => commands::check::run(a),

@@ -230,6 +230,8 @@ pub enum Code {
     E0601,
     /// The command cannot serve this kind of spec (e.g. `collect` on a multi-agent spec).
     E0602,
+    /// A user's spec declares an id that is bundled, or registered from another file.
+    E0603,
     /// Maze rows of different lengths.
     E0701,
     /// An unknown maze cell character.

@@ -16,6 +16,7 @@
 //! ```
 
 pub mod agents;
+pub mod bundle;
 pub mod camera;
 pub mod commands;
 pub mod describe;

@@ -1,9 +1,11 @@
-//! The bundled ids: every task, maze and multi-agent spec under `specs/` of the envc source tree,
-//! scanned once per process. The kind of each file comes from its top-level tables (see
-//! [`Kind::of_document`]); maze registry files (`[[family]]`) expand into their ids.
+//! The ids envc knows: every task, maze and multi-agent spec under the bundled `specs/`
+//! ([`crate::bundle`]), scanned once per process, and the user's own spec files and directories
+//! (`ENVC_SPEC_PATH`, [`register`]). The kind of each file comes from its top-level tables (see
+//! [`Kind::of_document`]); maze registry files (`[[family]]`) expand into their ids. A user's id
+//! never takes over a bundled one, nor one registered from another file (E0603).
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 use crate::diagnostic::{Code, Diagnostic, SourceFile, suggest};
 use crate::params::Override;
@@ -66,14 +68,13 @@ pub struct Entry {
     /// The id opens as a single-agent env (`envc::Env`): a task, including a complete task spec
     /// that also declares agents, under its `[env]` id (e.g. `CoupledHalfCheetah-v0`).
     pub task: bool,
+    /// A user's spec (`ENVC_SPEC_PATH` or [`register`]), not a bundled one.
+    pub user: bool,
 }
 
-/// The directory holding the bundled specs.
+/// The directory holding the bundled specs (see [`crate::bundle`] for where it is).
 pub fn specs_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join("specs");
-    dir.canonicalize().unwrap_or(dir)
+    crate::bundle::specs_dir()
 }
 
 /// `specs/examples/`: example specs (some name models that are not shipped with envc).
@@ -92,17 +93,175 @@ pub fn bundled() -> impl Iterator<Item = &'static Entry> {
     entries().iter().filter(|e| !e.example)
 }
 
-/// The entry of a bundled id; E0601 with the closest id when there is none.
-pub fn lookup(id: &str) -> Result<&'static Entry, Diagnostic> {
-    let all = entries();
-    all.iter().find(|e| e.id == id).ok_or_else(|| {
-        Diagnostic::new(
-            Code::E0601,
-            format!("no bundled env `{id}` and no such spec file"),
-        )
-        .label("expected a spec path or a bundled id (`envc list` shows them)")
-        .help_opt(suggest(id, all.iter().map(|e| e.id.as_str())))
+/// The user's ids: those of `ENVC_SPEC_PATH` (read at first use), then those [`register`]ed, in
+/// that order. Entries live for the rest of the process (registration is rare and small).
+fn user_table() -> &'static Mutex<Vec<&'static Entry>> {
+    static USER: OnceLock<Mutex<Vec<&'static Entry>>> = OnceLock::new();
+    USER.get_or_init(|| {
+        let mut table = vec![];
+        for dir in std::env::var_os("ENVC_SPEC_PATH")
+            .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
+            .unwrap_or_default()
+        {
+            // A conflicting or unreadable entry of the variable is left out here; `envc list`
+            // and `envc info` name it (`spec_path_problems`).
+            if let Ok(found) = user_entries_of(&dir) {
+                for e in found {
+                    if claim(&table, &e).is_ok() && !table.iter().any(|t: &&Entry| t.id == e.id) {
+                        table.push(&*Box::leak(Box::new(e)));
+                    }
+                }
+            }
+        }
+        Mutex::new(table)
     })
+}
+
+/// The user's registered ids, sorted by id.
+pub fn user_entries() -> Vec<&'static Entry> {
+    let mut v = user_table().lock().map(|t| t.clone()).unwrap_or_default();
+    v.sort_by(|a, b| a.id.cmp(&b.id));
+    v
+}
+
+/// Every id: bundled (examples included), then the user's.
+pub fn all_entries() -> Vec<&'static Entry> {
+    entries().iter().chain(user_entries()).collect()
+}
+
+/// Registers every id of a spec file, or of every spec file under a directory, so that it opens
+/// by id (`envc run MyBot-v0`, `gymnasium.make("envc/MyBot-v0")`). Registering the same file
+/// again is a no-op; an id that is bundled, or registered from another file, is E0603 and
+/// nothing is registered.
+pub fn register(path: &Path) -> Result<Vec<String>, Diagnostic> {
+    let found = user_entries_of(path)?;
+    let mut table = user_table()
+        .lock()
+        .map_err(|_| Diagnostic::new(Code::E0603, "the registry is unusable after a panic"))?;
+    for e in &found {
+        claim(&table, e)?;
+    }
+    let mut ids = vec![];
+    for e in found {
+        ids.push(e.id.clone());
+        if !table.iter().any(|t| t.id == e.id) {
+            table.push(Box::leak(Box::new(e)));
+        }
+    }
+    Ok(ids)
+}
+
+/// The problems of `ENVC_SPEC_PATH`: entries that are unreadable or claim a taken id.
+pub fn spec_path_problems() -> Vec<Diagnostic> {
+    let mut out = vec![];
+    let mut seen: Vec<&'static Entry> = vec![];
+    for dir in std::env::var_os("ENVC_SPEC_PATH")
+        .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
+        .unwrap_or_default()
+    {
+        match user_entries_of(&dir) {
+            Ok(found) => {
+                for e in found {
+                    match claim(&seen, &e) {
+                        Ok(()) => seen.push(Box::leak(Box::new(e))),
+                        Err(d) => out.push(d),
+                    }
+                }
+            }
+            Err(d) => out.push(d),
+        }
+    }
+    out
+}
+
+/// Ok when `e` may take its id: not bundled, and not registered from another file.
+fn claim(table: &[&'static Entry], e: &Entry) -> Result<(), Diagnostic> {
+    let same = |p: &Path| same_file(p, &e.path);
+    if let Some(b) = entries().iter().find(|b| b.id == e.id) {
+        if same(&b.path) {
+            return Ok(());
+        }
+        return Err(taken(e, &b.path, "bundled with envc"));
+    }
+    if let Some(t) = table.iter().find(|t| t.id == e.id && !same(&t.path)) {
+        return Err(taken(e, &t.path, "registered"));
+    }
+    Ok(())
+}
+
+fn taken(e: &Entry, other: &Path, how: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::E0603,
+        format!(
+            "{} declares the id `{}`, which is {how} ({})",
+            e.path.display(),
+            e.id,
+            other.display()
+        ),
+    )
+    .help("give the spec an id of its own (`[env] id`, `[maze] id` or `[agents] id`); open the file by its path to use it without an id")
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// The entries of a user's spec file, or of every spec file under a directory.
+fn user_entries_of(path: &Path) -> Result<Vec<Entry>, Diagnostic> {
+    let abs = path.canonicalize().map_err(|e| {
+        Diagnostic::new(
+            Code::E0600,
+            format!("cannot read spec path {}: {e}", path.display()),
+        )
+    })?;
+    let mut found = if abs.is_dir() {
+        scan(&abs)
+    } else {
+        entries_of(&abs, false)
+    };
+    if found.is_empty() {
+        return Err(Diagnostic::new(
+            Code::E0600,
+            format!("{} holds no spec with an id", path.display()),
+        )
+        .help(
+            "a task spec declares `[env] id`, a maze `[maze] id`, a factorization `[agents] id`",
+        ));
+    }
+    for e in &mut found {
+        e.user = true;
+        e.example = false;
+    }
+    Ok(found)
+}
+
+/// The entry of an id, bundled or the user's; E0601 with the closest id when there is none.
+pub fn lookup(id: &str) -> Result<&'static Entry, Diagnostic> {
+    if let Some(e) = entries().iter().find(|e| e.id == id) {
+        return Ok(e);
+    }
+    let user = user_entries();
+    if let Some(e) = user.iter().find(|e| e.id == id) {
+        return Ok(e);
+    }
+    let names: Vec<&str> = entries()
+        .iter()
+        .chain(user.iter().copied())
+        .map(|e| e.id.as_str())
+        .collect();
+    let mut d = Diagnostic::new(
+        Code::E0601,
+        format!("no bundled env `{id}` and no such spec file"),
+    )
+    .label("expected a spec path or a bundled id (`envc list` shows them)")
+    .help_opt(suggest(id, names.into_iter()));
+    if let Err(why) = crate::bundle::root() {
+        d = d.help(format!("envc found no bundled specs: {why}"));
+    }
+    Err(d)
 }
 
 fn scan(root: &Path) -> Vec<Entry> {
@@ -155,6 +314,7 @@ fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
         overrides: vec![],
         example,
         task: table("env").is_some(),
+        user: false,
     };
     let stem = || {
         path.file_stem()
@@ -173,6 +333,7 @@ fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
                 overrides: r.overrides,
                 example,
                 task: false,
+                user: false,
             })
             .collect();
     }

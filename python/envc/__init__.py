@@ -13,11 +13,27 @@ vector envs, ``envc.parallel_env`` for multi-agent specs.
 
 from __future__ import annotations
 
+import os as _os
+
 from . import _envc
+
+
+def _bundle_root() -> str | None:
+    """The package's own specs and models: its data in an installed wheel, or the checkout an
+    editable install lives in. ``None`` leaves it to the extension (its embedded copy)."""
+    here = _os.path.dirname(_os.path.abspath(__file__))
+    for root in (_os.path.join(here, "_bundle"), _os.path.dirname(_os.path.dirname(here))):
+        if _os.path.isdir(_os.path.join(root, "specs")) and _os.path.isdir(_os.path.join(root, "assets")):
+            return root
+    return None
+
+
+if (_root := _bundle_root()) is not None:
+    _envc.set_bundle_root(_root)
 from ._datasets import collect
 from ._envc import SpecError
 from ._gym import EnvcEnv, make, overrides_to_toml
-from ._registry import bundled_ids, register_all
+from ._registry import bundled_ids, register, register_all
 from ._vector import EnvcVectorEnv, make_vec
 
 __all__ = [
@@ -32,8 +48,9 @@ __all__ = [
     "make_vec",
     "overrides_to_toml",
     "parallel_env",
+    "register",
 ]
-__version__ = "0.1.0"
+__version__: str = _envc.__version__
 __mujoco_version__ = _envc.__mujoco_version__
 
 register_all()

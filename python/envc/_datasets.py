@@ -81,11 +81,11 @@ def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:
     """Gymnasium's ``EnvSpec.to_json()`` of the envc registration, with the overrides as kwargs."""
     import gymnasium as gym
 
-    from ._registry import env_id_for
+    from ._registry import env_id_for, spec_of
 
     import dataclasses
 
-    base = gym.spec(env_id_for(os.fspath(id_or_path)))
+    base = spec_of(env_id_for(os.fspath(id_or_path)))
     rest = dict(overrides)
     max_steps = rest.pop("max_episode_steps", base.max_episode_steps)
     kwargs = {**base.kwargs, **rest}

@@ -2,12 +2,14 @@
 classes; these are the objects they wrap."""
 
 from os import PathLike
+import os
 from typing import Any, Callable
 
 import numpy as np
 import numpy.typing as npt
 
 __mujoco_version__: str
+__version__: str
 
 class SpecError(ValueError):
     """A spec, parameter or model that does not check out; `code` is its stable error code."""
@@ -24,6 +26,15 @@ def describe(
     id_or_path: str, overrides: list[tuple[str, str]] = ...
 ) -> tuple[str, str, int | None]:
     """`(kind, id, max_episode_steps)` without building the env, under the overrides."""
+
+def register(path: str | os.PathLike[str]) -> list[str]:
+    """Register the ids of a spec file or directory (E0603 for a taken id); returns them."""
+
+def set_bundle_root(path: str | os.PathLike[str]) -> bool:
+    """Name the directory holding the bundled specs/ and assets/ (before first use)."""
+
+def bundle_root() -> tuple[str | None, str]:
+    """(the bundle root or None, where it comes from or why there is none)."""
 
 def parameters(id_or_path: str) -> list[tuple[str, str, str, str]]:
     """`(name, type, default as TOML, doc)` of every parameter."""

@@ -244,10 +244,10 @@ def make_vec(
     ``num_threads`` Rust threads (default: as many as there are CPUs, at most ``num_envs``).
     Keyword arguments are the spec's parameters and ``max_episode_steps``, as for ``envc.make``.
     """
-    from ._registry import env_id_for
+    from ._registry import env_id_for, spec_of
 
     env_id = env_id_for(id_or_path, overrides)
-    if gym.spec(env_id).vector_entry_point is None:
+    if spec_of(env_id).vector_entry_point is None:
         raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
     return gym.make_vec(
         env_id,

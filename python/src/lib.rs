@@ -41,14 +41,14 @@ fn open(
     })
 }
 
-/// Every bundled id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`,
-/// sorted by id.
+/// Every known id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`:
+/// the bundled ones sorted by id, then the user's (`ENVC_SPEC_PATH`, `register`).
 type RegistryRow = (String, String, Option<u64>, bool, Option<f64>);
 
 #[pyfunction]
 fn registry() -> Vec<RegistryRow> {
-    envspec::registry::entries()
-        .iter()
+    envspec::registry::all_entries()
+        .into_iter()
         .map(|e| {
             let (max, threshold) = match envspec::open(&e.id, &[]) {
                 Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
@@ -94,6 +94,29 @@ fn kind_name(k: envspec::Kind) -> &'static str {
     }
 }
 
+/// Registers the ids of a spec file, or of every spec file under a directory; returns them.
+/// An id that is bundled, or registered from another file, is a `SpecError` (E0603).
+#[pyfunction]
+fn register(path: std::path::PathBuf) -> PyResult<Vec<String>> {
+    envspec::registry::register(&path).map_err(|d| errors::diagnostics(d.into()))
+}
+
+/// Names the directory holding the bundled `specs/` and `assets/` (the package's data). Only
+/// before the first lookup; returns whether it took effect.
+#[pyfunction]
+fn set_bundle_root(path: std::path::PathBuf) -> bool {
+    envspec::bundle::set_root(&path)
+}
+
+/// Where the bundled specs and models come from: `(root or None, origin or error)`.
+#[pyfunction]
+fn bundle_root() -> (Option<String>, String) {
+    match envspec::bundle::root() {
+        Ok((p, o)) => (Some(p.display().to_string()), o.describe().to_string()),
+        Err(e) => (None, e.to_string()),
+    }
+}
+
 /// The parameters of a spec: `(name, type name, default as TOML text, doc)`.
 #[pyfunction]
 fn parameters(id_or_path: &str) -> PyResult<Vec<(String, String, String, String)>> {
@@ -106,6 +129,9 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(registry, m)?)?;
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
+    m.add_function(wrap_pyfunction!(register, m)?)?;
+    m.add_function(wrap_pyfunction!(set_bundle_root, m)?)?;
+    m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;
     m.add_class::<collect::ShardedCollection>()?;
@@ -115,5 +141,6 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vector::VecCore>()?;
     m.add("SpecError", m.py().get_type::<errors::SpecError>())?;
     m.add("__mujoco_version__", envc::mujoco_version())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

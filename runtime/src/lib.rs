@@ -56,6 +56,20 @@ pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
 pub use vector::{Autoreset, VecEnv};
 
+/// The file of the MuJoCo library this process loaded, from the process's memory map (Linux).
+pub fn mujoco_library_path() -> Option<std::path::PathBuf> {
+    mujoco_version();
+    let maps = std::fs::read_to_string("/proc/self/maps").ok()?;
+    maps.lines()
+        .filter_map(|l| l.split_whitespace().nth(5))
+        .find(|p| {
+            std::path::Path::new(p)
+                .file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("libmujoco.so"))
+        })
+        .map(std::path::PathBuf::from)
+}
+
 /// The version of the MuJoCo library this process linked (`mj_versionString`).
 pub fn mujoco_version() -> String {
     // SAFETY: mj_versionString returns a static NUL-terminated string.

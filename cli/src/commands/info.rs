@@ -52,10 +52,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     let libm_fma =
         cpu.fma() && cpu.avx2() && !(tunables.contains("-FMA") || tunables.contains("-AVX2"));
     let libm = if libm_fma { "fma" } else { "sse2/avx" };
+    let install = Install::here();
     match args.format {
         Format::Json => {
             let v = serde_json::json!({
                 "envc": env!("CARGO_PKG_VERSION"),
+                "installation": install.json(),
                 "reference": numerics::REFERENCE,
                 "mujoco_linked": mujoco,
                 "cpu": {
@@ -86,6 +88,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         Format::Text => {
             println!("envc {}", env!("CARGO_PKG_VERSION"));
+            install.print();
             println!("matches:   {}", numerics::REFERENCE);
             println!("linked:    MuJoCo {mujoco}");
             println!(
@@ -131,4 +134,63 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
     Ok(Outcome::Ok)
+}
+
+/// Where this envc is and where what it runs comes from.
+struct Install {
+    exe: Option<std::path::PathBuf>,
+    bundle: Result<(std::path::PathBuf, envspec::bundle::Origin), String>,
+    mujoco: Option<std::path::PathBuf>,
+    spec_path: Option<String>,
+}
+
+impl Install {
+    fn here() -> Install {
+        Install {
+            exe: std::env::current_exe().ok(),
+            bundle: envspec::bundle::root()
+                .map(|(p, o)| (p.to_path_buf(), o))
+                .map_err(str::to_string),
+            mujoco: envc::mujoco_library_path(),
+            spec_path: std::env::var("ENVC_SPEC_PATH").ok(),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "executable": self.exe,
+            "bundle": match &self.bundle {
+                Ok((p, o)) => serde_json::json!({"root": p, "origin": o, "hash": envspec::bundle::hash()}),
+                Err(e) => serde_json::json!({"error": e}),
+            },
+            "mujoco_library": self.mujoco,
+            "spec_path": self.spec_path,
+            "user_ids": envspec::registry::user_entries().iter().map(|e| e.id.clone()).collect::<Vec<_>>(),
+        })
+    }
+
+    fn print(&self) {
+        let or_unknown = |p: &Option<std::path::PathBuf>| {
+            p.as_ref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|| "(unknown)".into())
+        };
+        println!("installed: {}", or_unknown(&self.exe));
+        match &self.bundle {
+            Ok((p, o)) => {
+                println!(
+                    "specs:     {} ({})",
+                    p.join("specs").display(),
+                    o.describe()
+                );
+                println!("models:    {}", p.join("assets").display());
+            }
+            Err(e) => println!("specs:     none: {e}"),
+        }
+        println!("mujoco:    {}", or_unknown(&self.mujoco));
+        println!(
+            "ENVC_SPEC_PATH           {}",
+            self.spec_path.as_deref().unwrap_or("(unset)")
+        );
+    }
 }

@@ -67,22 +67,26 @@ fn row(e: &envspec::registry::Entry) -> Result<Row> {
         ),
     };
     let root = envspec::registry::specs_dir();
-    let rel = e.path.strip_prefix(&root).unwrap_or(&e.path).display();
-    Ok((
-        e.id.clone(),
-        e.kind,
-        obs,
-        act,
-        dt,
-        max,
-        format!("specs/{rel}"),
-    ))
+    // Bundled specs by their place in the bundle; the user's by their path.
+    let spec = match e.path.strip_prefix(&root) {
+        Ok(rel) if !e.user => format!("specs/{}", rel.display()),
+        _ => e.path.display().to_string(),
+    };
+    Ok((e.id.clone(), e.kind, obs, act, dt, max, spec))
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
-    let rows: Vec<Row> = envspec::registry::bundled()
+    // The user's specs (ENVC_SPEC_PATH) follow the bundled ones; one that does not open is
+    // named on stderr and left out, so a broken file of one's own never hides the rest.
+    let mut rows: Vec<Row> = envspec::registry::bundled()
         .map(row)
         .collect::<Result<_>>()?;
+    for e in envspec::registry::user_entries() {
+        match row(e) {
+            Ok(r) => rows.push(r),
+            Err(err) => eprintln!("warning: {err}"),
+        }
+    }
     match args.format {
         Format::Json => {
             let v: Vec<_> = rows

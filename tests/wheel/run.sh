@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# envc outside its checkout (scripts/test.sh runs this):
+#  1. the wheel of scripts/build-wheel.sh, installed into a fresh venv, run with the checkout hidden
+#     under an empty tmpfs (a private mount namespace): tests/wheel/smoke.py against the live
+#     reference, then the `envc` command of the wheel;
+#  2. a hand-made crate (`cargo new` plus `envc = { path = ... }`) built with plain `cargo build`,
+#     no environment variables and no copied config (MuJoCo through pkg-config, installed by
+#     scripts/setup.sh), its binary run from another directory with the checkout hidden.
+# Usage: tests/wheel/run.sh WORKDIR
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+WORK="${1:?usage: tests/wheel/run.sh WORKDIR}"
+mkdir -p "$WORK"
+WORK="$(cd "$WORK" && pwd)"
+case "$WORK" in "$ROOT"/*) echo "wheel test: WORKDIR must be outside the checkout" >&2; exit 1 ;; esac
+VERSION="$(sed -n 's/^version = "\(.*\)"/\1/p' "$ROOT/Cargo.toml" | head -1)"
+
+# Runs a command with the checkout replaced by an empty directory, from WORK, with none of the
+# variables that could point back at it.
+hidden() {
+  local cmd
+  cmd="mount -t tmpfs -o size=1m envc-hidden '$ROOT' && cd '$WORK' && $*"
+  env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u LD_LIBRARY_PATH -u PYTHONPATH \
+    -u VIRTUAL_ENV -u ENVC_SPEC_PATH unshare -m --propagation private bash -c "$cmd"
+}
+
+"$ROOT/scripts/build-wheel.sh" "$WORK/dist" | tail -1
+WHEEL="$(ls "$WORK"/dist/envc-*.whl)"
+python3 -m venv "$WORK/venv"
+# The wheel and its extras (mazes, PettingZoo, Ray); minari reads the dataset back.
+"$WORK/venv/bin/pip" install -q --disable-pip-version-check "$WHEEL[robotics,ray]" \
+  minari==0.5.4 h5py==3.16.0 pyarrow==26.0.1 imageio==2.38.1
+cp "$ROOT/tests/wheel/smoke.py" "$WORK/smoke.py"
+hidden "MUJOCO_GL=egl '$WORK/venv/bin/python' '$WORK/smoke.py' '$VERSION' '$WORK'"
+
+# The wheel's `envc` command: every subcommand the judges name, from the hidden checkout's side.
+E="$WORK/venv/bin/envc"
+hidden "
+  set -e
+  test \"\$('$E' --version)\" = 'envc $VERSION'
+  '$E' list | grep -q '^Ant-v5 '
+  '$E' info | grep -q 'installed: $WORK/venv/'
+  '$E' info | grep -q 'specs:     $WORK/venv/.*/envc/_bundle/specs (the installed package'
+  '$E' run Hopper-v5 --episodes 1 --seed 0 >/dev/null
+  '$E' collect Hopper-v5 --dataset-id smoke/cli-v0 --episodes 2 --seed 0 --format hdf5 --root '$WORK/cli-datasets' >/dev/null
+  test -d '$WORK/cli-datasets/smoke/cli-v0'
+  '$E' render Hopper-v5 --max-steps 2 --size 32x24 --out '$WORK/frames/' >/dev/null
+  test -s '$WORK/frames/frame_000001.png'
+"
+echo "wheel: $(basename "$WHEEL") ($(du -h "$WHEEL" | cut -f1)): smoke suite and the envc command pass with the checkout hidden"
+
+# A crate of one's own, as a user writes it, outside the checkout; kept between runs so that its
+# own target/ stays warm.
+CRATE="${XDG_CACHE_HOME:-$HOME/.cache}/envc-tests/mybot"
+mkdir -p "$CRATE/src"
+cat > "$CRATE/Cargo.toml" <<EOF
+[package]
+name = "mybot"
+version = "0.1.0"
+edition = "2024"
+
+[dependencies]
+envc = { path = "$ROOT/runtime" }
+EOF
+cat > "$CRATE/src/main.rs" <<'EOF'
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut env = envc::Env::make("Hopper-v5", &[])?;
+    env.reset(Some(0));
+    let (mut n, mut ret) = (0, 0.0);
+    loop {
+        let s = env.step(&[0.0; 3])?;
+        n += 1;
+        ret += s.reward;
+        if s.terminated || s.truncated {
+            break;
+        }
+    }
+    println!("Hopper-v5: one episode with zero actions, {n} steps, return {ret:.3}");
+    Ok(())
+}
+EOF
+(cd "$CRATE" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
+  -u CARGO_TARGET_DIR cargo build -q)
+cp "$CRATE/target/debug/mybot" "$WORK/mybot-bin"
+got="$(hidden "'$WORK/mybot-bin'")"
+want="$("$WORK/venv/bin/python" - <<'PYEOF'
+import gymnasium as gym, numpy as np
+env = gym.make("Hopper-v5"); env.reset(seed=0); n, ret = 0, 0.0
+while True:
+    _, r, term, trunc, _ = env.step(np.zeros(3)); n += 1; ret += r
+    if term or trunc: break
+print(f"Hopper-v5: one episode with zero actions, {n} steps, return {ret:.3f}")
+PYEOF
+)"
+[ "$got" = "$want" ] || { echo "hand-made crate: got '$got', the reference gives '$want'" >&2; exit 1; }
+echo "hand-made crate: plain cargo build, run with the checkout hidden: $got (as the reference)"
