@@ -45,12 +45,13 @@ def _backend(p: Plan, backend: str, device):
     from . import _mjx
 
     refused = p.refusals(_mjx.MjxBackend.fields_supported)
+    try:
+        b = _mjx.MjxBackend(p, device)
+    except _mjx._ModelRefused as e:
+        refused.append(f"the compiled model: MJX says: {e}")
     if refused:
         raise Unsupported(p.id, backend, refused)
-    try:
-        return _mjx.MjxBackend(p, device)
-    except _mjx._ModelRefused as e:
-        raise Unsupported(p.id, backend, [f"the compiled model: MJX says: {e}"]) from None
+    return b
 
 
 class GpuVecEnv:

@@ -108,8 +108,6 @@ class Plan:
         for r in self.raw["reset"]:
             if r["dist"]["kind"] not in RESET_DISTS:
                 out.append(f"[reset.{r['name']}] kind = \"{r['dist']['kind']}\"")
-            if r["resample_until"] is not None:
-                out.append(f"[reset.{r['name']}] resample_until (a draw repeated until it holds)")
         seen = set()
         for where, s in self.sources():
             if s["field"] not in backend_fields and (where, s["field"]) not in seen:
