@@ -107,7 +107,8 @@ def bench_gpu(spec, overrides, n, reps, variant=None):
     t = time.perf_counter()
     if refused:
         # The executor cannot reset this spec: its compiled model at qpos0, for physics alone.
-        init = jax.jit(jax.vmap(lambda _: backend.initial(backend.qpos0(), jnp.zeros_like(backend.d0.qvel))))
+        zero = jnp.zeros_like(backend.d0.qvel)
+        init = jax.jit(jax.vmap(lambda _: backend.initial(backend.qpos0(), zero)))
         state = State(init(jnp.arange(n)), None, None, key)
     else:
         state, _ = ex.reset(key)
@@ -198,9 +199,8 @@ def bench_cpu(spec, overrides, seconds=4.0):
     n = threads * 16
     env = envc.make_vec(spec, n, num_threads=threads, **overrides)
     env.reset(seed=0)
-    rng = np.random.default_rng(0)
+    env.action_space.seed(0)
     acts = [env.action_space.sample() for _ in range(4)]
-    del rng
     k = 0
     t = time.perf_counter()
     while time.perf_counter() - t < seconds:
@@ -237,7 +237,9 @@ def main():
         sizes, args.reps = [4], 2
     here = os.path.dirname(os.path.abspath(__file__))
     go1_spec = os.path.join(here, "..", "specs", "examples", "go1_joystick.toml")
-    go1_xml = args.go1_xml or os.path.join(here, "..", "..", "shared", "models", "unitree_go1", "scene.xml")
+    go1_xml = args.go1_xml or os.path.join(
+        here, "..", "..", "shared", "models", "unitree_go1", "scene.xml"
+    )
     # The benchmark's own settings: no natural resets (no termination, no time limit), so the
     # 2 % reset figure is the only reset cost measured.
     steady = {"terminate_when_unhealthy": False, "max_episode_steps": 0}
@@ -307,13 +309,14 @@ def main():
         spent = time.perf_counter() - t0
         if spent > args.budget:
             res["skipped"].append(
-                {"spec": spec, "num_envs": n, "variant": variant, "why": f"budget spent ({spent:.0f} s)"}
+                {"spec": spec, "num_envs": n, "variant": variant, "why": f"budget ({spent:.0f} s)"}
             )
             continue
         try:
             row = bench_gpu(spec, ov, n, args.reps, variant)
         except Exception as e:
-            row = {"spec": spec, "num_envs": n, "variant": variant, "error": f"{type(e).__name__}: {e}"[:2000]}
+            why = f"{type(e).__name__}: {e}"[:2000]
+            row = {"spec": spec, "num_envs": n, "variant": variant, "error": why}
         row["at_s"] = time.perf_counter() - t0
         res["gpu_rows"].append(row)
         log("gpu", {k: v for k, v in row.items() if k != "refused"})

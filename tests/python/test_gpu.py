@@ -285,6 +285,6 @@ def test_gymnasium_view_and_episode_statistics_match_the_cpu_core(pendulum):
         c = np.array(c)
         se = np.sqrt(g.var() / len(g) + c.var() / len(c))
         p = stats.ks_2samp(g, c).pvalue
-        print(f"{name}: gpu {g.mean():.2f} (n={len(g)}), cpu {c.mean():.2f} (n={len(c)}), KS p={p:.3g}")
+        print(f"{name}: gpu {g.mean():.2f} (n={len(g)}), cpu {c.mean():.2f}, KS p={p:.3g}")
         assert abs(g.mean() - c.mean()) <= 4 * se + 0.5, (name, g.mean(), c.mean(), se)
         assert p > 1e-3, (name, p)
