@@ -8,8 +8,8 @@
 
 use envspec::Field;
 use envspec::ir::{
-    Apply, CheckKind, CmpOp, Desired, Distribution, Divisor, InfoKind, ResolvedSpec, SumNode,
-    TermKind, Until,
+    Apply, CheckKind, CmpOp, Distribution, Divisor, InfoKind, ResolvedSpec, SumNode, TermKind,
+    Until,
 };
 use envspec::selector::Selection;
 use pyo3::prelude::*;
@@ -214,11 +214,8 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     o.insert("kind".into(), json!("term"));
                     o.insert("term".into(), json!(t));
                 }
-                InfoKind::GoalReached(c) => {
+                InfoKind::GoalReached(_) => {
                     o.insert("kind".into(), json!("goal_reached"));
-                    if matches!(c.distance.desired, Desired::Goal) || spec.goal_dim > 0 {
-                        o.insert("goal".into(), json!(true));
-                    }
                     not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
                 }
             }
