@@ -19,6 +19,9 @@ class SpecError(ValueError):
 def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, Any]:
     """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
 
+def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, bytes]:
+    """The resolved IR of a task spec as JSON, and its compiled model as MJB bytes (`envc.gpu`)."""
+
 def registry() -> list[tuple[str, str, int | None, bool, float | None]]:
     """Every bundled id: `(id, kind, max_episode_steps, example, reward_threshold)`."""
 
@@ -113,6 +116,7 @@ class TaskCore:
     def step_f32(
         self, action: npt.NDArray[np.float32]
     ) -> tuple[npt.NDArray[np.float64], float, bool, bool, dict[str, Any]]: ...
+    def state(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 
 _F64 = npt.NDArray[np.float64]
 

@@ -235,15 +235,24 @@ def make_vec(
     num_envs: int = 1,
     num_threads: int | None = None,
     autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    backend: str | None = None,
+    device: str | None = None,
     **overrides: Any,
-) -> EnvcVectorEnv:
+) -> Any:
     """A vector env of a bundled task id (``"Ant-v5"``) or a task spec file.
 
     ``envc.make_vec("Ant-v5", 8)`` is ``gymnasium.make_vec("envc/Ant-v5", num_envs=8,
     vectorization_mode="vector_entry_point")``: an :class:`EnvcVectorEnv` stepped by
     ``num_threads`` Rust threads (default: as many as there are CPUs, at most ``num_envs``).
     Keyword arguments are the spec's parameters and ``max_episode_steps``, as for ``envc.make``.
+
+    ``backend="mjx"`` (with ``device="cuda"`` or ``"cpu"``) runs the same spec batched on a GPU
+    backend instead: an :class:`envc.gpu.GpuVecEnv` with JAX arrays (docs/gpu.md).
     """
+    if backend is not None:
+        from . import gpu
+
+        return gpu.make_vec(id_or_path, num_envs, backend=backend, device=device, **overrides)
     from ._registry import env_id_for, spec_of
 
     env_id = env_id_for(id_or_path, overrides)

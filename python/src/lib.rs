@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 mod collect;
 mod convert;
 mod errors;
+mod gpu;
 mod maze;
 mod mujoco_timer;
 mod multi_agent;
@@ -134,6 +135,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(gpu::gpu_plan, m)?)?;
     m.add_class::<collect::ShardedCollection>()?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;

@@ -82,6 +82,14 @@ impl TaskCore {
         self.env.close_renderer();
     }
 
+    /// `(qpos, qvel)` now (checks of other executors start from the same state).
+    fn state<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let (q, v) = self.env.state();
+        (PyArray1::from_slice(py, q), PyArray1::from_slice(py, v))
+    }
     #[getter]
     fn id(&self) -> String {
         self.env.spec().id.clone()

@@ -1,0 +1,148 @@
+"""envc on a GPU: thousands of worlds of one task spec, stepped as one XLA program.
+
+``envc.make_vec("Ant-v5", num_envs=4096, backend="mjx", device="cuda")`` (or
+``envc.gpu.make_vec``) opens the spec through the same door as the CPU core, takes its resolved IR
+and its compiled model, and runs them batched on a pluggable backend; the first is MJX (MuJoCo's
+JAX implementation). Arrays in and out are JAX arrays on the device. Parts of a spec the executor
+cannot run are refused with one coded error (E1700) that lists them all. docs/gpu.md has the
+design, the bounds against the CPU core and the figures."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ._plan import CODE, Plan, Unsupported, load
+
+__all__ = ["CODE", "GpuVecEnv", "Plan", "Unsupported", "backends", "make_vec", "plan"]
+
+
+def backends() -> tuple[str, ...]:
+    """The backends this build knows (each is an implementation of the same executor)."""
+    return ("mjx",)
+
+
+def plan(id_or_path: str, **overrides: Any) -> Plan:
+    """The resolved IR and compiled model of a task spec, as the GPU executor reads them."""
+    from .._gym import overrides_to_toml
+
+    return load(id_or_path, overrides_to_toml(overrides))
+
+
+def _device(device: str | None):
+    import jax
+
+    if device is None:
+        return None
+    platform = {"cuda": "gpu", "gpu": "gpu", "cpu": "cpu"}.get(device)
+    if platform is None:
+        raise ValueError(f"device={device!r}: expected 'cuda' or 'cpu'")
+    return jax.devices(platform)[0]
+
+
+def _backend(p: Plan, backend: str, device):
+    if backend not in backends():
+        raise ValueError(f"backend={backend!r}: expected one of {', '.join(backends())}")
+    from . import _mjx
+
+    refused = p.refusals(_mjx.MjxBackend.fields_supported)
+    try:
+        b = _mjx.MjxBackend(p, device)
+    except _mjx._ModelRefused as e:
+        refused.append(f"the compiled model: MJX says: {e}")
+    if refused:
+        raise Unsupported(p.id, backend, refused)
+    return b
+
+
+class GpuVecEnv:
+    """A batch of worlds of one task spec on a GPU backend (JAX arrays in and out).
+
+    Stateful facade over the functional executor (``self.executor``: ``reset(key)``,
+    ``step(state, action)``, ``reset_where(state, mask)``, all jitted). Autoreset is Gymnasium's
+    same-step mode: a world that terminates or truncates is reset within the step; the returned
+    observation is its first one and ``info["final_obs"]`` holds the last one."""
+
+    def __init__(self, p: Plan, backend, num_envs: int, seed: int = 0, device=None):
+        import jax
+
+        from ._executor import Executor
+
+        self.plan = p
+        self.backend = backend
+        self.device = device
+        self.num_envs = int(num_envs)
+        self.executor = Executor(p, backend, self.num_envs)
+        self.obs_dim = int(p["obs_dim"])
+        self.act_dim = len(p["act_low"])
+        self.act_low = p["act_low"]
+        self.act_high = p["act_high"]
+        self.dt = float(p["dt"])
+        self.max_episode_steps = p["max_episode_steps"]
+        self._key = jax.random.PRNGKey(seed)
+        self.state = None
+
+    @property
+    def id(self) -> str:
+        return self.plan.id
+
+    def _on_device(self):
+        import contextlib
+
+        import jax
+
+        return contextlib.nullcontext() if self.device is None else jax.default_device(self.device)
+
+    def reset(self, seed: int | None = None, mask=None):
+        """Reset every world (``mask=None``) or only the worlds where ``mask`` holds."""
+        with self._on_device():
+            return self._reset(seed, mask)
+
+    def _reset(self, seed, mask):
+        import jax
+
+        if seed is not None:
+            self._key = jax.random.PRNGKey(seed)
+        if mask is None or self.state is None:
+            self.state, info = self.executor.reset(self._key)
+            return self.state.obs, info
+        self.state = self.executor.reset_where(self.state, mask)
+        return self.state.obs, {}
+
+    def step(self, action):
+        if self.state is None:
+            raise RuntimeError("step before reset: call reset() first")
+        with self._on_device():
+            out = self.executor.step(self.state, action)
+        self.state = out.state
+        return out.obs, out.reward, out.terminated, out.truncated, out.info
+
+    def as_gymnasium(self):
+        """A ``gymnasium.vector.VectorEnv`` view (numpy in and out, same-step autoreset)."""
+        from ._vector import GymnasiumView
+
+        return GymnasiumView(self)
+
+    def as_brax(self):
+        """A Brax / Playground-style functional env (``reset(rng)``, ``step(state, action)``)."""
+        from ._vector import BraxView
+
+        return BraxView(self)
+
+    def close(self):
+        self.state = None
+
+
+def make_vec(
+    id_or_path: str,
+    num_envs: int = 1024,
+    backend: str = "mjx",
+    device: str | None = None,
+    seed: int = 0,
+    **overrides: Any,
+) -> GpuVecEnv:
+    """A batched GPU env of a bundled task id or a task spec file, with the spec's parameters
+    as keywords (as ``envc.make``). ``device``: ``"cuda"``, ``"cpu"`` or None (JAX's default)."""
+    p = plan(id_or_path, **overrides)
+    dev = _device(device)
+    b = _backend(p, backend, dev)
+    return GpuVecEnv(p, b, num_envs, seed=seed, device=dev)

@@ -1,0 +1,101 @@
+"""Views of a `GpuVecEnv` for trainers: Gymnasium's `VectorEnv` (numpy, same-step autoreset)
+and a Brax / MuJoCo Playground-style functional single-world env (Brax's wrappers vmap it and
+add episode limits and autoreset themselves)."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import gymnasium as gym
+import jax
+import jax.numpy as jnp
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv
+
+
+class GymnasiumView(VectorEnv):
+    """``gymnasium.vector.VectorEnv`` over a GPU env: numpy arrays, same-step autoreset
+    (``info["final_obs"]`` holds the observation an autoreset replaced)."""
+
+    metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}
+
+    def __init__(self, env):
+        self.env = env
+        self.num_envs = env.num_envs
+        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (env.obs_dim,), np.float32)
+        self.single_action_space = gym.spaces.Box(
+            np.asarray(env.act_low, np.float32), np.asarray(env.act_high, np.float32)
+        )
+        self.observation_space = gym.vector.utils.batch_space(
+            self.single_observation_space, self.num_envs
+        )
+        self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
+
+    def reset(self, *, seed=None, options=None):
+        mask = None if options is None else options.get("reset_mask")
+        obs, info = self.env.reset(seed=seed, mask=mask)
+        return np.asarray(obs), {k: np.asarray(v) for k, v in info.items()}
+
+    def step(self, actions):
+        obs, rew, term, trunc, info = self.env.step(jnp.asarray(actions, jnp.float32))
+        return (
+            np.asarray(obs),
+            np.asarray(rew),
+            np.asarray(term),
+            np.asarray(trunc),
+            {k: np.asarray(v) for k, v in info.items()},
+        )
+
+    def close_extras(self, **kwargs):
+        self.env.close()
+
+
+@jax.tree_util.register_dataclass
+@dataclasses.dataclass
+class BraxState:
+    """Brax's `envs.base.State` fields (``pipeline_state``, ``obs``, ``reward``, ``done``,
+    ``metrics``, ``info``), with its ``replace``."""
+
+    pipeline_state: Any
+    obs: jax.Array
+    reward: jax.Array
+    done: jax.Array
+    metrics: dict = dataclasses.field(default_factory=dict)
+    info: dict = dataclasses.field(default_factory=dict)
+
+    def replace(self, **changes):
+        return dataclasses.replace(self, **changes)
+
+
+class BraxView:
+    """One world of the spec as Brax's env protocol: ``reset(rng)``, ``step(state, action)``,
+    ``observation_size``, ``action_size``. Termination is the spec's; truncation (the time limit)
+    is left to Brax's ``EpisodeWrapper`` with ``episode_length = max_episode_steps``."""
+
+    def __init__(self, env):
+        self._x = env.executor
+        self.observation_size = env.obs_dim
+        self.action_size = env.act_dim
+        self.backend = env.backend.name
+        self.dt = env.dt
+        self.episode_length = env.max_episode_steps
+
+    def reset(self, rng) -> BraxState:
+        d, obs = self._x._init_world(rng)
+        metrics = {k: jnp.float32(0.0) for k in self._metric_keys()}
+        return BraxState(d, obs, jnp.float32(0.0), jnp.float32(0.0), metrics, {})
+
+    def step(self, state: BraxState, action) -> BraxState:
+        d, obs, reward, terminated, info = self._x._step_world(state.pipeline_state, action)
+        metrics = {k: jnp.asarray(info[k], jnp.float32) for k in self._metric_keys()}
+        return state.replace(
+            pipeline_state=d,
+            obs=obs,
+            reward=reward,
+            done=terminated.astype(jnp.float32),
+            metrics=metrics,
+        )
+
+    def _metric_keys(self):
+        return [i["key"] for i in self._x.plan["info"] if i["len"] == 1]

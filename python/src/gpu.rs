@@ -1,0 +1,300 @@
+//! The resolved IR of a task spec as data, for executors outside Rust (`envc.gpu`): a JSON
+//! description of what the CPU core executes, and the compiled model as MuJoCo's binary format,
+//! so a batched executor runs exactly the model envc compiles (spec additions included).
+//!
+//! The JSON describes every part the plain term kinds need. Parts it does not describe (legged
+//! kernels, commands, PD actions, events, observation noise and delay, goal terms) are listed
+//! under `not_exported`, so an executor refuses them instead of dropping them.
+
+use envspec::Field;
+use envspec::ir::{
+    Apply, CheckKind, CmpOp, Distribution, Divisor, InfoKind, ResolvedSpec, SumNode, TermKind,
+    Until,
+};
+use envspec::selector::Selection;
+use pyo3::prelude::*;
+use serde_json::{Value, json};
+
+use crate::convert;
+use crate::errors;
+
+fn sel(s: &Selection) -> Value {
+    json!({ "field": s.field.name(), "indices": s.indices, "text": s.text })
+}
+
+fn opt_sel(s: Option<&Selection>) -> Value {
+    s.map(sel).unwrap_or(Value::Null)
+}
+
+/// A number; ±inf and NaN (which JSON lacks) as `{"f64": "inf"}` (Rust's spelling, which
+/// Python's `float` reads).
+fn num(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        json!({ "f64": x.to_string() })
+    }
+}
+
+fn nums(x: &[f64]) -> Value {
+    Value::Array(x.iter().copied().map(num).collect())
+}
+
+fn range(r: Option<(f64, f64)>) -> Value {
+    r.map(|(a, b)| json!([num(a), num(b)]))
+        .unwrap_or(Value::Null)
+}
+
+fn sum_node(n: &SumNode) -> Value {
+    match n {
+        SumNode::Term(i) => json!(i),
+        SumNode::Sum(c) => Value::Array(c.iter().map(sum_node).collect()),
+    }
+}
+
+fn op(o: CmpOp) -> &'static str {
+    match o {
+        CmpOp::Lt => "lt",
+        CmpOp::Le => "le",
+        CmpOp::Gt => "gt",
+        CmpOp::Ge => "ge",
+    }
+}
+
+/// Sizes of the compiled model that selections index into.
+struct Sizes {
+    nq: usize,
+    nv: usize,
+    nu: usize,
+    nbody: usize,
+    nsite: usize,
+    ntendon: usize,
+}
+
+fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
+    let mut not_exported: Vec<String> = vec![];
+    let observation: Vec<Value> = spec
+        .observation
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name,
+                "source": sel(&s.source),
+                "minus": opt_sel(s.minus.as_ref()),
+                "apply": s.apply.map(|a| match a { Apply::Sin => "sin", Apply::Cos => "cos" }),
+                "clip": range(s.clip),
+                "offset": s.offset,
+                "len": s.len(),
+            })
+        })
+        .collect();
+    let reward: Vec<Value> = spec
+        .reward
+        .iter()
+        .map(|t| {
+            let mut v = json!({
+                "name": t.name,
+                "kind": t.kind_name(),
+                "weight": num(t.weight),
+                "cost": t.cost,
+                "info": t.info,
+                "before": t.before,
+                "paid_when_unhealthy": t.paid_when_unhealthy,
+            });
+            let o = v.as_object_mut().expect("an object");
+            match &t.kind {
+                TermKind::Velocity { source } => {
+                    o.insert("source".into(), sel(source));
+                }
+                TermKind::SumSquares {
+                    source,
+                    clip_input,
+                    clip,
+                } => {
+                    o.insert("source".into(), sel(source));
+                    o.insert("clip_input".into(), range(*clip_input));
+                    o.insert("clip".into(), range(*clip));
+                }
+                TermKind::Norm { source, minus } => {
+                    o.insert("source".into(), sel(source));
+                    o.insert("minus".into(), opt_sel(minus.as_ref()));
+                }
+                TermKind::Quadratic {
+                    source,
+                    coefs,
+                    targets,
+                } => {
+                    o.insert("source".into(), sel(source));
+                    o.insert("coefs".into(), nums(coefs));
+                    o.insert("targets".into(), nums(targets));
+                }
+                TermKind::Value { source, divide_by } => {
+                    o.insert("source".into(), sel(source));
+                    let d = divide_by.map(|d| match d {
+                        Divisor::Timestep => "timestep",
+                        Divisor::Dt => "dt",
+                    });
+                    o.insert("divide_by".into(), json!(d));
+                }
+                TermKind::Healthy | TermKind::Constant => {}
+                TermKind::GoalSparse(_) | TermKind::GoalDense(_) | TermKind::Legged(_) => {
+                    not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
+                }
+            }
+            v
+        })
+        .collect();
+    let health: Vec<Value> = spec
+        .health
+        .iter()
+        .map(|h| {
+            let sources: Vec<Value> = h.sources.iter().map(sel).collect();
+            match h.kind {
+                CheckKind::Finite => json!({"name": h.name, "kind": "finite", "sources": sources}),
+                CheckKind::InRange { lo, hi, closed } => json!({
+                    "name": h.name, "kind": "in_range", "sources": sources,
+                    "lo": num(lo), "hi": num(hi), "closed": closed,
+                }),
+                CheckKind::FailsIf { op: o, value } => json!({
+                    "name": h.name, "kind": "fails_if", "sources": sources,
+                    "op": op(o), "value": num(value),
+                }),
+            }
+        })
+        .collect();
+    for t in &spec.termination {
+        not_exported.push(format!("[termination.{}] kind = \"goal_reached\"", t.name));
+    }
+    let reset: Vec<Value> = spec
+        .reset
+        .iter()
+        .map(|r| {
+            let dist = match &r.dist {
+                Distribution::Uniform { low, high } => {
+                    json!({"kind": "uniform", "low": nums(low), "high": nums(high)})
+                }
+                Distribution::Normal { scale } => json!({"kind": "normal", "scale": num(*scale)}),
+                Distribution::Constant { value } => {
+                    json!({"kind": "constant", "value": num(*value)})
+                }
+            };
+            let until = r.resample_until.map(|u| match u {
+                Until::NormBelow(x) => json!({"norm_below": num(x)}),
+                Until::NormAbove(x) => json!({"norm_above": num(x)}),
+            });
+            json!({
+                "name": r.name, "target": sel(&r.target), "dist": dist, "set": r.set,
+                "resample_until": until,
+            })
+        })
+        .collect();
+    let info: Vec<Value> = spec
+        .info
+        .iter()
+        .map(|i| {
+            let mut v = json!({
+                "key": i.key, "len": i.len, "at_reset": i.at_reset, "unweighted": i.unweighted,
+            });
+            let o = v.as_object_mut().expect("an object");
+            match &i.kind {
+                InfoKind::Value { source, minus } => {
+                    o.insert("kind".into(), json!("value"));
+                    o.insert("source".into(), sel(source));
+                    o.insert("minus".into(), opt_sel(minus.as_ref()));
+                }
+                InfoKind::Norm { source } => {
+                    o.insert("kind".into(), json!("norm"));
+                    o.insert("source".into(), sel(source));
+                }
+                InfoKind::Velocity { source } => {
+                    o.insert("kind".into(), json!("velocity"));
+                    o.insert("source".into(), sel(source));
+                }
+                InfoKind::Term(t) => {
+                    o.insert("kind".into(), json!("term"));
+                    o.insert("term".into(), json!(t));
+                }
+                InfoKind::GoalReached(_) => {
+                    o.insert("kind".into(), json!("goal_reached"));
+                    not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
+                }
+            }
+            v
+        })
+        .collect();
+    for c in &spec.commands {
+        not_exported.push(format!("[commands.{}]", c.name));
+    }
+    if spec.actions.is_some() {
+        not_exported.push("[actions] kind = \"pd_position\"".into());
+    }
+    for s in &spec.corruption.segments {
+        if s.noise.is_some() {
+            not_exported.push(format!("[observation.{}] noise", s.name));
+        }
+        if s.delay > 0 {
+            not_exported.push(format!("[observation.{}] delay", s.name));
+        }
+    }
+    if spec.corruption.action_latency > 0 {
+        not_exported.push("[latency] action".into());
+    }
+    for e in &spec.events {
+        not_exported.push(format!("[events.{}]", e.name));
+    }
+    json!({
+        "id": spec.id,
+        "frame_skip": spec.frame_skip,
+        "max_episode_steps": spec.max_episode_steps,
+        "timestep": spec.model.timestep,
+        "dt": spec.dt(),
+        "sizes": {
+            "nq": z.nq, "nv": z.nv, "nu": z.nu, "nbody": z.nbody, "nsite": z.nsite,
+            "ntendon": z.ntendon,
+        },
+        "obs_dim": spec.obs_dim,
+        "act_low": nums(&act.low),
+        "act_high": nums(&act.high),
+        "observation": observation,
+        "reward": reward,
+        "reward_sum": sum_node(&spec.reward_sum),
+        "health": health,
+        "terminate_when_unhealthy": spec.terminate_when_unhealthy,
+        "reset": reset,
+        "info": info,
+        "needs_rne_post_constraint": spec.needs_rne_post_constraint,
+        "reads_mass_center": spec.reads(Field::MassCenter),
+        "not_exported": not_exported,
+    })
+}
+
+/// `(plan JSON, compiled model as MJB bytes)` of a task spec under overrides, opened through the
+/// one door. Other kinds of spec are refused (E0602).
+#[pyfunction]
+#[pyo3(signature = (id_or_path, overrides = Vec::new()))]
+pub fn gpu_plan(id_or_path: &str, overrides: Vec<(String, String)>) -> PyResult<(String, Vec<u8>)> {
+    let o = convert::overrides(&overrides);
+    let env = envc::open(id_or_path, &o).map_err(errors::env_error)?;
+    let envc::AnyEnv::Task(env) = env else {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "error[E0602]: the GPU executor runs task specs only (not mazes or multi-agent specs)",
+        ));
+    };
+    let m = env.model();
+    let f = m.ffi();
+    let sizes = Sizes {
+        nq: f.nq as usize,
+        nv: f.nv as usize,
+        nu: f.nu as usize,
+        nbody: f.nbody as usize,
+        nsite: f.nsite as usize,
+        ntendon: f.ntendon as usize,
+    };
+    let mut mjb = vec![0u8; m.size()];
+    m.save_to_buffer(&mut mjb)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok((
+        plan(env.spec(), &sizes, env.action_space()).to_string(),
+        mjb,
+    ))
+}
