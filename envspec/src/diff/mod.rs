@@ -117,6 +117,53 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     info::info_items(&mut cx);
     commands::commands(&mut cx);
     commands::actions(&mut cx);
+    // Model edits, judged by what they resolve to: the actuators a table adds, the whole
+    // per-joint table (rows override each other), a keyframe's positions.
+    sections::sections(
+        &mut cx,
+        &sections::ACTUATORS,
+        &old.actuators,
+        &new.actuators,
+        &|r: &ResolvedSpec, n: &str| {
+            let a: Vec<&crate::ir::AddedActuator> = r
+                .model_edits
+                .actuators
+                .iter()
+                .filter(|a| a.section == n)
+                .collect();
+            (!a.is_empty()).then(|| format!("{a:?}"))
+        },
+    );
+    sections::sections(
+        &mut cx,
+        &sections::JOINT_PROPERTIES,
+        &old.joint_properties,
+        &new.joint_properties,
+        &|r: &ResolvedSpec, _: &str| {
+            Some(format!(
+                "{:?} {:?}",
+                r.model_edits
+                    .joints
+                    .iter()
+                    .map(|j| (&j.joint, j.armature, j.damping, j.frictionloss))
+                    .collect::<Vec<_>>(),
+                r.model_edits.actuators
+            ))
+        },
+    );
+    sections::sections(
+        &mut cx,
+        &sections::KEYFRAMES,
+        &old.keyframes,
+        &new.keyframes,
+        &|r: &ResolvedSpec, n: &str| {
+            r.model_edits
+                .keyframes
+                .iter()
+                .find(|k| k.name == n)
+                .map(|k| format!("{k:?}"))
+        },
+    );
     events::events(&mut cx);
 
     let mut report = Report::new(

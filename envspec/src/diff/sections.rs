@@ -106,6 +106,68 @@ pub(super) const RESET: Kind = Kind {
     describe: describe_reset,
 };
 
+fn describe_actuators(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let a: Vec<String> = r
+        .model_edits
+        .actuators
+        .iter()
+        .filter(|a| a.section == name)
+        .map(crate::describe::actuator)
+        .collect();
+    (!a.is_empty()).then(|| a.join("; "))
+}
+
+fn describe_joint_properties(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let j: Vec<String> = r
+        .model_edits
+        .joints
+        .iter()
+        .filter(|j| j.rows.iter().any(|p| p == name))
+        .map(crate::describe::joint_edit)
+        .collect();
+    Some(if j.is_empty() {
+        "no joint property".into()
+    } else {
+        j.join("; ")
+    })
+}
+
+fn describe_keyframe(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.model_edits
+                .keyframes
+        .iter()
+        .find(|k| k.name == name)
+        .map(|k| crate::describe::keyframe(r, k))
+}
+
+pub(super) const ACTUATORS: Kind = Kind {
+    name: "actuators",
+    added: RuleId::ActuatorsAdded,
+    removed: RuleId::ActuatorsRemoved,
+    renamed: RuleId::ActuatorsRenamed,
+    key_changed: RuleId::ActuatorsKeyChanged,
+    resolved_changed: RuleId::ActuatorsResolvedChanged,
+    describe: describe_actuators,
+};
+pub(super) const JOINT_PROPERTIES: Kind = Kind {
+    name: "joint_properties",
+    added: RuleId::JointPropertiesAdded,
+    removed: RuleId::JointPropertiesRemoved,
+    renamed: RuleId::JointPropertiesRenamed,
+    key_changed: RuleId::JointPropertiesKeyChanged,
+    resolved_changed: RuleId::JointPropertiesResolvedChanged,
+    describe: describe_joint_properties,
+};
+pub(super) const KEYFRAMES: Kind = Kind {
+    name: "keyframes",
+    added: RuleId::KeyframesAdded,
+    removed: RuleId::KeyframesRemoved,
+    renamed: RuleId::KeyframesRenamed,
+    key_changed: RuleId::KeyframesKeyChanged,
+    resolved_changed: RuleId::KeyframesResolvedChanged,
+    describe: describe_keyframe,
+};
+
 /// Entries of a section as (key, TOML text, position), docs included.
 fn entries(s: &Section) -> Vec<(String, String, Pos)> {
     s.entries
