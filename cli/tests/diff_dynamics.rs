@@ -35,7 +35,7 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         "kp.toml",
         3,
         &[
-            "  ! [actuators-key-changed] actuators.legs: kp: was 20.0 (cli/tests/diff_golden/dynamics/base.toml:20), now 30.0 (cli/tests/diff_golden/dynamics/kp.toml:20)",
+            "  ! [actuators-key-changed] actuators.legs: kp: was 20.0 (cli/tests/diff_golden/dynamics/base.toml:18), now 30.0 (cli/tests/diff_golden/dynamics/kp.toml:18)",
             "  ! [model-array-changed] model: actuator_gainprm[hip]: was [20.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], now [30.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]",
         ],
     ),
@@ -44,7 +44,7 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         "forcerange.toml",
         3,
         &[
-            "  ! [joint-properties-key-changed] joint_properties.knee: forcerange: was [-15.0, 15.0] (cli/tests/diff_golden/dynamics/base.toml:26), now [-10.0, 10.0] (cli/tests/diff_golden/dynamics/forcerange.toml:26)",
+            "  ! [joint-properties-key-changed] joint_properties.knee: forcerange: was [-15.0, 15.0] (cli/tests/diff_golden/dynamics/base.toml:24), now [-10.0, 10.0] (cli/tests/diff_golden/dynamics/forcerange.toml:24)",
             "  ! [model-array-changed] model: actuator_forcerange[knee]: was [1.0, -15.0, 15.0], now [1.0, -10.0, 10.0]",
         ],
     ),
@@ -52,19 +52,19 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         "base.toml",
         "armature.toml",
         3,
-        &["  ! [joint-properties-key-changed] joint_properties.*: armature: was 0.01 (cli/tests/diff_golden/dynamics/base.toml:25), now 0.02 (cli/tests/diff_golden/dynamics/armature.toml:25)"],
+        &["  ! [joint-properties-key-changed] joint_properties.*: armature: was 0.01 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.02 (cli/tests/diff_golden/dynamics/armature.toml:23)"],
     ),
     (
         "base.toml",
         "damping.toml",
         3,
-        &["  ! [joint-properties-key-changed] joint_properties.*: damping: was 0.1 (cli/tests/diff_golden/dynamics/base.toml:25), now 0.3 (cli/tests/diff_golden/dynamics/damping.toml:25)"],
+        &["  ! [joint-properties-key-changed] joint_properties.*: damping: was 0.1 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.3 (cli/tests/diff_golden/dynamics/damping.toml:23)"],
     ),
     (
         "base.toml",
         "keyframe.toml",
         3,
-        &["  ! [keyframes-key-changed] keyframes.stand: joints: was { hip = 0.2, knee = -0.4 } (cli/tests/diff_golden/dynamics/base.toml:30), now { hip = 0.3, knee = -0.4 } (cli/tests/diff_golden/dynamics/keyframe.toml:30)"],
+        &["  ! [keyframes-key-changed] keyframes.stand: joints: was { hip = 0.2, knee = -0.4 } (cli/tests/diff_golden/dynamics/base.toml:28), now { hip = 0.3, knee = -0.4 } (cli/tests/diff_golden/dynamics/keyframe.toml:28)"],
     ),
     (
         "base.toml",

@@ -478,6 +478,9 @@ pub struct ModelEdits {
     pub added: Vec<AddedElement>,
     /// Joint properties set by `[joint_properties]` rows (resolved per joint, model order).
     pub joints: Vec<JointEdit>,
+    /// Each `[joint_properties]` row resolved: its pattern, the joints it matches and the values
+    /// it sets (parameters resolved), for `envc diff`.
+    pub joint_rows: Vec<(String, Vec<String>, Vec<(String, Vec<f64>)>)>,
     /// Keyframes added after the model's own (`[keyframes.*]`).
     pub keyframes: Vec<SpecKeyframe>,
 }

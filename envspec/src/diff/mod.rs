@@ -139,16 +139,13 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         &sections::JOINT_PROPERTIES,
         &old.joint_properties,
         &new.joint_properties,
-        &|r: &ResolvedSpec, _: &str| {
-            Some(format!(
-                "{:?} {:?}",
-                r.model_edits
-                    .joints
-                    .iter()
-                    .map(|j| (&j.joint, j.armature, j.damping, j.frictionloss))
-                    .collect::<Vec<_>>(),
-                r.model_edits.actuators
-            ))
+        &|r: &ResolvedSpec, n: &str| {
+            // What the row itself sets, on which joints (actuator tables are diffed on their own).
+            r.model_edits
+                .joint_rows
+                .iter()
+                .find(|row| row.0 == n)
+                .map(|row| format!("{:?} {:?}", row.1, row.2))
         },
     );
     sections::sections(

@@ -251,12 +251,14 @@ impl Ctx<'_> {
                 );
                 continue;
             }
+            let mut set: Vec<(String, Vec<f64>)> = vec![];
             // Joint keys.
             for key in ["armature", "damping", "frictionloss"] {
                 let Some(v) = row.get(key) else { continue };
                 let Some(x) = self.num(v, &what(key)) else {
                     continue;
                 };
+                set.push((key.to_string(), vec![x]));
                 if !(x.is_finite() && x >= 0.0) {
                     self.d.push(
                         Diagnostic::new(Code::E0161, format!("{} {x} is negative", what(key)))
@@ -317,6 +319,7 @@ impl Ctx<'_> {
                         let Some(x) = self.gain_value(v, &what(key), key) else {
                             continue;
                         };
+                        set.push((key.to_string(), vec![x]));
                         for &k in &on {
                             let a = &mut edits.actuators[k];
                             let fits = match (&mut a.kind, key) {
@@ -373,6 +376,7 @@ impl Ctx<'_> {
                             );
                             continue;
                         }
+                        set.push((key.to_string(), vec![x]));
                         for &k in &on {
                             edits.actuators[k].forcerange = Some((-x, x));
                         }
@@ -392,6 +396,7 @@ impl Ctx<'_> {
                             );
                             continue;
                         }
+                        set.push((key.to_string(), vec![lo, hi]));
                         for &k in &on {
                             if key == "forcerange" {
                                 edits.actuators[k].forcerange = Some((lo, hi));
@@ -404,12 +409,18 @@ impl Ctx<'_> {
                         let Some(x) = self.num(v, &what(key)) else {
                             continue;
                         };
+                        set.push((key.to_string(), vec![x]));
                         for &k in &on {
                             edits.actuators[k].gear = x;
                         }
                     }
                 }
             }
+            edits.joint_rows.push((
+                row.name.clone(),
+                hit.iter().map(|&i| joints[i].clone()).collect(),
+                set,
+            ));
         }
         edits.joints = table.into_iter().filter(|e| !e.rows.is_empty()).collect();
     }
