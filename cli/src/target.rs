@@ -42,7 +42,10 @@ pub fn runnable_name(id: &str, path: &std::path::Path) -> String {
         return id.to_string();
     }
     let cwd = std::env::current_dir().unwrap_or_default();
-    path.strip_prefix(&cwd).unwrap_or(path).display().to_string()
+    path.strip_prefix(&cwd)
+        .unwrap_or(path)
+        .display()
+        .to_string()
 }
 
 /// E1401: an env without a time limit, and no `--max-steps`.

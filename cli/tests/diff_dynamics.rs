@@ -52,30 +52,45 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         "base.toml",
         "armature.toml",
         3,
-        &["  ! [joint-properties-key-changed] joint_properties.*: armature: was 0.01 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.02 (cli/tests/diff_golden/dynamics/armature.toml:23)"],
+        &[
+            "  ! [joint-properties-key-changed] joint_properties.*: armature: was 0.01 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.02 (cli/tests/diff_golden/dynamics/armature.toml:23)",
+        ],
     ),
     (
         "base.toml",
         "damping.toml",
         3,
-        &["  ! [joint-properties-key-changed] joint_properties.*: damping: was 0.1 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.3 (cli/tests/diff_golden/dynamics/damping.toml:23)"],
+        &[
+            "  ! [joint-properties-key-changed] joint_properties.*: damping: was 0.1 (cli/tests/diff_golden/dynamics/base.toml:23), now 0.3 (cli/tests/diff_golden/dynamics/damping.toml:23)",
+        ],
     ),
     (
         "base.toml",
         "keyframe.toml",
         3,
-        &["  ! [keyframes-key-changed] keyframes.stand: joints: was { hip = 0.2, knee = -0.4 } (cli/tests/diff_golden/dynamics/base.toml:28), now { hip = 0.3, knee = -0.4 } (cli/tests/diff_golden/dynamics/keyframe.toml:28)"],
+        &[
+            "  ! [keyframes-key-changed] keyframes.stand: joints: was { hip = 0.2, knee = -0.4 } (cli/tests/diff_golden/dynamics/base.toml:28), now { hip = 0.3, knee = -0.4 } (cli/tests/diff_golden/dynamics/keyframe.toml:28)",
+        ],
     ),
     (
         "base.toml",
         "push.toml",
         3,
-        &["      drawn every 3–6 s during episodes instead of drawn every 1–2 s during episodes: the policy sees the randomization at another rate; returns are not comparable"],
+        &[
+            "      drawn every 3–6 s during episodes instead of drawn every 1–2 s during episodes: the policy sees the randomization at another rate; returns are not comparable",
+        ],
     ),
     // The same gain written as a parameter with the same default: no behaviour change.
     ("base.toml", "gain_param.toml", 1, &[]),
     // A contact softness (geom solimp) is outside the arrays compared by name: the rollout decides.
-    ("base.toml", "residual.toml", 3, &["  ! [model-binary-changed] model: compiled model: was one binary model, now another (outside the compared arrays)"]),
+    (
+        "base.toml",
+        "residual.toml",
+        3,
+        &[
+            "  ! [model-binary-changed] model: compiled model: was one binary model, now another (outside the compared arrays)",
+        ],
+    ),
     (
         "agents_old.toml",
         "agents_new.toml",
@@ -94,7 +109,9 @@ fn every_dynamics_change_is_reported_with_its_line_and_judged_by_effect() {
     for (old, new, status, lines) in CASES {
         let (code, text) = diff(old, new);
         if code != *status {
-            failures.push(format!("{old} → {new}: exit {code}, expected {status}\n{text}"));
+            failures.push(format!(
+                "{old} → {new}: exit {code}, expected {status}\n{text}"
+            ));
         }
         for l in *lines {
             if !text.lines().any(|x| x == *l) {
@@ -113,6 +130,11 @@ fn every_dynamics_change_is_reported_with_its_line_and_judged_by_effect() {
         std::fs::write(&golden, &all).unwrap();
     } else {
         let want = std::fs::read_to_string(&golden).unwrap_or_default();
-        assert_eq!(all, want, "differs from {} (ENVC_BLESS=1 to update)", golden.display());
+        assert_eq!(
+            all,
+            want,
+            "differs from {} (ENVC_BLESS=1 to update)",
+            golden.display()
+        );
     }
 }

@@ -203,7 +203,11 @@ pub fn reset_step(r: &ResetStep) -> String {
             return format!(
                 "{}: position += (x, y, z), quat ← quat ⊗ euler_xyz(roll, pitch, yaw); {}",
                 sel(&r.target),
-                if v.is_empty() { "every range 0".into() } else { v.join(", ") }
+                if v.is_empty() {
+                    "every range 0".into()
+                } else {
+                    v.join(", ")
+                }
             );
         }
     };

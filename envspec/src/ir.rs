@@ -392,11 +392,16 @@ pub enum Distribution {
         value: f64,
     },
     /// The whole `qpos` of keyframe `index` (the model's keyframes, then the spec's); no draw.
-    Keyframe { index: usize, name: String },
+    Keyframe {
+        index: usize,
+        name: String,
+    },
     /// Six uniforms in the order x, y, z, roll, pitch, yaw: the position offsets are added to a
     /// free joint's position, and `q ← q ⊗ quat_from_euler_xyz(roll, pitch, yaw)` (mjlab's
     /// `reset_root_state_uniform`). The target is the free joint's 7 `qpos`.
-    RootPose { ranges: [(f64, f64); 6] },
+    RootPose {
+        ranges: [(f64, f64); 6],
+    },
 }
 
 /// Redraw the whole block until its norm satisfies the condition.

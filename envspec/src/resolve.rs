@@ -17,8 +17,8 @@ mod edits;
 mod events;
 mod goal;
 mod keyframes;
-pub use keyframes::ROOT_POSE_KEYS;
 pub(crate) use commands::command_selection;
+pub use keyframes::ROOT_POSE_KEYS;
 mod noise;
 mod pairing;
 

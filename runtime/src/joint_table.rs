@@ -81,7 +81,10 @@ pub fn joint_table(env: &Env) -> Vec<JointRow> {
             };
             if let Some(a) = a {
                 let (g, b) = (*m.actuator_gaintype.add(a), *m.actuator_biastype.add(a));
-                let (gain, bias) = (*m.actuator_gainprm.add(a * N), m.actuator_biasprm.add(a * N));
+                let (gain, bias) = (
+                    *m.actuator_gainprm.add(a * N),
+                    m.actuator_biasprm.add(a * N),
+                );
                 let fixed = g == mjtGain::mjGAIN_FIXED as i32;
                 let affine = b == mjtBias::mjBIAS_AFFINE as i32;
                 row.kind = if fixed && affine && *bias.add(1) != 0.0 {
@@ -98,10 +101,17 @@ pub fn joint_table(env: &Env) -> Vec<JointRow> {
                 };
                 row.actuator = Some((name(m, mjtObj::mjOBJ_ACTUATOR, a), a));
                 row.gear = Some(*m.actuator_gear.add(6 * a));
-                row.ctrlrange = (*m.actuator_ctrllimited.add(a))
-                    .then(|| (*m.actuator_ctrlrange.add(2 * a), *m.actuator_ctrlrange.add(2 * a + 1)));
+                row.ctrlrange = (*m.actuator_ctrllimited.add(a)).then(|| {
+                    (
+                        *m.actuator_ctrlrange.add(2 * a),
+                        *m.actuator_ctrlrange.add(2 * a + 1),
+                    )
+                });
                 row.forcerange = (*m.actuator_forcelimited.add(a)).then(|| {
-                    (*m.actuator_forcerange.add(2 * a), *m.actuator_forcerange.add(2 * a + 1))
+                    (
+                        *m.actuator_forcerange.add(2 * a),
+                        *m.actuator_forcerange.add(2 * a + 1),
+                    )
                 });
             }
             out.push(row);

@@ -346,7 +346,10 @@ fn rollout_difference(
             .zip(y)
             .enumerate()
             .map(|(i, (p, q))| (i, (p - q).abs()))
-            .fold((0, 0.0f64), |m, d| if d.1 > m.1 || d.1.is_nan() { d } else { m })
+            .fold(
+                (0, 0.0f64),
+                |m, d| if d.1 > m.1 || d.1.is_nan() { d } else { m },
+            )
     };
     let differ = |step: usize, what: &str, x: &[f64], y: &[f64]| {
         let (i, d) = apart(x, y);

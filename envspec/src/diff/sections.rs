@@ -134,7 +134,7 @@ fn describe_joint_properties(r: &ResolvedSpec, name: &str) -> Option<String> {
 
 fn describe_keyframe(r: &ResolvedSpec, name: &str) -> Option<String> {
     r.model_edits
-                .keyframes
+        .keyframes
         .iter()
         .find(|k| k.name == name)
         .map(|k| crate::describe::keyframe(r, k))

@@ -220,23 +220,23 @@ impl Ctx<'_> {
                     [0.02; 3]
                 };
                 AddedElement::Geom {
-                body: self.parent(s, added)?,
-                kind,
-                pos: self.vec_n(s, "pos", [0.0; 3])?,
-                size: self.vec_n(s, "size", size)?,
-                rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
-                contact: match s.get("contact") {
-                    None => true,
-                    Some(v) => match &v.kind {
-                        ValKind::Bool(b) => *b,
-                        _ => {
-                            self.d.push(v.type_error("contact", "true or false"));
-                            return None;
-                        }
+                    body: self.parent(s, added)?,
+                    kind,
+                    pos: self.vec_n(s, "pos", [0.0; 3])?,
+                    size: self.vec_n(s, "size", size)?,
+                    rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
+                    contact: match s.get("contact") {
+                        None => true,
+                        Some(v) => match &v.kind {
+                            ValKind::Bool(b) => *b,
+                            _ => {
+                                self.d.push(v.type_error("contact", "true or false"));
+                                return None;
+                            }
+                        },
                     },
-                },
-                name,
-            }
+                    name,
+                }
             }
             AddedKind::Camera => AddedElement::Camera {
                 body: self.parent(s, added)?,

@@ -573,10 +573,7 @@ pub(crate) fn command_selection(
     };
     if rest.is_empty() {
         let indices: Vec<usize> = (0..commands.iter().map(Command::len).sum()).collect();
-        let names = commands
-            .iter()
-            .flat_map(|c| names(c, &all(c)))
-            .collect();
+        let names = commands.iter().flat_map(|c| names(c, &all(c))).collect();
         return Some(Selection {
             field: Field::Command,
             indices,

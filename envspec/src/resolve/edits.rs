@@ -229,7 +229,12 @@ impl Ctx<'_> {
                 .filter(|&i| crate::selector::glob(&row.name, &joints[i]))
                 .collect();
             if hit.is_empty() {
-                let named = self.model.joints.iter().filter(|j| j.name == row.name).count();
+                let named = self
+                    .model
+                    .joints
+                    .iter()
+                    .filter(|j| j.name == row.name)
+                    .count();
                 self.d.push(
                     Diagnostic::new(
                         Code::E0160,
@@ -291,7 +296,9 @@ impl Ctx<'_> {
             if actuator_keys.iter().any(|k| row.get(k).is_some()) {
                 for &i in &hit {
                     let e = &mut table[i];
-                    if edits.actuators.iter().any(|a| a.joint == e.joint) && !e.rows.contains(&row.name) {
+                    if edits.actuators.iter().any(|a| a.joint == e.joint)
+                        && !e.rows.contains(&row.name)
+                    {
                         e.rows.push(row.name.clone());
                     }
                 }

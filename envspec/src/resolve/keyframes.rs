@@ -90,7 +90,11 @@ impl Ctx<'_> {
                             format!(
                                 "the model {} has no keyframe named `{name}` ({} named)",
                                 self.model.path.display(),
-                                self.model.keyframes.iter().filter(|x| !x.is_empty()).count()
+                                self.model
+                                    .keyframes
+                                    .iter()
+                                    .filter(|x| !x.is_empty())
+                                    .count()
                             ),
                         )
                         .at(v.loc.clone())
@@ -122,10 +126,9 @@ impl Ctx<'_> {
         }
         if let Some(v) = s.get("joints") {
             let ValKind::Table(rows) = &v.kind else {
-                self.d.push(v.type_error(
-                    &what("joints"),
-                    "a table of joint name or pattern = value",
-                ));
+                self.d.push(
+                    v.type_error(&what("joints"), "a table of joint name or pattern = value"),
+                );
                 return Some(k);
             };
             let joints: Vec<(String, usize)> = self
@@ -230,7 +233,10 @@ impl Ctx<'_> {
                     _ => {
                         self.e0162(
                             v,
-                            format!("[reset.{}]: `{name}` is not a free joint of the model", s.name),
+                            format!(
+                                "[reset.{}]: `{name}` is not a free joint of the model",
+                                s.name
+                            ),
                             "expected the name of a free joint (a floating base)",
                         );
                         return None;
@@ -266,7 +272,10 @@ impl Ctx<'_> {
             {
                 self.e0162(
                     v,
-                    format!("[reset.{}] {key} = [{lo}, {hi}] is not a finite range", s.name),
+                    format!(
+                        "[reset.{}] {key} = [{lo}, {hi}] is not a finite range",
+                        s.name
+                    ),
                     "expected [low, high] with low ≤ high, within ±1e6",
                 );
                 return None;
