@@ -6,7 +6,10 @@
 use envc::Env;
 use envc::multi_agent::MultiAgentEnv;
 
-const BOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/joint_patterns/bot.toml");
+const BOT: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/fixtures/joint_patterns/bot.toml"
+);
 
 fn edit(old: &str, new: &str) -> std::path::PathBuf {
     let text = std::fs::read_to_string(BOT).unwrap();
@@ -36,7 +39,10 @@ fn later_rows_override_earlier_ones_key_by_key_and_rows_override_actuator_tables
     assert_eq!(&damp[6..], &[0.1, 0.1]);
     // kp 20 from the row overrides the table's 5: gainprm[0] = kp, biasprm[1] = −kp, [2] = −kv.
     assert_eq!((gain[0], gain[10]), (20.0, 20.0));
-    assert_eq!((bias[1], bias[2], bias[11], bias[12]), (-20.0, -1.0, -20.0, -1.0));
+    assert_eq!(
+        (bias[1], bias[2], bias[11], bias[12]),
+        (-20.0, -1.0, -20.0, -1.0)
+    );
     // effort 12.5 on the knee only: forcerange [−12.5, 12.5] and forcelimited.
     assert_eq!(&force[2..], &[-12.5, 12.5]);
     // SAFETY: nu flags.
@@ -55,7 +61,16 @@ fn a_pattern_matching_nothing_and_an_unknown_keyframe_are_located_errors() {
     let e = envc::envspec::load(&p, &[]).unwrap_err();
     let _ = std::fs::remove_file(&p);
     assert_eq!(e.0[0].code, envc::envspec::Code::E0160, "{e}");
-    assert_eq!(e.0[0].location.as_ref().unwrap().file.line_col(e.0[0].location.as_ref().unwrap().span.start).0, 22);
+    assert_eq!(
+        e.0[0]
+            .location
+            .as_ref()
+            .unwrap()
+            .file
+            .line_col(e.0[0].location.as_ref().unwrap().span.start)
+            .0,
+        22
+    );
     let p = edit("keyframe = \"stand\"", "keyframe = \"sit\"");
     let e = envc::envspec::load(&p, &[]).unwrap_err();
     let _ = std::fs::remove_file(&p);
@@ -88,7 +103,10 @@ fn keyframe_reset_then_root_pose_then_joint_noise_match_numpy() {
     let mut env = Env::from_spec_file(BOT, &[]).unwrap();
     let obs = env.reset(Some(7)).0.to_vec();
     for (i, (a, b)) in obs[..9].iter().zip(RESET_SEED_7).enumerate() {
-        assert!((a - b).abs() <= 4.0 * f64::EPSILON, "qpos[{i}]: {a} vs numpy {b}");
+        assert!(
+            (a - b).abs() <= 4.0 * f64::EPSILON,
+            "qpos[{i}]: {a} vs numpy {b}"
+        );
     }
     // joints − default_pose: the pose is the keyframe's (hip 0.2 from "*", knee −0.4 after it).
     assert!((obs[9] - (RESET_SEED_7[7] - 0.2)).abs() < 1e-15);
@@ -122,12 +140,19 @@ fn minus_pairing_different_joints_is_a_warning() {
     let r = r.unwrap();
     assert_eq!(r.warnings.len(), 1);
     assert_eq!(r.warnings[0].code, envc::envspec::Code::W0401);
-    assert!(r.warnings[0].message.contains("2 of 2 places"), "{}", r.warnings[0].message);
+    assert!(
+        r.warnings[0].message.contains("2 of 2 places"),
+        "{}",
+        r.warnings[0].message
+    );
 }
 
 #[test]
 fn agents_read_the_task_commands() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../cli/tests/diff_golden/dynamics");
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../cli/tests/diff_golden/dynamics"
+    );
     let mut ma = MultiAgentEnv::from_spec_file(format!("{dir}/agents_old.toml"), &[]).unwrap();
     let mut task = Env::from_spec_file(format!("{dir}/base.toml"), &[]).unwrap();
     let (obs, _) = ma.reset(Some(3));

@@ -98,6 +98,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 }
 
 /// Print (text) or collect (JSON) one spec's result.
+#[allow(clippy::too_many_arguments)]
 fn report_one(
     args: &Args,
     report: &mut Vec<serde_json::Value>,

@@ -82,14 +82,13 @@ pub(super) fn warnings(spec: &Spec, r: &ResolvedSpec) -> Vec<Diagnostic> {
     }
     for t in &r.reward {
         let v: Vec<&Selection> = t.kind.sources().collect();
-        if let [a, b] = v.as_slice() {
-            if spec
+        if let [a, b] = v.as_slice()
+            && spec
                 .reward
                 .iter()
                 .any(|s| s.name == t.name && s.get("minus").is_some())
-            {
-                check("reward", &t.name, a, b);
-            }
+        {
+            check("reward", &t.name, a, b);
         }
     }
     out
