@@ -485,10 +485,13 @@ pub struct ModelEdits {
     pub joints: Vec<JointEdit>,
     /// Each `[joint_properties]` row resolved: its pattern, the joints it matches and the values
     /// it sets (parameters resolved), for `envc diff`.
-    pub joint_rows: Vec<(String, Vec<String>, Vec<(String, Vec<f64>)>)>,
+    pub joint_rows: Vec<JointRow>,
     /// Keyframes added after the model's own (`[keyframes.*]`).
     pub keyframes: Vec<SpecKeyframe>,
 }
+
+/// A `[joint_properties]` row resolved: (pattern, matched joints, (key, values) it sets).
+pub type JointRow = (String, Vec<String>, Vec<(String, Vec<f64>)>);
 
 /// Properties of one joint set by the spec (`None`: the model's value stays).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -225,10 +225,9 @@ fn blame_overrides(d: Diagnostics, params: &[Param]) -> Diagnostics {
                 .to_string()
         });
         let over = used.and_then(|u| {
-            params.iter().find_map(|p| match &p.origin {
-                Origin::Override(_) if p.name == u => Some(p),
-                _ => None,
-            })
+            params
+                .iter()
+                .find(|p| matches!(p.origin, Origin::Override(_)) && p.name == u)
         });
         if let Some(p) = over
             && !e.message.starts_with("override ")

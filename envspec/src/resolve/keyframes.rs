@@ -264,9 +264,7 @@ impl Ctx<'_> {
         let mut ranges = [(0.0, 0.0); 6];
         for (i, key) in ROOT_POSE_KEYS.iter().enumerate() {
             let Some(v) = s.get(key) else { continue };
-            let Some((lo, hi)) = self.range(v, &format!("reset.{}.{key}", s.name)) else {
-                return None;
-            };
+            let (lo, hi) = self.range(v, &format!("reset.{}.{key}", s.name))?;
             if !(lo.is_finite() && hi.is_finite() && lo <= hi)
                 || lo.abs().max(hi.abs()) > crate::limits::MAX_COORDINATE
             {
