@@ -235,8 +235,7 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
                 // Every model difference, the unclassified residual included, is judged by its
                 // effect when the spec's own changes do not already break: a gain MuJoCo stores
                 // outside the compared arrays must not pass as "no behaviour change".
-                let model_differs =
-                    !changes.is_empty() || report.changes.iter().any(|c| model_file(c));
+                let model_differs = !changes.is_empty() || report.changes.iter().any(&model_file);
                 if !spec_breaks && model_differs {
                     let effect = rollout_difference(&old_r, &new_r);
                     let file_changes = report.changes.iter_mut().filter(|c| model_file(c));
