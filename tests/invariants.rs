@@ -7,6 +7,20 @@ use envc::registry::bundled;
 /// Models of the example specs, passed as `xml_file` overrides.
 const EXAMPLE_MODELS: &[(&str, &str)] = &[
     (
+        "MjlabVelocityFlatG1-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/mjlab/unitree_g1/g1.xml"
+        ),
+    ),
+    (
+        "MjlabVelocityFlatGo1-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/mjlab/unitree_go1/go1.xml"
+        ),
+    ),
+    (
         "Go1-v0",
         concat!(
             env!("CARGO_MANIFEST_DIR"),

@@ -35,6 +35,19 @@ pub fn unsupported(command: &str, id: &str, kind: Kind, why: &str, help: &str) -
     )
 }
 
+/// How a user names a task on the command line: its id when it is bundled, else its file (an id
+/// only a file declares does not open).
+pub fn runnable_name(id: &str, path: &std::path::Path) -> String {
+    if envspec::open::locate(id).is_ok() {
+        return id.to_string();
+    }
+    let cwd = std::env::current_dir().unwrap_or_default();
+    path.strip_prefix(&cwd)
+        .unwrap_or(path)
+        .display()
+        .to_string()
+}
+
 /// E1401: an env without a time limit, and no `--max-steps`.
 pub fn needs_max_steps(command: &str, id: &str, also: &str) -> anyhow::Error {
     anyhow::anyhow!(

@@ -245,6 +245,8 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 }
                 Distribution::Normal { scale } => format!("{scale} × normal"),
                 Distribution::Constant { value } => format!("constant {value}"),
+                Distribution::Keyframe { name, .. } => format!("keyframe `{name}`"),
+                Distribution::RootPose { .. } => "root pose (x, y, z, roll, pitch, yaw)".into(),
             };
             let mode = if s.set { "set" } else { "add" };
             d.push_str(&format!(

@@ -420,6 +420,13 @@ pub fn from_document(
             d.push(v.type_error("selector", "a selector string"));
             return None;
         };
+        // Commands are the task's, not the model's: read them from the base env's buffer.
+        let t = s.trim();
+        if t.starts_with("command")
+            && !t["command".len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+        {
+            return crate::resolve::command_selection(s, &v.loc, &base.commands, d);
+        }
         match selector::resolve(s, &v.loc, model, &no_param) {
             Ok(x) => Some(x),
             Err(e) => {

@@ -190,6 +190,26 @@ pub fn reset_step(r: &ResetStep) -> String {
         }
         Distribution::Normal { scale } => format!("{} × normal(0, 1)", num(*scale)),
         Distribution::Constant { value } => num(*value),
+        Distribution::Keyframe { name, .. } => {
+            return format!("qpos = keyframe `{name}`");
+        }
+        Distribution::RootPose { ranges } => {
+            let v: Vec<String> = crate::resolve::ROOT_POSE_KEYS
+                .iter()
+                .zip(ranges)
+                .filter(|(_, r)| r.0 != 0.0 || r.1 != 0.0)
+                .map(|(k, r)| format!("{k} uniform[{}, {})", num(r.0), num(r.1)))
+                .collect();
+            return format!(
+                "{}: position += (x, y, z), quat ← quat ⊗ euler_xyz(roll, pitch, yaw); {}",
+                sel(&r.target),
+                if v.is_empty() {
+                    "every range 0".into()
+                } else {
+                    v.join(", ")
+                }
+            );
+        }
     };
     let op = if r.set { "=" } else { "= initial +" };
     let until = match r.resample_until {
@@ -210,5 +230,63 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
+    }
+}
+
+/// An added actuator, e.g. `FR_hip_joint: position kp 35 kv 0.5, force [-23.7, 23.7]`.
+pub fn actuator(a: &AddedActuator) -> String {
+    let kind = match a.kind {
+        ActuatorKind::Motor => format!("motor gear {}", num(a.gear)),
+        ActuatorKind::Position { kp, kv } => match kv {
+            Some(kv) => format!("position kp {} kv {}", num(kp), num(kv)),
+            None => format!("position kp {}", num(kp)),
+        },
+        ActuatorKind::Velocity { kv } => format!("velocity kv {}", num(kv)),
+    };
+    let mut s = format!(
+        "{} on {}: {kind}, ctrl {}",
+        a.name,
+        a.joint,
+        range(a.ctrlrange.0, a.ctrlrange.1)
+    );
+    if let Some((lo, hi)) = a.forcerange {
+        s.push_str(&format!(", force {}", range(lo, hi)));
+    }
+    s
+}
+
+/// A joint's spec-set properties, e.g. `FR_hip_joint: armature 0.01, damping 0.5`.
+pub fn joint_edit(j: &JointEdit) -> String {
+    let mut v = vec![];
+    for (k, x) in [
+        ("armature", j.armature),
+        ("damping", j.damping),
+        ("frictionloss", j.frictionloss),
+    ] {
+        if let Some(x) = x {
+            v.push(format!("{k} {}", num(x)));
+        }
+    }
+    format!("{}: {}", j.joint, v.join(", "))
+}
+
+/// A spec keyframe: where it starts and what it writes, by joint name.
+pub fn keyframe(r: &ResolvedSpec, k: &SpecKeyframe) -> String {
+    let base = match k.from {
+        Some(i) => format!(
+            "model keyframe `{}`",
+            r.model.keyframes.get(i).map(String::as_str).unwrap_or("?")
+        ),
+        None => "qpos0".into(),
+    };
+    let vals: Vec<String> = k
+        .values
+        .iter()
+        .map(|(adr, x)| format!("qpos[{adr}] = {}", num(*x)))
+        .collect();
+    if vals.is_empty() {
+        base
+    } else {
+        format!("{base} with {}", vals.join(", "))
     }
 }

@@ -169,6 +169,14 @@ pub enum Code {
     /// An event whose values would leave the field's limits (a timestep outside
     /// (0, `limits::MAX_TIMESTEP`], a negative mass, friction, damping, armature or kp).
     E0153,
+    /// A `[joint_properties]` pattern that matches no hinge or slide joint of the model.
+    E0160,
+    /// A `[joint_properties]` value that does not fit: negative, not a range, or an actuator key
+    /// reaching no actuator (or one of another kind).
+    E0161,
+    /// A `[keyframes.*]` table or a keyframe reset that does not fit: an unknown joint or
+    /// keyframe, values of another count, a root draw on a model without a free joint.
+    E0162,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.
@@ -307,6 +315,9 @@ pub enum Code {
     E1506,
     /// MuJoCo's renderer raised an error (e.g. an offscreen buffer it cannot allocate).
     E1507,
+    /// Warning: `minus` pairs elements of different joints (e.g. `qpos[7:] − default_pose` with
+    /// the actuators in another order than the joints).
+    W0401,
 }
 
 impl fmt::Display for Code {
@@ -363,6 +374,15 @@ impl Diagnostic {
     /// `path:line:col` when the diagnostic has a location.
     pub fn position(&self) -> Option<String> {
         self.location.as_ref().map(Location::position)
+    }
+
+    /// The diagnostic as a warning (`warning[W0401]: …`): the spec is accepted.
+    pub fn warning_text(&self) -> String {
+        let s = self.to_string();
+        match s.strip_prefix("error") {
+            Some(rest) => format!("warning{rest}"),
+            None => s,
+        }
     }
 }
 

@@ -58,6 +58,8 @@ pub struct ResolvedSpec {
     pub corruption: crate::noise::Corruption,
     /// `[events.*]` in spec order (domain randomization and pushes; empty: nothing is drawn).
     pub events: Vec<crate::events::Event>,
+    /// What the spec may not mean (`warning[W…]`): printed by `envc check`, never fatal.
+    pub warnings: Vec<crate::diagnostic::Diagnostic>,
 }
 
 impl ResolvedSpec {
@@ -389,6 +391,17 @@ pub enum Distribution {
     Constant {
         value: f64,
     },
+    /// The whole `qpos` of keyframe `index` (the model's keyframes, then the spec's); no draw.
+    Keyframe {
+        index: usize,
+        name: String,
+    },
+    /// Six uniforms in the order x, y, z, roll, pitch, yaw: the position offsets are added to a
+    /// free joint's position, and `q ← q ⊗ quat_from_euler_xyz(roll, pitch, yaw)` (mjlab's
+    /// `reset_root_state_uniform`). The target is the free joint's 7 `qpos`.
+    RootPose {
+        ranges: [(f64, f64); 6],
+    },
 }
 
 /// Redraw the whole block until its norm satisfies the condition.
@@ -468,6 +481,38 @@ pub struct ModelEdits {
     pub integrator: Option<Integrator>,
     /// Elements added to the model (`[bodies]`, `[sites]`, `[geoms]`, `[cameras]`, `[lights]`).
     pub added: Vec<AddedElement>,
+    /// Joint properties set by `[joint_properties]` rows (resolved per joint, model order).
+    pub joints: Vec<JointEdit>,
+    /// Each `[joint_properties]` row resolved: its pattern, the joints it matches and the values
+    /// it sets (parameters resolved), for `envc diff`.
+    pub joint_rows: Vec<JointRow>,
+    /// Keyframes added after the model's own (`[keyframes.*]`).
+    pub keyframes: Vec<SpecKeyframe>,
+}
+
+/// A `[joint_properties]` row resolved: (pattern, matched joints, (key, values) it sets).
+pub type JointRow = (String, Vec<String>, Vec<(String, Vec<f64>)>);
+
+/// Properties of one joint set by the spec (`None`: the model's value stays).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointEdit {
+    pub joint: String,
+    pub armature: Option<f64>,
+    pub damping: Option<f64>,
+    pub frictionloss: Option<f64>,
+    /// The `[joint_properties]` row (pattern) that set each value last, for `envc show`.
+    pub rows: Vec<String>,
+}
+
+/// A keyframe a spec declares (`[keyframes.<name>]`): the compiled model's `qpos0` (or the
+/// model keyframe it starts `from`), with the spec's values written at their `qpos` addresses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecKeyframe {
+    pub name: String,
+    /// A model keyframe to start from (its index), else `qpos0`.
+    pub from: Option<usize>,
+    /// (qpos address, value), in the order written.
+    pub values: Vec<(usize, f64)>,
 }
 
 /// A model element a spec adds. Bodies hang from the world, after the model's own bodies, so
@@ -519,16 +564,20 @@ pub enum AddedGeomType {
     Box,
     Capsule,
     Cylinder,
+    /// An infinite collision plane (size: half-lengths drawn, 0 = infinite, and grid spacing);
+    /// MuJoCo takes planes on static bodies only (the world or a body without joints).
+    Plane,
 }
 
 impl AddedGeomType {
-    pub const NAMES: &'static [&'static str] = &["sphere", "box", "capsule", "cylinder"];
+    pub const NAMES: &'static [&'static str] = &["sphere", "box", "capsule", "cylinder", "plane"];
     pub fn parse(s: &str) -> Option<AddedGeomType> {
         Some(match s {
             "sphere" => AddedGeomType::Sphere,
             "box" => AddedGeomType::Box,
             "capsule" => AddedGeomType::Capsule,
             "cylinder" => AddedGeomType::Cylinder,
+            "plane" => AddedGeomType::Plane,
             _ => return None,
         })
     }
@@ -540,6 +589,8 @@ impl ModelEdits {
             && self.timestep.is_none()
             && self.integrator.is_none()
             && self.added.is_empty()
+            && self.joints.is_empty()
+            && self.keyframes.is_empty()
     }
 }
 
@@ -547,6 +598,8 @@ impl ModelEdits {
 #[derive(Clone, Debug, PartialEq)]
 pub struct AddedActuator {
     pub name: String,
+    /// The `[actuators.<section>]` table that added it.
+    pub section: String,
     pub joint: String,
     pub kind: ActuatorKind,
     pub gear: f64,

@@ -16,7 +16,11 @@ mod commands;
 mod edits;
 mod events;
 mod goal;
+mod keyframes;
+pub(crate) use commands::command_selection;
+pub use keyframes::ROOT_POSE_KEYS;
 mod noise;
+mod pairing;
 
 struct Ctx<'a> {
     spec: &'a Spec,
@@ -185,7 +189,9 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         actions,
         corruption,
         events,
+        warnings: vec![],
     };
+    resolved.warnings = pairing::warnings(spec, &resolved);
     let rne = resolved
         .sources()
         .any(|s| s.field.needs_rne_post_constraint());
@@ -201,7 +207,44 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
             .label("expected an [actions] table with default_pose, or another selector"),
         );
     }
+    let d = blame_overrides(d, &params);
     d.into_result(resolved)
+}
+
+/// An error about a value that came from an override is the override's: its message names the
+/// override first (`--set name=value` on the command line, the keyword `name=value` in Python),
+/// and the spec line that uses the parameter stays as context.
+fn blame_overrides(d: Diagnostics, params: &[Param]) -> Diagnostics {
+    let mut out = Diagnostics::default();
+    for mut e in d.0 {
+        let used = e.location.as_ref().map(|l| {
+            l.file.text[l.span.clone()]
+                .trim()
+                .trim_matches('"')
+                .trim_start_matches(['-', '+'])
+                .to_string()
+        });
+        let over = used.and_then(|u| {
+            params
+                .iter()
+                .find(|p| matches!(p.origin, Origin::Override(_)) && p.name == u)
+        });
+        if let Some(p) = over
+            && !e.message.starts_with("override ")
+        {
+            e.message = format!(
+                "override `{}={}` (`--set {0}=…`, or the keyword `{0}=…` in Python): {}",
+                p.name, p.value, e.message
+            );
+            let context = "the spec uses the parameter here; its value comes from the override";
+            e.label = Some(match e.label.take() {
+                Some(l) => format!("{l} ({context})"),
+                None => context.to_string(),
+            });
+        }
+        out.push(e);
+    }
+    out
 }
 
 /// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the
@@ -228,6 +271,8 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
             let v = norm(&|_| *value);
             (v, v)
         }
+        // (no `resample_until` on these kinds)
+        Distribution::Keyframe { .. } | Distribution::RootPose { .. } => (0.0, f64::INFINITY),
     };
     match until {
         Until::NormBelow(x) if x <= 0.0 => Some(format!("a norm is never below {x}")),
@@ -1003,6 +1048,10 @@ impl Ctx<'_> {
     fn reset(&mut self) -> Vec<ResetStep> {
         let mut out = vec![];
         for s in &self.spec.reset {
+            if let Some(step) = self.keyframe_reset(s) {
+                out.extend(step);
+                continue;
+            }
             let Some(target) = self.sel_key(s, "target") else {
                 continue;
             };
@@ -1066,6 +1115,7 @@ impl Ctx<'_> {
                 }
                 Distribution::Normal { scale } => scale.abs(),
                 Distribution::Constant { value } => value.abs(),
+                Distribution::Keyframe { .. } | Distribution::RootPose { .. } => 0.0,
             };
             if widest > limits::MAX_COORDINATE {
                 let at = ["scale", "low", "high", "value"]
@@ -1174,9 +1224,14 @@ impl Ctx<'_> {
         };
         match &v.kind {
             ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, key)).collect(),
-            ValKind::Array(_) => {
-                self.d
-                    .push(v.type_error(key, &format!("a number or an array of {n} numbers")));
+            ValKind::Array(a) => {
+                self.d.push(v.type_error(
+                    key,
+                    &format!(
+                        "a number or an array of {n} numbers (one per target element; {} given)",
+                        a.len()
+                    ),
+                ));
                 None
             }
             _ => self.num(v, key).map(|x| vec![x; n]),

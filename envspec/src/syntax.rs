@@ -69,6 +69,11 @@ pub struct Spec {
     pub termination: Vec<Section>,
     /// `[actuators.<name>]`: actuators added to the model when it is loaded.
     pub actuators: Vec<Section>,
+    /// `[joint_properties."<glob>"]`: joint and actuator properties by joint-name pattern, one
+    /// section per row (its name is the pattern), in file order.
+    pub joint_properties: Vec<Section>,
+    /// `[keyframes.<name>]`: keyframes added to the model, by joint name or pattern.
+    pub keyframes: Vec<Section>,
     /// `[physics]`: simulation options set when the model is loaded.
     pub physics: Option<Section>,
     /// `[bodies.<name>]`, `[sites.<name>]`, `[geoms.<name>]`, `[cameras.<name>]`,
@@ -166,6 +171,8 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "info",
     "termination",
     "actuators",
+    "joint_properties",
+    "keyframes",
     "physics",
     "bodies",
     "sites",
@@ -252,7 +259,14 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
     ("uniform", &["scale", "low", "high", "resample_until"]),
     ("normal", &["scale"]),
     ("constant", &["value"]),
+    ("keyframe", &["keyframe"]),
+    (
+        "root_pose",
+        &["joint", "x", "y", "z", "roll", "pitch", "yaw"],
+    ),
 ];
+/// Keys of `[keyframes.<name>]`.
+pub const KEYFRAME_KEYS: &[&str] = &["from", "root_pos", "root_quat", "joints", "doc"];
 
 /// Info kinds of `[info.*]` with the keys each accepts besides the common ones (`INFO_COMMON`).
 /// `term` takes `term` (a reward term's name) instead of `source`.
@@ -278,6 +292,19 @@ pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["kv"]),
 ];
 const ACTUATOR_COMMON: &[&str] = &["joint", "kind", "gear", "ctrlrange", "forcerange", "doc"];
+/// Keys of a `[joint_properties]` row: joint keys, then keys of the joints' added actuators.
+pub const JOINT_PROPERTY_KEYS: &[&str] = &[
+    "armature",
+    "damping",
+    "frictionloss",
+    "kp",
+    "kv",
+    "effort",
+    "forcerange",
+    "ctrlrange",
+    "gear",
+    "doc",
+];
 /// Event kinds of `[events.*]` with the keys each accepts besides `EVENT_COMMON`.
 pub const EVENT_KINDS: &[(&str, &[&str])] = &[
     (
@@ -363,6 +390,8 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         reset: vec![],
         info: vec![],
         actuators: vec![],
+        joint_properties: vec![],
+        keyframes: vec![],
         physics: None,
         added: vec![],
         commands: vec![],
@@ -512,7 +541,12 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             &["target", "kind", "mode", "doc"],
             d,
         );
-        require(s, "target", &format!("[reset.{}]", s.name), d);
+        // (a keyframe sets every qpos; a root pose draw finds the free joint's)
+        match s.kind("") {
+            "keyframe" => require(s, "keyframe", &format!("[reset.{}]", s.name), d),
+            "root_pose" => {}
+            _ => require(s, "target", &format!("[reset.{}]", s.name), d),
+        }
     }
 
     spec.info = sections(get("info"), "info", &[], d);
@@ -549,6 +583,24 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             d,
         );
         require(s, "joint", &format!("[actuators.{}]", s.name), d);
+    }
+    spec.joint_properties = sections(get("joint_properties"), "joint_properties", &[], d);
+    for s in &spec.joint_properties {
+        check_keys(
+            &s.entries,
+            JOINT_PROPERTY_KEYS,
+            &format!("[joint_properties.\"{}\"]", s.name),
+            d,
+        );
+    }
+    spec.keyframes = sections(get("keyframes"), "keyframes", &[], d);
+    for s in &spec.keyframes {
+        check_keys(
+            &s.entries,
+            KEYFRAME_KEYS,
+            &format!("[keyframes.{}]", s.name),
+            d,
+        );
     }
     for (kind, table_name, keys) in AddedKind::ALL {
         for s in sections(get(table_name), table_name, &[], d) {

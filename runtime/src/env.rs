@@ -714,6 +714,31 @@ impl Env {
         for (k, step) in self.spec.reset.iter().enumerate() {
             let n = step.target.len();
             let draw = &mut self.draw[..n];
+            match &step.dist {
+                Distribution::Keyframe { index, .. } => {
+                    let m = self.sim.model.ffi();
+                    // SAFETY: key_qpos has nkey × nq entries; the resolver checked the index
+                    // against the model's keyframes and the env's model check their count.
+                    let key = unsafe { std::slice::from_raw_parts(m.key_qpos.add(index * nq), nq) };
+                    qpos.copy_from_slice(key);
+                    continue;
+                }
+                Distribution::RootPose { ranges } => {
+                    let mut x = [0.0; 6];
+                    for (v, r) in x.iter_mut().zip(ranges) {
+                        *v = rng.uniform(r.0, r.1);
+                    }
+                    let a = step.target.indices[0];
+                    for i in 0..3 {
+                        qpos[a + i] += x[i];
+                    }
+                    let q = [qpos[a + 3], qpos[a + 4], qpos[a + 5], qpos[a + 6]];
+                    let d = quat_from_euler_xyz(x[3], x[4], x[5]);
+                    qpos[a + 3..a + 7].copy_from_slice(&quat_mul(q, d));
+                    continue;
+                }
+                _ => {}
+            }
             // The reference redraws for ever; envc gives up after a bound no real spec reaches.
             for attempt in 1.. {
                 match &step.dist {
@@ -728,6 +753,7 @@ impl Env {
                         }
                     }
                     Distribution::Constant { value } => draw.fill(*value),
+                    Distribution::Keyframe { .. } | Distribution::RootPose { .. } => {}
                 }
                 let done = match step.resample_until {
                     None => true,
@@ -1351,4 +1377,29 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel, world_sites: usize) -> Resu
         )));
     }
     Ok(())
+}
+
+/// mjlab's `quat_from_euler_xyz` (w, x, y, z), term for term in its order of operations.
+fn quat_from_euler_xyz(roll: f64, pitch: f64, yaw: f64) -> [f64; 4] {
+    let (cy, sy) = ((yaw * 0.5).cos(), (yaw * 0.5).sin());
+    let (cr, sr) = ((roll * 0.5).cos(), (roll * 0.5).sin());
+    let (cp, sp) = ((pitch * 0.5).cos(), (pitch * 0.5).sin());
+    [
+        cy * cr * cp + sy * sr * sp,
+        cy * sr * cp - sy * cr * sp,
+        cy * cr * sp + sy * sr * cp,
+        sy * cr * cp - cy * sr * sp,
+    ]
+}
+
+/// The Hamilton product `a ⊗ b` (w, x, y, z).
+fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    let [w1, x1, y1, z1] = a;
+    let [w2, x2, y2, z2] = b;
+    [
+        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+    ]
 }

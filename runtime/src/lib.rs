@@ -25,6 +25,7 @@ pub mod events;
 pub mod goal;
 pub mod gymnasium;
 pub mod inventory;
+pub mod joint_table;
 mod latency;
 pub mod maze;
 pub mod memory;

@@ -89,7 +89,33 @@ pub(crate) fn compile_edited(
     path: &std::path::Path,
     edits: &ModelEdits,
 ) -> Result<MjModel, String> {
-    crate::mujoco_catch::compile(&mut load_edited(path, edits)?)
+    let mut model = crate::mujoco_catch::compile(&mut load_edited(path, edits)?)?;
+    fill_keyframes(edits, &mut model);
+    Ok(model)
+}
+
+/// Write the spec's keyframes into the compiled model: MuJoCo compiled them as `qpos0` (the
+/// spec gave no qpos), so copy the model keyframe each starts `from`, then the spec's values.
+pub(crate) fn fill_keyframes(edits: &ModelEdits, model: &mut MjModel) {
+    if edits.keyframes.is_empty() {
+        return;
+    }
+    // SAFETY: we own the model and no data uses it yet; key_qpos has nkey × nq entries, the
+    // spec's keyframes are the last ones and every address is below nq (envspec resolved them
+    // against the model's joints).
+    let m = unsafe { model.ffi_mut() };
+    let (nq, nkey) = (m.nq as usize, m.nkey as usize);
+    let first = nkey - edits.keyframes.len();
+    let keys = unsafe { std::slice::from_raw_parts_mut(m.key_qpos, nkey * nq) };
+    for (i, k) in edits.keyframes.iter().enumerate() {
+        let row = (first + i) * nq;
+        if let Some(from) = k.from {
+            keys.copy_within(from * nq..from * nq + nq, row);
+        }
+        for &(adr, x) in &k.values {
+            keys[row + adr] = x;
+        }
+    }
 }
 
 /// Load the model file into an mjSpec and apply the edits (a maze then adds its world).
@@ -112,6 +138,25 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
     for a in &edits.actuators {
         add_actuator(&mut spec, a)?;
     }
+    for k in &edits.keyframes {
+        spec.add_key()
+            .set_name(&k.name)
+            .map_err(|e| format!("cannot add keyframe `{}`: {e}", k.name))?;
+    }
+    for j in &edits.joints {
+        let joint = spec
+            .joint_mut(&j.joint)
+            .ok_or_else(|| format!("no joint `{}` to set properties of", j.joint))?;
+        if let Some(x) = j.armature {
+            joint.set_armature(x);
+        }
+        if let Some(x) = j.damping {
+            joint.damping_mut()[0] = x;
+        }
+        if let Some(x) = j.frictionloss {
+            joint.set_frictionloss(x);
+        }
+    }
     Ok(spec)
 }
 
@@ -121,6 +166,7 @@ fn geom_type(t: AddedGeomType) -> MjtGeomBase {
         AddedGeomType::Box => MjtGeomBase::mjGEOM_BOX,
         AddedGeomType::Capsule => MjtGeomBase::mjGEOM_CAPSULE,
         AddedGeomType::Cylinder => MjtGeomBase::mjGEOM_CYLINDER,
+        AddedGeomType::Plane => MjtGeomBase::mjGEOM_PLANE,
     }
 }
 

@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                 if let envc::AnySpec::Agents(a) = &spec {
                     let d = crate::commands::multi_agent::check_confs(a, &overrides);
                     if !d.is_empty() {
-                        report_one(&args, &mut report, &mut failed, s, kind, d, None);
+                        report_one(&args, &mut report, &mut failed, s, kind, d, None, &[]);
                         continue;
                     }
                 }
@@ -72,7 +72,20 @@ pub fn run(args: Args) -> Result<Outcome> {
             }
             Err(d) => (None, d.0, None),
         };
-        report_one(&args, &mut report, &mut failed, s, kind, diags, extra);
+        let warnings = match envspec::open(s, &overrides) {
+            Ok(envc::AnySpec::Task(r)) => r.warnings.clone(),
+            _ => vec![],
+        };
+        report_one(
+            &args,
+            &mut report,
+            &mut failed,
+            s,
+            kind,
+            diags,
+            extra,
+            &warnings,
+        );
     }
     if args.format == Format::Json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -85,6 +98,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 }
 
 /// Print (text) or collect (JSON) one spec's result.
+#[allow(clippy::too_many_arguments)]
 fn report_one(
     args: &Args,
     report: &mut Vec<serde_json::Value>,
@@ -93,9 +107,15 @@ fn report_one(
     kind: Option<envspec::Kind>,
     diags: Vec<Diagnostic>,
     extra: Option<String>,
+    warnings: &[Diagnostic],
 ) {
     let ok = diags.is_empty() && extra.is_none();
     *failed += usize::from(!ok);
+    if args.format == Format::Text {
+        for w in warnings {
+            eprint!("{}", w.warning_text());
+        }
+    }
     match args.format {
         Format::Text if ok => println!("ok {s}"),
         Format::Text => {
@@ -111,6 +131,7 @@ fn report_one(
         Format::Json => report.push(serde_json::json!({
             "spec": s, "kind": kind, "ok": ok,
             "errors": diags.iter().map(json).collect::<Vec<_>>(), "compile_error": extra,
+            "warnings": warnings.iter().map(json).collect::<Vec<_>>(),
         })),
     }
 }

@@ -160,7 +160,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             "records single-agent Minari datasets",
             &format!(
                 "collect its base task instead: `envc collect {} ...`",
-                env.spec().base.id
+                crate::target::runnable_name(&env.spec().base.id, &env.spec().base.spec_path)
             ),
         )),
     }

@@ -42,8 +42,10 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
                     envspec::Kind::Agents => format!(
                         "Minari datasets are single-agent: record the base task with `envc collect {} --dataset-id ...`",
                         match &spec {
-                            envc::AnySpec::Agents(a) => a.base.id.as_str(),
-                            _ => what,
+                            envc::AnySpec::Agents(a) => {
+                                crate::target::runnable_name(&a.base.id, &a.base.spec_path)
+                            }
+                            _ => what.to_string(),
                         }
                     ),
                     _ => format!("record one with `envc collect {what} --dataset-id ...`"),

@@ -232,16 +232,30 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
                 // (Pointing `xml_file` at another file is judged by what the models do.)
                 let model_file = |c: &Change| c.subject == "param xml_file";
                 let spec_breaks = report.changes.iter().any(|c| c.breaking && !model_file(c));
-                if !spec_breaks
-                    && (changes.iter().any(|c| c.breaking)
-                        || report.changes.iter().any(|c| c.breaking && model_file(c)))
-                    && rollout_unchanged(&old_r, &new_r)
-                {
+                // Every model difference, the unclassified residual included, is judged by its
+                // effect when the spec's own changes do not already break: a gain MuJoCo stores
+                // outside the compared arrays must not pass as "no behaviour change".
+                let model_differs = !changes.is_empty() || report.changes.iter().any(&model_file);
+                if !spec_breaks && model_differs {
+                    let effect = rollout_difference(&old_r, &new_r);
                     let file_changes = report.changes.iter_mut().filter(|c| model_file(c));
                     for c in changes.iter_mut().chain(file_changes) {
-                        c.breaking = false;
+                        let (breaking, said) = match &effect {
+                            None => (
+                                false,
+                                format!(
+                                    "no effect on a rollout: {ROLLOUT_STEPS} steps of seeded random actions (seed 0, resets included) are bit-identical"
+                                ),
+                            ),
+                            Some(w) => (true, w.clone()),
+                        };
+                        // (a file named differently that compiles to the same model stays as it was)
+                        if c.rule == envspec::diff::RuleId::ModelFileChanged {
+                            continue;
+                        }
+                        c.breaking = breaking;
                         c.witness = Some(format!(
-                            "no effect on a rollout: {ROLLOUT_STEPS} steps of seeded random actions (seed 0, resets included) are bit-identical{}",
+                            "{said}{}",
                             c.witness
                                 .as_deref()
                                 .map(|w| format!("; {w}"))
@@ -302,41 +316,81 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
 /// Steps of the rollout that decides whether a model change reaches the task.
 const ROLLOUT_STEPS: usize = 300;
 
-/// Whether the two specs give bit-identical rollouts: same seed (0), the same uniformly random
-/// actions, resets included. A check of effect, not of equality: identical models always pass.
-fn rollout_unchanged(old_r: &envspec::ResolvedSpec, new_r: &envspec::ResolvedSpec) -> bool {
+/// How the two specs' rollouts differ (None: bit-identical): same seed (0), the same uniformly
+/// random actions, resets included. A check of effect, not of equality: identical models always
+/// pass.
+fn rollout_difference(
+    old_r: &envspec::ResolvedSpec,
+    new_r: &envspec::ResolvedSpec,
+) -> Option<String> {
     let open = |r: &envspec::ResolvedSpec| envc::Env::new(std::sync::Arc::new(r.clone())).ok();
     let (Some(mut a), Some(mut b)) = (open(old_r), open(new_r)) else {
-        return false;
+        return Some("one of the two envs could not be built to compare rollouts".into());
     };
     if a.act_dim() != b.act_dim() || a.obs_dim() != b.obs_dim() {
-        return false;
+        return Some(format!(
+            "the spaces differ: action {} → {}, observation {} → {}",
+            a.act_dim(),
+            b.act_dim(),
+            a.obs_dim(),
+            b.obs_dim()
+        ));
     }
     let space = a.action_space().clone();
     let mut rng = envc::rng::NumpyRng::from_seed(0);
     let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-    if bits(a.reset(Some(0)).0) != bits(b.reset(Some(0)).0) {
-        return false;
+    // The largest observation difference, and where.
+    let apart = |x: &[f64], y: &[f64]| {
+        x.iter()
+            .zip(y)
+            .enumerate()
+            .map(|(i, (p, q))| (i, (p - q).abs()))
+            .fold(
+                (0, 0.0f64),
+                |m, d| if d.1 > m.1 || d.1.is_nan() { d } else { m },
+            )
+    };
+    let differ = |step: usize, what: &str, x: &[f64], y: &[f64]| {
+        let (i, d) = apart(x, y);
+        Some(format!(
+            "rollouts differ from step {step} of {ROLLOUT_STEPS} (seed 0, seeded random actions): {what}; largest observation difference {d:.3e} at obs[{i}]"
+        ))
+    };
+    let (ra, rb) = (a.reset(Some(0)).0.to_vec(), b.reset(Some(0)).0.to_vec());
+    if bits(&ra) != bits(&rb) {
+        return differ(0, "the reset observation differs", &ra, &rb);
     }
     let mut action = vec![0.0; space.dim()];
-    for _ in 0..ROLLOUT_STEPS {
+    for t in 1..=ROLLOUT_STEPS {
         for (i, x) in action.iter_mut().enumerate() {
             *x = rng.uniform(space.low[i], space.high[i]);
         }
         let (Ok(sa), Ok(sb)) = (a.step(&action), b.step(&action)) else {
-            return false;
+            return Some(format!("a step failed on one side at step {t}"));
         };
-        let same = bits(sa.obs) == bits(sb.obs)
-            && sa.reward.to_bits() == sb.reward.to_bits()
-            && (sa.terminated, sa.truncated) == (sb.terminated, sb.truncated);
-        if !same {
-            return false;
+        let (oa, ob) = (sa.obs.to_vec(), sb.obs.to_vec());
+        if bits(&oa) != bits(&ob) {
+            return differ(t, "the observation differs", &oa, &ob);
         }
-        if (sa.terminated || sa.truncated) && bits(a.reset(None).0) != bits(b.reset(None).0) {
-            return false;
+        if sa.reward.to_bits() != sb.reward.to_bits() {
+            return differ(
+                t,
+                &format!("the reward differs ({} → {})", sa.reward, sb.reward),
+                &oa,
+                &ob,
+            );
+        }
+        if (sa.terminated, sa.truncated) != (sb.terminated, sb.truncated) {
+            return differ(t, "the episode ends on one side only", &oa, &ob);
+        }
+        if sa.terminated || sa.truncated {
+            let (ra, rb) = (a.reset(None).0.to_vec(), b.reset(None).0.to_vec());
+            if bits(&ra) != bits(&rb) {
+                return differ(t, "the next reset differs", &ra, &rb);
+            }
         }
     }
-    true
+    None
 }
 
 fn model_changes(

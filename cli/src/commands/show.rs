@@ -165,6 +165,10 @@ pub fn run(args: Args) -> Result<Outcome> {
         writeln!(o, "  default_pose = {pose:?}")?;
     }
 
+    if !spec.model_edits.actuators.is_empty() || !spec.model_edits.joints.is_empty() {
+        joints(&mut o, &env)?;
+    }
+
     writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;
     for t in &spec.reward {
         let info = t
@@ -299,6 +303,90 @@ fn randomization(o: &mut String, env: &envc::Env) -> Result<()> {
             num(r.range.0),
             num(r.range.1)
         )?;
+    }
+    Ok(())
+}
+
+/// The resolved per-joint table (`[actuators.*]` and `[joint_properties]`), from the compiled
+/// model.
+fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
+    let rows = envc::joint_table::joint_table(env);
+    let opt = |x: Option<f64>| x.map(num).unwrap_or("-".into());
+    let range = |r: Option<(f64, f64)>| {
+        r.map(|(a, b)| format!("[{}, {}]", num(a), num(b)))
+            .unwrap_or("-".into())
+    };
+    let cells: Vec<[String; 12]> = rows
+        .iter()
+        .map(|r| {
+            [
+                r.joint.clone(),
+                r.actuator
+                    .as_ref()
+                    .map(|(n, i)| format!("{i}:{n}"))
+                    .unwrap_or("-".into()),
+                r.kind.to_string(),
+                opt(r.kp),
+                opt(r.kv),
+                opt(r.gear),
+                range(r.forcerange),
+                range(r.ctrlrange),
+                num(r.armature),
+                num(r.damping),
+                num(r.frictionloss),
+                if r.rows.is_empty() {
+                    "-".into()
+                } else {
+                    r.rows.join(", ")
+                },
+            ]
+        })
+        .collect();
+    let head = [
+        "joint",
+        "actuator",
+        "kind",
+        "kp",
+        "kv",
+        "gear",
+        "forcerange",
+        "ctrlrange",
+        "armature",
+        "damping",
+        "frictionloss",
+        "[joint_properties] rows",
+    ];
+    let w: Vec<usize> = (0..12)
+        .map(|i| {
+            cells
+                .iter()
+                .map(|c| c[i].chars().count())
+                .chain([head[i].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    writeln!(
+        o,
+        "\njoints ({} hinge and slide; values from the compiled model; rows apply in file order, later ones win):",
+        rows.len()
+    )?;
+    let line = |c: &[&str]| {
+        let mut s = String::from(" ");
+        for (i, x) in c.iter().enumerate() {
+            let pad = w[i] - x.chars().count().min(w[i]);
+            s.push(' ');
+            s.push_str(x);
+            if i + 1 < c.len() {
+                s.push_str(&" ".repeat(pad + 1));
+            }
+        }
+        s
+    };
+    writeln!(o, "{}", line(&head))?;
+    for c in &cells {
+        let c: Vec<&str> = c.iter().map(String::as_str).collect();
+        writeln!(o, "{}", line(&c))?;
     }
     Ok(())
 }

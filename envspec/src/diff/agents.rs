@@ -107,6 +107,20 @@ fn agent_changes(x: &Agent, y: &Agent, conf: &str, k: usize, out: &mut Vec<Chang
     }
 }
 
+/// The line of `key = ...` in a spec file (the first one, as the `[agents]` table holds it).
+fn key_line(path: &Path, key: &str) -> Option<super::Pos> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let line = text.lines().position(|l| {
+        l.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|r| r.trim_start().starts_with('='))
+    })?;
+    Some(super::Pos {
+        file: path.display().to_string(),
+        line: line + 1,
+    })
+}
+
 /// Semantic diff of two multi-agent specs (`[agents]` files).
 pub fn diff_agents(old_path: &Path, new_path: &Path) -> Result<Report, Diagnostics> {
     let old = load(old_path, &[])?;
@@ -117,6 +131,33 @@ pub fn diff_agents(old_path: &Path, new_path: &Path) -> Result<Report, Diagnosti
     report.old_file = old_path.display().to_string();
     report.new_file = new_path.display().to_string();
     let mut changes = vec![];
+    // What a user who passes neither `agent_conf` nor `agent_obsk` gets.
+    let at = |path: &Path, key: &str| key_line(path, key);
+    if old.conf != new.conf {
+        changes.push(
+            Change::new(RuleId::AgentsDefaultConfChanged, "agents", "default agent_conf")
+                .values(Some(old.conf.clone()), Some(new.conf.clone()))
+                .at(at(old_path, "agent_conf"), at(new_path, "agent_conf"))
+                .witness(format!(
+                    "without `agent_conf`, users get the `{}` factorization instead of `{}`: {} agents instead of {}; their policies, action splits and observations no longer fit",
+                    new.conf,
+                    old.conf,
+                    new.agents.len(),
+                    old.agents.len()
+                )),
+        );
+    }
+    if old.k != new.k {
+        changes.push(
+            Change::new(RuleId::AgentsDefaultObskChanged, "agents", "default agent_obsk")
+                .values(Some(old.k.to_string()), Some(new.k.to_string()))
+                .at(at(old_path, "agent_obsk"), at(new_path, "agent_obsk"))
+                .witness(format!(
+                    "without `agent_obsk`, every agent observes its neighbours {} hops away instead of {}: local observations change size and layout",
+                    new.k, old.k
+                )),
+        );
+    }
     for c in &old.confs {
         if !new.confs.contains(c) {
             changes.push(

@@ -172,6 +172,8 @@ enum DistKey {
     Uniform(Vec<Bits>, Vec<Bits>),
     Normal(Bits),
     Constant(Bits),
+    Keyframe(usize),
+    RootPose(Vec<Bits>),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -193,6 +195,10 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
         Distribution::Uniform { low, high } => DistKey::Uniform(bits_all(low), bits_all(high)),
         Distribution::Normal { scale } => DistKey::Normal(bits(*scale)),
         Distribution::Constant { value } => DistKey::Constant(bits(*value)),
+        Distribution::Keyframe { index, .. } => DistKey::Keyframe(*index),
+        Distribution::RootPose { ranges } => {
+            DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
+        }
     };
     ResetKey {
         target: sel(&r.target),

@@ -19,11 +19,17 @@ fn mode_text(m: &EventMode) -> String {
     }
 }
 
-fn mode_effect(m: &EventMode) -> &'static str {
-    match m {
-        EventMode::Startup => "drawn once per seed",
-        EventMode::Reset => "drawn every episode",
-        EventMode::Interval { .. } => "drawn during episodes",
+/// When an event draws, in words; an interval says its period, so two intervals read apart.
+fn mode_effect(m: &EventMode) -> String {
+    match *m {
+        EventMode::Startup => "drawn once per seed".into(),
+        EventMode::Reset => "drawn every episode".into(),
+        EventMode::Interval { low, high } if low == high => {
+            format!("drawn every {low} s during episodes")
+        }
+        EventMode::Interval { low, high } => {
+            format!("drawn every {low}–{high} s during episodes")
+        }
     }
 }
 

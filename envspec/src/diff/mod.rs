@@ -117,6 +117,50 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     info::info_items(&mut cx);
     commands::commands(&mut cx);
     commands::actions(&mut cx);
+    // Model edits, judged by what they resolve to: the actuators a table adds, the whole
+    // per-joint table (rows override each other), a keyframe's positions.
+    sections::sections(
+        &mut cx,
+        &sections::ACTUATORS,
+        &old.actuators,
+        &new.actuators,
+        &|r: &ResolvedSpec, n: &str| {
+            let a: Vec<&crate::ir::AddedActuator> = r
+                .model_edits
+                .actuators
+                .iter()
+                .filter(|a| a.section == n)
+                .collect();
+            (!a.is_empty()).then(|| format!("{a:?}"))
+        },
+    );
+    sections::sections(
+        &mut cx,
+        &sections::JOINT_PROPERTIES,
+        &old.joint_properties,
+        &new.joint_properties,
+        &|r: &ResolvedSpec, n: &str| {
+            // What the row itself sets, on which joints (actuator tables are diffed on their own).
+            r.model_edits
+                .joint_rows
+                .iter()
+                .find(|row| row.0 == n)
+                .map(|row| format!("{:?} {:?}", row.1, row.2))
+        },
+    );
+    sections::sections(
+        &mut cx,
+        &sections::KEYFRAMES,
+        &old.keyframes,
+        &new.keyframes,
+        &|r: &ResolvedSpec, n: &str| {
+            r.model_edits
+                .keyframes
+                .iter()
+                .find(|k| k.name == n)
+                .map(|k| format!("{k:?}"))
+        },
+    );
     events::events(&mut cx);
 
     let mut report = Report::new(

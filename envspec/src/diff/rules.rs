@@ -273,13 +273,13 @@ rules! {
     ModelOptionChanged = "model-option-changed", Dynamics, true,
         "A physics option (timestep, gravity, density, viscosity, integrator, solver, iterations) changed.";
     ModelArrayChanged = "model-array-changed", Dynamics, true,
-        "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; gear) differs (witness: the rows).";
+        "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; actuator gear, gains, biases, dynamics, types and force range) differs (witness: the rows).";
     ModelActuatorArrayChanged = "model-actuator-array-changed", Action, true,
         "An actuator's control range or transmission target changed: the action space or what an action entry drives.";
     ModelQpos0Changed = "model-qpos0-changed", Reset, true,
-        "The model's reference configuration qpos0 changed: resets start elsewhere.";
-    ModelBinaryChanged = "model-binary-changed", Dynamics, false,
-        "The compiled models differ only outside the compared arrays (visuals, names, other options); listed for review, not counted as breaking.";
+        "The model's reference configuration qpos0, or a keyframe's qpos, changed: resets (and poses read from keyframes) start elsewhere.";
+    ModelBinaryChanged = "model-binary-changed", Dynamics, true,
+        "The compiled models differ only outside the compared arrays (visuals, names, other options); breaking when a rollout shows an effect, compatible when it shows none.";
     ModelFileChanged = "model-file-changed", Documentation, false,
         "The spec names another model file, and the two compile to identical models.";
 
@@ -298,6 +298,10 @@ rules! {
         "An agent's local observation has other elements (witness: the first differing index).";
     AgentsObservationValuesChanged = "agents-observation-values-changed", Observation, true,
         "An agent's local observation has the same elements, clipped or transformed differently.";
+    AgentsDefaultConfChanged = "agents-default-conf-changed", Action, true,
+        "The default factorization (`agent_conf`) changed: users who pass none get other agents, other action splits and other observations.";
+    AgentsDefaultObskChanged = "agents-default-obsk-changed", Observation, true,
+        "The default observation depth (`agent_obsk`) changed: users who pass none get other local observations.";
 
     // Maze specs.
     MazeIdChanged = "maze-id-changed", Documentation, false,
@@ -370,6 +374,37 @@ rules! {
         "The action scale, default pose or action range changed: the same action means another joint target.";
     ActionsGainsChanged = "actions-gains-changed", Action, true,
         "PD gains or joint damping changed: the same target is tracked differently (the dynamics the policy learned changes).";
+    // Model edits a spec makes (`[actuators.*]`, `[joint_properties]`, `[keyframes.*]`).
+    ActuatorsAdded = "actuators-added", Action, true,
+        "An `[actuators.*]` table was added: the action gains entries (and the physics a drive).";
+    ActuatorsRemoved = "actuators-removed", Action, true,
+        "An `[actuators.*]` table was removed: the action loses entries.";
+    ActuatorsRenamed = "actuators-renamed", Action, true,
+        "An `[actuators.*]` table was renamed (same keys); compatible when the resolved actuators are unchanged.";
+    ActuatorsKeyChanged = "actuators-key-changed", Dynamics, true,
+        "A key of an `[actuators.*]` table (joints, kind, gains, gear, force or control range) changed; compatible when the resolved actuators are unchanged.";
+    ActuatorsResolvedChanged = "actuators-resolved-changed", Dynamics, true,
+        "An `[actuators.*]` table's text is unchanged but its actuators resolve differently (a parameter default, or a `[joint_properties]` row, changed under it).";
+    JointPropertiesAdded = "joint-properties-added", Dynamics, true,
+        "A `[joint_properties]` row was added: armature, damping, friction loss or actuator gains of the joints it matches change.";
+    JointPropertiesRemoved = "joint-properties-removed", Dynamics, true,
+        "A `[joint_properties]` row was removed: the joints it matched fall back to earlier rows, their actuator tables or the model.";
+    JointPropertiesRenamed = "joint-properties-renamed", Dynamics, true,
+        "A `[joint_properties]` row's pattern changed (same values); compatible when it matches the same joints with the same result.";
+    JointPropertiesKeyChanged = "joint-properties-key-changed", Dynamics, true,
+        "A value of a `[joint_properties]` row changed; compatible when the resolved per-joint table is unchanged.";
+    JointPropertiesResolvedChanged = "joint-properties-resolved-changed", Dynamics, true,
+        "A `[joint_properties]` row's text is unchanged but it resolves differently (the model's joints or a parameter changed).";
+    KeyframesAdded = "keyframes-added", Reset, true,
+        "A `[keyframes.*]` keyframe was added; compatible when nothing reads it.";
+    KeyframesRemoved = "keyframes-removed", Reset, true,
+        "A `[keyframes.*]` keyframe was removed.";
+    KeyframesRenamed = "keyframes-renamed", Reset, true,
+        "A keyframe was renamed (same values); compatible when what reads it resolves the same.";
+    KeyframesKeyChanged = "keyframes-key-changed", Reset, true,
+        "A joint value of a keyframe changed: resets from it and default poses read from it move.";
+    KeyframesResolvedChanged = "keyframes-resolved-changed", Reset, true,
+        "A keyframe's text is unchanged but it resolves to other positions (the model or a pattern's matches changed).";
     // Domain randomization (`[events.*]`).
     EventsAdded = "events-added", Randomization, true,
         "An `[events.*]` entry was added: the policy trains on randomized models (or is pushed) where it saw one model; returns are not comparable.";

@@ -106,6 +106,103 @@ pub(super) const RESET: Kind = Kind {
     describe: describe_reset,
 };
 
+fn describe_actuators(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let a: Vec<String> = r
+        .model_edits
+        .actuators
+        .iter()
+        .filter(|a| a.section == name)
+        .map(crate::describe::actuator)
+        .collect();
+    (!a.is_empty()).then(|| a.join("; "))
+}
+
+/// The actuators of table `name` that differ between the two specs, described on each side.
+fn actuator_delta(
+    old: &ResolvedSpec,
+    new: &ResolvedSpec,
+    name: &str,
+) -> (Option<String>, Option<String>) {
+    let of = |r: &ResolvedSpec| -> Vec<crate::ir::AddedActuator> {
+        r.model_edits
+            .actuators
+            .iter()
+            .filter(|a| a.section == name)
+            .cloned()
+            .collect()
+    };
+    let (a, b) = (of(old), of(new));
+    let differs = |x: &crate::ir::AddedActuator, other: &[crate::ir::AddedActuator]| {
+        !other.iter().any(|y| y == x)
+    };
+    let show = |v: Vec<String>| (!v.is_empty()).then(|| v.join("; "));
+    (
+        show(
+            a.iter()
+                .filter(|x| differs(x, &b))
+                .map(crate::describe::actuator)
+                .collect(),
+        ),
+        show(
+            b.iter()
+                .filter(|x| differs(x, &a))
+                .map(crate::describe::actuator)
+                .collect(),
+        ),
+    )
+}
+
+fn describe_joint_properties(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let j: Vec<String> = r
+        .model_edits
+        .joints
+        .iter()
+        .filter(|j| j.rows.iter().any(|p| p == name))
+        .map(crate::describe::joint_edit)
+        .collect();
+    Some(if j.is_empty() {
+        "no joint property".into()
+    } else {
+        j.join("; ")
+    })
+}
+
+fn describe_keyframe(r: &ResolvedSpec, name: &str) -> Option<String> {
+    r.model_edits
+        .keyframes
+        .iter()
+        .find(|k| k.name == name)
+        .map(|k| crate::describe::keyframe(r, k))
+}
+
+pub(super) const ACTUATORS: Kind = Kind {
+    name: "actuators",
+    added: RuleId::ActuatorsAdded,
+    removed: RuleId::ActuatorsRemoved,
+    renamed: RuleId::ActuatorsRenamed,
+    key_changed: RuleId::ActuatorsKeyChanged,
+    resolved_changed: RuleId::ActuatorsResolvedChanged,
+    describe: describe_actuators,
+};
+pub(super) const JOINT_PROPERTIES: Kind = Kind {
+    name: "joint_properties",
+    added: RuleId::JointPropertiesAdded,
+    removed: RuleId::JointPropertiesRemoved,
+    renamed: RuleId::JointPropertiesRenamed,
+    key_changed: RuleId::JointPropertiesKeyChanged,
+    resolved_changed: RuleId::JointPropertiesResolvedChanged,
+    describe: describe_joint_properties,
+};
+pub(super) const KEYFRAMES: Kind = Kind {
+    name: "keyframes",
+    added: RuleId::KeyframesAdded,
+    removed: RuleId::KeyframesRemoved,
+    renamed: RuleId::KeyframesRenamed,
+    key_changed: RuleId::KeyframesKeyChanged,
+    resolved_changed: RuleId::KeyframesResolvedChanged,
+    describe: describe_keyframe,
+};
+
 /// Entries of a section as (key, TOML text, position), docs included.
 fn entries(s: &Section) -> Vec<(String, String, Pos)> {
     s.entries
@@ -211,12 +308,18 @@ pub(super) fn sections<K: PartialEq>(
                 (Some(_), None) => "switched off under the default parameters",
                 _ => "same text, different value under the default parameters",
             };
+            // (an actuator table can add dozens of actuators: name only those that changed)
+            let (was, now) = if kind.name == "actuators" {
+                actuator_delta(cx.old_r, cx.new_r, &s.name)
+            } else {
+                (
+                    (kind.describe)(cx.old_r, &s.name),
+                    (kind.describe)(cx.new_r, &t.name),
+                )
+            };
             cx.add(
                 Change::new(kind.resolved_changed, &subject, "resolved value")
-                    .values(
-                        (kind.describe)(cx.old_r, &s.name),
-                        (kind.describe)(cx.new_r, &t.name),
-                    )
+                    .values(was, now)
                     .at(Some(pos(&s.name_loc)), Some(pos(&t.name_loc)))
                     .witness(witness),
             );

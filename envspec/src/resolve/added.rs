@@ -211,24 +211,33 @@ impl Ctx<'_> {
                 rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
                 name,
             },
-            AddedKind::Geom => AddedElement::Geom {
-                body: self.parent(s, added)?,
-                kind: self.geom_type(s.get("type"), AddedGeomType::Sphere)?,
-                pos: self.vec_n(s, "pos", [0.0; 3])?,
-                size: self.vec_n(s, "size", [0.02; 3])?,
-                rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
-                contact: match s.get("contact") {
-                    None => true,
-                    Some(v) => match &v.kind {
-                        ValKind::Bool(b) => *b,
-                        _ => {
-                            self.d.push(v.type_error("contact", "true or false"));
-                            return None;
-                        }
+            AddedKind::Geom => {
+                let kind = self.geom_type(s.get("type"), AddedGeomType::Sphere)?;
+                // A plane's default draws infinitely, with a 1 m grid.
+                let size = if kind == AddedGeomType::Plane {
+                    [0.0, 0.0, 1.0]
+                } else {
+                    [0.02; 3]
+                };
+                AddedElement::Geom {
+                    body: self.parent(s, added)?,
+                    kind,
+                    pos: self.vec_n(s, "pos", [0.0; 3])?,
+                    size: self.vec_n(s, "size", size)?,
+                    rgba: self.rgba(s, [0.5, 0.5, 0.5, 1.0])?,
+                    contact: match s.get("contact") {
+                        None => true,
+                        Some(v) => match &v.kind {
+                            ValKind::Bool(b) => *b,
+                            _ => {
+                                self.d.push(v.type_error("contact", "true or false"));
+                                return None;
+                            }
+                        },
                     },
-                },
-                name,
-            },
+                    name,
+                }
+            }
             AddedKind::Camera => AddedElement::Camera {
                 body: self.parent(s, added)?,
                 pos: self.vec_n(s, "pos", [0.0; 3])?,

@@ -114,113 +114,7 @@ impl Ctx<'_> {
     /// `command[NAME]`, `command[NAME][i:j]`, `command[NAME][component]`,
     /// `command[NAME].component` (or `command`: every command).
     pub(super) fn command_selection(&mut self, text: &str, loc: &Location) -> Option<Selection> {
-        let rest = text.trim().strip_prefix("command")?.trim();
-        let err = |msg: String, label: String, help: Option<String>| {
-            Diagnostic::new(Code::E0131, msg)
-                .at(loc.clone())
-                .label(label)
-                .help_opt(help)
-        };
-        let all = |c: &Command| (0..c.len()).map(|k| c.offset + k).collect::<Vec<_>>();
-        let names = |c: &Command, idx: &[usize]| {
-            idx.iter()
-                .map(|&i| format!("command[{}].{}", c.name, c.components[i - c.offset]))
-                .collect::<Vec<_>>()
-        };
-        if rest.is_empty() {
-            let indices: Vec<usize> = (0..self.commands.iter().map(Command::len).sum()).collect();
-            let names = self
-                .commands
-                .iter()
-                .flat_map(|c| names(c, &all(c)))
-                .collect();
-            return Some(Selection {
-                field: Field::Command,
-                indices,
-                names,
-                text: text.to_string(),
-            });
-        }
-        let Some((name, tail)) = rest
-            .strip_prefix('[')
-            .and_then(|r| r.split_once(']'))
-            .map(|(n, t)| (n.trim(), t.trim()))
-        else {
-            self.d.push(err(
-                format!("cannot read command selector `{text}`"),
-                "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
-                None,
-            ));
-            return None;
-        };
-        let Some(c) = self.commands.iter().find(|c| c.name == name).cloned() else {
-            self.d.push(err(
-                format!("no command named `{name}`"),
-                format!(
-                    "expected one of the [commands.*] tables: {}",
-                    self.commands
-                        .iter()
-                        .map(|c| c.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                suggest(name, self.commands.iter().map(|c| c.name.as_str())),
-            ));
-            return None;
-        };
-        let part = tail
-            .strip_prefix('.')
-            .map(str::trim)
-            .or_else(|| tail.strip_prefix('[').and_then(|t| t.strip_suffix(']')))
-            .map(str::trim);
-        let idx: Vec<usize> = match part {
-            None if tail.is_empty() => all(&c),
-            None => {
-                self.d.push(err(
-                    format!("cannot read command selector `{text}`"),
-                    "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
-                    None,
-                ));
-                return None;
-            }
-            Some(p) => {
-                let int = |x: &str, d: i64| -> Option<i64> {
-                    if x.trim().is_empty() {
-                        Some(d)
-                    } else {
-                        x.trim().parse().ok()
-                    }
-                };
-                let n = c.len() as i64;
-                let clamp = |v: i64| if v < 0 { (v + n).max(0) } else { v.min(n) };
-                if let Some((a, b)) = p.split_once(':')
-                    && let (Some(a), Some(b)) = (int(a, 0), int(b, n))
-                {
-                    (clamp(a)..clamp(b).max(clamp(a)))
-                        .map(|k| c.offset + k as usize)
-                        .collect()
-                } else if let Some(k) = c.components.iter().position(|x| x == p) {
-                    vec![c.offset + k]
-                } else if let Ok(k) = p.parse::<i64>()
-                    && (-n..n).contains(&k)
-                {
-                    vec![c.offset + clamp(if k < 0 { k + n } else { k }) as usize]
-                } else {
-                    self.d.push(err(
-                        format!("command `{}` has no component `{p}`", c.name),
-                        format!("expected one of: {}", c.components.join(", ")),
-                        suggest(p, c.components.iter().map(String::as_str)),
-                    ));
-                    return None;
-                }
-            }
-        };
-        Some(Selection {
-            field: Field::Command,
-            names: names(&c, &idx),
-            indices: idx,
-            text: text.to_string(),
-        })
+        command_selection(text, loc, &self.commands, &mut self.d)
     }
 
     /// `[actions]`: PD position targets over every actuator of the model.
@@ -352,10 +246,16 @@ impl Ctx<'_> {
                     })
                     .collect::<Option<_>>()?,
             ),
-            _ => {
+            other => {
+                let given = match other {
+                    ValKind::Array(a) => format!("{} numbers were given", a.len()),
+                    _ => "a single value was given".to_string(),
+                };
                 self.d.push(e0132(
                     pose,
-                    format!("[actions] default_pose does not fit the model's {nu} actuators"),
+                    format!(
+                        "[actions] default_pose does not fit the model's {nu} actuators: {given}"
+                    ),
                     &format!("expected a keyframe name or an array of {nu} numbers"),
                 ));
                 return None;
@@ -648,4 +548,117 @@ impl Ctx<'_> {
         };
         Some(TermKind::Legged(term))
     }
+}
+
+/// A `command[...]` selector over `commands` (task specs, and `[agents]` extras over the base
+/// env's commands).
+pub(crate) fn command_selection(
+    text: &str,
+    loc: &Location,
+    commands: &[Command],
+    d: &mut crate::diagnostic::Diagnostics,
+) -> Option<Selection> {
+    let rest = text.trim().strip_prefix("command")?.trim();
+    let err = |msg: String, label: String, help: Option<String>| {
+        Diagnostic::new(Code::E0131, msg)
+            .at(loc.clone())
+            .label(label)
+            .help_opt(help)
+    };
+    let all = |c: &Command| (0..c.len()).map(|k| c.offset + k).collect::<Vec<_>>();
+    let names = |c: &Command, idx: &[usize]| {
+        idx.iter()
+            .map(|&i| format!("command[{}].{}", c.name, c.components[i - c.offset]))
+            .collect::<Vec<_>>()
+    };
+    if rest.is_empty() {
+        let indices: Vec<usize> = (0..commands.iter().map(Command::len).sum()).collect();
+        let names = commands.iter().flat_map(|c| names(c, &all(c))).collect();
+        return Some(Selection {
+            field: Field::Command,
+            indices,
+            names,
+            text: text.to_string(),
+        });
+    }
+    let Some((name, tail)) = rest
+        .strip_prefix('[')
+        .and_then(|r| r.split_once(']'))
+        .map(|(n, t)| (n.trim(), t.trim()))
+    else {
+        d.push(err(
+            format!("cannot read command selector `{text}`"),
+            "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
+            None,
+        ));
+        return None;
+    };
+    let Some(c) = commands.iter().find(|c| c.name == name).cloned() else {
+        d.push(err(
+            format!("no command named `{name}`"),
+            format!(
+                "expected one of the [commands.*] tables: {}",
+                commands
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            suggest(name, commands.iter().map(|c| c.name.as_str())),
+        ));
+        return None;
+    };
+    let part = tail
+        .strip_prefix('.')
+        .map(str::trim)
+        .or_else(|| tail.strip_prefix('[').and_then(|t| t.strip_suffix(']')))
+        .map(str::trim);
+    let idx: Vec<usize> = match part {
+        None if tail.is_empty() => all(&c),
+        None => {
+            d.push(err(
+                format!("cannot read command selector `{text}`"),
+                "expected command[NAME], command[NAME][i:j] or command[NAME].component".into(),
+                None,
+            ));
+            return None;
+        }
+        Some(p) => {
+            let int = |x: &str, d: i64| -> Option<i64> {
+                if x.trim().is_empty() {
+                    Some(d)
+                } else {
+                    x.trim().parse().ok()
+                }
+            };
+            let n = c.len() as i64;
+            let clamp = |v: i64| if v < 0 { (v + n).max(0) } else { v.min(n) };
+            if let Some((a, b)) = p.split_once(':')
+                && let (Some(a), Some(b)) = (int(a, 0), int(b, n))
+            {
+                (clamp(a)..clamp(b).max(clamp(a)))
+                    .map(|k| c.offset + k as usize)
+                    .collect()
+            } else if let Some(k) = c.components.iter().position(|x| x == p) {
+                vec![c.offset + k]
+            } else if let Ok(k) = p.parse::<i64>()
+                && (-n..n).contains(&k)
+            {
+                vec![c.offset + clamp(if k < 0 { k + n } else { k }) as usize]
+            } else {
+                d.push(err(
+                    format!("command `{}` has no component `{p}`", c.name),
+                    format!("expected one of: {}", c.components.join(", ")),
+                    suggest(p, c.components.iter().map(String::as_str)),
+                ));
+                return None;
+            }
+        }
+    };
+    Some(Selection {
+        field: Field::Command,
+        names: names(&c, &idx),
+        indices: idx,
+        text: text.to_string(),
+    })
 }

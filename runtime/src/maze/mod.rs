@@ -639,5 +639,7 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
     *t.pos_mut() = [0.0, 0.0, z];
     t.size_mut()[0] = 0.2 * s;
     *t.rgba_mut() = [1.0, 0.0, 0.0, 0.7];
-    crate::mujoco_catch::compile(&mut spec).map_err(bad)
+    let mut model = crate::mujoco_catch::compile(&mut spec).map_err(bad)?;
+    crate::model_build::fill_keyframes(&robot.model_edits, &mut model);
+    Ok(model)
 }
