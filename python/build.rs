@@ -4,7 +4,12 @@
 fn main() {
     println!("cargo::rerun-if-env-changed=MUJOCO_DYNAMIC_LINK_DIR");
     println!("cargo::rustc-link-arg=-Wl,-rpath,$ORIGIN/../mujoco");
-    if let Ok(dir) = std::env::var("MUJOCO_DYNAMIC_LINK_DIR") {
+    // The wheel (scripts/build-wheel.sh sets ENVC_WHEEL) names no path of the machine it was
+    // built on.
+    println!("cargo::rerun-if-env-changed=ENVC_WHEEL");
+    if std::env::var_os("ENVC_WHEEL").is_none()
+        && let Ok(dir) = std::env::var("MUJOCO_DYNAMIC_LINK_DIR")
+    {
         println!("cargo::rustc-link-arg=-Wl,-rpath,{dir}");
     }
 }

@@ -48,10 +48,9 @@ fn mujoco_include() -> Option<std::path::PathBuf> {
         .cargo_metadata(false)
         .exactly_version("3.17.0")
         .probe("mujoco")
+        && let Some(d) = lib.include_paths.into_iter().find(|d| has_header(d))
     {
-        if let Some(d) = lib.include_paths.into_iter().find(|d| has_header(d)) {
-            return Some(d);
-        }
+        return Some(d);
     }
     let out = std::process::Command::new("python3")
         .args([

@@ -36,7 +36,7 @@ patchelf --set-rpath '$ORIGIN/../../mujoco' "$PKG/_bin/envc"
 
 # The wheel. maturin's own repair would copy libmujoco into it; the mujoco wheel already has it.
 rm -f "$OUT"/envc-*.whl
-maturin build -q --release --locked --strip --features hdf5-static --auditwheel skip \
+ENVC_WHEEL=1 maturin build -q --release --locked --strip --features hdf5-static --auditwheel skip \
   --compatibility "manylinux_${GLIBC_FLOOR/./_}" --out "$OUT" >/dev/null
 WHEEL="$(ls "$OUT"/envc-*.whl)"
 
@@ -49,7 +49,7 @@ for bin in "$CHECK"/envc/_envc*.so "$CHECK"/envc/_bin/envc; do
   bad="$(readelf -d "$bin" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | grep -Ev "$ALLOWED" || true)"
   [ -z "$bad" ] || { echo "build-wheel: $(basename "$bin") needs libraries outside the manylinux allow-list: $bad" >&2; exit 1; }
   rpath="$(readelf -d "$bin" | sed -n 's/.*(RUNPATH).*\[\(.*\)\]/\1/p')"
-  case "$rpath" in '$ORIGIN/../mujoco'*|'$ORIGIN/../../mujoco') ;; *)
+  case "$rpath" in '$ORIGIN/../mujoco'|'$ORIGIN/../../mujoco') ;; *)
     echo "build-wheel: $(basename "$bin") has rpath '$rpath', not the mujoco package beside it" >&2; exit 1 ;; esac
   newest="$(objdump -T "$bin" | grep -o 'GLIBC_[0-9.]*' | sort -uV | tail -1)"
   if [ "$(printf '%s\n' "GLIBC_$GLIBC_FLOOR" "$newest" | sort -V | tail -1)" != "GLIBC_$GLIBC_FLOOR" ]; then

@@ -257,7 +257,7 @@ pub fn lookup(id: &str) -> Result<&'static Entry, Diagnostic> {
         format!("no bundled env `{id}` and no such spec file"),
     )
     .label("expected a spec path or a bundled id (`envc list` shows them)")
-    .help_opt(suggest(id, names.into_iter()));
+    .help_opt(suggest(id, names));
     if let Err(why) = crate::bundle::root() {
         d = d.help(format!("envc found no bundled specs: {why}"));
     }

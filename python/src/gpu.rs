@@ -177,6 +177,14 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 Distribution::Constant { value } => {
                     json!({"kind": "constant", "value": num(*value)})
                 }
+                Distribution::Keyframe { name, .. } => {
+                    not_exported.push(format!("[reset.{}] kind = \"keyframe\" ({name})", r.name));
+                    json!({"kind": "unsupported"})
+                }
+                Distribution::RootPose { .. } => {
+                    not_exported.push(format!("[reset.{}] kind = \"root_pose\"", r.name));
+                    json!({"kind": "unsupported"})
+                }
             };
             let until = r.resample_until.map(|u| match u {
                 Until::NormBelow(x) => json!({"norm_below": num(x)}),
