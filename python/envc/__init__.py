@@ -15,12 +15,32 @@ from __future__ import annotations
 
 from . import _envc
 from ._datasets import collect
-from ._envc import SpecError
+from ._errors import (
+    ActionError,
+    ArgumentError,
+    DatasetError,
+    Error,
+    InternalError,
+    ModelError,
+    NotResetError,
+    SimulationError,
+    SpecError,
+    UnknownParameterError,
+)
 from ._gym import EnvcEnv, make, overrides_to_toml
 from ._registry import bundled_ids, register_all
 from ._vector import EnvcVectorEnv, make_vec
 
 __all__ = [
+    "ActionError",
+    "ArgumentError",
+    "DatasetError",
+    "Error",
+    "InternalError",
+    "ModelError",
+    "NotResetError",
+    "SimulationError",
+    "UnknownParameterError",
     "EnvcEnv",
     "EnvcMazeEnv",
     "EnvcVectorEnv",
