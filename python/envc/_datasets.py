@@ -52,7 +52,7 @@ def collect(
             f"error[E1105]: env_spec={env_spec!r}: expected 'reference' or 'envc'", "E1105"
         )
     spec_json = _envc_spec_json(id_or_path, overrides) if env_spec == "envc" else None
-    episodes = _errors.integer(episodes, "episodes", 1)
+    episodes = _errors.integer(episodes, "episodes", 1, 2**64)
     seed = _errors.seed(seed)
     directory, _steps, _seed = _envc.collect(
         _id(id_or_path),

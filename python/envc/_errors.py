@@ -37,6 +37,10 @@ class UnknownParameterError(SpecError, TypeError):
     ``TypeError`` in Python."""
 
 
+class KindError(SpecError, TypeError):
+    """A spec of a kind the call does not serve (E0602): a multi-agent spec for ``collect``."""
+
+
 class ModelError(Error, ValueError):
     """A model MuJoCo cannot compile or envc cannot run (E1001–E1003, E1110, E1120)."""
 
@@ -73,6 +77,7 @@ _ALL = (
     Error,
     SpecError,
     UnknownParameterError,
+    KindError,
     ModelError,
     ActionError,
     NotResetError,
@@ -92,6 +97,8 @@ def class_for(code: str) -> type[Error]:
         return UnknownParameterError
     if code == "E1105":
         return ArgumentError
+    if code == "E0602":
+        return KindError
     if code == "E1900":
         return InternalError
     if code == "E1103":

@@ -50,10 +50,14 @@ RENDER_MODES = ("rgb_array", "depth_array", "rgbd_tuple")
 
 
 def check_render_mode(render_mode: str | None) -> None:
-    if render_mode is not None and render_mode not in RENDER_MODES:
-        raise ValueError(
-            f"render_mode={render_mode!r}: envc renders headless only; expected one of "
-            f"{', '.join(RENDER_MODES)} (wrap with gymnasium.wrappers.HumanRendering to watch)"
+    if render_mode is not None and not (
+        isinstance(render_mode, str) and render_mode in RENDER_MODES
+    ):
+        raise _errors.coded(
+            f"error[E1504]: render_mode={render_mode!r}: envc renders headless only; expected "
+            f"one of {', '.join(RENDER_MODES)} (wrap with gymnasium.wrappers.HumanRendering to "
+            "watch)",
+            "E1504",
         )
 
 
@@ -65,13 +69,21 @@ def render_overrides(overrides: dict[str, Any]) -> dict[str, Any]:
         if k in out and out[k] is None:
             del out[k]
     if isinstance(out.get("visual_options"), dict):
-        out["visual_options"] = {int(k): bool(v) for k, v in out["visual_options"].items()}
+        try:
+            out["visual_options"] = {int(k): bool(v) for k, v in out["visual_options"].items()}
+        except (TypeError, ValueError, OverflowError) as e:
+            raise _errors.coded(
+                f"error[E1505]: visual_options: expected mjtVisFlag keys and bools ({e})", "E1505"
+            ) from None
     return out
 
 
 def as_actions(actions) -> np.ndarray:
     """An action (or batch) as a float array; what numpy cannot read as numbers is E1101."""
-    a = np.asarray(actions)
+    try:
+        a = np.asarray(actions)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise _errors.coded(f"error[E1101]: actions must be numbers ({e})", "E1101") from None
     if a.dtype == np.float32:
         return a
     if a.dtype.kind == "c":
@@ -80,7 +92,7 @@ def as_actions(actions) -> np.ndarray:
         )
     try:
         return np.asarray(a, dtype=np.float64)
-    except (TypeError, ValueError) as e:
+    except (TypeError, ValueError, OverflowError) as e:
         raise _errors.coded(
             f"error[E1101]: actions must be numbers, got {a.dtype} ({e})", "E1101"
         ) from None
@@ -197,6 +209,7 @@ def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> g
             overrides["max_episode_steps"], "max_episode_steps", 1
         )
     id_or_path = _id(id_or_path)
+    check_render_mode(render_mode)
     return gym.make(env_id_for(id_or_path, overrides), render_mode=render_mode, **overrides)
 
 

@@ -82,14 +82,15 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
                 "NEXT_STEP and SAME_STEP",
                 "E1105",
             )
-        num_envs = _errors.integer(num_envs, "num_envs", 1)
+        # Beyond 2**63 is not a count Rust takes; limits::MAX_VEC_ENVS refuses far less (E1403).
+        num_envs = _errors.integer(num_envs, "num_envs", 1, 2**63)
         if num_threads is None:
             threads = _default_threads(num_envs)
         else:
-            threads = _errors.integer(num_threads, "num_threads", 1)
+            threads = _errors.integer(num_threads, "num_threads", 1, 2**63)
         pairs = overrides_to_toml(overrides)
         if max_episode_steps is not None:
-            steps = _errors.integer(max_episode_steps, "max_episode_steps", 0)
+            steps = _errors.integer(max_episode_steps, "max_episode_steps", 0, 2**63)
             pairs.append(("max_episode_steps", str(steps)))
         core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, mode.value)
         self._core = core
@@ -281,7 +282,7 @@ def make_vec(
     """
     from ._registry import env_id_for
 
-    num_envs = _errors.integer(num_envs, "num_envs", 1)
+    num_envs = _errors.integer(num_envs, "num_envs", 1, 2**63)
     env_id = env_id_for(_id(id_or_path), overrides)
     if gym.spec(env_id).vector_entry_point is None:
         raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
