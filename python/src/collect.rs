@@ -209,7 +209,9 @@ impl<O: ?Sized, P: EpisodePolicy<O>> EpisodePolicy<O> for Interruptible<P> {
             return true;
         }
         self.steps = self.steps.wrapping_add(1);
-        if self.steps % 64 != 0 || self.last.elapsed() < std::time::Duration::from_millis(50) {
+        if !self.steps.is_multiple_of(64)
+            || self.last.elapsed() < std::time::Duration::from_millis(50)
+        {
             return false;
         }
         self.last = std::time::Instant::now();
