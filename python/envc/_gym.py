@@ -78,6 +78,20 @@ def render_overrides(overrides: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def reference_seed(seed: Any, gym_reset) -> int | None:
+    """A reset seed checked as the reference checks it: an integer goes to Gymnasium's own
+    ``Env.reset`` first (a negative seed is its error, as for the reference's envs); then
+    anything but an integer in [0, 2**64) is ``ArgumentError`` (E1105), never converted."""
+    import numbers
+
+    if isinstance(seed, numbers.Integral) and not isinstance(seed, (bool, np.bool_)):
+        gym_reset(seed=int(seed))
+        return _errors.seed(seed)
+    seed = _errors.seed(seed)
+    gym_reset(seed=seed)
+    return seed
+
+
 def as_actions(actions) -> np.ndarray:
     """An action (or batch) as a float array; what numpy cannot read as numbers is E1101."""
     try:
@@ -144,9 +158,8 @@ class EnvcEnv(gym.Env):
         self.dt = core.dt
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        seed = _errors.seed(seed)
+        seed = reference_seed(seed, super().reset)
         _errors.options(options)
-        super().reset(seed=seed)
         return self._core.reset(seed)
 
     def step(self, action):

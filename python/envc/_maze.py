@@ -18,6 +18,7 @@ from ._gym import (
     _Closed,
     as_actions,
     check_render_mode,
+    reference_seed,
     overrides_to_toml,
     render_overrides,
 )
@@ -134,9 +135,8 @@ class EnvcMazeEnv(_Base):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         """Start an episode: ``(obs dict, info)``. ``options`` may hold ``goal_cell`` and
         ``reset_cell`` (``(row, col)`` of free cells); others are drawn as the reference draws."""
-        seed = _errors.seed(seed)
+        seed = reference_seed(seed, super().reset)
         opts = _errors.options(options)
-        super().reset(seed=seed)
         return self._core.reset(
             seed,
             _cell(opts, "goal_cell"),

@@ -332,7 +332,7 @@ def test_paths_are_ids():
         (lambda: envc.make_vec("Hopper-v5", 2, max_episode_steps=1.5), "max_episode_steps"),
         (lambda: envc.make("Hopper-v5").reset(seed=1.5), "seed"),
         (lambda: envc.make("Hopper-v5").reset(seed="1"), "seed"),
-        (lambda: envc.make("Hopper-v5").reset(seed=-1), "seed"),
+        (lambda: envc.make("Hopper-v5").reset(seed=2**64), "seed"),
         (lambda: envc.make("Hopper-v5").reset(options="x"), "options"),
         (lambda: envc.make_vec("Hopper-v5", 3).reset(seed="123"), "seed"),
         (lambda: envc.make_vec("Hopper-v5", 3).reset(seed=[1.5, 2.5, 3.5]), "seed"),
@@ -345,6 +345,14 @@ def test_arguments_are_refused_not_converted(call, name):
         call()
     assert e.value.code == "E1105"
     assert name in str(e.value)
+
+
+def test_a_negative_seed_is_gymnasiums_own_error_as_for_the_reference():
+    import gymnasium as gym
+
+    for env in (envc.make("Hopper-v5"), gym.make("Hopper-v5")):
+        with pytest.raises(gym.error.Error, match="Seed"):
+            env.reset(seed=-1)
 
 
 def test_collect_episodes_must_be_an_integer(tmp_path):
