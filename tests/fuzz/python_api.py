@@ -164,9 +164,9 @@ def run_input(seed: int, i: int, root: str) -> str | None:
     calls = build(seed, i)
     env = None
     vec = False
-    # Gymnasium's PassiveEnvChecker marks its first reset done before calling the env: after a
-    # reset that raised, its own state is None and a later step fails in it, whatever the env.
-    reset_ok, reset_failed = False, False
+    # Gymnasium's PassiveEnvChecker checks only the first reset and keeps its result: when that
+    # reset raised, its state stays None and every later step fails in it, whatever the env.
+    reset_ok, reset_failed, resets = False, False, 0
     for c in calls:
         if c[0] == "step" and (reset_failed or not reset_ok):
             continue
@@ -183,9 +183,12 @@ def run_input(seed: int, i: int, root: str) -> str | None:
             elif env is None:
                 return None
             elif c[0] == "reset":
-                reset_ok, reset_failed = False, True
+                resets += 1
+                reset_ok, reset_failed = False, reset_failed or (resets == 1 and not vec)
                 env.reset(seed=c[1], options=c[2])
-                reset_ok, reset_failed = True, False
+                reset_ok = True
+                if resets == 1:
+                    reset_failed = False
             elif c[0] == "step":
                 rng = Rng(c[1], "action", 0)
                 shape = env.action_space.shape
