@@ -401,16 +401,22 @@ mod tests {
                 "</body>".repeat(n)
             )
         };
-        // <mujoco> and <worldbody> are two levels: 498 bodies fit, 499 do not.
-        let ok = deep(MAX_NESTING - 2);
+        // <mujoco> and <worldbody> are two levels and each body holds a geom one level deeper:
+        // 497 bodies fit (the last geom at level 500), 498 do not.
+        let ok = deep(MAX_NESTING - 3);
         let doc = roxmltree::Document::parse(&ok).unwrap();
         assert!(check_xml_depth(&doc, &SourceFile::new("m.xml", ok.clone())).is_none());
         let text = deep(10_000);
         let doc = roxmltree::Document::parse(&text).unwrap();
         let d = check_xml_depth(&doc, &SourceFile::new("m.xml", text.clone())).unwrap();
         assert_eq!(d.code, Code::E0110);
-        // Body 499 starts after 498 bodies of 25 characters each on line 2.
-        assert_eq!(d.position(), Some(format!("m.xml:2:{}", 498 * 25 + 1)));
+        assert!(
+            d.message.starts_with("<geom> is nested 501"),
+            "{}",
+            d.message
+        );
+        // The geom of body 498: after 497 bodies of 24 characters and `<body>` on line 2.
+        assert_eq!(d.position(), Some(format!("m.xml:2:{}", 497 * 24 + 6 + 1)));
     }
 
     #[test]
