@@ -37,6 +37,15 @@ checks=$((checks + 1))
 cargo test --workspace
 checks=$((checks + 1))
 
+# The catalogue and the fuzzer's `envc` targets again against the optimized binary: undefined
+# behaviour that only the optimizer exposes (an error unwinding through a `C` declaration) shows
+# only there.
+cargo build -q --release -p envc-cli
+ENVC_BIN="$ROOT/target/release/envc" cargo test -q -p envc-cli --test catalogue
+ENVC_BIN="$ROOT/target/release/envc" ENVC_FUZZ_TARGETS=compile,cli ENVC_FUZZ_SECONDS=30 \
+  cargo test -q -p envc-cli --test fuzz
+checks=$((checks + 1))
+
 # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
 # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
 "$PY" -m pytest -q -p no:cacheprovider tests/python

@@ -178,10 +178,10 @@ fn run(name: &str, extra: &Option<PathBuf>, case: &Case, scratch: &Path) -> Ran 
                 let mut c = Command::new("sh");
                 c.arg("-c")
                     .arg(format!(r#"ulimit -v {kb}; exec "$0" "$@""#))
-                    .arg(env!("CARGO_BIN_EXE_envc"));
+                    .arg(envc_bin());
                 c
             }
-            None => Command::new(env!("CARGO_BIN_EXE_envc")),
+            None => Command::new(envc_bin()),
         };
         command
             .args(args.iter().map(|a| fill(a, &vars)))
@@ -402,4 +402,10 @@ fn docs_triggered_by_matches_the_cases() {
         "docs/errors.md's \"Triggered by\" blocks differ from tests/catalogue/; run \
          `ENVC_BLESS=1 cargo test -p envc-cli --test catalogue` and review the diff"
     );
+}
+
+/// The `envc` under test: this build's, or `ENVC_BIN` (scripts/test.sh runs the release binary
+/// too, where undefined behaviour the optimizer exposes would show).
+fn envc_bin() -> String {
+    std::env::var("ENVC_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_envc").to_string())
 }

@@ -570,3 +570,69 @@ fn an_output_never_replaces_a_device_or_fifo() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `envc dataset show` under a 20 s wall clock (a FIFO episode used to block it for ever).
+fn envc_timed(args: &[&str]) -> Output {
+    Command::new("timeout")
+        .args(["-s", "KILL", "20", ENVC])
+        .args(args)
+        .output()
+        .expect("run envc")
+}
+
+#[test]
+fn dataset_show_verifies_before_printing_and_never_opens_a_fifo() {
+    let root = tmp("show-verify");
+    let r = root.to_str().unwrap();
+    let o = envc(&collect_args("Hopper-v5", r, "show/fifo-v0", "2", "arrow"));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = envc(&collect_args("Hopper-v5", r, "show/cut-v0", "2", "arrow"));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let episode_file = |id: &str| {
+        let dir = root.join(id).join("data/1");
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|x| x == "arrow"))
+            .unwrap()
+    };
+    // A FIFO in place of an episode: an error at once, not a process blocked in open().
+    let fifo = episode_file("show/fifo-v0");
+    std::fs::remove_file(&fifo).unwrap();
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let started = Instant::now();
+    let o = envc_timed(&[
+        "dataset",
+        "show",
+        root.join("show/fifo-v0").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(started.elapsed() < Duration::from_secs(15));
+    assert!(text(&o.stderr).contains("E1203"), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("FIFO"), "{}", text(&o.stderr));
+    assert_eq!(text(&o.stdout), "", "nothing printed before the error");
+    // A truncated episode: E1204, and no summary printed before it.
+    let cut = episode_file("show/cut-v0");
+    let bytes = std::fs::read(&cut).unwrap();
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let o = envc_timed(&[
+        "dataset",
+        "show",
+        root.join("show/cut-v0").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("E1204"), "{}", text(&o.stderr));
+    assert_eq!(text(&o.stdout), "", "nothing printed before the error");
+    // --no-episodes still shows the metadata alone.
+    let o = envc_timed(&[
+        "dataset",
+        "show",
+        root.join("show/cut-v0").to_str().unwrap(),
+        "--no-episodes",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("show/cut-v0"));
+    let _ = std::fs::remove_dir_all(&root);
+}

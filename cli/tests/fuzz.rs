@@ -53,6 +53,8 @@ enum Run {
     InProcess,
     /// `envc` run per input.
     Subprocess,
+    /// The Python API, by `tests/fuzz/python_api.py` (the same seeding, workers and findings).
+    Python,
 }
 
 struct Target {
@@ -115,6 +117,13 @@ const TARGETS: &[Target] = &[
         mutable: &[],
         run: Run::Subprocess,
         share: 0.30,
+    },
+    Target {
+        name: "python",
+        corpus: "",
+        mutable: &[],
+        run: Run::Python,
+        share: 0.10,
     },
 ];
 
@@ -872,6 +881,58 @@ fn asks_for_much(args: &[Vec<u8>]) -> bool {
     })
 }
 
+/// The Python API target: `tests/fuzz/python_api.py` in the project's venv (scripts/setup.sh
+/// installs the package there); skipped, and said so, where the package does not import.
+fn drive_python(t: &Target, out: &Path, seed: u64, seconds: f64) -> Stats {
+    let mut stats = Stats {
+        target: t.name,
+        inputs: 0,
+        accepted: 0,
+        findings: 0,
+        known: 0,
+        new: vec![],
+    };
+    let py = Path::new(ROOT).join(".venv/bin/python");
+    let imports = Command::new(&py)
+        .args(["-c", "import envc"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !imports {
+        eprintln!("fuzz: python target skipped: the envc package does not import from .venv");
+        return stats;
+    }
+    let o = Command::new(&py)
+        .arg(Path::new(ROOT).join("tests/fuzz/python_api.py"))
+        .args([
+            "--seed",
+            &seed.to_string(),
+            "--seconds",
+            &format!("{seconds:.1}"),
+        ])
+        .arg("--out")
+        .arg(out.join("findings"))
+        .output()
+        .expect("run the python fuzz target");
+    let text = String::from_utf8_lossy(&o.stdout);
+    for line in text.lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        if let ["python", n, "inputs", ok, "fine", k, "findings", ..] = w.as_slice() {
+            stats.inputs = n.parse().unwrap_or(0);
+            stats.accepted = ok.parse().unwrap_or(0);
+            stats.findings = k.parse().unwrap_or(0);
+        } else if let Some(rest) = line.strip_prefix("NEW: ") {
+            stats.new.push(rest.to_string());
+        }
+    }
+    if !o.status.success() && stats.new.is_empty() {
+        stats.new.push(format!(
+            "python: the fuzz script failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        ));
+    }
+    stats
+}
+
 fn drive_subprocess(t: &Target, out: &Path, seed: u64, seconds: f64) -> Stats {
     let deadline = Instant::now() + Duration::from_secs_f64(seconds);
     let seeds = seeds(t);
@@ -889,7 +950,7 @@ fn drive_subprocess(t: &Target, out: &Path, seed: u64, seconds: f64) -> Stats {
             i += 1;
             continue;
         }
-        let mut cmd = Command::new(env!("CARGO_BIN_EXE_envc"));
+        let mut cmd = Command::new(envc_bin());
         cmd.args(args.iter().map(|a| OsString::from_vec(a.clone())))
             .current_dir(&work)
             .env("HOME", &work)
@@ -958,6 +1019,7 @@ fn fuzz() {
         let stats = match t.run {
             Run::InProcess => drive_in_process(t, &out, seed, s),
             Run::Subprocess => drive_subprocess(t, &out, seed, s),
+            Run::Python => drive_python(t, &out, seed, s),
         };
         report.push(stats);
     }
@@ -1017,4 +1079,10 @@ fn the_judge_sees_crashes_hangs_and_panics() {
     );
     assert!(sh("exit 2", 5).is_none());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The `envc` under test: this build's, or `ENVC_BIN` (scripts/test.sh runs the release binary
+/// too, where undefined behaviour the optimizer exposes would show).
+fn envc_bin() -> String {
+    std::env::var("ENVC_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_envc").to_string())
 }

@@ -156,6 +156,8 @@ pub enum Code {
     /// a MuJoCo size that would exhaust memory, `frame_skip` or `max_episode_steps` too large, a
     /// reset condition that cannot be met.
     E0110,
+    /// An `[env] id` Gymnasium cannot register (empty, a `/`, a space).
+    E0111,
     /// An event's `elements` name no element of the model (a name it lacks, a pattern that
     /// matches none).
     E0150,
@@ -285,6 +287,9 @@ pub enum Code {
     E1103,
     /// A reset whose `resample_until` condition was not met within `limits::MAX_RESAMPLE_DRAWS`.
     E1104,
+    /// An argument of a Python call of the wrong type or out of range (a seed, reset options,
+    /// `num_envs`, `episodes`).
+    E1105,
     /// `[actions]` gains on a model whose actuators are not position servos, or a keyframe or
     /// geom envspec found but the compiled model lacks.
     E1110,
@@ -318,6 +323,8 @@ pub enum Code {
     /// Warning: `minus` pairs elements of different joints (e.g. `qpos[7:] − default_pose` with
     /// the actuators in another order than the joints).
     W0401,
+    /// An internal failure (a bug in envc) caught at the Python boundary.
+    E1900,
 }
 
 impl fmt::Display for Code {

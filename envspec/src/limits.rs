@@ -18,6 +18,9 @@ pub const MAX_ASSET_BYTES: u64 = 512 << 20;
 pub const MAX_FRAME_SKIP: i64 = 1000;
 /// Steps per episode (Gymnasium's largest is 1000). 0 means no time limit.
 pub const MAX_EPISODE_STEPS: i64 = 10_000_000;
+/// Episodes of one `envc run`, `envc collect` or `envc.collect`: each one's return and length
+/// are kept for the summary or the dataset's metadata.
+pub const MAX_EPISODES: u64 = 10_000_000;
 /// A trajectory `envc rollout` holds in memory before writing it (observations, actions, rewards
 /// and info, 8 bytes a number): about a million Humanoid steps.
 pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
@@ -52,6 +55,15 @@ pub const MAX_VEC_ENVS: usize = 100_000;
 /// Observation delay and action latency, in env steps: each env keeps that many past values of
 /// the segment (or action) for the whole run.
 pub const MAX_DELAY_STEPS: i64 = 10_000;
+/// Elements nested in one MJCF or URDF file (`<body>`, `<frame>`, `<default>`, anything), and
+/// the depth of a URDF's link chain: the readers recurse per level (10,000 nested bodies
+/// overflowed the stack) and MuJoCo's own reader stops near 1,000. Menagerie's deepest models
+/// nest about 20 levels.
+pub const MAX_NESTING: usize = 500;
+/// Bodies in one model (MJCF bodies or URDF links): MuJoCo's compile time grows with the square
+/// of the body count (0.18 s at 2,000 bodies, 13.6 s at 16,000, over 120 s at 50,000). At this
+/// limit a compile takes about a second; the largest bundled model has 17 bodies.
+pub const MAX_BODIES: usize = 5_000;
 /// An observation noise's amplitude (`level × scale`), like reset draws: noise beyond it would
 /// drown every observation or overflow.
 pub const MAX_NOISE: f64 = 1e6;
@@ -294,6 +306,55 @@ pub fn check_mjcf_sizes(
     out
 }
 
+/// The first element nested deeper than `MAX_NESTING` (the document as a whole counts as level 0,
+/// its root element as 1): E0110 at its start tag. Walks the tree without recursion.
+pub fn check_xml_depth(
+    doc: &roxmltree::Document,
+    source: &std::sync::Arc<SourceFile>,
+) -> Option<Diagnostic> {
+    // Pre-order: a parent's depth is known before its children's.
+    let mut depth: Vec<u32> = vec![0; doc.descendants().count()];
+    for n in doc.descendants() {
+        let d = match n.parent() {
+            Some(p) => depth[p.id().get_usize()] + u32::from(n.is_element()),
+            None => 0,
+        };
+        depth[n.id().get_usize()] = d;
+        if d as usize > MAX_NESTING {
+            let start = n.range().start;
+            let tag = n.tag_name().name();
+            return Some(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!(
+                        "<{tag}> is nested {d} elements deep, beyond envc's limit of {MAX_NESTING}"
+                    ),
+                )
+                .at(Location::new(source, start..start + 1 + tag.len()))
+                .label(format!("expected at most {MAX_NESTING} nested elements"))
+                .help(
+                    "MuJoCo's reader stops near 1,000 levels and envc's readers recurse per \
+                     level; see docs/limits.md",
+                ),
+            );
+        }
+    }
+    None
+}
+
+/// E0110 for the body beyond `MAX_BODIES` (`what` names it: `<body>`, a URDF link).
+pub fn too_many_bodies(what: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::E0110,
+        format!(
+            "{what} is body number {}, beyond envc's limit of {MAX_BODIES} bodies in one model",
+            MAX_BODIES + 1
+        ),
+    )
+    .label(format!("expected at most {MAX_BODIES} bodies"))
+    .help("MuJoCo's compile time grows with the square of the body count; see docs/limits.md")
+}
+
 /// MuJoCo's `memory` size: a number of bytes with an optional K/M/G/T/P/E suffix (powers of 1024).
 fn memory_bytes(s: &str) -> Option<f64> {
     let s = s.trim();
@@ -329,6 +390,33 @@ mod tests {
             read_text(Path::new("/"), MAX_SPEC_BYTES),
             Err(ReadError::NotAFile("directory"))
         ));
+    }
+
+    #[test]
+    fn nesting_beyond_the_limit_is_located() {
+        let deep = |n: usize| {
+            format!(
+                "<mujoco><worldbody>\n{}{}</worldbody></mujoco>",
+                "<body><geom size=\".01\"/>".repeat(n),
+                "</body>".repeat(n)
+            )
+        };
+        // <mujoco> and <worldbody> are two levels and each body holds a geom one level deeper:
+        // 497 bodies fit (the last geom at level 500), 498 do not.
+        let ok = deep(MAX_NESTING - 3);
+        let doc = roxmltree::Document::parse(&ok).unwrap();
+        assert!(check_xml_depth(&doc, &SourceFile::new("m.xml", ok.clone())).is_none());
+        let text = deep(10_000);
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        let d = check_xml_depth(&doc, &SourceFile::new("m.xml", text.clone())).unwrap();
+        assert_eq!(d.code, Code::E0110);
+        assert!(
+            d.message.starts_with("<geom> is nested 501"),
+            "{}",
+            d.message
+        );
+        // The geom of body 498: after 497 bodies of 24 characters and `<body>` on line 2.
+        assert_eq!(d.position(), Some(format!("m.xml:2:{}", 497 * 24 + 6 + 1)));
     }
 
     #[test]

@@ -127,6 +127,8 @@ impl ModelInfo {
             defaults: HashMap::new(),
             world_children: vec![],
             depth: 0,
+            source: None,
+            nbody: 0,
         };
         reader.read_file(path)?;
         reader.build_tree()?;
@@ -152,6 +154,10 @@ struct Reader {
     /// The world body's own joints are not allowed; its sites and child bodies are kept here.
     world_children: Vec<BodyNode>,
     depth: usize,
+    /// The file being read (for locating a body beyond `limits::MAX_BODIES`).
+    source: Option<std::sync::Arc<SourceFile>>,
+    /// Bodies read so far, every file together.
+    nbody: usize,
 }
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
@@ -192,6 +198,9 @@ impl Reader {
             malformed(path, format!("not well-formed XML: {e}"))
                 .at_opt(at.map(|o| Location::new(&source, o..o)))
         })?;
+        if let Some(d) = limits::check_xml_depth(&doc, &source) {
+            return Err(d);
+        }
         if let Some(d) = limits::check_mjcf_sizes(&doc, &source).into_iter().next() {
             return Err(d);
         }
@@ -214,9 +223,11 @@ impl Reader {
             }
         }
         let dir = path.parent().unwrap_or(Path::new("."));
+        let outer = self.source.replace(source.clone());
         for section in root.children().filter(|n| n.is_element()) {
             self.read_section(path, dir, section)?;
         }
+        self.source = outer;
         self.depth -= 1;
         Ok(())
     }
@@ -421,11 +432,20 @@ impl Reader {
     }
 
     fn read_body(
-        &self,
+        &mut self,
         path: &Path,
         node: roxmltree::Node,
         childclass: Option<&str>,
     ) -> Result<BodyNode, Diagnostic> {
+        self.nbody += 1;
+        if self.nbody > limits::MAX_BODIES {
+            let mut d = limits::too_many_bodies("this <body>");
+            if let Some(source) = &self.source {
+                let start = node.range().start;
+                d = d.at(Location::new(source, start..start + 5));
+            }
+            return Err(d);
+        }
         let childclass = node.attribute("childclass").or(childclass);
         let mut body = BodyNode {
             name: node.attribute("name").unwrap_or("").into(),
@@ -440,7 +460,7 @@ impl Reader {
 
     /// Children of a body (or of a `<frame>`, whose content belongs to the enclosing body).
     fn read_body_content(
-        &self,
+        &mut self,
         path: &Path,
         node: roxmltree::Node,
         childclass: Option<&str>,

@@ -187,6 +187,29 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "events",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
+
+/// E0111 for an id Gymnasium cannot register under `envc/`: its grammar is
+/// `[namespace/]name[-vN]` with `[\w:.-]` characters; envc supplies the namespace, so the id is
+/// one name (`envc.make` would fail with Gymnasium's "Malformed environment ID" otherwise).
+pub fn env_id_problem(id: &str, at: Location) -> Option<Diagnostic> {
+    let bad = id
+        .chars()
+        .find(|c| !(c.is_alphanumeric() || matches!(c, '_' | ':' | '.' | '-')));
+    let why = match bad {
+        _ if id.is_empty() => "it is empty".to_string(),
+        Some('/') => "it contains `/` (envc registers it as `envc/<id>`)".to_string(),
+        Some(c) => format!("it contains {c:?}"),
+        None => return None,
+    };
+    Some(
+        Diagnostic::new(
+            Code::E0111,
+            format!("`{id}` is not an id Gymnasium can register: {why}"),
+        )
+        .at(at)
+        .label("expected letters, digits, `_`, `:`, `.` and `-`, e.g. \"MyRobot-v0\""),
+    )
+}
 const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
 pub(crate) const PARAM_TYPES: &[&str] = &[
     "bool", "int", "float", "range", "string", "path", "body", "table",
@@ -429,6 +452,9 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
                         Some(s) => {
                             spec.id = s.to_string();
                             spec.id_loc = idv.value.loc.clone();
+                            if let Some(d_) = env_id_problem(s, idv.value.loc.clone()) {
+                                d.push(d_);
+                            }
                         }
                         None => d.push(idv.value.type_error("env.id", "a string")),
                     },

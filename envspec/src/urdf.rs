@@ -66,6 +66,13 @@ impl ModelInfo {
     pub fn from_urdf_str(path: &Path, text: &str) -> Result<ModelInfo, Diagnostic> {
         let ext = mujoco_extension(path, text)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| malformed(path, e.to_string()))?;
+        if robot.links.len() > crate::limits::MAX_BODIES {
+            let name = &robot.links[crate::limits::MAX_BODIES].name;
+            return Err(crate::limits::too_many_bodies(&format!(
+                "{}: link `{name}`",
+                path.display()
+            )));
+        }
 
         let mut index: HashMap<&str, usize> = HashMap::new();
         for (i, l) in robot.links.iter().enumerate() {
@@ -118,6 +125,8 @@ impl ModelInfo {
             fuse: ext.fusestatic,
             info: &mut info,
             visited: 0,
+            depth: 0,
+            too_deep: None,
         };
         for (i, l) in robot.links.iter().enumerate() {
             if parent_joint[i].is_some() {
@@ -130,6 +139,20 @@ impl ModelInfo {
             } else {
                 walk.body(i, None);
             }
+        }
+        if let Some(l) = walk.too_deep {
+            let limit = crate::limits::MAX_NESTING;
+            return Err(Diagnostic::new(
+                Code::E0110,
+                format!(
+                    "{}: link `{}` is {} links deep in its chain, beyond envc's limit of {limit}",
+                    path.display(),
+                    robot.links[l].name,
+                    limit + 1
+                ),
+            )
+            .label(format!("expected chains of at most {limit} links"))
+            .help("MuJoCo's compiler and envc's readers recurse per level; see docs/limits.md"));
         }
         if walk.visited != robot.links.len() {
             return Err(malformed(
@@ -150,6 +173,10 @@ struct Extension {
 fn mujoco_extension(path: &Path, text: &str) -> Result<Extension, Diagnostic> {
     let doc = roxmltree::Document::parse(text)
         .map_err(|e| malformed(path, format!("not well-formed XML: {e}")))?;
+    let source = crate::diagnostic::SourceFile::new(path.display().to_string(), text.to_string());
+    if let Some(d) = crate::limits::check_xml_depth(&doc, &source) {
+        return Err(d);
+    }
     let mut ext = Extension {
         fusestatic: true,
         timestep: None,
@@ -199,11 +226,27 @@ struct Walk<'a> {
     fuse: bool,
     info: &'a mut ModelInfo,
     visited: usize,
+    /// Links on the current chain; the walk stops at the first link beyond `MAX_NESTING`.
+    depth: usize,
+    too_deep: Option<usize>,
 }
 
 impl Walk<'_> {
     /// The body of link `l`, attached by joint `via` (None for a root link), then its subtree.
     fn body(&mut self, l: usize, via: Option<usize>) {
+        if self.too_deep.is_some() {
+            return;
+        }
+        if self.depth >= crate::limits::MAX_NESTING {
+            self.too_deep = Some(l);
+            return;
+        }
+        self.depth += 1;
+        self.body_at(l, via);
+        self.depth -= 1;
+    }
+
+    fn body_at(&mut self, l: usize, via: Option<usize>) {
         self.visited += 1;
         let joints = via
             .map(|j| joints_of(&self.robot.joints[j]))

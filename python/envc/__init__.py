@@ -31,12 +31,34 @@ def _bundle_root() -> str | None:
 if (_root := _bundle_root()) is not None:
     _envc.set_bundle_root(_root)
 from ._datasets import collect
-from ._envc import SpecError
+from ._errors import (
+    ActionError,
+    ArgumentError,
+    DatasetError,
+    Error,
+    InternalError,
+    KindError,
+    ModelError,
+    NotResetError,
+    SimulationError,
+    SpecError,
+    UnknownParameterError,
+)
 from ._gym import EnvcEnv, make, overrides_to_toml
 from ._registry import bundled_ids, register, register_all
 from ._vector import EnvcVectorEnv, make_vec
 
 __all__ = [
+    "ActionError",
+    "ArgumentError",
+    "DatasetError",
+    "Error",
+    "InternalError",
+    "KindError",
+    "ModelError",
+    "NotResetError",
+    "SimulationError",
+    "UnknownParameterError",
     "EnvcEnv",
     "EnvcMazeEnv",
     "EnvcVectorEnv",

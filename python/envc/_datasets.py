@@ -7,8 +7,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import _envc
-from ._gym import overrides_to_toml
+from . import _envc, _errors
+from ._gym import _id, overrides_to_toml
 
 
 def collect(
@@ -48,12 +48,16 @@ def collect(
     if callable(policy):
         policy_fn, policy = policy, "callable"
     if env_spec not in ("reference", "envc"):
-        raise ValueError(f"env_spec={env_spec!r}: expected 'reference' or 'envc'")
+        raise _errors.coded(
+            f"error[E1105]: env_spec={env_spec!r}: expected 'reference' or 'envc'", "E1105"
+        )
     spec_json = _envc_spec_json(id_or_path, overrides) if env_spec == "envc" else None
+    episodes = _errors.integer(episodes, "episodes", 1, 2**64)
+    seed = _errors.seed(seed)
     directory, _steps, _seed = _envc.collect(
-        os.fspath(id_or_path),
+        _id(id_or_path),
         dataset_id,
-        int(episodes),
+        episodes,
         policy,
         seed,
         format,
@@ -71,9 +75,15 @@ def collect(
 def _replay_rows(actions: Any) -> list[float] | None:
     if actions is None:
         return None
-    a = np.asarray(actions, dtype=np.float32)
+    try:
+        a = np.asarray(actions, dtype=np.float32)
+    except (TypeError, ValueError) as e:
+        raise _errors.coded(f"error[E1105]: actions must be numbers ({e})", "E1105") from None
     if a.ndim != 2:
-        raise ValueError(f"actions must be a 2-D array [T, act_dim], got shape {a.shape}")
+        raise _errors.coded(
+            f"error[E1105]: actions must be a 2-D array [T, act_dim], got shape {a.shape}",
+            "E1105",
+        )
     return a.ravel().tolist()
 
 

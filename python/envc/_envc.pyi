@@ -11,10 +11,7 @@ import numpy.typing as npt
 __mujoco_version__: str
 __version__: str
 
-class SpecError(ValueError):
-    """A spec, parameter or model that does not check out; `code` is its stable error code."""
-
-    code: str
+from ._errors import SpecError as SpecError
 
 def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, Any]:
     """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
@@ -210,6 +207,8 @@ class VecCore:
     numerics: str
     info_keys: list[tuple[str, int, int, bool]]
     buffers: dict[str, np.ndarray]
+    generation: int
+    """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
     def reset(self, seeds: list[int | None] | None = ..., mask: npt.NDArray[np.bool_] | None = ...) -> None: ...
     def step(self, actions: npt.NDArray[np.float64]) -> None: ...
     def step_f32(self, actions: npt.NDArray[np.float32]) -> None: ...

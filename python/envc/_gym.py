@@ -10,11 +10,13 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from . import _envc
+from . import _envc, _errors
 
 
 def _toml(value: Any, name: str) -> str:
     """A Python value as the TOML literal an envc override takes."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value.item()
     if isinstance(value, bool) or isinstance(value, np.bool_):
         return "true" if value else "false"
     if isinstance(value, (int, np.integer)):
@@ -32,9 +34,10 @@ def _toml(value: Any, name: str) -> str:
         return "[" + ", ".join(_toml(v, name) for v in value) + "]"
     if isinstance(value, dict):
         return "{" + ", ".join(f"{k} = {_toml(v, name)}" for k, v in value.items()) + "}"
-    raise ValueError(
-        f"parameter `{name}`: cannot pass a {type(value).__name__} "
-        "(expected a bool, number, string, path, tuple/list or dict)"
+    raise _errors.coded(
+        f"error[E0203]: parameter `{name}`: cannot pass a {type(value).__name__} "
+        "(expected a bool, number, string, path, tuple/list or dict)",
+        "E0203",
     )
 
 
@@ -47,10 +50,14 @@ RENDER_MODES = ("rgb_array", "depth_array", "rgbd_tuple")
 
 
 def check_render_mode(render_mode: str | None) -> None:
-    if render_mode is not None and render_mode not in RENDER_MODES:
-        raise ValueError(
-            f"render_mode={render_mode!r}: envc renders headless only; expected one of "
-            f"{', '.join(RENDER_MODES)} (wrap with gymnasium.wrappers.HumanRendering to watch)"
+    if render_mode is not None and not (
+        isinstance(render_mode, str) and render_mode in RENDER_MODES
+    ):
+        raise _errors.coded(
+            f"error[E1504]: render_mode={render_mode!r}: envc renders headless only; expected "
+            f"one of {', '.join(RENDER_MODES)} (wrap with gymnasium.wrappers.HumanRendering to "
+            "watch)",
+            "E1504",
         )
 
 
@@ -62,8 +69,47 @@ def render_overrides(overrides: dict[str, Any]) -> dict[str, Any]:
         if k in out and out[k] is None:
             del out[k]
     if isinstance(out.get("visual_options"), dict):
-        out["visual_options"] = {int(k): bool(v) for k, v in out["visual_options"].items()}
+        try:
+            out["visual_options"] = {int(k): bool(v) for k, v in out["visual_options"].items()}
+        except (TypeError, ValueError, OverflowError) as e:
+            raise _errors.coded(
+                f"error[E1505]: visual_options: expected mjtVisFlag keys and bools ({e})", "E1505"
+            ) from None
     return out
+
+
+def reference_seed(seed: Any, gym_reset) -> int | None:
+    """A reset seed checked as the reference checks it: an integer goes to Gymnasium's own
+    ``Env.reset`` first (a negative seed is its error, as for the reference's envs); then
+    anything but an integer in [0, 2**64) is ``ArgumentError`` (E1105), never converted."""
+    import numbers
+
+    if isinstance(seed, numbers.Integral) and not isinstance(seed, (bool, np.bool_)):
+        gym_reset(seed=int(seed))
+        return _errors.seed(seed)
+    seed = _errors.seed(seed)
+    gym_reset(seed=seed)
+    return seed
+
+
+def as_actions(actions) -> np.ndarray:
+    """An action (or batch) as a float array; what numpy cannot read as numbers is E1101."""
+    try:
+        a = np.asarray(actions)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise _errors.coded(f"error[E1101]: actions must be numbers ({e})", "E1101") from None
+    if a.dtype == np.float32:
+        return a
+    if a.dtype.kind == "c":
+        raise _errors.coded(
+            f"error[E1101]: actions must be real numbers, got {a.dtype}", "E1101"
+        )
+    try:
+        return np.asarray(a, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise _errors.coded(
+            f"error[E1101]: actions must be numbers, got {a.dtype} ({e})", "E1101"
+        ) from None
 
 
 def _fps(dt: float) -> int:
@@ -91,7 +137,7 @@ class EnvcEnv(gym.Env):
         pairs = overrides_to_toml(overrides)
         if "max_episode_steps" not in overrides:
             pairs.append(("max_episode_steps", "0"))
-        kind, core = _envc.open(spec_id, pairs)
+        kind, core = _envc.open(_id(spec_id), pairs)
         if kind != "task":
             raise TypeError(
                 f"`{spec_id}` is a {kind} spec; open it with envc.make (mazes) or "
@@ -112,16 +158,16 @@ class EnvcEnv(gym.Env):
         self.dt = core.dt
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        super().reset(seed=seed)
-        if seed is not None and not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must be in [0, 2**64), got {seed}")
-        return self._core.reset(None if seed is None else int(seed))
+        seed = reference_seed(seed, super().reset)
+        _errors.options(options)
+        return self._core.reset(seed)
 
     def step(self, action):
-        a = np.asarray(action)
+        a = as_actions(action)
         if a.ndim != 1:
-            raise ValueError(
-                f"action has shape {a.shape}; expected {self.action_space.shape}"
+            raise _errors.coded(
+                f"error[E1101]: action has shape {a.shape}; expected {self.action_space.shape}",
+                "E1101",
             )
         if a.dtype == np.float32:
             return self._core.step_f32(np.ascontiguousarray(a))
@@ -154,7 +200,7 @@ class _Closed:
     """What a closed env steps with: every call raises."""
 
     def __getattr__(self, name: str):
-        raise RuntimeError("the env is closed")
+        raise _errors.coded("error[E1103]: the env is closed", "E1103")
 
 
 def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> gym.Env:
@@ -171,5 +217,21 @@ def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> g
     """
     from ._registry import env_id_for
 
+    if "max_episode_steps" in overrides and overrides["max_episode_steps"] is not None:
+        overrides["max_episode_steps"] = _errors.integer(
+            overrides["max_episode_steps"], "max_episode_steps", 1
+        )
+    id_or_path = _id(id_or_path)
+    check_render_mode(render_mode)
     return gym.make(env_id_for(id_or_path, overrides), render_mode=render_mode, **overrides)
+
+
+def _id(id_or_path: Any) -> str:
+    """A bundled id or a spec path (``str`` or ``os.PathLike``), as a string."""
+    if isinstance(id_or_path, (str, os.PathLike)):
+        return os.fspath(id_or_path)
+    raise _errors.coded(
+        f"error[E1105]: expected a bundled id or a spec path, got {type(id_or_path).__name__}",
+        "E1105",
+    )
 

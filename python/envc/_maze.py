@@ -12,8 +12,16 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from . import _envc
-from ._gym import RENDER_MODES, _Closed, check_render_mode, overrides_to_toml, render_overrides
+from . import _envc, _errors
+from ._gym import (
+    RENDER_MODES,
+    _Closed,
+    as_actions,
+    check_render_mode,
+    reference_seed,
+    overrides_to_toml,
+    render_overrides,
+)
 
 try:
     from gymnasium_robotics.core import GoalEnv as _Base
@@ -127,12 +135,10 @@ class EnvcMazeEnv(_Base):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         """Start an episode: ``(obs dict, info)``. ``options`` may hold ``goal_cell`` and
         ``reset_cell`` (``(row, col)`` of free cells); others are drawn as the reference draws."""
-        super().reset(seed=seed)
-        if seed is not None and not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must be in [0, 2**64), got {seed}")
-        opts = options or {}
+        seed = reference_seed(seed, super().reset)
+        opts = _errors.options(options)
         return self._core.reset(
-            None if seed is None else int(seed),
+            seed,
             _cell(opts, "goal_cell"),
             _cell(opts, "reset_cell"),
         )
@@ -140,9 +146,12 @@ class EnvcMazeEnv(_Base):
     def step(self, action):
         """``(obs dict, reward, terminated, truncated, info)``; ``info["success"]`` says whether
         the robot is within the goal threshold."""
-        a = np.asarray(action)
+        a = as_actions(action)
         if a.ndim != 1:
-            raise ValueError(f"action has shape {a.shape}; expected {self.action_space.shape}")
+            raise _errors.coded(
+                f"error[E1101]: action has shape {a.shape}; expected {self.action_space.shape}",
+                "E1101",
+            )
         if a.dtype == np.float32:
             obs, reward, terminated, truncated, info = self._core.step_f32(np.ascontiguousarray(a))
         else:

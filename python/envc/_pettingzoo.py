@@ -19,7 +19,7 @@ import gymnasium
 import numpy as np
 import pettingzoo
 
-from . import _envc
+from . import _envc, _errors
 from ._gym import (
     RENDER_MODES,
     _Closed,
@@ -181,9 +181,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         A seed restarts the env's RNG stream (as ``np_random`` is reseeded in the reference);
         ``None`` continues it. ``options`` is accepted and ignored, as MuJoCo envs ignore it.
         """
-        if seed is not None and not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must be in [0, 2**64), got {seed}")
-        obs, info = self._core.reset(None if seed is None else int(seed))
+        seed = _errors.seed(seed)
+        _errors.options(options)
+        obs, info = self._core.reset(seed)
         self.agents = list(self.possible_agents)
         return self._per_agent(obs), {a: info for a in self.possible_agents}
 

@@ -10,8 +10,16 @@ import numpy as np
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
-from . import _envc
-from ._gym import RENDER_MODES, _fps, check_render_mode, overrides_to_toml, render_overrides
+from . import _envc, _errors
+from ._gym import (
+    RENDER_MODES,
+    _fps,
+    _id,
+    as_actions,
+    check_render_mode,
+    overrides_to_toml,
+    render_overrides,
+)
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
 
@@ -64,22 +72,30 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     ):
         check_render_mode(render_mode)
         overrides = render_overrides(overrides)
-        mode = AutoresetMode(autoreset_mode)
+        try:
+            mode = AutoresetMode(autoreset_mode)
+        except ValueError:
+            mode = None
         if mode not in _MODES:
-            raise ValueError(
-                f"autoreset_mode={mode}: envc vector envs support NEXT_STEP and SAME_STEP"
+            raise _errors.coded(
+                f"error[E1105]: autoreset_mode={autoreset_mode!r}: envc vector envs support "
+                "NEXT_STEP and SAME_STEP",
+                "E1105",
             )
-        if int(num_envs) < 1:
-            raise ValueError(f"num_envs must be at least 1, got {num_envs}")
-        threads = _default_threads(num_envs) if num_threads is None else int(num_threads)
-        if threads < 1:
-            raise ValueError(f"num_threads must be at least 1, got {num_threads}")
+        # Beyond 2**63 is not a count Rust takes; limits::MAX_VEC_ENVS refuses far less (E1403).
+        num_envs = _errors.integer(num_envs, "num_envs", 1, 2**63)
+        if num_threads is None:
+            threads = _default_threads(num_envs)
+        else:
+            threads = _errors.integer(num_threads, "num_threads", 1, 2**63)
         pairs = overrides_to_toml(overrides)
         if max_episode_steps is not None:
-            pairs.append(("max_episode_steps", str(int(max_episode_steps))))
-        core = _envc.VecCore(os.fspath(spec_id), pairs, int(num_envs), threads, mode.value)
+            steps = _errors.integer(max_episode_steps, "max_episode_steps", 0, 2**63)
+            pairs.append(("max_episode_steps", str(steps)))
+        core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, mode.value)
         self._core = core
         self._buf = core.buffers
+        self._generation = core.generation
         self._keys = core.info_keys
         self.copy = copy
         self.num_envs = int(num_envs)
@@ -127,55 +143,75 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
         as Gymnasium's vector envs do; the infos are then those of the masked envs.
         """
-        mask = None if options is None else options.get("reset_mask")
+        mask = _errors.options(options).get("reset_mask")
         if mask is not None:
             mask = self._check_mask(mask)
+        if isinstance(seed, np.ndarray) and seed.ndim == 0:
+            seed = seed.item()
         if seed is None:
             seeds = None
-        elif isinstance(seed, (int, np.integer)):
-            seeds = [int(seed) + i for i in range(self.num_envs)]
-        else:
-            seeds = [None if s is None else int(s) for s in seed]
+        elif isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [_errors.seed(s) for s in seed]
             if len(seeds) != self.num_envs:
-                raise ValueError(
-                    f"If seeds are passed as a list the length must match "
-                    f"num_envs={self.num_envs} but got length={len(seeds)}."
+                raise _errors.coded(
+                    f"error[E1105]: If seeds are passed as a list the length must match "
+                    f"num_envs={self.num_envs} but got length={len(seeds)}.",
+                    "E1105",
                 )
-        for s in seeds or ():
-            if s is not None and not 0 <= s < 2**64:
-                raise ValueError(f"seeds must be in [0, 2**64), got {s}")
+        else:
+            first = _errors.integer(seed, "seed", 0, 2**64 - self.num_envs + 1)
+            seeds = [first + i for i in range(self.num_envs)]
         self._core.reset(seeds, None if mask is None else mask.tolist())
+        self._refresh()
         return self._obs(), self._infos(False, final=False)
+
+    def _refresh(self) -> None:
+        """Read the buffers again when the core replaced one (made read-only or resized)."""
+        if self._core.generation != self._generation:
+            self._buf = self._core.buffers
+            self._generation = self._core.generation
 
     def _check_mask(self, mask) -> np.ndarray:
         """A ``reset_mask`` as Gymnasium's vector envs check it."""
         if not isinstance(mask, np.ndarray):
-            raise TypeError(f"`options['reset_mask']` must be a numpy array, got {type(mask)}")
+            raise _errors.coded(
+                f"error[E1105]: `options['reset_mask']` must be a numpy array, got {type(mask)}",
+                "E1105",
+            )
         if mask.shape != (self.num_envs,):
-            raise ValueError(
-                f"`options['reset_mask']` must have shape `({self.num_envs},)`, got {mask.shape}"
+            raise _errors.coded(
+                f"error[E1105]: `options['reset_mask']` must have shape `({self.num_envs},)`, "
+                f"got {mask.shape}",
+                "E1105",
             )
         if mask.dtype != np.bool_:
-            raise TypeError(f"`options['reset_mask']` must have `dtype=np.bool_`, got {mask.dtype}")
+            raise _errors.coded(
+                f"error[E1105]: `options['reset_mask']` must have `dtype=np.bool_`, "
+                f"got {mask.dtype}",
+                "E1105",
+            )
         if not mask.any():
-            raise ValueError(
-                "`options['reset_mask']` must contain a boolean array with at least one True "
-                f"value, got reset_mask={mask}"
+            raise _errors.coded(
+                "error[E1105]: `options['reset_mask']` must contain a boolean array with at "
+                f"least one True value, got reset_mask={mask}",
+                "E1105",
             )
         return mask
 
     def step(self, actions):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
-        a = np.asarray(actions)
+        a = as_actions(actions)
         if a.ndim != 2:
-            raise ValueError(
-                f"actions have shape {a.shape}; expected {self.action_space.shape}"
+            raise _errors.coded(
+                f"error[E1101]: actions have shape {a.shape}; expected {self.action_space.shape}",
+                "E1101",
             )
         f32 = a.dtype == np.float32
         if f32:
             self._core.step_f32(np.ascontiguousarray(a))
         else:
             self._core.step(np.ascontiguousarray(a, dtype=np.float64))
+        self._refresh()
         b = self._buf
         return (
             self._obs(),
@@ -255,7 +291,8 @@ def make_vec(
         return gpu.make_vec(id_or_path, num_envs, backend=backend, device=device, **overrides)
     from ._registry import env_id_for, spec_of
 
-    env_id = env_id_for(id_or_path, overrides)
+    num_envs = _errors.integer(num_envs, "num_envs", 1, 2**63)
+    env_id = env_id_for(_id(id_or_path), overrides)
     if spec_of(env_id).vector_entry_point is None:
         raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
     return gym.make_vec(

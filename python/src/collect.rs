@@ -10,7 +10,6 @@ use envc::dataset::{
     PlanPolicy, ShardEpisode,
 };
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::{convert, errors};
@@ -21,25 +20,36 @@ fn plan_policy(policy: &str, actions: Option<Vec<f32>>, has_fn: bool) -> PyResul
         ("random", None, false) => PlanPolicy::Random,
         ("replay", Some(a), false) => PlanPolicy::Replay(a),
         ("callable", None, true) => PlanPolicy::Callable,
-        ("replay", None, _) => return Err(PyValueError::new_err("policy='replay' needs actions")),
+        ("replay", None, _) => return Err(errors::argument("policy='replay' needs actions")),
         (_, Some(_), _) => {
-            return Err(PyValueError::new_err(
+            return Err(errors::argument(
                 "actions are only used with policy='replay'",
             ));
         }
         (other, _, _) => {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::argument(format!(
                 "policy={other:?}: expected 'zero', 'random', 'replay' or a callable policy(obs, rng) -> action"
             )));
         }
     })
 }
 
+/// At most `limits::MAX_EPISODES`, as `envc collect --episodes`.
+fn check_episodes(episodes: u64) -> PyResult<()> {
+    let max = envspec::limits::MAX_EPISODES;
+    if episodes == 0 || episodes > max {
+        return Err(errors::argument(format!(
+            "episodes={episodes}: expected 1 to {max} (envspec::limits::MAX_EPISODES)"
+        )));
+    }
+    Ok(())
+}
+
 fn format(name: &str) -> PyResult<Format> {
     match name {
         "arrow" => Ok(Format::Arrow),
         "hdf5" => Ok(Format::Hdf5),
-        other => Err(PyValueError::new_err(format!(
+        other => Err(errors::argument(format!(
             "format={other:?}: expected 'arrow' or 'hdf5'"
         ))),
     }
@@ -50,17 +60,23 @@ fn open_env(id_or_path: &str, overrides: &[(String, String)]) -> PyResult<(envc:
     let env = envc::open(id_or_path, &convert::overrides(overrides)).map_err(errors::env_error)?;
     let id = match &env {
         envc::AnyEnv::Agents(_) => {
-            return Err(PyTypeError::new_err(format!(
-                "`{id_or_path}` is a multi-agent spec; Minari datasets are single-agent (collect its base task)"
-            )));
+            return Err(errors::coded(
+                "E0602",
+                format!(
+                    "error[E0602]: `{id_or_path}` is a multi-agent spec; Minari datasets are single-agent (collect its base task)"
+                ),
+            ));
         }
         e => e.id().to_string(),
     };
     if env.max_episode_steps().is_none() {
         // E1401, as `envc collect`: an episode might never end.
-        return Err(PyValueError::new_err(format!(
-            "error[E1401]: `{id}` has no time limit, so collect might never end an episode; pass max_episode_steps=N as an override"
-        )));
+        return Err(errors::coded(
+            "E1401",
+            format!(
+                "error[E1401]: `{id}` has no time limit, so collect might never end an episode; pass max_episode_steps=N as an override"
+            ),
+        ));
     }
     Ok((env, id))
 }
@@ -97,11 +113,14 @@ impl PyPolicy {
             let ro = a.readonly();
             let v = ro.as_slice()?;
             if v.len() != action.len() {
-                return Err(PyValueError::new_err(format!(
-                    "the policy returned {} action values; the action space has {}",
-                    v.len(),
-                    action.len()
-                )));
+                return Err(errors::coded(
+                    "E1601",
+                    format!(
+                        "error[E1601]: the policy returned {} action values; the action space has {}",
+                        v.len(),
+                        action.len()
+                    ),
+                ));
             }
             action.copy_from_slice(v);
             Ok(())
@@ -109,7 +128,7 @@ impl PyPolicy {
     }
 }
 
-impl EpisodePolicy<[f64]> for &mut PyPolicy {
+impl EpisodePolicy<[f64]> for PyPolicy {
     fn begin(&mut self, seed: u64, episode: u64) {
         self.episode = episode;
         if self.err.is_some() {
@@ -147,12 +166,73 @@ impl EpisodePolicy<[f64]> for &mut PyPolicy {
     }
 }
 
-/// The Python exception for a collection error: the policy's own exception when it raised.
-fn collect_error(e: DatasetError, policy: Option<&mut PyPolicy>) -> PyErr {
+/// A policy that also looks for a pending signal (Ctrl-C) every 50 ms of stepping, taking the GIL
+/// for it: the GIL is released while episodes run, so Python would see the signal only when the
+/// whole collection returned. A signal's exception (`KeyboardInterrupt`) stops the episode and
+/// the collection; nothing is published.
+struct Interruptible<P> {
+    inner: P,
+    steps: u32,
+    last: std::time::Instant,
+    signal: Option<PyErr>,
+}
+
+impl<P> Interruptible<P> {
+    fn new(inner: P) -> Self {
+        Interruptible {
+            inner,
+            steps: 0,
+            last: std::time::Instant::now(),
+            signal: None,
+        }
+    }
+}
+
+impl<O: ?Sized, P: EpisodePolicy<O>> EpisodePolicy<O> for Interruptible<P> {
+    fn begin(&mut self, seed: u64, episode: u64) {
+        self.inner.begin(seed, episode)
+    }
+    fn act(&mut self, obs: &O, action: &mut [f32]) {
+        self.inner.act(obs, action)
+    }
+    fn check(&mut self) -> Result<(), DatasetError> {
+        if self.signal.is_some() {
+            return Err(DatasetError::PolicyFailed {
+                episode: 0,
+                why: "interrupted".into(),
+            });
+        }
+        self.inner.check()
+    }
+    fn interrupted(&mut self) -> bool {
+        if self.signal.is_some() {
+            return true;
+        }
+        self.steps = self.steps.wrapping_add(1);
+        if !self.steps.is_multiple_of(64)
+            || self.last.elapsed() < std::time::Duration::from_millis(50)
+        {
+            return false;
+        }
+        self.last = std::time::Instant::now();
+        if let Err(e) = Python::attach(|py| py.check_signals()) {
+            self.signal = Some(e);
+            return true;
+        }
+        false
+    }
+}
+
+/// The Python exception for a collection error: a signal's (Ctrl-C), else the policy's own
+/// exception when it raised, else the coded dataset error.
+fn collect_error(e: DatasetError, signal: Option<PyErr>, policy: Option<&mut PyPolicy>) -> PyErr {
+    if let Some(err) = signal {
+        return err;
+    }
     if let Some(err) = policy.and_then(|p| p.err.take()) {
         return err;
     }
-    PyValueError::new_err(e.to_string())
+    errors::dataset_error(e)
 }
 
 /// Record `episodes` episodes of a task or maze spec into a Minari dataset; returns
@@ -178,6 +258,7 @@ pub fn collect(
     env_spec: Option<String>,
     policy_fn: Option<Py<PyAny>>,
 ) -> PyResult<(String, u64, u64)> {
+    check_episodes(episodes)?;
     let plan = Plan {
         episodes,
         policy: plan_policy(policy, actions, policy_fn.is_some())?,
@@ -196,16 +277,38 @@ pub fn collect(
         env_spec,
     );
     let mut py_policy = policy_fn.map(PyPolicy::new);
-    let r = py.detach(|| match (env, py_policy.as_mut()) {
-        (envc::AnyEnv::Task(e), Some(p)) => envc::dataset::record_with(e, &plan, opts, p, |_, _| {}),
+    let mut signal = None;
+    let r = errors::no_panic(
+        &mut (),
+        |_| {
+            Ok(py.detach(|| match (env, py_policy.as_mut()) {
+        (envc::AnyEnv::Task(e), Some(p)) => {
+            let mut p = Interruptible::new(p);
+            let r = envc::dataset::record_with(e, &plan, opts, &mut p, |_, _| {});
+            signal = p.signal.take();
+            r
+        }
         (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
             "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'".into(),
         )),
-        (envc::AnyEnv::Task(e), None) => envc::dataset::record(e, &plan, opts, |_, _| {}),
-        (envc::AnyEnv::Maze(e), None) => envc::dataset::record(*e, &plan, opts, |_, _| {}),
+        (envc::AnyEnv::Task(e), None) => {
+            let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
+            let r = envc::dataset::record_with(e, &plan, opts, &mut p, |_, _| {});
+            signal = p.signal.take();
+            r
+        }
+        (envc::AnyEnv::Maze(e), None) => {
+            let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
+            let r = envc::dataset::record_with(*e, &plan, opts, &mut p, |_, _| {});
+            signal = p.signal.take();
+            r
+        }
         (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
-    });
-    let r = r.map_err(|e| collect_error(e, py_policy.as_mut()))?;
+    }))
+        },
+        |_| {},
+    )?;
+    let r = r.map_err(|e| collect_error(e, signal, py_policy.as_mut()))?;
     Ok((r.dir.display().to_string(), r.steps, r.seed))
 }
 
@@ -275,6 +378,7 @@ impl ShardedCollection {
         env_spec: Option<String>,
         callable: bool,
     ) -> PyResult<ShardedCollection> {
+        check_episodes(episodes)?;
         let plan = Plan {
             episodes,
             policy: plan_policy(policy, actions, callable)?,
@@ -293,7 +397,7 @@ impl ShardedCollection {
             description,
             env_spec,
         );
-        let err = |e: DatasetError| PyValueError::new_err(e.to_string());
+        let err = errors::dataset_error;
         let collector = match env {
             envc::AnyEnv::Task(e) => {
                 if let PlanPolicy::Replay(_) = &plan.policy {
@@ -303,7 +407,7 @@ impl ShardedCollection {
             }
             envc::AnyEnv::Maze(e) => {
                 if callable {
-                    return Err(PyValueError::new_err(
+                    return Err(errors::argument(
                         "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'",
                     ));
                 }
@@ -343,15 +447,16 @@ impl ShardedCollection {
             .into_iter()
             .map(|(steps, bytes)| ShardEpisode { steps, bytes })
             .collect();
-        let c = self.collector.take().ok_or_else(|| {
-            PyRuntimeError::new_err("the collection is already finished or aborted")
-        })?;
+        let c = self
+            .collector
+            .take()
+            .ok_or_else(|| errors::argument("the collection is already finished or aborted"))?;
         let dir = py
             .detach(|| match c {
                 DriverCollector::Task(c) => c.finish_shards(&episodes),
                 DriverCollector::Maze(c) => c.finish_shards(&episodes),
             })
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            .map_err(errors::dataset_error)?;
         Ok(dir.display().to_string())
     }
 
@@ -385,19 +490,37 @@ pub fn collect_shard(
     let (env, _) = open_env(id_or_path, &overrides)?;
     let mut py_policy = policy_fn.map(PyPolicy::new);
     let range = start..end.max(start);
-    let r = py.detach(|| match (env, py_policy.as_mut()) {
-        (envc::AnyEnv::Task(e), Some(p)) => {
-            envc::dataset::record_shard(e, seed, range, &staging, format, p)
-        }
-        (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
-            "a callable policy needs a task env (flat observations)".into(),
-        )),
-        (envc::AnyEnv::Task(e), None) => PlanActor::new(&plan_policy, e.action_space())
-            .and_then(|a| envc::dataset::record_shard(e, seed, range, &staging, format, a)),
-        (envc::AnyEnv::Maze(e), None) => PlanActor::new(&plan_policy, e.action_space())
-            .and_then(|a| envc::dataset::record_shard(*e, seed, range, &staging, format, a)),
-        (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
-    });
-    let episodes = r.map_err(|e| collect_error(e, py_policy.as_mut()))?;
+    let mut signal = None;
+    let r = errors::no_panic(
+        &mut (),
+        |_| {
+            Ok(py.detach(|| match (env, py_policy.as_mut()) {
+                (envc::AnyEnv::Task(e), Some(p)) => {
+                    let mut p = Interruptible::new(p);
+                    let r = envc::dataset::record_shard(e, seed, range, &staging, format, &mut p);
+                    signal = p.signal.take();
+                    r
+                }
+                (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
+                    "a callable policy needs a task env (flat observations)".into(),
+                )),
+                (envc::AnyEnv::Task(e), None) => {
+                    let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
+                    let r = envc::dataset::record_shard(e, seed, range, &staging, format, &mut p);
+                    signal = p.signal.take();
+                    r
+                }
+                (envc::AnyEnv::Maze(e), None) => {
+                    let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
+                    let r = envc::dataset::record_shard(*e, seed, range, &staging, format, &mut p);
+                    signal = p.signal.take();
+                    r
+                }
+                (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
+            }))
+        },
+        |_| {},
+    )?;
+    let episodes = r.map_err(|e| collect_error(e, signal, py_policy.as_mut()))?;
     Ok(episodes.into_iter().map(|e| (e.steps, e.bytes)).collect())
 }

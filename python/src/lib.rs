@@ -25,7 +25,11 @@ fn open(
     overrides: Vec<(String, String)>,
 ) -> PyResult<(String, Py<PyAny>)> {
     let o = convert::overrides(&overrides);
-    let env = envc::open(id_or_path, &o).map_err(errors::env_error)?;
+    let env = errors::no_panic(
+        &mut (),
+        |_| envc::open(id_or_path, &o).map_err(errors::env_error),
+        |_| {},
+    )?;
     Ok(match env {
         envc::AnyEnv::Task(e) => (
             "task".into(),
@@ -78,7 +82,11 @@ fn describe(
     overrides: Vec<(String, String)>,
 ) -> PyResult<(String, String, Option<u64>)> {
     let o = convert::overrides(&overrides);
-    let spec = envspec::open(id_or_path, &o).map_err(errors::diagnostics)?;
+    let spec = errors::no_panic(
+        &mut (),
+        |_| envspec::open(id_or_path, &o).map_err(errors::diagnostics),
+        |_| {},
+    )?;
     let max = match &spec {
         envc::AnySpec::Task(t) => t.max_episode_steps,
         envc::AnySpec::Maze(m) => m.max_episode_steps,
@@ -141,7 +149,11 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<maze::MazeCore>()?;
     m.add_class::<multi_agent::AgentsCore>()?;
     m.add_class::<vector::VecCore>()?;
-    m.add("SpecError", m.py().get_type::<errors::SpecError>())?;
+    // The Python hierarchy's SpecError, for code that catches `_envc.SpecError`.
+    m.add(
+        "SpecError",
+        m.py().import("envc._errors")?.getattr("SpecError")?,
+    )?;
     m.add("__mujoco_version__", envc::mujoco_version())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

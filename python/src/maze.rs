@@ -4,7 +4,6 @@
 
 use envc::maze::{MazeEnv, MazeObs, ResetOptions};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -65,7 +64,7 @@ fn goal_rows(
 ) -> PyResult<(Goals, Goals)> {
     let (a, d) = (achieved.as_array(), desired.as_array());
     if a.shape() != d.shape() || a.shape()[1] != 2 {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::argument(format!(
             "achieved_goal {:?} and desired_goal {:?}: expected two arrays of shape [N, 2]",
             a.shape(),
             d.shape()
@@ -93,13 +92,19 @@ impl MazeCore {
             goal_cell,
             reset_cell,
         });
-        let (_, success) =
-            crate::mujoco_timer::without_mujoco_timer(|| self.env.reset(seed, options))
-                .map_err(errors::env_error)?;
-        Ok((
-            obs_dict(py, self.env.obs())?,
-            info_dict(py, self.env.robot().reset_info(), success)?,
-        ))
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let (_, success) =
+                    crate::mujoco_timer::without_mujoco_timer(|| env.reset(seed, options))
+                        .map_err(errors::env_error)?;
+                Ok((
+                    obs_dict(py, env.obs())?,
+                    info_dict(py, env.robot().reset_info(), success)?,
+                ))
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// Step with a float64 action.
@@ -109,9 +114,15 @@ impl MazeCore {
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<StepOut<'py>> {
         let a = action.as_slice()?;
-        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step(a))
-            .map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step(a))
+                    .map_err(errors::env_error)?;
+                step_out(py, s)
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// Step with a float32 action (float32 control costs in the robot's info, as numpy computes them).
@@ -121,9 +132,15 @@ impl MazeCore {
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
         let a = action.as_slice()?;
-        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_f32(a))
-            .map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a))
+                    .map_err(errors::env_error)?;
+                step_out(py, s)
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// The goal reward term of every row: `achieved[k]` against `desired[k]` (`[N, 2]` each),

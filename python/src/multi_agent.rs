@@ -3,7 +3,6 @@
 //! global actions and observations.
 
 use numpy::{PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -25,7 +24,7 @@ impl AgentsCore {
         if i < self.env.num_agents() {
             Ok(i)
         } else {
-            Err(PyValueError::new_err(format!(
+            Err(errors::argument(format!(
                 "agent index {i} out of range ({} agents)",
                 self.env.num_agents()
             )))
@@ -64,8 +63,14 @@ impl AgentsCore {
         py: Python<'py>,
         seed: Option<u64>,
     ) -> PyResult<(Arrays<'py>, Bound<'py, PyDict>)> {
-        let (obs, info) = crate::mujoco_timer::without_mujoco_timer(|| self.env.reset(seed));
-        Ok((arrays(py, obs), convert::info(py, info)?))
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let (obs, info) = crate::mujoco_timer::without_mujoco_timer(|| env.reset(seed));
+                Ok((arrays(py, obs), convert::info(py, info)?))
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// Step with one float64 action per agent (in agent order): every agent's observation and
@@ -76,9 +81,15 @@ impl AgentsCore {
         actions: Vec<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<StepOut<'py>> {
         let a = slices(&actions)?;
-        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step(&a))
-            .map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step(&a))
+                    .map_err(errors::env_error)?;
+                step_out(py, s)
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// Step with the global (single-agent) action.
@@ -88,9 +99,15 @@ impl AgentsCore {
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<StepOut<'py>> {
         let a = action.as_slice()?;
-        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_global(a))
-            .map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_global(a))
+                    .map_err(errors::env_error)?;
+                step_out(py, s)
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// Step with a float32 global action (float32 control costs, as numpy computes them).
@@ -100,9 +117,15 @@ impl AgentsCore {
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
         let a = action.as_slice()?;
-        let s = crate::mujoco_timer::without_mujoco_timer(|| self.env.step_global_f32(a))
-            .map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_global_f32(a))
+                    .map_err(errors::env_error)?;
+                step_out(py, s)
+            },
+            |env| env.require_reset(),
+        )
     }
 
     /// The global state: the single-agent env's observation.
@@ -145,7 +168,7 @@ impl AgentsCore {
     ) -> PyResult<Arrays<'py>> {
         let s = state.as_slice()?;
         if s.len() != self.env.spec().state_dim() {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::argument(format!(
                 "state has length {}; expected {}",
                 s.len(),
                 self.env.spec().state_dim()
@@ -153,7 +176,7 @@ impl AgentsCore {
         }
         match self.env.global_state_to_local(s) {
             Some(l) => Ok(arrays(py, &l)),
-            None => Err(PyValueError::new_err(
+            None => Err(errors::argument(
                 "some agent observes values that are not in the state: no mapping from the state",
             )),
         }
@@ -169,7 +192,7 @@ impl AgentsCore {
         let g = self
             .env
             .local_observations_to_global(&o)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            .map_err(|e| errors::argument(e.to_string()))?;
         Ok(PyArray1::from_vec(py, g))
     }
 

@@ -47,8 +47,14 @@ impl TaskCore {
         py: Python<'py>,
         seed: Option<u64>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
-        let (obs, info) = without_mujoco_timer(|| self.env.reset(seed));
-        Ok((PyArray1::from_slice(py, obs), convert::info(py, info)?))
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                let (obs, info) = without_mujoco_timer(|| env.reset(seed));
+                Ok((PyArray1::from_slice(py, obs), convert::info(py, info)?))
+            },
+            envc::Env::require_reset,
+        )
     }
 
     /// Step with a float64 action.
@@ -58,8 +64,16 @@ impl TaskCore {
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<StepOut<'py>> {
         let action = action.as_slice()?;
-        let s = without_mujoco_timer(|| self.env.step(action)).map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                step_out(
+                    py,
+                    without_mujoco_timer(|| env.step(action)).map_err(errors::env_error)?,
+                )
+            },
+            envc::Env::require_reset,
+        )
     }
 
     /// Step with a float32 action (float32 control costs, as numpy computes them).
@@ -69,13 +83,25 @@ impl TaskCore {
         action: PyReadonlyArray1<'py, f32>,
     ) -> PyResult<StepOut<'py>> {
         let action = action.as_slice()?;
-        let s = without_mujoco_timer(|| self.env.step_f32(action)).map_err(errors::env_error)?;
-        step_out(py, s)
+        errors::no_panic(
+            &mut self.env,
+            |env| {
+                step_out(
+                    py,
+                    without_mujoco_timer(|| env.step_f32(action)).map_err(errors::env_error)?,
+                )
+            },
+            envc::Env::require_reset,
+        )
     }
 
     /// A frame in Gymnasium's `render_mode` ("rgb_array", "depth_array", "rgbd_tuple").
     fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
-        crate::render::render(py, mode, |m| self.env.render(m))
+        errors::no_panic(
+            &mut self.env,
+            |env| crate::render::render(py, mode, |m| env.render(m)),
+            |env| env.close_renderer(),
+        )
     }
     /// Free the renderer (made again by the next `render`).
     fn close_renderer(&mut self) {

@@ -7,8 +7,10 @@
 //! an env did not report the key. SameStep's `final_obs` / `final_info` have the same layout,
 //! valid where `has_final`.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use numpy::ndarray::Dimension;
+use numpy::{
+    Element, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -25,6 +27,9 @@ pub struct VecCore {
     step_map: Vec<usize>,
     reset_map: Vec<usize>,
     out: Buffers,
+    /// Bumped when a buffer is replaced (`Buffers::renew`): the Python layer then reads
+    /// `buffers` again.
+    generation: u64,
 }
 
 struct InfoKey {
@@ -61,7 +66,59 @@ fn f32_cost(spec: &envspec::ResolvedSpec, item: &envspec::ir::InfoItem) -> bool 
 }
 
 fn closed() -> PyErr {
-    PyRuntimeError::new_err("the vector env is closed")
+    errors::coded("E1103", "error[E1103]: the vector env is closed".into())
+}
+
+/// Replace `slot` with a fresh zeroed array of `shape` when the user made it unusable: read-only,
+/// resized, or no longer contiguous (`copy=False` hands the observation buffer itself out).
+/// Returns whether it was replaced.
+fn renew<T: Element, D: Dimension>(
+    py: Python<'_>,
+    slot: &mut Py<PyArray<T, D>>,
+    shape: &[usize],
+    fresh: impl FnOnce(Python<'_>) -> Bound<'_, PyArray<T, D>>,
+) -> bool {
+    let a = slot.bind(py);
+    let usable = a.shape() == shape && a.is_c_contiguous() && a.try_readwrite().is_ok();
+    if !usable {
+        *slot = fresh(py).unbind();
+    }
+    !usable
+}
+
+impl Buffers {
+    /// Every buffer usable for writing (see `renew`); true when one was replaced.
+    fn renew(&mut self, py: Python<'_>, n: usize, od: usize, nval: usize, nkeys: usize) -> bool {
+        let mut r = false;
+        r |= renew(py, &mut self.obs, &[n, od], |py| {
+            PyArray2::zeros(py, [n, od], false)
+        });
+        r |= renew(py, &mut self.rewards, &[n], |py| {
+            PyArray1::zeros(py, n, false)
+        });
+        r |= renew(py, &mut self.terminated, &[n], |py| {
+            PyArray1::zeros(py, n, false)
+        });
+        r |= renew(py, &mut self.truncated, &[n], |py| {
+            PyArray1::zeros(py, n, false)
+        });
+        r |= renew(py, &mut self.info, &[nval, n], |py| {
+            PyArray2::zeros(py, [nval, n], false)
+        });
+        r |= renew(py, &mut self.info_mask, &[nkeys, n], |py| {
+            PyArray2::zeros(py, [nkeys, n], false)
+        });
+        r |= renew(py, &mut self.final_obs, &[n, od], |py| {
+            PyArray2::zeros(py, [n, od], false)
+        });
+        r |= renew(py, &mut self.final_info, &[nval, n], |py| {
+            PyArray2::zeros(py, [nval, n], false)
+        });
+        r |= renew(py, &mut self.has_final, &[n], |py| {
+            PyArray1::zeros(py, n, false)
+        });
+        r
+    }
 }
 
 impl VecCore {
@@ -71,9 +128,16 @@ impl VecCore {
 
     /// Copy the batch of the last reset or step into the numpy buffers; infos only of the envs
     /// in `only` (a masked reset), else of every env.
-    fn fill(&self, py: Python<'_>, only: Option<&[bool]>) -> PyResult<()> {
+    fn fill(&mut self, py: Python<'_>, only: Option<&[bool]>) -> PyResult<()> {
+        let (n, od) = {
+            let env = self.env()?;
+            (env.num_envs(), env.obs_dim())
+        };
+        let nval = self.keys.iter().map(|k| k.len).sum();
+        if self.out.renew(py, n, od, nval, self.keys.len()) {
+            self.generation += 1;
+        }
         let env = self.env()?;
-        let n = env.num_envs();
         let b = &self.out;
         let mut obs = b.obs.bind(py).readwrite();
         obs.as_slice_mut()?.copy_from_slice(env.obs());
@@ -151,14 +215,24 @@ impl VecCore {
         }
     }
 
+    /// After a panic: every env needs a reset before the next step.
+    fn require_reset(&mut self) {
+        if let Some(env) = self.env.as_mut() {
+            env.require_reset();
+        }
+    }
+
     fn check_batch(&self, shape: &[usize]) -> PyResult<()> {
         let env = self.env()?;
         let want = [env.num_envs(), env.act_dim()];
         if shape != want {
-            return Err(PyValueError::new_err(format!(
-                "actions have shape {shape:?}; expected (num_envs, act_dim) = ({}, {})",
-                want[0], want[1]
-            )));
+            return Err(errors::coded(
+                "E1101",
+                format!(
+                    "error[E1101]: actions have shape {shape:?}; expected (num_envs, act_dim) = ({}, {})",
+                    want[0], want[1]
+                ),
+            ));
         }
         Ok(())
     }
@@ -181,19 +255,24 @@ impl VecCore {
             "NextStep" => envc::Autoreset::NextStep,
             "SameStep" => envc::Autoreset::SameStep,
             other => {
-                return Err(PyValueError::new_err(format!(
+                return Err(errors::argument(format!(
                     "autoreset mode {other:?}: envc vector envs support \"NextStep\" and \"SameStep\""
                 )));
             }
         };
         if num_envs == 0 {
-            return Err(PyValueError::new_err("num_envs must be at least 1"));
+            return Err(errors::argument("num_envs must be at least 1"));
         }
         let o = convert::overrides(&overrides);
         let id = id_or_path.to_string();
-        let env = py
-            .detach(move || envc::VecEnv::make(&id, &o, num_envs, threads.max(1), mode))
-            .map_err(errors::env_error)?;
+        let env = errors::no_panic(
+            &mut (),
+            |_| {
+                py.detach(move || envc::VecEnv::make(&id, &o, num_envs, threads.max(1), mode))
+                    .map_err(errors::env_error)
+            },
+            |_| {},
+        )?;
         let spec = env.spec().expect("num_envs ≥ 1").clone();
         let mut keys = Vec::new();
         let mut offset = 0;
@@ -232,6 +311,7 @@ impl VecCore {
             step_map,
             reset_map,
             out,
+            generation: 0,
         })
     }
 
@@ -244,53 +324,71 @@ impl VecCore {
         seeds: Option<Vec<Option<u64>>>,
         mask: Option<Vec<bool>>,
     ) -> PyResult<()> {
-        let env = self.env.as_mut().ok_or_else(closed)?;
-        let n = env.num_envs();
+        let n = self.env()?.num_envs();
         let seeds = seeds.unwrap_or_else(|| vec![None; n]);
         if seeds.len() != n || mask.as_ref().is_some_and(|m| m.len() != n) {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::argument(format!(
                 "{} seeds and {:?} mask entries for {n} envs",
                 seeds.len(),
                 mask.as_ref().map(Vec::len)
             )));
         }
-        match &mask {
-            None => {
-                crate::mujoco_timer::without_mujoco_timer(|| env.reset_each(seeds));
-            }
-            Some(m) => {
-                crate::mujoco_timer::without_mujoco_timer(|| env.reset_masked(seeds, m))
-                    .map_err(errors::env_error)?;
-            }
-        }
-        self.fill(py, mask.as_deref())
+        errors::no_panic(
+            self,
+            |core| {
+                let env = core.env.as_mut().ok_or_else(closed)?;
+                match &mask {
+                    None => {
+                        crate::mujoco_timer::without_mujoco_timer(|| env.reset_each(seeds));
+                    }
+                    Some(m) => {
+                        crate::mujoco_timer::without_mujoco_timer(|| env.reset_masked(seeds, m))
+                            .map_err(errors::env_error)?;
+                    }
+                }
+                core.fill(py, mask.as_deref())
+            },
+            VecCore::require_reset,
+        )
     }
 
     /// Step with a float64 `(num_envs, act_dim)` C-contiguous batch; fills the buffers.
     fn step(&mut self, py: Python<'_>, actions: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
         self.check_batch(actions.shape())?;
         let a = actions.as_slice()?;
-        let env = self.env.as_mut().ok_or_else(closed)?;
-        py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step(a)))
-            .map_err(errors::env_error)?;
-        self.fill(py, None)
+        errors::no_panic(
+            self,
+            |core| {
+                let env = core.env.as_mut().ok_or_else(closed)?;
+                py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step(a)))
+                    .map_err(errors::env_error)?;
+                core.fill(py, None)
+            },
+            VecCore::require_reset,
+        )
     }
 
     /// Step with a float32 batch (float32 action costs, as numpy computes them).
     fn step_f32(&mut self, py: Python<'_>, actions: PyReadonlyArray2<'_, f32>) -> PyResult<()> {
         self.check_batch(actions.shape())?;
         let a = actions.as_slice()?;
-        let env = self.env.as_mut().ok_or_else(closed)?;
-        py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a)))
-            .map_err(errors::env_error)?;
-        self.fill(py, None)
+        errors::no_panic(
+            self,
+            |core| {
+                let env = core.env.as_mut().ok_or_else(closed)?;
+                py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a)))
+                    .map_err(errors::env_error)?;
+                core.fill(py, None)
+            },
+            VecCore::require_reset,
+        )
     }
 
     /// A frame of env `index` in Gymnasium's `render_mode` (each env has its own renderer).
     fn render(&mut self, py: Python<'_>, index: usize, mode: &str) -> PyResult<Py<PyAny>> {
         let env = self.env.as_mut().ok_or_else(closed)?;
         if index >= env.num_envs() {
-            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            return Err(errors::argument(format!(
                 "env index {index} out of range for {} envs",
                 env.num_envs()
             )));
@@ -319,6 +417,13 @@ impl VecCore {
         d.set_item("final_info", b.final_info.bind(py))?;
         d.set_item("has_final", b.has_final.bind(py))?;
         Ok(d)
+    }
+
+    /// Bumped whenever a buffer the user made read-only or resized is replaced by a fresh one:
+    /// read `buffers` again then.
+    #[getter]
+    fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// The info keys: `(name, offset, len, float32 under float32 actions)`, in spec order.

@@ -157,7 +157,7 @@ impl Sim {
         let d: *mut mjData = unsafe { self.data.ffi_mut() };
         f(m, d).inspect_err(|_| {
             // SAFETY: as above; resetting clears the arena and stack an error left marked.
-            unsafe { mujoco_rs::mujoco_c::mj_resetData(m, d) };
+            unsafe { crate::mujoco_log::ffi::mj_resetData(m, d) };
         })
     }
 
@@ -527,6 +527,18 @@ impl Env {
     pub fn data_bytes(&self) -> u64 {
         let d = self.sim.data.ffi();
         (d.nbuffer as u64).saturating_add(d.narena as u64)
+    }
+    /// What one env holds beyond the shared model: its `mjData` and the observation-delay and
+    /// action-latency rings (10,000 steps of a Humanoid's observation are 28 MB).
+    pub fn memory_bytes(&self) -> u64 {
+        let rings = self.obs_noise.as_ref().map_or(0, |n| n.bytes())
+            + self.latency.as_ref().map_or(0, |l| l.bytes());
+        self.data_bytes().saturating_add(rings)
+    }
+    /// After a failure the env's state cannot be trusted: `step` refuses (E1103) until the next
+    /// `reset`.
+    pub fn require_reset(&mut self) {
+        self.has_reset = false;
     }
     pub fn model(&self) -> &Arc<MjModel> {
         &self.sim.model

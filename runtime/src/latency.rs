@@ -22,6 +22,11 @@ impl ActionLatency {
         })
     }
 
+    /// The ring's size in bytes (part of an env's memory, for the vector-env check).
+    pub(crate) fn bytes(&self) -> u64 {
+        (self.buf.len() * std::mem::size_of::<f64>()) as u64
+    }
+
     /// At reset: no action given yet.
     pub(crate) fn clear(&mut self) {
         self.buf.fill(0.0);

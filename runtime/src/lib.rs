@@ -55,6 +55,7 @@ pub use environment::Environment;
 pub use envspec;
 pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
+pub use mujoco_log::mujoco_error_message;
 pub use vector::{Autoreset, VecEnv};
 
 /// The file of the MuJoCo library this process loaded, from the process's memory map (Linux).

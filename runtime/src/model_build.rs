@@ -179,8 +179,36 @@ fn body_named<'s>(spec: &'s mut MjSpec, name: &str) -> Result<&'s mut MjsBody, S
         .ok_or_else(|| format!("no body `{name}` to attach to"))
 }
 
+/// A name mujoco-rs can pass to MuJoCo (it panics on a NUL byte; envspec refuses such names
+/// first, this keeps a spec built another way from panicking).
+fn c_name(what: &str, name: &str) -> Result<(), String> {
+    if name.contains('\0') {
+        return Err(format!(
+            "cannot add {what} `{}`: its name contains a NUL byte",
+            name.escape_debug()
+        ));
+    }
+    Ok(())
+}
+
 /// Add a spec's `[bodies]`, `[sites]`, `[geoms]`, `[cameras]` or `[lights]` element.
 fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
+    let (name, body) = match e {
+        AddedElement::Body { name, joints, .. } => {
+            for (j, _, _) in joints {
+                c_name("joint", j)?;
+            }
+            (name, None)
+        }
+        AddedElement::Site { name, body, .. }
+        | AddedElement::Geom { name, body, .. }
+        | AddedElement::Camera { name, body, .. }
+        | AddedElement::Light { name, body, .. } => (name, Some(body)),
+    };
+    c_name("element", name)?;
+    if let Some(b) = body {
+        c_name("an element to body", b)?;
+    }
     let named = |what: &str, name: &str, r: Result<(), MjEditError>| {
         r.map_err(|err| format!("cannot add {what} `{name}`: {err}"))
     };
@@ -280,6 +308,8 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
 }
 
 fn add_actuator(spec: &mut MjSpec, a: &AddedActuator) -> Result<(), String> {
+    c_name("actuator", &a.name)?;
+    c_name("an actuator of joint", &a.joint)?;
     let act = spec.add_actuator();
     act.set_name(&a.name)
         .map_err(|e| format!("cannot add actuator `{}`: {e}", a.name))?;

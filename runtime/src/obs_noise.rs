@@ -37,6 +37,13 @@ fn draw(n: &Noise, rng: &mut NumpyRng) -> f64 {
 }
 
 impl ObsNoise {
+    /// The delay rings' size in bytes (part of an env's memory, for the vector-env check).
+    pub(crate) fn bytes(&self) -> u64 {
+        self.rings
+            .iter()
+            .map(|r| (r.buf.len() * std::mem::size_of::<f64>()) as u64)
+            .sum()
+    }
     /// None when the spec declares no observation noise or delay (the plain kernel runs).
     pub(crate) fn new(spec: &ResolvedSpec) -> Option<ObsNoise> {
         let c = &spec.corruption;

@@ -247,9 +247,17 @@ pub struct VecEnv {
     has_final: Vec<bool>,
     pending: Vec<bool>,
     has_reset: bool,
+    /// The process that started the workers (a forked child has none to join).
+    pid: u32,
 }
 
 impl VecEnv {
+    /// After a failure the batch cannot be trusted: `step` refuses (E1103) until the next
+    /// `reset`.
+    pub fn require_reset(&mut self) {
+        self.has_reset = false;
+    }
+
     /// `num_envs` envs of a bundled id or spec path (with overrides), run on `threads` threads.
     pub fn make(
         id_or_path: &str,
@@ -284,7 +292,11 @@ impl VecEnv {
         let first = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
         // Each env holds an mjData (its buffer and arena): refuse before allocating them all
         // rather than fail (or be killed) part-way.
-        let per_env = first.data_bytes();
+        // The env's mjData and rings, and its rows of the batch buffers (observations twice,
+        // actions in both precisions).
+        let per_env = first
+            .memory_bytes()
+            .saturating_add((2 * spec.obs_dim * 8 + spec.act_dim() * 12 + 64) as u64);
         if let Some(free) = crate::memory::available() {
             let need = per_env.saturating_mul(num_envs as u64);
             if need > free {
@@ -343,6 +355,7 @@ impl VecEnv {
             has_final: vec![false; n],
             pending: vec![false; n],
             has_reset: false,
+            pid: std::process::id(),
         };
         // The Arc was just created and no worker holds it yet.
         let job = &mut Arc::get_mut(&mut v.shared).expect("unshared").job;
@@ -612,6 +625,12 @@ impl VecEnv {
 
 impl Drop for VecEnv {
     fn drop(&mut self) {
+        if std::process::id() != self.pid {
+            // A forked child (multiprocessing) inherits the handles but not the threads: there
+            // is nothing to join. The parent's copy stops them.
+            std::mem::forget(std::mem::take(&mut self.workers));
+            return;
+        }
         let s = &*self.shared;
         s.shutdown.store(true, SeqCst);
         {

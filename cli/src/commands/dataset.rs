@@ -68,6 +68,12 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
                 .unwrap_or_else(|| v.to_string())
         })
     };
+    // Verified before anything is printed: a damaged dataset gets its error, not a summary.
+    let summary = if no_episodes || ds.is_empty() {
+        vec![]
+    } else {
+        episode_summary(&ds)?
+    };
     println!("{} ({})", ds.dataset_id, ds.data_path.display());
     println!(
         "  format            {} (minari_version {})",
@@ -99,9 +105,15 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
             println!("  {label:<17} {v}");
         }
     }
-    if no_episodes || ds.is_empty() {
-        return Ok(Outcome::Ok);
+    for line in summary {
+        println!("{line}");
     }
+    Ok(Outcome::Ok)
+}
+
+/// Every episode read and checked against the metadata; the summary lines of their lengths,
+/// returns, terminations and info keys.
+fn episode_summary(ds: &Dataset) -> Result<Vec<String>> {
     // Loadable is not enough: every stored episode must be the one the metadata counts.
     let stored = ds.stored_episodes().map_err(|e| anyhow::anyhow!("{e}"))?;
     if stored != ds.total_episodes {
@@ -136,20 +148,6 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
         format!("mean {m:.3}  std {sd:.3}  min {lo:.3}  max {hi:.3}")
     };
     let steps: f64 = lens.iter().sum();
-    println!("  length            {}", stat(&lens));
-    println!("  return            {}", stat(&rets));
-    println!(
-        "  terminated        {terms} of {}",
-        crate::plural(lens.len() as u64, "episode", "episodes")
-    );
-    println!(
-        "  infos             {}",
-        if info_keys.is_empty() {
-            "(none)".to_string()
-        } else {
-            info_keys.join(", ")
-        }
-    );
     if steps as u64 != ds.total_steps {
         bail!(
             "{}",
@@ -162,5 +160,20 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
             }
         );
     }
-    Ok(Outcome::Ok)
+    Ok(vec![
+        format!("  length            {}", stat(&lens)),
+        format!("  return            {}", stat(&rets)),
+        format!(
+            "  terminated        {terms} of {}",
+            crate::plural(lens.len() as u64, "episode", "episodes")
+        ),
+        format!(
+            "  infos             {}",
+            if info_keys.is_empty() {
+                "(none)".to_string()
+            } else {
+                info_keys.join(", ")
+            }
+        ),
+    ])
 }

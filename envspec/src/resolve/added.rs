@@ -21,7 +21,18 @@ impl Ctx<'_> {
     pub(super) fn added_elements(&mut self) -> Vec<AddedElement> {
         let spec = self.spec;
         let mut out: Vec<AddedElement> = vec![];
+        let mut nbody = self.model.nbody();
         for (kind, s) in &spec.added {
+            if *kind == AddedKind::Body {
+                nbody += 1;
+                if nbody > crate::limits::MAX_BODIES {
+                    self.d.push(
+                        crate::limits::too_many_bodies(&format!("[bodies.{}]", s.name))
+                            .at(s.name_loc.clone()),
+                    );
+                    break;
+                }
+            }
             if let Some(e) = self.added(*kind, s, &out) {
                 out.push(e);
             }
@@ -109,6 +120,13 @@ impl Ctx<'_> {
         added: &[AddedElement],
     ) -> Option<AddedElement> {
         let name = s.name.clone();
+        if name.contains('\0') {
+            self.d.push(nul_in_name(
+                &format!("{kind:?}").to_lowercase(),
+                s.name_loc.clone(),
+            ));
+            return None;
+        }
         let taken = match kind {
             AddedKind::Body => self.model.body_id(&name).is_some(),
             AddedKind::Site => self.model.sites.contains(&name),
@@ -136,6 +154,10 @@ impl Ctx<'_> {
                         return None;
                     };
                     for j in t {
+                        if j.key.contains('\0') {
+                            self.d.push(nul_in_name("joint", j.key_loc.clone()));
+                            return None;
+                        }
                         let spec_text = j.value.as_str().unwrap_or("");
                         let mut words = spec_text.split_whitespace();
                         let (kind, axis) = (words.next(), words.next());
@@ -298,4 +320,14 @@ pub(super) fn apply(added: &[AddedElement], model: &mut ModelInfo) {
             _ => {}
         }
     }
+}
+
+/// E0102 for an element name holding a NUL byte: MuJoCo's names are C strings.
+pub(super) fn nul_in_name(what: &str, at: crate::diagnostic::Location) -> Diagnostic {
+    Diagnostic::new(
+        Code::E0102,
+        format!("the name of this {what} contains a NUL byte"),
+    )
+    .at(at)
+    .label("expected a name without NUL bytes (MuJoCo's names are C strings)")
 }

@@ -60,6 +60,11 @@ impl Ctx<'_> {
 
     fn actuator_section(&mut self, s: &Section, out: &mut Vec<AddedActuator>) {
         let what = |k: &str| format!("actuators.{}.{k}", s.name);
+        if s.name.contains('\0') {
+            self.d
+                .push(super::added::nul_in_name("actuator", s.name_loc.clone()));
+            return;
+        }
         let Some(jv) = s.get("joint") else { return };
         // (actuator name, joint name, location to blame)
         let targets: Vec<(String, String)> = match &jv.kind {

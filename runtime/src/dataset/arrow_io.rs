@@ -196,6 +196,7 @@ pub fn read_episode(
 ) -> Result<(RecordBatch, Map<String, Value>), DatasetError> {
     let dir = data.join(index.to_string());
     let path = data_file(&dir, "arrow")?;
+    super::error::regular_file(&path)?;
     let file = File::open(&path).map_err(io(&path))?;
     let bad = |e: arrow_schema::ArrowError| malformed(&path, e.to_string());
     let reader =
@@ -204,6 +205,9 @@ pub fn read_episode(
     let batches = reader.collect::<Result<Vec<_>, _>>().map_err(bad)?;
     let batch = arrow_select_concat(&schema, &batches).map_err(bad)?;
     let meta_path = dir.join("metadata.json");
+    if meta_path.exists() {
+        super::error::regular_file(&meta_path)?;
+    }
     let meta = match fs::read_to_string(&meta_path) {
         Ok(text) => match serde_json::from_str(&text) {
             Ok(Value::Object(m)) => m,

@@ -14,6 +14,11 @@ use super::writer::{DatasetInfo, DatasetWriter};
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
 pub trait Policy<O: ?Sized> {
     fn act(&mut self, obs: &O, action: &mut [f32]);
+    /// Asked before every step: true stops the episode (E1601, nothing written), so that a
+    /// caller's Ctrl-C ends a long episode at once.
+    fn interrupted(&mut self) -> bool {
+        false
+    }
 }
 
 impl<O: ?Sized, F: FnMut(&O, &mut [f32])> Policy<O> for F {
@@ -94,6 +99,12 @@ impl Buffers {
         }
         env.record_reset(seed, &mut self.obs, &mut self.infos)?;
         Ok(loop {
+            if policy.interrupted() {
+                return Err(DatasetError::PolicyFailed {
+                    episode: 0,
+                    why: "interrupted".into(),
+                });
+            }
             policy.act(env.policy_obs(), &mut self.action);
             let s = env.record_step(&self.action, &mut self.obs, &mut self.infos)?;
             self.actions.extend_from_slice(&self.action);

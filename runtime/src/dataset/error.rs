@@ -86,6 +86,18 @@ pub(crate) fn io(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Dat
     move |error| DatasetError::Io { path, error }
 }
 
+/// E1203 unless `path` is a regular file: opening a FIFO blocks until a writer comes, a device
+/// may never end.
+pub(crate) fn regular_file(path: &std::path::Path) -> Result<(), DatasetError> {
+    envspec::limits::check_file(path, u64::MAX).map_err(|e| DatasetError::Io {
+        path: path.to_path_buf(),
+        error: match e {
+            envspec::limits::ReadError::Io(e) => e,
+            other => std::io::Error::other(other.to_string()),
+        },
+    })
+}
+
 pub(crate) fn malformed(path: impl Into<PathBuf>, why: impl Into<String>) -> DatasetError {
     DatasetError::Malformed {
         path: path.into(),

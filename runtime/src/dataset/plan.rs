@@ -9,7 +9,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use super::Format;
-use super::collector::{CollectOptions, Collector};
+use super::collector::{CollectOptions, Collector, Policy};
 use super::error::DatasetError;
 use super::recordable::Recordable;
 use super::shard::{ShardCollector, ShardEpisode};
@@ -82,6 +82,37 @@ pub trait EpisodePolicy<O: ?Sized> {
     /// Python callable that raised) says so here, and the episode is never written (E1601).
     fn check(&mut self) -> Result<(), DatasetError> {
         Ok(())
+    }
+    /// Asked before every step: true stops the episode and the collection (a caller's Ctrl-C).
+    fn interrupted(&mut self) -> bool {
+        false
+    }
+}
+
+impl<O: ?Sized, P: EpisodePolicy<O> + ?Sized> EpisodePolicy<O> for &mut P {
+    fn begin(&mut self, seed: u64, episode: u64) {
+        (**self).begin(seed, episode)
+    }
+    fn act(&mut self, obs: &O, action: &mut [f32]) {
+        (**self).act(obs, action)
+    }
+    fn check(&mut self) -> Result<(), DatasetError> {
+        (**self).check()
+    }
+    fn interrupted(&mut self) -> bool {
+        (**self).interrupted()
+    }
+}
+
+/// An [`EpisodePolicy`] as the collector's per-episode [`Policy`].
+struct Steps<'a, P>(&'a mut P);
+
+impl<O: ?Sized, P: EpisodePolicy<O>> Policy<O> for Steps<'_, P> {
+    fn act(&mut self, obs: &O, action: &mut [f32]) {
+        self.0.act(obs, action)
+    }
+    fn interrupted(&mut self) -> bool {
+        self.0.interrupted()
     }
 }
 
@@ -203,9 +234,8 @@ pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
     let mut steps = 0u64;
     for ep in 0..plan.episodes {
         policy.begin(seed, ep);
-        let mut act = |o: &E::Obs, a: &mut [f32]| policy.act(o, a);
         // A failed policy's episode is written to staging at most, which the error discards.
-        let summary = collector.episode(episode_seed(seed, ep), &mut act);
+        let summary = collector.episode(episode_seed(seed, ep), &mut Steps(&mut policy));
         policy.check()?;
         steps += summary?.steps as u64;
         progress(ep + 1, steps);
@@ -241,8 +271,7 @@ pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
     let mut lengths = Vec::with_capacity((range.end - range.start) as usize);
     for ep in range {
         policy.begin(seed, ep);
-        let mut act = |o: &E::Obs, a: &mut [f32]| policy.act(o, a);
-        let run = shard.run(episode_seed(seed, ep), &mut act);
+        let run = shard.run(episode_seed(seed, ep), &mut Steps(&mut policy));
         // Checked before writing: episodes in a shared staging directory are never rewritten.
         policy.check()?;
         run?;

@@ -86,6 +86,7 @@ impl Dataset {
     /// Open the `data/` directory of a dataset.
     pub fn open_data(data: &Path) -> Result<Dataset, DatasetError> {
         let meta_path = data.join("metadata.json");
+        super::error::regular_file(&meta_path)?;
         let text = std::fs::read_to_string(&meta_path).map_err(io(&meta_path))?;
         let metadata = match parse_lenient(&text) {
             Ok(Value::Object(m)) => m,

@@ -303,6 +303,11 @@ impl MazeEnv {
     pub fn robot(&self) -> &Env {
         &self.robot
     }
+    /// After a failure: `step` refuses (E1103) until the next `reset`.
+    pub fn require_reset(&mut self) {
+        self.has_reset = false;
+        self.robot.require_reset();
+    }
     /// The numerics profile (norms, the dense reward's `exp`); see `Env::set_numerics`.
     pub fn numerics(&self) -> Profile {
         self.robot.numerics()

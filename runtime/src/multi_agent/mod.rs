@@ -130,6 +130,10 @@ impl MultiAgentEnv {
     pub fn set_numerics(&mut self, profile: crate::numerics::Profile) {
         self.env.set_numerics(profile);
     }
+    /// After a failure: `step` refuses (E1103) until the next `reset`.
+    pub fn require_reset(&mut self) {
+        self.env.require_reset();
+    }
     pub fn env(&self) -> &Env {
         &self.env
     }

@@ -18,6 +18,7 @@ pub mod egl;
 
 use std::sync::Arc;
 
+use crate::mujoco_log::ffi;
 use envspec::camera::{CameraKey, Located, ObjRef, RenderSettings};
 use envspec::{Code, Diagnostic, Diagnostics};
 use mujoco_rs::mujoco_c as c;
@@ -311,22 +312,34 @@ impl Renderer {
         let made = ctx.current(|| {
             // The model as MujocoEnv leaves it: offscreen buffer grown to the frame, never
             // shrunk. A copy, so the env's (maybe shared) model is untouched.
-            // SAFETY: mj_copyModel allocates a copy of a valid model; freed below.
-            let copy = unsafe { c::mj_copyModel(std::ptr::null_mut(), m) };
+            // SAFETY: mj_copyModel allocates a copy of a valid model; freed below, also when
+            // MuJoCo raises an error in between (the inner guard).
+            let copy = unsafe { ffi::mj_copyModel(std::ptr::null_mut(), m) };
             if copy.is_null() {
-                return false;
+                return Ok(false);
             }
-            unsafe {
+            let made = crate::mujoco_log::guard(|| unsafe {
                 let g = &mut (*copy).vis.global;
                 g.offwidth = g.offwidth.max(w);
                 g.offheight = g.offheight.max(h);
-                c::mjv_makeScene(m, &mut *scn, s.max_geom as i32);
-                c::mjr_makeContext(copy, &mut *con, mjtFontScale::mjFONTSCALE_150 as i32);
-                c::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut *con);
-                c::mj_deleteModel(copy);
-            }
-            con.offFBO != 0
+                ffi::mjv_makeScene(m, &mut *scn, s.max_geom as i32);
+                ffi::mjr_makeContext(copy, &mut *con, mjtFontScale::mjFONTSCALE_150 as i32);
+                ffi::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut *con);
+            });
+            unsafe { c::mj_deleteModel(copy) };
+            made.map(|()| con.offFBO != 0)
         })?;
+        let made = match made {
+            Ok(made) => made,
+            Err(e) => {
+                // What MuJoCo made before the error: freed with the context current.
+                let _ = ctx.current(|| unsafe {
+                    ffi::mjr_freeContext(&mut *con);
+                    ffi::mjv_freeScene(&mut *scn);
+                });
+                return Err(RenderError::Mujoco(e));
+            }
+        };
         if !made {
             return Err(RenderError::NoDisplay {
                 what: "MuJoCo could not make its offscreen framebuffer (mjr_makeContext)".into(),
@@ -415,8 +428,8 @@ impl Renderer {
         ctx.current(|| unsafe {
             // SAFETY: the context is current; model, data, scene and buffers are valid and
             // the buffers hold width × height pixels.
-            c::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut **con);
-            c::mjv_updateScene(
+            ffi::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut **con);
+            ffi::mjv_updateScene(
                 m,
                 d,
                 &*opt,
@@ -437,8 +450,8 @@ impl Renderer {
                     }
                 }
             }
-            c::mjr_render(*viewport, &mut **scn, &**con);
-            c::mjr_readPixels(
+            ffi::mjr_render(*viewport, &mut **scn, &**con);
+            ffi::mjr_readPixels(
                 if rgb {
                     raw_rgb.as_mut_ptr()
                 } else {
@@ -487,8 +500,8 @@ impl Drop for Renderer {
         // mjr_freeContext deletes GL objects: the context must be current.
         let _ = ctx.current(|| unsafe {
             // SAFETY: both were made in `new` and are freed once.
-            c::mjr_freeContext(&mut **con);
-            c::mjv_freeScene(&mut **scn);
+            ffi::mjr_freeContext(&mut **con);
+            ffi::mjv_freeScene(&mut **scn);
         });
     }
 }
