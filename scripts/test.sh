@@ -40,7 +40,7 @@ checks=$((checks + 1))
 # The catalogue and the fuzzer's `envc` targets again against the optimized binary: undefined
 # behaviour that only the optimizer exposes (an error unwinding through a `C` declaration) shows
 # only there.
-cargo build -q --release -p envc-cli
+cargo build -q --release --locked -p envc-cli --features hdf5-static   # the build the wheel ships
 ENVC_BIN="$ROOT/target/release/envc" cargo test -q -p envc-cli --test catalogue
 ENVC_BIN="$ROOT/target/release/envc" ENVC_FUZZ_TARGETS=compile,cli ENVC_FUZZ_SECONDS=30 \
   cargo test -q -p envc-cli --test fuzz
