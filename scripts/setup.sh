@@ -22,6 +22,16 @@ if ! pkg-config --exists hdf5 2>/dev/null && [ ! -e /usr/include/hdf5/serial/hdf
   fi
 fi
 
+# pkg-config: how crates outside this workspace find MuJoCo (scripts/install-mujoco.sh below).
+if ! command -v pkg-config >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends pkg-config >/dev/null
+  else
+    echo "envc setup: pkg-config is missing; install it (sudo apt-get install pkg-config)" >&2
+    exit 1
+  fi
+fi
+
 # A C++ compiler for runtime/csrc/mujoco_catch.cc (the shim that turns MuJoCo's C++ exceptions
 # into errors), built by the `cc` crate.
 if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1; then

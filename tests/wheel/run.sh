@@ -17,19 +17,33 @@ VERSION="$(sed -n 's/^version = "\(.*\)"/\1/p' "$ROOT/Cargo.toml" | head -1)"
 
 # Runs a command with the checkout replaced by an empty directory, from WORK, with none of the
 # variables that could point back at it.
+# Where a private mount namespace cannot be made (no CAP_SYS_ADMIN), a user namespace is tried;
+# without either, the checkout stays visible and the run says so.
+UNSHARE=(unshare -m --propagation private)
+if ! "${UNSHARE[@]}" true 2>/dev/null; then
+  UNSHARE=(unshare -rm --propagation private)
+  "${UNSHARE[@]}" true 2>/dev/null || UNSHARE=()
+fi
 hidden() {
-  local cmd
-  cmd="mount -t tmpfs -o size=1m envc-hidden '$ROOT' && cd '$WORK' && $*"
+  local cmd="cd '$WORK' && $*"
+  if [ ${#UNSHARE[@]} -gt 0 ]; then
+    cmd="mount -t tmpfs -o size=1m envc-hidden '$ROOT' && $cmd"
+  else
+    echo "wheel test: cannot make a mount namespace here; the checkout stays visible" >&2
+  fi
   env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u LD_LIBRARY_PATH -u PYTHONPATH \
-    -u VIRTUAL_ENV -u ENVC_SPEC_PATH unshare -m --propagation private bash -c "$cmd"
+    -u VIRTUAL_ENV -u ENVC_SPEC_PATH "${UNSHARE[@]}" bash -c "$cmd"
 }
 
 "$ROOT/scripts/build-wheel.sh" "$WORK/dist" | tail -1
 WHEEL="$(ls "$WORK"/dist/envc-*.whl)"
 python3 -m venv "$WORK/venv"
 # The wheel and its extras (mazes, PettingZoo, Ray); minari reads the dataset back.
-"$WORK/venv/bin/pip" install -q --disable-pip-version-check "$WHEEL[robotics,ray]" \
-  minari==0.5.4 h5py==3.16.0 pyarrow==26.0.1 imageio==2.38.1
+# The reference's pins as constraints (extras dropped: pip refuses them there): the same versions
+# as the project venv, and its pip cache.
+sed 's/\[[^]]*\]//' "$ROOT/tests/reference/requirements.txt" > "$WORK/constraints.txt"
+"$WORK/venv/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
+  "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
 cp "$ROOT/tests/wheel/smoke.py" "$WORK/smoke.py"
 hidden "MUJOCO_GL=egl '$WORK/venv/bin/python' '$WORK/smoke.py' '$VERSION' '$WORK'"
 
