@@ -75,15 +75,7 @@ cargo build -q -p envc-cli
 # the reference's (steps and return).
 target/debug/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
 got="$(cd "$LIVE/newbot" && CARGO_TARGET_DIR="$ROOT/target" cargo run -q)"
-want="$("$PY" - <<'PYEOF'
-import gymnasium as gym, numpy as np
-env = gym.make("Hopper-v5"); env.reset(seed=0); n, ret = 0, 0.0
-while True:
-    _, r, term, trunc, _ = env.step(np.zeros(3)); n += 1; ret += r
-    if term or trunc: break
-print(f"Hopper-v5: one episode with zero actions, {n} steps, return {ret:.3f}")
-PYEOF
-)"
+want="$("$PY" "$ROOT/tests/reference/zero_action_episode.py")"
 [ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
 echo "envc new: $got (as the reference)"
 checks=$((checks + 1))
