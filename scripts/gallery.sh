@@ -10,7 +10,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 CHECK=0
 [ "${1:-}" = "--check" ] && CHECK=1
-cargo build -q --release -p envc-cli
+cargo build -q --release --locked -p envc-cli --features hdf5-static   # the build scripts/test.sh and the wheel use
 ENVC="$ROOT/target/release/envc"
 OUT="$ROOT/docs/gallery"
 [ $CHECK = 1 ] && OUT="$(mktemp -d)"

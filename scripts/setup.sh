@@ -12,6 +12,19 @@ PY="$VENV/bin/python"
 REQ="$ROOT/tests/reference/requirements.txt"
 STAMP="$VENV/.envc-requirements"
 
+# The pinned Rust toolchain (rust-toolchain.toml). A machine whose one toolchain is `stable` at
+# that version gets it under the pinned name: rustup refuses to `link` a name like `1.95.0`, so a
+# symbolic link in rustup's toolchain directory does it. Otherwise rustup installs the pin.
+PIN="$(sed -n 's/^channel = "\(.*\)"$/\1/p' "$ROOT/rust-toolchain.toml")"
+if command -v rustup >/dev/null 2>&1 && ! (cd / && rustup toolchain list) | grep -q "^$PIN-"; then
+  HOST="$(cd / && rustc -vV | sed -n 's/^host: //p')"
+  if [ "$(cd / && rustc --version | cut -d' ' -f2)" = "$PIN" ]; then
+    ln -sfn "$(cd / && rustc --print sysroot)" "${RUSTUP_HOME:-$HOME/.rustup}/toolchains/$PIN-$HOST"
+  else
+    (cd / && rustup toolchain install "$PIN" --profile minimal -c rustfmt,clippy)
+  fi
+fi
+
 # libhdf5 for envc's HDF5 dataset backend (hdf5-metno links the system library).
 if ! pkg-config --exists hdf5 2>/dev/null && [ ! -e /usr/include/hdf5/serial/hdf5.h ]; then
   if [ "$(id -u)" = 0 ]; then

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
-#   1. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py);
-#   2. the installed reference still gives the published golden values (record.py --verify-golden);
-#   3. hygiene (cargo fmt --check, clippy and rustdoc with warnings denied), then the Rust tests, including the parity replay of the committed fixtures under the numerics
+#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied;
+#   2. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py),
+#      and the installed reference still gives the published golden values (record.py --verify-golden);
+#   3. the Rust tests (a few binaries: `cargo test --workspace`), including the parity replay of the committed fixtures under the numerics
 #      profile each was recorded with (so they pass on every CPU);
 #   4. the dispatch matrix: the reference's CPU-dependent primitives (OpenBLAS ddot under every
 #      OPENBLAS_CORETYPE this CPU runs, numpy's exp with and without X86_V4) recorded live, and
@@ -18,74 +19,79 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 bash scripts/setup.sh
 PY="$ROOT/.venv/bin/python"
-# Each check that passes is counted; `set -e` stops at the first that fails.
+# Each check that passes is counted, with the suite's elapsed time; `set -e` stops at the first
+# that fails.
 checks=0
+passed() { checks=$((checks + 1)); echo "test.sh: check $checks passed, ${SECONDS}s: $1"; }
 
-"$PY" tests/reference/check_models.py
-checks=$((checks + 1))
-# The golden values were published from an AVX-512 Xeon; a forced SSE kernel (OPENBLAS_CORETYPE=Prescott)
-# changes Pusher's last bits, so they are checked under the CPU's own OpenBLAS kernel.
-env -u OPENBLAS_CORETYPE "$PY" tests/reference/record.py --verify-golden
-checks=$((checks + 1))
-
-# Hygiene: formatted, no clippy warnings (workspace lints in Cargo.toml), docs build without warnings.
+# Hygiene first (it fails fastest): formatted, no clippy warnings (workspace lints in Cargo.toml), docs build without warnings.
 cargo fmt --all --check
 cargo clippy -q --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
-checks=$((checks + 1))
+passed "hygiene (fmt, clippy, rustdoc)"
+
+"$PY" tests/reference/check_models.py
+passed "compiled models"
+# The golden values were published from an AVX-512 Xeon; a forced SSE kernel (OPENBLAS_CORETYPE=Prescott)
+# changes Pusher's last bits, so they are checked under the CPU's own OpenBLAS kernel.
+env -u OPENBLAS_CORETYPE "$PY" tests/reference/record.py --verify-golden
+passed "golden values"
 
 cargo test --workspace
-checks=$((checks + 1))
+passed "Rust tests"
 
 # The catalogue and the fuzzer's `envc` targets again against the optimized binary: undefined
 # behaviour that only the optimizer exposes (an error unwinding through a `C` declaration) shows
 # only there.
 cargo build -q --release --locked -p envc-cli --features hdf5-static   # the build the wheel ships
-ENVC_BIN="$ROOT/target/release/envc" cargo test -q -p envc-cli --test catalogue
+ENVC_BIN="$ROOT/target/release/envc" cargo test -q --workspace --test cli catalogue::
 ENVC_BIN="$ROOT/target/release/envc" ENVC_FUZZ_TARGETS=compile,cli ENVC_FUZZ_SECONDS=30 \
-  cargo test -q -p envc-cli --test fuzz
-checks=$((checks + 1))
+  cargo test -q --workspace --test cli fuzz::
+passed "release catalogue and fuzz"
 
 # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
 # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
 "$PY" -m pytest -q -p no:cacheprovider tests/python
-checks=$((checks + 1))
+passed "pytest"
 
 # Rendering (issue 15): tests/python/test_render.py above compares frames with Gymnasium's; here the
 # README's gallery is re-rendered and must equal the committed pictures.
 scripts/gallery.sh --check
-checks=$((checks + 1))
+passed "gallery"
 
 LIVE="$(mktemp -d)"
 trap 'rm -rf "$LIVE"' EXIT
 
 # The dispatch matrix (see 4. above).
 "$PY" tests/reference/record_numerics.py --matrix "$LIVE/numerics" --quick
-ENVC_NUMERICS_DIR="$LIVE/numerics" cargo test -q -p envc-tests --test numerics
-checks=$((checks + 1))
+ENVC_NUMERICS_DIR="$LIVE/numerics" cargo test -q --workspace --test integration numerics::
+passed "numerics dispatch matrix"
 
 # `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds):
 # in this machine's environment, then with OpenBLAS forced to another kernel and numpy's AVX-512
 # loops off, where the CPU can run them (suite, mazes, MaMuJoCo, and Minari datasets written by
 # `envc collect` and replayed by the real minari).
-cargo build -q -p envc-cli
+# (target/debug/envc: built by `cargo test --workspace` above. Every later cargo command selects
+# the whole workspace too, so features unify as they did there and nothing is rebuilt.)
 
 # A crate of one's own, outside the repository (`envc new`): builds and runs with plain `cargo run`
 # (no environment variables, nothing copied by hand), and its typed env's zero-action episode is
 # the reference's (steps and return).
 target/debug/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
-got="$(cd "$LIVE/newbot" && CARGO_TARGET_DIR="$ROOT/target" cargo run -q)"
+# (target/outside/: the crates of one's own share it, tests/wheel/run.sh's included.)
+got="$(cd "$LIVE/newbot" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
+  CARGO_TARGET_DIR="$ROOT/target/outside" cargo run -q)"
 want="$("$PY" "$ROOT/tests/reference/zero_action_episode.py")"
 [ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
 echo "envc new: $got (as the reference)"
-checks=$((checks + 1))
+passed "envc new"
 
 # envc outside its checkout: the wheel of scripts/build-wheel.sh in a fresh venv, and a hand-made
 # crate built with plain `cargo build`, both run with the checkout hidden (tests/wheel/run.sh).
 tests/wheel/run.sh "$LIVE/wheel"
-checks=$((checks + 1))
+passed "wheel and hand-made crate"
 "$PY" tests/reference/check_rollout.py --envc target/debug/envc
-checks=$((checks + 1))
+passed "envc rollout, live"
 # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)
 for setting in "-u OPENBLAS_CORETYPE" "OPENBLAS_CORETYPE=Prescott" \
                "OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES=X86_V4" "OPENBLAS_CORETYPE=SkylakeX"; do
@@ -95,7 +101,7 @@ for setting in "-u OPENBLAS_CORETYPE" "OPENBLAS_CORETYPE=Prescott" \
     env $setting "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$RANDOM"
     env $setting "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc
     env $setting "$PY" tests/reference/check_minari.py --envc target/debug/envc
-    checks=$((checks + 1))
+    passed "live checks under $setting"
   fi
 done
 
@@ -103,34 +109,34 @@ done
 # seed), an interrupted collection; then Python DataCollector datasets read back by envc.
 MINARI_PY="$(mktemp -d)"
 "$PY" tests/reference/check_minari.py --envc target/debug/envc --python-out "$MINARI_PY"
-checks=$((checks + 1))
-ENVC_MINARI_DIR="$MINARI_PY" cargo test -q -p envc-tests --test minari
-checks=$((checks + 1))
+passed "Minari datasets, live"
+ENVC_MINARI_DIR="$MINARI_PY" cargo test -q --workspace --test integration minari::
+passed "Python DataCollector datasets read by envc"
 rm -rf "$MINARI_PY"
 
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
 "$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden
-ENVC_PARITY_DIR="$LIVE" cargo test -p envc-tests --test parity
-checks=$((checks + 1))
+ENVC_PARITY_DIR="$LIVE" cargo test -q --workspace --test integration parity::
+passed "parity, live seed"
 # The same for vector envs (Gymnasium's sync vector env, both autoreset modes).
 "$PY" tests/reference/record_vector.py --out "$LIVE/vector" --seed "$SEED"
-ENVC_VECTOR_DIR="$LIVE/vector" cargo test -p envc-tests --test vector
-checks=$((checks + 1))
+ENVC_VECTOR_DIR="$LIVE/vector" cargo test -q --workspace --test integration vector::
+passed "vector, live seed"
 # MaMuJoCo v1: fresh-seed multi-agent trajectories of every scenario, conf and k = 0, 1, 2 replayed
 # through envc's multi-agent envs, and `envc rollout` on the multi-agent specs checked from outside.
 "$PY" tests/reference/record_mamujoco.py --out "$LIVE/mamujoco" --seed "$SEED" --quick
-ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -p envc-tests --test mamujoco
-checks=$((checks + 1))
+ENVC_MAMUJOCO_DIR="$LIVE/mamujoco" cargo test -q --workspace --test integration mamujoco::
+passed "MaMuJoCo, live seed"
 "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc --seed "$SEED"
-checks=$((checks + 1))
+passed "MaMuJoCo rollout, live seed"
 # Mazes (PointMaze_*-v3, AntMaze_*-v5, custom maps): fresh-seed trajectories of every registered id
 # replayed through envc's maze envs, and `envc rollout`'s dict observations checked from outside.
 "$PY" tests/reference/record_maze.py --out "$LIVE/maze" --seed "$SEED"
-ENVC_MAZE_DIR="$LIVE/maze" cargo test -p envc-tests --test maze
-checks=$((checks + 1))
+ENVC_MAZE_DIR="$LIVE/maze" cargo test -q --workspace --test integration maze::
+passed "mazes, live seed"
 "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$SEED"
-checks=$((checks + 1))
+passed "maze rollout, live seed"
 # Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
 # by the real minari and replayed in Gymnasium-Robotics (fresh seed).
 MZ="$(mktemp -d)"
@@ -139,13 +145,13 @@ for fmt in arrow hdf5; do
     --episodes 3 --seed "$SEED" --format "$fmt" --root "$MZ" --set max_episode_steps=40 >/dev/null
   "$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id "envc/pointmaze-$fmt-v0" \
     --env-id PointMaze_Medium_Diverse_GRDense-v3 --max-episode-steps 40
-  checks=$((checks + 1))
+  passed "maze dataset ($fmt)"
 done
 target/debug/envc collect AntMaze_UMaze-v5 --dataset-id envc/antmaze-v0 --episodes 2 --seed "$SEED" \
   --root "$MZ" --set max_episode_steps=15 >/dev/null
 "$PY" tests/reference/check_maze_minari.py --root "$MZ" --dataset-id envc/antmaze-v0 \
   --env-id AntMaze_UMaze-v5 --max-episode-steps 15
-checks=$((checks + 1))
+passed "AntMaze dataset"
 rm -rf "$MZ"
 
 # A closing line in the plain "N passed, N failed" form, over the checks above.

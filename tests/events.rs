@@ -7,10 +7,7 @@
 use std::sync::Arc;
 
 use envc::{Autoreset, Env, VecEnv};
-use envc_tests::{ThreadCounting, allocations};
-
-#[global_allocator]
-static A: ThreadCounting = ThreadCounting;
+use envc_tests::allocations;
 
 const SPEC: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/reference/events_go1.toml");
 const STEPS: usize = 150;

@@ -587,29 +587,6 @@ fn typed_multi_agent_env() {
 
 // `step` and `reset` of a multi-agent env allocate nothing (a per-thread counting allocator, as in
 // tests/no_alloc.rs).
-struct Counting;
-
-thread_local! {
-    static ALLOCS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
-}
-
-unsafe impl std::alloc::GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { std::alloc::System.realloc(ptr, layout, new) }
-    }
-}
-
-#[global_allocator]
-static COUNTING: Counting = Counting;
-
 #[test]
 fn multi_agent_step_and_reset_do_not_allocate() {
     for (file, conf) in [
@@ -631,7 +608,7 @@ fn multi_agent_step_and_reset_do_not_allocate() {
             .collect();
         let refs: Vec<&[f64]> = acts.iter().map(Vec::as_slice).collect();
         let global = vec![0.1; env.spec().act_dim()];
-        let before = ALLOCS.with(|c| c.get());
+        let n = envc_tests::allocations(|| {
         for i in 0..100 {
             let s = if i % 2 == 0 {
                 env.step(&refs).unwrap()
@@ -643,7 +620,7 @@ fn multi_agent_step_and_reset_do_not_allocate() {
             }
         }
         env.reset(Some(1));
-        let n = ALLOCS.with(|c| c.get()) - before;
+        });
         assert_eq!(n, 0, "{file}: {n} allocations");
     }
 }

@@ -1,10 +1,7 @@
 //! `step` and `reset` allocate nothing after construction (counted with a per-thread counting
 //! allocator, so other test threads do not interfere).
 
-use envc_tests::{ThreadCounting, allocations};
-
-#[global_allocator]
-static A: ThreadCounting = ThreadCounting;
+use envc_tests::allocations;
 
 #[test]
 fn step_and_reset_do_not_allocate() {

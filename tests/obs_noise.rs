@@ -10,11 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use envc::{Env, Override};
-use envc_tests::{ThreadCounting, allocations};
+use envc_tests::allocations;
 use serde_json::{Value, json};
-
-#[global_allocator]
-static A: ThreadCounting = ThreadCounting;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 

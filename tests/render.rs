@@ -141,8 +141,6 @@ fn envs_render_from_several_threads() {
 }
 
 // A per-thread counting allocator: a frame after the first allocates nothing.
-#[global_allocator]
-static A: envc_tests::ThreadCounting = envc_tests::ThreadCounting;
 
 #[test]
 fn a_frame_reuses_the_renderers_buffers() {

@@ -773,7 +773,7 @@ fn drive_in_process(t: &Target, out: &Path, seed: u64, seconds: f64) -> Stats {
         let left = (deadline - Instant::now()).as_secs_f64();
         let _ = std::fs::remove_file(dir.join("done"));
         let mut cmd = Command::new(std::env::current_exe().unwrap());
-        cmd.args(["fuzz_worker", "--exact", "--nocapture", "--test-threads=1"])
+        cmd.args(["fuzz::fuzz_worker", "--exact", "--nocapture", "--test-threads=1"])
             .env("ENVC_FUZZ_WORKER", t.name)
             .env("ENVC_FUZZ_WORKER_OUT", &dir)
             .env("ENVC_FUZZ_SEED", seed.to_string())

@@ -8,12 +8,12 @@ use std::process::{Command, Output};
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
-/// `envc ARGS` under a 4 GB address-space cap and a 60 s wall clock (a regression must fail the
+/// `envc ARGS` under a 4 GB address-space cap and a 180 s wall clock (a regression must fail the
 /// test, not the machine).
 fn envc(args: &[&str]) -> Output {
     Command::new("sh")
         .arg("-c")
-        .arg(r#"ulimit -v 4000000; exec timeout -s KILL 60 "$0" "$@""#)
+        .arg(r#"ulimit -v 4000000; exec timeout -s KILL 180 "$0" "$@""#)
         .arg(env!("CARGO_BIN_EXE_envc"))
         .args(args)
         .output()
@@ -608,12 +608,12 @@ fn absurd_maze_sizes_and_empty_runs_are_refused_with_a_reason() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--episodes"));
 }
 
-/// `envc ARGS` in `cwd` under an address-space cap of `kb` KiB and a 60 s wall clock.
+/// `envc ARGS` in `cwd` under an address-space cap of `kb` KiB and a 180 s wall clock.
 fn envc_capped(kb: u64, cwd: &Path, args: &[&str]) -> Output {
     Command::new("sh")
         .arg("-c")
         .arg(format!(
-            r#"ulimit -v {kb}; exec timeout -s KILL 60 "$0" "$@""#
+            r#"ulimit -v {kb}; exec timeout -s KILL 180 "$0" "$@""#
         ))
         .arg(env!("CARGO_BIN_EXE_envc"))
         .args(args)

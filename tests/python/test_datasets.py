@@ -10,13 +10,10 @@ import gymnasium as gym
 import numpy as np
 
 import envc
+from conftest import envc_cli
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
-
-def _envc_cli() -> str:
-    subprocess.run(["cargo", "build", "-q", "-p", "envc-cli"], cwd=ROOT, check=True)
-    return os.path.join(ROOT, "target", "debug", "envc")
 
 
 def _episodes(root, dataset_id, monkeypatch):
@@ -35,7 +32,7 @@ def test_collect_writes_what_the_cli_writes(tmp_path, monkeypatch):
         py_root, cli_root = tmp_path / f"py-{spec}", tmp_path / f"cli-{spec}"
         envc.collect(spec, "tests/x-v0", 2, seed=11, root=py_root, policy="random", **kw)
         subprocess.run(
-            [_envc_cli(), "collect", spec, "--dataset-id", "tests/x-v0", "--episodes", "2", "--seed", "11", "--root", str(cli_root), *set_],
+            [envc_cli(), "collect", spec, "--dataset-id", "tests/x-v0", "--episodes", "2", "--seed", "11", "--root", str(cli_root), *set_],
             check=True,
             capture_output=True,
         )

@@ -25,6 +25,7 @@ ray = pytest.importorskip("ray", reason="envc.ray needs Ray (pip install 'envc[r
 
 import envc  # noqa: E402
 import envc.ray  # noqa: E402
+from conftest import envc_cli  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 VENV_BIN = Path(sys.executable).parent
@@ -32,10 +33,6 @@ HOPPER = {"max_episode_steps": 50}
 # The policies below are defined here, in a module Ray's workers cannot import: ship them by value.
 ray.cloudpickle.register_pickle_by_value(sys.modules[__name__])
 
-
-def _envc_cli() -> str:
-    subprocess.run(["cargo", "build", "-q", "-p", "envc-cli"], cwd=ROOT, check=True)
-    return str(ROOT / "target" / "debug" / "envc")
 
 
 def _temp_base() -> str:
@@ -171,7 +168,7 @@ def test_per_episode_streams_are_numpy_default_rng_of_seed_and_index(tmp_path):
 def test_two_nodes_write_the_cli_dataset(cluster, tmp_path, monkeypatch, fmt):
     cli_root, ray_root = tmp_path / "cli", tmp_path / "ray"
     subprocess.run(
-        [_envc_cli(), "collect", "Hopper-v5", "--dataset-id", "tests/hop-v0", "--episodes", "8", "--seed", "5",
+        [envc_cli(), "collect", "Hopper-v5", "--dataset-id", "tests/hop-v0", "--episodes", "8", "--seed", "5",
          "--format", fmt, "--root", str(cli_root), "--set", "max_episode_steps=50"],
         check=True, capture_output=True,
     )

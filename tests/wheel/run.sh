@@ -63,8 +63,7 @@ hidden "
 "
 echo "wheel: $(basename "$WHEEL") ($(du -h "$WHEEL" | cut -f1)): smoke suite and the envc command pass with the checkout hidden"
 
-# A crate of one's own, as a user writes it, outside the checkout; kept between runs so that its
-# own target/ stays warm.
+# A crate of one's own, as a user writes it, outside the checkout.
 CRATE="${XDG_CACHE_HOME:-$HOME/.cache}/envc-tests/mybot"
 mkdir -p "$CRATE/src"
 cat > "$CRATE/Cargo.toml" <<EOF
@@ -93,9 +92,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 EOF
+# Its dependencies build into the checkout's target/outside/, which scripts/test.sh's `envc new`
+# crate shares: both are plain crates of one's own, so a fresh machine builds envc for them once.
+OUTSIDE="$ROOT/target/outside"
 (cd "$CRATE" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
-  -u CARGO_TARGET_DIR cargo build -q)
-cp "$CRATE/target/debug/mybot" "$WORK/mybot-bin"
+  CARGO_TARGET_DIR="$OUTSIDE" cargo build -q)
+cp "$OUTSIDE/debug/mybot" "$WORK/mybot-bin"
 got="$(hidden "'$WORK/mybot-bin'")"
 want="$("$WORK/venv/bin/python" "$ROOT/tests/reference/zero_action_episode.py")"
 [ "$got" = "$want" ] || { echo "hand-made crate: got '$got', the reference gives '$want'" >&2; exit 1; }

@@ -1,0 +1,36 @@
+//! `envspec`'s integration tests, one module per file of this directory: the spec language checked without MuJoCo.
+//! One binary instead of one per file, so the suite links once.
+
+mod agents_typos;
+mod bad_input;
+mod commands;
+mod entry_point;
+mod events;
+mod fixed_params;
+mod fuzz_regressions;
+mod gymnasium_specs;
+mod maze_errors;
+mod messages;
+mod noise;
+mod selector_roundtrip;
+mod v4_terms;
+
+/// A test file that is not declared above would silently never run.
+#[test]
+fn every_test_file_is_a_module() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let root = std::fs::read_to_string(dir.join("spec.rs")).unwrap();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let Some(stem) = path.file_stem().and_then(|s| s.to_str()) else {
+            continue;
+        };
+        if path.extension().is_none_or(|e| e != "rs") || stem == "spec" {
+            continue;
+        }
+        assert!(
+            root.contains(&format!("mod {stem};")),
+            "tests/{stem}.rs is not a module of tests/spec.rs"
+        );
+    }
+}
