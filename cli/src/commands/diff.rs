@@ -146,7 +146,17 @@ pub fn run(args: Args) -> Result<Outcome> {
     let tmp = std::env::temp_dir().join(format!("envc-diff-{}", std::process::id()));
     let result = reader(&args, &tmp).and_then(|mut r| r.run(|| diff(&args, &tmp)));
     let _ = std::fs::remove_dir_all(&tmp);
-    result
+    // An error in a file of a `REV:path` side names it `REV:file`, not its temporary copy.
+    result.map_err(|e| {
+        let mut text = format!("{e:#}");
+        for (arg, side) in [(&args.old, "old"), (&args.new, "new")] {
+            if let Some((rev, _)) = git_side(arg) {
+                let copy = format!("{}/", tmp.join(side).display());
+                text = text.replace(&copy, &format!("{rev}:"));
+            }
+        }
+        anyhow::anyhow!(text)
+    })
 }
 
 fn load(path: &Path) -> Result<(Spec, envspec::ResolvedSpec)> {
