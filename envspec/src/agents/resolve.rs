@@ -263,7 +263,6 @@ pub(super) fn confs(
     model: &crate::mjcf::ModelInfo,
     d: &mut Diagnostics,
 ) -> Vec<Conf> {
-    let node_ix = |n: &str| nodes.iter().position(|x| x.name == n);
     let mut confs = vec![];
     match get(table, "confs") {
         // No confs: only single-agent mode (`agent_conf = "none"`).
@@ -272,78 +271,8 @@ pub(super) fn confs(
             None => d.push(v.type_error("agents.confs", "a table of partitions")),
             Some(t) => {
                 for c in t {
-                    let mut parts = vec![];
-                    // An unknown node is reported once; the partition check would only repeat it
-                    // as an undriven actuator.
-                    let mut unknown = false;
-                    match &c.value.kind {
-                        ValKind::Array(a) if !a.is_empty() => {
-                            for p in a {
-                                let mut part = vec![];
-                                for (n, loc) in str_list(p, "a conf's agent", d) {
-                                    match node_ix(&n) {
-                                        Some(i) => part.push(i),
-                                        None => {
-                                            unknown = true;
-                                            d.push(unknown_node(nodes, &n, &loc));
-                                        }
-                                    }
-                                }
-                                parts.push(part);
-                            }
-                        }
-                        _ => d.push(
-                            c.value
-                                .type_error("a conf", "a non-empty array of arrays of node names"),
-                        ),
-                    }
-                    // Every actuator exactly once.
-                    let mut count = vec![0usize; model.nu()];
-                    for &i in parts.iter().flatten() {
-                        match nodes[i].actuator {
-                            Some(a) => count[a] += 1,
-                            None => d.push(err(
-                                Code::E0103,
-                                &c.key_loc,
-                                format!(
-                                    "node `{}` in conf `{}` has no actuator",
-                                    nodes[i].name, c.key
-                                ),
-                                "no actuator drives its joint: add `actuator = \"name\"` to the node",
-                            )),
-                        }
-                    }
-                    let act_name = |a: usize| actuator_name(model, a);
-                    for (a, &n) in count.iter().enumerate() {
-                        if n > 1 {
-                            d.push(err(
-                                Code::E0109,
-                                &c.key_loc,
-                                format!(
-                                    "conf `{}` drives actuator `{}` {n} times",
-                                    c.key,
-                                    act_name(a)
-                                ),
-                                "every actuator must belong to exactly one agent",
-                            ));
-                        }
-                    }
-                    let missing: Vec<String> = (0..model.nu())
-                        .filter(|&a| count[a] == 0)
-                        .map(act_name)
-                        .collect();
-                    if !missing.is_empty() && !unknown {
-                        d.push(err(
-                            Code::E0109,
-                            &c.key_loc,
-                            format!(
-                                "conf `{}` leaves actuators undriven: {}",
-                                c.key,
-                                missing.join(", ")
-                            ),
-                            "every actuator must belong to exactly one agent",
-                        ));
-                    }
+                    let (parts, unknown) = conf_parts(c, nodes, d);
+                    check_partition(c, &parts, unknown, nodes, model, d);
                     confs.push(Conf {
                         name: c.key.clone(),
                         parts,
@@ -353,6 +282,93 @@ pub(super) fn confs(
         },
     }
     confs
+}
+
+/// A conf's agents as node indices, and whether some name was not a node.
+fn conf_parts(c: &Entry, nodes: &[Node], d: &mut Diagnostics) -> (Vec<Vec<usize>>, bool) {
+    let node_ix = |n: &str| nodes.iter().position(|x| x.name == n);
+    let mut parts = vec![];
+    let mut unknown = false;
+    match &c.value.kind {
+        ValKind::Array(a) if !a.is_empty() => {
+            for p in a {
+                let mut part = vec![];
+                for (n, loc) in str_list(p, "a conf's agent", d) {
+                    match node_ix(&n) {
+                        Some(i) => part.push(i),
+                        None => {
+                            unknown = true;
+                            d.push(unknown_node(nodes, &n, &loc));
+                        }
+                    }
+                }
+                parts.push(part);
+            }
+        }
+        _ => d.push(
+            c.value
+                .type_error("a conf", "a non-empty array of arrays of node names"),
+        ),
+    }
+    (parts, unknown)
+}
+
+/// Every actuator driven exactly once by the conf's nodes. An unknown node is reported once
+/// (`unknown`): the check would only repeat it as an undriven actuator.
+fn check_partition(
+    c: &Entry,
+    parts: &[Vec<usize>],
+    unknown: bool,
+    nodes: &[Node],
+    model: &crate::mjcf::ModelInfo,
+    d: &mut Diagnostics,
+) {
+    let mut count = vec![0usize; model.nu()];
+    for &i in parts.iter().flatten() {
+        match nodes[i].actuator {
+            Some(a) => count[a] += 1,
+            None => d.push(err(
+                Code::E0103,
+                &c.key_loc,
+                format!(
+                    "node `{}` in conf `{}` has no actuator",
+                    nodes[i].name, c.key
+                ),
+                "no actuator drives its joint: add `actuator = \"name\"` to the node",
+            )),
+        }
+    }
+    let act_name = |a: usize| actuator_name(model, a);
+    for (a, &n) in count.iter().enumerate() {
+        if n > 1 {
+            d.push(err(
+                Code::E0109,
+                &c.key_loc,
+                format!(
+                    "conf `{}` drives actuator `{}` {n} times",
+                    c.key,
+                    act_name(a)
+                ),
+                "every actuator must belong to exactly one agent",
+            ));
+        }
+    }
+    let missing: Vec<String> = (0..model.nu())
+        .filter(|&a| count[a] == 0)
+        .map(act_name)
+        .collect();
+    if !missing.is_empty() && !unknown {
+        d.push(err(
+            Code::E0109,
+            &c.key_loc,
+            format!(
+                "conf `{}` leaves actuators undriven: {}",
+                c.key,
+                missing.join(", ")
+            ),
+            "every actuator must belong to exactly one agent",
+        ));
+    }
 }
 
 /// An actuator's name, or `(joint)` for an unnamed actuator.
@@ -437,43 +453,70 @@ fn read_node(
     let actuator = if is_global {
         None
     } else {
-        match get("actuator") {
-            Some(v) => match (&v.kind, v.as_str()) {
-                (ValKind::Int(i), _) if (*i as usize) < model.nu() && *i >= 0 => Some(*i as usize),
-                (_, Some(a)) => match model.actuators.iter().position(|x| x.name == a) {
-                    Some(i) => Some(i),
-                    None => {
-                        d.push(
-                            err(
-                                Code::E0303,
-                                &v.loc,
-                                format!("the model has no actuator `{a}`"),
-                                "expected an actuator name",
-                            )
-                            .help_opt(suggest(a, model.actuators.iter().map(|x| x.name.as_str()))),
-                        );
-                        None
-                    }
-                },
-                _ => {
-                    d.push(v.type_error("actuator", "an actuator name or index"));
+        node_actuator(get("actuator"), joint.as_ref(), model, d)
+    };
+    let bodies = node_bodies(get("bodies"), model, d);
+    let extra = node_extra(get("extra"), sel, d);
+    Some(Node {
+        name: e.key.clone(),
+        label,
+        qpos,
+        qvel,
+        actuator,
+        bodies,
+        extra,
+    })
+}
+
+/// A node's actuator: `actuator = "name"` or an index, else the actuator whose target is the
+/// node's joint (None when there is none: checked when a conf uses the node, as graph-only nodes
+/// need no actuator).
+fn node_actuator(
+    v: Option<&Val>,
+    joint: Option<&String>,
+    model: &crate::mjcf::ModelInfo,
+    d: &mut Diagnostics,
+) -> Option<usize> {
+    match v {
+        Some(v) => match (&v.kind, v.as_str()) {
+            (ValKind::Int(i), _) if (*i as usize) < model.nu() && *i >= 0 => Some(*i as usize),
+            (_, Some(a)) => match model.actuators.iter().position(|x| x.name == a) {
+                Some(i) => Some(i),
+                None => {
+                    d.push(
+                        err(
+                            Code::E0303,
+                            &v.loc,
+                            format!("the model has no actuator `{a}`"),
+                            "expected an actuator name",
+                        )
+                        .help_opt(suggest(a, model.actuators.iter().map(|x| x.name.as_str()))),
+                    );
                     None
                 }
             },
-            None => {
-                let found = joint.as_ref().and_then(|j| {
-                    model
-                        .actuators
-                        .iter()
-                        .position(|a| a.target.as_deref() == Some(j.as_str()))
-                });
-                // Checked when a conf uses the node (graph-only nodes need no actuator).
-                found
+            _ => {
+                d.push(v.type_error("actuator", "an actuator name or index"));
+                None
             }
+        },
+        None => {
+            let found = joint.and_then(|j| {
+                model
+                    .actuators
+                    .iter()
+                    .position(|a| a.target.as_deref() == Some(j.as_str()))
+            });
+            // Checked when a conf uses the node (graph-only nodes need no actuator).
+            found
         }
-    };
+    }
+}
+
+/// A node's `bodies`, by name or id.
+fn node_bodies(v: Option<&Val>, model: &crate::mjcf::ModelInfo, d: &mut Diagnostics) -> Vec<usize> {
     let mut bodies = vec![];
-    match get("bodies").map(|v| (v, &v.kind)) {
+    match v.map(|v| (v, &v.kind)) {
         None => {}
         Some((_, ValKind::Array(a))) => {
             for b in a {
@@ -504,8 +547,17 @@ fn read_node(
         }
         Some((v, _)) => d.push(v.type_error("bodies", "an array of body names or ids")),
     }
+    bodies
+}
+
+/// A node's `extra`: category = segments (an empty list suppresses the category).
+fn node_extra(
+    v: Option<&Val>,
+    sel: &dyn Fn(&Val, &mut Diagnostics) -> Option<Selection>,
+    d: &mut Diagnostics,
+) -> Vec<(String, Vec<Extra>)> {
     let mut extra = vec![];
-    if let Some(v) = get("extra") {
+    if let Some(v) = v {
         match v.as_table() {
             None => d.push(v.type_error("extra", "a table: category = segments")),
             Some(t) => {
@@ -523,15 +575,7 @@ fn read_node(
             }
         }
     }
-    Some(Node {
-        name: e.key.clone(),
-        label,
-        qpos,
-        qvel,
-        actuator,
-        bodies,
-        extra,
-    })
+    extra
 }
 
 fn read_extra(
