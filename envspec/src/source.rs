@@ -300,4 +300,38 @@ mod tests {
         assert_eq!(outer.files().len(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    /// What `env!` and `multi_agent_env!` track: every file the spec pulls in, in the order read.
+    #[test]
+    fn loading_a_spec_records_the_spec_its_base_and_its_model() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let paths = |r: &Reader| -> Vec<PathBuf> {
+            r.files()
+                .iter()
+                .map(|f| crate::path::normalize(&f.path))
+                .collect()
+        };
+        let mut reader = Reader::disk();
+        let task = root.join("specs/gymnasium/hopper.toml");
+        reader.run(|| crate::load(&task, &[])).unwrap();
+        let model = crate::path::normalize(&root.join("assets/gymnasium/hopper.xml"));
+        assert_eq!(
+            paths(&reader),
+            vec![crate::path::normalize(&task), model.clone()]
+        );
+        assert!(reader.files().iter().all(|f| f.hash.is_some()));
+
+        let mut reader = Reader::disk();
+        let agents = root.join("specs/mamujoco/hopper.toml");
+        reader.run(|| crate::agents::load(&agents, &[])).unwrap();
+        // The base chain is read first (its check), then the base spec is loaded.
+        assert_eq!(
+            paths(&reader),
+            vec![
+                crate::path::normalize(&agents),
+                crate::path::normalize(&task),
+                model
+            ]
+        );
+    }
 }
