@@ -1,6 +1,7 @@
 //! `envc diff OLD NEW [--format text|markdown|json|github]`: what a spec change does to trained
 //! policies and published returns. OLD and NEW are spec files, bundled ids or git revisions
-//! (`REV:path`, path relative to the repository root as in `git show`), both task specs, both
+//! (`REV:path`, path relative to the repository root as in `git show`; every file of that side is
+//! read at the revision through `envspec::source`, as on disk), both task specs, both
 //! multi-agent specs or both maze specs (E0905 otherwise). Every change names its rule
 //! (docs/diff-rules.md). Exit status: 0 no change, 1 compatible changes only, 3 breaking changes,
 //! 2 errors.
