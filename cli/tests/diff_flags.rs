@@ -223,5 +223,17 @@ fn a_git_revision_side_is_read_through_the_one_reader() {
     assert_eq!(status, Some(2), "{out}");
     assert!(out.contains("error[E0302]: <include> cycle"), "{out}");
     assert!(out.contains("--> HEAD:model.xml:2:18"), "{out}");
+
+    // An include that leaves the repository is not taken from anywhere at that revision.
+    let escape = "<mujoco>\n  <include file=\"../escape.xml\"/>\n</mujoco>\n";
+    std::fs::write(dir.join("model.xml"), escape).unwrap();
+    git(&dir, &["commit", "-q", "-am", "an include outside"]);
+    let (status, out) = diff_in(&dir, "HEAD:hopper.toml", "HEAD~2:hopper.toml");
+    assert_eq!(status, Some(2), "{out}");
+    assert!(out.contains("error[E0301]"), "{out}");
+    assert!(
+        out.contains("../escape.xml is outside the repository"),
+        "{out}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

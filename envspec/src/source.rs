@@ -172,6 +172,18 @@ fn git(repo: &Path, args: &[&str]) -> Result<Vec<u8>, ReadError> {
     Ok(out.stdout)
 }
 
+/// A path that leaves the mount (`../x`) is not in the revision's tree, and is never written
+/// outside the mount.
+fn outside(rel: &Path) -> Result<(), ReadError> {
+    match rel.components().next() {
+        Some(std::path::Component::ParentDir) => Err(ReadError::Io(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!("{} is outside the repository", rel.display()),
+        ))),
+        _ => Ok(()),
+    }
+}
+
 fn object(rev: &str, rel: &Path) -> String {
     format!("{rev}:{}", rel.display())
 }
@@ -185,6 +197,7 @@ fn git_bytes(
     dest: &Path,
     limit: u64,
 ) -> Result<Vec<u8>, ReadError> {
+    outside(rel)?;
     let obj = object(rev, rel);
     let kind = git(repo, &["cat-file", "-t", &obj])?;
     if String::from_utf8_lossy(&kind).trim() != "blob" {
@@ -241,7 +254,7 @@ pub fn exists(path: &Path) -> bool {
     match route(path) {
         Route::Disk => path.exists(),
         Route::Git { repo, rev, rel, .. } => {
-            git(&repo, &["cat-file", "-e", &object(&rev, &rel)]).is_ok()
+            outside(&rel).is_ok() && git(&repo, &["cat-file", "-e", &object(&rev, &rel)]).is_ok()
         }
     }
 }
