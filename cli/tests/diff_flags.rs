@@ -134,3 +134,106 @@ fn a_default_read_only_by_switched_off_terms_is_compatible() {
     assert!(!out.contains("flag:"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `git -C dir ARGS` (a scratch repository: its own identity, no hooks or signing).
+fn git(dir: &std::path::Path, args: &[&str]) {
+    let o = Command::new("git")
+        .args(["-c", "user.name=envc", "-c", "user.email=envc@localhost"])
+        .args(["-c", "commit.gpgsign=false", "-C"])
+        .arg(dir)
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "git {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// `envc diff` run in `dir`, within 60 s (a walk that never ends fails the test, not the machine).
+fn diff_in(dir: &std::path::Path, old: &str, new: &str) -> (Option<i32>, String) {
+    let o = Command::new("timeout")
+        .args([
+            "-s",
+            "KILL",
+            "60",
+            env!("CARGO_BIN_EXE_envc"),
+            "diff",
+            old,
+            new,
+        ])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    (o.status.code(), text)
+}
+
+/// A `REV:path` side is read through envspec's one reader at that revision, the model's
+/// `<include>`s too: Hopper-v5 whose model includes the Hopper MJCF, the included file's gears
+/// halved on disk after the commit, is a breaking actuator change against `HEAD`. A model that
+/// includes itself at a revision is the same located E0302 as on disk, named `REV:file`.
+#[test]
+fn a_git_revision_side_is_read_through_the_one_reader() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let dir = std::env::temp_dir().join(format!("envc-diff-rev-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let spec = std::fs::read_to_string(format!("{root}/specs/gymnasium/hopper.toml"))
+        .unwrap()
+        .replace("\"../../assets/gymnasium/hopper.xml\"", "\"model.xml\"");
+    let hopper = std::fs::read_to_string(format!("{root}/assets/gymnasium/hopper.xml")).unwrap();
+    std::fs::write(dir.join("hopper.toml"), &spec).unwrap();
+    std::fs::write(
+        dir.join("model.xml"),
+        "<mujoco>\n  <include file=\"parts/hopper.xml\"/>\n</mujoco>\n",
+    )
+    .unwrap();
+    std::fs::create_dir_all(dir.join("parts")).unwrap();
+    std::fs::write(dir.join("parts/hopper.xml"), &hopper).unwrap();
+    git(&dir, &["init", "-q"]);
+    git(&dir, &["add", "."]);
+    git(&dir, &["commit", "-q", "-m", "hopper"]);
+
+    // Unchanged: the same spec and model at HEAD and on disk.
+    let (status, out) = diff_in(&dir, "HEAD:hopper.toml", "hopper.toml");
+    assert_eq!(status, Some(0), "{out}");
+    // The included file changed on disk only.
+    let halved = hopper.replace("gear=\"200\"", "gear=\"100\"");
+    assert_ne!(halved, hopper);
+    std::fs::write(dir.join("parts/hopper.xml"), &halved).unwrap();
+    let (status, out) = diff_in(&dir, "HEAD:hopper.toml", "hopper.toml");
+    assert_ne!(
+        status,
+        Some(0),
+        "the old side read the disk's include:\n{out}"
+    );
+    assert_ne!(status, Some(2), "{out}");
+
+    // A self-including model at a revision: one located error, at once.
+    let own = "<mujoco>\n  <include file=\"model.xml\"/>\n</mujoco>\n";
+    std::fs::write(dir.join("model.xml"), own).unwrap();
+    git(&dir, &["commit", "-q", "-am", "a cycle"]);
+    let (status, out) = diff_in(&dir, "HEAD:hopper.toml", "HEAD~1:hopper.toml");
+    assert_eq!(status, Some(2), "{out}");
+    assert!(out.contains("error[E0302]: <include> cycle"), "{out}");
+    assert!(out.contains("--> HEAD:model.xml:2:18"), "{out}");
+
+    // An include that leaves the repository is not taken from anywhere at that revision.
+    let escape = "<mujoco>\n  <include file=\"../escape.xml\"/>\n</mujoco>\n";
+    std::fs::write(dir.join("model.xml"), escape).unwrap();
+    git(&dir, &["commit", "-q", "-am", "an include outside"]);
+    let (status, out) = diff_in(&dir, "HEAD:hopper.toml", "HEAD~2:hopper.toml");
+    assert_eq!(status, Some(2), "{out}");
+    assert!(out.contains("error[E0301]"), "{out}");
+    assert!(
+        out.contains("../escape.xml is outside the repository"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -14,7 +14,7 @@ use envspec::{Diagnostics, Override};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::{Input, absolute, manifest_root};
+use crate::{Input, absolute, manifest_root, track};
 
 fn errors(d: &Diagnostics, span: Span) -> TokenStream {
     d.iter()
@@ -63,9 +63,15 @@ pub(crate) fn expand(input: Input) -> TokenStream {
             Override::text(&k.to_string(), &v)
         })
         .collect();
-    let spec = match envspec::agents::load(&spec_path, &overrides) {
+    // The spec, its base, the model and its includes, through envspec's one reader (`track`).
+    let mut reader = envspec::source::Reader::disk();
+    let spec = match reader.run(|| envspec::agents::load(&spec_path, &overrides)) {
         Ok(s) => s,
-        Err(d) => return errors(&d, span),
+        Err(d) => {
+            let mut out = errors(&d, span);
+            out.extend(track(&root, &reader));
+            return out;
+        }
     };
     let Some(name) = input.name.clone() else {
         return syn::Error::new(
@@ -198,13 +204,6 @@ pub(crate) fn expand(input: Input) -> TokenStream {
             pub fn state(&self) -> &[f64] { self.inner.state() }
         }
     });
-    let mut files = vec![spec_path.clone(), spec.base.spec_path.clone()];
-    files.push(spec.base.model_path.clone());
-    for f in files
-        .iter()
-        .filter_map(|f| absolute(&root, f).to_str().map(str::to_string))
-    {
-        items.extend(quote! { const _: &[u8] = include_bytes!(#f); });
-    }
+    items.extend(track(&root, &reader));
     items
 }

@@ -1,6 +1,6 @@
 //! Spec → tokens: the typed Config, Obs, Action, Info and env types.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use envspec::params::decl_type;
 use envspec::{Diagnostics, Override, ParamType, ParamValue, ResolvedSpec, Spec};
@@ -8,7 +8,7 @@ use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use syn::{Ident, Lit};
 
-use crate::{Input, absolute, docs, manifest_root};
+use crate::{Input, absolute, docs, manifest_root, track};
 
 pub(crate) fn expand(input: Input) -> TokenStream {
     let root = manifest_root();
@@ -22,17 +22,23 @@ pub(crate) fn expand(input: Input) -> TokenStream {
         .collect();
     let errors = |d: Diagnostics| render_errors(&d, &root, lit_span, &arg_spans);
 
-    let spec = match Spec::load(&spec_path) {
+    // Every file the spec reads, through envspec's one reader, recorded for `track`.
+    let mut reader = envspec::source::Reader::disk();
+    let spec = match reader.run(|| Spec::load(&spec_path)) {
         Ok(s) => s,
-        Err(d) => return errors(d),
-    };
-    let overrides = build_overrides(&spec, &input.overrides, &root);
-    let resolved = match envspec::resolve(&spec, &overrides) {
-        Ok(r) => r,
-        // The spec is still a dependency: fixing it must trigger a rebuild.
+        // The files read are still dependencies: fixing them must trigger a rebuild.
         Err(d) => {
             let mut out = errors(d);
-            out.extend(track(std::slice::from_ref(&spec_path)));
+            out.extend(track(&root, &reader));
+            return out;
+        }
+    };
+    let overrides = build_overrides(&spec, &input.overrides, &root);
+    let resolved = match reader.run(|| envspec::resolve(&spec, &overrides)) {
+        Ok(r) => r,
+        Err(d) => {
+            let mut out = errors(d);
+            out.extend(track(&root, &reader));
             return out;
         }
     };
@@ -52,11 +58,9 @@ pub(crate) fn expand(input: Input) -> TokenStream {
             }
         },
     };
-    let mut files = vec![spec_path.clone()];
-    files.extend(model_files(&resolved.model_path));
     match generate(&input, &name, &spec, &resolved, &spec_path) {
         Ok(mut tokens) => {
-            tokens.extend(track(&files));
+            tokens.extend(track(&root, &reader));
             tokens
         }
         Err(e) => e.to_compile_error(),
@@ -90,44 +94,6 @@ fn render_errors(d: &Diagnostics, root: &Path, span: Span, args: &[(String, Span
             syn::Error::new(at, text.trim_end()).to_compile_error()
         })
         .collect()
-}
-
-/// `include_bytes!` of every input file, so editing the spec or the model rebuilds the caller.
-fn track(files: &[PathBuf]) -> TokenStream {
-    files
-        .iter()
-        .filter_map(|f| f.to_str())
-        .map(|f| quote! { const _: &[u8] = include_bytes!(#f); })
-        .collect()
-}
-
-/// The model file and every file it `<include>`s (recursively, relative to the including file).
-fn model_files(path: &Path) -> Vec<PathBuf> {
-    let mut out = vec![];
-    let mut todo = vec![path.to_path_buf()];
-    while let Some(p) = todo.pop() {
-        if out.contains(&p) || out.len() > 64 {
-            continue;
-        }
-        let Ok(text) = std::fs::read_to_string(&p) else {
-            continue;
-        };
-        let dir = p.parent().unwrap_or(Path::new(".")).to_path_buf();
-        // A plain scan is enough here: envspec has already parsed these files as XML.
-        for chunk in text.split("<include").skip(1) {
-            let Some(tag) = chunk.split('>').next() else {
-                continue;
-            };
-            if let Some(f) = tag.split_once("file=").and_then(|(_, r)| {
-                let q = r.chars().next()?;
-                r[1..].split(q).next()
-            }) {
-                todo.push(absolute(&dir, Path::new(f)));
-            }
-        }
-        out.push(absolute(Path::new("."), &p));
-    }
-    out
 }
 
 /// Macro arguments → overrides, typed by the parameter's declaration.

@@ -107,3 +107,18 @@ pub(crate) fn absolute(root: &Path, p: &Path) -> PathBuf {
     };
     joined.canonicalize().unwrap_or(joined)
 }
+
+/// `include_bytes!` of every file envspec read while the macro expanded (the record of
+/// [`envspec::source::Reader`]: the spec, its base or robot spec, a maze's map, the model and
+/// every `<include>`), so editing any of them rebuilds the caller. Meshes and textures are
+/// recorded without a hash and not tracked: MuJoCo reads them at run time and no generated code
+/// depends on them.
+pub(crate) fn track(root: &Path, reader: &envspec::source::Reader) -> proc_macro2::TokenStream {
+    reader
+        .files()
+        .iter()
+        .filter(|f| f.hash.is_some())
+        .filter_map(|f| absolute(root, &f.path).to_str().map(str::to_string))
+        .map(|f| quote::quote! { const _: &[u8] = include_bytes!(#f); })
+        .collect()
+}

@@ -60,10 +60,10 @@ impl SourceFile {
     }
 }
 
-/// Read a text file for a reader that quotes it, within `limit` bytes
-/// ([`crate::limits::read_text`]). A file that is not UTF-8 is diagnosed with `code` at the line
-/// and column of its first bad byte (`what` names the file's role, e.g. "spec"); `unreadable`
-/// words any other failure.
+/// Read a text file for a reader that quotes it, within `limit` bytes, through the one source of
+/// spec inputs ([`crate::source`]: the disk or a git revision, recorded). A file that is not UTF-8
+/// is diagnosed with `code` at the line and column of its first bad byte (`what` names the file's
+/// role, e.g. "spec"); `unreadable` words any other failure.
 pub fn read_source(
     path: &Path,
     limit: u64,
@@ -71,19 +71,13 @@ pub fn read_source(
     what: &str,
     unreadable: impl FnOnce(crate::limits::ReadError) -> Diagnostic,
 ) -> Result<Arc<SourceFile>, Diagnostic> {
-    use std::io::Read;
-    let at = match crate::limits::read_text(path, limit) {
+    let bytes = crate::source::read_bytes(path, limit).map_err(unreadable)?;
+    let (at, bytes) = match String::from_utf8(bytes) {
         Ok(text) => return Ok(SourceFile::new(path, text)),
-        Err(crate::limits::ReadError::NotUtf8 { offset }) => offset,
-        Err(e) => return Err(unreadable(e)),
+        // The lossy text equals the file up to the first bad byte, so the offset holds, and the
+        // line can be shown (U+FFFD where the bad bytes are).
+        Err(e) => (e.utf8_error().valid_up_to(), e.into_bytes()),
     };
-    // Read again (as bounded) for the bytes: the lossy text equals the file up to the first bad
-    // byte, so the offset holds, and the line can be shown (U+FFFD where the bad bytes are).
-    let mut bytes = vec![];
-    let read = std::fs::File::open(path).and_then(|f| f.take(limit).read_to_end(&mut bytes));
-    if let Err(e) = read {
-        return Err(unreadable(crate::limits::ReadError::Io(e)));
-    }
     let at = at.min(bytes.len());
     let len = match std::str::from_utf8(&bytes[at..]) {
         Err(e) => e.error_len().unwrap_or(bytes.len() - at),

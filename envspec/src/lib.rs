@@ -35,6 +35,7 @@ pub mod path;
 pub mod registry;
 pub mod resolve;
 pub mod selector;
+pub mod source;
 pub mod syntax;
 pub mod urdf;
 pub mod value;

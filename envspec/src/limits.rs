@@ -60,6 +60,10 @@ pub const MAX_DELAY_STEPS: i64 = 10_000;
 /// overflowed the stack) and MuJoCo's own reader stops near 1,000. Menagerie's deepest models
 /// nest about 20 levels.
 pub const MAX_NESTING: usize = 500;
+/// MJCF `<include>`s nested in one another (no bundled model includes another). A file that
+/// includes itself, directly or not, is a cycle, reported as such at the `<include>` that closes
+/// it ([`include_cycle`]) wherever it is read: from the disk, at a git revision, in codegen.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
 /// Bodies in one model (MJCF bodies or URDF links): MuJoCo's compile time grows with the square
 /// of the body count (0.18 s at 2,000 bodies, 13.6 s at 16,000, over 120 s at 50,000). At this
 /// limit a compile takes about a second; the largest bundled model has 17 bodies.
@@ -340,6 +344,32 @@ pub fn check_xml_depth(
         }
     }
     None
+}
+
+/// E0302 at the `<include file>` that names a file already being read (`chain`: the including
+/// files, outermost first, then the file named again).
+pub fn include_cycle(chain: &[&Path], at: Option<Location>) -> Diagnostic {
+    let names: Vec<String> = chain.iter().map(|p| p.display().to_string()).collect();
+    Diagnostic::new(
+        Code::E0302,
+        format!("<include> cycle: {}", names.join(" includes ")),
+    )
+    .at_opt(at)
+    .label("this file is already being read")
+    .help("remove the <include> that closes the cycle")
+}
+
+/// E0110 at the `<include file>` nested deeper than `MAX_INCLUDE_DEPTH`.
+pub fn include_too_deep(at: Option<Location>) -> Diagnostic {
+    Diagnostic::new(
+        Code::E0110,
+        format!("<include> nested deeper than envc's limit of {MAX_INCLUDE_DEPTH}"),
+    )
+    .at_opt(at)
+    .label(format!(
+        "expected at most {MAX_INCLUDE_DEPTH} nested includes"
+    ))
+    .help("see docs/limits.md")
 }
 
 /// E0110 for the body beyond `MAX_BODIES` (`what` names it: `<body>`, a URDF link).

@@ -126,11 +126,11 @@ impl ModelInfo {
             asset_dirs: Default::default(),
             defaults: HashMap::new(),
             world_children: vec![],
-            depth: 0,
+            including: vec![],
             source: None,
             nbody: 0,
         };
-        reader.read_file(path)?;
+        reader.read_file(path, None)?;
         reader.build_tree()?;
         Ok(reader.info)
     }
@@ -153,7 +153,8 @@ struct Reader {
     defaults: HashMap<String, (Option<String>, Option<JointKind>)>,
     /// The world body's own joints are not allowed; its sites and child bodies are kept here.
     world_children: Vec<BodyNode>,
-    depth: usize,
+    /// The files being read, outermost first (an `<include>` of one of them is a cycle).
+    including: Vec<PathBuf>,
     /// The file being read (for locating a body beyond `limits::MAX_BODIES`).
     source: Option<std::sync::Arc<SourceFile>>,
     /// Bodies read so far, every file together.
@@ -176,14 +177,21 @@ fn parse_kind(s: &str) -> Option<JointKind> {
 }
 
 impl Reader {
-    fn read_file(&mut self, path: &Path) -> Result<(), Diagnostic> {
-        self.depth += 1;
-        if self.depth > 32 {
-            return Err(malformed(
-                path,
-                "<include> nesting deeper than 32 (a cycle?)",
-            ));
+    /// Read one file; `at` is the `<include file>` that names it (None for the model itself).
+    fn read_file(&mut self, path: &Path, at: Option<Location>) -> Result<(), Diagnostic> {
+        let key = crate::path::normalize(path);
+        if let Some(first) = self.including.iter().position(|p| *p == key) {
+            let mut chain: Vec<&Path> = self.including[first..]
+                .iter()
+                .map(PathBuf::as_path)
+                .collect();
+            chain.push(&key);
+            return Err(limits::include_cycle(&chain, at));
         }
+        if self.including.len() > limits::MAX_INCLUDE_DEPTH {
+            return Err(limits::include_too_deep(at));
+        }
+        self.including.push(key);
         let limit = limits::MAX_MODEL_BYTES;
         let source = crate::diagnostic::read_source(path, limit, Code::E0301, "model", |e| {
             Diagnostic::new(
@@ -228,7 +236,7 @@ impl Reader {
             self.read_section(path, dir, section)?;
         }
         self.source = outer;
-        self.depth -= 1;
+        self.including.pop();
         Ok(())
     }
 
@@ -262,10 +270,10 @@ impl Reader {
                 continue;
             };
             let full = dir.join(sub.map_or("", String::as_str)).join(file.value());
-            if !full.exists() {
+            if !crate::source::exists(&full) {
                 continue;
             }
-            if let Err(e) = limits::check_file(&full, limits::MAX_ASSET_BYTES) {
+            if let Err(e) = crate::source::check_asset(&full, limits::MAX_ASSET_BYTES) {
                 return Err(Diagnostic::new(
                     e.code(Code::E0301),
                     format!("cannot use <{tag}> file {}: {e}", full.display()),
@@ -286,9 +294,13 @@ impl Reader {
         match node.tag_name().name() {
             "include" => {
                 let file = node
-                    .attribute("file")
+                    .attribute_node("file")
                     .ok_or_else(|| malformed(path, "<include> without file"))?;
-                self.read_file(&dir.join(file))?;
+                let at = self
+                    .source
+                    .as_ref()
+                    .map(|s| Location::new(s, file.range_value()));
+                self.read_file(&dir.join(file.value()), at)?;
             }
             "option" => {
                 if let Some(ts) = node.attribute("timestep") {

@@ -1243,3 +1243,55 @@ fn fails_if_op_missing_or_unknown() {
         assert_eq!(lc(&d.0[0]), at, "{d}");
     }
 }
+
+/// An MJCF that includes itself, directly or through another file, is one located error (E0302
+/// at the `<include file>` that closes the cycle), not a walk until a depth bound; includes
+/// nested beyond `limits::MAX_INCLUDE_DEPTH` are E0110 at the deepest `<include>`. The reader
+/// records every file it read, the including ones first.
+#[test]
+fn include_cycles_and_depth_are_one_located_error() {
+    use envspec::ModelInfo;
+    use envspec::source::Reader;
+    let s = Scratch::new("include_cycle");
+    let own = "<mujoco>\n  <include file=\"self.xml\"/>\n</mujoco>\n";
+    let self_xml = s.write("self.xml", own);
+    let d = ModelInfo::from_mjcf(&self_xml).expect_err("a self-include");
+    assert_eq!(d.code, Code::E0302, "{d}");
+    assert_eq!(lc(&d), find_lc(own, "self.xml\""), "{d}");
+    assert!(d.message.contains("<include> cycle"), "{d}");
+
+    let a_text = "<mujoco>\n  <include file=\"b.xml\"/>\n</mujoco>\n";
+    let b_text = "<mujoco>\n\n  <include file=\"./a.xml\"/>\n</mujoco>\n";
+    let a = s.write("a.xml", a_text);
+    let b = s.write("b.xml", b_text);
+    let mut reader = Reader::disk();
+    let d = reader
+        .run(|| ModelInfo::from_mjcf(&a))
+        .expect_err("a two-file cycle");
+    assert_eq!(d.code, Code::E0302, "{d}");
+    let at = d.location.as_ref().expect("located");
+    assert_eq!(at.file.path, b, "{d}");
+    assert_eq!(lc(&d), find_lc(b_text, "./a.xml"), "{d}");
+    let read: Vec<_> = reader.files().iter().map(|f| f.path.clone()).collect();
+    assert_eq!(read, vec![a.clone(), b.clone()]);
+
+    // A chain of distinct files one deeper than the limit.
+    let n = envspec::limits::MAX_INCLUDE_DEPTH + 1;
+    for i in 0..=n {
+        let body = if i < n {
+            format!("<mujoco>\n<include file=\"d{}.xml\"/>\n</mujoco>\n", i + 1)
+        } else {
+            "<mujoco/>\n".to_string()
+        };
+        s.write(&format!("d{i}.xml"), &body);
+    }
+    let d = ModelInfo::from_mjcf(&s.0.join("d0.xml")).expect_err("too deep");
+    assert_eq!(d.code, Code::E0110, "{d}");
+    assert_eq!(
+        d.location.as_ref().expect("located").file.path,
+        s.0.join(format!("d{}.xml", n - 1))
+    );
+    // One level less is read.
+    s.write(&format!("d{}.xml", n - 1), "<mujoco/>\n");
+    ModelInfo::from_mjcf(&s.0.join("d0.xml")).expect("at the limit");
+}

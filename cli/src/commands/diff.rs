@@ -1,6 +1,7 @@
 //! `envc diff OLD NEW [--format text|markdown|json|github]`: what a spec change does to trained
 //! policies and published returns. OLD and NEW are spec files, bundled ids or git revisions
-//! (`REV:path`, path relative to the repository root as in `git show`), both task specs, both
+//! (`REV:path`, path relative to the repository root as in `git show`; every file of that side is
+//! read at the revision through `envspec::source`, as on disk), both task specs, both
 //! multi-agent specs or both maze specs (E0905 otherwise). Every change names its rule
 //! (docs/diff-rules.md). Exit status: 0 no change, 1 compatible changes only, 3 breaking changes,
 //! 2 errors.
@@ -51,9 +52,18 @@ fn git(args: &[&str]) -> Result<Vec<u8>> {
     Ok(out.stdout)
 }
 
-/// Files of a spec at a git revision, materialised under a temporary directory with the same
-/// relative layout (so the spec's relative model path, and MJCF includes, resolve at that revision).
-fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
+/// A `REV:path` argument: the revision and the path relative to the repository root.
+fn git_side(arg: &str) -> Option<(&str, &str)> {
+    if Path::new(arg).exists() {
+        return None;
+    }
+    arg.split_once(':')
+        .filter(|(rev, path)| !rev.is_empty() && !path.is_empty())
+}
+
+/// The repository root and the path of `path` in it (`./p` is relative to the working
+/// directory, as in `git show`).
+fn in_repository(path: &str) -> Result<(PathBuf, String)> {
     let root = String::from_utf8(git(&["rev-parse", "--show-toplevel"])?)?
         .trim()
         .to_string();
@@ -66,60 +76,30 @@ fn checkout(rev: &str, path: &str, tmp: &Path) -> Result<PathBuf> {
         }
         None => path.to_string(),
     };
-    let fetch = |rel: &str| -> Result<PathBuf> {
-        let bytes = git(&["-C", &root, "show", &format!("{rev}:{rel}")])?;
-        let dest = tmp.join(rel);
-        std::fs::create_dir_all(dest.parent().unwrap_or(tmp))?;
-        std::fs::write(&dest, bytes)?;
-        Ok(dest)
-    };
-    // A task spec and the model named by its default xml_file, with the files it includes.
-    let task = |rel: &str| -> Result<PathBuf> {
-        let spec_file = fetch(rel)?;
-        if let Ok(spec) = Spec::load(&spec_file)
-            && let Some(xml) = spec
-                .param("xml_file")
-                .and_then(|p| p.default.as_str().map(str::to_string))
-        {
-            let spec_dir = Path::new(rel).parent().unwrap_or(Path::new(""));
-            let mut queue = vec![envspec::path::normalize(&spec_dir.join(&xml))];
-            while let Some(m) = queue.pop() {
-                let Some(m_rel) = m.to_str() else { continue };
-                let Ok(dest) = fetch(m_rel) else { continue };
-                let text = std::fs::read_to_string(&dest).unwrap_or_default();
-                if let Ok(doc) = roxmltree::Document::parse(&text) {
-                    for inc in doc.descendants().filter(|n| n.has_tag_name("include")) {
-                        if let Some(f) = inc.attribute("file") {
-                            queue.push(envspec::path::normalize(
-                                &m.parent().unwrap_or(Path::new("")).join(f),
-                            ));
-                        }
-                    }
-                }
-            }
-        }
-        Ok(spec_file)
-    };
-    let spec_file = task(&rel)?;
-    // A maze spec: its map file and its robot spec at the same revision too.
-    if kind_of(&spec_file) == Kind::Maze {
-        let text = std::fs::read_to_string(&spec_file).unwrap_or_default();
-        let table = text.parse::<toml::Table>().unwrap_or_default();
-        let maze = table.get("maze").and_then(|m| m.as_table());
-        let dir = Path::new(&rel).parent().unwrap_or(Path::new(""));
-        let named = |key: &str| maze.and_then(|m| m.get(key)).and_then(|v| v.as_str());
-        if let Some(map) = named("map").filter(|m| m.trim_end().ends_with(".toml")) {
-            let m = envspec::path::normalize(&dir.join(map.trim()));
-            let _ = m.to_str().map(fetch);
-        }
-        if let Some(robot) = named("robot") {
-            let r = envspec::path::normalize(&dir.join(robot));
-            if let Some(r) = r.to_str() {
-                task(r)?;
-            }
-        }
+    Ok((PathBuf::from(root), rel))
+}
+
+/// The reader of both sides: each `REV:path` side's revision mounted under `tmp/<side>`, so its
+/// spec, maps, base and robot specs, model, includes and meshes are read by envspec's readers
+/// (the same limits and errors as on disk) and written there for MuJoCo to compile.
+fn reader(args: &Args, tmp: &Path) -> Result<envspec::source::Reader> {
+    let mut reader = envspec::source::Reader::disk();
+    for (arg, side) in [(&args.old, "old"), (&args.new, "new")] {
+        let Some((rev, path)) = git_side(arg) else {
+            continue;
+        };
+        let (repo, _) = in_repository(path).map_err(|e| cannot_take(rev, path, &e))?;
+        let source = envspec::source::Source::GitRev {
+            repo,
+            rev: rev.to_string(),
+        };
+        reader = reader.mount(tmp.join(side), source);
     }
-    Ok(spec_file)
+    Ok(reader)
+}
+
+fn cannot_take(rev: &str, path: &str, e: &dyn std::fmt::Display) -> anyhow::Error {
+    anyhow::anyhow!("error[E0906]: cannot take `{path}` at git revision `{rev}`: {e:#}")
 }
 
 /// One side of the diff: a local file and, for a registered maze id, the overrides it stands for.
@@ -130,7 +110,7 @@ struct Side {
     id: Option<String>,
 }
 
-/// A spec argument as a local file (checked out from git when it is `REV:path`).
+/// A spec argument as a local file (under its mount when it is `REV:path`).
 fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
     let file = |path| Side {
         path,
@@ -140,13 +120,13 @@ fn materialise(arg: &str, tmp: &Path, side: &str) -> Result<Side> {
     if Path::new(arg).exists() {
         return Ok(file(PathBuf::from(arg)));
     }
-    if let Some((rev, path)) = arg.split_once(':')
-        && !rev.is_empty()
-        && !path.is_empty()
-    {
-        return checkout(rev, path, &tmp.join(side)).map(file).map_err(|e| {
-            anyhow::anyhow!("error[E0906]: cannot take `{path}` at git revision `{rev}`: {e:#}")
-        });
+    if let Some((rev, path)) = git_side(arg) {
+        // Read through the mounted revision (`reader`); a spec git cannot give is E0906.
+        let (_, rel) = in_repository(path).map_err(|e| cannot_take(rev, path, &e))?;
+        let spec = tmp.join(side).join(rel);
+        envspec::source::read_bytes(&spec, envspec::limits::MAX_SPEC_BYTES)
+            .map_err(|e| cannot_take(rev, path, &e))?;
+        return Ok(file(spec));
     }
     // A bundled id of any kind, through the one door.
     let t = envspec::open::locate(arg).map_err(|d| anyhow::anyhow!("{d}"))?;
@@ -165,9 +145,19 @@ fn kind_of(path: &Path) -> Kind {
 
 pub fn run(args: Args) -> Result<Outcome> {
     let tmp = std::env::temp_dir().join(format!("envc-diff-{}", std::process::id()));
-    let result = diff(&args, &tmp);
+    let result = reader(&args, &tmp).and_then(|mut r| r.run(|| diff(&args, &tmp)));
     let _ = std::fs::remove_dir_all(&tmp);
-    result
+    // An error in a file of a `REV:path` side names it `REV:file`, not its temporary copy.
+    result.map_err(|e| {
+        let mut text = format!("{e:#}");
+        for (arg, side) in [(&args.old, "old"), (&args.new, "new")] {
+            if let Some((rev, _)) = git_side(arg) {
+                let copy = format!("{}/", tmp.join(side).display());
+                text = text.replace(&copy, &format!("{rev}:"));
+            }
+        }
+        anyhow::anyhow!(text)
+    })
 }
 
 fn load(path: &Path) -> Result<(Spec, envspec::ResolvedSpec)> {

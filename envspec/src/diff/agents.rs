@@ -109,7 +109,7 @@ fn agent_changes(x: &Agent, y: &Agent, conf: &str, k: usize, out: &mut Vec<Chang
 
 /// The line of `key = ...` in a spec file (the first one, as the `[agents]` table holds it).
 fn key_line(path: &Path, key: &str) -> Option<super::Pos> {
-    let text = std::fs::read_to_string(path).ok()?;
+    let text = crate::source::read_text(path, crate::limits::MAX_SPEC_BYTES).ok()?;
     let line = text.lines().position(|l| {
         l.trim_start()
             .strip_prefix(key)
