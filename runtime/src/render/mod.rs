@@ -147,11 +147,7 @@ fn lookup(
             }
             -2
         }
-        ObjRef::Name(n) => match std::ffi::CString::new(n.as_str()) {
-            // SAFETY: a valid model and a NUL-terminated name.
-            Ok(cn) => unsafe { c::mj_name2id(m, obj as i32, cn.as_ptr()) },
-            Err(_) => -1,
-        },
+        ObjRef::Name(n) => crate::mj::names::id(m, obj, n).map_or(-1, |i| i as i32),
     };
     if id >= 0 {
         return Ok(id);
@@ -182,16 +178,8 @@ fn lookup(
 }
 
 fn model_names(m: &mjModel, obj: mjtObj, count: i64) -> Vec<String> {
-    (0..count as i32)
-        .filter_map(|i| {
-            // SAFETY: i < count of this object type; mj_id2name returns null or a C string.
-            let p = unsafe { c::mj_id2name(m, obj as i32, i) };
-            (!p.is_null()).then(|| {
-                unsafe { std::ffi::CStr::from_ptr(p) }
-                    .to_string_lossy()
-                    .into_owned()
-            })
-        })
+    (0..usize::try_from(count).unwrap_or(0))
+        .filter_map(|i| crate::mj::names::name(m, obj, i))
         .filter(|n| !n.is_empty())
         .collect()
 }
@@ -545,6 +533,18 @@ impl EnvRender {
             slot => slot.insert(Box::new(Renderer::new(m, d, &self.settings)?)),
         };
         r.render(m, d, mode, &self.tint)
+    }
+    /// [`EnvRender::frame`] of an env's model and data.
+    pub(crate) fn frame_of<M: mujoco_rs::wrappers::mj_model::traits::ModelType>(
+        &mut self,
+        model: &mujoco_rs::prelude::MjModel,
+        data: &mut mujoco_rs::prelude::MjData<M>,
+        mode: RenderMode,
+    ) -> Result<Frame<'_>, RenderError> {
+        // SAFETY: mjv_updateScene reads the state and writes only visualisation fields, which no
+        // invariant of mujoco-rs's wrapper covers.
+        let d = unsafe { data.ffi_mut() };
+        self.frame(model.ffi(), d, mode)
     }
     /// Drop the renderer (Gymnasium's `close`); the next frame makes a new one.
     pub fn close(&mut self) {
