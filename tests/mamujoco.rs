@@ -2,6 +2,7 @@
 //! (`tests/reference/record_mamujoco.py`) through envc's multi-agent envs and require every local
 //! observation, the state, rewards, terminations and truncations to be bit-identical.
 //! `ENVC_MAMUJOCO_DIR` points the test at a live recording (scripts/test.sh).
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -593,16 +594,20 @@ thread_local! {
     static ALLOCS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
+// SAFETY: forwards to the system allocator; counting touches only a thread-local integer.
 unsafe impl std::alloc::GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
         let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: the caller's `GlobalAlloc` contract, passed on unchanged.
         unsafe { std::alloc::System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        // SAFETY: as in `alloc`.
         unsafe { std::alloc::System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new: usize) -> *mut u8 {
         let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: as in `alloc`.
         unsafe { std::alloc::System.realloc(ptr, layout, new) }
     }
 }

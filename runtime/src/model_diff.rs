@@ -100,6 +100,115 @@ struct Arr {
     new: Vec<f64>,
 }
 
+/// The arrays `diff_models` compares, with the values of both models (each array's element count
+/// from the old model; only compared where both models have that count).
+fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
+    let (a, b) = (old.ffi(), new.ffi());
+    let (nb, ng, nj, nv, nu) = (
+        a.nbody as usize,
+        a.ngeom as usize,
+        a.njnt as usize,
+        a.nv as usize,
+        a.nu as usize,
+    );
+    /// Array `field` of both models, `n` values each.
+    macro_rules! arr {
+        ($field:ident, $rule:ident, $width:expr, $obj:ident, $n:expr) => {
+            Arr {
+                field: stringify!($field),
+                rule: RuleId::$rule,
+                width: $width,
+                obj: $obj,
+                old: nums(old.$field(), $n),
+                new: nums(new.$field(), $n),
+            }
+        };
+    }
+    use mjtObj::*;
+    vec![
+        arr!(body_mass, ModelArrayChanged, 1, mjOBJ_BODY, nb),
+        arr!(body_inertia, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_ipos, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_pos, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_quat, ModelArrayChanged, 4, mjOBJ_BODY, nb * 4),
+        arr!(geom_friction, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_size, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_pos, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_type, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_condim, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_contype, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_conaffinity, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_solref, ModelArrayChanged, 2, mjOBJ_GEOM, ng * 2),
+        arr!(jnt_type, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
+        arr!(jnt_axis, ModelArrayChanged, 3, mjOBJ_JOINT, nj * 3),
+        arr!(jnt_range, ModelArrayChanged, 2, mjOBJ_JOINT, nj * 2),
+        arr!(jnt_stiffness, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
+        arr!(dof_damping, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(dof_armature, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(dof_frictionloss, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(
+            actuator_ctrlrange,
+            ModelActuatorArrayChanged,
+            2,
+            mjOBJ_ACTUATOR,
+            nu * 2
+        ),
+        arr!(actuator_gear, ModelArrayChanged, 6, mjOBJ_ACTUATOR, nu * 6),
+        arr!(
+            actuator_gainprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        arr!(
+            actuator_biasprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        arr!(
+            actuator_dynprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        Arr {
+            field: "actuator_type",
+            rule: RuleId::ModelArrayChanged,
+            width: 3,
+            obj: mjOBJ_ACTUATOR,
+            old: types(old),
+            new: types(new),
+        },
+        Arr {
+            field: "actuator_forcerange",
+            rule: RuleId::ModelArrayChanged,
+            width: 3,
+            obj: mjOBJ_ACTUATOR,
+            old: limited(old.actuator_forcelimited(), old.actuator_forcerange(), nu),
+            new: limited(new.actuator_forcelimited(), new.actuator_forcerange(), nu),
+        },
+        arr!(
+            actuator_trnid,
+            ModelActuatorArrayChanged,
+            2,
+            mjOBJ_ACTUATOR,
+            nu * 2
+        ),
+        Arr {
+            field: "qpos0",
+            rule: RuleId::ModelQpos0Changed,
+            width: 1,
+            obj: mjOBJ_UNKNOWN,
+            old: nums(old.qpos0(), a.nq as usize),
+            new: nums(new.qpos0(), b.nq as usize),
+        },
+    ]
+}
+
 /// Compiled-model changes between `old` and `new` (empty when the compiled models are identical).
 pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     let (a, b) = (old.ffi(), new.ffi());
@@ -163,13 +272,6 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     {
         // Each group of arrays is compared when its element count is the same in both models
         // (a removed geom must not hide a changed body mass).
-        let (nb, ng, nj, nv, nu) = (
-            a.nbody as usize,
-            a.ngeom as usize,
-            a.njnt as usize,
-            a.nv as usize,
-            a.nu as usize,
-        );
         let same = |x: i64, y: i64| x == y;
         let counts_match = |field: &str| match field.split('_').next().unwrap_or("") {
             "body" => same(a.nbody, b.nbody),
@@ -180,249 +282,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             "key" => same(a.nkey, b.nkey) && same(a.nq, b.nq),
             _ => same(a.nq, b.nq),
         };
-        use mjtObj::*;
-        let arrs = [
-            Arr {
-                field: "body_mass",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_BODY,
-                old: nums(old.body_mass(), nb),
-                new: nums(new.body_mass(), nb),
-            },
-            Arr {
-                field: "body_inertia",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(old.body_inertia(), nb * 3),
-                new: nums(new.body_inertia(), nb * 3),
-            },
-            Arr {
-                field: "body_ipos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(old.body_ipos(), nb * 3),
-                new: nums(new.body_ipos(), nb * 3),
-            },
-            Arr {
-                field: "body_pos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(old.body_pos(), nb * 3),
-                new: nums(new.body_pos(), nb * 3),
-            },
-            Arr {
-                field: "body_quat",
-                rule: RuleId::ModelArrayChanged,
-                width: 4,
-                obj: mjOBJ_BODY,
-                old: nums(old.body_quat(), nb * 4),
-                new: nums(new.body_quat(), nb * 4),
-            },
-            Arr {
-                field: "geom_friction",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_friction(), ng * 3),
-                new: nums(new.geom_friction(), ng * 3),
-            },
-            Arr {
-                field: "geom_size",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_size(), ng * 3),
-                new: nums(new.geom_size(), ng * 3),
-            },
-            Arr {
-                field: "geom_pos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_pos(), ng * 3),
-                new: nums(new.geom_pos(), ng * 3),
-            },
-            Arr {
-                field: "geom_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_type(), ng),
-                new: nums(new.geom_type(), ng),
-            },
-            Arr {
-                field: "geom_condim",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_condim(), ng),
-                new: nums(new.geom_condim(), ng),
-            },
-            Arr {
-                field: "geom_contype",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_contype(), ng),
-                new: nums(new.geom_contype(), ng),
-            },
-            Arr {
-                field: "geom_conaffinity",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_conaffinity(), ng),
-                new: nums(new.geom_conaffinity(), ng),
-            },
-            Arr {
-                field: "geom_solref",
-                rule: RuleId::ModelArrayChanged,
-                width: 2,
-                obj: mjOBJ_GEOM,
-                old: nums(old.geom_solref(), ng * 2),
-                new: nums(new.geom_solref(), ng * 2),
-            },
-            Arr {
-                field: "jnt_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_JOINT,
-                old: nums(old.jnt_type(), nj),
-                new: nums(new.jnt_type(), nj),
-            },
-            Arr {
-                field: "jnt_axis",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_JOINT,
-                old: nums(old.jnt_axis(), nj * 3),
-                new: nums(new.jnt_axis(), nj * 3),
-            },
-            Arr {
-                field: "jnt_range",
-                rule: RuleId::ModelArrayChanged,
-                width: 2,
-                obj: mjOBJ_JOINT,
-                old: nums(old.jnt_range(), nj * 2),
-                new: nums(new.jnt_range(), nj * 2),
-            },
-            Arr {
-                field: "jnt_stiffness",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_JOINT,
-                old: nums(old.jnt_stiffness(), nj),
-                new: nums(new.jnt_stiffness(), nj),
-            },
-            Arr {
-                field: "dof_damping",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(old.dof_damping(), nv),
-                new: nums(new.dof_damping(), nv),
-            },
-            Arr {
-                field: "dof_armature",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(old.dof_armature(), nv),
-                new: nums(new.dof_armature(), nv),
-            },
-            Arr {
-                field: "dof_frictionloss",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(old.dof_frictionloss(), nv),
-                new: nums(new.dof_frictionloss(), nv),
-            },
-            Arr {
-                field: "actuator_ctrlrange",
-                rule: RuleId::ModelActuatorArrayChanged,
-                width: 2,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_ctrlrange(), nu * 2),
-                new: nums(new.actuator_ctrlrange(), nu * 2),
-            },
-            Arr {
-                field: "actuator_gear",
-                rule: RuleId::ModelArrayChanged,
-                width: 6,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_gear(), nu * 6),
-                new: nums(new.actuator_gear(), nu * 6),
-            },
-            Arr {
-                field: "actuator_gainprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_gainprm(), nu * 10),
-                new: nums(new.actuator_gainprm(), nu * 10),
-            },
-            Arr {
-                field: "actuator_biasprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_biasprm(), nu * 10),
-                new: nums(new.actuator_biasprm(), nu * 10),
-            },
-            Arr {
-                field: "actuator_dynprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_dynprm(), nu * 10),
-                new: nums(new.actuator_dynprm(), nu * 10),
-            },
-            Arr {
-                field: "actuator_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_ACTUATOR,
-                old: types(old),
-                new: types(new),
-            },
-            Arr {
-                field: "actuator_forcerange",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_ACTUATOR,
-                old: limited(old.actuator_forcelimited(), old.actuator_forcerange(), nu),
-                new: limited(new.actuator_forcelimited(), new.actuator_forcerange(), nu),
-            },
-            Arr {
-                field: "key_qpos",
-                rule: RuleId::ModelQpos0Changed,
-                width: a.nq as usize,
-                obj: mjOBJ_KEY,
-                old: nums(old.key_qpos(), a.nkey as usize * a.nq as usize),
-                new: nums(new.key_qpos(), a.nkey as usize * a.nq as usize),
-            },
-            Arr {
-                field: "actuator_trnid",
-                rule: RuleId::ModelActuatorArrayChanged,
-                width: 2,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(old.actuator_trnid(), nu * 2),
-                new: nums(new.actuator_trnid(), nu * 2),
-            },
-            Arr {
-                field: "qpos0",
-                rule: RuleId::ModelQpos0Changed,
-                width: 1,
-                obj: mjOBJ_UNKNOWN,
-                old: nums(old.qpos0(), a.nq as usize),
-                new: nums(new.qpos0(), b.nq as usize),
-            },
-        ];
+        let arrs = compared_arrays(old, new);
         for arr in arrs {
             if !counts_match(arr.field) {
                 continue;

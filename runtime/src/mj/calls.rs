@@ -29,11 +29,13 @@ pub(crate) fn call<M: ModelType>(data: &mut MjData<M>, call: Call) -> Result<(),
     // SAFETY: the data's own model and the data, borrowed exclusively here; only MuJoCo uses
     // the pointers, and only for the duration of this function.
     let d: *mut mjData = unsafe { data.ffi_mut() };
-    // SAFETY (every call below): `m` and `d` as above, a live model and data of that model.
     let result = match call {
+        // SAFETY: `m` and `d` as above, a live model and data of that model.
         Call::Forward => mujoco_log::guard(|| unsafe { ffi::mj_forward(m, d) }),
+        // SAFETY: as above.
         Call::ResetData => mujoco_log::guard(|| unsafe { ffi::mj_resetData(m, d) }),
-        // mj_setConst writes the model's constants: `Call::SetConst`'s contract.
+        // SAFETY: as above; mj_setConst also writes the model's constants, which
+        // `Call::SetConst`'s contract allows.
         Call::SetConst => mujoco_log::guard(|| unsafe { ffi::mj_setConst(m.cast_mut(), d) }),
         Call::Step { n, rne } => mujoco_log::guard(|| {
             for _ in 0..n {

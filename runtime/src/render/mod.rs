@@ -279,10 +279,15 @@ impl Renderer {
         let ctx = egl::Context::new()?;
         // SAFETY: zeroed then initialised by MuJoCo's default functions (plain C structs).
         let mut cam: mjvCamera = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut opt: mjvOption = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut pert: mjvPerturb = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut scn: Box<mjvScene> = Box::new(unsafe { std::mem::zeroed() });
+        // SAFETY: as above.
         let mut con: Box<mjrContext> = Box::new(unsafe { std::mem::zeroed() });
+        // SAFETY: the structs made above; plain C calls that fill them with MuJoCo's defaults.
         unsafe {
             c::mjv_defaultCamera(&mut cam);
             c::mjv_defaultOption(&mut opt);
@@ -306,6 +311,7 @@ impl Renderer {
             if copy.is_null() {
                 return Ok(false);
             }
+            // SAFETY: `copy` is a live model copy (checked non-null), `m` the env's model; `scn` and `con` were set to defaults, and this thread's GL context is current.
             let made = crate::mujoco_log::guard(|| unsafe {
                 let g = &mut (*copy).vis.global;
                 g.offwidth = g.offwidth.max(w);
@@ -314,6 +320,7 @@ impl Renderer {
                 ffi::mjr_makeContext(copy, &mut *con, mjtFontScale::mjFONTSCALE_150 as i32);
                 ffi::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut *con);
             });
+            // SAFETY: our own copy, no longer used: the scene and context keep no pointer to it.
             unsafe { c::mj_deleteModel(copy) };
             made.map(|()| con.offFBO != 0)
         })?;
@@ -321,6 +328,7 @@ impl Renderer {
             Ok(made) => made,
             Err(e) => {
                 // What MuJoCo made before the error: freed with the context current.
+                // SAFETY: the scene and context MuJoCo made part of, freed with their GL context current.
                 let _ = ctx.current(|| unsafe {
                     ffi::mjr_freeContext(&mut *con);
                     ffi::mjv_freeScene(&mut *scn);
