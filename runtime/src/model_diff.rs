@@ -191,6 +191,14 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
             old: limited(old.actuator_forcelimited(), old.actuator_forcerange(), nu),
             new: limited(new.actuator_forcelimited(), new.actuator_forcerange(), nu),
         },
+        Arr {
+            field: "key_qpos",
+            rule: RuleId::ModelQpos0Changed,
+            width: a.nq as usize,
+            obj: mjOBJ_KEY,
+            old: nums(old.key_qpos(), a.nkey as usize * a.nq as usize),
+            new: nums(new.key_qpos(), a.nkey as usize * a.nq as usize),
+        },
         arr!(
             actuator_trnid,
             ModelActuatorArrayChanged,
