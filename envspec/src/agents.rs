@@ -281,7 +281,8 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnosti
 }
 
 /// [`load`] on a spec file already read and parsed (the one door reads each file once).
-#[allow(clippy::too_many_lines)] // Reads, resolves and builds the agent graph in one pass; to be split in three.
+// Reads, resolves and builds the agent graph in one pass; to be split in three.
+#[allow(clippy::too_many_lines)]
 pub fn from_document(
     file: &Arc<SourceFile>,
     root: &Val,

@@ -311,7 +311,8 @@ impl Renderer {
             if copy.is_null() {
                 return Ok(false);
             }
-            // SAFETY: `copy` is a live model copy (checked non-null), `m` the env's model; `scn` and `con` were set to defaults, and this thread's GL context is current.
+            // SAFETY: `copy` is a live model copy (checked non-null), `m` the env's model; `scn`
+            // and `con` were set to defaults, and this thread's GL context is current.
             let made = crate::mujoco_log::guard(|| unsafe {
                 let g = &mut (*copy).vis.global;
                 g.offwidth = g.offwidth.max(w);
@@ -328,7 +329,8 @@ impl Renderer {
             Ok(made) => made,
             Err(e) => {
                 // What MuJoCo made before the error: freed with the context current.
-                // SAFETY: the scene and context MuJoCo made part of, freed with their GL context current.
+                // SAFETY: the scene and context MuJoCo made part of, freed with their GL context
+                // current.
                 let _ = ctx.current(|| unsafe {
                     ffi::mjr_freeContext(&mut *con);
                     ffi::mjv_freeScene(&mut *scn);
