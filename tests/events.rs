@@ -3,6 +3,7 @@
 //! (`reference/check_events.py`); the same seed gives the same model and trajectory in a single
 //! env, at any vector-env position and on 1, 2 and 4 threads, whatever happened before; other
 //! envs sharing the compiled model are unaffected; reset and step stay allocation-free.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::sync::Arc;
 
@@ -14,6 +15,7 @@ const STEPS: usize = 150;
 
 /// The model arrays events write, by the names check_events.py prints.
 fn model_values(m: &mujoco_rs::mujoco_c::mjModel) -> Vec<(&'static str, Vec<f64>)> {
+    // SAFETY: each call below passes a model array with its length from the model's sizes.
     let v = |p: *const f64, n: i64| unsafe { std::slice::from_raw_parts(p, n as usize) }.to_vec();
     vec![
         ("geom_friction", v(m.geom_friction, 3 * m.ngeom)),

@@ -5,6 +5,7 @@
 //!   note when the venv is missing);
 //! - the command schedule and standing-still probability, the PD targets and gains, and the
 //!   draw order, against values computed here from the spec and a separate numpy-compatible RNG.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::Path;
 
@@ -114,6 +115,7 @@ fn pd_targets_and_gains() {
     // The home keyframe's joint angles (MJCF text), gains 35, damping 0.5, timestep 0.004.
     let home = [0.0, 0.9, -1.8];
     for i in 0..12 {
+        // SAFETY: 12 actuators × 10 parameters, 6 + 12 dofs.
         unsafe {
             assert_eq!(*m.actuator_gainprm.add(10 * i), 35.0);
             assert_eq!(*m.actuator_biasprm.add(10 * i + 1), -35.0);
@@ -128,6 +130,7 @@ fn pd_targets_and_gains() {
     for _ in 0..5 {
         let a: Vec<f64> = (0..12).map(|_| rng.uniform(-1.0, 1.0)).collect();
         env.step(&a).unwrap();
+        // SAFETY: ctrl holds nu = 12 numbers.
         let ctrl = unsafe { std::slice::from_raw_parts(env.data().ctrl, 12) };
         for i in 0..12 {
             assert_eq!(ctrl[i], home[i % 3] + 0.5 * a[i], "ctrl[{i}]");
@@ -142,9 +145,10 @@ fn pd_targets_and_gains() {
     go1.reset(Some(0));
     let a = vec![0.25; 12];
     go1.step(&a).unwrap();
+    // SAFETY: ctrl holds nu = 12 numbers.
     let ctrl = unsafe { std::slice::from_raw_parts(go1.data().ctrl, 12) };
     assert_eq!(ctrl, &a[..]);
-    assert_eq!(unsafe { *go1.model().ffi().actuator_gainprm }, 100.0);
+    assert_eq!(go1.model().actuator_gainprm()[0][0], 100.0);
 }
 
 /// Dump states and term values of seeded random rollouts; numpy recomputes them.
@@ -180,8 +184,10 @@ fn terms_match_numpy_from_published_formulas() {
     let row = |env: &Env, kind: &str, action: &[f64], reward: f64, done: bool| {
         let d = env.data();
         let (nbody, nsite) = (14, env.model().ffi().nsite as usize);
+        // SAFETY: each call below passes a data array with its length from the model's sizes.
         let arr = |p: *const f64, n: usize| unsafe { std::slice::from_raw_parts(p, n) }.to_vec();
         let contacts: Vec<[i32; 2]> = (0..d.ncon as usize)
+            // SAFETY: the contact list holds ncon contacts.
             .map(|c| unsafe { (*d.contact.add(c)).geom })
             .collect();
         let info: serde_json::Map<String, serde_json::Value> = if kind == "step" {

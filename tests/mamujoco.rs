@@ -2,6 +2,7 @@
 //! (`tests/reference/record_mamujoco.py`) through envc's multi-agent envs and require every local
 //! observation, the state, rewards, terminations and truncations to be bit-identical.
 //! `ENVC_MAMUJOCO_DIR` points the test at a live recording (scripts/test.sh).
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::fs::File;
 use std::path::{Path, PathBuf};

@@ -11,20 +11,24 @@ struct Counting;
 static COUNTING: AtomicBool = AtomicBool::new(false);
 static COUNT: AtomicU64 = AtomicU64::new(0);
 
+// SAFETY: forwards to the system allocator; counting touches only atomics.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         if COUNTING.load(Relaxed) {
             COUNT.fetch_add(1, Relaxed);
         }
+        // SAFETY: the caller's `GlobalAlloc` contract, passed on unchanged.
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as in `alloc`.
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new: usize) -> *mut u8 {
         if COUNTING.load(Relaxed) {
             COUNT.fetch_add(1, Relaxed);
         }
+        // SAFETY: as in `alloc`.
         unsafe { System.realloc(ptr, layout, new) }
     }
 }

@@ -43,11 +43,9 @@ fn cannot_write(target: &Path, existed: bool, e: &io::Error) -> anyhow::Error {
     )
 }
 
-/// Non-blocking exclusive flock.
+/// Non-blocking exclusive lock (`flock`).
 fn try_lock(f: &File) -> bool {
-    use std::os::fd::AsRawFd;
-    // SAFETY: flock on a descriptor we own; no memory is passed.
-    unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) == 0 }
+    f.try_lock().is_ok()
 }
 
 /// Remove temporaries `<dir>/<prefix>….tmp` left by killed runs (their lock is free).

@@ -20,6 +20,7 @@
 //! the output directory with its input files. `ENVC_FUZZ_SECONDS` (default 60) is the total wall
 //! budget, `ENVC_FUZZ_TARGETS` a comma list of targets, `ENVC_FUZZ_SEED` the generator seed,
 //! `ENVC_FUZZ_OUT` where findings go (default: a temporary directory, printed).
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::ffi::OsString;
 use std::os::unix::ffi::OsStringExt;

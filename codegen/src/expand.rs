@@ -192,6 +192,7 @@ fn param_value(ty: ParamType, v: &ParamValue) -> TokenStream {
     }
 }
 
+#[allow(clippy::too_many_lines)] // One `quote!` block per item of the generated env's API, in order.
 fn generate(
     input: &Input,
     name: &Ident,

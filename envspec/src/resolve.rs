@@ -606,7 +606,11 @@ impl Ctx<'_> {
             };
             let mut minus = self.sel_key(s, "minus");
             if let Some(m) = &minus
-                && !self.same_len(&source, m, &s.get("minus").unwrap().loc)
+                && !self.same_len(
+                    &source,
+                    m,
+                    &s.get("minus").expect("`minus` was read just above").loc,
+                )
             {
                 minus = None;
             }
@@ -771,8 +775,12 @@ impl Ctx<'_> {
             };
             let kind = match s.kind("") {
                 "velocity" => self.need_sel(s, "source").and_then(|src| {
-                    self.scalar(&src, &s.get("source").unwrap().loc, "a velocity")
-                        .then_some(TermKind::Velocity { source: src })
+                    self.scalar(
+                        &src,
+                        &s.get("source").expect("`source` was read just above").loc,
+                        "a velocity",
+                    )
+                    .then_some(TermKind::Velocity { source: src })
                 }),
                 "healthy" => Some(TermKind::Healthy),
                 "sum_squares" => self
@@ -785,9 +793,13 @@ impl Ctx<'_> {
                         clip: s.get("clip").and_then(|v| self.range(v, "clip")),
                     }),
                 "norm" => self.need_sel(s, "source").map(|source| {
-                    let minus = self
-                        .sel_key(s, "minus")
-                        .filter(|m| self.same_len(&source, m, &s.get("minus").unwrap().loc));
+                    let minus = self.sel_key(s, "minus").filter(|m| {
+                        self.same_len(
+                            &source,
+                            m,
+                            &s.get("minus").expect("`minus` was read just above").loc,
+                        )
+                    });
                     TermKind::Norm { source, minus }
                 }),
                 "quadratic" => self.need_sel(s, "source").and_then(|source| {
@@ -801,7 +813,11 @@ impl Ctx<'_> {
                     })
                 }),
                 "value" => self.need_sel(s, "source").and_then(|source| {
-                    if !self.scalar(&source, &s.get("source").unwrap().loc, "a value term") {
+                    if !self.scalar(
+                        &source,
+                        &s.get("source").expect("`source` was read just above").loc,
+                        "a value term",
+                    ) {
                         return None;
                     }
                     let divide_by = match s.get("divide_by") {
@@ -1061,7 +1077,11 @@ impl Ctx<'_> {
                         Code::E0107,
                         format!("reset target `{}` is not qpos or qvel", target.text),
                     )
-                    .at(s.get("target").unwrap().loc.clone())
+                    .at(s
+                        .get("target")
+                        .expect("`target` was read just above")
+                        .loc
+                        .clone())
                     .label("expected a selection of qpos or qvel"),
                 );
                 continue;
@@ -1353,13 +1373,21 @@ impl Ctx<'_> {
                     match kind {
                         "value" => {
                             let minus = self.sel_key(s, "minus").filter(|m| {
-                                self.same_len(&source, m, &s.get("minus").unwrap().loc)
+                                self.same_len(
+                                    &source,
+                                    m,
+                                    &s.get("minus").expect("`minus` was read just above").loc,
+                                )
                             });
                             (InfoKind::Value { source, minus }, len, in_reset)
                         }
                         "norm" => (InfoKind::Norm { source }, 1, in_reset),
                         "velocity" => {
-                            if !self.scalar(&source, &s.get("source").unwrap().loc, "a velocity") {
+                            if !self.scalar(
+                                &source,
+                                &s.get("source").expect("`source` was read just above").loc,
+                                "a velocity",
+                            ) {
                                 continue;
                             }
                             (InfoKind::Velocity { source }, 1, false)

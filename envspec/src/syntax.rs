@@ -390,6 +390,8 @@ fn is_entry_point(s: &str) -> bool {
         .is_some_and(|(module, class)| module.split('.').all(ident) && ident(class))
 }
 
+// Every top-level table of a task spec in document order, one flat branch each.
+#[allow(clippy::too_many_lines)]
 fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
     let top = root.as_table().unwrap_or(&[]);
     check_keys(top, TOP_KEYS, "the spec (top level)", d);

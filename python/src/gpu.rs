@@ -71,6 +71,7 @@ struct Sizes {
     ntendon: usize,
 }
 
+#[allow(clippy::too_many_lines)] // The JSON plan field by field, in the order the GPU executor reads it.
 fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     let mut not_exported: Vec<String> = vec![];
     let observation: Vec<Value> = spec

@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use envspec::{Override, ResolvedSpec};
-use mujoco_rs::mujoco_c::{mjData, mjModel};
+
 use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
@@ -80,10 +80,8 @@ struct Actions {
 
 impl Actions {
     fn new(model: &MjModel, rows: usize) -> Actions {
-        let m = model.ffi();
-        let nu = m.nu as usize;
-        // SAFETY: actuator_ctrlrange has nu×2 entries.
-        let range = unsafe { std::slice::from_raw_parts(m.actuator_ctrlrange, nu * 2) };
+        let nu = model.ffi().nu as usize;
+        let range = model.actuator_ctrlrange().as_flattened();
         let mut rng = NumpyRng::from_seed(0);
         let data = (0..rows * nu)
             .map(|k| rng.uniform(range[2 * (k % nu)], range[2 * (k % nu) + 1]))
@@ -103,13 +101,7 @@ impl Actions {
 
 /// CPU time of the calling thread.
 fn thread_cpu() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: a valid clock id and a valid out-pointer; cannot fail on Linux.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+    crate::os::thread_cpu()
 }
 
 /// Run `chunk` until `slice` of the clock has passed; returns units of work per second.
@@ -152,17 +144,10 @@ struct StartState {
 
 fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) -> Result<(), String> {
     raw.reset();
-    // SAFETY: qpos has nq and qvel nv entries, the lengths of the env's state of the same model.
-    unsafe {
-        let d = raw.ffi_mut();
-        std::slice::from_raw_parts_mut(d.qpos, s.qpos.len()).copy_from_slice(&s.qpos);
-        std::slice::from_raw_parts_mut(d.qvel, s.qvel.len()).copy_from_slice(&s.qvel);
-    }
-    let m: *const mjModel = raw.model().ffi();
-    // SAFETY: the raw loop's own model and data.
-    let d: *mut mjData = unsafe { raw.ffi_mut() };
-    // SAFETY: as above.
-    crate::mujoco_log::guard(|| unsafe { crate::mujoco_log::ffi::mj_forward(m, d) })
+    // The lengths of the env's state of the same model.
+    raw.qpos_mut().copy_from_slice(&s.qpos);
+    raw.qvel_mut().copy_from_slice(&s.qvel);
+    crate::mj::call(raw, crate::mj::Call::Forward)
 }
 
 /// One env step of raw physics on `raw` with `action`; MuJoCo's errors returned (the data is then
@@ -173,13 +158,8 @@ fn raw_step(
     fs: u32,
     rne: bool,
 ) -> Result<(), String> {
-    let m: *const mjModel = raw.model().ffi();
-    // SAFETY: ctrl has nu = action.len() entries; the raw loop's own model and data.
-    unsafe {
-        let d = raw.ffi_mut();
-        std::slice::from_raw_parts_mut(d.ctrl, action.len()).copy_from_slice(action);
-        crate::mujoco_log::physics_step(m, d, fs, rne)
-    }
+    raw.ctrl_mut().copy_from_slice(action);
+    crate::mj::call(raw, crate::mj::Call::Step { n: fs, rne })
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -8,8 +8,11 @@
 
 use envspec::ir::*;
 use envspec::{Field, ResolvedSpec};
-use mujoco_rs::mujoco_c::{mjData, mjModel, mjtBias, mjtGain, mjtObj};
-use mujoco_rs::prelude::MjModel;
+use mujoco_rs::mujoco_c::{mjModel, mjtBias, mjtGain, mjtObj};
+use mujoco_rs::prelude::{MjData, MjModel, MjtObjBase};
+use mujoco_rs::wrappers::mj_model::traits::ModelType;
+
+use crate::mj::model_edit::{ModelArray, ModelValues, NPRM};
 
 use crate::numerics::{Profile, norm, pairwise_sum};
 use crate::rng::NumpyRng;
@@ -23,10 +26,7 @@ pub(crate) fn unfit(spec: &ResolvedSpec, what: String) -> crate::EnvError {
 }
 
 fn id(m: &mjModel, obj: mjtObj, name: &str) -> Option<usize> {
-    let c = std::ffi::CString::new(name).ok()?;
-    // SAFETY: a valid model and a NUL-terminated name.
-    let i = unsafe { mujoco_rs::mujoco_c::mj_name2id(m, obj as i32, c.as_ptr()) };
-    (i >= 0).then_some(i as usize)
+    crate::mj::names::id(m, obj, name)
 }
 
 /// Set the `[actions]` gains on the compiled model (before any env shares it).
@@ -34,42 +34,39 @@ pub(crate) fn apply_gains(spec: &ResolvedSpec, model: &mut MjModel) -> Result<()
     let Some(a) = &spec.actions else {
         return Ok(());
     };
-    // SAFETY: we own the model; no data uses it yet. Arrays have nu × mjNGAIN / mjNBIAS entries.
-    let m = unsafe { model.ffi_mut() };
-    let nu = m.nu as usize;
-    const N: usize = mujoco_rs::mujoco_c::mjNGAIN as usize;
+    // We own the model; no data uses it yet.
+    let nu = model.ffi().nu as usize;
     for i in 0..nu {
-        unsafe {
-            if a.kp.is_some() || a.kd.is_some() {
-                let servo = *m.actuator_gaintype.add(i) == mjtGain::mjGAIN_FIXED as i32
-                    && *m.actuator_biastype.add(i) == mjtBias::mjBIAS_AFFINE as i32;
-                if !servo {
-                    return Err(unfit(
-                        spec,
-                        format!(
-                            "actuator {i} is not a position servo (fixed gain, affine bias), so [actions] kp/kd cannot be set on it"
-                        ),
-                    ));
-                }
+        if a.kp.is_some() || a.kd.is_some() {
+            let servo = model.actuator_gaintype()[i] as i32 == mjtGain::mjGAIN_FIXED as i32
+                && model.actuator_biastype()[i] as i32 == mjtBias::mjBIAS_AFFINE as i32;
+            if !servo {
+                return Err(unfit(
+                    spec,
+                    format!(
+                        "actuator {i} is not a position servo (fixed gain, affine bias), so [actions] kp/kd cannot be set on it"
+                    ),
+                ));
             }
-            if let Some(kp) = a.kp {
-                *m.actuator_gainprm.add(i * N) = kp;
-                *m.actuator_biasprm.add(i * N + 1) = -kp;
+        }
+        let mut values = ModelValues::owned(model);
+        if let Some(kp) = a.kp {
+            values.set(ModelArray::GainPrm, i * NPRM, kp);
+            values.set(ModelArray::BiasPrm, i * NPRM + 1, -kp);
+        }
+        if let Some(kd) = a.kd {
+            values.set(ModelArray::BiasPrm, i * NPRM + 2, -kd);
+        }
+        if let Some(damping) = a.damping {
+            let j = model.actuator_trnid()[i][0];
+            if model.actuator_trntype()[i] as i32 != 0 || j < 0 {
+                return Err(unfit(
+                    spec,
+                    format!("actuator {i} drives no joint, so [actions] damping cannot be set"),
+                ));
             }
-            if let Some(kd) = a.kd {
-                *m.actuator_biasprm.add(i * N + 2) = -kd;
-            }
-            if let Some(damping) = a.damping {
-                let j = *m.actuator_trnid.add(2 * i);
-                if *m.actuator_trntype.add(i) != 0 || j < 0 {
-                    return Err(unfit(
-                        spec,
-                        format!("actuator {i} drives no joint, so [actions] damping cannot be set"),
-                    ));
-                }
-                let dof = *m.jnt_dofadr.add(j as usize) as usize;
-                *m.dof_damping.add(dof) = damping;
-            }
+            let dof = model.jnt_dofadr()[j as usize] as usize;
+            ModelValues::owned(model).set(ModelArray::DofDamping, dof, damping);
         }
     }
     Ok(())
@@ -130,8 +127,8 @@ impl Legged {
                         unfit(spec, format!("the compiled model has no keyframe `{name}`"))
                     })?;
                     for (i, &adr) in qposadr.iter().enumerate() {
-                        // SAFETY: key_qpos has nkey × nq entries; k < nkey, adr < nq.
-                        l.default_pose[i] = unsafe { *m.key_qpos.add(k * nq + adr) };
+                        // k < nkey, adr < nq.
+                        l.default_pose[i] = model.key_qpos()[k * nq + adr];
                     }
                 }
             }
@@ -178,16 +175,9 @@ impl Legged {
             if let TermKind::Legged(LeggedTerm::JointLimits { factor, .. }) = &t.kind
                 && l.jnt_range.is_empty()
             {
+                let (limited, range) = (model.jnt_limited(), model.jnt_range());
                 l.jnt_range = (0..njnt)
-                    .map(|j| unsafe {
-                        // SAFETY: jnt_limited has njnt entries, jnt_range 2 × njnt.
-                        (*m.jnt_limited.add(j)).then(|| {
-                            (
-                                factor * *m.jnt_range.add(2 * j),
-                                factor * *m.jnt_range.add(2 * j + 1),
-                            )
-                        })
-                    })
+                    .map(|j| limited[j].then(|| (factor * range[j][0], factor * range[j][1])))
                     .collect();
             }
         }
@@ -231,30 +221,21 @@ impl Legged {
     }
 
     /// Site velocities and axes from the current (lagged) derived quantities.
-    pub fn update_sites(&mut self, m: &mjModel, d: &mjData) {
+    pub fn update_sites<M: ModelType>(&mut self, d: &MjData<M>) {
         if !self.site_frames {
             return;
         }
-        let nsite = m.nsite as usize;
-        for s in 0..nsite {
-            for (local, off) in [(0, 0), (1, 2)] {
-                let mut res = [0.0f64; 6];
-                // SAFETY: valid model/data and site id; res holds 6 numbers ([angular, linear]).
-                unsafe {
-                    mujoco_rs::mujoco_c::mj_objectVelocity(
-                        m,
-                        d,
-                        mjtObj::mjOBJ_SITE as i32,
-                        s as i32,
-                        &mut res,
-                        local,
-                    )
-                };
+        let site_xmat = d.site_xmat();
+        for (s, r) in site_xmat.iter().enumerate() {
+            for (local, off) in [(false, 0), (true, 2)] {
+                // [angular, linear]; s is below nsite, so this cannot fail.
+                let res = d
+                    .try_object_velocity(MjtObjBase::mjOBJ_SITE, s, local)
+                    .unwrap_or_default();
                 self.site[off][3 * s..3 * s + 3].copy_from_slice(&res[3..6]);
                 self.site[off + 1][3 * s..3 * s + 3].copy_from_slice(&res[0..3]);
             }
-            // SAFETY: site_xmat has nsite × 9 entries (row-major rotation, site to world).
-            let r = unsafe { std::slice::from_raw_parts(d.site_xmat.add(9 * s), 9) };
+            // Row-major rotation, site to world.
             self.site[4][3 * s..3 * s + 3].copy_from_slice(&[r[2], r[5], r[8]]);
             self.site[5][3 * s..3 * s + 3].copy_from_slice(&[-r[6], -r[7], -r[8]]);
         }
@@ -299,22 +280,21 @@ impl Legged {
     /// Before the reward: contacts of the feet with the floor in the last forward pass; the
     /// first contacts (air time so far > 0 and in contact now or at the previous step) and the
     /// air time including this step.
-    pub fn update_contacts(&mut self, m: &mjModel, d: &mjData, dt: f64) {
-        let ncon = d.ncon as usize;
+    pub fn update_contacts<M: ModelType>(&mut self, d: &MjData<M>, dt: f64) {
+        let (geom_bodyid, contacts) = (d.model().geom_bodyid(), d.contact());
         // A contact geom as the element a foot or floor names: itself, or its body.
         let of = |g: i32, body: bool| {
             if body && g >= 0 {
-                // SAFETY: geom_bodyid has ngeom entries; g is a geom id from the contact list.
-                unsafe { *m.geom_bodyid.add(g as usize) }
+                // g is a geom id from the contact list.
+                geom_bodyid[g as usize]
             } else {
                 g
             }
         };
         for f in self.feet.iter_mut().flatten() {
             f.contact.fill(false);
-            for c in 0..ncon {
-                // SAFETY: contact has ncon valid entries after a forward pass.
-                let g = unsafe { (*d.contact.add(c)).geom };
+            for c in contacts {
+                let g = c.geom;
                 let floor = [of(g[0], f.floor_is_body), of(g[1], f.floor_is_body)];
                 for (i, &foot) in f.geoms.iter().enumerate() {
                     let b = f.bodies[i];

@@ -15,11 +15,12 @@ use std::sync::Arc;
 
 use envspec::ir::*;
 use envspec::{Field, Override, ResolvedSpec, Selection};
-use mujoco_rs::mujoco_c::{mjData, mjModel};
+use mujoco_rs::mujoco_c::mjData;
 use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
-use crate::mujoco_log::{self, ffi};
+use crate::mj::{self, Call};
+use crate::mujoco_log;
 use crate::numerics::{Profile, clip, default_profile, norm, pairwise_sum, square_pow};
 use crate::rng::NumpyRng;
 
@@ -109,25 +110,13 @@ struct Sim {
     nq: usize,
     nv: usize,
     nu: usize,
-    nbody: usize,
     nsite: usize,
-    ntendon: usize,
     /// Whose arithmetic the CPU-dependent reductions (norms) follow.
     numerics: Profile,
     /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
     goal: Vec<f64>,
     /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
     legged: crate::commands::Legged,
-}
-
-/// # Safety
-/// `ptr` must point to at least `len` initialised f64 that outlive the returned slice.
-unsafe fn view<'a>(ptr: *const f64, len: usize) -> &'a [f64] {
-    if len == 0 {
-        &[]
-    } else {
-        unsafe { std::slice::from_raw_parts(ptr, len) }
-    }
 }
 
 /// Why a reset gave no valid start.
@@ -141,62 +130,44 @@ enum ResetFailure {
 impl Sim {
     /// A MuJoCo call on this model and data that may raise `mju_error` (which ends the process
     /// unless caught): the error's message comes back as `Err`, and the data is reset so it is
-    /// never used in MuJoCo's mid-error state. `f` gets the model and data pointers (SAFETY for
-    /// every caller: it only passes them to MuJoCo).
-    fn call(&mut self, f: impl FnOnce(*const mjModel, *mut mjData)) -> Result<(), String> {
-        self.call_guarded(|m, d| mujoco_log::guard(|| f(m, d)))
+    /// never used in MuJoCo's mid-error state.
+    fn call(&mut self, call: Call) -> Result<(), String> {
+        mj::call(&mut self.data, call)
     }
 
-    /// [`Sim::call`] for an `f` that catches MuJoCo's errors itself.
-    fn call_guarded(
-        &mut self,
-        f: impl FnOnce(*const mjModel, *mut mjData) -> Result<(), String>,
-    ) -> Result<(), String> {
-        let m: *const mjModel = self.model.ffi();
-        // SAFETY: our own model/data pair; MuJoCo is the only user of the pointers meanwhile.
-        let d: *mut mjData = unsafe { self.data.ffi_mut() };
-        f(m, d).inspect_err(|_| {
-            // SAFETY: as above; resetting clears the arena and stack an error left marked.
-            unsafe { crate::mujoco_log::ffi::mj_resetData(m, d) };
-        })
-    }
-
-    fn m(&self) -> &mjModel {
+    fn m(&self) -> &mujoco_rs::mujoco_c::mjModel {
         self.model.ffi()
-    }
-    fn d(&self) -> &mjData {
-        self.data.ffi()
     }
 
     /// The current contents of a field, flattened row-major.
     fn field(&self, f: Field) -> &[f64] {
-        let (m, d) = (self.m(), self.d());
-        // SAFETY: every mjData/mjModel array below has the length given by the model's sizes and
-        // lives as long as `self.data` / `self.model`.
-        unsafe {
-            match f {
-                Field::Qpos => view(d.qpos, self.nq),
-                Field::Qvel => view(d.qvel, self.nv),
-                Field::Qpos0 => view(m.qpos0, self.nq),
-                Field::Action => &self.action,
-                Field::Ctrl => view(d.ctrl, self.nu),
-                Field::QfrcActuator => view(d.qfrc_actuator, self.nv),
-                Field::QfrcConstraint => view(d.qfrc_constraint, self.nv),
-                Field::CfrcExt => view(d.cfrc_ext, self.nbody * 6),
-                Field::CfrcInt => view(d.cfrc_int, self.nbody * 6),
-                Field::Cacc => view(d.cacc, self.nbody * 6),
-                Field::Cinert => view(d.cinert, self.nbody * 10),
-                Field::Cvel => view(d.cvel, self.nbody * 6),
-                Field::Xpos => view(d.xpos, self.nbody * 3),
-                Field::Xipos => view(d.xipos, self.nbody * 3),
-                Field::SiteXpos => view(d.site_xpos, self.nsite * 3),
-                Field::TenLength => view(d.ten_length, self.ntendon),
-                Field::TenVelocity => view(d.ten_velocity, self.ntendon),
-                Field::MassCenter => &self.mass_center,
-                Field::TenJ => &self.ten_j,
-                Field::ActuatorForce => view(d.actuator_force, self.nu),
-                other => self.legged.field(other).unwrap_or(&[]),
+        let d = &self.data;
+        match f {
+            Field::Qpos => d.qpos(),
+            Field::Qvel => d.qvel(),
+            Field::Qpos0 => self.model.qpos0(),
+            Field::Action => &self.action,
+            Field::Ctrl => d.ctrl(),
+            Field::QfrcActuator => d.qfrc_actuator(),
+            Field::QfrcConstraint => d.qfrc_constraint(),
+            Field::CfrcExt => d.cfrc_ext().as_flattened(),
+            Field::CfrcInt => d.cfrc_int().as_flattened(),
+            Field::Cacc => d.cacc().as_flattened(),
+            Field::Cinert => d.cinert().as_flattened(),
+            Field::Cvel => d.cvel().as_flattened(),
+            Field::Xpos => d.xpos().as_flattened(),
+            Field::Xipos => d.xipos().as_flattened(),
+            Field::SiteXpos => d.site_xpos().as_flattened(),
+            Field::TenLength => d.ten_length(),
+            Field::TenVelocity => d.ten_velocity(),
+            Field::MassCenter => &self.mass_center,
+            Field::TenJ => &self.ten_j,
+            // One force per actuator (MuJoCo sizes the array by force outputs, at least nu).
+            Field::ActuatorForce => {
+                let f = d.actuator_force();
+                &f[..self.nu.min(f.len())]
             }
+            other => self.legged.field(other).unwrap_or(&[]),
         }
     }
 
@@ -227,22 +198,16 @@ impl Sim {
         if self.ten_j.is_empty() {
             return;
         }
-        let (nt, nv) = (self.ntendon, self.nv);
-        let (m, d) = (self.model.ffi(), self.data.ffi());
-        // SAFETY: the model's rownnz/rowadr have ntendon entries; its colind and the data's ten_J
-        // at least rowadr[r] + rownnz[r] for every row r (MuJoCo's sparse layout, fixed by the
-        // model since 3.6); we only read them.
-        unsafe {
-            let rownnz = std::slice::from_raw_parts(m.ten_J_rownnz, nt);
-            let rowadr = std::slice::from_raw_parts(m.ten_J_rowadr, nt);
-            self.ten_j.fill(0.0);
-            for r in 0..nt {
-                let (adr, nnz) = (rowadr[r] as usize, rownnz[r] as usize);
-                for j in adr..adr + nnz {
-                    let c = *m.ten_J_colind.add(j) as usize;
-                    if c < nv {
-                        self.ten_j[r * nv + c] = *d.ten_J.add(j);
-                    }
+        let nv = self.nv;
+        let (rownnz, rowadr) = (self.model.ten_j_rownnz(), self.model.ten_j_rowadr());
+        let (colind, ten_j) = (self.model.ten_j_colind(), self.data.ten_j());
+        self.ten_j.fill(0.0);
+        for (r, (&adr, &nnz)) in rowadr.iter().zip(rownnz).enumerate() {
+            let (adr, nnz) = (adr as usize, nnz as usize);
+            for j in adr..adr + nnz {
+                let c = colind[j] as usize;
+                if c < nv {
+                    self.ten_j[r * nv + c] = ten_j[j];
                 }
             }
         }
@@ -250,13 +215,7 @@ impl Sim {
 
     /// `einsum("b,bj->j", body_mass, xipos) / body_mass.sum()`: sequential products and sums.
     fn update_mass_center(&mut self) {
-        // SAFETY: body_mass has nbody entries, xipos nbody×3.
-        let (mass, xipos) = unsafe {
-            (
-                view(self.m().body_mass, self.nbody),
-                view(self.d().xipos, self.nbody * 3),
-            )
-        };
+        let (mass, xipos) = (self.model.body_mass(), self.data.xipos().as_flattened());
         let mut c = [0.0f64; 3];
         for (b, &mb) in mass.iter().enumerate() {
             for (j, cj) in c.iter_mut().enumerate() {
@@ -345,7 +304,7 @@ impl Env {
     ) -> Result<Env, EnvError> {
         mujoco_log::install();
         check_model(&spec, &model, world_sites)?;
-        crate::model_values::check(&spec.model_path, model.ffi())?;
+        crate::model_values::check(&spec.model_path, &model)?;
         // Randomized model fields are written in the env's own copy; envs sharing the compiled
         // model are unaffected.
         let model = if spec.events.iter().any(envspec::events::Event::writes_model) {
@@ -380,9 +339,7 @@ impl Env {
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
-            nbody: size(m.nbody),
             nsite: size(m.nsite),
-            ntendon: size(m.ntendon),
             action: vec![0.0; size(m.nu)],
             mass_center: [0.0; 3],
             ten_j: vec![0.0; size(m.ntendon) * size(m.nv)],
@@ -391,15 +348,14 @@ impl Env {
             model: Arc::clone(&model),
             data,
         };
-        // SAFETY: body_mass has nbody entries.
-        let mass = unsafe { view(m.body_mass, sim.nbody) };
+        let mass = model.body_mass();
         sim.mass_sum = pairwise_sum(mass.len(), &|i| mass[i]);
         // A trial `mj_forward` at qpos0, so a model MuJoCo cannot run (its arena too small, say)
         // is refused when the env is built (`check --compile`), not at the first reset. Every
         // reset starts with `mj_resetData`, so nothing of it carries over; its warnings are dropped.
         let mut warnings = vec![];
         mujoco_log::drain_into(&mut warnings);
-        let trial = sim.call(|m, d| unsafe { ffi::mj_forward(m, d) });
+        let trial = sim.call(Call::Forward);
         mujoco_log::drain_into(&mut vec![]);
         if let Err(message) = trial {
             return Err(EnvError::Mujoco {
@@ -454,9 +410,8 @@ impl Env {
         let reset_info = layout(&mut spec.reset_info());
         let total = |l: &[InfoSlot]| l.iter().map(|s| s.len).sum::<usize>();
 
-        // SAFETY: qpos0 has nq entries; ctrlrange nu×2.
-        let qpos_init = unsafe { view(m.qpos0, sim.nq) }.to_vec();
-        let ctrlrange = unsafe { view(m.actuator_ctrlrange, sim.nu * 2) };
+        let qpos_init = model.qpos0().to_vec();
+        let ctrlrange = model.actuator_ctrlrange().as_flattened();
         // Gymnasium: Box(ctrlrange.astype(float32)); the bounds are the float32-rounded values.
         let mut action_space = BoxSpace {
             low: (0..sim.nu)
@@ -549,19 +504,18 @@ impl Env {
         &mut self,
         mode: crate::render::RenderMode,
     ) -> Result<crate::render::Frame<'_>, EnvError> {
-        self.render_with(mode, |_, _| {})
+        self.render_with(mode, |_| {})
     }
     /// `render` after `prep` adjusts visual-only state (a maze's goal marker).
     pub(crate) fn render_with(
         &mut self,
         mode: crate::render::RenderMode,
-        prep: impl FnOnce(&mujoco_rs::mujoco_c::mjModel, &mut mujoco_rs::mujoco_c::mjData),
+        prep: impl FnOnce(&mut MjData<Arc<MjModel>>),
     ) -> Result<crate::render::Frame<'_>, EnvError> {
-        let m = self.sim.model.ffi();
-        // SAFETY: mjv_updateScene reads the state and writes only visualisation fields.
-        let d = unsafe { self.sim.data.ffi_mut() };
-        prep(m, d);
-        Ok(self.render.frame(m, d, mode)?)
+        prep(&mut self.sim.data);
+        Ok(self
+            .render
+            .frame_of(&self.sim.model, &mut self.sim.data, mode)?)
     }
     /// Draw geom `g` in `tint[g]` where given, in every later frame (empty: the model's own
     /// colours). Visual only: the model, shared with other envs, is not changed.
@@ -649,28 +603,23 @@ impl Env {
 
     /// Clip the current qvel to `±limit` and `mj_forward` (Gymnasium's `set_state(qpos, clip(qvel))`).
     pub(crate) fn clip_qvel(&mut self, limit: f64) -> Result<(), EnvError> {
-        let nv = self.sim.nv;
-        // SAFETY: qvel has nv entries; no other borrow of it is alive.
-        let qvel = unsafe { std::slice::from_raw_parts_mut(self.sim.data.ffi_mut().qvel, nv) };
-        for v in qvel {
+        for v in self.sim.data.qvel_mut() {
             *v = crate::numerics::clip(*v, -limit, limit);
         }
-        self.sim
-            .call(|m, d| unsafe { ffi::mj_forward(m, d) })
-            .map_err(|message| {
-                self.has_reset = false;
-                EnvError::Mujoco {
-                    env: self.spec.id.clone(),
-                    during: "in a step (reset before stepping again)",
-                    message,
-                }
-            })
+        self.sim.call(Call::Forward).map_err(|message| {
+            self.has_reset = false;
+            EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in a step (reset before stepping again)",
+                message,
+            }
+        })
     }
 
     /// The MuJoCo data, read-only (checks of derived quantities against independent
     /// implementations read `cvel`, `subtree_com`, `site_xmat`, the contact list).
     pub fn data(&self) -> &mjData {
-        self.sim.d()
+        self.sim.data.ffi()
     }
     /// Current `qpos` and `qvel`.
     pub fn state(&self) -> (&[f64], &[f64]) {
@@ -704,22 +653,11 @@ impl Env {
         // Draw order steps 1–2 (docs/spec-reference.md): the events, before `[reset]`.
         let event_error = self.reset_events(seed.is_some());
         let rng = self.rng.as_mut().expect("set above");
-        let mut mujoco_error = self
-            .sim
-            .call(|m, d| unsafe { ffi::mj_resetData(m, d) })
-            .err()
-            .or(event_error);
+        let mut mujoco_error = self.sim.call(Call::ResetData).err().or(event_error);
 
-        let (nq, nv) = (self.sim.nq, self.sim.nv);
+        let nq = self.sim.nq;
         let numerics = self.sim.numerics;
-        // SAFETY: qpos/qvel have nq/nv entries; no other borrow of them is alive.
-        let (qpos, qvel) = unsafe {
-            let d = self.sim.data.ffi_mut();
-            (
-                std::slice::from_raw_parts_mut(d.qpos, nq),
-                std::slice::from_raw_parts_mut(d.qvel, nv),
-            )
-        };
+        let (qpos, qvel) = mj::state::qpos_qvel_mut(&mut self.sim.data);
         qpos.copy_from_slice(&self.qpos_init);
         qvel.copy_from_slice(&self.qvel_init);
         self.reset_failure = None;
@@ -728,10 +666,9 @@ impl Env {
             let draw = &mut self.draw[..n];
             match &step.dist {
                 Distribution::Keyframe { index, .. } => {
-                    let m = self.sim.model.ffi();
-                    // SAFETY: key_qpos has nkey × nq entries; the resolver checked the index
-                    // against the model's keyframes and the env's model check their count.
-                    let key = unsafe { std::slice::from_raw_parts(m.key_qpos.add(index * nq), nq) };
+                    // The resolver checked the index against the model's keyframes and the
+                    // env's model check their count.
+                    let key = &self.sim.model.key_qpos()[index * nq..(index + 1) * nq];
                     qpos.copy_from_slice(key);
                     continue;
                 }
@@ -795,15 +732,14 @@ impl Env {
         }
         // Gymnasium's set_state: qpos, qvel, then mj_forward.
         if mujoco_error.is_none() {
-            mujoco_error = self.sim.call(|m, d| unsafe { ffi::mj_forward(m, d) }).err();
+            mujoco_error = self.sim.call(Call::Forward).err();
         }
         if let Some(message) = mujoco_error {
             self.reset_failure = Some(ResetFailure::Mujoco(message));
         }
         // Commands are drawn after the `[reset.*]` steps (the design's draw order).
         let rng = self.rng.as_mut().expect("set above");
-        let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
-        self.sim.legged.update_sites(m, d);
+        self.sim.legged.update_sites(&self.sim.data);
         self.sim.legged.reset(&self.spec, rng);
         self.derive_after_physics();
         self.elapsed = 0;
@@ -865,26 +801,20 @@ impl Env {
             return None;
         };
         let mut t = crate::events::Target {
-            // SAFETY (for every write through `m`): the env's own copy of the model when any
-            // event writes it (`with_world_model`), shared with nothing but its own data, which
-            // MuJoCo does not use meanwhile.
-            m: (self.sim.model.ffi() as *const mjModel).cast_mut(),
-            // SAFETY: our own data; no other borrow of it is alive.
-            d: unsafe { self.sim.data.ffi_mut() },
+            // The env's own copy of the model when any event writes it (`with_world_model`),
+            // shared with nothing but its own data, which MuJoCo does not use meanwhile.
+            m: mj::model_edit::ModelValues::env_copy(&self.sim.model),
+            qvel: self.sim.data.qvel_mut(),
             rng,
             profile: self.sim.numerics,
         };
         ev.reset(&mut t, reseed);
         let (set_const, mass, timestep) = (ev.set_const, ev.changes_mass, ev.changes_timestep);
-        let m = t.m;
         let mut error = None;
         if set_const {
             // Subtree masses, `dof_invweight0`, `body_invweight0`, `actuator_acc0`, ... from the
             // new masses, inertia positions and armature (at qpos0; `mj_resetData` follows).
-            error = self
-                .sim
-                .call(|_, d| unsafe { ffi::mj_setConst(m, d) })
-                .err();
+            error = self.sim.call(Call::SetConst).err();
         }
         self.model_changed(mass, timestep);
         error
@@ -897,9 +827,9 @@ impl Env {
             return Ok(());
         };
         let mut t = crate::events::Target {
-            // SAFETY: as in `reset_events`.
-            m: (self.sim.model.ffi() as *const mjModel).cast_mut(),
-            d: unsafe { self.sim.data.ffi_mut() },
+            // As in `reset_events`.
+            m: mj::model_edit::ModelValues::env_copy(&self.sim.model),
+            qvel: self.sim.data.qvel_mut(),
             rng,
             profile: self.sim.numerics,
         };
@@ -908,7 +838,7 @@ impl Env {
         }
         let timestep = ev.changes_timestep;
         self.model_changed(false, timestep);
-        if let Err(message) = self.sim.call(|m, d| unsafe { ffi::mj_forward(m, d) }) {
+        if let Err(message) = self.sim.call(Call::Forward) {
             return Err(self.step_failed(message));
         }
         self.derive_after_physics();
@@ -937,8 +867,7 @@ impl Env {
     /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
     fn model_changed(&mut self, mass: bool, timestep: bool) {
         if mass {
-            // SAFETY: body_mass has nbody entries.
-            let mass = unsafe { view(self.sim.m().body_mass, self.sim.nbody) };
+            let mass = self.sim.model.body_mass();
             self.sim.mass_sum = pairwise_sum(mass.len(), &|i| mass[i]);
         }
         if timestep {
@@ -1003,24 +932,16 @@ impl Env {
                 }
             }
         }
-        // SAFETY: ctrl has nu entries.
-        unsafe {
-            let d = self.sim.data.ffi_mut();
-            let ctrl = std::slice::from_raw_parts_mut(d.ctrl, self.sim.nu);
-            self.sim.legged.write_ctrl(&self.sim.action, ctrl);
-        }
+        let ctrl = self.sim.data.ctrl_mut();
+        self.sim.legged.write_ctrl(&self.sim.action, ctrl);
         let (n, rne) = (self.spec.frame_skip, self.spec.needs_rne_post_constraint);
-        // SAFETY: as in `Sim::call`.
-        let stepped = self
-            .sim
-            .call_guarded(|m, d| unsafe { mujoco_log::physics_step(m, d, n, rne) });
+        let stepped = self.sim.call(Call::Step { n, rne });
         if let Err(message) = stepped {
             return Err(self.step_failed(message));
         }
         self.derive_after_physics();
-        let (m, d) = (self.sim.model.ffi(), self.sim.data.ffi());
-        self.sim.legged.update_sites(m, d);
-        self.sim.legged.update_contacts(m, d, self.dt);
+        self.sim.legged.update_sites(&self.sim.data);
+        self.sim.legged.update_contacts(&self.sim.data, self.dt);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {
@@ -1367,13 +1288,8 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel, world_sites: usize) -> Resu
             )));
         }
     }
-    // SAFETY: jnt_qposadr/jnt_dofadr have njnt entries.
-    let (qadr, dadr) = unsafe {
-        (
-            std::slice::from_raw_parts(m.jnt_qposadr, info.joints.len()),
-            std::slice::from_raw_parts(m.jnt_dofadr, info.joints.len()),
-        )
-    };
+    // njnt entries each, checked equal to the joints read from the MJCF above.
+    let (qadr, dadr) = (model.jnt_qposadr(), model.jnt_dofadr());
     for (j, joint) in info.joints.iter().enumerate() {
         if qadr[j] as usize != joint.qposadr || dadr[j] as usize != joint.dofadr {
             return Err(mismatch(format!(

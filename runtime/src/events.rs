@@ -8,48 +8,16 @@
 //! (`EventField::lower_bound`, `upper_bound`).
 
 use envspec::events::{Event, EventDist, EventField, EventKind, EventMode, Operation};
-use mujoco_rs::mujoco_c::{mjData, mjModel, mjtObj};
+use mujoco_rs::mujoco_c::{mjModel, mjtObj};
+
+use crate::mj::model_edit::{ModelArray, ModelValues, NPRM};
 
 use crate::error::EnvError;
 use crate::numerics::{self, Profile};
 use crate::rng::NumpyRng;
 
 /// A model array an event writes, with MuJoCo's row strides.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-enum Arr {
-    GeomFriction,
-    BodyMass,
-    BodyIpos,
-    DofDamping,
-    DofArmature,
-    GainPrm,
-    BiasPrm,
-    Gravity,
-    Timestep,
-}
-
-/// `mjNGAIN`, `mjNBIAS`: entries per actuator of `gainprm` and `biasprm`.
-const NPRM: usize = 10;
-
-/// The address of one model value.
-///
-/// # Safety
-/// `m` is a live model and `idx` is within the array (checked when the slots are built).
-unsafe fn addr(m: *mut mjModel, arr: Arr, idx: usize) -> *mut f64 {
-    unsafe {
-        match arr {
-            Arr::GeomFriction => (*m).geom_friction.add(idx),
-            Arr::BodyMass => (*m).body_mass.add(idx),
-            Arr::BodyIpos => (*m).body_ipos.add(idx),
-            Arr::DofDamping => (*m).dof_damping.add(idx),
-            Arr::DofArmature => (*m).dof_armature.add(idx),
-            Arr::GainPrm => (*m).actuator_gainprm.add(idx),
-            Arr::BiasPrm => (*m).actuator_biasprm.add(idx),
-            Arr::Gravity => (&raw mut (*m).opt.gravity).cast::<f64>().add(idx),
-            Arr::Timestep => &raw mut (*m).opt.timestep,
-        }
-    }
-}
+type Arr = ModelArray;
 
 /// One value an event writes: `slot`, and for a position servo's kp also `−value` to `neg`.
 #[derive(Clone, Copy, Debug)]
@@ -89,8 +57,8 @@ pub(crate) struct Events {
 
 /// The events' reach into the env: its model copy, its data, the RNG and the numerics profile.
 pub(crate) struct Target<'a> {
-    pub m: *mut mjModel,
-    pub d: *mut mjData,
+    pub m: ModelValues<'a>,
+    pub qvel: &'a mut [f64],
     pub rng: &'a mut NumpyRng,
     pub profile: Profile,
 }
@@ -121,7 +89,7 @@ struct Value {
 }
 
 /// The values a model event writes, in draw order: element by element, component by component.
-fn layout(env: &str, e: &Event, m: *const mjModel) -> Result<Vec<Value>, EnvError> {
+fn layout(env: &str, e: &Event, m: &mjModel) -> Result<Vec<Value>, EnvError> {
     let EventKind::Model {
         field, elements, ..
     } = &e.kind
@@ -199,7 +167,7 @@ fn layout(env: &str, e: &Event, m: *const mjModel) -> Result<Vec<Value>, EnvErro
 
 impl Events {
     /// Lay out the writes of `events` on model `m` (geoms are looked up by name).
-    pub fn new(env: &str, events: &[Event], m: *const mjModel) -> Result<Events, EnvError> {
+    pub fn new(env: &str, events: &[Event], m: &mjModel) -> Result<Events, EnvError> {
         let mut slots: Vec<(Arr, usize)> = vec![];
         let mut slot = |at: (Arr, usize)| match slots.iter().position(|&s| s == at) {
             Some(k) => k,
@@ -253,13 +221,9 @@ impl Events {
             }
             out.push(rt);
         }
-        // SAFETY: every slot's index is within its array: element indices come from the
-        // resolver, checked against the compiled model's numbering (`check_model`), and geom ids
-        // from MuJoCo itself.
-        let original: Vec<f64> = slots
-            .iter()
-            .map(|&(a, i)| unsafe { *addr(m.cast_mut(), a, i) })
-            .collect();
+        // Every slot's index is within its array: element indices come from the resolver, checked
+        // against the compiled model's numbering (`check_model`), and geom ids from MuJoCo itself.
+        let original: Vec<f64> = slots.iter().map(|&(a, i)| a.get(m, i)).collect();
         Ok(Events {
             events: out,
             startup: original.clone(),
@@ -277,19 +241,18 @@ impl Events {
     /// reset events, then the first interval of each interval event with a range.
     pub fn reset(&mut self, t: &mut Target, reseed: bool) {
         if reseed || !self.started {
-            self.restore(t.m, false);
+            self.restore(&mut t.m, false);
             for k in 0..self.events.len() {
                 if self.events[k].mode == EventMode::Startup {
                     self.apply(k, t, true);
                 }
             }
             for (s, &(a, i)) in self.slots.iter().enumerate() {
-                // SAFETY: see `new`.
-                self.startup[s] = unsafe { *addr(t.m, a, i) };
+                self.startup[s] = t.m.get(a, i);
             }
             self.started = true;
         } else {
-            self.restore(t.m, true);
+            self.restore(&mut t.m, true);
         }
         for k in 0..self.events.len() {
             if self.events[k].mode == EventMode::Reset {
@@ -332,15 +295,14 @@ impl Events {
         fired
     }
 
-    fn restore(&self, m: *mut mjModel, to_startup: bool) {
+    fn restore(&self, m: &mut ModelValues, to_startup: bool) {
         let values = if to_startup {
             &self.startup
         } else {
             &self.original
         };
         for (s, &(a, i)) in self.slots.iter().enumerate() {
-            // SAFETY: see `new`.
-            unsafe { *addr(m, a, i) = values[s] };
+            m.set(a, i, values[s]);
         }
     }
 
@@ -351,11 +313,9 @@ impl Events {
         if let Some((dofs, x, y)) = &e.push {
             for &dof in dofs {
                 let (dx, dy) = (t.rng.uniform(x.0, x.1), t.rng.uniform(y.0, y.1));
-                // SAFETY: a free joint has 6 dofs from `dof`; qvel has nv entries.
-                unsafe {
-                    *(*t.d).qvel.add(dof) += dx;
-                    *(*t.d).qvel.add(dof + 1) += dy;
-                }
+                // A free joint has 6 dofs from `dof`.
+                t.qvel[dof] += dx;
+                t.qvel[dof + 1] += dy;
             }
             return;
         }
@@ -373,33 +333,27 @@ impl Events {
                 }
             };
             let (a, i) = self.slots[w.slot];
-            // SAFETY: see `new`.
-            let p = unsafe { addr(t.m, a, i) };
             let base = if current {
-                unsafe { *p }
+                t.m.get(a, i)
             } else {
                 self.startup[w.slot]
             };
             let v = clamp(field, e.operation.apply(base, d));
-            unsafe { *p = v };
+            t.m.set(a, i, v);
             if let Some(n) = w.neg {
                 let (a, i) = self.slots[n];
-                unsafe { *addr(t.m, a, i) = -v };
+                t.m.set(a, i, -v);
             }
         }
     }
 }
 
 /// The id of geom `name` in the compiled model (E1120 if MuJoCo has none of that name).
-fn geom_id(env: &str, m: *const mjModel, name: &str) -> Result<usize, EnvError> {
-    let missing = || EnvError::EventElement {
+fn geom_id(env: &str, m: &mjModel, name: &str) -> Result<usize, EnvError> {
+    crate::mj::names::id(m, mjtObj::mjOBJ_GEOM, name).ok_or_else(|| EnvError::EventElement {
         env: env.to_string(),
         what: format!("geom `{name}`"),
-    };
-    let c = std::ffi::CString::new(name).map_err(|_| missing())?;
-    // SAFETY: a live model and a NUL-terminated name.
-    let id = unsafe { mujoco_rs::mujoco_c::mj_name2id(m, mjtObj::mjOBJ_GEOM as i32, c.as_ptr()) };
-    usize::try_from(id).map_err(|_| missing())
+    })
 }
 
 /// One row of the randomization table (`envc show`): a value an event writes.
@@ -423,7 +377,7 @@ pub struct Row {
 /// before its first reset).
 pub fn table(env: &crate::Env) -> Result<Vec<Row>, EnvError> {
     let spec = env.spec();
-    let m: *const mjModel = env.model().ffi();
+    let m: &mjModel = env.model().ffi();
     let mut rows = vec![];
     for e in &spec.events {
         let mode = match e.mode {
@@ -456,8 +410,7 @@ pub fn table(env: &crate::Env) -> Result<Vec<Row>, EnvError> {
                 ..
             } => {
                 for v in layout(&spec.id, e, m)? {
-                    // SAFETY: as in `Events::new`.
-                    let base = unsafe { *addr(m.cast_mut(), v.at.0, v.at.1) };
+                    let base = v.at.0.get(m, v.at.1);
                     let (lo, hi) = operation.apply_range(base, dist.support());
                     rows.push(Row {
                         event: e.name.clone(),

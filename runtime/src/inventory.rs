@@ -3,11 +3,9 @@
 //! (`envspec/tests/selector_roundtrip.rs`); geoms, cameras and lights are listed by name (the
 //! spec language reads no geom fields; renderers take cameras by name).
 
-use std::ffi::CStr;
-
 use envspec::ResolvedSpec;
 use envspec::diagnostic::{Location, SourceFile};
-use mujoco_rs::mujoco_c::{mj_id2name, mjModel, mjtObj};
+use mujoco_rs::mujoco_c::{mjModel, mjtObj};
 use mujoco_rs::prelude::MjModel;
 
 /// One kind of model element: a title and one line per element.
@@ -34,14 +32,7 @@ const FIELDS: &[(&str, &str)] = &[
 ];
 
 pub(crate) fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
-    // SAFETY: id is below the object count; MuJoCo returns NULL for unnamed objects.
-    let p = unsafe { mj_id2name(m, obj as i32, id as i32) };
-    if p.is_null() {
-        format!("#{id} (unnamed)")
-    } else {
-        // SAFETY: a NUL-terminated string owned by the model.
-        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
-    }
+    crate::mj::names::name(m, obj, id).unwrap_or_else(|| format!("#{id} (unnamed)"))
 }
 
 /// The inventory of a spec's model: selectable elements as pasteable selectors (rows of matrix

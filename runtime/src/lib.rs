@@ -29,6 +29,7 @@ pub mod joint_table;
 mod latency;
 pub mod maze;
 pub mod memory;
+mod mj;
 mod model_build;
 pub mod model_diff;
 mod model_values;
@@ -39,6 +40,7 @@ pub mod npy;
 pub mod numerics;
 mod obs_noise;
 mod observe;
+mod os;
 pub mod registry;
 pub mod render;
 pub mod rng;
@@ -74,8 +76,5 @@ pub fn mujoco_library_path() -> Option<std::path::PathBuf> {
 
 /// The version of the MuJoCo library this process linked (`mj_versionString`).
 pub fn mujoco_version() -> String {
-    // SAFETY: mj_versionString returns a static NUL-terminated string.
-    unsafe { std::ffi::CStr::from_ptr(mujoco_rs::mujoco_c::mj_versionString()) }
-        .to_string_lossy()
-        .into_owned()
+    mj::version()
 }

@@ -100,13 +100,11 @@ pub(crate) fn fill_keyframes(edits: &ModelEdits, model: &mut MjModel) {
     if edits.keyframes.is_empty() {
         return;
     }
-    // SAFETY: we own the model and no data uses it yet; key_qpos has nkey × nq entries, the
-    // spec's keyframes are the last ones and every address is below nq (envspec resolved them
-    // against the model's joints).
-    let m = unsafe { model.ffi_mut() };
-    let (nq, nkey) = (m.nq as usize, m.nkey as usize);
+    // The spec's keyframes are the last ones and every address is below nq (envspec resolved
+    // them against the model's joints).
+    let (nq, nkey) = (model.ffi().nq as usize, model.ffi().nkey as usize);
     let first = nkey - edits.keyframes.len();
-    let keys = unsafe { std::slice::from_raw_parts_mut(m.key_qpos, nkey * nq) };
+    let keys = model.key_qpos_mut();
     for (i, k) in edits.keyframes.iter().enumerate() {
         let row = (first + i) * nq;
         if let Some(from) = k.from {

@@ -6,76 +6,87 @@
 //! readable names (`geom_friction[foot_geom]`); everything else is covered by comparing the
 //! complete binary model (`mj_saveModel`), reported as one residual change.
 
-use std::ffi::CStr;
-
 use envspec::diff::{Change, RuleId};
-use mujoco_rs::mujoco_c::{mj_id2name, mj_saveModel, mj_sizeModel, mjModel, mjtObj};
-use mujoco_rs::prelude::MjModel;
+use mujoco_rs::mujoco_c::{mjModel, mjtObj};
+use mujoco_rs::prelude::{MjModel, MjtBias, MjtDyn, MjtGain, MjtGeomBase, MjtJoint};
 
 fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
-    // SAFETY: id is within the object count; MuJoCo returns NULL for unnamed objects.
-    let p = unsafe { mj_id2name(m, obj as i32, id as i32) };
-    if p.is_null() {
-        format!("#{id}")
-    } else {
-        // SAFETY: a NUL-terminated string owned by the model.
-        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+    crate::mj::names::name(m, obj, id).unwrap_or_else(|| format!("#{id}"))
+}
+
+/// A model array's values as doubles, row-major.
+trait Flat {
+    fn flat(&self) -> Vec<f64>;
+}
+
+impl Flat for [f64] {
+    fn flat(&self) -> Vec<f64> {
+        self.to_vec()
     }
 }
 
-fn nums(p: *const f64, n: usize) -> Vec<f64> {
-    // SAFETY: callers pass model arrays with their documented lengths.
-    if n == 0 {
-        vec![]
-    } else {
-        unsafe { std::slice::from_raw_parts(p, n) }.to_vec()
+impl<const N: usize> Flat for [[f64; N]] {
+    fn flat(&self) -> Vec<f64> {
+        self.as_flattened().to_vec()
     }
 }
 
-fn ints(p: *const i32, n: usize) -> Vec<f64> {
-    // SAFETY: as above.
-    if n == 0 {
-        vec![]
-    } else {
-        unsafe { std::slice::from_raw_parts(p, n) }
-            .iter()
-            .map(|&x| x as f64)
-            .collect()
+impl Flat for [i32] {
+    fn flat(&self) -> Vec<f64> {
+        self.iter().map(|&x| f64::from(x)).collect()
     }
+}
+
+impl<const N: usize> Flat for [[i32; N]] {
+    fn flat(&self) -> Vec<f64> {
+        self.as_flattened().flat()
+    }
+}
+
+/// MuJoCo's enumerations, by their numbers.
+macro_rules! flat_enum {
+    ($($t:ty),*) => {$(
+        impl Flat for [$t] {
+            fn flat(&self) -> Vec<f64> {
+                self.iter().map(|&x| f64::from(x as i32)).collect()
+            }
+        }
+    )*};
+}
+flat_enum!(MjtGeomBase, MjtJoint, MjtDyn, MjtGain, MjtBias);
+
+/// The first `n` values of `x` (the count the comparison is made for).
+fn nums<T: Flat + ?Sized>(x: &T, n: usize) -> Vec<f64> {
+    let mut v = x.flat();
+    v.truncate(n);
+    v
 }
 
 /// Per actuator: its dynamics, gain and bias types.
-fn types(m: &mjModel) -> Vec<f64> {
-    let nu = m.nu as usize;
+fn types(m: &MjModel) -> Vec<f64> {
+    let nu = m.ffi().nu as usize;
     let (d, g, b) = (
-        ints(m.actuator_dyntype as *const i32, nu),
-        ints(m.actuator_gaintype as *const i32, nu),
-        ints(m.actuator_biastype as *const i32, nu),
+        nums(m.actuator_dyntype(), nu),
+        nums(m.actuator_gaintype(), nu),
+        nums(m.actuator_biastype(), nu),
     );
     (0..nu).flat_map(|i| [d[i], g[i], b[i]]).collect()
 }
 
 /// Per row: whether the range is limited (1 or 0), then the range.
-fn limited(flag: *const bool, range: *const f64, n: usize) -> Vec<f64> {
-    let r = nums(range, n * 2);
-    // SAFETY: one flag per row.
-    let f = if n == 0 {
-        &[][..]
-    } else {
-        unsafe { std::slice::from_raw_parts(flag, n) }
-    };
-    (0..n)
-        .flat_map(|i| [f64::from(u8::from(f[i])), r[2 * i], r[2 * i + 1]])
+fn limited(flag: &[bool], range: &[[f64; 2]], n: usize) -> Vec<f64> {
+    (0..n.min(flag.len()).min(range.len()))
+        .flat_map(|i| [f64::from(u8::from(flag[i])), range[i][0], range[i][1]])
         .collect()
 }
 
-fn saved(m: &mjModel) -> Vec<u8> {
-    // SAFETY: mj_sizeModel gives the buffer size mj_saveModel writes.
-    unsafe {
-        let n = mj_sizeModel(m) as usize;
-        let mut buf = vec![0u8; n];
-        mj_saveModel(m, std::ptr::null(), buf.as_mut_ptr().cast(), n as i64);
-        buf
+/// The complete binary model (`mj_saveModel`).
+fn saved(m: &MjModel) -> Vec<u8> {
+    let mut buf = vec![0u8; m.size()];
+    // The buffer has the size MuJoCo asks for, so the save cannot fail.
+    match m.save_to_buffer(&mut buf) {
+        Ok(()) => buf,
+        Err(_) => vec![],
     }
 }
 
@@ -87,6 +98,123 @@ struct Arr {
     obj: mjtObj,
     old: Vec<f64>,
     new: Vec<f64>,
+}
+
+/// The arrays `diff_models` compares, with the values of both models (each array's element count
+/// from the old model; only compared where both models have that count).
+fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
+    let (a, b) = (old.ffi(), new.ffi());
+    let (nb, ng, nj, nv, nu) = (
+        a.nbody as usize,
+        a.ngeom as usize,
+        a.njnt as usize,
+        a.nv as usize,
+        a.nu as usize,
+    );
+    /// Array `field` of both models, `n` values each.
+    macro_rules! arr {
+        ($field:ident, $rule:ident, $width:expr, $obj:ident, $n:expr) => {
+            Arr {
+                field: stringify!($field),
+                rule: RuleId::$rule,
+                width: $width,
+                obj: $obj,
+                old: nums(old.$field(), $n),
+                new: nums(new.$field(), $n),
+            }
+        };
+    }
+    use mjtObj::*;
+    vec![
+        arr!(body_mass, ModelArrayChanged, 1, mjOBJ_BODY, nb),
+        arr!(body_inertia, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_ipos, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_pos, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
+        arr!(body_quat, ModelArrayChanged, 4, mjOBJ_BODY, nb * 4),
+        arr!(geom_friction, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_size, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_pos, ModelArrayChanged, 3, mjOBJ_GEOM, ng * 3),
+        arr!(geom_type, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_condim, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_contype, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_conaffinity, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
+        arr!(geom_solref, ModelArrayChanged, 2, mjOBJ_GEOM, ng * 2),
+        arr!(jnt_type, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
+        arr!(jnt_axis, ModelArrayChanged, 3, mjOBJ_JOINT, nj * 3),
+        arr!(jnt_range, ModelArrayChanged, 2, mjOBJ_JOINT, nj * 2),
+        arr!(jnt_stiffness, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
+        arr!(dof_damping, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(dof_armature, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(dof_frictionloss, ModelArrayChanged, 1, mjOBJ_DOF, nv),
+        arr!(
+            actuator_ctrlrange,
+            ModelActuatorArrayChanged,
+            2,
+            mjOBJ_ACTUATOR,
+            nu * 2
+        ),
+        arr!(actuator_gear, ModelArrayChanged, 6, mjOBJ_ACTUATOR, nu * 6),
+        arr!(
+            actuator_gainprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        arr!(
+            actuator_biasprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        arr!(
+            actuator_dynprm,
+            ModelArrayChanged,
+            10,
+            mjOBJ_ACTUATOR,
+            nu * 10
+        ),
+        Arr {
+            field: "actuator_type",
+            rule: RuleId::ModelArrayChanged,
+            width: 3,
+            obj: mjOBJ_ACTUATOR,
+            old: types(old),
+            new: types(new),
+        },
+        Arr {
+            field: "actuator_forcerange",
+            rule: RuleId::ModelArrayChanged,
+            width: 3,
+            obj: mjOBJ_ACTUATOR,
+            old: limited(old.actuator_forcelimited(), old.actuator_forcerange(), nu),
+            new: limited(new.actuator_forcelimited(), new.actuator_forcerange(), nu),
+        },
+        Arr {
+            field: "key_qpos",
+            rule: RuleId::ModelQpos0Changed,
+            width: a.nq as usize,
+            obj: mjOBJ_KEY,
+            old: nums(old.key_qpos(), a.nkey as usize * a.nq as usize),
+            new: nums(new.key_qpos(), a.nkey as usize * a.nq as usize),
+        },
+        arr!(
+            actuator_trnid,
+            ModelActuatorArrayChanged,
+            2,
+            mjOBJ_ACTUATOR,
+            nu * 2
+        ),
+        Arr {
+            field: "qpos0",
+            rule: RuleId::ModelQpos0Changed,
+            width: 1,
+            obj: mjOBJ_UNKNOWN,
+            old: nums(old.qpos0(), a.nq as usize),
+            new: nums(new.qpos0(), b.nq as usize),
+        },
+    ]
 }
 
 /// Compiled-model changes between `old` and `new` (empty when the compiled models are identical).
@@ -152,13 +280,6 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     {
         // Each group of arrays is compared when its element count is the same in both models
         // (a removed geom must not hide a changed body mass).
-        let (nb, ng, nj, nv, nu) = (
-            a.nbody as usize,
-            a.ngeom as usize,
-            a.njnt as usize,
-            a.nv as usize,
-            a.nu as usize,
-        );
         let same = |x: i64, y: i64| x == y;
         let counts_match = |field: &str| match field.split('_').next().unwrap_or("") {
             "body" => same(a.nbody, b.nbody),
@@ -169,249 +290,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             "key" => same(a.nkey, b.nkey) && same(a.nq, b.nq),
             _ => same(a.nq, b.nq),
         };
-        use mjtObj::*;
-        let arrs = [
-            Arr {
-                field: "body_mass",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_BODY,
-                old: nums(a.body_mass, nb),
-                new: nums(b.body_mass, nb),
-            },
-            Arr {
-                field: "body_inertia",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(a.body_inertia, nb * 3),
-                new: nums(b.body_inertia, nb * 3),
-            },
-            Arr {
-                field: "body_ipos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(a.body_ipos, nb * 3),
-                new: nums(b.body_ipos, nb * 3),
-            },
-            Arr {
-                field: "body_pos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_BODY,
-                old: nums(a.body_pos, nb * 3),
-                new: nums(b.body_pos, nb * 3),
-            },
-            Arr {
-                field: "body_quat",
-                rule: RuleId::ModelArrayChanged,
-                width: 4,
-                obj: mjOBJ_BODY,
-                old: nums(a.body_quat, nb * 4),
-                new: nums(b.body_quat, nb * 4),
-            },
-            Arr {
-                field: "geom_friction",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(a.geom_friction, ng * 3),
-                new: nums(b.geom_friction, ng * 3),
-            },
-            Arr {
-                field: "geom_size",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(a.geom_size, ng * 3),
-                new: nums(b.geom_size, ng * 3),
-            },
-            Arr {
-                field: "geom_pos",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_GEOM,
-                old: nums(a.geom_pos, ng * 3),
-                new: nums(b.geom_pos, ng * 3),
-            },
-            Arr {
-                field: "geom_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: ints(a.geom_type, ng),
-                new: ints(b.geom_type, ng),
-            },
-            Arr {
-                field: "geom_condim",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: ints(a.geom_condim, ng),
-                new: ints(b.geom_condim, ng),
-            },
-            Arr {
-                field: "geom_contype",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: ints(a.geom_contype, ng),
-                new: ints(b.geom_contype, ng),
-            },
-            Arr {
-                field: "geom_conaffinity",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_GEOM,
-                old: ints(a.geom_conaffinity, ng),
-                new: ints(b.geom_conaffinity, ng),
-            },
-            Arr {
-                field: "geom_solref",
-                rule: RuleId::ModelArrayChanged,
-                width: 2,
-                obj: mjOBJ_GEOM,
-                old: nums(a.geom_solref, ng * 2),
-                new: nums(b.geom_solref, ng * 2),
-            },
-            Arr {
-                field: "jnt_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_JOINT,
-                old: ints(a.jnt_type, nj),
-                new: ints(b.jnt_type, nj),
-            },
-            Arr {
-                field: "jnt_axis",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_JOINT,
-                old: nums(a.jnt_axis, nj * 3),
-                new: nums(b.jnt_axis, nj * 3),
-            },
-            Arr {
-                field: "jnt_range",
-                rule: RuleId::ModelArrayChanged,
-                width: 2,
-                obj: mjOBJ_JOINT,
-                old: nums(a.jnt_range, nj * 2),
-                new: nums(b.jnt_range, nj * 2),
-            },
-            Arr {
-                field: "jnt_stiffness",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_JOINT,
-                old: nums(a.jnt_stiffness, nj),
-                new: nums(b.jnt_stiffness, nj),
-            },
-            Arr {
-                field: "dof_damping",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(a.dof_damping, nv),
-                new: nums(b.dof_damping, nv),
-            },
-            Arr {
-                field: "dof_armature",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(a.dof_armature, nv),
-                new: nums(b.dof_armature, nv),
-            },
-            Arr {
-                field: "dof_frictionloss",
-                rule: RuleId::ModelArrayChanged,
-                width: 1,
-                obj: mjOBJ_DOF,
-                old: nums(a.dof_frictionloss, nv),
-                new: nums(b.dof_frictionloss, nv),
-            },
-            Arr {
-                field: "actuator_ctrlrange",
-                rule: RuleId::ModelActuatorArrayChanged,
-                width: 2,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(a.actuator_ctrlrange, nu * 2),
-                new: nums(b.actuator_ctrlrange, nu * 2),
-            },
-            Arr {
-                field: "actuator_gear",
-                rule: RuleId::ModelArrayChanged,
-                width: 6,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(a.actuator_gear, nu * 6),
-                new: nums(b.actuator_gear, nu * 6),
-            },
-            Arr {
-                field: "actuator_gainprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(a.actuator_gainprm, nu * 10),
-                new: nums(b.actuator_gainprm, nu * 10),
-            },
-            Arr {
-                field: "actuator_biasprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(a.actuator_biasprm, nu * 10),
-                new: nums(b.actuator_biasprm, nu * 10),
-            },
-            Arr {
-                field: "actuator_dynprm",
-                rule: RuleId::ModelArrayChanged,
-                width: 10,
-                obj: mjOBJ_ACTUATOR,
-                old: nums(a.actuator_dynprm, nu * 10),
-                new: nums(b.actuator_dynprm, nu * 10),
-            },
-            Arr {
-                field: "actuator_type",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_ACTUATOR,
-                old: types(a),
-                new: types(b),
-            },
-            Arr {
-                field: "actuator_forcerange",
-                rule: RuleId::ModelArrayChanged,
-                width: 3,
-                obj: mjOBJ_ACTUATOR,
-                old: limited(a.actuator_forcelimited, a.actuator_forcerange, nu),
-                new: limited(b.actuator_forcelimited, b.actuator_forcerange, nu),
-            },
-            Arr {
-                field: "key_qpos",
-                rule: RuleId::ModelQpos0Changed,
-                width: a.nq as usize,
-                obj: mjOBJ_KEY,
-                old: nums(a.key_qpos, a.nkey as usize * a.nq as usize),
-                new: nums(b.key_qpos, a.nkey as usize * a.nq as usize),
-            },
-            Arr {
-                field: "actuator_trnid",
-                rule: RuleId::ModelActuatorArrayChanged,
-                width: 2,
-                obj: mjOBJ_ACTUATOR,
-                old: ints(a.actuator_trnid, nu * 2),
-                new: ints(b.actuator_trnid, nu * 2),
-            },
-            Arr {
-                field: "qpos0",
-                rule: RuleId::ModelQpos0Changed,
-                width: 1,
-                obj: mjOBJ_UNKNOWN,
-                old: nums(a.qpos0, a.nq as usize),
-                new: nums(b.qpos0, b.nq as usize),
-            },
-        ];
+        let arrs = compared_arrays(old, new);
         for arr in arrs {
             if !counts_match(arr.field) {
                 continue;
@@ -464,7 +343,7 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             }
         }
     }
-    if out.is_empty() && saved(a) != saved(b) {
+    if out.is_empty() && saved(old) != saved(new) {
         // Not classified here: `envc diff` judges it by a rollout, as every model change.
         out.push(
             Change::new(RuleId::ModelBinaryChanged, "model", "compiled model")

@@ -169,29 +169,6 @@ pub fn drain_into(out: &mut Vec<String>) {
     });
 }
 
-/// `n × mj_step`, then `mj_rnePostConstraint` when `rne`: one env step of physics, with MuJoCo's
-/// errors returned. The caller resets the data after an error.
-///
-/// # Safety
-/// `m` and `d` are a live model and data of that model, used by nothing else meanwhile.
-pub(crate) unsafe fn physics_step(
-    m: *const mujoco_rs::mujoco_c::mjModel,
-    d: *mut mujoco_rs::mujoco_c::mjData,
-    n: u32,
-    rne: bool,
-) -> Result<(), String> {
-    guard(|| {
-        for _ in 0..n {
-            // SAFETY: the caller's contract.
-            unsafe { ffi::mj_step(m, d) };
-        }
-        if rne {
-            // SAFETY: as above.
-            unsafe { ffi::mj_rnePostConstraint(m, d) };
-        }
-    })
-}
-
 #[cfg(test)]
 mod tests {
     /// Every MuJoCo function the runtime calls through mujoco-rs's `C` declarations (`c::mj…`,

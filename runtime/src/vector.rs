@@ -66,6 +66,7 @@ struct Job {
 // SAFETY: a Job is only dereferenced for env indices claimed from `Shared::next`, each claimed by
 // exactly one thread per step, and the caller touches the buffers only while no step runs.
 unsafe impl Send for Job {}
+// SAFETY: as for `Send`.
 unsafe impl Sync for Job {}
 
 struct Shared {
@@ -183,9 +184,13 @@ fn splitmix(mut x: u64) -> u64 {
 unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError> {
     let (od, ad) = (job.obs_dim, job.act_dim);
     // SAFETY (all below): disjoint per-env slots of buffers sized n, n×obs_dim or n×act_dim.
+    // SAFETY: env i was claimed by this thread alone (`run_one`'s contract); `envs` holds n envs.
     let env = unsafe { &mut *job.envs.add(i) };
+    // SAFETY: as above; `obs` holds n × obs_dim numbers.
     let obs = unsafe { std::slice::from_raw_parts_mut(job.obs.add(i * od), od) };
+    // SAFETY: as above; `pending` holds n flags.
     let pending = unsafe { &mut *job.pending.add(i) };
+    // SAFETY: as above; the reward and flag buffers hold n entries.
     let (reward, terminated, truncated) = unsafe {
         (
             &mut *job.rewards.add(i),
@@ -202,8 +207,10 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
         return Ok(());
     }
     let s = if f32_actions {
+        // SAFETY: as above; `actions_f32` holds n × act_dim numbers.
         env.step_f32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })?
     } else {
+        // SAFETY: as above; `actions` holds n × act_dim numbers.
         env.step(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })?
     };
     *reward = s.reward;
@@ -216,9 +223,11 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
             *pending = ended;
         }
         Autoreset::SameStep => {
+            // SAFETY: as above; `has_final` holds n flags.
             let has_final = unsafe { &mut *job.has_final.add(i) };
             *has_final = ended;
             if ended {
+                // SAFETY: as above; `final_obs` holds n × obs_dim numbers.
                 unsafe { std::slice::from_raw_parts_mut(job.final_obs.add(i * od), od) }
                     .copy_from_slice(s.obs);
                 obs.copy_from_slice(env.reset(None).0);

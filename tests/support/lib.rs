@@ -289,13 +289,16 @@ thread_local! {
 unsafe impl std::alloc::GlobalAlloc for ThreadCounting {
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
         let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: the caller's `GlobalAlloc` contract, passed on unchanged.
         unsafe { std::alloc::System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        // SAFETY: as in `alloc`.
         unsafe { std::alloc::System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new: usize) -> *mut u8 {
         let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: as in `alloc`.
         unsafe { std::alloc::System.realloc(ptr, layout, new) }
     }
 }

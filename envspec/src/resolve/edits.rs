@@ -209,6 +209,7 @@ impl Ctx<'_> {
     /// keys set those joints' properties, its actuator keys those of the `[actuators.*]`
     /// actuators on them. Rows apply in file order, so a later row overrides an earlier one
     /// key by key where both match a joint; a row overrides its `[actuators.*]` table's values.
+    #[allow(clippy::too_many_lines)] // Rows apply in file order to joints and their actuators together.
     fn joint_properties(&mut self, edits: &mut ModelEdits) {
         let rows = &self.spec.joint_properties;
         if rows.is_empty() {

@@ -164,13 +164,7 @@ fn write_new(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
 /// Flush everything under `dir`'s file system to stable storage (one `syncfs`, not one fsync per
 /// episode file), so the rename that publishes the dataset never reaches the disk before its data.
 fn sync_fs(dir: &Path) -> Result<(), DatasetError> {
-    use std::os::fd::AsRawFd;
-    let f = fs::File::open(dir).map_err(io(dir))?;
-    // SAFETY: syncfs on a descriptor we own.
-    if unsafe { libc::syncfs(f.as_raw_fd()) } != 0 {
-        return Err(io(dir)(std::io::Error::last_os_error()));
-    }
-    Ok(())
+    crate::os::sync_fs(dir).map_err(io(dir))
 }
 
 impl DatasetWriter {

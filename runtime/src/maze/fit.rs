@@ -19,17 +19,11 @@ pub fn footprint(model: &Arc<MjModel>, path: &Path) -> Result<Option<[f64; 2]>, 
         path: path.to_path_buf(),
         message: format!("cannot allocate mjData: {e}"),
     })?;
-    let m: *const mujoco_rs::mujoco_c::mjModel = model.ffi();
-    // SAFETY: a fresh data of `model`, used by nothing else.
-    let d = unsafe { data.ffi_mut() } as *mut mujoco_rs::mujoco_c::mjData;
-    // SAFETY: as above.
-    crate::mujoco_log::guard(|| unsafe { crate::mujoco_log::ffi::mj_forward(m, d) }).map_err(
-        |message| EnvError::Mujoco {
-            env: path.display().to_string(),
-            during: "in mj_forward at the initial pose (measuring the robot's footprint)",
-            message,
-        },
-    )?;
+    crate::mj::call(&mut data, crate::mj::Call::Forward).map_err(|message| EnvError::Mujoco {
+        env: path.display().to_string(),
+        during: "in mj_forward at the initial pose (measuring the robot's footprint)",
+        message,
+    })?;
     let (body, contype, conaffinity) = (
         model.geom_bodyid(),
         model.geom_contype(),

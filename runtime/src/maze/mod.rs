@@ -281,21 +281,13 @@ impl MazeEnv {
             self.marker,
             self.spec.maze_height / 2.0 * self.spec.maze_size_scaling,
         );
-        self.robot.render_with(mode, |m, d| {
-            // SAFETY: a valid model; the name is NUL-terminated.
-            let id = unsafe {
-                mujoco_rs::mujoco_c::mj_name2id(
-                    m,
-                    mujoco_rs::mujoco_c::mjtObj::mjOBJ_SITE as i32,
-                    c"target".as_ptr(),
-                )
-            };
-            if id >= 0 && (id as i64) < m.nsite {
+        self.robot.render_with(mode, |d| {
+            let site = mujoco_rs::mujoco_c::mjtObj::mjOBJ_SITE;
+            if let Some(id) = crate::mj::names::id(d.model().ffi(), site, "target")
+                && let Some(p) = d.site_xpos_mut().get_mut(id)
+            {
                 // The target hangs on the world body: its world position is its local one.
-                // SAFETY: site_xpos holds nsite × 3 numbers and id < nsite.
-                let p =
-                    unsafe { std::slice::from_raw_parts_mut(d.site_xpos.add(3 * id as usize), 3) };
-                p.copy_from_slice(&[goal[0], goal[1], z]);
+                *p = [goal[0], goal[1], z];
             }
         })
     }

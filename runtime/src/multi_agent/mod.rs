@@ -165,21 +165,18 @@ impl MultiAgentEnv {
         ];
         let m = self.env.model().ffi();
         let count = |n: i64| usize::try_from(n).unwrap_or(0);
-        let (ngeom, nbody) = (count(m.ngeom), count(m.nbody));
-        // SAFETY: MuJoCo's arrays of the compiled model, of the lengths it states.
-        let (geom_body, trn_type, trn_id, jnt_body) = unsafe {
-            (
-                std::slice::from_raw_parts(m.geom_bodyid, ngeom),
-                std::slice::from_raw_parts(m.actuator_trntype, count(m.nu)),
-                std::slice::from_raw_parts(m.actuator_trnid, 2 * count(m.nu)),
-                std::slice::from_raw_parts(m.jnt_bodyid, count(m.njnt)),
-            )
-        };
+        let nbody = count(m.nbody);
+        let model = self.env.model();
+        let (geom_body, trn_type, trn_id, jnt_body) = (
+            model.geom_bodyid(),
+            model.actuator_trntype(),
+            model.actuator_trnid().as_flattened(),
+            model.jnt_bodyid(),
+        );
         let mut body_color = vec![None; nbody];
         for (k, agent) in self.spec.agents.iter().enumerate() {
             for &a in &agent.actions {
-                let joint =
-                    trn_type.get(a) == Some(&(mujoco_rs::mujoco_c::mjtTrn::mjTRN_JOINT as i32));
+                let joint = trn_type.get(a) == Some(&mujoco_rs::mujoco_c::mjtTrn::mjTRN_JOINT);
                 if let Some(b) = trn_id
                     .get(2 * a)
                     .filter(|_| joint)
@@ -431,8 +428,7 @@ mod tests {
 
         // Gymnasium's `mass_center`: Σ mass·xipos / Σ mass.
         let nbody = env.spec().base.model.nbody();
-        // SAFETY: body_mass has nbody entries.
-        let mass = unsafe { std::slice::from_raw_parts(env.env().model().ffi().body_mass, nbody) };
+        let mass = env.env().model().body_mass();
         let xipos = env.env().field(Field::Xipos);
         let total: f64 = mass.iter().sum();
         let com: Vec<f64> = (0..3)

@@ -66,6 +66,7 @@ struct Api {
 // SAFETY: the function pointers and the display handle are process-wide EGL objects; EGL's
 // entry points are thread-safe.
 unsafe impl Send for Api {}
+// SAFETY: as for `Send`.
 unsafe impl Sync for Api {}
 
 static API: OnceLock<Result<Api, RenderError>> = OnceLock::new();
@@ -122,6 +123,7 @@ fn load() -> Result<Api, RenderError> {
     };
     // SAFETY: eglGetProcAddress takes a NUL-terminated name and returns null or the function.
     let query = unsafe { get_proc(c"eglQueryDevicesEXT".as_ptr()) };
+    // SAFETY: as above.
     let platform = unsafe { get_proc(c"eglGetPlatformDisplayEXT".as_ptr()) };
     if query.is_null() || platform.is_null() {
         return Err(RenderError::NoDisplay {
@@ -132,6 +134,7 @@ fn load() -> Result<Api, RenderError> {
     let query: unsafe extern "C" fn(EGLint, *mut EGLDeviceEXT, *mut EGLint) -> EGLBoolean =
         unsafe { std::mem::transmute(query) };
     let platform: unsafe extern "C" fn(u32, *mut c_void, *const EGLint) -> EGLDisplay =
+        // SAFETY: as above.
         unsafe { std::mem::transmute(platform) };
     let mut devices = [std::ptr::null_mut(); 10];
     let mut n = 0;
@@ -159,12 +162,14 @@ fn load() -> Result<Api, RenderError> {
     for dev in chosen {
         // SAFETY: `dev` came from eglQueryDevicesEXT; a null attribute list is allowed.
         let display = unsafe { platform(EGL_PLATFORM_DEVICE_EXT, dev, std::ptr::null()) };
+        // SAFETY: a plain EGL query of this thread's last error.
         if display.is_null() || unsafe { (api.get_error)() } != EGL_SUCCESS {
             continue;
         }
         let (mut major, mut minor) = (0, 0);
         // SAFETY: a display from eglGetPlatformDisplayEXT; out-pointers are valid.
         if unsafe { (api.initialize)(display, &mut major, &mut minor) } == 1
+            // SAFETY: as above.
             && unsafe { (api.get_error)() } == EGL_SUCCESS
         {
             api.display = display;
@@ -228,11 +233,13 @@ impl Context {
         }
         // SAFETY: plain EGL calls on the initialised display.
         unsafe { (api.bind_api)(EGL_OPENGL_API) };
+        // SAFETY: as above.
         let ctx = unsafe {
             (api.create_context)(api.display, config, std::ptr::null_mut(), std::ptr::null())
         };
         if ctx.is_null() {
             return Err(RenderError::NoDisplay {
+                // SAFETY: a plain EGL query of this thread's last error.
                 what: format!("eglCreateContext failed (EGL error {:#x})", unsafe {
                     (api.get_error)()
                 }),
@@ -260,6 +267,7 @@ impl Context {
         // SAFETY: our context on the initialised display, no surfaces (surfaceless GL).
         if unsafe { (api.make_current)(api.display, none, none, self.ctx) } == 0 {
             return Err(RenderError::NoDisplay {
+                // SAFETY: a plain EGL query of this thread's last error.
                 what: format!("eglMakeCurrent failed (EGL error {:#x})", unsafe {
                     (api.get_error)()
                 }),

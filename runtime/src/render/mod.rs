@@ -147,11 +147,7 @@ fn lookup(
             }
             -2
         }
-        ObjRef::Name(n) => match std::ffi::CString::new(n.as_str()) {
-            // SAFETY: a valid model and a NUL-terminated name.
-            Ok(cn) => unsafe { c::mj_name2id(m, obj as i32, cn.as_ptr()) },
-            Err(_) => -1,
-        },
+        ObjRef::Name(n) => crate::mj::names::id(m, obj, n).map_or(-1, |i| i as i32),
     };
     if id >= 0 {
         return Ok(id);
@@ -182,16 +178,8 @@ fn lookup(
 }
 
 fn model_names(m: &mjModel, obj: mjtObj, count: i64) -> Vec<String> {
-    (0..count as i32)
-        .filter_map(|i| {
-            // SAFETY: i < count of this object type; mj_id2name returns null or a C string.
-            let p = unsafe { c::mj_id2name(m, obj as i32, i) };
-            (!p.is_null()).then(|| {
-                unsafe { std::ffi::CStr::from_ptr(p) }
-                    .to_string_lossy()
-                    .into_owned()
-            })
-        })
+    (0..usize::try_from(count).unwrap_or(0))
+        .filter_map(|i| crate::mj::names::name(m, obj, i))
         .filter(|n| !n.is_empty())
         .collect()
 }
@@ -291,10 +279,15 @@ impl Renderer {
         let ctx = egl::Context::new()?;
         // SAFETY: zeroed then initialised by MuJoCo's default functions (plain C structs).
         let mut cam: mjvCamera = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut opt: mjvOption = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut pert: mjvPerturb = unsafe { std::mem::zeroed() };
+        // SAFETY: as above.
         let mut scn: Box<mjvScene> = Box::new(unsafe { std::mem::zeroed() });
+        // SAFETY: as above.
         let mut con: Box<mjrContext> = Box::new(unsafe { std::mem::zeroed() });
+        // SAFETY: the structs made above; plain C calls that fill them with MuJoCo's defaults.
         unsafe {
             c::mjv_defaultCamera(&mut cam);
             c::mjv_defaultOption(&mut opt);
@@ -318,6 +311,8 @@ impl Renderer {
             if copy.is_null() {
                 return Ok(false);
             }
+            // SAFETY: `copy` is a live model copy (checked non-null), `m` the env's model; `scn`
+            // and `con` were set to defaults, and this thread's GL context is current.
             let made = crate::mujoco_log::guard(|| unsafe {
                 let g = &mut (*copy).vis.global;
                 g.offwidth = g.offwidth.max(w);
@@ -326,6 +321,7 @@ impl Renderer {
                 ffi::mjr_makeContext(copy, &mut *con, mjtFontScale::mjFONTSCALE_150 as i32);
                 ffi::mjr_setBuffer(mjtFramebuffer::mjFB_OFFSCREEN as i32, &mut *con);
             });
+            // SAFETY: our own copy, no longer used: the scene and context keep no pointer to it.
             unsafe { c::mj_deleteModel(copy) };
             made.map(|()| con.offFBO != 0)
         })?;
@@ -333,6 +329,8 @@ impl Renderer {
             Ok(made) => made,
             Err(e) => {
                 // What MuJoCo made before the error: freed with the context current.
+                // SAFETY: the scene and context MuJoCo made part of, freed with their GL context
+                // current.
                 let _ = ctx.current(|| unsafe {
                     ffi::mjr_freeContext(&mut *con);
                     ffi::mjv_freeScene(&mut *scn);
@@ -545,6 +543,18 @@ impl EnvRender {
             slot => slot.insert(Box::new(Renderer::new(m, d, &self.settings)?)),
         };
         r.render(m, d, mode, &self.tint)
+    }
+    /// [`EnvRender::frame`] of an env's model and data.
+    pub(crate) fn frame_of<M: mujoco_rs::wrappers::mj_model::traits::ModelType>(
+        &mut self,
+        model: &mujoco_rs::prelude::MjModel,
+        data: &mut mujoco_rs::prelude::MjData<M>,
+        mode: RenderMode,
+    ) -> Result<Frame<'_>, RenderError> {
+        // SAFETY: mjv_updateScene reads the state and writes only visualisation fields, which no
+        // invariant of mujoco-rs's wrapper covers.
+        let d = unsafe { data.ffi_mut() };
+        self.frame(model.ffi(), d, mode)
     }
     /// Drop the renderer (Gymnasium's `close`); the next frame makes a new one.
     pub fn close(&mut self) {

@@ -1,0 +1,257 @@
+//! MuJoCo's raw model and data, behind safe functions: the runtime's one place that dereferences
+//! `mjModel` / `mjData` pointers or calls MuJoCo's C API directly (rendering aside: `render/`).
+//!
+//! Arrays with a safe accessor in mujoco-rs (`MjData::qpos`, `MjModel::body_mass`, ...) are read
+//! through it where they are used; this module holds what mujoco-rs leaves `unsafe` or does not
+//! wrap the way envc needs:
+//! - [`calls`]: the MuJoCo calls that may raise `mju_error` (`mj_forward`, `mj_step`, ...),
+//!   through envc's `C-unwind` declarations and [`crate::mujoco_log::guard`];
+//! - [`names`]: names and ids (no panic on a name MuJoCo cannot hold);
+//! - [`model_edit`]: the model values `[actions]` gains and `[events]` write;
+//! - [`state`]: borrows mujoco-rs cannot split (qpos and qvel at once).
+
+pub(crate) use calls::{Call, call};
+
+/// MuJoCo's version string (`mj_versionString`, e.g. `"3.17.0"`).
+pub(crate) fn version() -> String {
+    // SAFETY: MuJoCo returns a static NUL-terminated string.
+    unsafe { std::ffi::CStr::from_ptr(mujoco_rs::mujoco_c::mj_versionString()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+pub(crate) mod calls {
+    //! The MuJoCo calls that may raise `mju_error`, made through envc's `C-unwind` declarations
+    //! inside [`crate::mujoco_log::guard`], so an error comes back as `Err(message)` instead of
+    //! ending the process.
+
+    use mujoco_rs::mujoco_c::{mjData, mjModel};
+    use mujoco_rs::prelude::MjData;
+    use mujoco_rs::wrappers::mj_model::traits::ModelType;
+
+    use crate::mujoco_log::{self, ffi};
+
+    /// One MuJoCo computation on a model and its data.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) enum Call {
+        /// `mj_forward`.
+        Forward,
+        /// `mj_resetData`.
+        ResetData,
+        /// `mj_setConst`: the model's derived constants from its current values (it writes the
+        /// model: only for a model copy that belongs to this data's env).
+        SetConst,
+        /// `n × mj_step`, then `mj_rnePostConstraint` when `rne`: one env step of physics.
+        Step { n: u32, rne: bool },
+    }
+
+    /// Run `call` on `data` and its own model. After an error the data is reset
+    /// (`mj_resetData`), so it is never used in MuJoCo's mid-error state.
+    pub(crate) fn call<M: ModelType>(data: &mut MjData<M>, call: Call) -> Result<(), String> {
+        let m: *const mjModel = data.model().ffi();
+        // SAFETY: the data's own model and the data, borrowed exclusively here; only MuJoCo uses
+        // the pointers, and only for the duration of this function.
+        let d: *mut mjData = unsafe { data.ffi_mut() };
+        let result = match call {
+            // SAFETY: `m` and `d` as above, a live model and data of that model.
+            Call::Forward => mujoco_log::guard(|| unsafe { ffi::mj_forward(m, d) }),
+            // SAFETY: as above.
+            Call::ResetData => mujoco_log::guard(|| unsafe { ffi::mj_resetData(m, d) }),
+            // SAFETY: as above; mj_setConst also writes the model's constants, which
+            // `Call::SetConst`'s contract allows.
+            Call::SetConst => mujoco_log::guard(|| unsafe { ffi::mj_setConst(m.cast_mut(), d) }),
+            Call::Step { n, rne } => mujoco_log::guard(|| {
+                for _ in 0..n {
+                    // SAFETY: as above.
+                    unsafe { ffi::mj_step(m, d) };
+                }
+                if rne {
+                    // SAFETY: as above.
+                    unsafe { ffi::mj_rnePostConstraint(m, d) };
+                }
+            }),
+        };
+        result.inspect_err(|_| {
+            // SAFETY: as above; resetting clears the arena and stack an error left marked.
+            unsafe { ffi::mj_resetData(m, d) };
+        })
+    }
+}
+
+pub(crate) mod names {
+    //! Names and ids of model elements (`mj_name2id`, `mj_id2name`).
+
+    use std::ffi::{CStr, CString};
+
+    use mujoco_rs::mujoco_c::{mj_id2name, mj_name2id, mjModel, mjtObj};
+
+    /// The id of the element of kind `obj` named `name`; `None` when the model has none (or the name
+    /// holds a NUL, which no MuJoCo name can).
+    pub(crate) fn id(m: &mjModel, obj: mjtObj, name: &str) -> Option<usize> {
+        let c = CString::new(name).ok()?;
+        // SAFETY: a live model and a NUL-terminated name; MuJoCo only reads both.
+        let i = unsafe { mj_name2id(m, obj as i32, c.as_ptr()) };
+        usize::try_from(i).ok()
+    }
+
+    /// The name of element `id` of kind `obj`; `None` when it is unnamed (or `id` is out of range).
+    pub(crate) fn name(m: &mjModel, obj: mjtObj, id: usize) -> Option<String> {
+        let id = i32::try_from(id).ok()?;
+        // SAFETY: a live model; MuJoCo checks the id and returns NULL for an unnamed element.
+        let p = unsafe { mj_id2name(m, obj as i32, id) };
+        if p.is_null() {
+            return None;
+        }
+        // SAFETY: a NUL-terminated string in the model's names buffer, which outlives this call.
+        Some(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
+    }
+}
+
+pub(crate) mod model_edit {
+    //! The model values envc writes after compiling: `[actions]` gains and `[events]` (domain
+    //! randomization of an env's own model copy).
+
+    use std::marker::PhantomData;
+
+    use mujoco_rs::mujoco_c::mjModel;
+    use mujoco_rs::prelude::MjModel;
+
+    /// `mjNGAIN` (= `mjNBIAS`): entries per actuator of `gainprm` and `biasprm`.
+    pub(crate) const NPRM: usize = mujoco_rs::mujoco_c::mjNGAIN as usize;
+    const _: () = assert!(mujoco_rs::mujoco_c::mjNBIAS as usize == NPRM);
+
+    /// A model array of doubles envc writes, with MuJoCo's row strides.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+    pub(crate) enum ModelArray {
+        GeomFriction,
+        BodyMass,
+        BodyIpos,
+        DofDamping,
+        DofArmature,
+        GainPrm,
+        BiasPrm,
+        Gravity,
+        Timestep,
+    }
+
+    impl ModelArray {
+        /// The number of doubles the array holds in `m`.
+        fn len(self, m: &mjModel) -> usize {
+            let n = |x: i64| usize::try_from(x).unwrap_or(0);
+            match self {
+                ModelArray::GeomFriction => 3 * n(m.ngeom),
+                ModelArray::BodyMass => n(m.nbody),
+                ModelArray::BodyIpos => 3 * n(m.nbody),
+                ModelArray::DofDamping | ModelArray::DofArmature => n(m.nv),
+                ModelArray::GainPrm | ModelArray::BiasPrm => NPRM * n(m.nu),
+                ModelArray::Gravity => 3,
+                ModelArray::Timestep => 1,
+            }
+        }
+
+        /// The address of value `idx`. Panics (a bug: slots are checked when they are built) when
+        /// `idx` is outside the array.
+        fn addr(self, m: *mut mjModel, idx: usize) -> *mut f64 {
+            // SAFETY: `m` is a live model (both callers hold a borrow of it); reading its sizes and
+            // array pointers does not touch the arrays.
+            let len = self.len(unsafe { &*m });
+            assert!(
+                idx < len,
+                "{self:?}[{idx}] outside the model's {len} values"
+            );
+            // SAFETY: as above; `idx` is within the array, checked just now.
+            unsafe {
+                match self {
+                    ModelArray::GeomFriction => (*m).geom_friction.add(idx),
+                    ModelArray::BodyMass => (*m).body_mass.add(idx),
+                    ModelArray::BodyIpos => (*m).body_ipos.add(idx),
+                    ModelArray::DofDamping => (*m).dof_damping.add(idx),
+                    ModelArray::DofArmature => (*m).dof_armature.add(idx),
+                    ModelArray::GainPrm => (*m).actuator_gainprm.add(idx),
+                    ModelArray::BiasPrm => (*m).actuator_biasprm.add(idx),
+                    ModelArray::Gravity => (&raw mut (*m).opt.gravity).cast::<f64>().add(idx),
+                    ModelArray::Timestep => &raw mut (*m).opt.timestep,
+                }
+            }
+        }
+
+        /// Value `idx` of this array in `m`.
+        pub(crate) fn get(self, m: &mjModel, idx: usize) -> f64 {
+            // SAFETY: an address within the array of a live model, read while it is borrowed.
+            unsafe { *self.addr((m as *const mjModel).cast_mut(), idx) }
+        }
+    }
+
+    /// Writes into one model's values.
+    pub(crate) struct ModelValues<'a> {
+        m: *mut mjModel,
+        _model: PhantomData<&'a MjModel>,
+    }
+
+    impl<'a> ModelValues<'a> {
+        /// Writes into a model no env or data uses yet.
+        pub(crate) fn owned(model: &'a mut MjModel) -> ModelValues<'a> {
+            // SAFETY: the model is borrowed exclusively; the pointer is used only while it is.
+            let m: *mut mjModel = unsafe { model.ffi_mut() };
+            ModelValues {
+                m,
+                _model: PhantomData,
+            }
+        }
+
+        /// Writes into an env's own model copy (an env whose `[events]` write the model compiles
+        /// one for itself), shared only with that env's data. The env calls this only while it uses
+        /// neither its model nor its data otherwise, and never from two threads at once (an env is
+        /// stepped by one thread at a time).
+        pub(crate) fn env_copy(model: &'a MjModel) -> ModelValues<'a> {
+            ModelValues {
+                m: (model.ffi() as *const mjModel).cast_mut(),
+                _model: PhantomData,
+            }
+        }
+
+        pub(crate) fn get(&self, arr: ModelArray, idx: usize) -> f64 {
+            // SAFETY: an address within the array (checked by `addr`) of a live model.
+            unsafe { *arr.addr(self.m, idx) }
+        }
+
+        pub(crate) fn set(&mut self, arr: ModelArray, idx: usize, v: f64) {
+            // SAFETY: as in `get`; writes go to the model's arrays, which nothing else reads or
+            // writes meanwhile (the constructors' contracts).
+            unsafe { *arr.addr(self.m, idx) = v };
+        }
+    }
+}
+
+pub(crate) mod state {
+    //! Borrows of an `mjData` that mujoco-rs's accessors cannot split.
+
+    use mujoco_rs::prelude::MjData;
+    use mujoco_rs::wrappers::mj_model::traits::ModelType;
+
+    /// `qpos` (nq) and `qvel` (nv), both writable at once (a reset draws into either).
+    pub(crate) fn qpos_qvel_mut<M: ModelType>(data: &mut MjData<M>) -> (&mut [f64], &mut [f64]) {
+        let m = data.model().ffi();
+        let (nq, nv) = (
+            usize::try_from(m.nq).unwrap_or(0),
+            usize::try_from(m.nv).unwrap_or(0),
+        );
+        // SAFETY: the data's own arrays, nq and nv doubles (MuJoCo allocates both, even empty);
+        // they do not overlap, and both borrows end with the exclusive borrow of `data`.
+        unsafe {
+            let d = data.ffi_mut();
+            (slice_mut(d.qpos, nq), slice_mut(d.qvel, nv))
+        }
+    }
+
+    /// # Safety
+    /// `ptr` points to `len` initialised doubles, borrowed by nothing else for `'a`.
+    unsafe fn slice_mut<'a>(ptr: *mut f64, len: usize) -> &'a mut [f64] {
+        if len == 0 || ptr.is_null() {
+            &mut []
+        } else {
+            // SAFETY: the caller's contract.
+            unsafe { std::slice::from_raw_parts_mut(ptr, len) }
+        }
+    }
+}
