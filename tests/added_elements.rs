@@ -2,7 +2,6 @@
 //! body on two slide joints, a fingertip site, a camera and a light on a URDF arm that has none
 //! of them. The compiled model agrees with what the spec resolved (E1002 would say otherwise), the
 //! selectors read the added elements, and their values are what the geometry says.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use envc::{Env, Override};
 

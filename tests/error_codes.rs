@@ -1,6 +1,5 @@
 //! Every error code the code can emit has an entry in docs/errors.md (a table row and a section),
 //! and every documented code is still emitted somewhere: the table is the contract users read.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::collections::BTreeSet;
 use std::path::Path;

@@ -3,7 +3,6 @@
 //! (`reference/check_events.py`); the same seed gives the same model and trajectory in a single
 //! env, at any vector-env position and on 1, 2 and 4 threads, whatever happened before; other
 //! envs sharing the compiled model are unaffected; reset and step stay allocation-free.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::sync::Arc;
 

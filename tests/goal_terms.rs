@@ -1,7 +1,6 @@
 //! Goal terms of the spec language (`goal_sparse`, `goal_dense`, `goal_reached`,
 //! `[termination.*]`, the env-held goal), checked against Gymnasium / Gymnasium-Robotics numbers
 //! recorded by tests/reference/record_goal.py (fixtures/goal/), never against envc's own code.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,7 @@
 //! envc's integration tests, one module per file of this directory (fixtures and reference
 //! scripts live in `reference/`). One binary instead of one per file: each links MuJoCo, HDF5 and
 //! the whole runtime, so linking was most of the suite's build time.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 #[global_allocator]
 static A: envc_tests::ThreadCounting = envc_tests::ThreadCounting;

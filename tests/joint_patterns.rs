@@ -2,7 +2,6 @@
 //! floors, commands in agents' observations and the `minus` pairing warning, over
 //! `tests/fixtures/joint_patterns/` (a floating robot whose model has no floor, actuators or
 //! keyframe, as mjlab's robots come).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use envc::Env;
 use envc::multi_agent::MultiAgentEnv;

@@ -5,7 +5,6 @@
 //!   note when the venv is missing);
 //! - the command schedule and standing-still probability, the PD targets and gains, and the
 //!   draw order, against values computed here from the spec and a separate numpy-compatible RNG.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::Path;
 

@@ -4,7 +4,6 @@
 //!
 //! `ENVC_MAZE_DIR=<dir>` replays a fresh recording instead of the committed fixtures (the live
 //! check in scripts/test.sh).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -2,7 +2,6 @@
 //! and datasets written by Python's `DataCollector` (tests/reference/check_minari.py
 //! --python-out; committed under tests/reference/fixtures/minari, or fresh ones in ENVC_MINARI_DIR).
 //! The real `minari` package loading envc's datasets is checked by check_minari.py.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,6 @@
 //! `VecEnv::step` allocates nothing after construction, on any of its threads (a process-wide
 //! counting allocator; this binary holds this one test so nothing else allocates meanwhile).
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};

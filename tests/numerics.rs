@@ -3,7 +3,6 @@
 //! kernel of the wheel) and float64 `np.exp` (SVML or glibc), bit for bit under the recorded
 //! profile. With `$ENVC_NUMERICS_DIR` (a live matrix recorded on this machine) `auto` must also
 //! pick the recorded profile from the recorded settings, as numpy and OpenBLAS did.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -5,7 +5,6 @@
 //! - a delayed segment at step t is the undelayed value at t − N (the reset value before);
 //! - an env with action latency N is an env without latency fed the actions shifted by N;
 //! - stepping and resetting allocate nothing; a spec without these keys draws nothing new.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

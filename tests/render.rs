@@ -2,7 +2,6 @@
 //! camera and body names checked when the env is built (E1503 at the value's location), bad
 //! settings (E1505), envs rendering from several threads. Frame-for-frame equality with
 //! Gymnasium is tests/python/test_render.py.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use envc::render::RenderMode;
 use envc::{Env, EnvError, Environment, Override};

@@ -1,6 +1,5 @@
 //! Bad input at run time is an error value with a stable code, never a panic or an abort, and
 //! MuJoCo's messages are captured instead of printed or logged to MUJOCO_LOG.TXT.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,7 @@
 //! Compile-fail tests: spec mistakes in `envc::env!` are compile errors that name the TOML file,
 //! line and column, quote the line with a caret, say what was expected and suggest a fix; all
 //! errors at once. The expected messages are pinned in `ui/*.stderr`.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 #[test]
 fn spec_errors_are_compile_errors() {

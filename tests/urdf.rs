@@ -2,7 +2,6 @@
 //! several URDFs, checked by the runtime's model check and against the compiled model's arrays),
 //! `[actuators]` / `[physics]` work on URDF and MJCF models, and the URDF reaching arm runs through
 //! the dynamic env, the typed macro and the error paths.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,6 @@
 //! Vectorized envs: replays Gymnasium 1.4.0 `make_vec(..., vectorization_mode="sync")` recordings
 //! (tests/reference/record_vector.py; both autoreset modes) bit for bit, and checks that the batch
 //! buffers do not depend on the number of threads or on the order in which threads finish.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::collections::BTreeMap;
 use std::fs::File;

@@ -21,7 +21,6 @@
 //! positions and messages (envspec/tests/bad_input.rs, maze_errors.rs, agents_typos.rs,
 //! cli/tests/exit_status.rs) are not repeated there; the catalogue checks that each code reaches
 //! a user through the command line.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

@@ -1,5 +1,6 @@
 //! `cli`'s integration tests, one module per file of this directory: the `envc` binary is run by most (`CARGO_BIN_EXE_envc`, or `ENVC_BIN` for the release build in scripts/test.sh).
 //! One binary instead of one per file, so the suite links once.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 mod catalogue;
 mod command_matrix;

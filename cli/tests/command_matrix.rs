@@ -2,7 +2,6 @@
 //! the table between the `command-matrix` markers and runs each cell on a bundled id and on a spec
 //! file of the user's own (outside `specs/`). `yes` must succeed; `E0602` must fail with status 2
 //! and that code.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -6,7 +6,6 @@
 //! Mount and PID namespaces (`unshare`, root) stand in for containers sharing a datasets
 //! directory, a read-only mount and a small disk; those tests print why and pass where `unshare`
 //! is unavailable.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};

@@ -3,7 +3,6 @@
 //! (ENVC_BLESS=1 regenerates it; review the change). Cell centres below are computed by hand from
 //! Gymnasium-Robotics' `Maze.cell_rowcol_to_xy`: x = (col + 0.5)·s − cols·s/2,
 //! y = rows·s/2 − (row + 0.5)·s, here with s = 4 on a 5 × 5 grid.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -1,6 +1,5 @@
 //! docs/diff-rules.md and `envspec::diff::RULES` list the same rules (id, category, breaking,
 //! description) both ways, and every rule id a pinned report prints is in the table.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::collections::BTreeMap;
 use std::path::Path;

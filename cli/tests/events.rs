@@ -2,7 +2,6 @@
 //! each element can take, from the compiled model: Ant's floor friction is 1, ant.xml's default),
 //! and `envc diff` reports randomization changes in their own category, saying what each does to
 //! the training distribution.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -2,7 +2,6 @@
 //! here once panicked, aborted, grew past gigabytes or never returned. Each now ends within
 //! seconds, under a memory cap, with a coded error at the offending line (`envspec::limits` holds
 //! the bounds; docs/limits.md explains them).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -1,5 +1,4 @@
 //! `--numerics`, `ENVC_NUMERICS` and `envc info`: profile choices at the CLI's edges.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::process::{Command, Output};
 

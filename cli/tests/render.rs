@@ -1,7 +1,6 @@
 //! `envc render`: videos that play back with the frames asked for (ffprobe), replayed actions,
 //! GIF, PNG frames (the png crate, no ffmpeg) with the pixels `Env::render` returns, and the failures: no EGL (E1501, naming the packages), an unknown output
 //! kind or no ffmpeg for a video (E1506), none leaving a file behind.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::Path;
 use std::process::{Command, Output};

@@ -1,7 +1,6 @@
 //! `envc rollout --policy zero|random --steps N`: a trajectory without writing a `.npy` first.
 //! The zero policy is the same rollout as an all-zero action file; the random policy's actions
 //! (stored in no file) give the same trajectory as those actions replayed from a file.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::Path;
 use std::process::Command;

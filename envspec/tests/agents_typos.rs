@@ -1,7 +1,6 @@
 //! A typo in a factorization's node name is one error with an honest suggestion (issue 17: it
 //! cascaded into a second, misleading "leaves actuators undriven", and the suggestion picked one
 //! of several equally close names).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use envspec::Code;
 

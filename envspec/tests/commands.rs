@@ -1,7 +1,6 @@
 //! `[commands.*]`, `[actions]` and the legged reward kinds: resolution, located errors with
 //! suggestions, and their diff rules. Written over the joystick example and the shared Go1
 //! (`../shared/models/unitree_go1`), each case one edit of the example.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,5 @@
 //! `[events]` resolution: the IR of good events (elements in model order, dofs of joints, the
 //! compiled timestep) and a located, coded error for each kind of mistake (docs/errors.md).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 

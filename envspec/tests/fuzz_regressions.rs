@@ -1,6 +1,5 @@
 //! Inputs the fuzzer (cli/tests/fuzz.rs, docs/fuzzing.md) found crashing a pure reader, each
 //! checked to give its diagnostic, rendered, instead.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use envspec::Code;
 use envspec::maze::load_maze;

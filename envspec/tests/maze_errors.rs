@@ -2,7 +2,6 @@
 //! when the map is a file of its own), and a suggestion where one exists. Layout codes are
 //! E0701–E0705 (docs/errors.md). The robot spec is never read here (envspec checks the maze
 //! only).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -1,7 +1,6 @@
 //! Observation noise, delay and action latency in the spec language: what they resolve to, their
 //! located errors, and how `diff` reports them (the randomization category, `noise-*` and
 //! `latency-*` rules; never `observation-segment-key-changed`).
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::Path;
 

@@ -1,5 +1,6 @@
 //! `envspec`'s integration tests, one module per file of this directory: the spec language checked without MuJoCo.
 //! One binary instead of one per file, so the suite links once.
+#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 mod agents_typos;
 mod bad_input;

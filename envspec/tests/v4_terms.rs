@@ -2,7 +2,6 @@
 //! (also pruned from `sum`), `at = "before"`, `paid_when_unhealthy`, and info entries of kind
 //! `term` with `key` / `when` / `in_reset` / `unweighted`. Behaviour is checked bit for bit against
 //! the reference by tests/parity.rs; this file checks resolution and the error paths.
-#![allow(clippy::unwrap_used)] // Test helpers outside `#[test]` functions unwrap too.
 
 use std::path::{Path, PathBuf};
 
