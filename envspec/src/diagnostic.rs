@@ -299,7 +299,7 @@ pub enum Code {
     E1403,
     /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
     E1430,
-    // Rendering (issue 15; envspec::camera and the runtime's renderer).
+    // Rendering (envspec::camera and the runtime's renderer).
     /// No usable EGL / OpenGL library (headless rendering needs Mesa's EGL).
     E1501,
     /// EGL is there but gives no headless display or context.

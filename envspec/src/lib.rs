@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! The envc spec language.
 //!
 //! A spec is a TOML file describing one environment: its MuJoCo model, parameters with defaults,

@@ -247,7 +247,7 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             ),
         }
     }
-    // Gymnasium's rendering arguments, which every task spec has (issue 15).
+    // Gymnasium's rendering arguments, which every task spec has.
     crate::camera::add_render_params(spec, &mut params);
     for (i, o) in overrides.iter().enumerate() {
         if overrides[..i].iter().any(|earlier| earlier.name == o.name) {

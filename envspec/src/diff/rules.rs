@@ -19,7 +19,7 @@ pub enum Category {
     Termination,
     Reset,
     /// Commands, observation noise and delay, action latency, domain randomization: what the
-    /// policy is trained on (issue 19).
+    /// policy is trained on.
     Randomization,
     Dynamics,
     Parameters,
@@ -355,7 +355,7 @@ rules! {
     MazeRobotUnresolved = "maze-robot-unresolved", Dynamics, true,
         "A robot spec could not be resolved, so its changes are unknown: counted as breaking until reviewed.";
 
-    // Commands and PD actions (issue 19).
+    // Commands and PD actions.
     CommandsAdded = "commands-added", Randomization, true,
         "A command was added: the policy is asked to follow something new (and its draws shift the RNG stream).";
     CommandsRemoved = "commands-removed", Randomization, true,
