@@ -609,17 +609,17 @@ fn multi_agent_step_and_reset_do_not_allocate() {
         let refs: Vec<&[f64]> = acts.iter().map(Vec::as_slice).collect();
         let global = vec![0.1; env.spec().act_dim()];
         let n = envc_tests::allocations(|| {
-        for i in 0..100 {
-            let s = if i % 2 == 0 {
-                env.step(&refs).unwrap()
-            } else {
-                env.step_global(&global).unwrap()
-            };
-            if s.terminated || s.truncated {
-                env.reset(None);
+            for i in 0..100 {
+                let s = if i % 2 == 0 {
+                    env.step(&refs).unwrap()
+                } else {
+                    env.step_global(&global).unwrap()
+                };
+                if s.terminated || s.truncated {
+                    env.reset(None);
+                }
             }
-        }
-        env.reset(Some(1));
+            env.reset(Some(1));
         });
         assert_eq!(n, 0, "{file}: {n} allocations");
     }

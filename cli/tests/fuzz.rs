@@ -773,12 +773,17 @@ fn drive_in_process(t: &Target, out: &Path, seed: u64, seconds: f64) -> Stats {
         let left = (deadline - Instant::now()).as_secs_f64();
         let _ = std::fs::remove_file(dir.join("done"));
         let mut cmd = Command::new(std::env::current_exe().unwrap());
-        cmd.args(["fuzz::fuzz_worker", "--exact", "--nocapture", "--test-threads=1"])
-            .env("ENVC_FUZZ_WORKER", t.name)
-            .env("ENVC_FUZZ_WORKER_OUT", &dir)
-            .env("ENVC_FUZZ_SEED", seed.to_string())
-            .env("ENVC_FUZZ_START", start.to_string())
-            .env("ENVC_FUZZ_WORKER_SECONDS", left.to_string());
+        cmd.args([
+            "fuzz::fuzz_worker",
+            "--exact",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env("ENVC_FUZZ_WORKER", t.name)
+        .env("ENVC_FUZZ_WORKER_OUT", &dir)
+        .env("ENVC_FUZZ_SEED", seed.to_string())
+        .env("ENVC_FUZZ_START", start.to_string())
+        .env("ENVC_FUZZ_WORKER_SECONDS", left.to_string());
         let x = run_limited(cmd, &dir, Duration::from_secs_f64(left) + SLOW * 6);
         if let Ok(done) = std::fs::read_to_string(dir.join("done")) {
             let mut l = done.lines();
