@@ -15,38 +15,30 @@
 //! # Ok::<(), envspec::Diagnostics>(())
 //! ```
 
-// Every public item says what it is; CI denies warnings. The modules marked `allow` below are
-// still being documented (their items are listed in none of the docs yet).
+// Every public item says what it is or why it exists; CI denies warnings.
 #![warn(missing_docs)]
 
 pub mod agents;
 pub mod bundle;
 pub mod camera;
-#[allow(missing_docs)]
 pub mod commands;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;
-#[allow(missing_docs)]
 pub mod events;
 pub mod goal;
-#[allow(missing_docs)]
 pub mod ir;
 pub mod limits;
 pub mod maze;
-#[allow(missing_docs)]
 pub mod mjcf;
 pub mod noise;
 pub mod open;
-#[allow(missing_docs)]
 pub mod params;
 pub mod path;
 pub mod registry;
 pub mod resolve;
-#[allow(missing_docs)]
 pub mod selector;
 pub mod source;
-#[allow(missing_docs)]
 pub mod syntax;
 pub mod urdf;
 pub mod value;
