@@ -30,11 +30,11 @@ pub struct Report {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
-    /// Nothing changed (exit 0).
+    /// Nothing changed.
     NoChange,
-    /// Only compatible changes (exit 1).
+    /// Only compatible changes.
     Compatible,
-    /// Some change breaks results or policies, or a flag was raised (exit 3).
+    /// Some change breaks results or policies, or a flag was raised.
     Breaking,
 }
 
