@@ -56,7 +56,7 @@ if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1; then
   fi
 fi
 
-# Headless rendering (issue 15): Mesa's EGL with its software rasteriser (llvmpipe) for envc's
+# Headless rendering: Mesa's EGL with its software rasteriser (llvmpipe) for envc's
 # renderer and the reference's MUJOCO_GL=egl, and ffmpeg for `envc render`'s videos (PNG frames need
 # none) and RecordVideo.
 # envc itself starts without them: rendering without EGL is error E1501.

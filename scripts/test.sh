@@ -54,7 +54,7 @@ passed "release catalogue and fuzz"
 "$PY" -m pytest -q -p no:cacheprovider tests/python
 passed "pytest"
 
-# Rendering (issue 15): tests/python/test_render.py above compares frames with Gymnasium's; here the
+# Rendering: tests/python/test_render.py above compares frames with Gymnasium's; here the
 # README's gallery is re-rendered and must equal the committed pictures.
 scripts/gallery.sh --check
 passed "gallery"

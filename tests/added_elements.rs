@@ -1,4 +1,4 @@
-//! A spec adds to its model (issue 17): `tests/fixtures/urdf/reach_added_goal.toml` puts a goal
+//! A spec adds to its model: `tests/fixtures/urdf/reach_added_goal.toml` puts a goal
 //! body on two slide joints, a fingertip site, a camera and a light on a URDF arm that has none
 //! of them. The compiled model agrees with what the spec resolved (E1002 would say otherwise), the
 //! selectors read the added elements, and their values are what the geometry says.

@@ -1,5 +1,7 @@
-//! The golden values published in the reference doc (§6, recorded from Gymnasium 1.4.0 on
-//! MuJoCo 3.17.0): `reset(seed=0)`, then up to 50 steps with the float32 action
+//! Golden values of Gymnasium 1.4.0 on MuJoCo 3.17.0, the same as the `GOLDEN` table of
+//! `tests/reference/record.py`, which checks them against the live Gymnasium before every
+//! recording and alone with `record.py --verify-golden` (protocol: tests/reference/README.md,
+//! "Golden check"): `reset(seed=0)`, then up to 50 steps with the float32 action
 //! `a_t[i] = float32(k) · high[i]`, `k = ((t + i) % 5 − 2) / 2`, stopping at the episode end.
 
 use envc::Env;

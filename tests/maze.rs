@@ -11,7 +11,7 @@ use envc::maze::{MazeEnv, ResetOptions};
 use envc::{EnvError, Override};
 use serde_json::Value;
 
-/// `../shared` of the project (third-party models used by the tests).
+/// Third-party models (MuJoCo Menagerie's) the tests use, in a directory beside the repository.
 const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
 
 fn dir() -> PathBuf {
@@ -445,8 +445,8 @@ fn runtime_maze_checks_point_at_the_spec() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Errors found while building a maze's robot point into the maze spec (issue 16: they had no
-/// location): a missing robot file at `robot`, a bad `robot_params` value at its entry, a robot
+/// Errors found while building a maze's robot point into the maze spec, each at its
+/// location: a missing robot file at `robot`, a bad `robot_params` value at its entry, a robot
 /// that is a maze (or the maze itself) or a multi-agent spec as one error at `robot`, a robot
 /// model using the maze's own names (E0106), a negative `goal_threshold` (E0803) and a reset
 /// option on a wall (E0708) at the map.

@@ -92,7 +92,7 @@ fn fixture_is_from_pinned_numpy() {
 
 #[test]
 fn seed_sequence_state_words() {
-    // The documented seed-0 words (gymnasium_mujoco_v5.md §2.5).
+    // numpy's `SeedSequence(0).generate_state(4, np.uint64)`.
     assert_eq!(
         SeedSequence::new(0).generate_state_u64(4),
         [

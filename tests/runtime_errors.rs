@@ -113,7 +113,7 @@ fn a_model_mujoco_rejects_is_a_compile_error() {
 }
 
 /// E1001 points into the model file: MuJoCo's `Element ..., line N` becomes `model.xml:N:col`
-/// with the line shown (issue 16: it was a bare message without a location).
+/// with the line shown, not a bare message without a location.
 #[test]
 fn a_compile_error_names_the_model_line() {
     let dir = tempdir("badmodel-line");

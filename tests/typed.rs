@@ -223,7 +223,7 @@ fn typed_segments_and_info_fields_are_the_recorded_values() {
 
 #[test]
 fn sizes_names_and_layout_come_from_the_specs() {
-    // Sizes from the reference doc's table (Gymnasium 1.4.0).
+    // Gymnasium 1.4.0's `observation_space.shape` and `action_space.shape`.
     assert_eq!((AntV5::OBS_DIM, AntV5::ACT_DIM), (105, 8));
     assert_eq!((HalfCheetahV5::OBS_DIM, HalfCheetahV5::ACT_DIM), (17, 6));
     assert_eq!((HopperV5::OBS_DIM, HopperV5::ACT_DIM), (11, 3));

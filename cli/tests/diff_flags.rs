@@ -1,6 +1,6 @@
 //! A change that alters results under the same env id is flagged for a version bump, whatever
-//! it alters (issue 17: a dynamics-only breaking change raised no flag; Gymnasium bumps ids for
-//! physics, reward and termination fixes too).
+//! it alters: a dynamics-only breaking change raises the flag too, as Gymnasium bumps ids for
+//! physics, reward and termination fixes.
 
 use std::process::Command;
 
@@ -47,8 +47,7 @@ fn a_dynamics_only_change_under_the_same_id_is_flagged() {
 
 /// Ant-v5 with its floor's friction changed: MuJoCo takes the larger friction of two geoms in
 /// contact, and the ant's geoms have 1.0, so a floor at 0.6 changes no contact (a rollout is
-/// bit-identical: compatible), while a floor at 1.5 does (breaking). Issue 17: the first was
-/// reported as breaking dynamics.
+/// bit-identical: compatible, not breaking dynamics), while a floor at 1.5 does (breaking).
 #[test]
 fn a_model_change_that_reaches_no_rollout_is_compatible() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
@@ -98,8 +97,8 @@ fn a_model_change_that_reaches_no_rollout_is_compatible() {
 
 /// A new default for a parameter whose every use is switched off by default (Ant-v4's
 /// `contact_cost_weight`, read only with `use_contact_forces = false`) changes nothing a default
-/// env computes: compatible, and said so; moving the term's lines is no change at all (issue 17:
-/// such a case printed "resolved value: was absent, now absent — same text, different value").
+/// env computes: compatible, and said so; moving the term's lines is no change at all
+/// (never "resolved value: was absent, now absent — same text, different value").
 #[test]
 fn a_default_read_only_by_switched_off_terms_is_compatible() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");

@@ -39,7 +39,7 @@ const MEMORY_LIMIT: u64 = 4 << 30;
 /// Findings saved per signature (the rest are counted).
 const KEEP_PER_SIGNATURE: usize = 3;
 
-/// Known problems being fixed elsewhere (issue 16): reported, not failed on, until the fix lands.
+/// Known problems whose fix has not landed yet: reported, not failed on, until the fix lands.
 /// Each is (text of the symptom, text of the input files, output or argv, what it is); both must
 /// occur. Remove an entry when its fix is merged; their inputs are in `tests/fuzz/findings/`.
 /// Empty: the first runs' findings (device files read without end, NumpyRng::uniform on an

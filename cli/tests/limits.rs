@@ -1,4 +1,4 @@
-//! Issue 16's crashes, aborts, runaway memory and hangs, each as the user met it: every input
+//! Crashes, aborts, runaway memory and hangs found by fuzzing and by users, each as the user met it: every input
 //! here once panicked, aborted, grew past gigabytes or never returned. Each now ends within
 //! seconds, under a memory cap, with a coded error at the offending line (`envspec::limits` holds
 //! the bounds; docs/limits.md explains them).

@@ -1,6 +1,6 @@
 //! `envc run` says why episodes ended: the health check, the element that failed it and its
-//! value; and when the reset state already fails a check, it says so (issue 17: a biped whose
-//! slide-joint root starts at z = 0 "terminated" at once, and nothing said why).
+//! value; and when the reset state already fails a check, it says so (a biped whose
+//! slide-joint root starts at z = 0 terminates at once, and the summary says why).
 
 use std::process::Command;
 
@@ -49,7 +49,7 @@ fn a_healthy_start_gets_no_warning() {
     assert!(!out.contains("warning"), "{out}");
 }
 
-/// `--episodes 0` is an honest summary, not `min inf max -inf` (issue 16); one episode is one
+/// `--episodes 0` is an honest summary, not `min inf max -inf`; one episode is one
 /// episode, not "1 episodes".
 #[test]
 fn no_episodes_and_one_episode_are_said_as_such() {

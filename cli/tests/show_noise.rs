@@ -1,4 +1,4 @@
-//! `envc show` lists observation noise, delay and action latency (spec-reference §18) with their
+//! `envc show` lists observation noise, delay and action latency (docs/spec-reference.md §19) with their
 //! amplitudes, clip order and durations; a spec without them prints no such block.
 
 use std::process::Command;

@@ -1,4 +1,4 @@
-//! `envc show` says what the env computes without misleading (issue 17): a cost that is a sum is
+//! `envc show` says what the env computes without misleading: a cost that is a sum is
 //! printed in parentheses (InvertedDoublePendulum-v5's reference: `reward = alive_bonus −
 //! dist_penalty − vel_penalty`, `dist_penalty = 0.01·x² + (y − 2)²`), and an env with no health
 //! checks does not claim that an unhealthy state ends it.

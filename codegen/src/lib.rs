@@ -8,7 +8,7 @@
 //! ```text
 //! envc::env!("specs/gymnasium/ant.toml");                       // type `AntV5` (from the id)
 //! envc::env!(pub Go1 = "specs/examples/go1.toml",               // your own name ...
-//!            xml_file = "../shared/models/unitree_go1/scene.xml"); // ... and build-time overrides
+//!            xml_file = "menagerie/unitree_go1/scene.xml"); // ... and build-time overrides
 //! ```
 //!
 //! Relative paths resolve against the calling crate's `CARGO_MANIFEST_DIR` (like `include_str!`);

@@ -83,11 +83,6 @@ pub fn hash() -> &'static str {
     embedded::HASH
 }
 
-/// The number of embedded files.
-pub fn file_count() -> usize {
-    embedded::FILES.len()
-}
-
 fn resolve() -> Resolved {
     if let Some(dir) = NAMED.lock().ok().and_then(|n| n.clone()) {
         let dir = dir.canonicalize().unwrap_or(dir);

@@ -51,11 +51,6 @@ pub const RENDER_PARAMS: &[(&str, ParamType, &str, &str)] = &[
     ),
 ];
 
-/// Whether `name` is one of the rendering parameters.
-pub fn is_render_param(name: &str) -> bool {
-    RENDER_PARAMS.iter().any(|(n, ..)| *n == name)
-}
-
 /// Append the rendering parameters the spec does not declare itself (called by
 /// `params::resolve_params` before the overrides are applied, so they are overridable).
 pub fn add_render_params(spec: &Spec, params: &mut Vec<Param>) {
@@ -84,14 +79,18 @@ pub fn add_render_params(spec: &Spec, params: &mut Vec<Param>) {
 /// A model object named by id or by name.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ObjRef {
+    /// By its index in the model (`camera_id`, `trackbodyid`).
     Id(i64),
+    /// By its name in the model (`camera_name`).
     Name(String),
 }
 
 /// A value and where it was written (none for an override given in code).
 #[derive(Clone, Debug)]
 pub struct Located<T> {
+    /// The value.
     pub value: T,
+    /// Where it was written; None for a default or an override given in code.
     pub loc: Option<Location>,
     /// The parameter it came from, for messages without a location.
     pub param: &'static str,
@@ -103,23 +102,34 @@ pub struct Located<T> {
 pub enum CameraKey {
     /// `type`: 0 free, 1 tracking, 2 fixed (or "free", "tracking", "fixed").
     Type(i32),
+    /// `fixedcamid`: the camera a fixed view looks through.
     FixedCam(Located<ObjRef>),
+    /// `trackbodyid`: the body a tracking view follows.
     TrackBody(Located<ObjRef>),
+    /// `lookat`: the point the camera looks at.
     Lookat([f64; 3]),
+    /// `distance` from the look-at point.
     Distance(f64),
+    /// `azimuth` in degrees.
     Azimuth(f64),
+    /// `elevation` in degrees.
     Elevation(f64),
+    /// `orthographic`: 1 for an orthographic projection.
     Orthographic(i32),
 }
 
 /// Everything the runtime needs to render a task env.
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
+    /// Frame width in pixels.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
+    /// Capacity of the scene's geom buffer (`mjv_makeScene`).
     pub max_geom: u32,
     /// `camera_id` or `camera_name`; None: the free viewer camera.
     pub camera: Option<Located<ObjRef>>,
+    /// `default_camera_config`, applied in order to the free camera.
     pub camera_config: Vec<CameraKey>,
     /// `(mjtVisFlag, on)` in the order written.
     pub visual_options: Vec<(usize, bool)>,

@@ -8,25 +8,32 @@ use crate::selector::Selection;
 /// `resample_steps` steps; with probability `standing_probability` every component is 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Command {
+    /// The table's name; observations select it as `command[NAME]`.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
     /// Component names, in declared order (the draw order).
     pub components: Vec<String>,
+    /// Lower end of each component's uniform range.
     pub low: Vec<f64>,
+    /// Upper end of each component's uniform range.
     pub high: Vec<f64>,
     /// `resample_seconds` as written (None: drawn at reset only).
     pub resample_seconds: Option<f64>,
     /// `round(resample_seconds / dt)` env steps, at least 1 (0: drawn at reset only).
     pub resample_steps: u64,
+    /// Probability that a draw is all zeros (a standing command); 0: never.
     pub standing_probability: f64,
     /// Where the command's components start in the env's command buffer.
     pub offset: usize,
 }
 
 impl Command {
+    /// Number of components.
     pub fn len(&self) -> usize {
         self.components.len()
     }
+    /// Whether it has no components.
     pub fn is_empty(&self) -> bool {
         self.components.is_empty()
     }
@@ -37,7 +44,12 @@ impl Command {
 pub enum DefaultPose {
     /// A keyframe's `qpos` at each actuator's joint (`qposadr`, one per actuator), read from the
     /// compiled model.
-    Keyframe { name: String, qposadr: Vec<usize> },
+    Keyframe {
+        /// The keyframe's name.
+        name: String,
+        /// The `qpos` address of each actuator's joint.
+        qposadr: Vec<usize>,
+    },
     /// One value per actuator, as written.
     Values(Vec<f64>),
 }
@@ -45,7 +57,9 @@ pub enum DefaultPose {
 /// `[actions]`: an action is a joint target, `ctrl = default_pose + scale × action`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PdActions {
+    /// Action scale: radians (or metres) of target per unit of action.
     pub scale: f64,
+    /// The target of action 0.
     pub default_pose: DefaultPose,
     /// The action space (every actuator), not the control range.
     pub range: (f64, f64),
@@ -61,8 +75,11 @@ pub struct PdActions {
 /// (no air-time reward for a standing command; a stand-still cost only for one).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Gate {
+    /// The command components whose norm is compared.
     pub command: Selection,
+    /// The norm it is compared with.
     pub threshold: f64,
+    /// Gate open below the threshold instead of above it.
     pub below: bool,
 }
 
@@ -75,7 +92,9 @@ pub struct FeetContact {
     pub geoms: Vec<String>,
     /// Per foot: the name is a body's, not a geom's.
     pub bodies: Vec<bool>,
+    /// Geom or body name of the floor.
     pub floor: String,
+    /// The floor's name is a body's, not a geom's.
     pub floor_is_body: bool,
 }
 
@@ -85,43 +104,58 @@ pub enum LeggedTerm {
     /// `exp(−Σₖ coefₖ·(targetₖ − xₖ)² / σ)`: velocity tracking (`target` a command), or a pose
     /// kept near a default (`target = "default_pose"`).
     Tracking {
+        /// The tracked quantities `x`.
         source: Selection,
+        /// Their targets.
         target: Selection,
+        /// One weight per element.
         coefs: Vec<f64>,
+        /// Width of the exponential.
         sigma: f64,
     },
     /// `Σₖ |xₖ − mₖ|`, optionally gated.
     SumAbs {
+        /// The quantities `x`.
         source: Selection,
+        /// What is subtracted (`m`; none: zeros).
         minus: Option<Selection>,
+        /// When the term counts.
         gate: Option<Gate>,
     },
     /// `Σₖ (aₖ − a_prevₖ)²` of the action and the previous step's action.
     ActionRate,
     /// Playground / legged_gym feet air time: `Σ (air_time − threshold) · first_contact`, gated.
     FeetAirTime {
+        /// The feet and the floor.
         feet: FeetContact,
+        /// Air time in seconds below which a landing costs.
         threshold: f64,
+        /// When the term counts.
         gate: Option<Gate>,
     },
     /// `Σ contact · (vx² + vy²)` of the feet sites' world velocities, gated.
     FeetSlip {
+        /// The feet and the floor.
         feet: FeetContact,
         /// `site_linvel` rows of the feet sites, x and y of each (2 per foot).
         velocity: Selection,
+        /// When the term counts.
         gate: Option<Gate>,
     },
     /// `Σ max(f·lo − q, 0) + max(q − f·hi, 0)` over hinge/slide joints (soft limits: the
     /// model's range scaled by `factor`); joints without a range add 0.
     JointLimits {
+        /// The joint positions `q`.
         source: Selection,
         /// Joint id of each element.
         joints: Vec<usize>,
+        /// Scale of the model's range.
         factor: f64,
     },
 }
 
 impl LeggedTerm {
+    /// The `kind` values a spec may write (for suggestions).
     pub const KINDS: &'static [&'static str] = &[
         "tracking",
         "sum_abs",
@@ -130,6 +164,7 @@ impl LeggedTerm {
         "feet_slip",
         "joint_limits",
     ];
+    /// The `kind` a spec writes for this term.
     pub fn kind_name(&self) -> &'static str {
         match self {
             LeggedTerm::Tracking { .. } => "tracking",
@@ -140,6 +175,7 @@ impl LeggedTerm {
             LeggedTerm::JointLimits { .. } => "joint_limits",
         }
     }
+    /// The term's gate, for the kinds that have one.
     pub fn gate(&self) -> Option<&Gate> {
         match self {
             LeggedTerm::SumAbs { gate, .. }

@@ -146,6 +146,7 @@ pub fn reward_sum(spec: &ResolvedSpec) -> String {
     go(&spec.reward_sum, spec, true)
 }
 
+/// A health check, e.g. `0.7 ≤ qpos[1] ≤ 1e308 (every element)`.
 pub fn check(c: &HealthCheck) -> String {
     let src = c.sources.iter().map(sel).collect::<Vec<_>>().join(", ");
     match c.kind {
@@ -172,6 +173,7 @@ pub fn check(c: &HealthCheck) -> String {
     }
 }
 
+/// A `[reset.*]` step: its target, how it is set and the distribution drawn.
 pub fn reset_step(r: &ResetStep) -> String {
     let dist = match &r.dist {
         Distribution::Uniform { low, high } => {
@@ -220,6 +222,7 @@ pub fn reset_step(r: &ResetStep) -> String {
     format!("{} {op} {dist}{until}", sel(&r.target))
 }
 
+/// An info entry: what it reports and how it is computed.
 pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
     match &i.kind {
         InfoKind::Value { source, minus } => match minus {

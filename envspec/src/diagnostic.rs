@@ -12,12 +12,15 @@ use std::sync::Arc;
 /// A spec (or model) file held in memory so errors can quote it.
 #[derive(Debug)]
 pub struct SourceFile {
+    /// The path errors print (as given, not canonicalized).
     pub path: PathBuf,
+    /// The whole text, for quoting the line at a location.
     pub text: String,
     line_starts: Vec<usize>,
 }
 
 impl SourceFile {
+    /// Hold `text` read from `path`, indexing its line starts.
     pub fn new(path: impl Into<PathBuf>, text: String) -> Arc<Self> {
         let line_starts = std::iter::once(0)
             .chain(text.match_indices('\n').map(|(i, _)| i + 1))
@@ -100,11 +103,14 @@ pub fn read_source(
 /// A location: a byte range in a source file.
 #[derive(Clone, Debug)]
 pub struct Location {
+    /// The file the range is in.
     pub file: Arc<SourceFile>,
+    /// Byte range into the file's text.
     pub span: Range<usize>,
 }
 
 impl Location {
+    /// The range `span` of `file`.
     pub fn new(file: &Arc<SourceFile>, span: Range<usize>) -> Self {
         Location {
             file: Arc::clone(file),
@@ -299,7 +305,7 @@ pub enum Code {
     E1403,
     /// An actions `.npy` file that cannot be read, is truncated, or is not a 2-D float array.
     E1430,
-    // Rendering (issue 15; envspec::camera and the runtime's renderer).
+    // Rendering (envspec::camera and the runtime's renderer).
     /// No usable EGL / OpenGL library (headless rendering needs Mesa's EGL).
     E1501,
     /// EGL is there but gives no headless display or context.
@@ -330,8 +336,11 @@ impl fmt::Display for Code {
 /// One problem found in a spec, a model or an override.
 #[derive(Clone, Debug)]
 pub struct Diagnostic {
+    /// The stable code (docs/errors.md).
     pub code: Code,
+    /// One line saying what is wrong.
     pub message: String,
+    /// Where, when the problem is in a file (overrides and I/O errors may have none).
     pub location: Option<Location>,
     /// What was expected, shown under the caret.
     pub label: Option<String>,
@@ -340,6 +349,7 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
+    /// A diagnostic without location, label or help; add them with the builders below.
     pub fn new(code: Code, message: impl Into<String>) -> Self {
         Diagnostic {
             code,
@@ -349,22 +359,27 @@ impl Diagnostic {
             help: None,
         }
     }
+    /// Point the diagnostic at `location`.
     pub fn at(mut self, location: Location) -> Self {
         self.location = Some(location);
         self
     }
+    /// Point it at `location` when there is one.
     pub fn at_opt(mut self, location: Option<Location>) -> Self {
         self.location = location;
         self
     }
+    /// Say what was expected, under the caret.
     pub fn label(mut self, label: impl Into<String>) -> Self {
         self.label = Some(tidy(label.into()));
         self
     }
+    /// Add a suggestion.
     pub fn help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(tidy(help.into()));
         self
     }
+    /// Add a suggestion when there is one.
     pub fn help_opt(mut self, help: Option<String>) -> Self {
         if let Some(h) = help {
             self.help = Some(tidy(h));
@@ -527,18 +542,23 @@ fn snippet(text: &str, col: usize, width: usize) -> (String, String, usize) {
 pub struct Diagnostics(pub Vec<Diagnostic>);
 
 impl Diagnostics {
+    /// Record one more problem.
     pub fn push(&mut self, d: Diagnostic) {
         self.0.push(d);
     }
+    /// Whether nothing was reported.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
+    /// How many problems were reported.
     pub fn len(&self) -> usize {
         self.0.len()
     }
+    /// The problems, in the order found.
     pub fn iter(&self) -> impl Iterator<Item = &Diagnostic> {
         self.0.iter()
     }
+    /// Their codes, in order (what tests compare).
     pub fn codes(&self) -> Vec<Code> {
         self.0.iter().map(|d| d.code).collect()
     }

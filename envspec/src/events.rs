@@ -8,6 +8,7 @@
 pub enum EventField {
     /// `geom_friction[g][k]`: k = 0 sliding, 1 torsional, 2 rolling.
     GeomFriction(usize),
+    /// `body_mass`.
     BodyMass,
     /// `body_ipos` (the centre of mass in the body frame): x, y, z.
     BodyIpos,
@@ -30,15 +31,20 @@ pub enum EventField {
 /// What an event's `elements` name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ElementKind {
+    /// Geoms, by name.
     Geom,
+    /// Bodies, by name.
     Body,
+    /// Joints, by name (their dofs are written).
     Joint,
+    /// Actuators, by name.
     Actuator,
     /// Gravity and the timestep: model-wide, no elements.
     Model,
 }
 
 impl ElementKind {
+    /// The plural for messages, e.g. `geoms`.
     pub fn plural(self) -> &'static str {
         match self {
             ElementKind::Geom => "geoms",
@@ -48,6 +54,7 @@ impl ElementKind {
             ElementKind::Model => "model",
         }
     }
+    /// The singular for messages, e.g. `geom`.
     pub fn name(self) -> &'static str {
         match self {
             ElementKind::Geom => "geom",
@@ -59,6 +66,7 @@ impl ElementKind {
     }
 }
 
+/// Every field by the name an event's `field` writes, e.g. `geom_friction`.
 pub const FIELDS: &[(&str, EventField)] = &[
     ("geom_friction.sliding", EventField::GeomFriction(0)),
     ("geom_friction.torsional", EventField::GeomFriction(1)),
@@ -75,6 +83,7 @@ pub const FIELDS: &[(&str, EventField)] = &[
 ];
 
 impl EventField {
+    /// The name a spec writes for it.
     pub fn name(self) -> &'static str {
         FIELDS
             .iter()
@@ -82,9 +91,11 @@ impl EventField {
             .map(|(n, _)| *n)
             .unwrap_or("?")
     }
+    /// The field a spec's `field = "..."` names, if any.
     pub fn parse(s: &str) -> Option<EventField> {
         FIELDS.iter().find(|(n, _)| *n == s).map(|(_, f)| *f)
     }
+    /// What kind of element its `elements` name.
     pub fn elements(self) -> ElementKind {
         match self {
             EventField::GeomFriction(_) => ElementKind::Geom,
@@ -117,6 +128,7 @@ impl EventField {
             _ => None,
         }
     }
+    /// The largest value the field may take (results are clamped to it), if any.
     pub fn upper_bound(self) -> Option<f64> {
         match self {
             EventField::Timestep => Some(crate::limits::MAX_TIMESTEP),
@@ -137,6 +149,7 @@ impl EventField {
 /// The smallest timestep a randomized timestep is clamped to (a Gaussian draw may go below 0).
 pub const MIN_TIMESTEP: f64 = 1e-6;
 
+/// When an event draws.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EventMode {
     /// At the first reset and at every reset with a seed (from the compiled values).
@@ -144,10 +157,16 @@ pub enum EventMode {
     /// At every reset.
     Reset,
     /// Every `interval` seconds of simulated time; a range draws each interval uniformly.
-    Interval { low: f64, high: f64 },
+    Interval {
+        /// Shortest interval in seconds.
+        low: f64,
+        /// Longest interval in seconds (equal to `low`: a fixed interval).
+        high: f64,
+    },
 }
 
 impl EventMode {
+    /// The `mode` a spec writes for it.
     pub fn name(&self) -> &'static str {
         match self {
             EventMode::Startup => "startup",
@@ -157,17 +176,34 @@ impl EventMode {
     }
 }
 
+/// The distribution an event draws from, on the env's stream.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EventDist {
     /// numpy `uniform(low, high)`.
-    Uniform { low: f64, high: f64 },
+    Uniform {
+        /// Lower end.
+        low: f64,
+        /// Upper end.
+        high: f64,
+    },
     /// `exp(uniform(ln low, ln high))` (numpy's `np.exp` under the env's numerics profile).
-    LogUniform { low: f64, high: f64 },
+    LogUniform {
+        /// Lower end (> 0).
+        low: f64,
+        /// Upper end.
+        high: f64,
+    },
     /// `mean + std × standard_normal()`, numpy's `normal(mean, std)`.
-    Gaussian { mean: f64, std: f64 },
+    Gaussian {
+        /// The mean.
+        mean: f64,
+        /// The standard deviation.
+        std: f64,
+    },
 }
 
 impl EventDist {
+    /// The `distribution` a spec writes for it.
     pub fn name(&self) -> &'static str {
         match self {
             EventDist::Uniform { .. } => "uniform",
@@ -192,6 +228,7 @@ impl EventDist {
     }
 }
 
+/// How a draw combines with the compiled value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Operation {
     /// `value = base + draw`.
@@ -203,7 +240,9 @@ pub enum Operation {
 }
 
 impl Operation {
+    /// The `operation` values a spec may write (for suggestions).
     pub const NAMES: &'static [&'static str] = &["add", "scale", "abs"];
+    /// The operation a spec's `operation = "..."` names, if any.
     pub fn parse(s: &str) -> Option<Operation> {
         match s {
             "add" => Some(Operation::Add),
@@ -212,6 +251,7 @@ impl Operation {
             _ => None,
         }
     }
+    /// The `operation` a spec writes for it.
     pub fn name(self) -> &'static str {
         match self {
             Operation::Add => "add",
@@ -228,6 +268,7 @@ impl Operation {
         };
         (a.min(b), a.max(b))
     }
+    /// `op(base, draw)`: the value written.
     pub fn apply(self, base: f64, draw: f64) -> f64 {
         match self {
             Operation::Add => base + draw,
@@ -241,28 +282,37 @@ impl Operation {
 /// (geoms: in `ModelInfo::geoms`; the runtime looks geom ids up by name).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Element {
+    /// Its name in the model.
     pub name: String,
+    /// Its index in the model's numbering of its kind.
     pub index: usize,
     /// Joints: the first dof and the dof count (the values a joint field writes).
     pub dofs: (usize, usize),
 }
 
+/// What an event does.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EventKind {
     /// A model field of each element: `value = operation(base, draw)`.
     Model {
+        /// The field written.
         field: EventField,
         /// Empty for gravity and the timestep.
         elements: Vec<Element>,
+        /// What is drawn.
         dist: EventDist,
+        /// How the draw combines with the compiled value.
         operation: Operation,
         /// One draw for every value the event writes (else one per value).
         shared: bool,
     },
     /// `qvel[x] += uniform(x)`, `qvel[y] += uniform(y)` of each free joint.
     Push {
+        /// The free joints pushed.
         joints: Vec<Element>,
+        /// Range of the x velocity kick.
         x: (f64, f64),
+        /// Range of the y velocity kick.
         y: (f64, f64),
     },
 }
@@ -270,9 +320,13 @@ pub enum EventKind {
 /// `[events.<name>]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
+    /// When it draws.
     pub mode: EventMode,
+    /// What it writes.
     pub kind: EventKind,
     /// The elements as written (names and patterns), for `show` and `diff`.
     pub elements_text: Vec<String>,

@@ -9,28 +9,40 @@ use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
 use crate::selector::{Field, Selection};
 
+/// A spec resolved against its model: what the runtime executes, `envc show` prints and
+/// `envc diff` compares.
 #[derive(Clone, Debug)]
 pub struct ResolvedSpec {
+    /// `[env] id`, e.g. `Ant-v5`.
     pub id: String,
+    /// `[env] description`.
     pub description: String,
+    /// The spec file it was read from.
     pub spec_path: PathBuf,
+    /// `[env] reward_threshold` (Gymnasium's `EnvSpec.reward_threshold`).
     pub reward_threshold: Option<f64>,
     /// The Python class that builds the same env (`[env] entry_point`, `module.path:Class`);
     /// dataset metadata names it so Python can recover the env.
     pub entry_point: Option<String>,
+    /// Every parameter with its final value.
     pub params: Vec<Param>,
     /// The model file (absolute or relative to the current directory).
     pub model_path: PathBuf,
+    /// Names and numbering of the model, the spec's additions included.
     pub model: ModelInfo,
+    /// Physics steps per env step.
     pub frame_skip: u32,
     /// None: no time limit.
     pub max_episode_steps: Option<u64>,
+    /// The enabled observation segments, in order.
     pub observation: Vec<Segment>,
+    /// Length of the observation.
     pub obs_dim: usize,
     /// The enabled reward terms (terms switched off by `when` are left out, also from the sum).
     pub reward: Vec<RewardTerm>,
     /// How term values are added up (the grouping decides the last bit).
     pub reward_sum: SumNode,
+    /// The health checks; the env is healthy when every one passes.
     pub health: Vec<HealthCheck>,
     /// Whether an unhealthy state ends the episode.
     pub terminate_when_unhealthy: bool,
@@ -51,6 +63,7 @@ pub struct ResolvedSpec {
     /// `[commands.*]` in declared order (the draw order); their components are the env's
     /// command buffer (`command_dim` entries).
     pub commands: Vec<Command>,
+    /// Total length of the command buffer.
     pub command_dim: usize,
     /// `[actions]`: PD position targets (None: `ctrl = action`).
     pub actions: Option<PdActions>,
@@ -63,12 +76,14 @@ pub struct ResolvedSpec {
 }
 
 impl ResolvedSpec {
+    /// The final value of parameter `name`.
     pub fn param(&self, name: &str) -> Option<&ParamValue> {
         self.params
             .iter()
             .find(|p| p.name == name)
             .map(|p| &p.value)
     }
+    /// Length of the action: the model's actuators, the spec's included.
     pub fn act_dim(&self) -> usize {
         self.model.nu()
     }
@@ -112,18 +127,26 @@ impl ResolvedSpec {
 /// Elementwise function applied to an observation segment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Apply {
+    /// `sin(x)`.
     Sin,
+    /// `cos(x)`.
     Cos,
 }
 
 /// One named observation segment.
 #[derive(Clone, Debug)]
 pub struct Segment {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
+    /// What it reads.
     pub source: Selection,
+    /// What is subtracted elementwise, if anything.
     pub minus: Option<Selection>,
+    /// The function applied after the subtraction.
     pub apply: Option<Apply>,
+    /// Clipped to `[lo, hi]` last.
     pub clip: Option<(f64, f64)>,
     /// Start index in the observation vector.
     pub offset: usize,
@@ -134,12 +157,15 @@ impl Segment {
     pub fn sources(&self) -> impl Iterator<Item = &Selection> {
         std::iter::once(&self.source).chain(&self.minus)
     }
+    /// Number of elements.
     pub fn len(&self) -> usize {
         self.source.len()
     }
+    /// Whether it has no elements.
     pub fn is_empty(&self) -> bool {
         self.source.is_empty()
     }
+    /// One readable name per element, e.g. `cos(qpos[hinge])`.
     pub fn element_names(&self) -> Vec<String> {
         (0..self.len())
             .map(|i| {
@@ -166,33 +192,47 @@ pub enum Divisor {
     Dt,
 }
 
+/// What a reward term computes (its kernel, before weight and sign).
 #[derive(Clone, Debug)]
 pub enum TermKind {
     /// `(x_after − x_before) / dt` of one number.
-    Velocity { source: Selection },
+    Velocity {
+        /// The number differentiated.
+        source: Selection,
+    },
     /// 1 when healthy, else 0.
     Healthy,
     /// `Σ clip_input(x)²` with numpy's pairwise summation. The output `clip` applies to the weighted
     /// value: the term's value is `clip(weight × Σ, clip)` (Humanoid's contact cost).
     SumSquares {
+        /// The elements `x`.
         source: Selection,
+        /// Each element clipped to this range before squaring.
         clip_input: Option<(f64, f64)>,
+        /// The weighted value clipped to this range.
         clip: Option<(f64, f64)>,
     },
     /// `‖x − minus‖₂` (OpenBLAS `ddot` as the env's numerics profile sums it).
     Norm {
+        /// The elements `x`.
         source: Selection,
+        /// What is subtracted (none: zeros).
         minus: Option<Selection>,
     },
     /// `Σᵢ coefᵢ · pow(xᵢ − targetᵢ, 2)`, left to right.
     Quadratic {
+        /// The elements `x`.
         source: Selection,
+        /// One coefficient per element.
         coefs: Vec<f64>,
+        /// One target per element.
         targets: Vec<f64>,
     },
     /// `x / divisor` of one number.
     Value {
+        /// The number `x`.
         source: Selection,
+        /// What it is divided by (none: 1).
         divide_by: Option<Divisor>,
     },
     /// 1.
@@ -222,7 +262,9 @@ pub enum GoalNorm {
 }
 
 impl GoalNorm {
+    /// The `norm` values a spec may write (for suggestions).
     pub const NAMES: &'static [&'static str] = &["pairwise", "blas"];
+    /// The norm a spec's `norm = "..."` names, if any.
     pub fn parse(s: &str) -> Option<GoalNorm> {
         match s {
             "pairwise" => Some(GoalNorm::Pairwise),
@@ -230,6 +272,7 @@ impl GoalNorm {
             _ => None,
         }
     }
+    /// The `norm` a spec writes for it.
     pub fn name(self) -> &'static str {
         match self {
             GoalNorm::Pairwise => "pairwise",
@@ -251,15 +294,20 @@ pub enum Desired {
 /// `d = ‖achieved − desired‖₂`, summed as `norm` says.
 #[derive(Clone, Debug)]
 pub struct GoalDistance {
+    /// What the env has reached (e.g. the robot's position).
     pub achieved: Selection,
+    /// What it should reach.
     pub desired: Desired,
+    /// How the squares are summed.
     pub norm: GoalNorm,
 }
 
 impl GoalDistance {
+    /// Number of coordinates compared.
     pub fn len(&self) -> usize {
         self.achieved.len()
     }
+    /// Whether it compares nothing.
     pub fn is_empty(&self) -> bool {
         self.achieved.is_empty()
     }
@@ -276,14 +324,18 @@ impl GoalDistance {
 /// The goal is reached when `d ≤ threshold` (a NaN distance never reaches it).
 #[derive(Clone, Debug)]
 pub struct GoalCheck {
+    /// The distance `d`.
     pub distance: GoalDistance,
+    /// The largest distance that counts as reached.
     pub threshold: f64,
 }
 
 /// `[termination.<name>]`: the episode terminates on a step after which the condition holds.
 #[derive(Clone, Debug)]
 pub struct Termination {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
     /// Spec kind `goal_reached`.
     pub reached: GoalCheck,
@@ -293,11 +345,17 @@ pub struct Termination {
 /// whose value is exactly `weight`); the reward adds `value`, or `−value` for a cost.
 #[derive(Clone, Debug)]
 pub struct RewardTerm {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
+    /// The kernel.
     pub kind: TermKind,
+    /// The kernel's multiplier.
     pub weight: f64,
+    /// Subtracted from the reward instead of added.
     pub cost: bool,
+    /// The info key that reports its value, if any.
     pub info: Option<String>,
     /// Evaluated at the start of `step`, on the state before the action is applied (spec key
     /// `at = "before"`; Gymnasium v4's Reacher and Pusher distances). Never for `velocity` or
@@ -327,6 +385,7 @@ impl TermKind {
 }
 
 impl RewardTerm {
+    /// The `kind` a spec writes for this term.
     pub fn kind_name(&self) -> &'static str {
         match &self.kind {
             TermKind::Velocity { .. } => "velocity",
@@ -346,60 +405,94 @@ impl RewardTerm {
 /// How the signed term values are added: a list is summed left to right, nested lists first.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SumNode {
+    /// The signed value of reward term `i`.
     Term(usize),
+    /// A nested list, summed left to right.
     Sum(Vec<SumNode>),
 }
 
+/// A comparison of a health check's `fails_if`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CmpOp {
+    /// `<`.
     Lt,
+    /// `≤`.
     Le,
+    /// `>`.
     Gt,
+    /// `≥`.
     Ge,
 }
 
+/// What a health check tests.
 #[derive(Clone, Debug)]
 pub enum CheckKind {
     /// Every element is finite.
     Finite,
     /// Every element is in the range: `lo ≤ x ≤ hi` when closed, `lo < x < hi` when open.
     /// NaN is never in range.
-    InRange { lo: f64, hi: f64, closed: bool },
+    InRange {
+        /// Lower end.
+        lo: f64,
+        /// Upper end.
+        hi: f64,
+        /// Whether the ends are in range.
+        closed: bool,
+    },
     /// Unhealthy when `x op value` for any element (a NaN compares false: healthy).
-    FailsIf { op: CmpOp, value: f64 },
+    FailsIf {
+        /// The comparison.
+        op: CmpOp,
+        /// What the element is compared with.
+        value: f64,
+    },
 }
 
+/// `[health.<name>]`: one check of the env's state.
 #[derive(Clone, Debug)]
 pub struct HealthCheck {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
+    /// What it tests.
     pub kind: CheckKind,
+    /// The elements it tests, every selection alike.
     pub sources: Vec<Selection>,
 }
 
+/// What a reset step draws.
 #[derive(Clone, Debug)]
 pub enum Distribution {
     /// numpy `uniform(low, high)` per element.
     Uniform {
+        /// Lower end, per element.
         low: Vec<f64>,
+        /// Upper end, per element.
         high: Vec<f64>,
     },
     /// `scale × standard_normal()` per element.
     Normal {
+        /// The standard deviation.
         scale: f64,
     },
+    /// The same value for every element; no draw.
     Constant {
+        /// The value.
         value: f64,
     },
     /// The whole `qpos` of keyframe `index` (the model's keyframes, then the spec's); no draw.
     Keyframe {
+        /// The keyframe's index.
         index: usize,
+        /// The keyframe's name.
         name: String,
     },
     /// Six uniforms in the order x, y, z, roll, pitch, yaw: the position offsets are added to a
     /// free joint's position, and `q ← q ⊗ quat_from_euler_xyz(roll, pitch, yaw)` (mjlab's
     /// `reset_root_state_uniform`). The target is the free joint's 7 `qpos`.
     RootPose {
+        /// `(low, high)` of x, y, z, roll, pitch, yaw.
         ranges: [(f64, f64); 6],
     },
 }
@@ -407,32 +500,47 @@ pub enum Distribution {
 /// Redraw the whole block until its norm satisfies the condition.
 #[derive(Clone, Copy, Debug)]
 pub enum Until {
+    /// Until the norm is below the bound.
     NormBelow(f64),
+    /// Until the norm is above the bound.
     NormAbove(f64),
 }
 
+/// `[reset.<name>]`: one draw applied to the initial state.
 #[derive(Clone, Debug)]
 pub struct ResetStep {
+    /// The table's name.
     pub name: String,
+    /// The `doc` text.
     pub doc: String,
     /// A selection of `qpos` or `qvel`.
     pub target: Selection,
+    /// What is drawn.
     pub dist: Distribution,
     /// true: the draw replaces the value; false: it is added to the initial value.
     pub set: bool,
+    /// Redraw until the block's norm satisfies this, if set.
     pub resample_until: Option<Until>,
 }
 
+/// What an info entry reports.
 #[derive(Clone, Debug)]
 pub enum InfoKind {
+    /// The selected values, minus another selection if given.
     Value {
+        /// The values.
         source: Selection,
+        /// What is subtracted elementwise.
         minus: Option<Selection>,
     },
+    /// The Euclidean norm of the selection.
     Norm {
+        /// The elements.
         source: Selection,
     },
+    /// `(x_after − x_before) / dt` of the selection.
     Velocity {
+        /// The elements.
         source: Selection,
     },
     /// The signed value of reward term `i` (see [`InfoItem::unweighted`]).
@@ -456,10 +564,14 @@ impl InfoKind {
     }
 }
 
+/// `[info.<name>]` (or a reward term's `info` key): one entry of the step info.
 #[derive(Clone, Debug)]
 pub struct InfoItem {
+    /// The key in the info dict.
     pub key: String,
+    /// The `doc` text.
     pub doc: String,
+    /// What it reports.
     pub kind: InfoKind,
     /// Number of values (1 for scalars).
     pub len: usize,
@@ -478,6 +590,7 @@ pub struct ModelEdits {
     pub actuators: Vec<AddedActuator>,
     /// `mjOption.timestep`, when the spec sets it.
     pub timestep: Option<f64>,
+    /// `mjOption.integrator`, when the spec sets it.
     pub integrator: Option<Integrator>,
     /// Elements added to the model (`[bodies]`, `[sites]`, `[geoms]`, `[cameras]`, `[lights]`).
     pub added: Vec<AddedElement>,
@@ -496,9 +609,13 @@ pub type JointRow = (String, Vec<String>, Vec<(String, Vec<f64>)>);
 /// Properties of one joint set by the spec (`None`: the model's value stays).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct JointEdit {
+    /// The joint's name.
     pub joint: String,
+    /// `dof_armature`.
     pub armature: Option<f64>,
+    /// `dof_damping`.
     pub damping: Option<f64>,
+    /// `dof_frictionloss`.
     pub frictionloss: Option<f64>,
     /// The `[joint_properties]` row (pattern) that set each value last, for `envc show`.
     pub rows: Vec<String>,
@@ -508,6 +625,7 @@ pub struct JointEdit {
 /// model keyframe it starts `from`), with the spec's values written at their `qpos` addresses.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpecKeyframe {
+    /// The table's name (the keyframe's name in the model).
     pub name: String,
     /// A model keyframe to start from (its index), else `qpos0`.
     pub from: Option<usize>,
@@ -519,50 +637,83 @@ pub struct SpecKeyframe {
 /// every existing index stays; sites, geoms and cameras attach to any body (`world` by default).
 #[derive(Clone, Debug, PartialEq)]
 pub enum AddedElement {
+    /// `[bodies]`: a body child of the world, with its joints and an optional marker geom.
     Body {
+        /// Its name.
         name: String,
+        /// Position in the world frame.
         pos: [f64; 3],
         /// (name, slide?, axis): slide or hinge joints along or about a world axis, in order.
         joints: Vec<(String, bool, [f64; 3])>,
         /// A marker geom (no contacts): type, size, rgba.
         geom: Option<(AddedGeomType, [f64; 3], [f32; 4])>,
     },
+    /// `[sites]`: a site on a body.
     Site {
+        /// Its name.
         name: String,
+        /// The body it is attached to.
         body: String,
+        /// Position in the body frame.
         pos: [f64; 3],
+        /// Radius of its sphere.
         size: f64,
+        /// Colour.
         rgba: [f32; 4],
     },
+    /// `[geoms]`: a geom on a body.
     Geom {
+        /// Its name.
         name: String,
+        /// The body it is attached to.
         body: String,
+        /// Its shape.
         kind: AddedGeomType,
+        /// Position in the body frame.
         pos: [f64; 3],
+        /// MuJoCo's `size` for the shape.
         size: [f64; 3],
+        /// Colour.
         rgba: [f32; 4],
+        /// Whether it collides (false: `contype = conaffinity = 0`).
         contact: bool,
     },
+    /// `[cameras]`: a camera on a body.
     Camera {
+        /// Its name (render with it by `camera_name`).
         name: String,
+        /// The body it is attached to.
         body: String,
+        /// Position in the body frame.
         pos: [f64; 3],
+        /// Orientation as MJCF's `xyaxes`, if given.
         xyaxes: Option<[f64; 6]>,
+        /// Vertical field of view in degrees, if given.
         fovy: Option<f64>,
     },
+    /// `[lights]`: a light on a body.
     Light {
+        /// Its name.
         name: String,
+        /// The body it is attached to.
         body: String,
+        /// Position in the body frame.
         pos: [f64; 3],
+        /// Direction it shines in.
         dir: [f64; 3],
     },
 }
 
+/// The shapes an added geom may have (MuJoCo's geom types).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AddedGeomType {
+    /// A sphere.
     Sphere,
+    /// A box.
     Box,
+    /// A capsule.
     Capsule,
+    /// A cylinder.
     Cylinder,
     /// An infinite collision plane (size: half-lengths drawn, 0 = infinite, and grid spacing);
     /// MuJoCo takes planes on static bodies only (the world or a body without joints).
@@ -570,7 +721,9 @@ pub enum AddedGeomType {
 }
 
 impl AddedGeomType {
+    /// The `type` values a spec may write (for suggestions).
     pub const NAMES: &'static [&'static str] = &["sphere", "box", "capsule", "cylinder", "plane"];
+    /// The shape a spec's `type = "..."` names, if any.
     pub fn parse(s: &str) -> Option<AddedGeomType> {
         Some(match s {
             "sphere" => AddedGeomType::Sphere,
@@ -584,6 +737,7 @@ impl AddedGeomType {
 }
 
 impl ModelEdits {
+    /// Whether the spec changes nothing in the model (it is then compiled as is).
     pub fn is_empty(&self) -> bool {
         self.actuators.is_empty()
             && self.timestep.is_none()
@@ -597,38 +751,58 @@ impl ModelEdits {
 /// An actuator on one hinge or slide joint (MuJoCo's `<motor>`, `<position>`, `<velocity>`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AddedActuator {
+    /// Its name in the model.
     pub name: String,
     /// The `[actuators.<section>]` table that added it.
     pub section: String,
+    /// The joint it drives.
     pub joint: String,
+    /// Motor or servo.
     pub kind: ActuatorKind,
+    /// Transmission gear.
     pub gear: f64,
     /// Always limited: the action space is the control range.
     pub ctrlrange: (f64, f64),
+    /// Limits of the force it applies, if limited.
     pub forcerange: Option<(f64, f64)>,
 }
 
+/// How an added actuator turns `ctrl` into force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ActuatorKind {
     /// Force (torque) = gear × ctrl.
     Motor,
     /// Position servo: force = kp × (ctrl − q) − kv × q̇.
-    Position { kp: f64, kv: Option<f64> },
+    Position {
+        /// Position gain.
+        kp: f64,
+        /// Velocity damping of the servo, if any.
+        kv: Option<f64>,
+    },
     /// Velocity servo: force = kv × (ctrl − q̇).
-    Velocity { kv: f64 },
+    Velocity {
+        /// Velocity gain.
+        kv: f64,
+    },
 }
 
 /// MuJoCo's integrators, spelt as in MJCF's `<option integrator>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Integrator {
+    /// `Euler` (MuJoCo's default): semi-implicit Euler.
     Euler,
+    /// `RK4`: fourth-order Runge-Kutta.
     Rk4,
+    /// `implicit`: implicit in velocity.
     Implicit,
+    /// `implicitfast`: implicit in velocity, without the Coriolis terms.
     ImplicitFast,
 }
 
 impl Integrator {
+    /// The `integrator` values a spec may write (for suggestions).
     pub const NAMES: &'static [&'static str] = &["Euler", "RK4", "implicit", "implicitfast"];
+    /// The integrator a spec's `integrator = "..."` names, if any.
     pub fn parse(s: &str) -> Option<Integrator> {
         match s {
             "Euler" => Some(Integrator::Euler),
@@ -638,6 +812,7 @@ impl Integrator {
             _ => None,
         }
     }
+    /// The name as MJCF and specs write it.
     pub fn name(self) -> &'static str {
         match self {
             Integrator::Euler => "Euler",

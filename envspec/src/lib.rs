@@ -15,6 +15,9 @@
 //! # Ok::<(), envspec::Diagnostics>(())
 //! ```
 
+// Every public item says what it is or why it exists; CI denies warnings.
+#![warn(missing_docs)]
+
 pub mod agents;
 pub mod bundle;
 pub mod camera;

@@ -75,14 +75,18 @@ pub const MAX_NOISE: f64 = 1e6;
 /// Why a file could not be read.
 #[derive(Debug)]
 pub enum ReadError {
+    /// The operating system's error (missing file, no permission, ...).
     Io(std::io::Error),
     /// A device, FIFO, socket or directory: reading it could block or never end.
     NotAFile(&'static str),
+    /// Larger than the limit for its kind of file.
     TooLarge {
+        /// The limit in bytes.
         limit: u64,
     },
     /// Not UTF-8: the byte offset of the first invalid byte.
     NotUtf8 {
+        /// Byte offset of the first invalid byte.
         offset: usize,
     },
 }

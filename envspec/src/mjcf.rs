@@ -12,15 +12,21 @@ use std::path::{Path, PathBuf};
 use crate::diagnostic::{Code, Diagnostic, Location, SourceFile};
 use crate::limits;
 
+/// A MuJoCo joint type, which sets its qpos and dof widths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum JointKind {
+    /// Six degrees of freedom: position and unit quaternion.
     Free,
+    /// Three rotational degrees of freedom: a unit quaternion.
     Ball,
+    /// One translational degree of freedom.
     Slide,
+    /// One rotational degree of freedom.
     Hinge,
 }
 
 impl JointKind {
+    /// Width in `qpos`.
     pub fn nq(self) -> usize {
         match self {
             JointKind::Free => 7,
@@ -28,6 +34,7 @@ impl JointKind {
             JointKind::Slide | JointKind::Hinge => 1,
         }
     }
+    /// Width in `qvel` (degrees of freedom).
     pub fn nv(self) -> usize {
         match self {
             JointKind::Free => 6,
@@ -53,17 +60,25 @@ impl JointKind {
     }
 }
 
+/// A joint as the model declares it.
 #[derive(Clone, Debug)]
 pub struct Joint {
+    /// Its name (unnamed: empty).
     pub name: String,
+    /// Its type.
     pub kind: JointKind,
+    /// Id of the body it belongs to.
     pub body: usize,
+    /// Its first index in `qpos`.
     pub qposadr: usize,
+    /// Its first index in `qvel`.
     pub dofadr: usize,
 }
 
+/// An actuator as the model declares it.
 #[derive(Clone, Debug)]
 pub struct Actuator {
+    /// Its name (unnamed: empty).
     pub name: String,
     /// The joint (or tendon/site/body) the actuator drives, as written in the MJCF.
     pub target: Option<String>,
@@ -72,36 +87,47 @@ pub struct Actuator {
 /// Names and numbering of a model, as MuJoCo will compile it.
 #[derive(Clone, Debug)]
 pub struct ModelInfo {
+    /// The model file (the MJCF or URDF read).
     pub path: PathBuf,
     /// `<option timestep>` (MuJoCo's default 0.002 when absent).
     pub timestep: f64,
     /// Body names by id; id 0 is `world`. Unnamed bodies have an empty name.
     pub bodies: Vec<String>,
+    /// Joints in MuJoCo's order.
     pub joints: Vec<Joint>,
+    /// Site names in MuJoCo's order (unnamed: empty).
     pub sites: Vec<String>,
     /// The body of each site (sites are numbered body by body, in body order).
     pub site_bodies: Vec<usize>,
+    /// Actuators in MuJoCo's order.
     pub actuators: Vec<Actuator>,
+    /// Tendon names in MuJoCo's order.
     pub tendons: Vec<String>,
     /// Geom names (unnamed geoms: empty), body by body as MuJoCo numbers them; `[events]` and
     /// contact terms select geoms by name and the runtime looks the ids up in the compiled model.
     pub geoms: Vec<String>,
+    /// Length of `qpos`.
     pub nq: usize,
+    /// Length of `qvel`.
     pub nv: usize,
     /// Names of the `<keyframe>` keys, in order (legged tasks take a PD default pose from one).
     pub keyframes: Vec<String>,
 }
 
 impl ModelInfo {
+    /// Number of bodies, `world` included.
     pub fn nbody(&self) -> usize {
         self.bodies.len()
     }
+    /// Number of actuators (the action length when the spec adds none).
     pub fn nu(&self) -> usize {
         self.actuators.len()
     }
+    /// The id of the body named `name`.
     pub fn body_id(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b == name)
     }
+    /// The joint named `name`.
     pub fn joint(&self, name: &str) -> Option<&Joint> {
         self.joints.iter().find(|j| j.name == name)
     }

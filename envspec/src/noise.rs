@@ -16,7 +16,9 @@ pub enum NoiseKind {
 }
 
 impl NoiseKind {
+    /// The `kind` values a spec may write (for suggestions).
     pub const NAMES: &'static [&'static str] = &["uniform", "gaussian"];
+    /// The kind a spec's `kind = "..."` names, if any.
     pub fn parse(s: &str) -> Option<NoiseKind> {
         match s {
             "uniform" => Some(NoiseKind::Uniform),
@@ -24,6 +26,7 @@ impl NoiseKind {
             _ => None,
         }
     }
+    /// The name a spec writes for it.
     pub fn name(self) -> &'static str {
         match self {
             NoiseKind::Uniform => "uniform",
@@ -35,7 +38,9 @@ impl NoiseKind {
 /// Additive noise on every element of a segment, one draw per element.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Noise {
+    /// The distribution drawn.
     pub kind: NoiseKind,
+    /// The segment's amplitude (`scale`), before `level`.
     pub scale: f64,
     /// A multiplier shared by segments (Playground's `noise_config.level`), 1 by default.
     pub level: f64,
@@ -71,6 +76,7 @@ impl fmt::Display for Noise {
 pub struct SegmentCorruption {
     /// The segment's name and index in `ResolvedSpec::observation` (enabled segments only).
     pub name: String,
+    /// Its index in `ResolvedSpec::observation` (the name is above).
     pub segment: usize,
     /// Added before the segment's `clip` (Isaac Lab's order: noise, then clip).
     pub noise: Option<Noise>,
@@ -82,6 +88,7 @@ pub struct SegmentCorruption {
 /// action latency, in env steps.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Corruption {
+    /// The segments with noise or delay, in observation order.
     pub segments: Vec<SegmentCorruption>,
     /// `[latency] action`: the env applies the action given this many steps earlier (0: none).
     pub action_latency: usize,
@@ -92,12 +99,7 @@ impl Corruption {
     pub fn is_empty(&self) -> bool {
         self.segments.is_empty() && self.action_latency == 0
     }
-    pub fn has_noise(&self) -> bool {
-        self.segments.iter().any(|s| s.noise.is_some())
-    }
-    pub fn has_delay(&self) -> bool {
-        self.segments.iter().any(|s| s.delay > 0)
-    }
+    /// The corruption of the segment named `name`, if it has one.
     pub fn segment(&self, name: &str) -> Option<&SegmentCorruption> {
         self.segments.iter().find(|s| s.name == name)
     }

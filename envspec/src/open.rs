@@ -19,12 +19,16 @@ use crate::value::Val;
 /// A resolved spec of any kind.
 #[derive(Clone, Debug)]
 pub enum AnySpec {
+    /// A task spec, resolved against its model.
     Task(Box<ResolvedSpec>),
+    /// A maze over a robot's task spec.
     Maze(Box<MazeSpec>),
+    /// A multi-agent factorization of a task spec.
     Agents(Box<AgentsSpec>),
 }
 
 impl AnySpec {
+    /// Which of the three it is.
     pub fn kind(&self) -> Kind {
         match self {
             AnySpec::Task(_) => Kind::Task,
@@ -33,6 +37,7 @@ impl AnySpec {
         }
     }
 
+    /// Its env id.
     pub fn id(&self) -> &str {
         match self {
             AnySpec::Task(s) => &s.id,
@@ -53,8 +58,11 @@ impl AnySpec {
 
 /// A spec file read and parsed once, with its kind.
 pub struct Document {
+    /// The file's text, for locations.
     pub file: Arc<SourceFile>,
+    /// The parsed top-level table.
     pub root: Val,
+    /// The kind its top-level tables say (`Kind::of_document`).
     pub kind: Kind,
 }
 
@@ -70,11 +78,13 @@ impl Document {
 /// Where an id-or-path argument points: a spec file plus the overrides a bundled id implies.
 #[derive(Clone, Debug)]
 pub struct Target {
+    /// The spec file to read.
     pub path: PathBuf,
     /// The bundled id, when the argument was one (a maze family id renames the spec).
     pub id: Option<String>,
     /// The kind a bundled id opens as (a file's own tables decide otherwise).
     pub kind: Option<Kind>,
+    /// Parameters a bundled id sets, before the user's own.
     pub overrides: Vec<Override>,
 }
 

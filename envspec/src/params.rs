@@ -8,13 +8,18 @@ use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, sug
 use crate::syntax::{ParamDecl, Spec};
 use crate::value::{Val, ValKind, format_float, parse_literal};
 
+/// A parameter's declared `type`, which decides how overrides are parsed and checked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ParamType {
+    /// `true` or `false`.
     Bool,
+    /// An integer.
     Int,
+    /// A float (an integer literal is accepted).
     Float,
     /// A pair `[low, high]` of floats (either may be `inf`).
     Range,
+    /// Free text.
     String,
     /// A file path; relative paths in the spec resolve against the spec's directory, relative
     /// paths in overrides against the current directory.
@@ -26,6 +31,7 @@ pub enum ParamType {
 }
 
 impl ParamType {
+    /// The `type` a spec writes for it.
     pub fn name(self) -> &'static str {
         match self {
             ParamType::Bool => "bool",
@@ -67,10 +73,15 @@ impl ParamType {
 /// A parameter value.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ParamValue {
+    /// A boolean.
     Bool(bool),
+    /// An integer.
     Int(i64),
+    /// A float.
     Float(f64),
+    /// `[low, high]`.
     Range(f64, f64),
+    /// A string, path or body name.
     Str(String),
     /// A table, kept as its TOML text.
     Table(String),
@@ -92,18 +103,26 @@ impl fmt::Display for ParamValue {
 /// Where a parameter's value came from.
 #[derive(Clone, Debug)]
 pub enum Origin {
+    /// The spec's default, where it is written.
     Default(Location),
+    /// An override, as the user gave it (e.g. `ctrl_cost_weight=0.1`).
     Override(String),
 }
 
 /// A parameter with its final value.
 #[derive(Clone, Debug)]
 pub struct Param {
+    /// The name constructors and overrides use, e.g. `ctrl_cost_weight`.
     pub name: String,
+    /// The declared type.
     pub ty: ParamType,
+    /// The value in effect: the default, or the last override of it.
     pub value: ParamValue,
+    /// The spec's default.
     pub default: ParamValue,
+    /// The spec's `doc` text (generated docs and `envc show` print it).
     pub doc: String,
+    /// Where `value` came from.
     pub origin: Origin,
     /// Part of the spec but not a constructor argument: overrides are refused.
     pub fixed: bool,
@@ -112,15 +131,19 @@ pub struct Param {
 /// A request to change a parameter.
 #[derive(Clone, Debug)]
 pub struct Override {
+    /// The parameter it sets.
     pub name: String,
+    /// The value it sets.
     pub value: OverrideValue,
 }
 
+/// An override's value: text to parse, or a value already typed.
 #[derive(Clone, Debug)]
 pub enum OverrideValue {
     /// TOML literal text, e.g. `[0.3, 1.0]`, `false`, `"torso"`. Bare words are taken as strings
     /// for string, path and body parameters.
     Text(String),
+    /// A value already typed, checked against the parameter's type.
     Value(ParamValue),
 }
 
@@ -136,12 +159,14 @@ impl Override {
             .label("expected name=value, e.g. ctrl_cost_weight=0.1")),
         }
     }
+    /// An override of `name` with TOML text, parsed against the parameter's type.
     pub fn text(name: &str, value: &str) -> Override {
         Override {
             name: name.to_string(),
             value: OverrideValue::Text(value.to_string()),
         }
     }
+    /// An override of `name` with a typed value (from code, e.g. the Python kwargs).
     pub fn value(name: &str, value: ParamValue) -> Override {
         Override {
             name: name.to_string(),
@@ -247,7 +272,7 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             ),
         }
     }
-    // Gymnasium's rendering arguments, which every task spec has (issue 15).
+    // Gymnasium's rendering arguments, which every task spec has.
     crate::camera::add_render_params(spec, &mut params);
     for (i, o) in overrides.iter().enumerate() {
         if overrides[..i].iter().any(|earlier| earlier.name == o.name) {

@@ -38,6 +38,7 @@ impl Kind {
         }
     }
 
+    /// The kind's name in messages, e.g. `multi-agent`.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Task => "task",
@@ -56,7 +57,9 @@ impl std::fmt::Display for Kind {
 /// One bundled id.
 #[derive(Clone, Debug)]
 pub struct Entry {
+    /// The env id, e.g. `Ant-v5`.
     pub id: String,
+    /// What kind of spec it opens as.
     pub kind: Kind,
     /// The spec file.
     pub path: PathBuf,

@@ -15,24 +15,39 @@ use crate::mjcf::ModelInfo;
 /// A mjData / mjModel array (or a derived quantity) that specs can read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Field {
+    /// `qpos`: joint positions.
     Qpos,
+    /// `qvel`: joint velocities.
     Qvel,
     /// The model's reference configuration `qpos0` (what Gymnasium calls `init_qpos`).
     Qpos0,
     /// The action passed to `step`, as given (before MuJoCo clamps it to ctrlrange).
     Action,
+    /// `ctrl`: the control MuJoCo applies (the action clamped to ctrlrange).
     Ctrl,
+    /// `qfrc_actuator`: actuator forces in joint space.
     QfrcActuator,
+    /// `qfrc_constraint`: constraint forces in joint space.
     QfrcConstraint,
+    /// `cfrc_ext`: external (contact) wrench on each body, 6 per body.
     CfrcExt,
+    /// `cfrc_int`: internal wrench on each body, 6 per body.
     CfrcInt,
+    /// `cacc`: body acceleration (rotational, then linear), 6 per body.
     Cacc,
+    /// `cinert`: body inertia in the centre-of-mass frame, 10 per body.
     Cinert,
+    /// `cvel`: body velocity (rotational, then linear), 6 per body.
     Cvel,
+    /// `xpos`: body frame positions.
     Xpos,
+    /// `xipos`: body centre-of-mass positions.
     Xipos,
+    /// `site_xpos`: site positions.
     SiteXpos,
+    /// `ten_length`: tendon lengths.
     TenLength,
+    /// `ten_velocity`: tendon velocities.
     TenVelocity,
     /// The tendon Jacobian as a dense ntendon × nv matrix (MuJoCo ≥ 3.6 stores it sparse; envc
     /// expands it, as `mju_sparse2dense`). Rows are `tendon:dof` pairs, e.g. `ten_J[0:2]`.
@@ -45,10 +60,15 @@ pub enum Field {
     /// velocimeter, a gyro), the site's z axis in the world frame (an up-vector), and the world's
     /// gravity direction `(0, 0, −1)` in the site's frame (projected gravity).
     SiteLinvel,
+    /// Angular velocity of a site in the world frame.
     SiteAngvel,
+    /// Linear velocity of a site in its own frame (a velocimeter).
     SiteLocalLinvel,
+    /// Angular velocity of a site in its own frame (a gyro).
     SiteLocalAngvel,
+    /// A site's z axis in the world frame (an up-vector).
     SiteZaxis,
+    /// Gravity's direction in a site's frame (projected gravity).
     SiteGravity,
     /// `actuator_force`: the force (torque) each actuator applies.
     ActuatorForce,
@@ -63,19 +83,27 @@ pub enum Field {
 /// What the rows of a field are indexed by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rows {
+    /// Position coordinates (`nq`): joints by name, free and ball joints by component.
     Qpos,
+    /// Degrees of freedom (`nv`).
     Dof,
+    /// Bodies (`nbody`, `world` included).
     Body,
+    /// Sites.
     Site,
+    /// Tendons.
     Tendon,
     /// One row per (tendon, dof) pair, tendon-major.
     TendonDof,
+    /// Actuators (`nu`).
     Actuator,
+    /// The three coordinates `x`, `y`, `z` (a vector field with no model rows).
     Xyz,
     /// Command components (`[commands.*]`); selected by the resolver, not by name here.
     Command,
 }
 
+/// Every field by the name a selector writes, e.g. `qpos`.
 pub const FIELDS: &[(&str, Field)] = &[
     ("qpos", Field::Qpos),
     ("qvel", Field::Qvel),
@@ -109,6 +137,7 @@ pub const FIELDS: &[(&str, Field)] = &[
 ];
 
 impl Field {
+    /// The name a selector writes, e.g. `site_xpos`.
     pub fn name(self) -> &'static str {
         FIELDS
             .iter()
@@ -116,6 +145,7 @@ impl Field {
             .map(|(n, _)| *n)
             .unwrap_or("?")
     }
+    /// What the field's rows are indexed by.
     pub fn rows(self) -> Rows {
         match self {
             Field::Qpos | Field::Qpos0 => Rows::Qpos,
@@ -185,6 +215,7 @@ impl Field {
 /// A resolved selector: flat indices into the field, one name per element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
+    /// The field it reads.
     pub field: Field,
     /// Indices into the field's row-major flattened array.
     pub indices: Vec<usize>,
@@ -195,9 +226,11 @@ pub struct Selection {
 }
 
 impl Selection {
+    /// Number of selected elements.
     pub fn len(&self) -> usize {
         self.indices.len()
     }
+    /// Whether it selects nothing.
     pub fn is_empty(&self) -> bool {
         self.indices.is_empty()
     }
@@ -211,7 +244,9 @@ impl Selection {
 
 /// How `$param` indices are looked up.
 pub enum ParamIndex {
+    /// An index, used as written.
     Int(i64),
+    /// A name, looked up in the model.
     Name(String),
 }
 

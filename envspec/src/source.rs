@@ -24,7 +24,12 @@ pub enum Source {
     /// `git show REV:path` in the repository `repo` (path relative to the repository root).
     /// Each file read is also written under the mount, at its path, because MuJoCo reads the
     /// model and its includes and meshes itself when `envc diff` compiles it.
-    GitRev { repo: PathBuf, rev: String },
+    GitRev {
+        /// The repository's root directory.
+        repo: PathBuf,
+        /// The revision, as `git show` takes it (a commit, a branch, `HEAD~1`).
+        rev: String,
+    },
 }
 
 /// One file a spec read.

@@ -11,16 +11,22 @@ use crate::value::{Entry, Val, ValKind, parse_document};
 /// A named table such as `[reward.ctrl]`.
 #[derive(Clone, Debug)]
 pub struct Section {
+    /// The table's name, e.g. `ctrl` for `[reward.ctrl]`.
     pub name: String,
+    /// Where the name is written in the header.
     pub name_loc: Location,
+    /// The whole table.
     pub loc: Location,
+    /// Its keys, in document order.
     pub entries: Vec<Entry>,
 }
 
 impl Section {
+    /// The value of `key`, if written.
     pub fn get(&self, key: &str) -> Option<&Val> {
         self.entries.iter().find(|e| e.key == key).map(|e| &e.value)
     }
+    /// The value of `key`, if it is a string.
     pub fn str(&self, key: &str) -> Option<&str> {
         self.get(key).and_then(Val::as_str)
     }
@@ -28,6 +34,7 @@ impl Section {
     pub fn kind<'a>(&'a self, default: &'a str) -> &'a str {
         self.str("kind").unwrap_or(default)
     }
+    /// The `doc` key, or empty.
     pub fn doc(&self) -> String {
         self.str("doc").unwrap_or("").to_string()
     }
@@ -36,9 +43,13 @@ impl Section {
 /// A declared parameter.
 #[derive(Clone, Debug)]
 pub struct ParamDecl {
+    /// The parameter's name.
     pub name: String,
+    /// Where the name is written.
     pub name_loc: Location,
+    /// The default value as written (typed by the resolver).
     pub default: Val,
+    /// The `doc` text of the long form (empty in the short form).
     pub doc: String,
     /// Explicit `type = "..."` from the long form.
     pub ty: Option<(String, Location)>,
@@ -49,21 +60,34 @@ pub struct ParamDecl {
 /// A parsed, key-checked spec file.
 #[derive(Clone, Debug)]
 pub struct Spec {
+    /// The spec's text, for locations.
     pub file: Arc<SourceFile>,
+    /// `[env] id`, e.g. `Ant-v5`.
     pub id: String,
+    /// Where the id is written.
     pub id_loc: Location,
+    /// `[env] description`.
     pub description: String,
+    /// `[env] reward_threshold`: the return at which the task counts as solved (Gymnasium's).
     pub reward_threshold: Option<f64>,
     /// `[env] entry_point`: the Python class that builds the same env (`module.path:Class`),
     /// written into dataset metadata so Python can recover the env.
     pub entry_point: Option<String>,
+    /// `[params]`, in document order.
     pub params: Vec<ParamDecl>,
+    /// `[observation.<name>]`: the observation's segments, in order.
     pub observation: Vec<Section>,
+    /// `[reward] sum`: the order and grouping in which terms are added.
     pub reward_sum: Option<Val>,
+    /// `[reward.<name>]`: the reward terms.
     pub reward: Vec<Section>,
+    /// `[health] terminate`: whether an unhealthy state ends the episode.
     pub health_terminate: Option<Val>,
+    /// `[health.<name>]`: the health checks.
     pub health: Vec<Section>,
+    /// `[reset.<name>]`: the reset steps, in order.
     pub reset: Vec<Section>,
+    /// `[info.<name>]`: the info entries.
     pub info: Vec<Section>,
     /// `[termination.<name>]`: conditions that end the episode (beside health).
     pub termination: Vec<Section>,
@@ -92,14 +116,20 @@ pub struct Spec {
 /// The kinds of model element a spec can add.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AddedKind {
+    /// `[bodies]`.
     Body,
+    /// `[sites]`.
     Site,
+    /// `[geoms]`.
     Geom,
+    /// `[cameras]`.
     Camera,
+    /// `[lights]`.
     Light,
 }
 
 impl AddedKind {
+    /// Each kind with its table name and the keys its entries may have.
     pub const ALL: [(AddedKind, &'static str, &'static [&'static str]); 5] = [
         (
             AddedKind::Body,
@@ -126,9 +156,11 @@ impl AddedKind {
 }
 
 impl Spec {
+    /// The spec file.
     pub fn path(&self) -> &Path {
         &self.file.path
     }
+    /// The spec's directory (relative model paths resolve against it).
     pub fn dir(&self) -> PathBuf {
         self.file
             .path
@@ -136,6 +168,7 @@ impl Spec {
             .map(Path::to_path_buf)
             .unwrap_or_default()
     }
+    /// The declaration of parameter `name`.
     pub fn param(&self, name: &str) -> Option<&ParamDecl> {
         self.params.iter().find(|p| p.name == name)
     }

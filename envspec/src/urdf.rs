@@ -57,11 +57,6 @@ impl ModelInfo {
         }
     }
 
-    /// Read a URDF file.
-    pub fn from_urdf(path: &Path) -> Result<ModelInfo, Diagnostic> {
-        ModelInfo::from_urdf_str(path, &read_model(path)?)
-    }
-
     /// Read a URDF given as text (`path` is used for messages).
     pub fn from_urdf_str(path: &Path, text: &str) -> Result<ModelInfo, Diagnostic> {
         let ext = mujoco_extension(path, text)?;

@@ -10,29 +10,42 @@ use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile};
 /// A TOML value and where it was written.
 #[derive(Clone, Debug)]
 pub struct Val {
+    /// What the value is.
     pub kind: ValKind,
+    /// Where it was written (the whole value's span).
     pub loc: Location,
 }
 
+/// The TOML types a spec can hold (dates are refused when read).
 #[derive(Clone, Debug)]
 pub enum ValKind {
+    /// `true` or `false`.
     Bool(bool),
+    /// An integer literal.
     Int(i64),
+    /// A float literal.
     Float(f64),
+    /// A string, escapes already resolved.
     Str(String),
+    /// An array, inline or of tables.
     Array(Vec<Val>),
     /// Entries in document order, each with the location of its key.
     Table(Vec<Entry>),
 }
 
+/// One `key = value` of a table, the key located apart from its value.
 #[derive(Clone, Debug)]
 pub struct Entry {
+    /// The key as written, quotes removed.
     pub key: String,
+    /// Where the key was written (for unknown-key errors).
     pub key_loc: Location,
+    /// The value it maps to.
     pub value: Val,
 }
 
 impl Val {
+    /// The TOML type's name, as error messages print it.
     pub fn type_name(&self) -> &'static str {
         match self.kind {
             ValKind::Bool(_) => "boolean",
@@ -43,12 +56,14 @@ impl Val {
             ValKind::Table(_) => "table",
         }
     }
+    /// The string, if the value is one.
     pub fn as_str(&self) -> Option<&str> {
         match &self.kind {
             ValKind::Str(s) => Some(s),
             _ => None,
         }
     }
+    /// The number as f64, integers included.
     pub fn as_f64(&self) -> Option<f64> {
         match self.kind {
             ValKind::Float(x) => Some(x),
@@ -56,6 +71,7 @@ impl Val {
             _ => None,
         }
     }
+    /// The entries, if the value is a table.
     pub fn as_table(&self) -> Option<&[Entry]> {
         match &self.kind {
             ValKind::Table(t) => Some(t),

@@ -1,6 +1,6 @@
-//! A typo in a factorization's node name is one error with an honest suggestion (issue 17: it
-//! cascaded into a second, misleading "leaves actuators undriven", and the suggestion picked one
-//! of several equally close names).
+//! A typo in a factorization's node name is one error with an honest suggestion: no
+//! second, misleading "leaves actuators undriven", and no suggestion picked from several equally
+//! close names.
 
 use envspec::Code;
 

@@ -808,7 +808,7 @@ fn malformed_model_file() {
     let (_, r) = load_text(&s, "spec.toml", &text, &[]);
     let d = errors(r);
     assert_eq!(d.codes(), [Code::E0302]);
-    // At the XML error, in the model file (issue 16: it pointed at the spec's `xml_file`).
+    // At the XML error, in the model file, not at the spec's `xml_file`.
     assert_eq!(d.0[0].position(), Some(format!("{}:4:3", xml.display())));
     assert_eq!(
         d.0[0].message,

@@ -1,6 +1,6 @@
 //! `[commands.*]`, `[actions]` and the legged reward kinds: resolution, located errors with
-//! suggestions, and their diff rules. Written over the joystick example and the shared Go1
-//! (`../shared/models/unitree_go1`), each case one edit of the example.
+//! suggestions, and their diff rules. Written over the joystick example and MuJoCo Menagerie's Go1
+//! (a checkout beside the repository, see `go1()`), each case one edit of the example.
 
 use std::path::{Path, PathBuf};
 

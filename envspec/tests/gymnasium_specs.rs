@@ -1,4 +1,5 @@
-//! The bundled Gymnasium v5 specs resolve to the reference's sizes (reference doc §1.0).
+//! The bundled Gymnasium v5 specs resolve to Gymnasium 1.4.0's observation and action sizes
+//! (`env.observation_space.shape`, `env.action_space.shape` of each `gym.make(id)`).
 use std::path::PathBuf;
 
 use envspec::{Override, load};
@@ -81,7 +82,8 @@ fn sizes_match_the_reference() {
 
 #[test]
 fn flags_change_the_layout_as_in_the_reference() {
-    // Reference doc §1.1.3 / §1.4.3: sizes with the observation flags.
+    // Gymnasium 1.4.0's sizes with the observation flags (Ant's `use_contact_forces`,
+    // `include_cfrc_ext_in_observation`; Humanoid's `include_*_in_observation`).
     let ant = |o: &[(&str, &str)]| {
         let o: Vec<Override> = o.iter().map(|(k, v)| Override::text(k, v)).collect();
         load(&spec("ant.toml"), &o).unwrap().obs_dim

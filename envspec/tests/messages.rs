@@ -1,4 +1,4 @@
-//! What a diagnostic prints is for people (issue 16): a long line is clipped around the caret,
+//! What a diagnostic prints is for people: a long line is clipped around the caret,
 //! control and bidi characters are escaped wherever input is echoed, a file that is not UTF-8 is
 //! located at its first bad byte, and a cycle of `[agents] base` files is one error naming it.
 

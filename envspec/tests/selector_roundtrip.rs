@@ -1,6 +1,6 @@
 //! Every element name envc prints (`envc show`, diffs, `Selection::names`) pastes back into a
-//! spec as a selector of exactly that element (issue 17: `qpos[root:z]`, `xpos[torso].x` and
-//! `xpos[torso][x]` were refused). Checked over every selection of every bundled task spec, and
+//! spec as a selector of exactly that element (`qpos[root:z]`, `xpos[torso].x` and
+//! `xpos[torso][x]` among them). Checked over every selection of every bundled task spec, and
 //! over every row of the fields a spec reads.
 
 use envspec::diagnostic::{Location, SourceFile};

@@ -109,7 +109,7 @@ def test_a_dataset_can_name_envcs_own_entry_point(tmp_path, monkeypatch):
 
 def test_datasets_of_specs_without_a_python_class_recover_as_envc_envs(tmp_path, monkeypatch):
     """A custom robot's dataset (no `[env] entry_point`) and a maze's name envc's registration
-    (issue 17: they recorded "(no env spec)"), so recover_environment() rebuilds and replays them."""
+    (not "(no env spec)"), so recover_environment() rebuilds and replays them."""
     import minari
 
     text = open(os.path.join(ROOT, "specs", "gymnasium", "hopper.toml")).read()

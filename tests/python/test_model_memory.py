@@ -1,5 +1,5 @@
 """A model needing more memory than the process may have is a ``ValueError`` with E1001, not a
-crash (issue 16: MuJoCo's uncaught ``std::bad_alloc`` ended the Python process; docs/limits.md).
+crash (MuJoCo's uncaught ``std::bad_alloc`` would end the Python process; docs/limits.md).
 
 The model is within envc's limits: a 10,000 x 10,000 heightfield, for which MuJoCo's compiler asks
 400 MB in one ``std::vector``. The child process caps its address space at what it uses after

@@ -5,7 +5,7 @@ Usage (run with the project venv, from any directory):
 
     .venv/bin/python tests/reference/record.py                      # re-record the committed fixtures
     .venv/bin/python tests/reference/record.py --out DIR --seed N --quick   # fresh-seed live cross-check
-    .venv/bin/python tests/reference/record.py --verify-golden      # only check the §6 golden values
+    .venv/bin/python tests/reference/record.py --verify-golden      # only check the GOLDEN table below
 
 The case table (CASES) is right below; the fixture format and the protocol are documented in
 tests/reference/README.md (which is the contract with the Rust parity test).
@@ -206,7 +206,8 @@ CASES = [
 ACTION_SCALE = 1.5
 SPECIAL_PROB = 0.05
 
-# §6 of the reference document: env -> (sha(obs0), obs0[0], reward at t=0, steps, sum of rewards,
+# Golden values, recorded from Gymnasium 1.4.0 on MuJoCo 3.17.0 by verify_golden()'s protocol and
+# checked by `--verify-golden`; tests/golden.rs holds the same table: env -> (sha(obs0), obs0[0], reward at t=0, steps, sum of rewards,
 # sha(last obs), terminated).  Protocol in verify_golden().
 GOLDEN = {
     "Ant-v5": ("6d2a57d259c8e2f3", 0.658194704787239, -0.5333905414870339, 50, -44.73110757129683, "2e156614fb3cf0bf", False),
@@ -329,7 +330,7 @@ def sha16(obs):
 
 
 # ------------------------------------------------------------------------------------------------
-# Golden check (reference document §6)
+# Golden check (the GOLDEN table)
 
 
 def verify_golden(gym, np):
@@ -525,7 +526,7 @@ def main():
                     help="derive every case's reset and action seeds from N instead of the table's")
     ap.add_argument("--quick", action="store_true", help=f"{QUICK_STEPS} steps per case")
     ap.add_argument("--verify-golden", action="store_true",
-                    help="only check the reference document's §6 golden values, exit 1 on mismatch")
+                    help="only check the GOLDEN table's values, exit 1 on mismatch")
     ap.add_argument("--skip-golden", action="store_true", help="do not run the golden check before recording")
     args = ap.parse_args()
     out = os.path.abspath(args.out)  # resolve against the caller's cwd before changing it

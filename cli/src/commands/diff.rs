@@ -424,6 +424,7 @@ fn print(report: &envspec::diff::Report, format: Format) -> Outcome {
         Format::Github => report.to_github(),
     };
     print!("{text}");
+    // The one mapping of a verdict to `envc diff`'s exit status (docs/diff-rules.md).
     match report.verdict() {
         Verdict::NoChange => Outcome::Ok,
         Verdict::Compatible => Outcome::Problems,

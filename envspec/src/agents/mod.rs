@@ -68,14 +68,19 @@ pub const AGENT_PARAMS: &[&str] = &["agent_conf", "agent_obsk"];
 pub struct AgentsSpec {
     /// The single-agent env every agent shares (its observation is the global state).
     pub base: ResolvedSpec,
+    /// The multi-agent spec file (its `base` is resolved relative to it).
     pub spec_path: PathBuf,
     /// `id = "..."` (default: the file stem), e.g. `MaMuJoCo-Ant-v1`.
     pub id: String,
+    /// The spec's `doc` text, shown by `envc show`.
     pub doc: String,
     /// Names of every conf the spec declares, in order.
     pub confs: Vec<String>,
+    /// The chosen `agent_conf` (or `SINGLE_AGENT`).
     pub conf: String,
+    /// The chosen `agent_obsk`: how many graph hops an agent observes.
     pub k: usize,
+    /// The agents of the chosen conf, in conf order.
     pub agents: Vec<Agent>,
     /// Parity notes written in the spec (`parity = "..."`).
     pub parity: String,
@@ -85,9 +90,11 @@ pub struct AgentsSpec {
 }
 
 impl AgentsSpec {
+    /// Length of the global state, the base env's observation.
     pub fn state_dim(&self) -> usize {
         self.base.obs_dim
     }
+    /// Length of the joint action, the base env's action.
     pub fn act_dim(&self) -> usize {
         self.base.act_dim()
     }
@@ -118,6 +125,7 @@ pub struct Agent {
     pub levels: Vec<Vec<String>>,
     /// Observation segments in order, with offsets.
     pub observation: Vec<Segment>,
+    /// Length of this agent's observation.
     pub obs_dim: usize,
     /// For each observation element, its index in the state (the base observation): the element
     /// reads the same value (same source, minus, function and clip). None when some element is
@@ -126,6 +134,7 @@ pub struct Agent {
 }
 
 impl Agent {
+    /// One name per observation element, as `envc show` prints them.
     pub fn obs_names(&self) -> Vec<String> {
         self.observation
             .iter()

@@ -9,7 +9,9 @@ use super::rules::{Category, RuleId};
 /// A file position, `path:line`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Pos {
+    /// The file as the report names it.
     pub file: String,
+    /// 1-based line.
     pub line: usize,
 }
 
@@ -19,6 +21,7 @@ impl std::fmt::Display for Pos {
     }
 }
 
+/// One reported change: an instance of a rule, with before, after, where and its effect.
 #[derive(Clone, Debug)]
 pub struct Change {
     /// The rule this change is an instance of; it decides the category.
@@ -27,9 +30,13 @@ pub struct Change {
     pub subject: String,
     /// What about it, e.g. `weight`, `added`, `removed`, `renamed`.
     pub aspect: String,
+    /// The old value, None when the subject was added.
     pub was: Option<String>,
+    /// The new value, None when the subject was removed.
     pub now: Option<String>,
+    /// Where the old value was written.
     pub old_at: Option<Pos>,
+    /// Where the new value is written (annotations point here).
     pub new_at: Option<Pos>,
     /// Evidence of the effect, e.g. `obs dim 27 → 105; cfrc_ext[0:78] added at index 27`.
     pub witness: Option<String>,
@@ -53,23 +60,28 @@ impl Change {
             breaking: rule.rule().breaking,
         }
     }
+    /// The category its rule belongs to (it orders the report).
     pub fn category(&self) -> Category {
         self.rule.category()
     }
+    /// Set the old and new values.
     pub fn values(mut self, was: Option<String>, now: Option<String>) -> Change {
         self.was = was;
         self.now = now;
         self
     }
+    /// Set where the old and new values are written.
     pub fn at(mut self, old_at: Option<Pos>, new_at: Option<Pos>) -> Change {
         self.old_at = old_at;
         self.new_at = new_at;
         self
     }
+    /// Add evidence of the effect.
     pub fn witness(mut self, w: impl Into<String>) -> Change {
         self.witness = Some(w.into());
         self
     }
+    /// Override the rule's default breaking flag.
     pub fn breaking(mut self, b: bool) -> Change {
         self.breaking = b;
         self

@@ -8,34 +8,34 @@ use serde::Serialize;
 use super::change::{Change, Pos};
 use super::rules::Category;
 
+/// What `envc diff` reports: the changes between two specs, ordered by category, and flags.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
+    /// Env id of the old spec.
     pub old_id: String,
+    /// Env id of the new spec.
     pub new_id: String,
+    /// The old spec's file as given (a `REV:path` included).
     pub old_file: String,
+    /// The new spec's file as given.
     pub new_file: String,
+    /// Every change, ordered by category.
     pub changes: Vec<Change>,
     /// Problems with the change itself, e.g. a policy-breaking change without a version bump.
     pub flags: Vec<String>,
 }
 
-/// The overall verdict, also the exit status of `envc diff`.
+/// The overall verdict of a diff; `envc diff` turns it into its exit status
+/// (`cli/src/commands/diff.rs`, docs/diff-rules.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
+    /// Nothing changed.
     NoChange,
+    /// Only compatible changes.
     Compatible,
+    /// Some change breaks results or policies, or a flag was raised.
     Breaking,
-}
-
-impl Verdict {
-    pub fn exit_code(self) -> u8 {
-        match self {
-            Verdict::NoChange => 0,
-            Verdict::Compatible => 1,
-            Verdict::Breaking => 3,
-        }
-    }
 }
 
 impl Report {
@@ -97,6 +97,7 @@ impl Report {
         }
     }
 
+    /// Breaking if any change breaks or any flag is raised, else compatible, or no change.
     pub fn verdict(&self) -> Verdict {
         if self.changes.is_empty() {
             Verdict::NoChange
@@ -150,6 +151,7 @@ impl Report {
         format!("{}: {body}", c.subject)
     }
 
+    /// The terminal report: changes by category, each with its rule id, then flags and the verdict.
     pub fn to_text(&self) -> String {
         let mut o = String::new();
         let _ = writeln!(
@@ -179,6 +181,7 @@ impl Report {
         o
     }
 
+    /// The report as a Markdown table per category (for pull-request comments).
     pub fn to_markdown(&self) -> String {
         let esc = |s: &str| s.replace('|', "\\|");
         let mut o = String::new();
@@ -227,6 +230,7 @@ impl Report {
         o
     }
 
+    /// The report as JSON, every change with its rule, values and positions.
     pub fn to_json(&self) -> String {
         let v = serde_json::json!({
             "old": {"id": self.old_id, "file": self.old_file},

@@ -13,21 +13,31 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Category {
+    /// The observation's layout (length, order, meaning).
     Observation,
+    /// The action's layout.
     Action,
+    /// The reward's terms and weights.
     Reward,
+    /// Health, termination and the time limit.
     Termination,
+    /// The initial-state distribution.
     Reset,
     /// Commands, observation noise and delay, action latency, domain randomization: what the
-    /// policy is trained on (issue 19).
+    /// policy is trained on.
     Randomization,
+    /// The compiled model's physics.
     Dynamics,
+    /// The constructor's parameters and defaults.
     Parameters,
+    /// The `info` entries.
     Info,
+    /// Text only: no behaviour changes.
     Documentation,
 }
 
 impl Category {
+    /// Every category, in report order.
     pub const ALL: &'static [Category] = &[
         Category::Observation,
         Category::Action,
@@ -55,6 +65,7 @@ impl Category {
             Category::Documentation => "documentation",
         }
     }
+    /// The section heading in text and Markdown reports.
     pub fn title(self) -> &'static str {
         match self {
             Category::Observation => "observation layout",
@@ -90,12 +101,15 @@ impl Category {
 /// One rule of the table.
 #[derive(Clone, Copy, Debug)]
 pub struct Rule {
+    /// The variant naming it in code.
     pub rule: RuleId,
     /// The stable id printed in reports, e.g. `reward-term-key-changed`.
     pub id: &'static str,
+    /// The category its changes are reported under.
     pub category: Category,
     /// Whether a change of this rule alters behaviour unless its description says otherwise.
     pub breaking: bool,
+    /// What the rule covers (docs/diff-rules.md's table).
     pub description: &'static str,
 }
 
@@ -104,7 +118,8 @@ macro_rules! rules {
     ($($var:ident = $id:literal, $cat:ident, $brk:literal, $desc:literal;)*) => {
         /// A rule, by name; [`RuleId::rule`] gives its row of [`RULES`].
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        pub enum RuleId { $($var),* }
+        /// The id of one diff rule (docs/diff-rules.md); each variant's text is its description.
+        pub enum RuleId { $(#[doc = $desc] $var),* }
 
         /// Every rule, in the order of `docs/diff-rules.md`.
         pub const RULES: &[Rule] = &[
@@ -114,13 +129,16 @@ macro_rules! rules {
 }
 
 impl RuleId {
+    /// The rule's row in `RULES`.
     pub fn rule(self) -> &'static Rule {
         // The macro lists the variants and the table in the same order.
         &RULES[self as usize]
     }
+    /// The rule's stable id.
     pub fn id(self) -> &'static str {
         self.rule().id
     }
+    /// The rule's category.
     pub fn category(self) -> Category {
         self.rule().category
     }
@@ -355,7 +373,7 @@ rules! {
     MazeRobotUnresolved = "maze-robot-unresolved", Dynamics, true,
         "A robot spec could not be resolved, so its changes are unknown: counted as breaking until reviewed.";
 
-    // Commands and PD actions (issue 19).
+    // Commands and PD actions.
     CommandsAdded = "commands-added", Randomization, true,
         "A command was added: the policy is asked to follow something new (and its draws shift the RNG stream).";
     CommandsRemoved = "commands-removed", Randomization, true,

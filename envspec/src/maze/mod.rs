@@ -52,6 +52,7 @@ pub enum Cell {
     Combined,
 }
 
+/// The maze's `reward_type`: how the distance to the goal becomes the reward.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RewardType {
     /// `float64(d <= 0.45)`.
@@ -63,6 +64,7 @@ pub enum RewardType {
 /// A resolved maze spec.
 #[derive(Clone, Debug)]
 pub struct MazeSpec {
+    /// Env id, e.g. `PointMaze_UMaze-v3`.
     pub id: String,
     /// The maze file.
     pub path: PathBuf,
@@ -72,10 +74,15 @@ pub struct MazeSpec {
     pub robot_overrides: Vec<Override>,
     /// Rows top to bottom, columns left to right.
     pub grid: Vec<Vec<Cell>>,
+    /// Side of one cell in metres.
     pub maze_size_scaling: f64,
+    /// Height of the wall blocks in metres.
     pub maze_height: f64,
+    /// Sparse or dense reward.
     pub reward_type: RewardType,
+    /// Whether reaching the goal leaves the episode running (`terminated` stays false).
     pub continuing_task: bool,
+    /// Whether a continuing task draws a new goal once the goal is reached.
     pub reset_target: bool,
     /// `TimeLimit` of the maze env (0 or absent: none).
     pub max_episode_steps: Option<u64>,
@@ -96,9 +103,11 @@ pub struct MazeSpec {
 pub struct MazeLocations {
     /// The `maze` key of the `[maze]` table.
     pub maze: Option<Location>,
+    /// The `robot` key.
     pub robot: Option<Location>,
     /// The grid as written: in the map file when `map` names one.
     pub map: Option<Location>,
+    /// The `maze_size_scaling` key.
     pub maze_size_scaling: Option<Location>,
     /// Each `robot_params` entry the robot receives as written (a user's override of the same
     /// name replaces it), for the robot spec's errors about it.
@@ -182,9 +191,11 @@ pub fn candidates(grid: &[Vec<Cell>]) -> (Vec<[usize; 2]>, Vec<[usize; 2]>) {
 }
 
 impl MazeSpec {
+    /// Number of grid rows.
     pub fn rows(&self) -> usize {
         self.grid.len()
     }
+    /// Number of grid columns (every row has as many).
     pub fn cols(&self) -> usize {
         self.grid.first().map_or(0, |r| r.len())
     }

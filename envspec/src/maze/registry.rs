@@ -10,8 +10,11 @@ use crate::value::{Val, ValKind};
 /// A registered family: a maze spec run over several maps and both reward types.
 #[derive(Clone, Debug)]
 pub struct Registered {
+    /// The env id it registers, e.g. `PointMaze_UMaze-v3`.
     pub id: String,
+    /// The maze spec it runs.
     pub spec: PathBuf,
+    /// Parameters set for this id (the map, the reward type).
     pub overrides: Vec<Override>,
 }
 

@@ -1,5 +1,5 @@
 //! Goal-reaching terms: the `goal_sparse` / `goal_dense` reward kinds, the `goal_reached` info kind
-//! and `[termination.*]` conditions (spec reference §7, §11, §9).
+//! and `[termination.*]` conditions (docs/spec-reference.md §7, §11, §9).
 
 use super::Ctx;
 use crate::diagnostic::{Code, Diagnostic, suggest};
