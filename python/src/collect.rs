@@ -358,6 +358,18 @@ pub struct ShardedCollection {
     staging: String,
 }
 
+impl ShardedCollection {
+    /// The driver of a task env's collector made elsewhere (a dataset spec's build).
+    pub fn of_task(c: Collector<envc::Env>, seed: u64) -> ShardedCollection {
+        let staging = c.staging().display().to_string();
+        ShardedCollection {
+            collector: Some(DriverCollector::Task(c)),
+            seed,
+            staging,
+        }
+    }
+}
+
 #[pymethods]
 impl ShardedCollection {
     #[new]

@@ -23,6 +23,8 @@
 //! Format details and the choices made are in `docs/datasets.md`.
 
 mod arrow_io;
+mod build;
+mod build_spec;
 mod collector;
 mod episode;
 mod error;
@@ -31,6 +33,7 @@ mod gym_spec;
 mod hdf5_io;
 mod id;
 mod json;
+mod mlp;
 mod plan;
 mod reader;
 mod recordable;
@@ -40,6 +43,9 @@ mod staging;
 mod tensor;
 mod writer;
 
+pub use build::{Build, BuildOptions, SpecActor};
+pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
+pub use mlp::MlpPolicy;
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;

@@ -36,6 +36,10 @@ pub struct DatasetInfo {
     /// The numerics profile the data was computed under (`envc_numerics` in metadata.json);
     /// replaying under it reproduces the data bit for bit on any machine.
     pub numerics: Option<String>,
+    /// Gymnasium `EnvSpec` JSON of the evaluation env (`eval_env_spec`).
+    pub eval_env_spec: Option<String>,
+    /// Minari's `ref_min_score`, `ref_max_score`, `num_episodes_average_score`.
+    pub reference_scores: Option<super::RefScores>,
 }
 
 enum Backend {
@@ -387,6 +391,17 @@ impl DatasetWriter {
         );
         if let Some(spec) = &self.info.env_spec {
             m.insert("env_spec".into(), json!(spec));
+        }
+        if let Some(spec) = &self.info.eval_env_spec {
+            m.insert("eval_env_spec".into(), json!(spec));
+        }
+        if let Some(r) = &self.info.reference_scores {
+            m.insert("ref_min_score".into(), json!(r.ref_min_score));
+            m.insert("ref_max_score".into(), json!(r.ref_max_score));
+            m.insert(
+                "num_episodes_average_score".into(),
+                json!(r.num_episodes_average_score),
+            );
         }
         // np.round(bytes / 1e6, 1), over the data directory (metadata.json is tiny).
         m.insert(
