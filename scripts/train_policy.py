@@ -92,6 +92,7 @@ def main() -> None:
     ap.add_argument("--minutes", type=float, help="stop after this wall time (best kept)")
     ap.add_argument("--workdir", default="train-runs", help="checkpoints and logs")
     ap.add_argument("--out", help="the .npz to write (default: the spec's [policy] file)")
+    ap.add_argument("--export-only", action="store_true", help="export the best checkpoint so far")
     args = ap.parse_args()
 
     import torch
@@ -144,7 +145,8 @@ def main() -> None:
         deterministic=True,
         verbose=1,
     )
-    model.learn(total_timesteps=timesteps, callback=[evalcb, Deadline(args.minutes)])
+    if not args.export_only:
+        model.learn(total_timesteps=timesteps, callback=[evalcb, Deadline(args.minutes)])
     best_path = os.path.join(work, "best_model.zip")
     best = type(model).load(best_path, device="cpu") if os.path.exists(best_path) else model
     space = env.action_space

@@ -211,6 +211,7 @@ def main(argv: list[str] | None = None) -> int:
     s = sub.add_parser("scores", help="Minari's reference scores of a spec's eval env")
     s.add_argument("spec")
     s.add_argument("--episodes", type=int, default=100)
+    s.add_argument("--write", action="store_true", help="store them in every tier's spec of this env")
     a = p.parse_args(argv)
     if a.command == "build":
         t0 = time.perf_counter()
@@ -218,8 +219,35 @@ def main(argv: list[str] | None = None) -> int:
                   workers=a.workers, address=a.address)
         print(f"written to {d} in {time.perf_counter() - t0:.1f} s")
     else:
-        print(json.dumps(reference_scores(a.spec, episodes=a.episodes)))
+        scores = reference_scores(a.spec, episodes=a.episodes)
+        print(json.dumps(scores))
+        if a.write:
+            for p in write_reference_scores(a.spec, scores):
+                print(f"wrote {p}")
     return 0
+
+
+def write_reference_scores(spec: str | os.PathLike, scores: dict) -> list[str]:
+    """Store ``scores`` as the ``[reference_scores]`` table of every dataset spec beside ``spec``
+    (the tiers of one env share them, as Minari's generation scripts did)."""
+    import re
+
+    table = "[reference_scores]\n" + "".join(
+        f"{k} = {scores[k]!r}\n" for k in ("ref_min_score", "ref_max_score", "num_episodes_average_score")
+    )
+    d = os.path.dirname(_spec_path(spec))
+    written = []
+    for f in sorted(os.listdir(d)):
+        if not f.endswith(".toml"):
+            continue
+        p = os.path.join(d, f)
+        text = open(p).read()
+        text = re.sub(r"\n\[reference_scores\]\n(?:[^\[\n][^\n]*\n)*", "\n", text)
+        text = text.replace("\n[train]\n", "\n" + table + "\n[train]\n", 1)
+        with open(p, "w") as fh:
+            fh.write(text)
+        written.append(p)
+    return written
 
 
 if __name__ == "__main__":
