@@ -112,7 +112,10 @@ pub fn build_driver(
     let build = open(spec, steps)?;
     let opts = options(steps, root, format, dataset_id)?;
     let c = build.driver(&opts).map_err(errors::dataset_error)?;
-    Ok(crate::collect::ShardedCollection::of_task(c, build.spec.seed))
+    Ok(crate::collect::ShardedCollection::of_task(
+        c,
+        build.spec.seed,
+    ))
 }
 
 /// A dataset spec's policy as `policy(obs) -> action` (float32): deterministic, or with noise

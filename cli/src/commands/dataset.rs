@@ -68,19 +68,25 @@ fn build(
     use envc::dataset::{Build, BuildOptions, DatasetSpec, Format};
     let err = |e: envc::dataset::DatasetError| anyhow::anyhow!("{e}");
     let spec = DatasetSpec::open(spec).map_err(err)?;
-    let id = dataset_id.clone().unwrap_or_else(|| spec.dataset_id.clone());
+    let id = dataset_id
+        .clone()
+        .unwrap_or_else(|| spec.dataset_id.clone());
     let build = Build::new(spec, steps).map_err(err)?;
     let opts = BuildOptions {
         steps,
         root,
-        format: format.map(|f| if f == "hdf5" { Format::Hdf5 } else { Format::Arrow }),
+        format: format.map(|f| {
+            if f == "hdf5" {
+                Format::Hdf5
+            } else {
+                Format::Arrow
+            }
+        }),
         dataset_id,
     };
     let start = std::time::Instant::now();
     let mut episodes = 0;
-    let r = build
-        .record(&opts, |e, _| episodes = e)
-        .map_err(err)?;
+    let r = build.record(&opts, |e, _| episodes = e).map_err(err)?;
     let secs = start.elapsed().as_secs_f64();
     println!(
         "{id}: {}, {} ({:.0} steps/s, seed {}) written to {}",

@@ -122,7 +122,10 @@ impl Build {
         };
         Ok(CollectOptions {
             root: opts.root.clone(),
-            dataset_id: opts.dataset_id.clone().unwrap_or_else(|| s.dataset_id.clone()),
+            dataset_id: opts
+                .dataset_id
+                .clone()
+                .unwrap_or_else(|| s.dataset_id.clone()),
             format: opts.format.unwrap_or(s.format),
             info,
         })
@@ -158,9 +161,10 @@ impl Build {
         let (mut ep, mut steps) = (0u64, 0u64);
         while self.wants(ep, steps) {
             actor.begin(seed, ep);
-            let s = collector.episode(episode_seed(seed, ep), &mut |o: &[f64], a: &mut [f32]| {
-                actor.act(o, a)
-            })?;
+            let s = collector
+                .episode(episode_seed(seed, ep), &mut |o: &[f64], a: &mut [f32]| {
+                    actor.act(o, a)
+                })?;
             steps += s.steps as u64;
             ep += 1;
             progress(ep, steps);

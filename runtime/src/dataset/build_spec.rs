@@ -301,8 +301,16 @@ mod tests {
         ("mujoco/humanoidstandup/expert-v0", 1_000_000, "SB3/SAC"),
         ("mujoco/humanoidstandup/medium-v0", 1_000_000, "SB3/SAC"),
         ("mujoco/humanoidstandup/simple-v0", 1_000_000, "SB3/SAC"),
-        ("mujoco/inverteddoublependulum/expert-v0", 100_000, "SB3/SAC"),
-        ("mujoco/inverteddoublependulum/medium-v0", 100_000, "SB3/SAC"),
+        (
+            "mujoco/inverteddoublependulum/expert-v0",
+            100_000,
+            "SB3/SAC",
+        ),
+        (
+            "mujoco/inverteddoublependulum/medium-v0",
+            100_000,
+            "SB3/SAC",
+        ),
         ("mujoco/invertedpendulum/expert-v0", 100_000, "SB3/SAC"),
         ("mujoco/invertedpendulum/medium-v0", 100_000, "SB3/SAC"),
         ("mujoco/pusher/expert-v0", 500_000, "SB3/SAC"),
@@ -337,7 +345,11 @@ mod tests {
             // (ant/expert's own script: 12345).
             assert!(s.path.ends_with(format!("{}.toml", s.dataset_id)));
             assert!(s.dataset_id.ends_with(&format!("/{}-v0", s.tier)));
-            let seed = if s.dataset_id == "mujoco/ant/expert-v0" { 12345 } else { 123 };
+            let seed = if s.dataset_id == "mujoco/ant/expert-v0" {
+                12345
+            } else {
+                123
+            };
             assert_eq!(s.seed, seed, "{}", s.dataset_id);
             assert!(!s.description.is_empty());
         }

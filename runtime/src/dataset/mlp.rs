@@ -127,7 +127,11 @@ impl MlpPolicy {
         let tanh = match flag("activation")? {
             0 => false,
             1 => true,
-            k => return Err(bad(format!("activation = {k}: expected 0 (relu) or 1 (tanh)"))),
+            k => {
+                return Err(bad(format!(
+                    "activation = {k}: expected 0 (relu) or 1 (tanh)"
+                )));
+            }
         };
         let squash = match flag("squash")? {
             0 => false,

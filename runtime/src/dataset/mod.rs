@@ -45,12 +45,12 @@ mod writer;
 
 pub use build::{Build, BuildOptions, SpecActor};
 pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
-pub use mlp::MlpPolicy;
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
+pub use mlp::MlpPolicy;
 pub use plan::{
     EpisodePolicy, Plan, PlanActor, PlanPolicy, Recording, default_description, episode_rng,
     episode_seed, record, record_shard, record_with,
