@@ -39,6 +39,13 @@ enum Sub {
         /// Storage format instead of the spec's.
         #[arg(long, value_parser = ["arrow", "hdf5"])]
         format: Option<String>,
+        /// Build on the Ray cluster at ADDRESS (HOST:PORT or `auto`): runs
+        /// `$ENVC_PYTHON -m envc.datasets build` (default `python3`), which writes the same bytes.
+        #[arg(long, value_name = "ADDRESS")]
+        ray: Option<String>,
+        /// With `--ray`: Ray actors (one CPU each).
+        #[arg(long, default_value_t = 2, requires = "ray", value_parser = clap::value_parser!(u32).range(1..))]
+        workers: u32,
     },
 }
 
@@ -54,8 +61,53 @@ pub fn run(args: Args) -> Result<Outcome> {
             root,
             dataset_id,
             format,
+            ray: Some(address),
+            workers,
+        } => exec_ray(&spec, steps, root, dataset_id, format, &address, workers),
+        Sub::Build {
+            spec,
+            steps,
+            root,
+            dataset_id,
+            format,
+            ray: None,
+            ..
         } => build(&spec, steps, root, dataset_id, format.as_deref()),
     }
+}
+
+/// `envc dataset build --ray ADDRESS`: the same arguments to `python -m envc.datasets build`.
+fn exec_ray(
+    spec: &str,
+    steps: Option<u64>,
+    root: Option<std::path::PathBuf>,
+    dataset_id: Option<String>,
+    format: Option<String>,
+    address: &str,
+    workers: u32,
+) -> Result<Outcome> {
+    use std::os::unix::process::CommandExt;
+    let python = std::env::var_os("ENVC_PYTHON").unwrap_or_else(|| "python3".into());
+    let mut cmd = std::process::Command::new(&python);
+    cmd.args(["-m", "envc.datasets", "build", spec]);
+    if let Some(n) = steps {
+        cmd.args(["--steps", &n.to_string()]);
+    }
+    if let Some(r) = root {
+        cmd.arg("--root").arg(r);
+    }
+    if let Some(d) = dataset_id {
+        cmd.args(["--dataset-id", &d]);
+    }
+    if let Some(f) = format {
+        cmd.args(["--format", &f]);
+    }
+    cmd.args(["--workers", &workers.to_string(), "--address", address]);
+    let e = cmd.exec();
+    bail!(
+        "--ray: could not run {} -m envc.datasets ({e}); set ENVC_PYTHON to a Python with envc and ray installed",
+        std::path::Path::new(&python).display()
+    )
 }
 
 fn build(
