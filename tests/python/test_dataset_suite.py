@@ -128,3 +128,21 @@ def test_policy_runs_without_torch(spec):
     assert -3.0 <= a[0] <= 3.0
     np.testing.assert_array_equal(a, pol(np.zeros(4)))
     assert "torch" not in sys.modules
+
+
+def test_policy_is_the_exported_mlp(spec):
+    """The Rust runner against the MLP written out in numpy from the committed `.npz`: ReLU
+    layers, then tanh(mu) scaled to the action bounds (SB3's deterministic SAC action)."""
+    policy = tomllib.loads(BUNDLED.read_text())["policy"]["file"]
+    z = np.load(BUNDLED.parent / policy)
+    lo, hi = z["action_low"].astype(np.float64), z["action_high"].astype(np.float64)
+    pol = envc.datasets.policy(spec, deterministic=True)
+    for obs in np.random.default_rng(5).normal(size=(16, 4)):
+        x = obs
+        i = 0
+        while f"hidden_w{i}" in z:
+            x = np.maximum(z[f"hidden_w{i}"].astype(np.float64) @ x + z[f"hidden_b{i}"], 0.0)
+            i += 1
+        mu = z["mu_w"].astype(np.float64) @ x + z["mu_b"]
+        want = (lo + 0.5 * (np.tanh(mu) + 1.0) * (hi - lo)).astype(np.float32)
+        np.testing.assert_allclose(pol(obs), want, rtol=0, atol=1e-6)
