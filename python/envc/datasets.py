@@ -86,25 +86,42 @@ def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> st
 
         actors = [Builder.remote() for _ in range(workers)]
         lengths: list[tuple[int, int]] = []
-        total = 0
 
-        # Rounds: every episode of a round is surely in the dataset (each is at most
-        # max_episode_steps long), so no worker records an episode the budget leaves out, and
-        # which worker ran which episode changes nothing.
-        while True:
-            n = budget - len(lengths) if kind == "episodes" else (budget - total) // max_steps
-            if n <= 0:
-                break
-            start = len(lengths)
+        def cut() -> int | None:
+            """The episode count the budget takes, once the recorded episodes decide it."""
+            if kind == "episodes":
+                return budget if len(lengths) >= budget else None
+            total = 0
+            for k, (steps_k, _b) in enumerate(lengths):
+                if budget - total < max_steps:
+                    return k
+                total += steps_k
+            return len(lengths) if budget - total < max_steps else None
+
+        # Rounds: each records the episodes the budget still needs at least (remaining steps /
+        # max_episode_steps), plus an estimate from the mean length so far, as chunks over the
+        # workers. Episode k depends on (seed, k) only, so episodes recorded beyond the budget
+        # are simply removed before publishing: which worker ran what changes nothing.
+        while (n_eps := cut()) is None:
+            done = len(lengths)
+            total = sum(x for x, _b in lengths)
+            if kind == "episodes":
+                n = budget - done
+            else:
+                sure = max(1, (budget - total) // max_steps)
+                guess = 0
+                if done:
+                    mean = max(1.0, total / done)
+                    guess = int((budget - total - max_steps) / mean * 1.1) + workers
+                n = max(sure, guess)
             size = max(1, -(-n // (workers * 4)))
-            pending = [(a, min(a + size, start + n)) for a in range(start, start + n, size)]
+            pending = [(a, min(a + size, done + n)) for a in range(done, done + n, size)]
             got = _run_round(ray, actors, spec, driver.staging, fmt, pending)
             for chunk in sorted(got):
                 lengths.extend(tuple(x) for x in got[chunk])
-            total = sum(s for s, _b in lengths)
-        if not lengths:
+        if n_eps == 0:
             raise ValueError(f"a budget of {budget} {kind} holds no episode of up to {max_steps} steps")
-        return driver.finish(lengths)
+        return driver.finish(lengths[:n_eps], trim=True)
     finally:
         driver.abort()
         for a in actors:

@@ -454,7 +454,13 @@ impl ShardedCollection {
 
     /// Publish: `episodes[i]` is `(steps, bytes)` as episode i's worker reported it
     /// (`collect_shard`). Returns the dataset's directory.
-    fn finish(&mut self, py: Python<'_>, episodes: Vec<(u64, u64)>) -> PyResult<String> {
+    #[pyo3(signature = (episodes, trim = false))]
+    fn finish(
+        &mut self,
+        py: Python<'_>,
+        episodes: Vec<(u64, u64)>,
+        trim: bool,
+    ) -> PyResult<String> {
         let episodes: Vec<ShardEpisode> = episodes
             .into_iter()
             .map(|(steps, bytes)| ShardEpisode { steps, bytes })
@@ -465,6 +471,8 @@ impl ShardedCollection {
             .ok_or_else(|| errors::argument("the collection is already finished or aborted"))?;
         let dir = py
             .detach(|| match c {
+                DriverCollector::Task(c) if trim => c.finish_shards_trimmed(&episodes),
+                DriverCollector::Maze(c) if trim => c.finish_shards_trimmed(&episodes),
                 DriverCollector::Task(c) => c.finish_shards(&episodes),
                 DriverCollector::Maze(c) => c.finish_shards(&episodes),
             })

@@ -311,6 +311,39 @@ impl DatasetWriter {
     /// checks them against the disk.
     ///
     /// [`finish`]: DatasetWriter::finish
+    /// Remove staged shard episodes with an index of `keep` or more (recorded ahead of a budget
+    /// that turned out to end before them), so that [`Self::adopt_shards`] sees episodes
+    /// `0..keep` only.
+    pub fn discard_shards_from(&mut self, keep: u64) -> Result<(), DatasetError> {
+        self.staging.check_owned()?;
+        let dirs = [
+            (self.staging.dir().join("ds").join("data"), ""),
+            (
+                self.staging.dir().join(super::shard::SHARDS_DIR),
+                ".episode",
+            ),
+        ];
+        for (dir, suffix) in dirs {
+            let Ok(rd) = fs::read_dir(&dir) else { continue };
+            for e in rd.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                let index = name
+                    .strip_suffix(suffix)
+                    .and_then(|n| n.parse::<u64>().ok());
+                if index.is_some_and(|i| i >= keep) {
+                    let p = e.path();
+                    let gone = if p.is_dir() {
+                        fs::remove_dir_all(&p)
+                    } else {
+                        fs::remove_file(&p)
+                    };
+                    gone.map_err(io(&p))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub fn adopt_shards(&mut self, episodes: &[super::ShardEpisode]) -> Result<(), DatasetError> {
         if self.episodes != 0 {
             return Err(DatasetError::Write {
