@@ -82,6 +82,13 @@ impl Build {
             ))
         })?;
         let budget = steps.map_or(spec.budget, Budget::Steps);
+        if let Budget::Steps(n) = budget
+            && n < max_episode_steps
+        {
+            return Err(DatasetError::Unsupported(format!(
+                "a budget of {n} steps holds no episode: a new episode starts only while at least max_episode_steps = {max_episode_steps} steps remain"
+            )));
+        }
         Ok(Build {
             spec,
             budget,
@@ -168,12 +175,6 @@ impl Build {
             steps += s.steps as u64;
             ep += 1;
             progress(ep, steps);
-        }
-        if ep == 0 {
-            return Err(DatasetError::Unsupported(format!(
-                "a budget of {:?} holds no episode of up to {} steps",
-                self.budget, self.max_episode_steps
-            )));
         }
         let warnings = collector.env().warnings().to_vec();
         let cleaned = collector.writer().cleaned().to_vec();
