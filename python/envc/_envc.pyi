@@ -71,6 +71,43 @@ def collect_shard(
     """A worker's episodes `start..end` into a sharded collection's staging directory:
     `(steps, bytes)` of each."""
 
+def build_dataset(
+    spec: str,
+    steps: int | None = ...,
+    root: str | PathLike[str] | None = ...,
+    format: str | None = ...,
+    dataset_id: str | None = ...,
+) -> tuple[str, int, int]:
+    """Build a dataset spec's dataset in this process: `(directory, steps, episodes)`."""
+
+def dataset_build_plan(
+    spec: str, steps: int | None = ..., format: str | None = ...
+) -> tuple[int, str, int, int, str]:
+    """`(seed, "steps" | "episodes", budget, max_episode_steps, format)` of a dataset spec."""
+
+def build_shard(
+    spec: str, staging: str | PathLike[str], start: int, end: int, format: str
+) -> list[tuple[int, int]]:
+    """A worker's episodes `start..end` of a sharded build: `(steps, bytes)` of each."""
+
+def build_driver(
+    spec: str,
+    steps: int | None = ...,
+    root: str | PathLike[str] | None = ...,
+    format: str | None = ...,
+    dataset_id: str | None = ...,
+) -> ShardedCollection:
+    """The driver of a sharded build (holds the staging directory's lock)."""
+
+def datasets_dir() -> str:
+    """The bundled dataset specs' directory."""
+
+class SpecPolicy:
+    """A dataset spec's `.npz` policy, run in Rust: `policy(obs) -> float32 action`."""
+
+    def __init__(self, spec: str, seed: int = ..., deterministic: bool | None = ...) -> None: ...
+    def __call__(self, obs: npt.NDArray[np.float64]) -> npt.NDArray[np.float32]: ...
+
 class ShardedCollection:
     """The driver of a sharded collection (holds the staging directory's lock)."""
 

@@ -358,6 +358,18 @@ pub struct ShardedCollection {
     staging: String,
 }
 
+impl ShardedCollection {
+    /// The driver of a task env's collector made elsewhere (a dataset spec's build).
+    pub fn of_task(c: Collector<envc::Env>, seed: u64) -> ShardedCollection {
+        let staging = c.staging().display().to_string();
+        ShardedCollection {
+            collector: Some(DriverCollector::Task(c)),
+            seed,
+            staging,
+        }
+    }
+}
+
 #[pymethods]
 impl ShardedCollection {
     #[new]
@@ -442,7 +454,13 @@ impl ShardedCollection {
 
     /// Publish: `episodes[i]` is `(steps, bytes)` as episode i's worker reported it
     /// (`collect_shard`). Returns the dataset's directory.
-    fn finish(&mut self, py: Python<'_>, episodes: Vec<(u64, u64)>) -> PyResult<String> {
+    #[pyo3(signature = (episodes, trim = false))]
+    fn finish(
+        &mut self,
+        py: Python<'_>,
+        episodes: Vec<(u64, u64)>,
+        trim: bool,
+    ) -> PyResult<String> {
         let episodes: Vec<ShardEpisode> = episodes
             .into_iter()
             .map(|(steps, bytes)| ShardEpisode { steps, bytes })
@@ -453,6 +471,8 @@ impl ShardedCollection {
             .ok_or_else(|| errors::argument("the collection is already finished or aborted"))?;
         let dir = py
             .detach(|| match c {
+                DriverCollector::Task(c) if trim => c.finish_shards_trimmed(&episodes),
+                DriverCollector::Maze(c) if trim => c.finish_shards_trimmed(&episodes),
                 DriverCollector::Task(c) => c.finish_shards(&episodes),
                 DriverCollector::Maze(c) => c.finish_shards(&episodes),
             })

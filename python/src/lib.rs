@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 
+mod build;
 mod collect;
 mod convert;
 mod errors;
@@ -143,6 +144,12 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(build::build_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(build::dataset_build_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(build::build_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(build::build_driver, m)?)?;
+    m.add_class::<build::SpecPolicy>()?;
+    m.add_function(wrap_pyfunction!(build::datasets_dir, m)?)?;
     m.add_function(wrap_pyfunction!(gpu::gpu_plan, m)?)?;
     m.add_class::<collect::ShardedCollection>()?;
     m.add_class::<task::TaskCore>()?;

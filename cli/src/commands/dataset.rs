@@ -1,4 +1,5 @@
 //! `envc dataset show PATH|ID`: summary of a Minari dataset (envc's or Python's).
+//! `envc dataset build SPEC [--steps N]`: build a dataset from its dataset spec (docs/datasets.md).
 
 use anyhow::{Result, bail};
 use envc::dataset::Dataset;
@@ -21,6 +22,31 @@ enum Sub {
         #[arg(long)]
         no_episodes: bool,
     },
+    /// Build a Minari dataset from its dataset spec (a file, or a bundled id such as
+    /// `mujoco/hopper/simple-v0`): the same bytes as `envc.datasets.build` in Python, with or
+    /// without Ray workers.
+    Build {
+        spec: String,
+        /// A step budget instead of the spec's (a small build of a tier).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        steps: Option<u64>,
+        /// Datasets root (default: $MINARI_DATASETS_PATH, else ~/.minari/datasets).
+        #[arg(long, alias = "out")]
+        root: Option<std::path::PathBuf>,
+        /// A dataset id instead of the spec's.
+        #[arg(long)]
+        dataset_id: Option<String>,
+        /// Storage format instead of the spec's.
+        #[arg(long, value_parser = ["arrow", "hdf5"])]
+        format: Option<String>,
+        /// Build on the Ray cluster at ADDRESS (HOST:PORT or `auto`): runs
+        /// `$ENVC_PYTHON -m envc.datasets build` (default `python3`), which writes the same bytes.
+        #[arg(long, value_name = "ADDRESS")]
+        ray: Option<String>,
+        /// With `--ray`: Ray actors (one CPU each).
+        #[arg(long, default_value_t = 2, requires = "ray", value_parser = clap::value_parser!(u32).range(1..))]
+        workers: u32,
+    },
 }
 
 pub fn run(args: Args) -> Result<Outcome> {
@@ -29,7 +55,103 @@ pub fn run(args: Args) -> Result<Outcome> {
             dataset,
             no_episodes,
         } => show(&dataset, no_episodes),
+        Sub::Build {
+            spec,
+            steps,
+            root,
+            dataset_id,
+            format,
+            ray: Some(address),
+            workers,
+        } => exec_ray(&spec, steps, root, dataset_id, format, &address, workers),
+        Sub::Build {
+            spec,
+            steps,
+            root,
+            dataset_id,
+            format,
+            ray: None,
+            ..
+        } => build(&spec, steps, root, dataset_id, format.as_deref()),
     }
+}
+
+/// `envc dataset build --ray ADDRESS`: the same arguments to `python -m envc.datasets build`.
+fn exec_ray(
+    spec: &str,
+    steps: Option<u64>,
+    root: Option<std::path::PathBuf>,
+    dataset_id: Option<String>,
+    format: Option<String>,
+    address: &str,
+    workers: u32,
+) -> Result<Outcome> {
+    use std::os::unix::process::CommandExt;
+    let python = std::env::var_os("ENVC_PYTHON").unwrap_or_else(|| "python3".into());
+    let mut cmd = std::process::Command::new(&python);
+    cmd.args(["-m", "envc.datasets", "build", spec]);
+    if let Some(n) = steps {
+        cmd.args(["--steps", &n.to_string()]);
+    }
+    if let Some(r) = root {
+        cmd.arg("--root").arg(r);
+    }
+    if let Some(d) = dataset_id {
+        cmd.args(["--dataset-id", &d]);
+    }
+    if let Some(f) = format {
+        cmd.args(["--format", &f]);
+    }
+    cmd.args(["--workers", &workers.to_string(), "--address", address]);
+    let e = cmd.exec();
+    bail!(
+        "--ray: could not run {} -m envc.datasets ({e}); set ENVC_PYTHON to a Python with envc and ray installed",
+        std::path::Path::new(&python).display()
+    )
+}
+
+fn build(
+    spec: &str,
+    steps: Option<u64>,
+    root: Option<std::path::PathBuf>,
+    dataset_id: Option<String>,
+    format: Option<&str>,
+) -> Result<Outcome> {
+    use envc::dataset::{Build, BuildOptions, DatasetSpec, Format};
+    let err = |e: envc::dataset::DatasetError| anyhow::anyhow!("{e}");
+    let spec = DatasetSpec::open(spec).map_err(err)?;
+    let id = dataset_id
+        .clone()
+        .unwrap_or_else(|| spec.dataset_id.clone());
+    let build = Build::new(spec, steps).map_err(err)?;
+    let opts = BuildOptions {
+        steps,
+        root,
+        format: format.map(|f| {
+            if f == "hdf5" {
+                Format::Hdf5
+            } else {
+                Format::Arrow
+            }
+        }),
+        dataset_id,
+    };
+    let start = std::time::Instant::now();
+    let mut episodes = 0;
+    let r = build.record(&opts, |e, _| episodes = e).map_err(err)?;
+    let secs = start.elapsed().as_secs_f64();
+    println!(
+        "{id}: {}, {} ({:.0} steps/s, seed {}) written to {}",
+        crate::plural(episodes, "episode", "episodes"),
+        crate::plural(r.steps, "step", "steps"),
+        r.steps as f64 / secs.max(1e-9),
+        r.seed,
+        r.dir.display()
+    );
+    for w in r.warnings {
+        println!("  MuJoCo warning: {w}");
+    }
+    Ok(Outcome::Ok)
 }
 
 fn show(what: &str, no_episodes: bool) -> Result<Outcome> {

@@ -204,6 +204,16 @@ impl<E: Recordable> Collector<E> {
         self.writer.finish()
     }
 
+    /// [`Collector::finish_shards`] after removing staged episodes beyond `episodes` (recorded
+    /// ahead of a step budget that ended before them).
+    pub fn finish_shards_trimmed(
+        mut self,
+        episodes: &[super::ShardEpisode],
+    ) -> Result<PathBuf, DatasetError> {
+        self.writer.discard_shards_from(episodes.len() as u64)?;
+        self.finish_shards(episodes)
+    }
+
     /// Finish the dataset (metadata, then one rename into place); returns its directory.
     pub fn finish(self) -> Result<PathBuf, DatasetError> {
         self.writer.finish()

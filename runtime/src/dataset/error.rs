@@ -54,6 +54,15 @@ pub enum DatasetError {
         "error[E1601]: the policy failed in episode {episode}: {why}; nothing was written for it"
     )]
     PolicyFailed { episode: u64, why: String },
+    #[error("error[E1801]: {}{}: {why}", path.display(), if *line > 0 { format!(":{line}:{col}") } else { String::new() })]
+    BadSpec {
+        path: PathBuf,
+        line: usize,
+        col: usize,
+        why: String,
+    },
+    #[error("error[E1802]: policy {}: {why}", path.display())]
+    BadPolicy { path: PathBuf, why: String },
     /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
     #[error("{0}")]
     Env(#[from] EnvError),
@@ -76,6 +85,8 @@ impl DatasetError {
             DatasetError::EpisodeTooLong { .. } => "E1402".into(),
             DatasetError::ShardMissing { .. } => "E1600".into(),
             DatasetError::PolicyFailed { .. } => "E1601".into(),
+            DatasetError::BadSpec { .. } => "E1801".into(),
+            DatasetError::BadPolicy { .. } => "E1802".into(),
             DatasetError::Env(e) => format!("{:?}", e.code()),
         }
     }

@@ -23,6 +23,8 @@
 //! Format details and the choices made are in `docs/datasets.md`.
 
 mod arrow_io;
+mod build;
+mod build_spec;
 mod collector;
 mod episode;
 mod error;
@@ -31,6 +33,7 @@ mod gym_spec;
 mod hdf5_io;
 mod id;
 mod json;
+mod mlp;
 mod plan;
 mod reader;
 mod recordable;
@@ -40,11 +43,14 @@ mod staging;
 mod tensor;
 mod writer;
 
+pub use build::{Build, BuildOptions, SpecActor};
+pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
+pub use mlp::MlpPolicy;
 pub use plan::{
     EpisodePolicy, Plan, PlanActor, PlanPolicy, Recording, default_description, episode_rng,
     episode_seed, record, record_shard, record_with,

@@ -36,6 +36,10 @@ pub struct DatasetInfo {
     /// The numerics profile the data was computed under (`envc_numerics` in metadata.json);
     /// replaying under it reproduces the data bit for bit on any machine.
     pub numerics: Option<String>,
+    /// Gymnasium `EnvSpec` JSON of the evaluation env (`eval_env_spec`).
+    pub eval_env_spec: Option<String>,
+    /// Minari's `ref_min_score`, `ref_max_score`, `num_episodes_average_score`.
+    pub reference_scores: Option<super::RefScores>,
 }
 
 enum Backend {
@@ -301,6 +305,39 @@ impl DatasetWriter {
     /// checks them against the disk.
     ///
     /// [`finish`]: DatasetWriter::finish
+    /// Remove staged shard episodes with an index of `keep` or more (recorded ahead of a budget
+    /// that turned out to end before them), so that [`Self::adopt_shards`] sees episodes
+    /// `0..keep` only.
+    pub fn discard_shards_from(&mut self, keep: u64) -> Result<(), DatasetError> {
+        self.staging.check_owned()?;
+        let dirs = [
+            (self.staging.dir().join("ds").join("data"), ""),
+            (
+                self.staging.dir().join(super::shard::SHARDS_DIR),
+                ".episode",
+            ),
+        ];
+        for (dir, suffix) in dirs {
+            let Ok(rd) = fs::read_dir(&dir) else { continue };
+            for e in rd.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                let index = name
+                    .strip_suffix(suffix)
+                    .and_then(|n| n.parse::<u64>().ok());
+                if index.is_some_and(|i| i >= keep) {
+                    let p = e.path();
+                    let gone = if p.is_dir() {
+                        fs::remove_dir_all(&p)
+                    } else {
+                        fs::remove_file(&p)
+                    };
+                    gone.map_err(io(&p))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub fn adopt_shards(&mut self, episodes: &[super::ShardEpisode]) -> Result<(), DatasetError> {
         if self.episodes != 0 {
             return Err(DatasetError::Write {
@@ -381,6 +418,17 @@ impl DatasetWriter {
         );
         if let Some(spec) = &self.info.env_spec {
             m.insert("env_spec".into(), json!(spec));
+        }
+        if let Some(spec) = &self.info.eval_env_spec {
+            m.insert("eval_env_spec".into(), json!(spec));
+        }
+        if let Some(r) = &self.info.reference_scores {
+            m.insert("ref_min_score".into(), json!(r.ref_min_score));
+            m.insert("ref_max_score".into(), json!(r.ref_max_score));
+            m.insert(
+                "num_episodes_average_score".into(),
+                json!(r.num_episodes_average_score),
+            );
         }
         // np.round(bytes / 1e6, 1), over the data directory (metadata.json is tiny).
         m.insert(
