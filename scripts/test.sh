@@ -51,7 +51,11 @@ passed "release catalogue and fuzz"
 
 # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
 # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
-"$PY" -m pytest -q -p no:cacheprovider tests/python
+# Two workers (pytest-xdist), a test file each at a time; both draw their fresh cases from the
+# run's one seed, so they collect the same tests.
+SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
+echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
+ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider -n 2 --dist loadfile tests/python
 passed "pytest"
 
 # Rendering: tests/python/test_render.py above compares frames with Gymnasium's; here the
@@ -114,7 +118,6 @@ ENVC_MINARI_DIR="$MINARI_PY" cargo test -q --workspace --test integration minari
 passed "Python DataCollector datasets read by envc"
 rm -rf "$MINARI_PY"
 
-SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "live cross-check against the Python reference, seed $SEED (ENVC_LIVE_SEED=$SEED repeats it)"
 "$PY" tests/reference/record.py --out "$LIVE" --seed "$SEED" --quick --skip-golden
 ENVC_PARITY_DIR="$LIVE" cargo test -q --workspace --test integration parity::
