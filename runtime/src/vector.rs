@@ -27,6 +27,7 @@ use envspec::{Override, ResolvedSpec};
 
 use crate::env::{Env, Info, compile};
 use crate::error::EnvError;
+use crate::joint_env::{JointAction, JointEnv};
 
 /// When an ended env is reset (Gymnasium's `AutoresetMode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -201,18 +202,19 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
         *pending = false;
         return Ok(());
     }
-    let s = if f32_actions {
-        env.step_f32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })?
+    let action = if f32_actions {
+        JointAction::F32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })
     } else {
-        env.step(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })?
+        JointAction::F64(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })
     };
+    let s = env.step_joint(action)?;
     *reward = s.reward;
     *terminated = s.terminated;
     *truncated = s.truncated;
     let ended = s.terminated || s.truncated;
     match job.mode {
         Autoreset::NextStep => {
-            obs.copy_from_slice(s.obs);
+            obs.copy_from_slice(env.obs());
             *pending = ended;
         }
         Autoreset::SameStep => {
@@ -220,10 +222,10 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
             *has_final = ended;
             if ended {
                 unsafe { std::slice::from_raw_parts_mut(job.final_obs.add(i * od), od) }
-                    .copy_from_slice(s.obs);
+                    .copy_from_slice(env.obs());
                 obs.copy_from_slice(env.reset(None).0);
             } else {
-                obs.copy_from_slice(s.obs);
+                obs.copy_from_slice(env.obs());
             }
         }
     }
@@ -259,6 +261,8 @@ impl VecEnv {
     }
 
     /// `num_envs` envs of a bundled id or spec path (with overrides), run on `threads` threads.
+    /// The spec opens through the one door ([`crate::open`]); a maze or a multi-agent spec is
+    /// E0602.
     pub fn make(
         id_or_path: &str,
         overrides: &[Override],
@@ -266,8 +270,19 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
-        let spec = envspec::load(&crate::registry::find(id_or_path)?, overrides)?;
-        VecEnv::new(Arc::new(spec), num_envs, threads, mode)
+        match crate::open(id_or_path, overrides)? {
+            crate::AnyEnv::Task(first) => VecEnv::from_env(first, num_envs, threads, mode),
+            other => Err(EnvError::Spec(
+                envspec::Diagnostic::new(
+                    envspec::Code::E0602,
+                    format!(
+                        "`{id_or_path}` is a {} spec: vector envs step single-agent tasks",
+                        other.kind()
+                    ),
+                )
+                .into(),
+            )),
+        }
     }
 
     /// Compile the model once and build `num_envs` envs over it. `threads` is clamped to
@@ -278,18 +293,39 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
+        VecEnv::check_count(&spec, num_envs)?;
+        let model = Arc::new(compile(&spec)?);
+        VecEnv::from_env(Env::with_model(spec, model)?, num_envs, threads, mode)
+    }
+
+    /// E1403: more envs than envc's limit.
+    fn check_count(spec: &ResolvedSpec, num_envs: usize) -> Result<(), EnvError> {
+        if num_envs > envspec::limits::MAX_VEC_ENVS {
+            return Err(EnvError::TooLarge {
+                env: spec.id.clone(),
+                what: format!(
+                    "{num_envs} envs are beyond envc's limit of {} per vector env",
+                    envspec::limits::MAX_VEC_ENVS
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// `num_envs` envs sharing the model of `first` (which is the first of them).
+    pub fn from_env(
+        first: Env,
+        num_envs: usize,
+        threads: usize,
+        mode: Autoreset,
+    ) -> Result<VecEnv, EnvError> {
+        let spec = Arc::clone(first.spec());
+        let model = Arc::clone(first.model());
+        VecEnv::check_count(&spec, num_envs)?;
         let too_large = |what: String| EnvError::TooLarge {
             env: spec.id.clone(),
             what,
         };
-        if num_envs > envspec::limits::MAX_VEC_ENVS {
-            return Err(too_large(format!(
-                "{num_envs} envs are beyond envc's limit of {} per vector env",
-                envspec::limits::MAX_VEC_ENVS
-            )));
-        }
-        let model = Arc::new(compile(&spec)?);
-        let first = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
         // Each env holds an mjData (its buffer and arena): refuse before allocating them all
         // rather than fail (or be killed) part-way.
         // The env's mjData and rings, and its rows of the batch buffers (observations twice,
