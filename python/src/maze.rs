@@ -36,6 +36,18 @@ fn goal_rows(
     Ok((rows(a), rows(d)))
 }
 
+/// A goal function's flag for every row of two `[N, 2]` goal batches.
+fn goal_flags<'py>(
+    py: Python<'py>,
+    achieved: &PyReadonlyArray2<'py, f64>,
+    desired: &PyReadonlyArray2<'py, f64>,
+    f: impl Fn([f64; 2], [f64; 2]) -> bool,
+) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    let (a, d) = goal_rows(achieved, desired)?;
+    let out: Vec<bool> = a.iter().zip(&d).map(|(a, d)| f(*a, *d)).collect();
+    Ok(PyArray1::from_vec(py, out))
+}
+
 #[pymethods]
 impl MazeCore {
     /// `reset(seed, goal_cell, reset_cell)`: a seed restarts the env's RNG stream, `None`
@@ -86,14 +98,10 @@ impl MazeCore {
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let (a, d) = goal_rows(&achieved, &desired)?;
         let maze = slf.as_super().maze()?;
-        let out: Vec<bool> = a
-            .iter()
-            .zip(&d)
-            .map(|(a, d)| maze.compute_terminated(*a, *d))
-            .collect();
-        Ok(PyArray1::from_vec(py, out))
+        goal_flags(py, &achieved, &desired, |a, d| {
+            maze.compute_terminated(a, d)
+        })
     }
 
     /// The env's truncation of every row (never: the time limit truncates).
@@ -103,14 +111,8 @@ impl MazeCore {
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let (a, d) = goal_rows(&achieved, &desired)?;
         let maze = slf.as_super().maze()?;
-        let out: Vec<bool> = a
-            .iter()
-            .zip(&d)
-            .map(|(a, d)| maze.compute_truncated(*a, *d))
-            .collect();
-        Ok(PyArray1::from_vec(py, out))
+        goal_flags(py, &achieved, &desired, |a, d| maze.compute_truncated(a, d))
     }
 
     /// Size of the `observation` entry (the goals have 2 entries).

@@ -29,6 +29,17 @@ fn agent(env: &MultiAgentEnv, i: usize) -> PyResult<usize> {
 
 type Arrays<'py> = Vec<Bound<'py, PyArray1<f64>>>;
 
+/// One bound of agent `i`'s spaces, picked by `pick`.
+fn agent_bound<'py>(
+    slf: &PyRef<'py, AgentsCore>,
+    py: Python<'py>,
+    i: usize,
+    pick: impl for<'e> Fn(&'e MultiAgentEnv, usize) -> &'e [f64],
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let env = slf.as_super().agents()?;
+    Ok(PyArray1::from_slice(py, pick(env, agent(env, i)?)))
+}
+
 fn arrays<'py>(py: Python<'py>, vs: &[Vec<f64>]) -> Arrays<'py> {
     vs.iter().map(|v| PyArray1::from_slice(py, v)).collect()
 }
@@ -174,18 +185,14 @@ impl AgentsCore {
         py: Python<'py>,
         agent: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let env = slf.as_super().agents()?;
-        let space = env.observation_space(self::agent(env, agent)?);
-        Ok(PyArray1::from_slice(py, &space.low))
+        agent_bound(&slf, py, agent, |e, i| &e.observation_space(i).low)
     }
     fn agent_obs_high<'py>(
         slf: PyRef<'py, Self>,
         py: Python<'py>,
         agent: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let env = slf.as_super().agents()?;
-        let space = env.observation_space(self::agent(env, agent)?);
-        Ok(PyArray1::from_slice(py, &space.high))
+        agent_bound(&slf, py, agent, |e, i| &e.observation_space(i).high)
     }
     /// Agent `agent`'s action bounds.
     fn agent_act_low<'py>(
@@ -193,18 +200,14 @@ impl AgentsCore {
         py: Python<'py>,
         agent: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let env = slf.as_super().agents()?;
-        let space = env.action_space(self::agent(env, agent)?);
-        Ok(PyArray1::from_slice(py, &space.low))
+        agent_bound(&slf, py, agent, |e, i| &e.action_space(i).low)
     }
     fn agent_act_high<'py>(
         slf: PyRef<'py, Self>,
         py: Python<'py>,
         agent: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let env = slf.as_super().agents()?;
-        let space = env.action_space(self::agent(env, agent)?);
-        Ok(PyArray1::from_slice(py, &space.high))
+        agent_bound(&slf, py, agent, |e, i| &e.action_space(i).high)
     }
     /// The global state's bounds (the single-agent observation space).
     #[getter]

@@ -262,3 +262,36 @@ impl JointEnv for MultiAgentEnv {
         MultiAgentEnv::render(self, mode)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn check_action_refuses_in_order_not_reset_length_non_finite() {
+        let ok = JointAction::F64(&[0.0, 1.0]);
+        let not_reset = check_action("E", 2, ok, || Some(EnvError::NotReset));
+        assert!(matches!(not_reset, Err(EnvError::NotReset)));
+        let short = check_action("E", 3, JointAction::F64(&[f64::NAN]), || None);
+        assert!(matches!(
+            short,
+            Err(EnvError::ActionLength {
+                expected: 3,
+                got: 1,
+                ..
+            })
+        ));
+        let nan = check_action("E", 2, JointAction::F32(&[0.5, f32::INFINITY]), || None);
+        assert!(matches!(
+            nan,
+            Err(EnvError::NonFiniteAction { index: 1, value }) if value == f64::INFINITY
+        ));
+        assert!(check_action("E", 2, ok, || None).is_ok());
+    }
+
+    #[test]
+    fn a_float32_action_reads_as_its_exact_float64() {
+        let a = JointAction::F32(&[0.1, -3.0]);
+        assert_eq!((a.len(), a.get(0), a.get(1)), (2, f64::from(0.1f32), -3.0));
+    }
+}
