@@ -3,10 +3,33 @@ classes; these are the objects they wrap."""
 
 from os import PathLike
 import os
-from typing import Any, Callable
+from typing import Any, Callable, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import Self, disjoint_base
+
+__all__ = [
+    "open",
+    "registry",
+    "parameters",
+    "describe",
+    "register",
+    "set_bundle_root",
+    "bundle_root",
+    "collect",
+    "collect_shard",
+    "gpu_plan",
+    "ShardedCollection",
+    "EnvCore",
+    "TaskCore",
+    "MazeCore",
+    "AgentsCore",
+    "VecCore",
+    "SpecError",
+    "__mujoco_version__",
+    "__version__",
+]
 
 __mujoco_version__: str
 __version__: str
@@ -71,13 +94,16 @@ def collect_shard(
     """A worker's episodes `start..end` into a sharded collection's staging directory:
     `(steps, bytes)` of each."""
 
+@final
 class ShardedCollection:
     """The driver of a sharded collection (holds the staging directory's lock)."""
 
-    seed: int
-    staging: str
-    def __init__(
-        self,
+    @property
+    def seed(self) -> int: ...
+    @property
+    def staging(self) -> str: ...
+    def __new__(
+        cls,
         id_or_path: str,
         dataset_id: str,
         episodes: int,
@@ -91,12 +117,13 @@ class ShardedCollection:
         description: str | None = ...,
         env_spec: str | None = ...,
         callable: bool = ...,
-    ) -> None: ...
+    ) -> Self: ...
     def finish(self, episodes: list[tuple[int, int]]) -> str: ...
     def abort(self) -> None: ...
 
 _F64 = npt.NDArray[np.float64]
 
+@disjoint_base
 class EnvCore:
     """What every kind's core shares (`open` returns the kind's subclass): reset, step with a
     joint action (a multi-agent spec: the global action), its bounds, dt, the time limit,
@@ -131,6 +158,7 @@ class EnvCore:
     def close(self) -> None:
         """Free the renderer (the next `render` makes a new one)."""
 
+@final
 class TaskCore(EnvCore):
     """A task env (`envc.EnvcEnv` wraps it)."""
 
@@ -147,6 +175,7 @@ class TaskCore(EnvCore):
     ) -> tuple[_F64, float, bool, bool, dict[str, Any]]: ...
     def state(self) -> tuple[_F64, _F64]: ...
 
+@final
 class AgentsCore(EnvCore):
     """A multi-agent env (`envc.EnvcParallelEnv` wraps it); its joint action is the global one."""
 
@@ -185,6 +214,7 @@ class AgentsCore(EnvCore):
     def agent_act_high(self, agent: int) -> _F64: ...
     def color_agents(self, on: bool) -> None: ...
 
+@final
 class MazeCore(EnvCore):
     """A maze env (`envc.EnvcMazeEnv` wraps it): dict observations, batched goal functions."""
 
@@ -214,34 +244,55 @@ class MazeCore(EnvCore):
     def compute_terminated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
     def compute_truncated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
 
+@final
 class VecCore:
     """Many task envs stepped by Rust threads into numpy buffers filled in place
     (`envc.EnvcVectorEnv` wraps it)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         id_or_path: str,
         overrides: list[tuple[str, str]],
         num_envs: int,
         threads: int,
         autoreset: str,
+    ) -> Self: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def threads(self) -> int: ...
+    @property
+    def autoreset(self) -> str: ...
+    @property
+    def id(self) -> str: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def max_episode_steps(self) -> int | None: ...
+    @property
+    def obs_low(self) -> _F64: ...
+    @property
+    def obs_high(self) -> _F64: ...
+    @property
+    def act_low(self) -> _F64: ...
+    @property
+    def act_high(self) -> _F64: ...
+    @property
+    def numerics(self) -> str: ...
+    @numerics.setter
+    def numerics(self, name: str) -> None: ...
+    @property
+    def info_keys(self) -> list[tuple[str, int, int, bool]]: ...
+    @property
+    def buffers(self) -> dict[str, np.ndarray]: ...
+    @property
+    def generation(self) -> int:
+        """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
+    def reset(
+        self, seeds: list[int | None] | None = None, mask: list[bool] | None = None
     ) -> None: ...
-    num_envs: int
-    threads: int
-    autoreset: str
-    id: str
-    dt: float
-    max_episode_steps: int | None
-    obs_low: _F64
-    obs_high: _F64
-    act_low: _F64
-    act_high: _F64
-    numerics: str
-    info_keys: list[tuple[str, int, int, bool]]
-    buffers: dict[str, np.ndarray]
-    generation: int
-    """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
-    def reset(self, seeds: list[int | None] | None = ..., mask: npt.NDArray[np.bool_] | None = ...) -> None: ...
     def step(self, actions: npt.NDArray[np.float64]) -> None: ...
     def step_f32(self, actions: npt.NDArray[np.float32]) -> None: ...
+    def render(self, index: int, mode: str) -> Any:
+        """A frame of env `index` in Gymnasium's `render_mode` (as `EnvCore.render`)."""
     def close(self) -> None: ...
