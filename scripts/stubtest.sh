@@ -7,7 +7,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PY="${PYTHON:-$ROOT/.venv/bin/python}"
-cd "$ROOT"
-# mypy's cache stays with the build outputs, out of the source tree.
-export MYPY_CACHE_DIR="${MYPY_CACHE_DIR:-$ROOT/target/mypy-cache}"
+# Run from the build outputs, where mypy leaves its cache (.mypy_cache), out of the source tree.
+mkdir -p "$ROOT/target/stubtest"
+cd "$ROOT/target/stubtest"
 exec "$PY" -m mypy.stubtest envc._envc
