@@ -6,11 +6,11 @@ use std::path::Path;
 
 use anyhow::Result;
 use envc::maze::MazeEnv;
-use ndarray::{Array1, Array2, ArrayD, IxDyn};
+use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
-use crate::commands::rollout::Trajectory;
+use crate::commands::rollout::{InfoColumns, Trajectory};
 use crate::output::Sticky;
 
 struct DictObs {
@@ -62,9 +62,10 @@ pub struct MazeTrajectory {
     reset_obs: DictObs,
     reset_at: Vec<i64>,
     success: Vec<bool>,
-    info: Vec<(String, usize, Vec<f64>)>,
+    /// The robot's info of every step and of the first reset.
+    info: InfoColumns,
     first_success: bool,
-    first_reset: Vec<(String, Vec<f64>)>,
+    first_reset: InfoColumns,
 }
 
 impl Default for MazeTrajectory {
@@ -74,9 +75,9 @@ impl Default for MazeTrajectory {
             reset_obs: DictObs::new(),
             reset_at: vec![],
             success: vec![],
-            info: vec![],
+            info: InfoColumns::default(),
             first_success: false,
-            first_reset: vec![],
+            first_reset: InfoColumns::default(),
         }
     }
 }
@@ -87,12 +88,7 @@ impl Trajectory for MazeTrajectory {
         if at.is_none() {
             self.obs.push(env.obs());
             self.first_success = env.success();
-            self.first_reset = env
-                .robot()
-                .reset_info()
-                .iter()
-                .map(|(k, v)| (k.to_string(), v.to_vec()))
-                .collect();
+            self.first_reset.push(env.robot().reset_info());
         }
         self.reset_obs.push(env.obs());
         self.reset_at.push(at.unwrap_or(0) as i64);
@@ -100,16 +96,7 @@ impl Trajectory for MazeTrajectory {
     fn step(&mut self, env: &MazeEnv) {
         self.obs.push(env.obs());
         self.success.push(env.success());
-        let info = env.robot().step_info();
-        if self.info.is_empty() {
-            self.info = info
-                .iter()
-                .map(|(k, v)| (k.to_string(), v.len(), vec![]))
-                .collect();
-        }
-        for ((_, _, col), (_, v)) in self.info.iter_mut().zip(info.iter()) {
-            col.extend_from_slice(v);
-        }
+        self.info.push(env.robot().step_info());
     }
     fn write_obs(
         &mut self,
@@ -126,23 +113,10 @@ impl Trajectory for MazeTrajectory {
         env: &MazeEnv,
         auto_reset: bool,
     ) -> Result<()> {
-        let n = self.success.len();
         npz.add_array("info.success", &Array1::from(self.success))?;
-        for (k, len, v) in self.info {
-            let shape = if len == 1 { vec![n] } else { vec![n, len] };
-            npz.add_array(
-                format!("info.{k}"),
-                &ArrayD::from_shape_vec(IxDyn(&shape), v)?,
-            )?;
-        }
+        self.info.write(npz, "info")?;
         npz.add_array("reset_info.success", &ndarray::arr0(self.first_success))?;
-        for (k, v) in self.first_reset {
-            if v.len() == 1 {
-                npz.add_array(format!("reset_info.{k}"), &ndarray::arr0(v[0]))?;
-            } else {
-                npz.add_array(format!("reset_info.{k}"), &Array1::from(v))?;
-            }
-        }
+        self.first_reset.write_first(npz, "reset_info")?;
         if auto_reset {
             self.reset_obs
                 .write(npz, "reset_obs", env.observation_dim())?;

@@ -80,8 +80,22 @@ impl InfoColumns {
                 .extend_from_slice(v);
         }
     }
-    /// `[n]` for scalar keys, `[n, k]` for vector keys.
-    pub(crate) fn arrays(&self, prefix: &str) -> Result<Vec<(String, ArrayD<f64>)>> {
+    /// `prefix.<key>` of every row: `[n]` for scalar keys, `[n, k]` for vector keys.
+    pub(crate) fn write(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
+        for (name, a) in self.arrays(prefix)? {
+            npz.add_array(name.as_str(), &a)?;
+        }
+        Ok(())
+    }
+    /// `prefix.<key>` of the first row alone (a reset's info): `[]` for scalars, `[k]` for
+    /// vectors.
+    pub(crate) fn write_first(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
+        for (name, a) in self.arrays(prefix)? {
+            npz.add_array(name.as_str(), &a.index_axis_move(ndarray::Axis(0), 0))?;
+        }
+        Ok(())
+    }
+    fn arrays(&self, prefix: &str) -> Result<Vec<(String, ArrayD<f64>)>> {
         let mut out = vec![];
         for (k, len) in &self.keys {
             let v = self.values[k].clone();
@@ -254,14 +268,8 @@ impl Trajectory for TaskTrajectory {
         Ok(())
     }
     fn write_rest(self, npz: &mut NpzWriter<Sticky>, env: &Env, auto_reset: bool) -> Result<()> {
-        for (name, a) in self.step_info.arrays("info")? {
-            npz.add_array(name.as_str(), &a)?;
-        }
-        for (name, a) in self.first_reset.arrays("reset_info")? {
-            // The first reset's info: one value per key ([] for scalars, [k] for vectors).
-            let a = a.index_axis_move(ndarray::Axis(0), 0);
-            npz.add_array(name.as_str(), &a)?;
-        }
+        self.step_info.write(npz, "info")?;
+        self.first_reset.write_first(npz, "reset_info")?;
         if auto_reset {
             let r = self.reset_at.len();
             npz.add_array(
