@@ -23,7 +23,7 @@ pub struct EnvCore {
 }
 
 /// `(obs, reward, terminated, truncated, info)`, the obs in the kind's form.
-type StepOut<'py> = (Bound<'py, PyAny>, f64, bool, bool, Bound<'py, PyDict>);
+pub(crate) type StepOut<'py> = (Bound<'py, PyAny>, f64, bool, bool, Bound<'py, PyDict>);
 /// `(obs, info)`.
 type ResetOut<'py> = (Bound<'py, PyAny>, Bound<'py, PyDict>);
 

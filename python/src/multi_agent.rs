@@ -6,9 +6,8 @@
 use envc::multi_agent::MultiAgentEnv;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
-use crate::env_core::{After, EnvCore, observe, wrong_kind};
+use crate::env_core::{After, EnvCore, StepOut, observe, wrong_kind};
 use crate::errors;
 
 /// A multi-agent env (`envc.parallel_env` wraps it as a PettingZoo `ParallelEnv`).
@@ -56,7 +55,7 @@ impl AgentsCore {
         mut slf: PyRefMut<'py, Self>,
         py: Python<'py>,
         actions: Vec<PyReadonlyArray1<'py, f64>>,
-    ) -> PyResult<(Bound<'py, PyAny>, f64, bool, bool, Bound<'py, PyDict>)> {
+    ) -> PyResult<StepOut<'py>> {
         let a = slices(&actions)?;
         slf.as_super().guarded(|env| {
             let envc::AnyEnv::Agents(agents) = env else {

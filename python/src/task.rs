@@ -7,6 +7,8 @@ use pyo3::prelude::*;
 use crate::env_core::EnvCore;
 use crate::errors;
 
+type F64Array<'py> = Bound<'py, PyArray1<f64>>;
+
 /// A task env (`envc.EnvcEnv` wraps it as a `gymnasium.Env`).
 #[pyclass(module = "envc._envc", extends = EnvCore)]
 pub struct TaskCore;
@@ -17,7 +19,7 @@ impl TaskCore {
     fn state<'py>(
         slf: PyRef<'py, Self>,
         py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<(F64Array<'py>, F64Array<'py>)> {
         let (q, v) = slf.as_super().task()?.state();
         Ok((PyArray1::from_slice(py, q), PyArray1::from_slice(py, v)))
     }
