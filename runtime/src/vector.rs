@@ -519,7 +519,7 @@ impl VecEnv {
     /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
     /// batch buffers hold the results.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
-        self.check_actions(actions.len(), |i| actions[i])?;
+        self.check_actions(JointAction::F64(actions))?;
         // SAFETY: no step is running; the buffer has exactly actions.len() entries.
         unsafe {
             std::ptr::copy_nonoverlapping(
@@ -534,7 +534,7 @@ impl VecEnv {
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
     /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
     pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
-        self.check_actions(actions.len(), |i| actions[i] as f64)?;
+        self.check_actions(JointAction::F32(actions))?;
         // SAFETY: as in `step`.
         unsafe {
             std::ptr::copy_nonoverlapping(
@@ -547,24 +547,11 @@ impl VecEnv {
     }
 
     /// Checked before any env moves, so a bad action fails the whole batch.
-    fn check_actions(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(EnvError::NotReset);
-        }
-        if len != self.actions.len() {
-            return Err(EnvError::ActionLength {
-                env: self.spec().map(|s| s.id.clone()).unwrap_or_default(),
-                expected: self.actions.len(),
-                got: len,
-            });
-        }
-        match (0..len).find(|&i| !value(i).is_finite()) {
-            Some(index) => Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            }),
-            None => Ok(()),
-        }
+    fn check_actions(&self, actions: JointAction<'_>) -> Result<(), EnvError> {
+        let id = self.spec().map(|s| s.id.as_str()).unwrap_or_default();
+        crate::joint_env::check_action(id, self.actions.len(), actions, || {
+            (!self.has_reset).then_some(EnvError::NotReset)
+        })
     }
 
     /// Run one step of every env over the action buffer just written.
