@@ -24,6 +24,7 @@ use mujoco_rs::prelude::{MjData, MjModel};
 use crate::error::EnvError;
 use crate::rng::NumpyRng;
 use crate::vector::{Autoreset, VecEnv};
+use crate::{JointAction, JointEnv};
 
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
@@ -233,7 +234,7 @@ pub fn bench(
         message: format!("cannot allocate mjData: {e}"),
     })?;
     let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
-    env.reset(Some(0))?;
+    env.try_reset(Some(0))?;
     let start_state = {
         let (qpos, qvel) = env.physics_env().state();
         StartState {
@@ -292,7 +293,7 @@ pub fn bench(
                         let a = actions.rows(cursor, 1);
                         cursor += 1;
                         // The action has the env's length and is finite: only MuJoCo can fail.
-                        let done = match env.step(a) {
+                        let done = match env.step_joint(JointAction::F64(a)) {
                             Ok(s) => s.terminated || s.truncated,
                             Err(e) => {
                                 env_error.get_or_insert(e);
@@ -302,7 +303,7 @@ pub fn bench(
                         steps += 1;
                         if done {
                             episodes += 1;
-                            let _ = env.reset(None);
+                            let _ = env.try_reset(None);
                         }
                     }
                     CHUNK as u64

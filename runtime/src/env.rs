@@ -775,7 +775,7 @@ impl Env {
     /// Advance one control step. The action is used as given (MuJoCo clamps it to ctrlrange inside
     /// the dynamics; costs see the raw values), as in the reference.
     pub fn step(&mut self, action: &[f64]) -> Result<Step<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i])?;
+        self.check_action(crate::JointAction::F64(action))?;
         self.sim.action.copy_from_slice(action);
         self.action_f32 = false;
         self.advance()
@@ -786,7 +786,7 @@ impl Env {
     /// computed in float32 as numpy does (square, pairwise sum and weight in float32; reference
     /// trap T3), so their info values are float32 numbers.
     pub fn step_f32(&mut self, action: &[f32]) -> Result<Step<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i] as f64)?;
+        self.check_action(crate::JointAction::F32(action))?;
         for (a, &x) in self.sim.action.iter_mut().zip(action) {
             *a = x as f64;
         }
@@ -892,24 +892,10 @@ impl Env {
         })
     }
 
-    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(self.reset_error().unwrap_or(EnvError::NotReset));
-        }
-        if len != self.sim.nu {
-            return Err(EnvError::ActionLength {
-                env: self.spec.id.clone(),
-                expected: self.sim.nu,
-                got: len,
-            });
-        }
-        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            });
-        }
-        Ok(())
+    fn check_action(&self, action: crate::JointAction<'_>) -> Result<(), EnvError> {
+        crate::joint_env::check_action(&self.spec.id, self.sim.nu, action, || {
+            (!self.has_reset).then(|| self.reset_error().unwrap_or(EnvError::NotReset))
+        })
     }
 
     /// The step proper, with the action already in `sim.action`.

@@ -295,6 +295,14 @@ impl MazeEnv {
     pub fn robot(&self) -> &Env {
         &self.robot
     }
+    /// The robot env, for settings and rendering (stepping it directly would bypass the maze).
+    pub(crate) fn robot_mut(&mut self) -> &mut Env {
+        &mut self.robot
+    }
+    /// `info["success"]` of the last reset or step.
+    pub fn success(&self) -> bool {
+        self.success
+    }
     /// After a failure: `step` refuses (E1103) until the next `reset`.
     pub fn require_reset(&mut self) {
         self.has_reset = false;
@@ -464,7 +472,7 @@ impl MazeEnv {
     /// Gymnasium-Robotics `step`: the robot steps (its reward and termination are ignored), then
     /// reward, termination and success against the current goal, then `update_goal`.
     pub fn step(&mut self, action: &[f64]) -> Result<MazeStep<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i])?;
+        self.check_action(crate::JointAction::F64(action))?;
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
@@ -478,7 +486,7 @@ impl MazeEnv {
     /// `step` with a float32 action, as a float32 policy calls the reference (the robot's action
     /// costs in its info are then float32 numbers, as numpy computes them).
     pub fn step_f32(&mut self, action: &[f32]) -> Result<MazeStep<'_>, EnvError> {
-        self.check_action(action.len(), |i| f64::from(action[i]))?;
+        self.check_action(crate::JointAction::F32(action))?;
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
@@ -489,24 +497,10 @@ impl MazeEnv {
         Ok(self.after_step(reward, terminated))
     }
 
-    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(EnvError::NotReset);
-        }
-        if len != self.robot.act_dim() {
-            return Err(EnvError::ActionLength {
-                env: self.spec.id.clone(),
-                expected: self.robot.act_dim(),
-                got: len,
-            });
-        }
-        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            });
-        }
-        Ok(())
+    fn check_action(&self, action: crate::JointAction<'_>) -> Result<(), EnvError> {
+        crate::joint_env::check_action(&self.spec.id, self.robot.act_dim(), action, || {
+            (!self.has_reset).then(|| self.robot.reset_error().unwrap_or(EnvError::NotReset))
+        })
     }
 
     /// `reward` and `terminated` are the robot env's: the goal terms, evaluated against the goal

@@ -121,7 +121,6 @@ impl MultiAgentEnv {
     pub fn spec(&self) -> &Arc<AgentsSpec> {
         &self.spec
     }
-    /// The single-agent env underneath.
     /// The numerics profile the underlying env computes under.
     pub fn numerics(&self) -> crate::numerics::Profile {
         self.env.numerics()
@@ -134,8 +133,14 @@ impl MultiAgentEnv {
     pub fn require_reset(&mut self) {
         self.env.require_reset();
     }
+    /// The single-agent env underneath.
     pub fn env(&self) -> &Env {
         &self.env
+    }
+    /// The single-agent env, for settings and rendering (stepping it directly would bypass the
+    /// agents' observations).
+    pub(crate) fn env_mut(&mut self) -> &mut Env {
+        &mut self.env
     }
     /// Render the whole robot (MaMuJoCo renders its single-agent env).
     pub fn render(
