@@ -262,7 +262,8 @@ pub struct Env {
     warnings: Vec<String>,
     observation_space: BoxSpace,
     action_space: BoxSpace,
-    /// Rendering settings and the renderer, made on the first frame (issue 15).
+    /// Rendering settings and the renderer, made on the first frame: an env never rendered
+    /// never opens a GL context.
     render: crate::render::EnvRender,
     /// Observation noise and delay (None: the spec declares neither).
     obs_noise: Option<crate::obs_noise::ObsNoise>,
