@@ -523,10 +523,6 @@ impl Env {
     pub fn set_render_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
         self.render.set_tint(tint);
     }
-    /// The spec's rendering settings (size, camera, options).
-    pub fn render_settings(&self) -> &envspec::camera::RenderSettings {
-        self.render.settings()
-    }
     /// Free the renderer (Gymnasium's `close()`); rendering again makes a new one.
     pub fn close_renderer(&mut self) {
         self.render.close();

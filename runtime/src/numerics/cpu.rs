@@ -115,13 +115,6 @@ impl Cpu {
     pub fn openblas_avx512_bf16(&self) -> bool {
         self.openblas_avx512() && bit(self.leaf7_1_eax, 5)
     }
-    /// OpenBLAS's `support_amx_bf16`.
-    pub fn openblas_amx_bf16(&self) -> bool {
-        self.openblas_avx512()
-            && bit(self.leaf7_edx, 24)
-            && bit(self.leaf7_edx, 22)
-            && self.leafd_eax & 0x60000 == 0x60000
-    }
     /// numpy's X86_V3: AVX, AVX2, F16C, FMA3, BMI1, BMI2, LZCNT and MOVBE (on top of the X86_V2
     /// baseline every numpy 2.4 wheel already requires).
     pub fn npy_x86_v3(&self) -> bool {

@@ -528,9 +528,6 @@ impl EnvRender {
     pub fn set_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
         self.tint = tint;
     }
-    pub fn settings(&self) -> &RenderSettings {
-        &self.settings
-    }
     /// Render a frame, making the renderer first if there is none yet.
     pub fn frame(
         &mut self,
