@@ -14,8 +14,11 @@ use crate::render::{Frame, RenderMode};
 
 /// An env of any kind.
 pub enum AnyEnv {
+    /// A single-agent task (a Gymnasium MuJoCo env or a spec of one robot).
     Task(Env),
+    /// A goal-conditioned maze env (boxed: much larger than the others).
     Maze(Box<MazeEnv>),
+    /// A multi-agent (MaMuJoCo) env.
     Agents(MultiAgentEnv),
 }
 
@@ -32,6 +35,7 @@ pub fn open(id_or_path: &str, overrides: &[Override]) -> Result<AnyEnv, EnvError
 }
 
 impl AnyEnv {
+    /// Build the env of a resolved spec of any kind.
     pub fn new(spec: AnySpec) -> Result<AnyEnv, EnvError> {
         Ok(match spec {
             AnySpec::Task(s) => AnyEnv::Task(Env::new(std::sync::Arc::new(*s))?),
@@ -48,6 +52,7 @@ impl AnyEnv {
             AnyEnv::Agents(e) => e,
         }
     }
+    /// The variant as the trait every kind implements, mutably.
     pub fn as_joint_mut(&mut self) -> &mut dyn JointEnv {
         match self {
             AnyEnv::Task(e) => e,

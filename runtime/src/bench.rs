@@ -26,6 +26,7 @@ use crate::rng::NumpyRng;
 use crate::vector::{Autoreset, VecEnv};
 use crate::{JointAction, JointEnv};
 
+/// What `envc bench` measures and for how long.
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
     /// Envs in the vectorized measurement.
@@ -34,6 +35,7 @@ pub struct BenchConfig {
     pub threads: usize,
     /// Total measuring time per env (all rounds and all four measurements).
     pub seconds: f64,
+    /// Interleaved rounds; more rounds give steadier medians.
     pub rounds: usize,
 }
 
@@ -48,25 +50,35 @@ impl Default for BenchConfig {
     }
 }
 
+/// One env's rates and ratios, as `envc bench` reports them.
 #[derive(Clone, Debug)]
 pub struct BenchResult {
+    /// The env's id.
     pub id: String,
+    /// MuJoCo steps per env step.
     pub frame_skip: usize,
+    /// Whether each step also runs `mj_rnePostConstraint` (the spec reads contact forces).
     pub rne_post_constraint: bool,
+    /// Envs in the vector env.
     pub envs: usize,
+    /// Threads of the vector env.
     pub threads: usize,
+    /// Interleaved rounds measured.
     pub rounds: usize,
-    /// Env steps per second (medians over rounds).
+    /// The raw `MjData` loop's env steps per second; every rate is a median over rounds.
     pub ceiling: f64,
+    /// One `Env`'s steps per second (thread CPU time).
     pub single: f64,
+    /// The `VecEnv`'s steps per second (wall time).
     pub vector: f64,
     /// `threads` raw `MjData` loops run in parallel, wall time: what the machine gives right now
     /// (the 2-core ceiling as load from other processes allows).
     pub parallel_ceiling: f64,
     /// vector ÷ parallel_ceiling (median of per-round ratios).
     pub vector_parallel_ratio: f64,
-    /// single ÷ ceiling and vector ÷ (threads × ceiling), medians of per-round ratios.
+    /// single ÷ ceiling (median of per-round ratios).
     pub single_ratio: f64,
+    /// vector ÷ (threads × ceiling), likewise.
     pub vector_ratio: f64,
     /// Mean episode length seen by the single env (the ceiling resets at this period).
     pub episode_len: f64,

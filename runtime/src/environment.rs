@@ -15,6 +15,7 @@ use envspec::ResolvedSpec;
 use crate::env::{BoxSpace, Env, Info, Step};
 use crate::error::EnvError;
 
+/// A single-agent task env, typed or dynamic (see the module docs).
 pub trait Environment {
     /// The dynamic env that executes the spec.
     fn env(&self) -> &Env;

@@ -30,17 +30,21 @@ use crate::render::{Frame, RenderMode};
 /// float32 (action costs then computed in float32, as numpy computes them for a float32 policy).
 #[derive(Clone, Copy, Debug)]
 pub enum JointAction<'a> {
+    /// A float64 action.
     F64(&'a [f64]),
+    /// A float32 action.
     F32(&'a [f32]),
 }
 
 impl JointAction<'_> {
+    /// The number of entries.
     pub fn len(&self) -> usize {
         match self {
             JointAction::F64(a) => a.len(),
             JointAction::F32(a) => a.len(),
         }
     }
+    /// Whether the action has no entries.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -56,8 +60,11 @@ impl JointAction<'_> {
 /// What every kind's step reports: the (shared) reward and the episode flags.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointStep {
+    /// The step's reward (every agent's, for a multi-agent env).
     pub reward: f64,
+    /// Whether the episode ended in a terminal state.
     pub terminated: bool,
+    /// Whether the time limit cut the episode short.
     pub truncated: bool,
 }
 

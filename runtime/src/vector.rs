@@ -40,7 +40,7 @@ pub enum Autoreset {
 }
 
 /// How long an idle thread spins before sleeping: a futex wake-up costs 25–35 µs on the
-/// development VM (performance_anchors.md), more than a whole cheap env step.
+/// development VM, more than a whole cheap env step.
 const SPIN: Duration = Duration::from_micros(50);
 
 /// Raw views of the env array and batch buffers. Fixed at construction: the buffers are never
@@ -428,6 +428,7 @@ impl VecEnv {
         Ok(v)
     }
 
+    /// The number of sub-envs.
     pub fn num_envs(&self) -> usize {
         self.envs.len()
     }
@@ -435,25 +436,29 @@ impl VecEnv {
     pub fn threads(&self) -> usize {
         self.workers.len() + 1
     }
+    /// When an ended sub-env is reset.
     pub fn autoreset(&self) -> Autoreset {
         self.shared.job.mode
     }
+    /// One sub-env's observation length (a row of the batch).
     pub fn obs_dim(&self) -> usize {
         self.shared.job.obs_dim
     }
+    /// One sub-env's action length.
     pub fn act_dim(&self) -> usize {
         self.shared.job.act_dim
     }
+    /// The spec the sub-envs run (None for a vector of no envs).
     pub fn spec(&self) -> Option<&Arc<ResolvedSpec>> {
         self.envs.first().map(|e| e.spec())
     }
-    /// The sub-envs (read-only: spaces, state, warnings).
     /// Every sub-env computes as the reference does under `profile` (see `Env::set_numerics`).
     pub fn set_numerics(&mut self, profile: crate::numerics::Profile) {
         for e in &mut self.envs {
             e.set_numerics(profile);
         }
     }
+    /// The sub-envs (read-only: spaces, state, warnings).
     pub fn envs(&self) -> &[Env] {
         &self.envs
     }
@@ -613,12 +618,15 @@ impl VecEnv {
     pub fn obs(&self) -> &[f64] {
         &self.obs
     }
+    /// The last step's rewards, one per sub-env.
     pub fn rewards(&self) -> &[f64] {
         &self.rewards
     }
+    /// The last step's terminated flags, one per sub-env.
     pub fn terminated(&self) -> &[bool] {
         &self.terminated
     }
+    /// The last step's truncated flags, one per sub-env.
     pub fn truncated(&self) -> &[bool] {
         &self.truncated
     }

@@ -47,16 +47,22 @@ pub struct MazeObs {
 /// `reset(options=...)`: cells (row, col) to place the goal / the robot in (any non-wall cell).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ResetOptions {
+    /// The cell to put the goal in (None: drawn as the reference does).
     pub goal_cell: Option<[usize; 2]>,
+    /// The cell to start the robot in (None: drawn as the reference does).
     pub reset_cell: Option<[usize; 2]>,
 }
 
 /// One maze step.
 #[derive(Debug)]
 pub struct MazeStep<'a> {
+    /// The observation dict after the step.
     pub obs: &'a MazeObs,
+    /// The step's reward: the goal terms against the current goal.
     pub reward: f64,
+    /// Whether the episode ended: the goal was reached, unless the task is continuing.
     pub terminated: bool,
+    /// Whether the time limit cut the episode short.
     pub truncated: bool,
     /// `info["success"]`: the robot is within the goal threshold of the goal.
     pub success: bool,
@@ -180,6 +186,7 @@ impl MazeEnv {
         }
     }
 
+    /// Build the maze env of the spec file at `path`, with overrides applied.
     pub fn from_spec_file(path: &Path, overrides: &[Override]) -> Result<MazeEnv, EnvError> {
         let spec = envspec::maze::load_maze(path, overrides)?;
         MazeEnv::new(spec)
@@ -264,9 +271,11 @@ impl MazeEnv {
         })
     }
 
+    /// The resolved maze spec.
     pub fn spec(&self) -> &MazeSpec {
         &self.spec
     }
+    /// The env's id.
     pub fn id(&self) -> &str {
         &self.spec.id
     }
@@ -312,6 +321,7 @@ impl MazeEnv {
     pub fn numerics(&self) -> Profile {
         self.robot.numerics()
     }
+    /// Compute as the reference does under `profile` from now on.
     pub fn set_numerics(&mut self, profile: Profile) {
         self.robot.set_numerics(profile);
     }
@@ -323,12 +333,15 @@ impl MazeEnv {
     fn dist_blas(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
         crate::goal::distance(GoalNorm::Blas, self.robot.numerics(), 2, &|k| a[k] - b[k])
     }
+    /// The compiled model (maze walls included), shared by every env built from it.
     pub fn model(&self) -> &Arc<MjModel> {
         self.robot.model()
     }
+    /// The robot's action space.
     pub fn action_space(&self) -> &BoxSpace {
         self.robot.action_space()
     }
+    /// The action's length.
     pub fn act_dim(&self) -> usize {
         self.robot.act_dim()
     }
@@ -336,12 +349,15 @@ impl MazeEnv {
     pub fn observation_dim(&self) -> usize {
         self.robot.obs_dim()
     }
+    /// The time limit in steps (None: no limit).
     pub fn max_episode_steps(&self) -> Option<u64> {
         self.spec.max_episode_steps
     }
+    /// Seconds of simulated time per step.
     pub fn dt(&self) -> f64 {
         self.robot.dt()
     }
+    /// The current observation dict.
     pub fn obs(&self) -> &MazeObs {
         &self.obs
     }
@@ -349,6 +365,7 @@ impl MazeEnv {
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
+    /// MuJoCo warnings raised while loading or running the env.
     pub fn warnings(&self) -> &[String] {
         self.robot.warnings()
     }
@@ -577,6 +594,7 @@ impl MazeEnv {
     pub fn goal(&self) -> [f64; 2] {
         self.goal
     }
+    /// Steps taken since the last reset.
     pub fn elapsed_steps(&self) -> u64 {
         self.elapsed
     }
