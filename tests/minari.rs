@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use envc::dataset::{CollectOptions, Collector, Data, Dataset, DatasetError, DatasetInfo, Format};
-use envc::{Env, Environment};
+use envc::{Env, Environment, JointEnv};
 use ndarray::ArrayD;
 use ndarray_npy::NpzReader;
 

@@ -4,7 +4,7 @@
 //! Gymnasium is tests/python/test_render.py.
 
 use envc::render::RenderMode;
-use envc::{Env, EnvError, Environment, Override};
+use envc::{Env, EnvError, Environment, JointEnv, Override};
 use envspec::Code;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
@@ -59,7 +59,7 @@ fn frames_have_the_spec_size_and_follow_the_state() {
 fn typed_envs_render_through_environment() {
     let mut env = hopper(&[("width", "32"), ("height", "32")]).unwrap();
     Environment::reset(&mut env, Some(1));
-    let f = Environment::render(&mut env, RenderMode::RgbArray).unwrap();
+    let f = JointEnv::render(&mut env, RenderMode::RgbArray).unwrap();
     assert_eq!(f.rgb.unwrap().len(), 32 * 32 * 3);
 }
 

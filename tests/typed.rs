@@ -3,7 +3,7 @@
 //! with the dynamically loaded env, and expose the layout the spec declares.
 
 use envc::gymnasium::*;
-use envc::{Env, Environment};
+use envc::{Env, Environment, JointEnv};
 use envc_tests::{Case, Mismatches, Recording, fixtures_dir, manifest};
 
 /// Replay one recorded case through a typed env's own `reset`/`step` (typed obs, typed info).

@@ -3,10 +3,33 @@ classes; these are the objects they wrap."""
 
 from os import PathLike
 import os
-from typing import Any, Callable
+from typing import Any, Callable, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import Self, disjoint_base
+
+__all__ = [
+    "open",
+    "registry",
+    "parameters",
+    "describe",
+    "register",
+    "set_bundle_root",
+    "bundle_root",
+    "collect",
+    "collect_shard",
+    "gpu_plan",
+    "ShardedCollection",
+    "EnvCore",
+    "TaskCore",
+    "MazeCore",
+    "AgentsCore",
+    "VecCore",
+    "SpecError",
+    "__mujoco_version__",
+    "__version__",
+]
 
 __mujoco_version__: str
 __version__: str
@@ -102,19 +125,23 @@ def build_driver(
 def datasets_dir() -> str:
     """The bundled dataset specs' directory."""
 
+@final
 class SpecPolicy:
     """A dataset spec's `.npz` policy, run in Rust: `policy(obs) -> float32 action`."""
 
-    def __init__(self, spec: str, seed: int = ..., deterministic: bool | None = ...) -> None: ...
+    def __new__(cls, spec: str, seed: int = ..., deterministic: bool | None = ...) -> Self: ...
     def __call__(self, obs: npt.NDArray[np.float64]) -> npt.NDArray[np.float32]: ...
 
+@final
 class ShardedCollection:
     """The driver of a sharded collection (holds the staging directory's lock)."""
 
-    seed: int
-    staging: str
-    def __init__(
-        self,
+    @property
+    def seed(self) -> int: ...
+    @property
+    def staging(self) -> str: ...
+    def __new__(
+        cls,
         id_or_path: str,
         dataset_id: str,
         episodes: int,
@@ -128,88 +155,124 @@ class ShardedCollection:
         description: str | None = ...,
         env_spec: str | None = ...,
         callable: bool = ...,
-    ) -> None: ...
+    ) -> Self: ...
     def finish(self, episodes: list[tuple[int, int]]) -> str: ...
     def abort(self) -> None: ...
 
-class TaskCore:
-    id: str
-    dt: float
-    max_episode_steps: int | None
-    obs_low: npt.NDArray[np.float64]
-    obs_high: npt.NDArray[np.float64]
-    act_low: npt.NDArray[np.float64]
-    act_high: npt.NDArray[np.float64]
-    numerics: str
-    warnings: list[str]
-    params: list[tuple[str, str]]
-    def reset(self, seed: int | None = ...) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
-    def step(
-        self, action: npt.NDArray[np.float64]
-    ) -> tuple[npt.NDArray[np.float64], float, bool, bool, dict[str, Any]]: ...
-    def step_f32(
-        self, action: npt.NDArray[np.float32]
-    ) -> tuple[npt.NDArray[np.float64], float, bool, bool, dict[str, Any]]: ...
-    def state(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-
 _F64 = npt.NDArray[np.float64]
 
-class AgentsCore:
-    """A multi-agent env (`envc.EnvcParallelEnv` wraps it)."""
+@disjoint_base
+class EnvCore:
+    """What every kind's core shares (`open` returns the kind's subclass): reset, step with a
+    joint action (a multi-agent spec: the global action), its bounds, dt, the time limit,
+    numerics, warnings, render and close."""
 
-    id: str
-    base_id: str
-    conf: str
-    confs: list[str]
-    k: int
-    dt: float
-    max_episode_steps: int | None
-    possible_agents: list[str]
-    agents: list[str]
-    state_low: _F64
-    state_high: _F64
-    global_act_low: _F64
-    global_act_high: _F64
-    numerics: str
-    warnings: list[str]
-    def reset(self, seed: int | None = ...) -> tuple[list[_F64], dict[str, Any]]: ...
-    def step(self, actions: list[_F64]) -> tuple[list[_F64], float, bool, bool, dict[str, Any]]: ...
-    def step_global(self, action: _F64) -> tuple[list[_F64], float, bool, bool, dict[str, Any]]: ...
-    def step_global_f32(
+    @property
+    def kind(self) -> str: ...
+    @property
+    def id(self) -> str: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def max_episode_steps(self) -> int | None: ...
+    @property
+    def act_low(self) -> _F64: ...
+    @property
+    def act_high(self) -> _F64: ...
+    @property
+    def numerics(self) -> str: ...
+    @numerics.setter
+    def numerics(self, name: str) -> None: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def reset(self, seed: int | None = None) -> tuple[Any, dict[str, Any]]: ...
+    def step(self, action: _F64) -> tuple[Any, float, bool, bool, dict[str, Any]]: ...
+    def step_f32(
         self, action: npt.NDArray[np.float32]
+    ) -> tuple[Any, float, bool, bool, dict[str, Any]]: ...
+    def render(self, mode: str) -> Any:
+        """A frame in Gymnasium's `render_mode`: an `(h, w, 3)` uint8 array, an `(h, w)` float32
+        depth array, or the pair."""
+    def close(self) -> None:
+        """Free the renderer (the next `render` makes a new one)."""
+
+@final
+class TaskCore(EnvCore):
+    """A task env (`envc.EnvcEnv` wraps it)."""
+
+    @property
+    def obs_low(self) -> _F64: ...
+    @property
+    def obs_high(self) -> _F64: ...
+    @property
+    def params(self) -> list[tuple[str, str]]: ...
+    def reset(self, seed: int | None = None) -> tuple[_F64, dict[str, Any]]: ...
+    def step(self, action: _F64) -> tuple[_F64, float, bool, bool, dict[str, Any]]: ...
+    def step_f32(
+        self, action: npt.NDArray[np.float32]
+    ) -> tuple[_F64, float, bool, bool, dict[str, Any]]: ...
+    def state(self) -> tuple[_F64, _F64]: ...
+
+@final
+class AgentsCore(EnvCore):
+    """A multi-agent env (`envc.EnvcParallelEnv` wraps it); its joint action is the global one."""
+
+    @property
+    def base_id(self) -> str: ...
+    @property
+    def conf(self) -> str: ...
+    @property
+    def confs(self) -> list[str]: ...
+    @property
+    def k(self) -> int: ...
+    @property
+    def possible_agents(self) -> list[str]: ...
+    @property
+    def agents(self) -> list[str]: ...
+    @property
+    def state_low(self) -> _F64: ...
+    @property
+    def state_high(self) -> _F64: ...
+    def reset(self, seed: int | None = None) -> tuple[list[_F64], dict[str, Any]]: ...
+    def step(self, action: _F64) -> tuple[list[_F64], float, bool, bool, dict[str, Any]]: ...
+    def step_f32(
+        self, action: npt.NDArray[np.float32]
+    ) -> tuple[list[_F64], float, bool, bool, dict[str, Any]]: ...
+    def step_agents(
+        self, actions: list[_F64]
     ) -> tuple[list[_F64], float, bool, bool, dict[str, Any]]: ...
     def state(self) -> _F64: ...
     def local_actions_to_global(self, actions: list[_F64]) -> _F64: ...
     def global_action_to_local(self, action: _F64) -> list[_F64]: ...
     def global_state_to_local(self, state: _F64) -> list[_F64]: ...
-    def local_observations_to_global(self, observations: list[_F64]) -> _F64: ...
-    def obs_low(self, agent: int) -> _F64: ...
-    def obs_high(self, agent: int) -> _F64: ...
-    def act_low(self, agent: int) -> _F64: ...
-    def act_high(self, agent: int) -> _F64: ...
+    def local_observations_to_global(self, obs: list[_F64]) -> _F64: ...
+    def agent_obs_low(self, agent: int) -> _F64: ...
+    def agent_obs_high(self, agent: int) -> _F64: ...
+    def agent_act_low(self, agent: int) -> _F64: ...
+    def agent_act_high(self, agent: int) -> _F64: ...
     def color_agents(self, on: bool) -> None: ...
 
-class MazeCore:
+@final
+class MazeCore(EnvCore):
     """A maze env (`envc.EnvcMazeEnv` wraps it): dict observations, batched goal functions."""
 
-    id: str
-    dt: float
-    max_episode_steps: int | None
-    observation_dim: int
-    act_low: _F64
-    act_high: _F64
-    goal: _F64
-    map_shape: tuple[int, int]
-    continuing_task: bool
-    reset_target: bool
-    reward_type: str
-    numerics: str
-    warnings: list[str]
+    @property
+    def observation_dim(self) -> int: ...
+    @property
+    def goal(self) -> _F64: ...
+    @property
+    def map_shape(self) -> tuple[int, int]: ...
+    @property
+    def continuing_task(self) -> bool: ...
+    @property
+    def reset_target(self) -> bool: ...
+    @property
+    def reward_type(self) -> str: ...
     def reset(
         self,
-        seed: int | None = ...,
-        goal_cell: tuple[int, int] | None = ...,
-        reset_cell: tuple[int, int] | None = ...,
+        seed: int | None = None,
+        goal_cell: tuple[int, int] | None = None,
+        reset_cell: tuple[int, int] | None = None,
     ) -> tuple[dict[str, _F64], dict[str, Any]]: ...
     def step(self, action: _F64) -> tuple[dict[str, _F64], float, bool, bool, dict[str, Any]]: ...
     def step_f32(
@@ -219,34 +282,55 @@ class MazeCore:
     def compute_terminated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
     def compute_truncated(self, achieved: _F64, desired: _F64) -> npt.NDArray[np.bool_]: ...
 
+@final
 class VecCore:
     """Many task envs stepped by Rust threads into numpy buffers filled in place
     (`envc.EnvcVectorEnv` wraps it)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         id_or_path: str,
         overrides: list[tuple[str, str]],
         num_envs: int,
         threads: int,
         autoreset: str,
+    ) -> Self: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def threads(self) -> int: ...
+    @property
+    def autoreset(self) -> str: ...
+    @property
+    def id(self) -> str: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def max_episode_steps(self) -> int | None: ...
+    @property
+    def obs_low(self) -> _F64: ...
+    @property
+    def obs_high(self) -> _F64: ...
+    @property
+    def act_low(self) -> _F64: ...
+    @property
+    def act_high(self) -> _F64: ...
+    @property
+    def numerics(self) -> str: ...
+    @numerics.setter
+    def numerics(self, name: str) -> None: ...
+    @property
+    def info_keys(self) -> list[tuple[str, int, int, bool]]: ...
+    @property
+    def buffers(self) -> dict[str, np.ndarray]: ...
+    @property
+    def generation(self) -> int:
+        """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
+    def reset(
+        self, seeds: list[int | None] | None = None, mask: list[bool] | None = None
     ) -> None: ...
-    num_envs: int
-    threads: int
-    autoreset: str
-    id: str
-    dt: float
-    max_episode_steps: int | None
-    obs_low: _F64
-    obs_high: _F64
-    act_low: _F64
-    act_high: _F64
-    numerics: str
-    info_keys: list[tuple[str, int, int, bool]]
-    buffers: dict[str, np.ndarray]
-    generation: int
-    """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
-    def reset(self, seeds: list[int | None] | None = ..., mask: npt.NDArray[np.bool_] | None = ...) -> None: ...
     def step(self, actions: npt.NDArray[np.float64]) -> None: ...
     def step_f32(self, actions: npt.NDArray[np.float32]) -> None: ...
+    def render(self, index: int, mode: str) -> Any:
+        """A frame of env `index` in Gymnasium's `render_mode` (as `EnvCore.render`)."""
     def close(self) -> None: ...

@@ -183,7 +183,7 @@ class EnvcEnv(gym.Env):
     def close(self):
         core = self._core
         if not isinstance(core, _Closed):
-            core.close_renderer()
+            core.close()
         self._core = _Closed()
 
     @property

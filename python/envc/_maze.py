@@ -189,6 +189,9 @@ class EnvcMazeEnv(_Base):
         return self._core.render(self.render_mode)
 
     def close(self):
+        core = self._core
+        if not isinstance(core, _Closed):
+            core.close()
         self._core = _Closed()
 
     @property

@@ -145,13 +145,13 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         self.agents = list(self.possible_agents)
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
         self.observation_spaces = {
-            a: gymnasium.spaces.Box(low=core.obs_low(i), high=core.obs_high(i), dtype=np.float64)
+            a: gymnasium.spaces.Box(low=core.agent_obs_low(i), high=core.agent_obs_high(i), dtype=np.float64)
             for a, i in self._index.items()
         }
         self.action_spaces = {
             a: gymnasium.spaces.Box(
-                low=core.act_low(i).astype(np.float32),
-                high=core.act_high(i).astype(np.float32),
+                low=core.agent_act_low(i).astype(np.float32),
+                high=core.agent_act_high(i).astype(np.float32),
                 dtype=np.float32,
             )
             for a, i in self._index.items()
@@ -197,9 +197,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         local = self._local_actions(actions)
         if self._single and np.asarray(actions[self.possible_agents[0]]).dtype == np.float32:
             # Single-agent mode hands the action to the task as given (float32 costs).
-            step = self._core.step_global_f32(local[0].astype(np.float32))
+            step = self._core.step_f32(local[0].astype(np.float32))
         else:
-            step = self._core.step(local)
+            step = self._core.step_agents(local)
         obs, reward, term, trunc, info = step
         if term or trunc:
             self.agents = []
@@ -230,6 +230,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
 
     def close(self):
         """Release the env; any later use raises ``RuntimeError``."""
+        core = self._core
+        if not isinstance(core, _Closed):
+            core.close()
         self._core = _Closed()
 
     # -- the reference's mappings -------------------------------------------------------------

@@ -13,6 +13,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::{convert, errors};
+use envc::JointEnv;
 
 fn plan_policy(policy: &str, actions: Option<Vec<f32>>, has_fn: bool) -> PyResult<PlanPolicy> {
     Ok(match (policy, actions, has_fn) {

@@ -1,12 +1,16 @@
 //! `envc._envc`: the native core of the `envc` Python package. Every spec opens through the one
-//! door (`envc::open`); each kind gets a core object that steps with numpy arrays. The Gymnasium,
-//! vector and PettingZoo classes are Python (`python/envc/`), thin over these cores.
+//! door (`envc::open`); each kind gets a core object that steps with numpy arrays: one base class,
+//! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a thin subclass
+//! per kind (`TaskCore`, `MazeCore`, `AgentsCore`). The Gymnasium, vector and PettingZoo classes
+//! are Python (`python/envc/`), thin over these cores.
 
+use envc::JointEnv;
 use pyo3::prelude::*;
 
 mod build;
 mod collect;
 mod convert;
+mod env_core;
 mod errors;
 mod gpu;
 mod maze;
@@ -31,20 +35,16 @@ fn open(
         |_| envc::open(id_or_path, &o).map_err(errors::env_error),
         |_| {},
     )?;
-    Ok(match env {
-        envc::AnyEnv::Task(e) => (
-            "task".into(),
-            Py::new(py, task::TaskCore::new(e))?.into_any(),
-        ),
-        envc::AnyEnv::Maze(e) => (
-            "maze".into(),
-            Py::new(py, maze::MazeCore::new(*e))?.into_any(),
-        ),
-        envc::AnyEnv::Agents(e) => (
-            "agents".into(),
-            Py::new(py, multi_agent::AgentsCore::new(e))?.into_any(),
-        ),
-    })
+    let kind = env.kind();
+    let base = PyClassInitializer::from(env_core::EnvCore::new(env));
+    let made = match kind {
+        envspec::Kind::Task => Py::new(py, base.add_subclass(task::TaskCore))?.into_any(),
+        envspec::Kind::Maze => Py::new(py, base.add_subclass(maze::MazeCore))?.into_any(),
+        envspec::Kind::Agents => {
+            Py::new(py, base.add_subclass(multi_agent::AgentsCore))?.into_any()
+        }
+    };
+    Ok((kind_name(kind).into(), made))
 }
 
 /// Every known id as `(id, kind, max_episode_steps or None, example, reward_threshold or None)`:
@@ -96,7 +96,7 @@ fn describe(
     Ok((kind_name(spec.kind()).into(), spec.id().to_string(), max))
 }
 
-fn kind_name(k: envspec::Kind) -> &'static str {
+pub(crate) fn kind_name(k: envspec::Kind) -> &'static str {
     match k {
         envspec::Kind::Task => "task",
         envspec::Kind::Maze => "maze",
@@ -152,6 +152,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(build::datasets_dir, m)?)?;
     m.add_function(wrap_pyfunction!(gpu::gpu_plan, m)?)?;
     m.add_class::<collect::ShardedCollection>()?;
+    m.add_class::<env_core::EnvCore>()?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
     m.add_class::<multi_agent::AgentsCore>()?;

@@ -1,58 +1,18 @@
-//! The core of a maze env (goal-conditioned, dict observations): reset with goal/reset cells,
-//! step with numpy arrays, and the batched goal functions (`compute_reward`, `compute_terminated`,
-//! `compute_truncated`) computed by the env's own goal terms.
+//! The core of a maze env (goal-conditioned, dict observations): what `EnvCore` shares, a reset
+//! that takes goal and reset cells, and the batched goal functions (`compute_reward`,
+//! `compute_terminated`, `compute_truncated`) computed by the env's own goal terms.
 
-use envc::maze::{MazeEnv, MazeObs, ResetOptions};
-use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use envc::maze::ResetOptions;
+use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert;
+use crate::env_core::{After, EnvCore, observe, wrong_kind};
 use crate::errors;
 
 /// A maze env (`envc.EnvcMazeEnv` wraps it as a Gymnasium-Robotics `GoalEnv`).
-#[pyclass(module = "envc._envc")]
-pub struct MazeCore {
-    env: MazeEnv,
-}
-
-impl MazeCore {
-    pub fn new(env: MazeEnv) -> MazeCore {
-        MazeCore { env }
-    }
-}
-
-type StepOut<'py> = (Bound<'py, PyDict>, f64, bool, bool, Bound<'py, PyDict>);
-
-/// The observation dict, keys in the reference's insertion order.
-fn obs_dict<'py>(py: Python<'py>, o: &MazeObs) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("observation", PyArray1::from_slice(py, &o.observation))?;
-    d.set_item("achieved_goal", PyArray1::from_slice(py, &o.achieved_goal))?;
-    d.set_item("desired_goal", PyArray1::from_slice(py, &o.desired_goal))?;
-    Ok(d)
-}
-
-/// The robot's info with `success` added last, as the reference's maze envs do.
-fn info_dict<'py>(
-    py: Python<'py>,
-    robot: envc::Info<'_>,
-    success: bool,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = convert::info(py, robot)?;
-    d.set_item("success", success)?;
-    Ok(d)
-}
-
-fn step_out<'py>(py: Python<'py>, s: envc::maze::MazeStep<'_>) -> PyResult<StepOut<'py>> {
-    Ok((
-        obs_dict(py, s.obs)?,
-        s.reward,
-        s.terminated,
-        s.truncated,
-        info_dict(py, s.robot_info, s.success)?,
-    ))
-}
+#[pyclass(module = "envc._envc", extends = EnvCore)]
+pub struct MazeCore;
 
 /// Goal (x, y) rows.
 type Goals = Vec<[f64; 2]>;
@@ -76,189 +36,114 @@ fn goal_rows(
     Ok((rows(a), rows(d)))
 }
 
+/// A goal function's flag for every row of two `[N, 2]` goal batches.
+fn goal_flags<'py>(
+    py: Python<'py>,
+    achieved: &PyReadonlyArray2<'py, f64>,
+    desired: &PyReadonlyArray2<'py, f64>,
+    f: impl Fn([f64; 2], [f64; 2]) -> bool,
+) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    let (a, d) = goal_rows(achieved, desired)?;
+    let out: Vec<bool> = a.iter().zip(&d).map(|(a, d)| f(*a, *d)).collect();
+    Ok(PyArray1::from_vec(py, out))
+}
+
 #[pymethods]
 impl MazeCore {
     /// `reset(seed, goal_cell, reset_cell)`: a seed restarts the env's RNG stream, `None`
     /// continues it; cells are `(row, col)` of free cells. Returns `(obs dict, info)`.
     #[pyo3(signature = (seed = None, goal_cell = None, reset_cell = None))]
     fn reset<'py>(
-        &mut self,
+        mut slf: PyRefMut<'py, Self>,
         py: Python<'py>,
         seed: Option<u64>,
         goal_cell: Option<[usize; 2]>,
         reset_cell: Option<[usize; 2]>,
-    ) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
         let options = (goal_cell.is_some() || reset_cell.is_some()).then_some(ResetOptions {
             goal_cell,
             reset_cell,
         });
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let (_, success) =
-                    crate::mujoco_timer::without_mujoco_timer(|| env.reset(seed, options))
-                        .map_err(errors::env_error)?;
-                Ok((
-                    obs_dict(py, env.obs())?,
-                    info_dict(py, env.robot().reset_info(), success)?,
-                ))
-            },
-            |env| env.require_reset(),
-        )
-    }
-
-    /// Step with a float64 action.
-    fn step<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<StepOut<'py>> {
-        let a = action.as_slice()?;
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step(a))
-                    .map_err(errors::env_error)?;
-                step_out(py, s)
-            },
-            |env| env.require_reset(),
-        )
-    }
-
-    /// Step with a float32 action (float32 control costs in the robot's info, as numpy computes them).
-    fn step_f32<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: PyReadonlyArray1<'py, f32>,
-    ) -> PyResult<StepOut<'py>> {
-        let a = action.as_slice()?;
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a))
-                    .map_err(errors::env_error)?;
-                step_out(py, s)
-            },
-            |env| env.require_reset(),
-        )
+        slf.as_super().guarded(|env| {
+            let envc::AnyEnv::Maze(maze) = env else {
+                return Err(wrong_kind(env, "maze"));
+            };
+            crate::mujoco_timer::without_mujoco_timer(|| {
+                maze.reset(seed, options)?;
+                maze.robot().reset_error().map_or(Ok(()), Err)
+            })
+            .map_err(errors::env_error)?;
+            observe(py, env, After::Reset)
+        })
     }
 
     /// The goal reward term of every row: `achieved[k]` against `desired[k]` (`[N, 2]` each),
     /// exactly as the step reward.
     fn compute_reward<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (a, d) = goal_rows(&achieved, &desired)?;
         let mut out = vec![0.0; a.len()];
-        self.env.compute_reward(&a, &d, &mut out);
+        slf.as_super().maze()?.compute_reward(&a, &d, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
 
     /// The env's termination of every row (reaching the goal, unless the task is continuing).
     fn compute_terminated<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let (a, d) = goal_rows(&achieved, &desired)?;
-        let out: Vec<bool> = a
-            .iter()
-            .zip(&d)
-            .map(|(a, d)| self.env.compute_terminated(*a, *d))
-            .collect();
-        Ok(PyArray1::from_vec(py, out))
+        let maze = slf.as_super().maze()?;
+        goal_flags(py, &achieved, &desired, |a, d| {
+            maze.compute_terminated(a, d)
+        })
     }
 
     /// The env's truncation of every row (never: the time limit truncates).
     fn compute_truncated<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let (a, d) = goal_rows(&achieved, &desired)?;
-        let out: Vec<bool> = a
-            .iter()
-            .zip(&d)
-            .map(|(a, d)| self.env.compute_truncated(*a, *d))
-            .collect();
-        Ok(PyArray1::from_vec(py, out))
+        let maze = slf.as_super().maze()?;
+        goal_flags(py, &achieved, &desired, |a, d| maze.compute_truncated(a, d))
     }
 
-    /// A frame of the maze world with its goal marker, in Gymnasium's `render_mode`.
-    fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
-        crate::render::render(py, mode, |m| self.env.render(m))
-    }
-
-    #[getter]
-    fn id(&self) -> String {
-        self.env.id().to_string()
-    }
-    #[getter]
-    fn dt(&self) -> f64 {
-        self.env.dt()
-    }
-    /// The maze's own time limit (`None` when opened with `max_episode_steps=0`).
-    #[getter]
-    fn max_episode_steps(&self) -> Option<u64> {
-        self.env.max_episode_steps()
-    }
     /// Size of the `observation` entry (the goals have 2 entries).
     #[getter]
-    fn observation_dim(&self) -> usize {
-        self.env.observation_dim()
-    }
-    #[getter]
-    fn act_low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.action_space().low)
-    }
-    #[getter]
-    fn act_high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.action_space().high)
+    fn observation_dim(slf: PyRef<'_, Self>) -> PyResult<usize> {
+        Ok(slf.as_super().maze()?.observation_dim())
     }
     /// The current goal (the next step's `desired_goal`).
     #[getter]
-    fn goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.goal())
+    fn goal<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_slice(py, &slf.as_super().maze()?.goal()))
     }
     /// `(rows, cols)` of the maze grid.
     #[getter]
-    fn map_shape(&self) -> (usize, usize) {
-        (self.env.spec().rows(), self.env.spec().cols())
+    fn map_shape(slf: PyRef<'_, Self>) -> PyResult<(usize, usize)> {
+        let m = slf.as_super().maze()?.spec();
+        Ok((m.rows(), m.cols()))
     }
     #[getter]
-    fn continuing_task(&self) -> bool {
-        self.env.spec().continuing_task
+    fn continuing_task(slf: PyRef<'_, Self>) -> PyResult<bool> {
+        Ok(slf.as_super().maze()?.spec().continuing_task)
     }
     #[getter]
-    fn reset_target(&self) -> bool {
-        self.env.spec().reset_target
+    fn reset_target(slf: PyRef<'_, Self>) -> PyResult<bool> {
+        Ok(slf.as_super().maze()?.spec().reset_target)
     }
     #[getter]
-    fn reward_type(&self) -> &'static str {
-        match self.env.spec().reward_type {
+    fn reward_type(slf: PyRef<'_, Self>) -> PyResult<&'static str> {
+        Ok(match slf.as_super().maze()?.spec().reward_type {
             envspec::maze::RewardType::Sparse => "sparse",
             envspec::maze::RewardType::Dense => "dense",
-        }
-    }
-    /// The numerics profile the env computes under (docs/numerics.md).
-    #[getter]
-    fn numerics(&self) -> String {
-        self.env.numerics().to_string()
-    }
-    #[setter]
-    fn set_numerics(&mut self, name: &str) -> PyResult<()> {
-        let p = crate::convert::profile(name)?;
-        self.env.set_numerics(p);
-        Ok(())
-    }
-    /// MuJoCo warnings captured so far.
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        self.env.warnings().to_vec()
+        })
     }
 }

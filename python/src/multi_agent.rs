@@ -1,39 +1,43 @@
-//! The core of a multi-agent env (a factorization of a task among agents): reset and step with
-//! one numpy array per agent, the global state and the reference's mappings between local and
-//! global actions and observations.
+//! The core of a multi-agent env (a factorization of a task among agents): what `EnvCore`
+//! shares (its joint action is the global action), a step with one numpy array per agent, each
+//! agent's spaces, the global state and the reference's mappings between local and global
+//! actions and observations.
 
+use envc::multi_agent::MultiAgentEnv;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
-use crate::convert;
+use crate::env_core::{After, EnvCore, StepOut, observe, wrong_kind};
 use crate::errors;
 
 /// A multi-agent env (`envc.parallel_env` wraps it as a PettingZoo `ParallelEnv`).
-#[pyclass(module = "envc._envc")]
-pub struct AgentsCore {
-    env: envc::multi_agent::MultiAgentEnv,
-}
+#[pyclass(module = "envc._envc", extends = EnvCore)]
+pub struct AgentsCore;
 
-impl AgentsCore {
-    pub fn new(env: envc::multi_agent::MultiAgentEnv) -> AgentsCore {
-        AgentsCore { env }
-    }
-
-    fn agent(&self, i: usize) -> PyResult<usize> {
-        if i < self.env.num_agents() {
-            Ok(i)
-        } else {
-            Err(errors::argument(format!(
-                "agent index {i} out of range ({} agents)",
-                self.env.num_agents()
-            )))
-        }
+/// Agent `i`, checked.
+fn agent(env: &MultiAgentEnv, i: usize) -> PyResult<usize> {
+    if i < env.num_agents() {
+        Ok(i)
+    } else {
+        Err(errors::argument(format!(
+            "agent index {i} out of range ({} agents)",
+            env.num_agents()
+        )))
     }
 }
 
 type Arrays<'py> = Vec<Bound<'py, PyArray1<f64>>>;
-type StepOut<'py> = (Arrays<'py>, f64, bool, bool, Bound<'py, PyDict>);
+
+/// One bound of agent `i`'s spaces, picked by `pick`.
+fn agent_bound<'py>(
+    slf: &PyRef<'py, AgentsCore>,
+    py: Python<'py>,
+    i: usize,
+    pick: impl for<'e> Fn(&'e MultiAgentEnv, usize) -> &'e [f64],
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let env = slf.as_super().agents()?;
+    Ok(PyArray1::from_slice(py, pick(env, agent(env, i)?)))
+}
 
 fn arrays<'py>(py: Python<'py>, vs: &[Vec<f64>]) -> Arrays<'py> {
     vs.iter().map(|v| PyArray1::from_slice(py, v)).collect()
@@ -43,105 +47,43 @@ fn slices<'a>(xs: &'a [PyReadonlyArray1<'_, f64>]) -> PyResult<Vec<&'a [f64]>> {
     xs.iter().map(|x| Ok(x.as_slice()?)).collect()
 }
 
-fn step_out<'py>(py: Python<'py>, s: envc::multi_agent::MultiStep<'_>) -> PyResult<StepOut<'py>> {
-    Ok((
-        arrays(py, s.obs),
-        s.reward,
-        s.terminated,
-        s.truncated,
-        convert::info(py, s.info)?,
-    ))
-}
-
 #[pymethods]
 impl AgentsCore {
-    /// `reset(seed)`: every agent's observation (in agent order) and the shared info. A seed
-    /// restarts the env's RNG stream, `None` continues it.
-    #[pyo3(signature = (seed = None))]
-    fn reset<'py>(
-        &mut self,
-        py: Python<'py>,
-        seed: Option<u64>,
-    ) -> PyResult<(Arrays<'py>, Bound<'py, PyDict>)> {
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let (obs, info) = crate::mujoco_timer::without_mujoco_timer(|| env.reset(seed));
-                Ok((arrays(py, obs), convert::info(py, info)?))
-            },
-            |env| env.require_reset(),
-        )
-    }
-
     /// Step with one float64 action per agent (in agent order): every agent's observation and
     /// the shared reward, terminated, truncated and info.
-    fn step<'py>(
-        &mut self,
+    fn step_agents<'py>(
+        mut slf: PyRefMut<'py, Self>,
         py: Python<'py>,
         actions: Vec<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<StepOut<'py>> {
         let a = slices(&actions)?;
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step(&a))
-                    .map_err(errors::env_error)?;
-                step_out(py, s)
-            },
-            |env| env.require_reset(),
-        )
-    }
-
-    /// Step with the global (single-agent) action.
-    fn step_global<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<StepOut<'py>> {
-        let a = action.as_slice()?;
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_global(a))
-                    .map_err(errors::env_error)?;
-                step_out(py, s)
-            },
-            |env| env.require_reset(),
-        )
-    }
-
-    /// Step with a float32 global action (float32 control costs, as numpy computes them).
-    fn step_global_f32<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: PyReadonlyArray1<'py, f32>,
-    ) -> PyResult<StepOut<'py>> {
-        let a = action.as_slice()?;
-        errors::no_panic(
-            &mut self.env,
-            |env| {
-                let s = crate::mujoco_timer::without_mujoco_timer(|| env.step_global_f32(a))
-                    .map_err(errors::env_error)?;
-                step_out(py, s)
-            },
-            |env| env.require_reset(),
-        )
+        slf.as_super().guarded(|env| {
+            let envc::AnyEnv::Agents(agents) = env else {
+                return Err(wrong_kind(env, "multi-agent"));
+            };
+            let s = crate::mujoco_timer::without_mujoco_timer(|| agents.step(&a))
+                .map_err(errors::env_error)?;
+            let flags = (s.reward, s.terminated, s.truncated);
+            let (obs, info) = observe(py, env, After::Step)?;
+            Ok((obs, flags.0, flags.1, flags.2, info))
+        })
     }
 
     /// The global state: the single-agent env's observation.
-    fn state<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, self.env.state())
+    fn state<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_slice(py, slf.as_super().agents()?.state()))
     }
 
     /// The global action of one local action per agent.
     fn local_actions_to_global<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         actions: Vec<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let a = slices(&actions)?;
-        let g = self
-            .env
+        let g = slf
+            .as_super()
+            .agents()?
             .local_actions_to_global(&a)
             .map_err(errors::env_error)?;
         Ok(PyArray1::from_vec(py, g))
@@ -149,12 +91,13 @@ impl AgentsCore {
 
     /// Each agent's share of a global action.
     fn global_action_to_local<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Arrays<'py>> {
-        let l = self
-            .env
+        let l = slf
+            .as_super()
+            .agents()?
             .global_action_to_local(action.as_slice()?)
             .map_err(errors::env_error)?;
         Ok(arrays(py, &l))
@@ -162,19 +105,20 @@ impl AgentsCore {
 
     /// Each agent's observation taken from a global state.
     fn global_state_to_local<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         state: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Arrays<'py>> {
+        let env = slf.as_super().agents()?;
         let s = state.as_slice()?;
-        if s.len() != self.env.spec().state_dim() {
+        if s.len() != env.spec().state_dim() {
             return Err(errors::argument(format!(
                 "state has length {}; expected {}",
                 s.len(),
-                self.env.spec().state_dim()
+                env.spec().state_dim()
             )));
         }
-        match self.env.global_state_to_local(s) {
+        match env.global_state_to_local(s) {
             Some(l) => Ok(arrays(py, &l)),
             None => Err(errors::argument(
                 "some agent observes values that are not in the state: no mapping from the state",
@@ -184,124 +128,104 @@ impl AgentsCore {
 
     /// The global state rebuilt from every agent's observation.
     fn local_observations_to_global<'py>(
-        &self,
+        slf: PyRef<'py, Self>,
         py: Python<'py>,
         obs: Vec<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let o = slices(&obs)?;
-        let g = self
-            .env
+        let g = slf
+            .as_super()
+            .agents()?
             .local_observations_to_global(&o)
             .map_err(|e| errors::argument(e.to_string()))?;
         Ok(PyArray1::from_vec(py, g))
     }
 
-    #[getter]
-    fn id(&self) -> String {
-        self.env.spec().id.clone()
-    }
     /// The task's id (the single-agent env every agent shares).
     #[getter]
-    fn base_id(&self) -> String {
-        self.env.spec().base.id.clone()
+    fn base_id(slf: PyRef<'_, Self>) -> PyResult<String> {
+        Ok(slf.as_super().agents()?.spec().base.id.clone())
     }
     #[getter]
-    fn conf(&self) -> String {
-        self.env.spec().conf.clone()
+    fn conf(slf: PyRef<'_, Self>) -> PyResult<String> {
+        Ok(slf.as_super().agents()?.spec().conf.clone())
     }
     #[getter]
-    fn confs(&self) -> Vec<String> {
-        self.env.spec().confs.clone()
+    fn confs(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        Ok(slf.as_super().agents()?.spec().confs.clone())
     }
     #[getter]
-    fn k(&self) -> usize {
-        self.env.spec().k
+    fn k(slf: PyRef<'_, Self>) -> PyResult<usize> {
+        Ok(slf.as_super().agents()?.spec().k)
     }
     /// Draw each agent's limbs in its own colour in later frames (False: the model's colours).
-    fn color_agents(&mut self, on: bool) {
-        self.env.color_agents(on);
-    }
-    /// A frame of the whole robot in Gymnasium's `render_mode` (MaMuJoCo renders its single-agent env).
-    fn render(&mut self, py: Python<'_>, mode: &str) -> PyResult<Py<PyAny>> {
-        crate::render::render(py, mode, |m| self.env.render(m))
+    fn color_agents(mut slf: PyRefMut<'_, Self>, on: bool) -> PyResult<()> {
+        slf.as_super().agents_mut()?.color_agents(on);
+        Ok(())
     }
     #[getter]
-    fn dt(&self) -> f64 {
-        self.env.env().dt()
-    }
-    #[getter]
-    fn max_episode_steps(&self) -> Option<u64> {
-        self.env.spec().base.max_episode_steps
-    }
-    #[getter]
-    fn possible_agents(&self) -> Vec<String> {
-        self.env
+    fn possible_agents(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        let env = slf.as_super().agents()?;
+        Ok(env
             .possible_agents()
             .into_iter()
             .map(String::from)
-            .collect()
+            .collect())
     }
     /// The agents still acting: all after `reset`, none once the episode has ended.
     #[getter]
-    fn agents(&self) -> Vec<String> {
-        self.env.agents().into_iter().map(String::from).collect()
+    fn agents(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        let env = slf.as_super().agents()?;
+        Ok(env.agents().into_iter().map(String::from).collect())
     }
-    fn obs_low<'py>(&self, py: Python<'py>, agent: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(
-            py,
-            &self.env.observation_space(self.agent(agent)?).low,
-        ))
+    /// Agent `agent`'s observation bounds.
+    fn agent_obs_low<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+        agent: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        agent_bound(&slf, py, agent, |e, i| &e.observation_space(i).low)
     }
-    fn obs_high<'py>(&self, py: Python<'py>, agent: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(
-            py,
-            &self.env.observation_space(self.agent(agent)?).high,
-        ))
+    fn agent_obs_high<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+        agent: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        agent_bound(&slf, py, agent, |e, i| &e.observation_space(i).high)
     }
-    fn act_low<'py>(&self, py: Python<'py>, agent: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(
-            py,
-            &self.env.action_space(self.agent(agent)?).low,
-        ))
+    /// Agent `agent`'s action bounds.
+    fn agent_act_low<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+        agent: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        agent_bound(&slf, py, agent, |e, i| &e.action_space(i).low)
     }
-    fn act_high<'py>(&self, py: Python<'py>, agent: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(
-            py,
-            &self.env.action_space(self.agent(agent)?).high,
-        ))
+    fn agent_act_high<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+        agent: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        agent_bound(&slf, py, agent, |e, i| &e.action_space(i).high)
     }
     /// The global state's bounds (the single-agent observation space).
     #[getter]
-    fn state_low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.env().observation_space().low)
+    fn state_low<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let env = slf.as_super().agents()?;
+        Ok(PyArray1::from_slice(py, &env.env().observation_space().low))
     }
     #[getter]
-    fn state_high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.env().observation_space().high)
-    }
-    /// The global action's bounds (the single-agent action space).
-    #[getter]
-    fn global_act_low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.env().action_space().low)
-    }
-    #[getter]
-    fn global_act_high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.env.env().action_space().high)
-    }
-    /// The numerics profile the env computes under (docs/numerics.md).
-    #[getter]
-    fn numerics(&self) -> String {
-        self.env.numerics().to_string()
-    }
-    #[setter]
-    fn set_numerics(&mut self, name: &str) -> PyResult<()> {
-        let p = crate::convert::profile(name)?;
-        self.env.set_numerics(p);
-        Ok(())
-    }
-    /// MuJoCo warnings captured so far.
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        self.env.env().warnings().to_vec()
+    fn state_high<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let env = slf.as_super().agents()?;
+        Ok(PyArray1::from_slice(
+            py,
+            &env.env().observation_space().high,
+        ))
     }
 }

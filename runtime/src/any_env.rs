@@ -1,34 +1,31 @@
 //! The one door of the runtime: [`open`] builds the env of any spec kind, [`AnyEnv`] says which
-//! one it is and offers what every kind shares (spaces of the joint action, time step, episode
-//! limit, numerics, warnings, and a joint-action step for commands such as `run` and `bench`).
-//! Kind-specific work (`rollout`'s files, `show`) matches on the variant once.
+//! one it is. What every kind shares is [`JointEnv`], which `AnyEnv` implements by handing each
+//! call to its variant; kind-specific work (`rollout`'s files, `show`) matches on the variant once.
 
 use envspec::{AnySpec, Kind, Override};
 
-use crate::env::{BoxSpace, Env};
+use crate::env::Env;
 use crate::error::EnvError;
+use crate::joint_env::{JointAction, JointEnv, JointStep};
 use crate::maze::MazeEnv;
 use crate::multi_agent::MultiAgentEnv;
 use crate::numerics::Profile;
+use crate::render::{Frame, RenderMode};
 
 /// An env of any kind.
 pub enum AnyEnv {
+    /// A single-agent task (a Gymnasium MuJoCo env or a spec of one robot).
     Task(Env),
+    /// A goal-conditioned maze env (boxed: much larger than the others).
     Maze(Box<MazeEnv>),
+    /// A multi-agent (MaMuJoCo) env.
     Agents(MultiAgentEnv),
-}
-
-/// What every kind's step reports: the (shared) reward and the episode flags.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JointStep {
-    pub reward: f64,
-    pub terminated: bool,
-    pub truncated: bool,
 }
 
 /// Open a bundled id or a spec file of any kind (see `envspec::open`) and build its env.
 ///
 /// ```no_run
+/// use envc::JointEnv;
 /// let env = envc::open("PointMaze_UMaze-v3", &[])?;
 /// assert_eq!(env.kind(), envc::Kind::Maze);
 /// # Ok::<(), envc::EnvError>(())
@@ -38,6 +35,7 @@ pub fn open(id_or_path: &str, overrides: &[Override]) -> Result<AnyEnv, EnvError
 }
 
 impl AnyEnv {
+    /// Build the env of a resolved spec of any kind.
     pub fn new(spec: AnySpec) -> Result<AnyEnv, EnvError> {
         Ok(match spec {
             AnySpec::Task(s) => AnyEnv::Task(Env::new(std::sync::Arc::new(*s))?),
@@ -46,125 +44,70 @@ impl AnyEnv {
         })
     }
 
-    pub fn kind(&self) -> Kind {
-        match self {
-            AnyEnv::Task(_) => Kind::Task,
-            AnyEnv::Maze(_) => Kind::Maze,
-            AnyEnv::Agents(_) => Kind::Agents,
-        }
-    }
-
-    pub fn id(&self) -> &str {
-        match self {
-            AnyEnv::Task(e) => &e.spec().id,
-            AnyEnv::Maze(e) => e.id(),
-            AnyEnv::Agents(e) => &e.spec().id,
-        }
-    }
-
-    /// The single-agent env that steps the physics (a maze's robot in its world, the
-    /// factorized task of a multi-agent spec).
-    pub fn physics_env(&self) -> &Env {
+    /// The variant as the trait every kind implements.
+    pub fn as_joint(&self) -> &dyn JointEnv {
         match self {
             AnyEnv::Task(e) => e,
-            AnyEnv::Maze(e) => e.robot(),
-            AnyEnv::Agents(e) => e.env(),
+            AnyEnv::Maze(e) => &**e,
+            AnyEnv::Agents(e) => e,
         }
     }
-
-    /// Render a frame of any kind of env: a task, a maze with its goal marker, a multi-agent
-    /// spec's whole robot.
-    pub fn render(
-        &mut self,
-        mode: crate::render::RenderMode,
-    ) -> Result<crate::render::Frame<'_>, EnvError> {
+    /// The variant as the trait every kind implements, mutably.
+    pub fn as_joint_mut(&mut self) -> &mut dyn JointEnv {
         match self {
-            AnyEnv::Task(e) => e.render(mode),
-            AnyEnv::Maze(e) => e.render(mode),
-            AnyEnv::Agents(e) => e.render(mode),
+            AnyEnv::Task(e) => e,
+            AnyEnv::Maze(e) => &mut **e,
+            AnyEnv::Agents(e) => e,
         }
     }
+}
 
-    /// The joint action's space (a multi-agent spec: every agent's actions in global order).
-    pub fn action_space(&self) -> &BoxSpace {
-        match self {
-            AnyEnv::Maze(e) => e.action_space(),
-            _ => self.physics_env().action_space(),
-        }
+/// Every call goes to the variant, so a kind's own answer (a maze's time limit, its goal marker
+/// in frames) holds through `AnyEnv` too.
+impl JointEnv for AnyEnv {
+    fn kind(&self) -> Kind {
+        self.as_joint().kind()
     }
-
-    pub fn act_dim(&self) -> usize {
-        self.action_space().dim()
+    fn id(&self) -> &str {
+        self.as_joint().id()
     }
-
-    pub fn dt(&self) -> f64 {
-        self.physics_env().dt()
+    fn physics_env(&self) -> &Env {
+        self.as_joint().physics_env()
     }
-
-    /// The episode limit (`TimeLimit`), if any.
-    pub fn max_episode_steps(&self) -> Option<u64> {
-        match self {
-            AnyEnv::Maze(e) => e.max_episode_steps(),
-            _ => self.physics_env().spec().max_episode_steps,
-        }
+    fn physics_env_mut(&mut self) -> &mut Env {
+        self.as_joint_mut().physics_env_mut()
     }
-
-    pub fn numerics(&self) -> Profile {
-        self.physics_env().numerics()
+    fn try_reset(&mut self, seed: Option<u64>) -> Result<(), EnvError> {
+        self.as_joint_mut().try_reset(seed)
     }
-
-    pub fn set_numerics(&mut self, profile: Profile) {
-        match self {
-            AnyEnv::Task(e) => e.set_numerics(profile),
-            AnyEnv::Maze(e) => e.set_numerics(profile),
-            AnyEnv::Agents(e) => e.set_numerics(profile),
-        }
+    fn step_joint(&mut self, action: JointAction<'_>) -> Result<JointStep, EnvError> {
+        self.as_joint_mut().step_joint(action)
     }
-
-    /// MuJoCo warnings captured so far.
-    pub fn warnings(&self) -> &[String] {
-        self.physics_env().warnings()
+    fn require_reset(&mut self) {
+        self.as_joint_mut().require_reset();
     }
-
-    /// `reset(seed)` of whichever kind this is.
-    pub fn reset(&mut self, seed: Option<u64>) -> Result<(), EnvError> {
-        match self {
-            AnyEnv::Task(e) => {
-                e.reset(seed);
-            }
-            AnyEnv::Maze(e) => {
-                e.reset(seed, None)?;
-            }
-            AnyEnv::Agents(e) => {
-                e.reset(seed);
-            }
-        }
-        match self.physics_env().reset_error() {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+    fn action_space(&self) -> &crate::BoxSpace {
+        self.as_joint().action_space()
     }
-
-    /// One step with a joint action (float64).
-    pub fn step(&mut self, action: &[f64]) -> Result<JointStep, EnvError> {
-        let (reward, terminated, truncated) = match self {
-            AnyEnv::Task(e) => {
-                let s = e.step(action)?;
-                (s.reward, s.terminated, s.truncated)
-            }
-            AnyEnv::Maze(e) => {
-                let s = e.step(action)?;
-                (s.reward, s.terminated, s.truncated)
-            }
-            AnyEnv::Agents(e) => {
-                let s = e.step_global(action)?;
-                (s.reward, s.terminated, s.truncated)
-            }
-        };
-        Ok(JointStep {
-            reward,
-            terminated,
-            truncated,
-        })
+    fn dt(&self) -> f64 {
+        self.as_joint().dt()
+    }
+    fn max_episode_steps(&self) -> Option<u64> {
+        self.as_joint().max_episode_steps()
+    }
+    fn numerics(&self) -> Profile {
+        self.as_joint().numerics()
+    }
+    fn set_numerics(&mut self, profile: Profile) {
+        self.as_joint_mut().set_numerics(profile);
+    }
+    fn warnings(&self) -> &[String] {
+        self.as_joint().warnings()
+    }
+    fn render(&mut self, mode: RenderMode) -> Result<Frame<'_>, EnvError> {
+        self.as_joint_mut().render(mode)
+    }
+    fn close(&mut self) {
+        self.as_joint_mut().close();
     }
 }

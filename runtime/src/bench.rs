@@ -24,7 +24,9 @@ use mujoco_rs::prelude::{MjData, MjModel};
 use crate::error::EnvError;
 use crate::rng::NumpyRng;
 use crate::vector::{Autoreset, VecEnv};
+use crate::{JointAction, JointEnv};
 
+/// What `envc bench` measures and for how long.
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
     /// Envs in the vectorized measurement.
@@ -33,6 +35,7 @@ pub struct BenchConfig {
     pub threads: usize,
     /// Total measuring time per env (all rounds and all four measurements).
     pub seconds: f64,
+    /// Interleaved rounds; more rounds give steadier medians.
     pub rounds: usize,
 }
 
@@ -47,25 +50,35 @@ impl Default for BenchConfig {
     }
 }
 
+/// One env's rates and ratios, as `envc bench` reports them.
 #[derive(Clone, Debug)]
 pub struct BenchResult {
+    /// The env's id.
     pub id: String,
+    /// MuJoCo steps per env step.
     pub frame_skip: usize,
+    /// Whether each step also runs `mj_rnePostConstraint` (the spec reads contact forces).
     pub rne_post_constraint: bool,
+    /// Envs in the vector env.
     pub envs: usize,
+    /// Threads of the vector env.
     pub threads: usize,
+    /// Interleaved rounds measured.
     pub rounds: usize,
-    /// Env steps per second (medians over rounds).
+    /// The raw `MjData` loop's env steps per second; every rate is a median over rounds.
     pub ceiling: f64,
+    /// One `Env`'s steps per second (thread CPU time).
     pub single: f64,
+    /// The `VecEnv`'s steps per second (wall time).
     pub vector: f64,
     /// `threads` raw `MjData` loops run in parallel, wall time: what the machine gives right now
     /// (the 2-core ceiling as load from other processes allows).
     pub parallel_ceiling: f64,
     /// vector ÷ parallel_ceiling (median of per-round ratios).
     pub vector_parallel_ratio: f64,
-    /// single ÷ ceiling and vector ÷ (threads × ceiling), medians of per-round ratios.
+    /// single ÷ ceiling (median of per-round ratios).
     pub single_ratio: f64,
+    /// vector ÷ (threads × ceiling), likewise.
     pub vector_ratio: f64,
     /// Mean episode length seen by the single env (the ceiling resets at this period).
     pub episode_len: f64,
@@ -233,7 +246,7 @@ pub fn bench(
         message: format!("cannot allocate mjData: {e}"),
     })?;
     let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
-    env.reset(Some(0))?;
+    env.try_reset(Some(0))?;
     let start_state = {
         let (qpos, qvel) = env.physics_env().state();
         StartState {
@@ -292,7 +305,7 @@ pub fn bench(
                         let a = actions.rows(cursor, 1);
                         cursor += 1;
                         // The action has the env's length and is finite: only MuJoCo can fail.
-                        let done = match env.step(a) {
+                        let done = match env.step_joint(JointAction::F64(a)) {
                             Ok(s) => s.terminated || s.truncated,
                             Err(e) => {
                                 env_error.get_or_insert(e);
@@ -302,7 +315,7 @@ pub fn bench(
                         steps += 1;
                         if done {
                             episodes += 1;
-                            let _ = env.reset(None);
+                            let _ = env.try_reset(None);
                         }
                     }
                     CHUNK as u64

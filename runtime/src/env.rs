@@ -27,14 +27,18 @@ use crate::rng::NumpyRng;
 /// A box space: per-element bounds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoxSpace {
+    /// Lower bounds, one per element (`-inf` where unbounded).
     pub low: Vec<f64>,
+    /// Upper bounds, one per element (`inf` where unbounded).
     pub high: Vec<f64>,
 }
 
 impl BoxSpace {
+    /// The number of elements.
     pub fn dim(&self) -> usize {
         self.low.len()
     }
+    /// Whether `x` has the space's size and lies within its bounds.
     pub fn contains(&self, x: &[f64]) -> bool {
         x.len() == self.low.len()
             && x.iter()
@@ -60,6 +64,7 @@ pub struct Info<'a> {
 }
 
 impl<'a> Info<'a> {
+    /// The values of `key`, or None when the spec declares no such key.
     pub fn get(&self, key: &str) -> Option<&'a [f64]> {
         self.slots
             .iter()
@@ -70,18 +75,22 @@ impl<'a> Info<'a> {
     pub fn scalar(&self, key: &str) -> Option<f64> {
         self.get(key).and_then(|v| (v.len() == 1).then(|| v[0]))
     }
+    /// Every key with its values, in spec order.
     pub fn iter(&self) -> impl Iterator<Item = (&'a str, &'a [f64])> + 'a {
         let values = self.values;
         self.slots
             .iter()
             .map(move |s| (s.key.as_str(), &values[s.offset..s.offset + s.len]))
     }
+    /// The number of keys.
     pub fn len(&self) -> usize {
         self.slots.len()
     }
+    /// Whether the dict has no keys.
     pub fn is_empty(&self) -> bool {
         self.slots.is_empty()
     }
+    /// The keys, in spec order.
     pub fn keys(&self) -> impl Iterator<Item = &'a str> + 'a {
         self.slots.iter().map(|s| s.key.as_str())
     }
@@ -90,10 +99,15 @@ impl<'a> Info<'a> {
 /// What `step` returns; borrows the env's buffers (no allocation per step).
 #[derive(Clone, Copy, Debug)]
 pub struct Step<'a> {
+    /// The observation after the step.
     pub obs: &'a [f64],
+    /// The step's reward (the spec's reward sum).
     pub reward: f64,
+    /// Whether the episode ended in a terminal state (unhealthy, or a `[termination.*]` rule).
     pub terminated: bool,
+    /// Whether the time limit cut the episode short.
     pub truncated: bool,
+    /// The step's info dict.
     pub info: Info<'a>,
 }
 
@@ -262,7 +276,8 @@ pub struct Env {
     warnings: Vec<String>,
     observation_space: BoxSpace,
     action_space: BoxSpace,
-    /// Rendering settings and the renderer, made on the first frame (issue 15).
+    /// Rendering settings and the renderer, made on the first frame: an env never rendered
+    /// never opens a GL context.
     render: crate::render::EnvRender,
     /// Observation noise and delay (None: the spec declares neither).
     obs_noise: Option<crate::obs_noise::ObsNoise>,
@@ -475,6 +490,7 @@ impl Env {
         })
     }
 
+    /// The resolved spec this env runs.
     pub fn spec(&self) -> &Arc<ResolvedSpec> {
         &self.spec
     }
@@ -495,6 +511,7 @@ impl Env {
     pub fn require_reset(&mut self) {
         self.has_reset = false;
     }
+    /// The compiled model, shared by every env built from it.
     pub fn model(&self) -> &Arc<MjModel> {
         &self.sim.model
     }
@@ -522,23 +539,23 @@ impl Env {
     pub fn set_render_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
         self.render.set_tint(tint);
     }
-    /// The spec's rendering settings (size, camera, options).
-    pub fn render_settings(&self) -> &envspec::camera::RenderSettings {
-        self.render.settings()
-    }
     /// Free the renderer (Gymnasium's `close()`); rendering again makes a new one.
     pub fn close_renderer(&mut self) {
         self.render.close();
     }
+    /// The observation space (unbounded, as Gymnasium's MuJoCo envs declare it).
     pub fn observation_space(&self) -> &BoxSpace {
         &self.observation_space
     }
+    /// The action space: the actuators' control ranges in float32, or `[actions]`'s range.
     pub fn action_space(&self) -> &BoxSpace {
         &self.action_space
     }
+    /// The observation's length.
     pub fn obs_dim(&self) -> usize {
         self.spec.obs_dim
     }
+    /// The action's length (the model's actuator count).
     pub fn act_dim(&self) -> usize {
         self.sim.nu
     }
@@ -562,6 +579,7 @@ impl Env {
     pub fn warnings(&self) -> &[String] {
         &self.warnings
     }
+    /// Forget the warnings collected so far (after the caller has reported them).
     pub fn clear_warnings(&mut self) {
         self.warnings.clear();
     }
@@ -775,7 +793,7 @@ impl Env {
     /// Advance one control step. The action is used as given (MuJoCo clamps it to ctrlrange inside
     /// the dynamics; costs see the raw values), as in the reference.
     pub fn step(&mut self, action: &[f64]) -> Result<Step<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i])?;
+        self.check_action(crate::JointAction::F64(action))?;
         self.sim.action.copy_from_slice(action);
         self.action_f32 = false;
         self.advance()
@@ -786,7 +804,7 @@ impl Env {
     /// computed in float32 as numpy does (square, pairwise sum and weight in float32; reference
     /// trap T3), so their info values are float32 numbers.
     pub fn step_f32(&mut self, action: &[f32]) -> Result<Step<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i] as f64)?;
+        self.check_action(crate::JointAction::F32(action))?;
         for (a, &x) in self.sim.action.iter_mut().zip(action) {
             *a = x as f64;
         }
@@ -892,24 +910,10 @@ impl Env {
         })
     }
 
-    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(self.reset_error().unwrap_or(EnvError::NotReset));
-        }
-        if len != self.sim.nu {
-            return Err(EnvError::ActionLength {
-                env: self.spec.id.clone(),
-                expected: self.sim.nu,
-                got: len,
-            });
-        }
-        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            });
-        }
-        Ok(())
+    fn check_action(&self, action: crate::JointAction<'_>) -> Result<(), EnvError> {
+        crate::joint_env::check_action(&self.spec.id, self.sim.nu, action, || {
+            (!self.has_reset).then(|| self.reset_error().unwrap_or(EnvError::NotReset))
+        })
     }
 
     /// The step proper, with the action already in `sim.action`.
@@ -1206,6 +1210,7 @@ pub struct Unhealthy {
     pub rule: String,
     /// The first element that fails it, e.g. `qpos[1] (rootz)`, and its value.
     pub element: String,
+    /// That element's value.
     pub value: f64,
 }
 

@@ -359,13 +359,17 @@ fn geom_id(env: &str, m: &mjModel, name: &str) -> Result<usize, EnvError> {
 /// One row of the randomization table (`envc show`): a value an event writes.
 #[derive(Clone, Debug)]
 pub struct Row {
+    /// The `[events.<name>]` entry.
     pub event: String,
     /// `startup`, `reset`, `interval 5–10 s`.
     pub mode: String,
+    /// The model field written (`push` for a velocity push).
     pub field: &'static str,
+    /// The element it writes, e.g. a body or a joint's axis.
     pub element: String,
     /// `uniform[0.9, 1.1]`, `gaussian(mean 0, std 0.1)`; pushes: the x and y ranges.
     pub distribution: String,
+    /// How the draw combines with the compiled value (`add`, `scale`, `abs`).
     pub operation: &'static str,
     /// The compiled value (pushes: none, they add to the velocity).
     pub compiled: Option<f64>,

@@ -11,7 +11,9 @@ use mujoco_rs::prelude::MjModel;
 /// One kind of model element: a title and one line per element.
 #[derive(Clone, Debug)]
 pub struct Group {
+    /// The heading, e.g. `joints, qpos entries`.
     pub title: &'static str,
+    /// One line per element.
     pub lines: Vec<String>,
 }
 

@@ -9,18 +9,27 @@ use crate::Env;
 /// One joint (and the first actuator on it, if any).
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointRow {
+    /// The joint's name (`#<index>` when unnamed).
     pub joint: String,
     /// The actuator's name and index in the action.
     pub actuator: Option<(String, usize)>,
     /// `position`, `velocity`, `motor` or `other` (from the gain and bias types).
     pub kind: &'static str,
+    /// Position gain (position actuators).
     pub kp: Option<f64>,
+    /// Velocity gain (position and velocity actuators).
     pub kv: Option<f64>,
+    /// The actuator's first gear entry.
     pub gear: Option<f64>,
+    /// The actuator's force range, when limited.
     pub forcerange: Option<(f64, f64)>,
+    /// The actuator's control range, when limited.
     pub ctrlrange: Option<(f64, f64)>,
+    /// The joint's armature.
     pub armature: f64,
+    /// The joint's damping.
     pub damping: f64,
+    /// The joint's friction loss.
     pub frictionloss: f64,
     /// The `[joint_properties]` rows that set one of this joint's values (patterns, in order).
     pub rows: Vec<String>,

@@ -25,6 +25,7 @@ pub mod events;
 pub mod goal;
 pub mod gymnasium;
 pub mod inventory;
+pub mod joint_env;
 pub mod joint_table;
 mod latency;
 pub mod maze;
@@ -47,7 +48,7 @@ pub mod rng;
 pub mod typed;
 pub mod vector;
 
-pub use any_env::{AnyEnv, JointStep, open};
+pub use any_env::{AnyEnv, open};
 pub use env::{BoxSpace, Env, Info, Step, Unhealthy};
 /// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
 pub use envc_codegen::env;
@@ -57,6 +58,7 @@ pub use environment::Environment;
 pub use envspec;
 pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
+pub use joint_env::{JointAction, JointEnv, JointStep};
 pub use mujoco_log::mujoco_error_message;
 pub use vector::{Autoreset, VecEnv};
 

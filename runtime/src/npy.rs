@@ -22,7 +22,9 @@ use ndarray_npy::{ReadNpyError, ReadNpyExt};
 /// A 2-D `.npy` array as stored.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Matrix {
+    /// Stored as float64.
     F64(Array2<f64>),
+    /// Stored as float32.
     F32(Array2<f32>),
 }
 
@@ -30,19 +32,34 @@ pub enum Matrix {
 #[derive(Debug, thiserror::Error)]
 pub enum NpyError {
     // Not `source`: the message already says why, and a source would be printed again after it.
+    /// The file could not be opened.
     #[error("error[E1430]: cannot open {}: {error}", path.display())]
     Open {
+        /// The file.
         path: PathBuf,
+        /// Why it could not be opened.
         error: std::io::Error,
     },
+    /// The file is not a 2-D float64 or float32 array.
     #[error("error[E1430]: {}: expected a 2-D float64 or float32 .npy array [T, width]: {why}", path.display())]
-    Format { path: PathBuf, why: String },
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// The header promises more data than the file holds.
     #[error("error[E1430]: {} is truncated: expected {expected} bytes of data for shape {shape:?} ({descr}), found {found}", path.display())]
     Truncated {
+        /// The file.
         path: PathBuf,
+        /// The shape its header declares.
         shape: Vec<usize>,
+        /// The header's dtype descriptor (`<f8`, `<f4`).
         descr: String,
+        /// Bytes of data the shape needs.
         expected: u64,
+        /// Bytes of data present.
         found: u64,
     },
 }

@@ -14,7 +14,9 @@ use crate::error::EnvError;
 /// A body parameter: by id or by name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum BodyRef {
+    /// The body's index in the model.
     Id(i64),
+    /// The body's name in the model.
     Name(String),
 }
 

@@ -27,6 +27,7 @@ use envspec::{Override, ResolvedSpec};
 
 use crate::env::{Env, Info, compile};
 use crate::error::EnvError;
+use crate::joint_env::{JointAction, JointEnv};
 
 /// When an ended env is reset (Gymnasium's `AutoresetMode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -39,7 +40,7 @@ pub enum Autoreset {
 }
 
 /// How long an idle thread spins before sleeping: a futex wake-up costs 25–35 µs on the
-/// development VM (performance_anchors.md), more than a whole cheap env step.
+/// development VM, more than a whole cheap env step.
 const SPIN: Duration = Duration::from_micros(50);
 
 /// Raw views of the env array and batch buffers. Fixed at construction: the buffers are never
@@ -206,20 +207,21 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
         *pending = false;
         return Ok(());
     }
-    let s = if f32_actions {
+    let action = if f32_actions {
         // SAFETY: as above; `actions_f32` holds n × act_dim numbers.
-        env.step_f32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })?
+        JointAction::F32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })
     } else {
         // SAFETY: as above; `actions` holds n × act_dim numbers.
-        env.step(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })?
+        JointAction::F64(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })
     };
+    let s = env.step_joint(action)?;
     *reward = s.reward;
     *terminated = s.terminated;
     *truncated = s.truncated;
     let ended = s.terminated || s.truncated;
     match job.mode {
         Autoreset::NextStep => {
-            obs.copy_from_slice(s.obs);
+            obs.copy_from_slice(env.obs());
             *pending = ended;
         }
         Autoreset::SameStep => {
@@ -229,10 +231,10 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
             if ended {
                 // SAFETY: as above; `final_obs` holds n × obs_dim numbers.
                 unsafe { std::slice::from_raw_parts_mut(job.final_obs.add(i * od), od) }
-                    .copy_from_slice(s.obs);
+                    .copy_from_slice(env.obs());
                 obs.copy_from_slice(env.reset(None).0);
             } else {
-                obs.copy_from_slice(s.obs);
+                obs.copy_from_slice(env.obs());
             }
         }
     }
@@ -268,6 +270,8 @@ impl VecEnv {
     }
 
     /// `num_envs` envs of a bundled id or spec path (with overrides), run on `threads` threads.
+    /// The spec opens through the one door ([`crate::open`]); a maze or a multi-agent spec is
+    /// E0602.
     pub fn make(
         id_or_path: &str,
         overrides: &[Override],
@@ -275,8 +279,19 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
-        let spec = envspec::load(&crate::registry::find(id_or_path)?, overrides)?;
-        VecEnv::new(Arc::new(spec), num_envs, threads, mode)
+        match crate::open(id_or_path, overrides)? {
+            crate::AnyEnv::Task(first) => VecEnv::from_env(first, num_envs, threads, mode),
+            other => Err(EnvError::Spec(
+                envspec::Diagnostic::new(
+                    envspec::Code::E0602,
+                    format!(
+                        "`{id_or_path}` is a {} spec: vector envs step single-agent tasks",
+                        other.kind()
+                    ),
+                )
+                .into(),
+            )),
+        }
     }
 
     /// Compile the model once and build `num_envs` envs over it. `threads` is clamped to
@@ -287,18 +302,39 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
+        VecEnv::check_count(&spec, num_envs)?;
+        let model = Arc::new(compile(&spec)?);
+        VecEnv::from_env(Env::with_model(spec, model)?, num_envs, threads, mode)
+    }
+
+    /// E1403: more envs than envc's limit.
+    fn check_count(spec: &ResolvedSpec, num_envs: usize) -> Result<(), EnvError> {
+        if num_envs > envspec::limits::MAX_VEC_ENVS {
+            return Err(EnvError::TooLarge {
+                env: spec.id.clone(),
+                what: format!(
+                    "{num_envs} envs are beyond envc's limit of {} per vector env",
+                    envspec::limits::MAX_VEC_ENVS
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// `num_envs` envs sharing the model of `first` (which is the first of them).
+    pub fn from_env(
+        first: Env,
+        num_envs: usize,
+        threads: usize,
+        mode: Autoreset,
+    ) -> Result<VecEnv, EnvError> {
+        let spec = Arc::clone(first.spec());
+        let model = Arc::clone(first.model());
+        VecEnv::check_count(&spec, num_envs)?;
         let too_large = |what: String| EnvError::TooLarge {
             env: spec.id.clone(),
             what,
         };
-        if num_envs > envspec::limits::MAX_VEC_ENVS {
-            return Err(too_large(format!(
-                "{num_envs} envs are beyond envc's limit of {} per vector env",
-                envspec::limits::MAX_VEC_ENVS
-            )));
-        }
-        let model = Arc::new(compile(&spec)?);
-        let first = Env::with_model(Arc::clone(&spec), Arc::clone(&model))?;
         // Each env holds an mjData (its buffer and arena): refuse before allocating them all
         // rather than fail (or be killed) part-way.
         // The env's mjData and rings, and its rows of the batch buffers (observations twice,
@@ -392,6 +428,7 @@ impl VecEnv {
         Ok(v)
     }
 
+    /// The number of sub-envs.
     pub fn num_envs(&self) -> usize {
         self.envs.len()
     }
@@ -399,25 +436,29 @@ impl VecEnv {
     pub fn threads(&self) -> usize {
         self.workers.len() + 1
     }
+    /// When an ended sub-env is reset.
     pub fn autoreset(&self) -> Autoreset {
         self.shared.job.mode
     }
+    /// One sub-env's observation length (a row of the batch).
     pub fn obs_dim(&self) -> usize {
         self.shared.job.obs_dim
     }
+    /// One sub-env's action length.
     pub fn act_dim(&self) -> usize {
         self.shared.job.act_dim
     }
+    /// The spec the sub-envs run (None for a vector of no envs).
     pub fn spec(&self) -> Option<&Arc<ResolvedSpec>> {
         self.envs.first().map(|e| e.spec())
     }
-    /// The sub-envs (read-only: spaces, state, warnings).
     /// Every sub-env computes as the reference does under `profile` (see `Env::set_numerics`).
     pub fn set_numerics(&mut self, profile: crate::numerics::Profile) {
         for e in &mut self.envs {
             e.set_numerics(profile);
         }
     }
+    /// The sub-envs (read-only: spaces, state, warnings).
     pub fn envs(&self) -> &[Env] {
         &self.envs
     }
@@ -492,7 +533,7 @@ impl VecEnv {
     /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
     /// batch buffers hold the results.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
-        self.check_actions(actions.len(), |i| actions[i])?;
+        self.check_actions(JointAction::F64(actions))?;
         // SAFETY: no step is running; the buffer has exactly actions.len() entries.
         unsafe {
             std::ptr::copy_nonoverlapping(
@@ -507,7 +548,7 @@ impl VecEnv {
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
     /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
     pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
-        self.check_actions(actions.len(), |i| actions[i] as f64)?;
+        self.check_actions(JointAction::F32(actions))?;
         // SAFETY: as in `step`.
         unsafe {
             std::ptr::copy_nonoverlapping(
@@ -520,24 +561,11 @@ impl VecEnv {
     }
 
     /// Checked before any env moves, so a bad action fails the whole batch.
-    fn check_actions(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(EnvError::NotReset);
-        }
-        if len != self.actions.len() {
-            return Err(EnvError::ActionLength {
-                env: self.spec().map(|s| s.id.clone()).unwrap_or_default(),
-                expected: self.actions.len(),
-                got: len,
-            });
-        }
-        match (0..len).find(|&i| !value(i).is_finite()) {
-            Some(index) => Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            }),
-            None => Ok(()),
-        }
+    fn check_actions(&self, actions: JointAction<'_>) -> Result<(), EnvError> {
+        let id = self.spec().map(|s| s.id.as_str()).unwrap_or_default();
+        crate::joint_env::check_action(id, self.actions.len(), actions, || {
+            (!self.has_reset).then_some(EnvError::NotReset)
+        })
     }
 
     /// Run one step of every env over the action buffer just written.
@@ -590,12 +618,15 @@ impl VecEnv {
     pub fn obs(&self) -> &[f64] {
         &self.obs
     }
+    /// The last step's rewards, one per sub-env.
     pub fn rewards(&self) -> &[f64] {
         &self.rewards
     }
+    /// The last step's terminated flags, one per sub-env.
     pub fn terminated(&self) -> &[bool] {
         &self.terminated
     }
+    /// The last step's truncated flags, one per sub-env.
     pub fn truncated(&self) -> &[bool] {
         &self.truncated
     }

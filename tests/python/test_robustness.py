@@ -377,3 +377,36 @@ def test_ids_gymnasium_cannot_register_are_e0111(tmp_path, env_id):
     with pytest.raises(envc.SpecError) as e:
         envc.make(str(spec))
     assert e.value.code == "E0111"
+
+
+def test_a_reset_without_a_valid_start_raises_on_every_kind_of_core(tmp_path):
+    """A reset whose `resample_until` is never met (Reacher's goal drawn from ±1e6 until its norm
+    is below 1e-9) raises E1104 at `reset`, as `envc run` reports it, instead of succeeding and
+    failing at the first step."""
+    text = HOPPER.parent.joinpath("reacher.toml").read_text()
+    text = text.replace(
+        'low = -0.2\nhigh = 0.2\nmode = "set"', 'low = -1e6\nhigh = 1e6\nmode = "set"'
+    ).replace("resample_until = { norm_below = 0.2 }", "resample_until = { norm_below = 1e-9 }")
+    text = text.replace("../../assets/", str(ROOT / "assets") + "/")
+    spec = tmp_path / "reacher.toml"
+    spec.write_text(text)
+    env = envc.make(str(spec))
+    with pytest.raises(envc.Error) as e:
+        env.reset(seed=0)
+    assert e.value.code == "E1104"
+    with pytest.raises(envc.Error) as e:
+        env.unwrapped.step(np.zeros(2))
+    assert e.value.code == "E1104"
+
+
+def test_every_core_shares_the_base_class_methods():
+    """Every kind's core is an `EnvCore`: reset, step, step_f32, render, close and the shared
+    properties, one implementation (closing a maze or a multi-agent env frees its renderer too)."""
+    for spec in ("Hopper-v5", "PointMaze_UMaze-v3", envc.bundled_ids("agents")[0]):
+        kind, core = envc._envc.open(spec, [])
+        assert isinstance(core, envc._envc.EnvCore) and core.kind == kind
+        for name in ("reset", "step", "step_f32", "render", "close"):
+            assert callable(getattr(core, name))
+        core.reset(0)
+        assert core.act_low.shape == core.act_high.shape and core.dt > 0
+        core.close()

@@ -11,6 +11,7 @@ use envc::dataset::{
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::Outcome;
+use envc::JointEnv;
 
 #[derive(clap::Args)]
 pub struct Args {

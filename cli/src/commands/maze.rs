@@ -4,12 +4,14 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use envc::maze::MazeEnv;
-use ndarray::{Array1, Array2, ArrayD, IxDyn};
+use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
+use crate::commands::rollout::{InfoColumns, Trajectory};
+use crate::output::Sticky;
 
 struct DictObs {
     observation: Vec<f64>,
@@ -33,12 +35,7 @@ impl DictObs {
         self.desired.extend_from_slice(&o.desired_goal);
         self.rows += 1;
     }
-    fn write(
-        self,
-        npz: &mut NpzWriter<crate::output::Sticky>,
-        prefix: &str,
-        dim: usize,
-    ) -> Result<()> {
+    fn write(self, npz: &mut NpzWriter<Sticky>, prefix: &str, dim: usize) -> Result<()> {
         let n = self.rows;
         npz.add_array(
             format!("{prefix}.observation"),
@@ -56,98 +53,77 @@ impl DictObs {
     }
 }
 
-/// Writes `obs.observation` [n+1, dim], `obs.achieved_goal` / `obs.desired_goal` [n+1, 2],
-/// `reward`, `terminated`, `truncated`, `info.success` `[n]` and the robot's info as `info.<key>`;
-/// `reset_info.success` and the robot's reset info for the first reset; with `--auto-reset`
-/// `reset_obs.*` and `reset_at` as for flat envs.
-pub fn rollout(
-    mut env: MazeEnv,
-    seed: Option<u64>,
-    a: &Array2<f64>,
-    out: &Path,
-    auto_reset: bool,
-) -> Result<Outcome> {
-    let t_max = a.dim().0;
-    let dim = env.observation_dim();
-    let mut obs = DictObs::new();
-    let mut reset_obs = DictObs::new();
-    let mut reset_at: Vec<i64> = vec![0];
-    let (mut reward, mut terminated, mut truncated, mut success) = (vec![], vec![], vec![], vec![]);
-    let mut info: Vec<(String, usize, Vec<f64>)> = vec![];
-    let (o, s0) = env.reset(seed, None).map_err(|e| anyhow::anyhow!("{e}"))?;
-    obs.push(o);
-    reset_obs.push(o);
-    let first_reset: Vec<(String, Vec<f64>)> = env
-        .robot()
-        .reset_info()
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_vec()))
-        .collect();
-    for t in 0..t_max {
-        let row = a.row(t);
-        let act = row.as_slice().context("actions must be in C order")?;
-        let s = env
-            .step(act)
-            .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
-        obs.push(s.obs);
-        reward.push(s.reward);
-        terminated.push(s.terminated);
-        truncated.push(s.truncated);
-        success.push(s.success);
-        if info.is_empty() {
-            info = s
-                .robot_info
-                .iter()
-                .map(|(k, v)| (k.to_string(), v.len(), vec![]))
-                .collect();
-        }
-        for ((_, _, col), (_, v)) in info.iter_mut().zip(s.robot_info.iter()) {
-            col.extend_from_slice(v);
-        }
-        if s.terminated || s.truncated {
-            if !auto_reset {
-                break;
-            }
-            if t + 1 < t_max {
-                let (o, _) = env.reset(None, None).map_err(|e| anyhow::anyhow!("{e}"))?;
-                reset_obs.push(o);
-                reset_at.push(t as i64 + 1);
-            }
+/// A maze's trajectory: `obs.observation` [n+1, dim], `obs.achieved_goal` / `obs.desired_goal`
+/// [n+1, 2], `info.success` `[n]` and the robot's info as `info.<key>`; `reset_info.success` and
+/// the robot's reset info for the first reset; with `--auto-reset` `reset_obs.*` and `reset_at`
+/// as for flat envs.
+pub struct MazeTrajectory {
+    obs: DictObs,
+    reset_obs: DictObs,
+    reset_at: Vec<i64>,
+    success: Vec<bool>,
+    /// The robot's info of every step and of the first reset.
+    info: InfoColumns,
+    first_success: bool,
+    first_reset: InfoColumns,
+}
+
+impl Default for MazeTrajectory {
+    fn default() -> Self {
+        MazeTrajectory {
+            obs: DictObs::new(),
+            reset_obs: DictObs::new(),
+            reset_at: vec![],
+            success: vec![],
+            info: InfoColumns::default(),
+            first_success: false,
+            first_reset: InfoColumns::default(),
         }
     }
-    let n = reward.len();
-    let (dest, f) = crate::output::Output::create(out)?;
-    let mut npz = NpzWriter::new(f);
-    obs.write(&mut npz, "obs", dim)?;
-    npz.add_array("reward", &Array1::from(reward))?;
-    npz.add_array("terminated", &Array1::from(terminated))?;
-    npz.add_array("truncated", &Array1::from(truncated))?;
-    npz.add_array("info.success", &Array1::from(success))?;
-    for (k, len, v) in info {
-        let shape = if len == 1 { vec![n] } else { vec![n, len] };
-        npz.add_array(
-            format!("info.{k}"),
-            &ArrayD::from_shape_vec(IxDyn(&shape), v)?,
-        )?;
-    }
-    npz.add_array("reset_info.success", &ndarray::arr0(s0))?;
-    for (k, v) in first_reset {
-        if v.len() == 1 {
-            npz.add_array(format!("reset_info.{k}"), &ndarray::arr0(v[0]))?;
-        } else {
-            npz.add_array(format!("reset_info.{k}"), &Array1::from(v))?;
+}
+
+impl Trajectory for MazeTrajectory {
+    type Env = MazeEnv;
+    fn reset(&mut self, env: &MazeEnv, at: Option<usize>) {
+        if at.is_none() {
+            self.obs.push(env.obs());
+            self.first_success = env.success();
+            self.first_reset.push(env.robot().reset_info());
         }
+        self.reset_obs.push(env.obs());
+        self.reset_at.push(at.unwrap_or(0) as i64);
     }
-    if auto_reset {
-        reset_obs.write(&mut npz, "reset_obs", dim)?;
-        npz.add_array("reset_at", &Array1::from(reset_at))?;
+    fn step(&mut self, env: &MazeEnv) {
+        self.obs.push(env.obs());
+        self.success.push(env.success());
+        self.info.push(env.robot().step_info());
     }
-    dest.commit(npz.finish()?)?;
-    for w in env.warnings() {
-        eprintln!("MuJoCo warning: {w}");
+    fn write_obs(
+        &mut self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &MazeEnv,
+        _n: usize,
+        _auto_reset: bool,
+    ) -> Result<()> {
+        std::mem::replace(&mut self.obs, DictObs::new()).write(npz, "obs", env.observation_dim())
     }
-    eprintln!("{}: {n} steps written to {}", env.id(), out.display());
-    Ok(Outcome::Ok)
+    fn write_rest(
+        self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &MazeEnv,
+        auto_reset: bool,
+    ) -> Result<()> {
+        npz.add_array("info.success", &Array1::from(self.success))?;
+        self.info.write(npz, "info")?;
+        npz.add_array("reset_info.success", &ndarray::arr0(self.first_success))?;
+        self.first_reset.write_first(npz, "reset_info")?;
+        if auto_reset {
+            self.reset_obs
+                .write(npz, "reset_obs", env.observation_dim())?;
+            npz.add_array("reset_at", &Array1::from(self.reset_at))?;
+        }
+        Ok(())
+    }
 }
 
 /// `envc show` for a maze: the maze parameters, the layout, the candidate cells and the robot.

@@ -1,7 +1,6 @@
 //! `envc rollout` and `envc show` for multi-agent specs (a spec with an `[agents]` table).
 
 use std::fmt::Write;
-use std::path::Path;
 
 use anyhow::Result;
 use envc::multi_agent::MultiAgentEnv;
@@ -10,101 +9,110 @@ use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
+use crate::commands::rollout::Trajectory;
+use crate::output::Sticky;
 
-/// Global actions [T, act_dim] are mapped to the agents; writes `obs.<agent>` [n+1, dim],
-/// `state` `[n+1, state_dim]`, `reward`, `terminated`, `truncated` `[n]`.
-pub fn rollout(
-    mut env: MultiAgentEnv,
-    seed: Option<u64>,
-    a: &Array2<f64>,
-    out: &Path,
-    auto_reset: bool,
-) -> Result<Outcome> {
-    let t_max = a.dim().0;
-    let n_agents = env.num_agents();
-    let mut obs: Vec<Vec<f64>> = vec![vec![]; n_agents];
-    let mut state: Vec<f64> = vec![];
-    let (mut reward, mut terminated, mut truncated) = (vec![], vec![], vec![]);
-    let mut reset_at: Vec<i64> = vec![];
-    let mut reset_obs: Vec<Vec<f64>> = vec![vec![]; n_agents];
-    let mut reset_state: Vec<f64> = vec![];
-    let (o, _) = env.reset(seed);
-    for (i, x) in o.iter().enumerate() {
-        obs[i].extend_from_slice(x);
-    }
-    state.extend_from_slice(env.state());
-    for t in 0..t_max {
-        let g = a.row(t).to_vec();
-        let s = env
-            .step_global(&g)
-            .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
-        for (i, x) in s.obs.iter().enumerate() {
-            obs[i].extend_from_slice(x);
+/// A multi-agent trajectory (global actions [T, act_dim] go to the agents): `obs.<agent>`
+/// [n+1, dim], `state` `[n+1, state_dim]`; with `--auto-reset` `reset_obs.<agent>`,
+/// `reset_state` and `reset_at` of the resets after the first.
+pub struct AgentsTrajectory {
+    obs: Vec<Vec<f64>>,
+    state: Vec<f64>,
+    reset_at: Vec<i64>,
+    reset_obs: Vec<Vec<f64>>,
+    reset_state: Vec<f64>,
+}
+
+impl AgentsTrajectory {
+    pub fn new(env: &MultiAgentEnv) -> Self {
+        let n_agents = env.num_agents();
+        AgentsTrajectory {
+            obs: vec![vec![]; n_agents],
+            state: vec![],
+            reset_at: vec![],
+            reset_obs: vec![vec![]; n_agents],
+            reset_state: vec![],
         }
-        reward.push(s.reward);
-        terminated.push(s.terminated);
-        truncated.push(s.truncated);
-        let done = s.terminated || s.truncated;
-        state.extend_from_slice(env.state());
-        if done {
-            if !auto_reset {
-                break;
-            }
-            if t + 1 < t_max {
-                let (o, _) = env.reset(None);
-                for (i, x) in o.iter().enumerate() {
-                    reset_obs[i].extend_from_slice(x);
+    }
+}
+
+impl Trajectory for AgentsTrajectory {
+    type Env = MultiAgentEnv;
+    fn reset(&mut self, env: &MultiAgentEnv, at: Option<usize>) {
+        match at {
+            None => {
+                for (i, x) in env.observations().iter().enumerate() {
+                    self.obs[i].extend_from_slice(x);
                 }
-                reset_state.extend_from_slice(env.state());
-                reset_at.push(t as i64 + 1);
+                self.state.extend_from_slice(env.state());
+            }
+            Some(t) => {
+                for (i, x) in env.observations().iter().enumerate() {
+                    self.reset_obs[i].extend_from_slice(x);
+                }
+                self.reset_state.extend_from_slice(env.state());
+                self.reset_at.push(t as i64);
             }
         }
     }
-    let n = reward.len();
-    let (dest, f) = crate::output::Output::create(out)?;
-    let mut npz = NpzWriter::new(f);
-    let names: Vec<String> = env
-        .possible_agents()
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    for (i, name) in names.iter().enumerate() {
-        let dim = env.spec().agents[i].obs_dim;
-        npz.add_array(
-            format!("obs.{name}").as_str(),
-            &Array2::from_shape_vec((n + 1, dim), std::mem::take(&mut obs[i]))?,
-        )?;
-        if auto_reset {
-            let r = reset_at.len();
-            npz.add_array(
-                format!("reset_obs.{name}").as_str(),
-                &Array2::from_shape_vec((r, dim), std::mem::take(&mut reset_obs[i]))?,
-            )?;
+    fn step(&mut self, env: &MultiAgentEnv) {
+        for (i, x) in env.observations().iter().enumerate() {
+            self.obs[i].extend_from_slice(x);
         }
+        self.state.extend_from_slice(env.state());
     }
-    let sd = env.spec().state_dim();
-    npz.add_array("state", &Array2::from_shape_vec((n + 1, sd), state)?)?;
-    npz.add_array("reward", &Array1::from(reward))?;
-    npz.add_array("terminated", &Array1::from(terminated))?;
-    npz.add_array("truncated", &Array1::from(truncated))?;
-    if auto_reset {
-        let r = reset_at.len();
-        npz.add_array(
-            "reset_state",
-            &Array2::from_shape_vec((r, sd), reset_state)?,
-        )?;
-        npz.add_array("reset_at", &Array1::from(reset_at))?;
+    fn write_obs(
+        &mut self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &MultiAgentEnv,
+        n: usize,
+        auto_reset: bool,
+    ) -> Result<()> {
+        for (i, name) in env.possible_agents().iter().enumerate() {
+            let dim = env.spec().agents[i].obs_dim;
+            npz.add_array(
+                format!("obs.{name}").as_str(),
+                &Array2::from_shape_vec((n + 1, dim), std::mem::take(&mut self.obs[i]))?,
+            )?;
+            if auto_reset {
+                let r = self.reset_at.len();
+                npz.add_array(
+                    format!("reset_obs.{name}").as_str(),
+                    &Array2::from_shape_vec((r, dim), std::mem::take(&mut self.reset_obs[i]))?,
+                )?;
+            }
+        }
+        let sd = env.spec().state_dim();
+        let state = std::mem::take(&mut self.state);
+        npz.add_array("state", &Array2::from_shape_vec((n + 1, sd), state)?)?;
+        Ok(())
     }
-    dest.commit(npz.finish()?)?;
-    eprintln!(
-        "{} ({} agents, conf {}, k {}): {n} steps written to {}",
-        env.spec().base.id,
-        n_agents,
-        env.spec().conf,
-        env.spec().k,
-        out.display()
-    );
-    Ok(Outcome::Ok)
+    fn write_rest(
+        self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &MultiAgentEnv,
+        auto_reset: bool,
+    ) -> Result<()> {
+        if auto_reset {
+            let (r, sd) = (self.reset_at.len(), env.spec().state_dim());
+            npz.add_array(
+                "reset_state",
+                &Array2::from_shape_vec((r, sd), self.reset_state)?,
+            )?;
+            npz.add_array("reset_at", &Array1::from(self.reset_at))?;
+        }
+        Ok(())
+    }
+    fn describe(&self, env: &MultiAgentEnv) -> String {
+        let s = env.spec();
+        format!(
+            "{} ({} agents, conf {}, k {})",
+            s.base.id,
+            env.num_agents(),
+            s.conf,
+            s.k
+        )
+    }
 }
 
 /// Each agent's actuators (local action order → global index) and its observation layout.

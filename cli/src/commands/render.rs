@@ -20,6 +20,7 @@ use envspec::{Code, Diagnostic};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::Outcome;
+use envc::{JointAction, JointEnv};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -354,7 +355,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                 Ok(())
             };
         for ep in 0..args.episodes {
-            env.reset(if ep == 0 { Some(args.seed) } else { None })?;
+            env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
             write(&mut env, &mut child)?;
             for t in 0..limit {
                 match args.policy {
@@ -373,7 +374,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                     }
                     Policy::Zero => {}
                 }
-                let s = env.step(&action)?;
+                let s = env.step_joint(JointAction::F64(&action))?;
                 let done = s.terminated || s.truncated;
                 write(&mut env, &mut child)?;
                 bar.inc(1);

@@ -3,14 +3,16 @@
 //! README, "Trajectory files"). `--policy` needs no numpy to try an env.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use envc::npy::{Matrix, read_matrix};
+use envc::{Env, JointAction, JointEnv, JointStep};
 use ndarray::{Array, Array1, Array2, ArrayD, IxDyn};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
+use crate::output::Sticky;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -61,13 +63,13 @@ fn policy_actions(policy: Policy, steps: usize, space: &envc::BoxSpace, seed: u6
 
 /// Per-key info values collected over steps.
 #[derive(Default)]
-struct InfoColumns {
+pub(crate) struct InfoColumns {
     keys: Vec<(String, usize)>,
     values: BTreeMap<String, Vec<f64>>,
 }
 
 impl InfoColumns {
-    fn push(&mut self, info: envc::Info<'_>) {
+    pub(crate) fn push(&mut self, info: envc::Info<'_>) {
         if self.keys.is_empty() {
             self.keys = info.iter().map(|(k, v)| (k.to_string(), v.len())).collect();
         }
@@ -78,7 +80,21 @@ impl InfoColumns {
                 .extend_from_slice(v);
         }
     }
-    /// `[n]` for scalar keys, `[n, k]` for vector keys.
+    /// `prefix.<key>` of every row: `[n]` for scalar keys, `[n, k]` for vector keys.
+    pub(crate) fn write(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
+        for (name, a) in self.arrays(prefix)? {
+            npz.add_array(name.as_str(), &a)?;
+        }
+        Ok(())
+    }
+    /// `prefix.<key>` of the first row alone (a reset's info): `[]` for scalars, `[k]` for
+    /// vectors.
+    pub(crate) fn write_first(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
+        for (name, a) in self.arrays(prefix)? {
+            npz.add_array(name.as_str(), &a.index_axis_move(ndarray::Axis(0), 0))?;
+        }
+        Ok(())
+    }
     fn arrays(&self, prefix: &str) -> Result<Vec<(String, ArrayD<f64>)>> {
         let mut out = vec![];
         for (k, len) in &self.keys {
@@ -127,6 +143,145 @@ fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
     ))
 }
 
+/// What a trajectory file holds of one kind of env. The one loop ([`roll`]) resets and steps
+/// any kind through [`JointEnv`] and writes the reward and flags; each kind records its own
+/// observations and infos (flat, a maze's dict, every agent's) and writes them around those.
+pub(crate) trait Trajectory {
+    type Env: JointEnv;
+    /// After a reset: the first (`at` None) or an auto-reset before step `at`.
+    fn reset(&mut self, env: &Self::Env, at: Option<usize>);
+    /// After a step.
+    fn step(&mut self, env: &Self::Env);
+    /// The arrays written before `reward`, `terminated` and `truncated` (the observations).
+    fn write_obs(
+        &mut self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &Self::Env,
+        n: usize,
+        auto_reset: bool,
+    ) -> Result<()>;
+    /// The arrays written after them (infos, and with `--auto-reset` the resets).
+    fn write_rest(
+        self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &Self::Env,
+        auto_reset: bool,
+    ) -> Result<()>;
+    /// How the closing message names the env.
+    fn describe(&self, env: &Self::Env) -> String {
+        env.id().to_string()
+    }
+}
+
+/// Reset with `seed`, step through the rows of `actions` (float32 rows step as a float32 policy),
+/// stop at the end of the episode or, with `auto_reset`, reset and go on; write the `.npz`.
+pub(crate) fn roll<T: Trajectory>(
+    env: &mut T::Env,
+    mut rec: T,
+    seed: Option<u64>,
+    actions: &Matrix,
+    out: &Path,
+    auto_reset: bool,
+) -> Result<Outcome> {
+    let t_max = actions.dim().0;
+    let (mut reward, mut terminated, mut truncated) = (vec![], vec![], vec![]);
+    env.try_reset(seed).map_err(|e| anyhow::anyhow!("{e}"))?;
+    rec.reset(env, None);
+    for t in 0..t_max {
+        let order = "actions must be in C order";
+        let a = match actions {
+            Matrix::F64(a) => JointAction::F64(a.row(t).to_slice().context(order)?),
+            Matrix::F32(a) => JointAction::F32(a.row(t).to_slice().context(order)?),
+        };
+        let JointStep {
+            reward: r,
+            terminated: term,
+            truncated: trunc,
+        } = env
+            .step_joint(a)
+            .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
+        rec.step(env);
+        reward.push(r);
+        terminated.push(term);
+        truncated.push(trunc);
+        if term || trunc {
+            if !auto_reset {
+                break;
+            }
+            if t + 1 < t_max {
+                env.try_reset(None).map_err(|e| anyhow::anyhow!("{e}"))?;
+                rec.reset(env, Some(t + 1));
+            }
+        }
+    }
+    let n = reward.len();
+    let (dest, file) = crate::output::Output::create(out)?;
+    let mut npz = NpzWriter::new(file);
+    rec.write_obs(&mut npz, env, n, auto_reset)?;
+    npz.add_array("reward", &Array1::from(reward))?;
+    npz.add_array("terminated", &Array1::from(terminated))?;
+    npz.add_array("truncated", &Array1::from(truncated))?;
+    let name = rec.describe(env);
+    rec.write_rest(&mut npz, env, auto_reset)?;
+    dest.commit(npz.finish()?)?;
+    for w in env.warnings() {
+        eprintln!("MuJoCo warning: {w}");
+    }
+    eprintln!("{name}: {n} steps written to {}", out.display());
+    Ok(Outcome::Ok)
+}
+
+/// A task's trajectory: `obs` [n+1, obs_dim], `info.<key>`, the first reset's `reset_info.<key>`;
+/// with `--auto-reset` `reset_obs` and `reset_at` (the first reset included).
+#[derive(Default)]
+struct TaskTrajectory {
+    obs: Vec<f64>,
+    step_info: InfoColumns,
+    first_reset: InfoColumns,
+    reset_obs: Vec<f64>,
+    reset_at: Vec<i64>,
+}
+
+impl Trajectory for TaskTrajectory {
+    type Env = Env;
+    fn reset(&mut self, env: &Env, at: Option<usize>) {
+        if at.is_none() {
+            self.obs.extend_from_slice(env.obs());
+            self.first_reset.push(env.reset_info());
+        }
+        self.reset_obs.extend_from_slice(env.obs());
+        self.reset_at.push(at.unwrap_or(0) as i64);
+    }
+    fn step(&mut self, env: &Env) {
+        self.obs.extend_from_slice(env.obs());
+        self.step_info.push(env.step_info());
+    }
+    fn write_obs(
+        &mut self,
+        npz: &mut NpzWriter<Sticky>,
+        env: &Env,
+        n: usize,
+        _auto_reset: bool,
+    ) -> Result<()> {
+        let obs = std::mem::take(&mut self.obs);
+        npz.add_array("obs", &Array2::from_shape_vec((n + 1, env.obs_dim()), obs)?)?;
+        Ok(())
+    }
+    fn write_rest(self, npz: &mut NpzWriter<Sticky>, env: &Env, auto_reset: bool) -> Result<()> {
+        self.step_info.write(npz, "info")?;
+        self.first_reset.write_first(npz, "reset_info")?;
+        if auto_reset {
+            let r = self.reset_at.len();
+            npz.add_array(
+                "reset_obs",
+                &Array2::from_shape_vec((r, env.obs_dim()), self.reset_obs)?,
+            )?;
+            npz.add_array("reset_at", &Array1::from(self.reset_at))?;
+        }
+        Ok(())
+    }
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     if let Some(a) = &args.actions {
         crate::output::refuse_input(&args.out, &[("--actions", a)])?;
@@ -153,91 +308,24 @@ pub fn run(args: Args) -> Result<Outcome> {
     check_size(actions.dim().0, &any)?;
     crate::target::action_file_shape(&path, actions.dim(), any.id(), any.act_dim())?;
     // Mazes and multi-agent specs step float64 (their references have no float32 cost path).
-    let as_f64 = || actions.clone().into_f64();
-    let (seed, out, auto) = (args.seed, &args.out, args.auto_reset);
-    let mut env = match any {
-        envc::AnyEnv::Task(env) => env,
-        envc::AnyEnv::Maze(env) => {
-            return crate::commands::maze::rollout(*env, seed, &as_f64(), out, auto);
+    let as_f64 = || Matrix::F64(actions.clone().into_f64());
+    let (seed, out, auto) = (args.seed, args.out.as_path(), args.auto_reset);
+    match any {
+        envc::AnyEnv::Task(mut env) => roll(
+            &mut env,
+            TaskTrajectory::default(),
+            seed,
+            &actions,
+            out,
+            auto,
+        ),
+        envc::AnyEnv::Maze(mut env) => {
+            let rec = crate::commands::maze::MazeTrajectory::default();
+            roll(&mut *env, rec, seed, &as_f64(), out, auto)
         }
-        envc::AnyEnv::Agents(env) => {
-            return crate::commands::multi_agent::rollout(env, seed, &as_f64(), out, auto);
-        }
-    };
-    let t_max = actions.dim().0;
-    let obs_dim = env.obs_dim();
-
-    let mut obs: Vec<f64> = vec![];
-    let (mut reward, mut terminated, mut truncated) = (vec![], vec![], vec![]);
-    let mut step_info = InfoColumns::default();
-    let mut reset_obs: Vec<f64> = vec![];
-    let mut reset_at: Vec<i64> = vec![];
-    let mut first_reset = InfoColumns::default();
-
-    let (o, info) = env.reset(args.seed);
-    obs.extend_from_slice(o);
-    reset_obs.extend_from_slice(o);
-    reset_at.push(0);
-    first_reset.push(info);
-
-    for t in 0..t_max {
-        let s = match &actions {
-            Matrix::F64(a) => env.step(a.row(t).as_slice().context("actions must be in C order")?),
-            Matrix::F32(a) => {
-                env.step_f32(a.row(t).as_slice().context("actions must be in C order")?)
-            }
-        }
-        .map_err(|e| anyhow::anyhow!("step {t}: {e}"))?;
-        obs.extend_from_slice(s.obs);
-        reward.push(s.reward);
-        terminated.push(s.terminated);
-        truncated.push(s.truncated);
-        let done = s.terminated || s.truncated;
-        step_info.push(s.info);
-        if done {
-            if !args.auto_reset {
-                break;
-            }
-            if t + 1 < t_max {
-                let (o, _) = env.reset(None);
-                reset_obs.extend_from_slice(o);
-                reset_at.push(t as i64 + 1);
-            }
+        envc::AnyEnv::Agents(mut env) => {
+            let rec = crate::commands::multi_agent::AgentsTrajectory::new(&env);
+            roll(&mut env, rec, seed, &as_f64(), out, auto)
         }
     }
-
-    let n = reward.len();
-    let (dest, file) = crate::output::Output::create(&args.out)?;
-    let mut npz = NpzWriter::new(file);
-    npz.add_array("obs", &Array2::from_shape_vec((n + 1, obs_dim), obs)?)?;
-    npz.add_array("reward", &Array1::from(reward))?;
-    npz.add_array("terminated", &Array1::from(terminated))?;
-    npz.add_array("truncated", &Array1::from(truncated))?;
-    for (name, a) in step_info.arrays("info")? {
-        npz.add_array(name.as_str(), &a)?;
-    }
-    for (name, a) in first_reset.arrays("reset_info")? {
-        // The first reset's info: one value per key ([] for scalars, [k] for vectors).
-        let a = a.index_axis_move(ndarray::Axis(0), 0);
-        npz.add_array(name.as_str(), &a)?;
-    }
-    if args.auto_reset {
-        let r = reset_at.len();
-        npz.add_array(
-            "reset_obs",
-            &Array2::from_shape_vec((r, obs_dim), reset_obs)?,
-        )?;
-        npz.add_array("reset_at", &Array1::from(reset_at))?;
-    }
-    dest.commit(npz.finish()?)?;
-    let warnings = env.warnings();
-    for w in warnings {
-        eprintln!("MuJoCo warning: {w}");
-    }
-    eprintln!(
-        "{}: {n} steps written to {}",
-        env.spec().id,
-        args.out.display()
-    );
-    Ok(Outcome::Ok)
 }

@@ -9,6 +9,7 @@ use envc::rng::NumpyRng;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::Outcome;
+use envc::{JointAction, JointEnv};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -90,7 +91,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut bad_start: Option<envc::Unhealthy> = None;
     let start = Instant::now();
     for ep in 0..args.episodes {
-        env.reset(if ep == 0 { Some(args.seed) } else { None })?;
+        env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
         if bad_start.is_none() && env.kind() != envspec::Kind::Maze {
             bad_start = env.physics_env().unhealthy();
         }
@@ -101,7 +102,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                     *a = policy_rng.uniform(space.low[i], space.high[i]);
                 }
             }
-            let s = env.step(&action)?;
+            let s = env.step_joint(JointAction::F64(&action))?;
             ret += s.reward;
             len += 1;
             if s.terminated || s.truncated || len >= cap {

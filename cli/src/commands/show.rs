@@ -7,6 +7,7 @@ use envspec::describe;
 use envspec::params::Origin;
 
 use crate::Outcome;
+use envc::JointEnv;
 
 #[derive(clap::Args)]
 pub struct Args {

@@ -15,7 +15,7 @@ use super::shard::ShardEpisode;
 use super::writer::DatasetInfo;
 use super::{Format, Recording};
 use crate::rng::NumpyRng;
-use crate::{Env, Override};
+use crate::{Env, JointEnv, Override};
 
 /// What a build may change from its spec.
 #[derive(Clone, Debug, Default)]

@@ -4,65 +4,134 @@ use std::path::PathBuf;
 
 use crate::error::EnvError;
 
+/// Why writing, reading or collecting a Minari dataset failed; every variant has a stable code.
 #[derive(Debug, thiserror::Error)]
 pub enum DatasetError {
+    /// The id is not `[namespace/]name-vN` (E1201).
     #[error("error[E1201]: `{id}` is not a Minari dataset id: {why}")]
-    BadId { id: String, why: String },
+    BadId {
+        /// The id given.
+        id: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A dataset of this id already exists (E1202).
     #[error("error[E1202]: dataset `{id}` already exists at {}; Minari datasets are never overwritten, bump the version (-vN)", path.display())]
-    Exists { id: String, path: PathBuf },
+    Exists {
+        /// The id.
+        id: String,
+        /// Where the existing dataset is.
+        path: PathBuf,
+    },
+    /// A file or directory could not be read or written (E1203).
     // `error`, not `source`: the message says why, and a source would be printed again after it.
     #[error("error[E1203]: {}: {error}", path.display())]
     Io {
+        /// The file or directory.
         path: PathBuf,
+        /// The operating system's error.
         error: std::io::Error,
     },
+    /// The files are not a Minari dataset envc can read (E1204).
     #[error("error[E1204]: {}: not a readable Minari dataset: {why}", path.display())]
-    Malformed { path: PathBuf, why: String },
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A valid dataset that uses something envc does not support (E1205).
     #[error("error[E1205]: {0}")]
     Unsupported(String),
+    /// The dataset is stored in a backend this build lacks (E1206).
     #[error(
         "error[E1206]: the {0} backend is not compiled into this build (enable the `hdf5` feature of the envc crate)"
     )]
     BackendMissing(&'static str),
+    /// Writing the dataset failed in its backend (E1207).
     #[error("error[E1207]: writing {}: {why}", path.display())]
-    Write { path: PathBuf, why: String },
-    #[error("error[E1208]: dataset id `{id}` would put a dataset at {}, {why}; choose an id outside every existing dataset", path.display())]
-    Nested {
-        id: String,
+    Write {
+        /// The file being written.
         path: PathBuf,
+        /// The backend's error.
         why: String,
     },
+    /// The id would put the dataset inside another dataset or around one (E1208).
+    #[error("error[E1208]: dataset id `{id}` would put a dataset at {}, {why}; choose an id outside every existing dataset", path.display())]
+    Nested {
+        /// The id.
+        id: String,
+        /// Where it would go.
+        path: PathBuf,
+        /// Which dataset it would nest with.
+        why: String,
+    },
+    /// The staging directory changed under the collection (E1209).
     #[error("error[E1209]: the staging directory {} was removed or replaced while this collection was writing to it; nothing was published", path.display())]
-    StagingLost { path: PathBuf },
+    StagingLost {
+        /// The staging directory.
+        path: PathBuf,
+    },
+    /// The written episodes failed the check before publishing (E1210).
     #[error("error[E1210]: the episodes written to {} do not match the metadata: {why}; nothing was published", path.display())]
-    Unverified { path: PathBuf, why: String },
+    Unverified {
+        /// The staged dataset.
+        path: PathBuf,
+        /// What does not match.
+        why: String,
+    },
+    /// An episode grew past the memory budget (E1402).
     #[error(
         "error[E1402]: an episode reached {steps} steps, about {gib:.2} GiB in memory, beyond what this process may safely allocate ({budget_gib:.2} GiB); nothing was published"
     )]
     EpisodeTooLong {
+        /// Steps recorded so far.
         steps: u64,
+        /// Their size in memory, GiB.
         gib: f64,
+        /// The budget, GiB.
         budget_gib: f64,
     },
+    /// A shard of a sharded collection is missing or damaged (E1600).
     #[error("error[E1600]: episode {index} of a sharded collection is missing or damaged ({}: {why}); its worker died or the staging directory is not shared by every worker; nothing was published", path.display())]
     ShardMissing {
+        /// The shard file.
         path: PathBuf,
+        /// The episode's index.
         index: u64,
+        /// What is wrong with it.
         why: String,
     },
+    /// The policy returned an error (E1601).
     #[error(
         "error[E1601]: the policy failed in episode {episode}: {why}; nothing was written for it"
     )]
-    PolicyFailed { episode: u64, why: String },
-    #[error("error[E1801]: {}{}: {why}", path.display(), if *line > 0 { format!(":{line}:{col}") } else { String::new() })]
-    BadSpec {
-        path: PathBuf,
-        line: usize,
-        col: usize,
+    PolicyFailed {
+        /// The episode's index.
+        episode: u64,
+        /// The policy's error.
         why: String,
     },
+    /// A dataset spec that cannot be read, located at its line and column when known.
+    #[error("error[E1801]: {}{}: {why}", path.display(), if *line > 0 { format!(":{line}:{col}") } else { String::new() })]
+    BadSpec {
+        /// The dataset spec.
+        path: PathBuf,
+        /// 1-based line, or 0 when the problem has no place in the file.
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// A policy file that cannot be read or does not fit the env.
     #[error("error[E1802]: policy {}: {why}", path.display())]
-    BadPolicy { path: PathBuf, why: String },
+    BadPolicy {
+        /// The policy file.
+        path: PathBuf,
+        /// What is wrong.
+        why: String,
+    },
     /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
     #[error("{0}")]
     Env(#[from] EnvError),

@@ -56,7 +56,7 @@ pub use plan::{
     episode_seed, record, record_shard, record_with,
 };
 pub use reader::Dataset;
-pub use recordable::{Recordable, Recorded};
+pub use recordable::Recordable;
 pub use shard::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};

@@ -1,7 +1,7 @@
-//! What the one collector needs from an env: its spaces as Minari stores them, its info columns,
-//! and reset/step that append the stored observation row. Every task env (typed or dynamic,
-//! through [`Environment`]) and the maze env implement it; a multi-agent env does not, as Minari
-//! datasets are single-agent.
+//! What the one collector needs from an env beyond [`JointEnv`]: its spaces as Minari stores
+//! them, its info columns, and reset/step that append the stored observation row. Every task env
+//! (typed or dynamic, through [`Environment`]) and the maze env implement it; a multi-agent env
+//! does not, as Minari datasets are single-agent.
 
 use super::episode::InfoColumn;
 use super::gym_spec::{env_spec_json, envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json};
@@ -9,29 +9,17 @@ use super::space::{Dtype, Space};
 use crate::environment::Environment;
 use crate::error::EnvError;
 use crate::maze::{MazeEnv, MazeObs};
-use crate::numerics::Profile;
-use crate::{BoxSpace, Info};
+use crate::{Info, JointAction, JointEnv, JointStep};
 
-/// The episode flags and reward of one recorded step.
-#[derive(Clone, Copy, Debug)]
-pub struct Recorded {
-    pub reward: f64,
-    pub terminated: bool,
-    pub truncated: bool,
-}
-
-/// An env the collector can record.
-pub trait Recordable {
+/// An env the collector can record (its action space, numerics and warnings are the
+/// [`JointEnv`]'s).
+pub trait Recordable: JointEnv {
     /// What the policy sees: the flat observation, or a maze's dict observation.
     type Obs: ?Sized;
     /// The stored observation space (a `Box`, or a `Dict` flattened key by key, keys sorted).
     fn observation_space(&self) -> Space;
-    fn action_space(&self) -> &BoxSpace;
     /// The info columns, in stored order (values empty).
     fn info_columns(&self) -> Vec<InfoColumn>;
-    fn numerics(&self) -> Profile;
-    /// MuJoCo warnings captured so far.
-    fn warnings(&self) -> &[String];
     /// Gymnasium `EnvSpec` JSON, when the env has a Gymnasium counterpart.
     fn env_spec(&self) -> Option<String>;
     /// The observation the policy acts on.
@@ -49,7 +37,7 @@ pub trait Recordable {
         action: &[f32],
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
-    ) -> Result<Recorded, EnvError>;
+    ) -> Result<JointStep, EnvError>;
 }
 
 /// Append each column's value from `info` (zeros when a key is absent, e.g. step-only keys in a
@@ -81,17 +69,8 @@ impl<E: Environment> Recordable for E {
         let o = Environment::observation_space(self);
         Space::box1(Dtype::F64, &o.low, &o.high)
     }
-    fn action_space(&self) -> &BoxSpace {
-        Environment::action_space(self)
-    }
     fn info_columns(&self) -> Vec<InfoColumn> {
         columns(self.spec()).collect()
-    }
-    fn numerics(&self) -> Profile {
-        Environment::numerics(self)
-    }
-    fn warnings(&self) -> &[String] {
-        Environment::warnings(self)
     }
     /// The reference's class when the spec names one (`[env] entry_point`), else envc's own
     /// registration (`envc/<id>`).
@@ -121,15 +100,11 @@ impl<E: Environment> Recordable for E {
         action: &[f32],
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
-    ) -> Result<Recorded, EnvError> {
-        let s = self.step_f32(action)?;
-        obs.extend_from_slice(s.obs);
-        push_info(infos, None, s.info);
-        Ok(Recorded {
-            reward: s.reward,
-            terminated: s.terminated,
-            truncated: s.truncated,
-        })
+    ) -> Result<JointStep, EnvError> {
+        let s = self.step_joint(JointAction::F32(action))?;
+        obs.extend_from_slice(self.obs());
+        push_info(infos, None, self.env().step_info());
+        Ok(s)
     }
 }
 
@@ -157,9 +132,6 @@ impl Recordable for MazeEnv {
             ("observation".into(), unbounded(self.observation_dim())),
         ])
     }
-    fn action_space(&self) -> &BoxSpace {
-        MazeEnv::action_space(self)
-    }
     /// `success`, then every key the robot reports.
     fn info_columns(&self) -> Vec<InfoColumn> {
         let success = InfoColumn {
@@ -170,12 +142,6 @@ impl Recordable for MazeEnv {
         std::iter::once(success)
             .chain(columns(self.robot().spec()))
             .collect()
-    }
-    fn numerics(&self) -> Profile {
-        MazeEnv::numerics(self)
-    }
-    fn warnings(&self) -> &[String] {
-        MazeEnv::warnings(self)
     }
     /// envc's own registration (`envc/<id>`, a `GoalEnv`): the maze id, or its spec file.
     fn env_spec(&self) -> Option<String> {
@@ -207,15 +173,10 @@ impl Recordable for MazeEnv {
         action: &[f32],
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
-    ) -> Result<Recorded, EnvError> {
-        let s = self.step_f32(action)?;
-        let r = Recorded {
-            reward: s.reward,
-            terminated: s.terminated,
-            truncated: s.truncated,
-        };
-        push_info(infos, Some(s.success), s.robot_info);
+    ) -> Result<JointStep, EnvError> {
+        let s = self.step_joint(JointAction::F32(action))?;
+        push_info(infos, Some(self.success()), self.robot().step_info());
         push_maze_obs(obs, self.obs());
-        Ok(r)
+        Ok(s)
     }
 }

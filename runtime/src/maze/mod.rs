@@ -47,16 +47,22 @@ pub struct MazeObs {
 /// `reset(options=...)`: cells (row, col) to place the goal / the robot in (any non-wall cell).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ResetOptions {
+    /// The cell to put the goal in (None: drawn as the reference does).
     pub goal_cell: Option<[usize; 2]>,
+    /// The cell to start the robot in (None: drawn as the reference does).
     pub reset_cell: Option<[usize; 2]>,
 }
 
 /// One maze step.
 #[derive(Debug)]
 pub struct MazeStep<'a> {
+    /// The observation dict after the step.
     pub obs: &'a MazeObs,
+    /// The step's reward: the goal terms against the current goal.
     pub reward: f64,
+    /// Whether the episode ended: the goal was reached, unless the task is continuing.
     pub terminated: bool,
+    /// Whether the time limit cut the episode short.
     pub truncated: bool,
     /// `info["success"]`: the robot is within the goal threshold of the goal.
     pub success: bool,
@@ -180,6 +186,7 @@ impl MazeEnv {
         }
     }
 
+    /// Build the maze env of the spec file at `path`, with overrides applied.
     pub fn from_spec_file(path: &Path, overrides: &[Override]) -> Result<MazeEnv, EnvError> {
         let spec = envspec::maze::load_maze(path, overrides)?;
         MazeEnv::new(spec)
@@ -264,9 +271,11 @@ impl MazeEnv {
         })
     }
 
+    /// The resolved maze spec.
     pub fn spec(&self) -> &MazeSpec {
         &self.spec
     }
+    /// The env's id.
     pub fn id(&self) -> &str {
         &self.spec.id
     }
@@ -295,6 +304,14 @@ impl MazeEnv {
     pub fn robot(&self) -> &Env {
         &self.robot
     }
+    /// The robot env, for settings and rendering (stepping it directly would bypass the maze).
+    pub(crate) fn robot_mut(&mut self) -> &mut Env {
+        &mut self.robot
+    }
+    /// `info["success"]` of the last reset or step.
+    pub fn success(&self) -> bool {
+        self.success
+    }
     /// After a failure: `step` refuses (E1103) until the next `reset`.
     pub fn require_reset(&mut self) {
         self.has_reset = false;
@@ -304,6 +321,7 @@ impl MazeEnv {
     pub fn numerics(&self) -> Profile {
         self.robot.numerics()
     }
+    /// Compute as the reference does under `profile` from now on.
     pub fn set_numerics(&mut self, profile: Profile) {
         self.robot.set_numerics(profile);
     }
@@ -315,12 +333,15 @@ impl MazeEnv {
     fn dist_blas(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
         crate::goal::distance(GoalNorm::Blas, self.robot.numerics(), 2, &|k| a[k] - b[k])
     }
+    /// The compiled model (maze walls included), shared by every env built from it.
     pub fn model(&self) -> &Arc<MjModel> {
         self.robot.model()
     }
+    /// The robot's action space.
     pub fn action_space(&self) -> &BoxSpace {
         self.robot.action_space()
     }
+    /// The action's length.
     pub fn act_dim(&self) -> usize {
         self.robot.act_dim()
     }
@@ -328,12 +349,15 @@ impl MazeEnv {
     pub fn observation_dim(&self) -> usize {
         self.robot.obs_dim()
     }
+    /// The time limit in steps (None: no limit).
     pub fn max_episode_steps(&self) -> Option<u64> {
         self.spec.max_episode_steps
     }
+    /// Seconds of simulated time per step.
     pub fn dt(&self) -> f64 {
         self.robot.dt()
     }
+    /// The current observation dict.
     pub fn obs(&self) -> &MazeObs {
         &self.obs
     }
@@ -341,6 +365,7 @@ impl MazeEnv {
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
+    /// MuJoCo warnings raised while loading or running the env.
     pub fn warnings(&self) -> &[String] {
         self.robot.warnings()
     }
@@ -464,7 +489,7 @@ impl MazeEnv {
     /// Gymnasium-Robotics `step`: the robot steps (its reward and termination are ignored), then
     /// reward, termination and success against the current goal, then `update_goal`.
     pub fn step(&mut self, action: &[f64]) -> Result<MazeStep<'_>, EnvError> {
-        self.check_action(action.len(), |i| action[i])?;
+        self.check_action(crate::JointAction::F64(action))?;
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
@@ -478,7 +503,7 @@ impl MazeEnv {
     /// `step` with a float32 action, as a float32 policy calls the reference (the robot's action
     /// costs in its info are then float32 numbers, as numpy computes them).
     pub fn step_f32(&mut self, action: &[f32]) -> Result<MazeStep<'_>, EnvError> {
-        self.check_action(action.len(), |i| f64::from(action[i]))?;
+        self.check_action(crate::JointAction::F32(action))?;
         if let Some(v) = self.spec.velocity_clip {
             self.robot.clip_qvel(v)?;
         }
@@ -489,24 +514,10 @@ impl MazeEnv {
         Ok(self.after_step(reward, terminated))
     }
 
-    fn check_action(&self, len: usize, value: impl Fn(usize) -> f64) -> Result<(), EnvError> {
-        if !self.has_reset {
-            return Err(EnvError::NotReset);
-        }
-        if len != self.robot.act_dim() {
-            return Err(EnvError::ActionLength {
-                env: self.spec.id.clone(),
-                expected: self.robot.act_dim(),
-                got: len,
-            });
-        }
-        if let Some(index) = (0..len).find(|&i| !value(i).is_finite()) {
-            return Err(EnvError::NonFiniteAction {
-                index,
-                value: value(index),
-            });
-        }
-        Ok(())
+    fn check_action(&self, action: crate::JointAction<'_>) -> Result<(), EnvError> {
+        crate::joint_env::check_action(&self.spec.id, self.robot.act_dim(), action, || {
+            (!self.has_reset).then(|| self.robot.reset_error().unwrap_or(EnvError::NotReset))
+        })
     }
 
     /// `reward` and `terminated` are the robot env's: the goal terms, evaluated against the goal
@@ -583,6 +594,7 @@ impl MazeEnv {
     pub fn goal(&self) -> [f64; 2] {
         self.goal
     }
+    /// Steps taken since the last reset.
     pub fn elapsed_steps(&self) -> u64 {
         self.elapsed
     }

@@ -29,21 +29,29 @@ use crate::error::EnvError;
 pub struct MultiStep<'a> {
     /// One observation per possible agent, in agent order.
     pub obs: &'a [Vec<f64>],
+    /// The task's reward.
     pub reward: f64,
+    /// Whether the task's episode ended in a terminal state.
     pub terminated: bool,
+    /// Whether the time limit cut the episode short.
     pub truncated: bool,
+    /// The task's info dict.
     pub info: Info<'a>,
 }
 
 /// Why local observations cannot be mapped back to the state.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MappingError {
+    /// The observations do not match the agents in number or length.
     #[error("wrong number of agents or observation length")]
     Shape,
+    /// An agent observes a value that is not part of the state.
     #[error("some agent observes values that are not in the state")]
     NoMapping,
+    /// This state entry is observed by no agent, so it cannot be recovered.
     #[error("state[{0}] is observed by no agent")]
     Undefined(usize),
+    /// Two agents' observations give this state entry different values.
     #[error("two observations disagree about state[{0}]")]
     Conflict(usize),
 }
@@ -71,6 +79,7 @@ impl MultiAgentEnv {
         MultiAgentEnv::new(Arc::new(spec))
     }
 
+    /// Build the env of a resolved multi-agent spec.
     pub fn new(spec: Arc<AgentsSpec>) -> Result<MultiAgentEnv, EnvError> {
         let mut base: ResolvedSpec = spec.base.clone();
         // Gymnasium runs mj_rnePostConstraint after every step; envc only when something reads
@@ -118,10 +127,10 @@ impl MultiAgentEnv {
         Ok(me)
     }
 
+    /// The resolved multi-agent spec.
     pub fn spec(&self) -> &Arc<AgentsSpec> {
         &self.spec
     }
-    /// The single-agent env underneath.
     /// The numerics profile the underlying env computes under.
     pub fn numerics(&self) -> crate::numerics::Profile {
         self.env.numerics()
@@ -134,8 +143,14 @@ impl MultiAgentEnv {
     pub fn require_reset(&mut self) {
         self.env.require_reset();
     }
+    /// The single-agent env underneath.
     pub fn env(&self) -> &Env {
         &self.env
+    }
+    /// The single-agent env, for settings and rendering (stepping it directly would bypass the
+    /// agents' observations).
+    pub(crate) fn env_mut(&mut self) -> &mut Env {
+        &mut self.env
     }
     /// Render the whole robot (MaMuJoCo renders its single-agent env).
     pub fn render(
@@ -205,9 +220,11 @@ impl MultiAgentEnv {
             vec![]
         }
     }
+    /// The number of agents in the chosen `agent_conf`.
     pub fn num_agents(&self) -> usize {
         self.spec.agents.len()
     }
+    /// Agent `agent`'s observation space (panics past `num_agents`).
     pub fn observation_space(&self, agent: usize) -> &BoxSpace {
         &self.observation_spaces[agent]
     }
@@ -225,6 +242,7 @@ impl MultiAgentEnv {
         &self.obs
     }
 
+    /// Reset the task (seeded as the single-agent env is) and return every agent's observation.
     pub fn reset(&mut self, seed: Option<u64>) -> (&[Vec<f64>], Info<'_>) {
         self.env.reset(seed);
         self.write_obs();

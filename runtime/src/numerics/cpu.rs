@@ -5,26 +5,37 @@
 /// CPU vendor, from CPUID leaf 0's vendor string.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Vendor {
+    /// `GenuineIntel`.
     Intel,
+    /// `AuthenticAMD`.
     Amd,
+    /// `HygonGenuine`.
     Hygon,
+    /// `CentaurHauls`.
     Centaur,
+    /// `  Shanghai  `.
     Zhaoxin,
+    /// Any other vendor string.
     Other,
 }
 
 /// The CPUID leaves and XCR0 bits the dispatch rules read. All zero on non-x86-64 targets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Cpu {
+    /// Who made the CPU (OpenBLAS's core tables are per vendor).
     pub vendor: Vendor,
-    /// Leaf 1 EAX (family, model, stepping), ECX.
+    /// Leaf 1 EAX (family, model, stepping).
     pub leaf1_eax: u32,
+    /// Leaf 1 ECX (SSE3 to AVX, OSXSAVE, F16C, FMA).
     pub leaf1_ecx: u32,
-    /// Leaf 7 sub-leaf 0 EBX, EDX; sub-leaf 1 EAX.
+    /// Leaf 7 sub-leaf 0 EBX (AVX2, BMI, AVX-512 subsets).
     pub leaf7_ebx: u32,
+    /// Leaf 7 sub-leaf 0 EDX (AMX; read by no rule now, kept with the other raw values).
     pub leaf7_edx: u32,
+    /// Leaf 7 sub-leaf 1 EAX (AVX512_BF16).
     pub leaf7_1_eax: u32,
-    /// Leaf 0xD sub-leaf 0 EAX (which state components the CPU supports; AMX tiles).
+    /// Leaf 0xD sub-leaf 0 EAX (which state components the CPU supports; AMX tiles; read by no
+    /// rule now).
     pub leafd_eax: u32,
     /// Leaf 0x8000_0001 ECX (LZCNT).
     pub ext1_ecx: u32,
@@ -67,18 +78,23 @@ impl Cpu {
         }
     }
 
+    /// Leaf 1's base family field.
     pub fn family(&self) -> u32 {
         self.leaf1_eax >> 8 & 0xf
     }
+    /// Leaf 1's extended family field.
     pub fn exfamily(&self) -> u32 {
         self.leaf1_eax >> 20 & 0xff
     }
+    /// Leaf 1's base model field.
     pub fn model(&self) -> u32 {
         self.leaf1_eax >> 4 & 0xf
     }
+    /// Leaf 1's extended model field.
     pub fn exmodel(&self) -> u32 {
         self.leaf1_eax >> 16 & 0xf
     }
+    /// Leaf 1's stepping.
     pub fn stepping(&self) -> u32 {
         self.leaf1_eax & 0xf
     }
@@ -103,6 +119,7 @@ impl Cpu {
             && bit(self.leaf1_ecx, 28)
             && self.xcr0 & 6 == 6
     }
+    /// AVX2, with the OS saving AVX state.
     pub fn avx2(&self) -> bool {
         self.os_avx() && bit(self.leaf7_ebx, 5)
     }
@@ -114,13 +131,6 @@ impl Cpu {
     /// OpenBLAS's `support_avx512_bf16`.
     pub fn openblas_avx512_bf16(&self) -> bool {
         self.openblas_avx512() && bit(self.leaf7_1_eax, 5)
-    }
-    /// OpenBLAS's `support_amx_bf16`.
-    pub fn openblas_amx_bf16(&self) -> bool {
-        self.openblas_avx512()
-            && bit(self.leaf7_edx, 24)
-            && bit(self.leaf7_edx, 22)
-            && self.leafd_eax & 0x60000 == 0x60000
     }
     /// numpy's X86_V3: AVX, AVX2, F16C, FMA3, BMI1, BMI2, LZCNT and MOVBE (on top of the X86_V2
     /// baseline every numpy 2.4 wheel already requires).
@@ -146,6 +156,7 @@ impl Cpu {
         self.os_avx() && bit(self.leaf1_ecx, 12)
     }
 
+    /// The brand string, trimmed (`envc info` prints it).
     pub fn brand(&self) -> String {
         String::from_utf8_lossy(&self.brand)
             .trim_matches(char::from(0))

@@ -1,5 +1,5 @@
 //! The floating-point operations whose exact order decides the last bit, written to match what
-//! numpy and OpenBLAS do in the reference (reference doc §4). Nothing here may be "simplified":
+//! numpy and OpenBLAS do in the reference (docs/numerics.md). Nothing here may be "simplified":
 //! a different association order or a fused multiply-add changes results.
 //!
 //! Two of them depend on the CPU the reference runs on: OpenBLAS's `ddot` (behind

@@ -16,11 +16,14 @@ const KNOWN: [&str; 5] = ["X86_V2", "X86_V3", "X86_V4", "AVX512_ICL", "AVX512_SP
 /// The two override variables as read from the environment (`None` or blank: unset).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Overrides {
+    /// `NPY_ENABLE_CPU_FEATURES`.
     pub enable: Option<String>,
+    /// `NPY_DISABLE_CPU_FEATURES`.
     pub disable: Option<String>,
 }
 
 impl Overrides {
+    /// Read both variables from this process's environment.
     pub fn from_env() -> Overrides {
         let get = |k: &str| std::env::var(k).ok();
         Overrides {

@@ -27,6 +27,7 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// Every kernel, oldest first.
     pub const ALL: [Kernel; 5] = [
         Kernel::Prescott,
         Kernel::Nehalem,
@@ -46,6 +47,7 @@ impl Kernel {
         }
     }
 
+    /// The kernel of a lower-case name (`name`'s inverse).
     pub fn from_name(s: &str) -> Option<Kernel> {
         Kernel::ALL.into_iter().find(|k| k.name() == s)
     }
@@ -96,9 +98,11 @@ const CORE_NAMES: [(&str, Kernel); 25] = [
 /// The kernel OpenBLAS uses, and why (for `envc info`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Selection {
+    /// The kernel chosen.
     pub kernel: Kernel,
     /// Chosen by a recognised `OPENBLAS_CORETYPE` (the same on every CPU), not by the CPU.
     pub by_name: bool,
+    /// Why, in words.
     pub reason: String,
 }
 

@@ -14,7 +14,9 @@ use super::openblas::{self, Kernel};
 /// `exp` is SVML. Written `openblas-<kernel>[+svml]`, e.g. `openblas-skylakex+svml`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Profile {
+    /// The OpenBLAS `ddot` kernel behind `np.linalg.norm`.
     pub blas: Kernel,
+    /// Whether numpy's float64 `exp` is the AVX-512 SVML one.
     pub svml_exp: bool,
 }
 
@@ -31,15 +33,23 @@ impl fmt::Display for Profile {
 /// A profile choice that cannot be honoured.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum NumericsError {
+    /// A profile name that is neither `auto` nor a known kernel (E1301).
     #[error(
         "error[E1301]: unknown numerics profile `{given}` (from {source_}); expected `auto` or openblas-<kernel>[+svml] with kernel one of prescott, nehalem, sandybridge, haswell, skylakex"
     )]
-    UnknownProfile { given: String, source_: String },
+    UnknownProfile {
+        /// The name given.
+        given: String,
+        /// Where it came from (an env variable, an argument).
+        source_: String,
+    },
+    /// `auto` on a machine whose numpy envc cannot follow (E1302).
     #[error("error[E1302]: `auto` cannot follow numpy here: {0}")]
     NumpyRefuses(String),
 }
 
 impl NumericsError {
+    /// The stable code (docs/errors.md).
     pub fn code(&self) -> Code {
         match self {
             NumericsError::UnknownProfile { .. } => Code::E1301,
@@ -85,12 +95,17 @@ impl Profile {
 /// What `auto` found on this machine.
 #[derive(Clone, Debug)]
 pub struct Auto {
+    /// The profile `auto` chose.
     pub profile: Profile,
+    /// The CPU facts it chose from.
     pub cpu: Cpu,
+    /// Why that BLAS kernel, in words.
     pub blas_reason: String,
+    /// Why SVML `exp` or not, in words.
     pub exp_reason: String,
     /// `OPENBLAS_CORETYPE` as read at start-up.
     pub coretype: Option<String>,
+    /// numpy's CPU-feature overrides as read at start-up.
     pub npy: npy::Overrides,
 }
 

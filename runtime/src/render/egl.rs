@@ -195,6 +195,7 @@ pub struct Context {
 unsafe impl Send for Context {}
 
 impl Context {
+    /// A headless (surfaceless) OpenGL context from libEGL, loaded at run time.
     pub fn new() -> Result<Context, RenderError> {
         let api = api()?;
         let attributes = [

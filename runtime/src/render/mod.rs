@@ -30,25 +30,36 @@ use mujoco_rs::mujoco_c::{
 /// Rendering problems (codes E1501–E1506, docs/errors.md).
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum RenderError {
+    /// libEGL or its OpenGL could not be loaded (E1501).
     #[error(
         "error[E1501]: no OpenGL for headless rendering ({what}); install Mesa's EGL, e.g. `sudo apt-get install {}` (scripts/setup.sh does this as root)",
         egl::PACKAGES
     )]
-    NoGl { what: String },
+    NoGl {
+        /// What failed to load.
+        what: String,
+    },
+    /// EGL loaded but gave no headless context (E1502).
     #[error(
         "error[E1502]: EGL gives no headless OpenGL context: {what}; with Mesa (`apt-get install {}`) the software rasteriser llvmpipe serves when there is no GPU",
         egl::PACKAGES
     )]
-    NoDisplay { what: String },
+    NoDisplay {
+        /// What EGL refused.
+        what: String,
+    },
     /// Settings or names that do not check out (E1503, E1505), with their locations.
     #[error("{0}")]
     Spec(Arc<Diagnostics>),
+    /// A render mode that is not one of `RenderMode::NAMES` (E1504).
     #[error(
         "error[E1504]: unknown render mode `{0}`; expected rgb_array, depth_array or rgbd_tuple"
     )]
     Mode(String),
+    /// A rendering setting that does not fit (E1505).
     #[error("error[E1505]: {0}")]
     Setting(String),
+    /// MuJoCo's renderer failed, e.g. on a frame or scene larger than it can hold (E1507).
     #[error(
         "error[E1507]: MuJoCo's renderer failed: {0}; a smaller frame (width, height) or max_geom may fit"
     )]
@@ -56,6 +67,7 @@ pub enum RenderError {
 }
 
 impl RenderError {
+    /// The stable code (docs/errors.md).
     pub fn code(&self) -> Code {
         match self {
             RenderError::NoGl { .. } => Code::E1501,
@@ -77,13 +89,18 @@ impl From<Diagnostics> for RenderError {
 /// Gymnasium's render modes (`human` needs a window and is not served).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RenderMode {
+    /// `rgb_array`: an RGB image.
     RgbArray,
+    /// `depth_array`: the depth buffer.
     DepthArray,
+    /// `rgbd_tuple`: both, from one render.
     RgbdTuple,
 }
 
 impl RenderMode {
+    /// The modes' Gymnasium names, as `parse` takes them.
     pub const NAMES: &'static [&'static str] = &["rgb_array", "depth_array", "rgbd_tuple"];
+    /// The mode of a Gymnasium name (E1504 for any other).
     pub fn parse(s: &str) -> Result<RenderMode, RenderError> {
         match s {
             "rgb_array" => Ok(RenderMode::RgbArray),
@@ -104,9 +121,13 @@ impl RenderMode {
 /// `height × width` raw depth-buffer values; each is present when the mode asks for it.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame<'a> {
+    /// Pixels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// RGB bytes, when the mode asks for colour.
     pub rgb: Option<&'a [u8]>,
+    /// Depth values, when the mode asks for depth.
     pub depth: Option<&'a [f32]>,
 }
 
@@ -527,9 +548,6 @@ impl EnvRender {
     /// Draw geom `g` in `tint[g]` where given (empty: the model's colours).
     pub fn set_tint(&mut self, tint: Vec<Option<[f32; 4]>>) {
         self.tint = tint;
-    }
-    pub fn settings(&self) -> &RenderSettings {
-        &self.settings
     }
     /// Render a frame, making the renderer first if there is none yet.
     pub fn frame(
