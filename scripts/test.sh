@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
-#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied;
+#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied; the Python stubs (stubtest);
 #   2. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py),
 #      and the installed reference still gives the published golden values (record.py --verify-golden);
 #   3. the Rust tests (a few binaries: `cargo test --workspace`), including the parity replay of the committed fixtures under the numerics
@@ -29,6 +29,9 @@ cargo fmt --all --check
 cargo clippy -q --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
 passed "hygiene (fmt, clippy, rustdoc)"
+# The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built.
+scripts/stubtest.sh
+passed "stubs (mypy stubtest)"
 
 "$PY" tests/reference/check_models.py
 passed "compiled models"
