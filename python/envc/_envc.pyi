@@ -19,6 +19,12 @@ __all__ = [
     "bundle_root",
     "collect",
     "collect_shard",
+    "build_dataset",
+    "dataset_build_plan",
+    "build_shard",
+    "build_driver",
+    "datasets_dir",
+    "SpecPolicy",
     "gpu_plan",
     "ShardedCollection",
     "EnvCore",
@@ -156,7 +162,7 @@ class ShardedCollection:
         env_spec: str | None = ...,
         callable: bool = ...,
     ) -> Self: ...
-    def finish(self, episodes: list[tuple[int, int]]) -> str: ...
+    def finish(self, episodes: list[tuple[int, int]], trim: bool = ...) -> str: ...
     def abort(self) -> None: ...
 
 _F64 = npt.NDArray[np.float64]
