@@ -19,12 +19,14 @@ use crate::error::EnvError;
 pub trait Environment {
     /// The dynamic env that executes the spec.
     fn env(&self) -> &Env;
+    /// The dynamic env, mutably.
     fn env_mut(&mut self) -> &mut Env;
 
     /// The resolved spec the env executes.
     fn spec(&self) -> &Arc<ResolvedSpec> {
         self.env().spec()
     }
+    /// The observation space.
     fn observation_space(&self) -> &BoxSpace {
         self.env().observation_space()
     }
@@ -45,6 +47,7 @@ pub trait Environment {
     fn step_f32(&mut self, action: &[f32]) -> Result<Step<'_>, EnvError> {
         self.env_mut().step_f32(action)
     }
+    /// The observation's length.
     fn obs_dim(&self) -> usize {
         self.spec().obs_dim
     }

@@ -73,12 +73,14 @@ pub struct JointStep {
 /// provided from the physics env and may be overridden where a kind differs (a maze's own time
 /// limit). Object safe: `&mut dyn JointEnv` drives any kind.
 pub trait JointEnv {
+    /// Task, maze or multi-agent.
     fn kind(&self) -> Kind;
     /// The spec's id (a multi-agent spec: its own, not its task's).
     fn id(&self) -> &str;
     /// The single-agent env that steps the physics: the task itself, a maze's robot in its
     /// world, a multi-agent spec's factorized task.
     fn physics_env(&self) -> &Env;
+    /// The physics env, mutably.
     fn physics_env_mut(&mut self) -> &mut Env;
     /// Gymnasium `reset(seed=...)`: a seed restarts the RNG stream, `None` continues it. A reset
     /// that found no valid start is the error (E1104, or a MuJoCo error), and `step` refuses
@@ -93,6 +95,7 @@ pub trait JointEnv {
     fn action_space(&self) -> &BoxSpace {
         self.physics_env().action_space()
     }
+    /// The joint action's length.
     fn act_dim(&self) -> usize {
         self.action_space().dim()
     }

@@ -10,6 +10,8 @@
 //! # Ok::<(), envc::EnvError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 // Generated code names `::envc::…`; this makes those paths work inside envc itself.
 extern crate self as envc;
 

@@ -38,6 +38,7 @@ impl From<String> for BodyRef {
 
 /// A typed `Config` field → the dynamic parameter value (validated like any override).
 pub trait ToParam {
+    /// The value as a spec parameter.
     fn to_param(&self) -> ParamValue;
 }
 

@@ -13,6 +13,7 @@ use super::writer::{DatasetInfo, DatasetWriter};
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
 pub trait Policy<O: ?Sized> {
+    /// Write the action for `obs` into `action`.
     fn act(&mut self, obs: &O, action: &mut [f32]);
     /// Asked before every step: true stops the episode (E1601, nothing written), so that a
     /// caller's Ctrl-C ends a long episode at once.
@@ -30,17 +31,24 @@ impl<O: ?Sized, F: FnMut(&O, &mut [f32])> Policy<O> for F {
 /// Where and how to write: `root` `None` is `MINARI_DATASETS_PATH` (default `~/.minari/datasets`).
 #[derive(Clone, Debug)]
 pub struct CollectOptions {
+    /// The datasets directory.
     pub root: Option<PathBuf>,
+    /// The id to publish under.
     pub dataset_id: String,
+    /// The storage backend.
     pub format: Format,
+    /// Metadata besides the counts.
     pub info: DatasetInfo,
 }
 
 /// Summary of one recorded episode.
 #[derive(Clone, Copy, Debug)]
 pub struct EpisodeSummary {
+    /// Steps the episode took.
     pub steps: usize,
+    /// The sum of its rewards.
     pub episode_return: f64,
+    /// Whether it ended in a terminal state (else it was truncated).
     pub terminated: bool,
 }
 
@@ -171,13 +179,16 @@ impl<E: Recordable> Collector<E> {
         })
     }
 
+    /// The env being recorded.
     pub fn env(&self) -> &E {
         &self.env
     }
+    /// The dataset being written.
     pub fn writer(&self) -> &DatasetWriter {
         &self.writer
     }
 
+    /// Record one episode from a reset with `seed`, actions from `policy`.
     pub fn episode(
         &mut self,
         seed: u64,
@@ -224,9 +235,11 @@ impl<E: Recordable> Collector<E> {
         self.env
     }
 
+    /// Where the dataset will be once finished.
     pub fn target(&self) -> PathBuf {
         self.writer.target()
     }
+    /// The staging directory episodes are written into until `finish`.
     pub fn staging(&self) -> &Path {
         self.writer.staging()
     }

@@ -4,24 +4,35 @@
 /// One info key: `width` values per row, `values` row-major over T+1 rows.
 #[derive(Clone, Debug, Default)]
 pub struct InfoColumn {
+    /// The info key.
     pub key: String,
+    /// Values per row.
     pub width: usize,
+    /// The values, row-major.
     pub values: Vec<f64>,
 }
 
 /// One episode to write. `observations` has T+1 rows of `obs_dim`, `actions` T rows of `act_dim`.
 #[derive(Clone, Copy, Debug)]
 pub struct EpisodeRecord<'a> {
+    /// The reset seed (None: the episode continued the RNG stream).
     pub seed: Option<u64>,
+    /// T+1 observations, flat.
     pub observations: &'a [f64],
+    /// T actions, flat.
     pub actions: &'a [f32],
+    /// T rewards.
     pub rewards: &'a [f64],
+    /// T terminated flags.
     pub terminations: &'a [bool],
+    /// T truncated flags.
     pub truncations: &'a [bool],
+    /// The info keys' columns.
     pub infos: &'a [InfoColumn],
 }
 
 impl EpisodeRecord<'_> {
+    /// T, the number of steps.
     pub fn steps(&self) -> usize {
         self.rewards.len()
     }

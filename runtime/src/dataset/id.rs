@@ -6,11 +6,14 @@
 
 use super::error::DatasetError;
 
+/// A parsed dataset id.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DatasetId {
     /// `None` or the levels joined by `/` (e.g. `mujoco/ant`).
     pub namespace: Option<String>,
+    /// The name, before `-vN`.
     pub name: String,
+    /// N of `-vN`.
     pub version: u64,
 }
 
@@ -19,6 +22,7 @@ fn word(c: char) -> bool {
 }
 
 impl DatasetId {
+    /// Parse an id as Minari does, a little stricter (see the module docs; E1201).
     pub fn parse(id: &str) -> Result<DatasetId, DatasetError> {
         let bad = |why: &str| DatasetError::BadId {
             id: id.to_string(),

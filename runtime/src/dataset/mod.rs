@@ -69,11 +69,14 @@ pub const MINARI_VERSION: &str = "0.5.4";
 /// Minari storage backends envc writes and reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// Arrow IPC files, one per episode (pure Rust).
     Arrow,
+    /// One HDF5 file (feature `hdf5`).
     Hdf5,
 }
 
 impl Format {
+    /// The name Minari's metadata uses (`arrow`, `hdf5`).
     pub fn name(self) -> &'static str {
         match self {
             Format::Arrow => "arrow",

@@ -33,6 +33,7 @@ pub enum PlanPolicy {
 }
 
 impl PlanPolicy {
+    /// The policy's name as `envc collect --policy` takes it.
     pub fn name(&self) -> &'static str {
         match self {
             PlanPolicy::Zero => "zero",
@@ -46,7 +47,9 @@ impl PlanPolicy {
 /// What to record.
 #[derive(Clone, Debug)]
 pub struct Plan {
+    /// Episodes to record.
     pub episodes: u64,
+    /// Where the actions come from.
     pub policy: PlanPolicy,
     /// Every episode derives from it (see the module doc); `None`: one seed is drawn from OS
     /// entropy ([`Plan::resolve_seed`]) and stored as episode 0's seed.
@@ -76,7 +79,9 @@ pub fn episode_rng(seed: u64, episode: u64) -> NumpyRng {
 /// with the plan's seed and the episode's index in the dataset, so a policy can restart its
 /// state from `(seed, i)` and give the same actions whichever worker runs the episode.
 pub trait EpisodePolicy<O: ?Sized> {
+    /// Restart for episode `episode` of a plan seeded with `seed`.
     fn begin(&mut self, seed: u64, episode: u64);
+    /// Write the action for `obs` into `action`.
     fn act(&mut self, obs: &O, action: &mut [f32]);
     /// Called after each episode, before it is written: a policy that failed on the way (a
     /// Python callable that raised) says so here, and the episode is never written (E1601).
@@ -184,10 +189,13 @@ impl<O: ?Sized> EpisodePolicy<O> for PlanActor {
 /// The recording's outcome.
 #[derive(Clone, Debug)]
 pub struct Recording {
+    /// The published dataset's directory.
     pub dir: PathBuf,
+    /// Steps recorded over all episodes.
     pub steps: u64,
     /// The seed every episode derived from (the plan's, or the one drawn).
     pub seed: u64,
+    /// MuJoCo warnings raised while recording.
     pub warnings: Vec<String>,
     /// Staging directories of interrupted collections removed before this one started.
     pub cleaned: Vec<PathBuf>,

@@ -16,12 +16,19 @@ use super::{Format, arrow_io};
 pub struct Dataset {
     /// The `data/` directory.
     pub data_path: PathBuf,
+    /// The dataset's id.
     pub dataset_id: String,
+    /// The storage backend.
     pub format: Format,
+    /// The Minari version that wrote it.
     pub minari_version: String,
+    /// Episodes stored.
     pub total_episodes: u64,
+    /// Steps stored over all episodes.
     pub total_steps: u64,
+    /// The observation space as stored.
     pub observation_space: Space,
+    /// The action space as stored.
     pub action_space: Space,
     /// The Gymnasium env spec (parsed), if stored.
     pub env_spec: Option<Value>,
@@ -168,9 +175,11 @@ impl Dataset {
         self.env_spec.as_ref()?.get("id")?.as_str()
     }
 
+    /// The number of episodes.
     pub fn len(&self) -> usize {
         self.total_episodes as usize
     }
+    /// Whether the dataset holds no episodes.
     pub fn is_empty(&self) -> bool {
         self.total_episodes == 0
     }

@@ -24,6 +24,7 @@ use super::space::Space;
 /// What a worker reports of each episode it recorded: all the driver needs to merge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShardEpisode {
+    /// Steps the episode took.
     pub steps: u64,
     /// Bytes of its Arrow files (`dataset_size` is their sum); 0 for HDF5, where the driver
     /// measures the one file it writes.

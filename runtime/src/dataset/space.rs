@@ -7,17 +7,26 @@ use super::json::{PyJson, number, parse_lenient};
 /// Element types of stored arrays (numpy names).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dtype {
+    /// `float64`.
     F64,
+    /// `float32`.
     F32,
+    /// `int64`.
     I64,
+    /// `int32`.
     I32,
+    /// `int16`.
     I16,
+    /// `int8`.
     I8,
+    /// `uint8`.
     U8,
+    /// `bool`.
     Bool,
 }
 
 impl Dtype {
+    /// numpy's name for the type.
     pub fn numpy_name(self) -> &'static str {
         match self {
             Dtype::F64 => "float64",
@@ -30,6 +39,7 @@ impl Dtype {
             Dtype::Bool => "bool",
         }
     }
+    /// The type of a numpy name or dtype string (`float64`, `<f8`, ...).
     pub fn from_numpy(name: &str) -> Option<Dtype> {
         Some(match name {
             "float64" | "f8" | "<f8" | "double" => Dtype::F64,
@@ -48,19 +58,29 @@ impl Dtype {
 /// A space as stored in `metadata.json`. Spaces envc cannot decode are kept as their JSON.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Space {
+    /// A Gymnasium `Box`.
     Box {
+        /// Element type.
         dtype: Dtype,
+        /// Dimensions, e.g. `[27]`.
         shape: Vec<usize>,
+        /// Lower bounds, flat.
         low: Vec<f64>,
+        /// Upper bounds, flat.
         high: Vec<f64>,
     },
+    /// A Gymnasium `Discrete`.
     Discrete {
+        /// Number of values.
         n: i64,
+        /// The smallest value.
         start: i64,
     },
     /// Keys in the order stored (gymnasium sorts them on load).
     Dict(Vec<(String, Space)>),
+    /// A Gymnasium `Tuple`.
     Tuple(Vec<Space>),
+    /// A space envc does not decode, as its JSON.
     Other(Value),
 }
 
@@ -150,6 +170,7 @@ impl Space {
         }
     }
 
+    /// The space as Minari writes it into `metadata.json`.
     pub fn to_json_string(&self) -> String {
         self.to_py().dump()
     }

@@ -8,14 +8,23 @@ use super::space::Dtype;
 /// returned Python ints, float64 otherwise).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Tensor {
+    /// A float64 array.
     F64(ArrayD<f64>),
+    /// A float32 array.
     F32(ArrayD<f32>),
+    /// A int64 array.
     I64(ArrayD<i64>),
+    /// A int32 array.
     I32(ArrayD<i32>),
+    /// A int16 array.
     I16(ArrayD<i16>),
+    /// A int8 array.
     I8(ArrayD<i8>),
+    /// A uint8 array.
     U8(ArrayD<u8>),
+    /// A uint64 array (no `Dtype` names it).
     U64(ArrayD<u64>),
+    /// A bool array.
     Bool(ArrayD<bool>),
 }
 
@@ -36,6 +45,7 @@ macro_rules! each {
 }
 
 impl Tensor {
+    /// The array's shape.
     pub fn shape(&self) -> &[usize] {
         each!(self, a => a.shape())
     }
@@ -43,6 +53,7 @@ impl Tensor {
     pub fn rows(&self) -> usize {
         self.shape().first().copied().unwrap_or(0)
     }
+    /// The element type (None for uint64, which `Dtype` does not name).
     pub fn dtype(&self) -> Option<Dtype> {
         Some(match self {
             Tensor::F64(_) => Dtype::F64,
@@ -74,6 +85,7 @@ impl Tensor {
             Tensor::Bool(a) => a.mapv(|x| x as u8 as f64),
         }
     }
+    /// The array, if it is float64.
     pub fn as_f64(&self) -> Option<&ArrayD<f64>> {
         if let Tensor::F64(a) = self {
             Some(a)
@@ -81,6 +93,7 @@ impl Tensor {
             None
         }
     }
+    /// The array, if it is float32.
     pub fn as_f32(&self) -> Option<&ArrayD<f32>> {
         if let Tensor::F32(a) = self {
             Some(a)
@@ -88,6 +101,7 @@ impl Tensor {
             None
         }
     }
+    /// The array, if it is bool.
     pub fn as_bool(&self) -> Option<&ArrayD<bool>> {
         if let Tensor::Bool(a) = self {
             Some(a)
@@ -120,12 +134,14 @@ impl Tensor {
 /// An array, or a dict / tuple of them (Dict and Tuple spaces, nested infos).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Data {
+    /// One array.
     Tensor(Tensor),
     /// Keys in stored order.
     Dict(Vec<(String, Data)>),
 }
 
 impl Data {
+    /// The array, if this is one.
     pub fn tensor(&self) -> Option<&Tensor> {
         if let Data::Tensor(t) = self {
             Some(t)
@@ -133,12 +149,14 @@ impl Data {
             None
         }
     }
+    /// The entry `key` of a dict (None for an array or a missing key).
     pub fn get(&self, key: &str) -> Option<&Data> {
         match self {
             Data::Dict(items) => items.iter().find(|(k, _)| k == key).map(|(_, d)| d),
             Data::Tensor(_) => None,
         }
     }
+    /// Number of rows (a dict's: its first entry's).
     pub fn rows(&self) -> usize {
         match self {
             Data::Tensor(t) => t.rows(),
@@ -162,10 +180,15 @@ pub struct Episode {
     pub id: u64,
     /// The reset seed, if the writer stored one.
     pub seed: Option<u64>,
+    /// Observations, T+1 rows.
     pub observations: Data,
+    /// Actions, T rows.
     pub actions: Data,
+    /// Rewards, T rows, in the type the env returned.
     pub rewards: Tensor,
+    /// Terminated flags, T rows.
     pub terminations: ndarray::Array1<bool>,
+    /// Truncated flags, T rows.
     pub truncations: ndarray::Array1<bool>,
     /// Info keys in stored order (T+1 rows each; row 0 is the reset info).
     pub infos: Vec<(String, Data)>,
@@ -176,9 +199,11 @@ impl Episode {
     pub fn len(&self) -> usize {
         self.terminations.len()
     }
+    /// Whether the episode has no steps.
     pub fn is_empty(&self) -> bool {
         self.terminations.is_empty()
     }
+    /// The info key `key`, if stored.
     pub fn info(&self, key: &str) -> Option<&Data> {
         self.infos.iter().find(|(k, _)| k == key).map(|(_, d)| d)
     }

@@ -24,10 +24,15 @@ pub const STAGING_DIR: &str = ".envc-staging";
 /// What goes into `metadata.json` besides the counts.
 #[derive(Clone, Debug, Default)]
 pub struct DatasetInfo {
+    /// Authors' names.
     pub author: Vec<String>,
+    /// Their e-mail addresses.
     pub author_email: Vec<String>,
+    /// The algorithm that made the data.
     pub algorithm_name: Option<String>,
+    /// A link to the code that made the data.
     pub code_permalink: Option<String>,
+    /// Free text about the dataset.
     pub description: Option<String>,
     /// Gymnasium `EnvSpec.to_json()` text (see [`super::env_spec_json`]).
     pub env_spec: Option<String>,
@@ -221,12 +226,15 @@ impl DatasetWriter {
         })
     }
 
+    /// The dataset's id.
     pub fn id(&self) -> &DatasetId {
         &self.id
     }
+    /// Episodes written so far.
     pub fn episodes(&self) -> u64 {
         self.episodes
     }
+    /// Steps written so far.
     pub fn steps(&self) -> u64 {
         self.steps
     }

@@ -25,6 +25,7 @@ pub use profile::{
 
 /// The float types numpy sums in (float64, and float32 for float32 actions).
 pub trait Real: Copy + std::ops::Add<Output = Self> + std::ops::AddAssign {
+    /// -0.0, the start of numpy's sums (so that a sum of nothing but -0.0 stays -0.0).
     const NEG_ZERO: Self;
 }
 impl Real for f64 {
