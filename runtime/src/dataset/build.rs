@@ -24,6 +24,7 @@ pub struct BuildOptions {
     pub steps: Option<u64>,
     /// The datasets root (default `$MINARI_DATASETS_PATH`, else `~/.minari/datasets`).
     pub root: Option<PathBuf>,
+    /// A storage format instead of the spec's.
     pub format: Option<Format>,
     /// A dataset id instead of the spec's.
     pub dataset_id: Option<String>,
@@ -67,12 +68,16 @@ fn open_task(what: &str, params: &[(String, String)]) -> Result<Env, DatasetErro
 
 /// A build's resolved parts: the env, the policy, and how much to record.
 pub struct Build {
+    /// The dataset spec as read.
     pub spec: DatasetSpec,
+    /// The budget in force: the spec's, or the `steps` a small build asked for.
     pub budget: Budget,
+    /// The env's time limit, which a step budget keeps room for.
     pub max_episode_steps: u64,
 }
 
 impl Build {
+    /// Resolves a spec: opens its env and checks the budget against the env's time limit.
     pub fn new(spec: DatasetSpec, steps: Option<u64>) -> Result<Build, DatasetError> {
         let env = open_task(&spec.env, &spec.params)?;
         let max_episode_steps = env.spec().max_episode_steps.ok_or_else(|| {

@@ -75,8 +75,11 @@ struct MetadataTable {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RefScores {
+    /// The random policy's mean return.
     pub ref_min_score: f64,
+    /// The expert policy's mean return.
     pub ref_max_score: f64,
+    /// Episodes averaged for each.
     pub num_episodes_average_score: u64,
 }
 
@@ -84,32 +87,50 @@ pub struct RefScores {
 /// a new one only while at least `max_episode_steps` steps remain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Budget {
+    /// At most this many steps, in whole episodes.
     Steps(u64),
+    /// Exactly this many episodes.
     Episodes(u64),
 }
 
 /// A read dataset spec, paths resolved against its file.
 #[derive(Clone, Debug)]
 pub struct DatasetSpec {
+    /// The spec file.
     pub path: PathBuf,
+    /// The Minari id, `namespace/name-vN`.
     pub dataset_id: String,
+    /// `expert`, `medium` or `simple`.
     pub tier: String,
     /// A bundled env id, or a spec file's path.
     pub env: String,
     /// `(name, TOML literal)` overrides, stored as the env spec's kwargs.
     pub params: Vec<(String, String)>,
+    /// How much to record.
     pub budget: Budget,
+    /// Episode k resets with `seed + k`.
     pub seed: u64,
+    /// Arrow or HDF5.
     pub format: Format,
+    /// The `.npz` policy, resolved against the spec's directory.
     pub policy_file: PathBuf,
+    /// Deterministic, or seeded-stochastic from episode k's generator.
     pub mode: PolicyMode,
+    /// Minari's `algorithm_name` metadata.
     pub algorithm_name: String,
+    /// Minari's `author` metadata.
     pub author: Vec<String>,
+    /// Minari's `author_email` metadata.
     pub author_email: Vec<String>,
+    /// Minari's `code_permalink` metadata.
     pub code_permalink: Option<String>,
+    /// The published tier description.
     pub description: String,
+    /// The env reference scores are measured on (Minari's `eval_env_spec`).
     pub eval_env: String,
+    /// That env's overrides.
     pub eval_params: Vec<(String, String)>,
+    /// Minari's reference scores, once measured.
     pub reference_scores: Option<RefScores>,
 }
 
@@ -167,6 +188,7 @@ impl DatasetSpec {
         DatasetSpec::parse(&path, &text)
     }
 
+    /// Reads a dataset spec's text; `path` locates errors and resolves the policy file.
     pub fn parse(path: &Path, text: &str) -> Result<DatasetSpec, DatasetError> {
         let err = |(line, col): (usize, usize), why: String| DatasetError::BadSpec {
             path: path.to_path_buf(),

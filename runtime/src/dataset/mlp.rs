@@ -193,9 +193,11 @@ impl MlpPolicy {
         Ok(())
     }
 
+    /// Observation values the network takes.
     pub fn obs_dim(&self) -> usize {
         self.hidden.first().unwrap_or(&self.mu).inputs()
     }
+    /// Action values it gives.
     pub fn act_dim(&self) -> usize {
         self.mu.outputs()
     }

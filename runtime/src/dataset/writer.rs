@@ -346,6 +346,8 @@ impl DatasetWriter {
         Ok(())
     }
 
+    /// Takes the episodes workers staged as this dataset's, in order (the driver of a sharded
+    /// build).
     pub fn adopt_shards(&mut self, episodes: &[super::ShardEpisode]) -> Result<(), DatasetError> {
         if self.episodes != 0 {
             return Err(DatasetError::Write {
