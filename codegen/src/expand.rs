@@ -380,7 +380,10 @@ fn generate(
 
         #[doc = #action_doc]
         #[derive(Clone, Copy, Debug, PartialEq)]
-        #vis struct #action(pub [f64; #act_dim]);
+        #vis struct #action(
+            /// One value per actuator, in the spec's action order.
+            pub [f64; #act_dim],
+        );
 
         impl #action {
             /// Number of actuators.
@@ -416,10 +419,15 @@ fn generate(
         #[doc = #step_doc]
         #[derive(Clone, Copy, Debug)]
         #vis struct #step<'a> {
+            /// The observation after the step, a view of the env's buffer.
             pub obs: #obs<'a>,
+            /// The step's reward, the sum of the spec's reward terms.
             pub reward: f64,
+            /// Whether the episode ended in a terminal state (health or a termination term).
             pub terminated: bool,
+            /// Whether the time limit ended the episode.
             pub truncated: bool,
+            /// The step's info terms.
             pub info: #info,
         }
 

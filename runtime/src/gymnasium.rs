@@ -13,10 +13,6 @@
 //! # Ok::<(), envc::EnvError>(())
 //! ```
 
-// The generated step structs' fields (`obs`, `reward`, `terminated`, `truncated`, `info`) and
-// the action's array carry no doc comment of their own yet: codegen/src/expand.rs writes them.
-#![allow(missing_docs)]
-
 crate::env!("../specs/gymnasium/ant.toml");
 crate::env!("../specs/gymnasium/half_cheetah.toml");
 crate::env!("../specs/gymnasium/hopper.toml");
