@@ -2,7 +2,7 @@
 //! bad input run through the built `envc`, which must answer with the case's error code (and no
 //! panic); every code of docs/errors.md's table has a case or a listed exception; and the
 //! "Triggered by" lines of docs/errors.md are generated from the cases, so they cannot go stale
-//! (`ENVC_BLESS=1 cargo test -p envc-cli --test cli catalogue::` rewrites them).
+//! (`ENVC_BLESS=1 cargo test --workspace --test cli catalogue::` rewrites them).
 //!
 //! A case is one file `tests/catalogue/<name>.toml`, or a directory `tests/catalogue/<name>/`
 //! holding `case.toml` and the files it needs (copied next to the command). Keys of a case:
@@ -400,7 +400,7 @@ fn docs_triggered_by_matches_the_cases() {
     assert!(
         doc == fresh,
         "docs/errors.md's \"Triggered by\" blocks differ from tests/catalogue/; run \
-         `ENVC_BLESS=1 cargo test -p envc-cli --test cli catalogue::` and review the diff"
+         `ENVC_BLESS=1 cargo test --workspace --test cli catalogue::` and review the diff"
     );
 }
 

@@ -11,7 +11,7 @@
 2. An interrupted collection (killed mid-way) must leave nothing Minari lists or loads.
 3. With --python-out: Python's own `DataCollector` writes datasets (both backends) into DIR, with
    the values it recorded in DIR/<name>.npz, for the Rust test `tests/minari.rs` to read back
-   (ENVC_MINARI_DIR=DIR cargo test -p envc-tests --test integration minari::), and DIR/manifest.json (versions,
+   (ENVC_MINARI_DIR=DIR cargo test --workspace --test integration minari::), and DIR/manifest.json (versions,
    the reference's numerics profile and settings, the datasets).
 """
 
