@@ -54,11 +54,10 @@ passed "release catalogue and fuzz"
 
 # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
 # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
-# Two workers (pytest-xdist), a test file each at a time; both draw their fresh cases from the
-# run's one seed, so they collect the same tests.
+# Its fresh cases draw from the run's one seed, as the live checks below do.
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
-ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider -n 2 --dist loadfile tests/python
+ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider tests/python
 passed "pytest"
 
 # Rendering: tests/python/test_render.py above compares frames with Gymnasium's; here the
