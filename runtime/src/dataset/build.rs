@@ -181,18 +181,7 @@ impl Build {
             ep += 1;
             progress(ep, steps);
         }
-        let warnings = collector.env().warnings().to_vec();
-        let cleaned = collector.writer().cleaned().to_vec();
-        let unlocked = collector.writer().unlocked().to_vec();
-        let dir = collector.finish()?;
-        Ok(Recording {
-            dir,
-            steps,
-            seed,
-            warnings,
-            cleaned,
-            unlocked,
-        })
+        collector.finish_recording(steps, seed)
     }
 
     /// A worker's share of a sharded build: episodes `start..end` into the driver's `staging`.

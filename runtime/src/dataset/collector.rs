@@ -225,6 +225,23 @@ impl<E: Recordable> Collector<E> {
         self.finish_shards(episodes)
     }
 
+    /// [`Collector::finish`], with what the caller reports of the recording: its steps and seed,
+    /// the env's warnings and the writer's clean-up notes.
+    pub fn finish_recording(self, steps: u64, seed: u64) -> Result<super::Recording, DatasetError> {
+        let warnings = self.env().warnings().to_vec();
+        let cleaned = self.writer().cleaned().to_vec();
+        let unlocked = self.writer().unlocked().to_vec();
+        let dir = self.finish()?;
+        Ok(super::Recording {
+            dir,
+            steps,
+            seed,
+            warnings,
+            cleaned,
+            unlocked,
+        })
+    }
+
     /// Finish the dataset (metadata, then one rename into place); returns its directory.
     pub fn finish(self) -> Result<PathBuf, DatasetError> {
         self.writer.finish()

@@ -248,18 +248,7 @@ pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
         steps += summary?.steps as u64;
         progress(ep + 1, steps);
     }
-    let warnings = collector.env().warnings().to_vec();
-    let cleaned = collector.writer().cleaned().to_vec();
-    let unlocked = collector.writer().unlocked().to_vec();
-    let dir = collector.finish()?;
-    Ok(Recording {
-        dir,
-        steps,
-        seed,
-        warnings,
-        cleaned,
-        unlocked,
-    })
+    collector.finish_recording(steps, seed)
 }
 
 /// Record episodes `range` of a plan (with its resolved `seed`) into the staging directory of a
