@@ -60,7 +60,7 @@ class SimulationError(Error, RuntimeError, ValueError):
 
 class DatasetError(Error, ValueError):
     """A Minari dataset that cannot be read or written, or a collection that failed (E12xx,
-    E1600, E1601)."""
+    E1600–E1602)."""
 
 
 class ArgumentError(Error, TypeError, ValueError):

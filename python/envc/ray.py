@@ -31,6 +31,7 @@ import numpy as np
 
 from . import _envc
 from ._datasets import _envc_spec_json, _replay_rows
+from ._errors import coded
 from ._gym import overrides_to_toml
 
 __all__ = ["collect", "main"]
@@ -38,6 +39,9 @@ __all__ = ["collect", "main"]
 # Per-chunk attempts before the collection gives up (a chunk whose worker keeps dying is more
 # likely to be killing it than to be unlucky).
 MAX_ATTEMPTS = 4
+# Seconds with no chunk finished and no worker (re)joining before the collection gives up (E1602):
+# a cluster that lost the CPUs its actors need waits for them forever otherwise.
+STALL_TIMEOUT_S = 900.0
 
 
 def _default_root() -> str:
@@ -92,6 +96,7 @@ def collect(
     description: str | None = None,
     env_spec: str = "reference",
     stats: dict | None = None,
+    stall_timeout: float | None = STALL_TIMEOUT_S,
     **overrides: Any,
 ) -> str:
     """Collect a Minari dataset on Ray; returns its directory. Same arguments and same dataset
@@ -104,6 +109,11 @@ def collect(
     ``numpy.random.default_rng([seed, i])`` and must be its only randomness. ``stats``, when
     given, receives the timings (``total_s``, ``worker_s``, ``finish_s``, ``chunks``,
     ``retries``, ``steps``).
+
+    Chunks go only to actors that have started (answered a ping), so more workers than the
+    cluster has CPUs for is not a hang: the actors left unplaced get nothing. If no chunk finishes
+    and no actor (re)joins for ``stall_timeout`` seconds (``None``: wait forever), the collection
+    raises ``envc.DatasetError`` E1602, kills its actors and publishes nothing.
     """
     import ray
 
@@ -111,6 +121,8 @@ def collect(
         raise ValueError(f"num_workers={num_workers!r}: expected an integer ≥ 1")
     if int(episodes) < 1:
         raise ValueError(f"episodes={episodes!r}: expected an integer ≥ 1")
+    if stall_timeout is not None and not stall_timeout > 0:
+        raise ValueError(f"stall_timeout={stall_timeout!r}: expected seconds > 0, or None")
     episodes, num_workers = int(episodes), int(num_workers)
     policy_fn = None
     if callable(policy):
@@ -149,7 +161,7 @@ def collect(
         # a CPU the live actors hold until the end, while they could run it.
         pings: dict[Any, int] = {}
         idle: list[int] = []  # live actors with nothing to do (until a dead one's chunk returns)
-        tally = {"worker_s": 0.0, "retries": 0}
+        tally = {"worker_s": 0.0, "retries": 0, "progress": time.monotonic()}
 
         def submit(w: int) -> None:
             chunk = pending.pop()
@@ -174,6 +186,7 @@ def collect(
                     time.sleep(0.1)  # still restarting
                     pings[workers[w].pid.remote()] = w
                     return
+                tally["progress"] = time.monotonic()
                 next_for(w)
                 return
             w, chunk = running.pop(ref)
@@ -197,11 +210,14 @@ def collect(
                 # The policy or envc raised: the same error as on one machine.
                 raise e.as_instanceof_cause() from None
             tally["worker_s"] += secs
+            tally["progress"] = time.monotonic()
             done_eps[chunk[0] : chunk[1]] = [tuple(x) for x in got]
             next_for(w)
 
+        # Every actor starts as a dead one rejoins: with a ping, and gets its first chunk when it
+        # answers (an actor the cluster has no CPU for never gets one).
         for w in range(num_workers):
-            next_for(w)
+            pings[workers[w].pid.remote()] = w
         while pending or running:
             if not running and not pings:
                 raise RuntimeError("every worker is gone and none can be restarted")
@@ -210,9 +226,20 @@ def collect(
             # otherwise scan all outstanding references once per completion).
             ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
             if not ready:
-                ready, _ = ray.wait(refs, num_returns=1)
+                left = None if stall_timeout is None else tally["progress"] + stall_timeout - time.monotonic()
+                ready, _ = ray.wait(refs, num_returns=1, timeout=None if left is None else max(left, 0.0))
             for ref in ready:
                 handle(ref)
+            stalled = stall_timeout is not None and time.monotonic() - tally["progress"] > stall_timeout
+            if stalled and (pending or running):
+                raise coded(
+                    f"error[E1602]: the sharded collection of {dataset_id} made no progress for "
+                    f"{stall_timeout:g} s: {len(running)} chunk(s) running, {len(pending)} waiting, "
+                    f"{len(pings)} worker(s) not (re)started; the cluster may lack the CPUs its "
+                    f"actors need ({num_workers} actors of 1 CPU each), or a policy call never "
+                    "returns; nothing was published",
+                    "E1602",
+                )
         t_finish = time.perf_counter()
         directory = driver.finish(done_eps)  # type: ignore[arg-type]
         if stats is not None:
@@ -253,6 +280,8 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="parameter override (TOML literal)")
     c.add_argument("--workers", type=int, default=2)
     c.add_argument("--chunk-size", type=int)
+    c.add_argument("--stall-timeout", type=float, default=STALL_TIMEOUT_S,
+                   help="seconds with no progress before giving up (E1602); 0 waits forever")
     c.add_argument("--address", help="Ray cluster address (HOST:PORT or 'auto'); default: a local Ray")
     c.add_argument("--author")
     c.add_argument("--description")
@@ -271,7 +300,8 @@ def main(argv: list[str] | None = None) -> int:
     d = collect(
         a.spec, a.dataset_id, a.episodes, a.policy, seed=a.seed, num_workers=a.workers,
         format=a.format, root=a.root, actions=actions, chunk_size=a.chunk_size, address=a.address,
-        author=a.author, description=a.description, stats=stats, **overrides,
+        author=a.author, description=a.description, stats=stats,
+        stall_timeout=a.stall_timeout or None, **overrides,
     )
     secs = time.perf_counter() - t0
     print(
