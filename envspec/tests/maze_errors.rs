@@ -318,3 +318,26 @@ fn registry_errors_are_located() {
     assert_eq!(d.codes(), [Code::E0101, Code::E0103]);
     assert_eq!(d.0[0].help.as_deref(), Some("did you mean `family`?"));
 }
+
+#[test]
+fn ids_gymnasium_cannot_register_are_e0111_where_written() {
+    let s = Scratch::new("ids");
+    for bad in ["a/b-v0", "", "My Maze-v0"] {
+        let d = errors(&s, &spec("\"1 r g 1\"", "").replace("M-v0", bad), &[]);
+        assert_eq!(d.codes(), [Code::E0111], "{bad:?}");
+        assert_eq!(lc(&d.0[0]), "2:6", "{bad:?}");
+    }
+    // A registry's map key becomes part of the id: located at the key.
+    let p = s.write(
+        "registry.toml",
+        "[[family]]\nspec = \"m.toml\"\nid = \"P_{map}{reward}-v3\"\n[family.maps]\nU = { map = \"u.toml\" }\n\"Big U\" = { map = \"u.toml\" }\n",
+    );
+    let d = registry(&p).unwrap_err();
+    assert_eq!(d.codes(), [Code::E0111, Code::E0111]);
+    assert_eq!(lc(&d.0[0]), "6:1");
+    assert!(
+        d.0[0].message.contains("`P_Big U-v3`"),
+        "{}",
+        d.0[0].message
+    );
+}

@@ -103,6 +103,11 @@ pub fn from_document(
     }
 
     let id = r.string("id", true).unwrap_or_default();
+    if let Some(loc) = r.get("id").map(|v| v.loc.clone())
+        && let Some(bad) = crate::syntax::env_id_problem(&id, loc)
+    {
+        r.d.push(bad);
+    }
     r.string("description", false);
     let robot = r
         .string("robot", true)

@@ -118,8 +118,15 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
                     };
                     overrides.push(Override::text(&e.key, &text));
                 }
+                let id = id.replace("{map}", &m.key).replace("{reward}", suffix);
+                // The map's key makes part of the id: a key Gymnasium's grammar refuses is E0111
+                // where the key is written.
+                if let Some(bad) = crate::syntax::env_id_problem(&id, m.key_loc.clone()) {
+                    d.push(bad);
+                    continue;
+                }
                 out.push(Registered {
-                    id: id.replace("{map}", &m.key).replace("{reward}", suffix),
+                    id,
                     spec: dir.join(spec),
                     overrides,
                 });
