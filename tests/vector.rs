@@ -200,3 +200,45 @@ fn bad_input_is_an_error_not_a_panic() {
     empty.reset(Some(0));
     empty.step(&[]).unwrap();
 }
+
+#[test]
+fn an_interrupted_step_skips_the_envs_not_started_and_needs_a_reset() {
+    // Never asked to stop: the same bits as `step`.
+    let mut a = VecEnv::make("Hopper-v5", &[], 5, 2, Autoreset::NextStep).unwrap();
+    let mut b = VecEnv::make("Hopper-v5", &[], 5, 2, Autoreset::NextStep).unwrap();
+    a.reset(Some(3));
+    b.reset(Some(3));
+    let act: Vec<f64> = (0..15).map(|k| (k % 7) as f64 / 7.0 - 0.5).collect();
+    for _ in 0..3 {
+        a.step(&act).unwrap();
+        let got = b
+            .step_interruptible(envc::JointAction::F64(&act), &mut || false)
+            .unwrap();
+        assert_eq!(got, envc::Stepped::Done);
+        assert_eq!(bits(a.obs()), bits(b.obs()));
+        assert_eq!(bits(a.rewards()), bits(b.rewards()));
+    }
+    // 40 slow envs (about 10 ms each at frame_skip 1000, so the step takes far more than the
+    // 50 ms between checks), one thread, a check that says stop: the envs after it are skipped.
+    let slow = [Override::text("frame_skip", "1000")];
+    let mut v = VecEnv::make("Hopper-v5", &slow, 40, 1, Autoreset::NextStep).unwrap();
+    v.reset(Some(0));
+    let mut asked = 0;
+    let got = v
+        .step_interruptible(envc::JointAction::F64(&[0.0; 120]), &mut || {
+            asked += 1;
+            true
+        })
+        .unwrap();
+    assert_eq!(got, envc::Stepped::Interrupted);
+    assert_eq!(asked, 1);
+    let stepped = v.envs().iter().filter(|e| e.elapsed_steps() == 1).count();
+    assert!((1..40).contains(&stepped), "{stepped} of 40 envs stepped");
+    assert_eq!(
+        v.step(&[0.0; 120]).unwrap_err().code(),
+        envspec::Code::E1103
+    );
+    v.reset(Some(1));
+    v.step(&[0.0; 120]).unwrap();
+    assert!(v.envs().iter().all(|e| e.elapsed_steps() == 1));
+}

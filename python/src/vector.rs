@@ -65,6 +65,41 @@ fn f32_cost(spec: &envspec::ResolvedSpec, item: &envspec::ir::InfoItem) -> bool 
     }
 }
 
+/// One vector step with the GIL released, checking for Ctrl-C about every 50 ms between envs: a
+/// signal stops the step part-way (the envs not started are skipped), the env needs a reset, and
+/// the signal's exception (KeyboardInterrupt) is raised.
+fn step_interruptible(
+    py: Python<'_>,
+    core: &mut VecCore,
+    actions: envc::JointAction<'_>,
+) -> PyResult<()> {
+    let env = core.env.as_mut().ok_or_else(closed)?;
+    let mut signal = None;
+    let stepped = py.detach(|| {
+        let mut check = || match Python::attach(|py| py.check_signals()) {
+            Ok(()) => false,
+            Err(e) => {
+                signal = Some(e);
+                true
+            }
+        };
+        crate::mujoco_timer::without_mujoco_timer(|| env.step_interruptible(actions, &mut check))
+    });
+    match (stepped.map_err(errors::env_error)?, signal) {
+        (envc::Stepped::Done, _) => Ok(()),
+        (envc::Stepped::Interrupted, Some(e)) => {
+            core.require_reset();
+            Err(e)
+        }
+        (envc::Stepped::Interrupted, None) => {
+            core.require_reset();
+            Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
+                "the vector step was interrupted",
+            ))
+        }
+    }
+}
+
 fn closed() -> PyErr {
     errors::coded("E1103", "error[E1103]: the vector env is closed".into())
 }
@@ -359,9 +394,7 @@ impl VecCore {
         errors::no_panic(
             self,
             |core| {
-                let env = core.env.as_mut().ok_or_else(closed)?;
-                py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step(a)))
-                    .map_err(errors::env_error)?;
+                step_interruptible(py, core, envc::JointAction::F64(a))?;
                 core.fill(py, None)
             },
             VecCore::require_reset,
@@ -375,9 +408,7 @@ impl VecCore {
         errors::no_panic(
             self,
             |core| {
-                let env = core.env.as_mut().ok_or_else(closed)?;
-                py.detach(|| crate::mujoco_timer::without_mujoco_timer(|| env.step_f32(a)))
-                    .map_err(errors::env_error)?;
+                step_interruptible(py, core, envc::JointAction::F32(a))?;
                 core.fill(py, None)
             },
             VecCore::require_reset,

@@ -62,7 +62,7 @@ pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
 pub use joint_env::{JointAction, JointEnv, JointStep};
 pub use mujoco_log::mujoco_error_message;
-pub use vector::{Autoreset, VecEnv};
+pub use vector::{Autoreset, Stepped, VecEnv};
 
 /// The file of the MuJoCo library this process loaded, from the process's memory map (Linux).
 pub fn mujoco_library_path() -> Option<std::path::PathBuf> {

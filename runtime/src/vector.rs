@@ -43,6 +43,21 @@ pub enum Autoreset {
 /// development VM, more than a whole cheap env step.
 const SPIN: Duration = Duration::from_micros(50);
 
+/// How often an interruptible step ([`VecEnv::step_interruptible`]) asks whether to stop: often
+/// enough that Ctrl-C lands well within a second, rarely enough to cost nothing measurable.
+const POLL: Duration = Duration::from_millis(50);
+
+/// How an interruptible step ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[must_use]
+pub enum Stepped {
+    /// Every env stepped; the batch buffers hold the results.
+    Done,
+    /// Stopped part-way because the caller's check said so: envs not started were skipped, the
+    /// batch is a mix of stepped and unstepped envs, and `step` refuses (E1103) until a reset.
+    Interrupted,
+}
+
 /// Raw views of the env array and batch buffers. Fixed at construction: the buffers are never
 /// resized, so the pointers stay valid while the `VecEnv` lives, however it moves.
 struct Job {
@@ -87,6 +102,8 @@ struct Shared {
     finished: Condvar,
     /// The current step's actions are float32 (`actions_f32`), stepped with `Env::step_f32`.
     action_f32: AtomicBool,
+    /// Set by an interrupted step: envs claimed after it are skipped (counted, not run).
+    cancel: AtomicBool,
     /// Test hook: a nonzero seed delays each env by a pseudo-random few µs, shuffling completion.
     jitter: AtomicU64,
     /// The first env error or panic of the step, by env index (both are internal bugs after the
@@ -100,13 +117,27 @@ enum Failure {
 }
 
 impl Shared {
-    /// Claim and run envs until none is left in this step.
-    fn work(&self) {
+    /// Claim and run envs until none is left in this step. The caller passes `poll`, asked
+    /// about every [`POLL`] between envs; when it says stop, the remaining envs are skipped.
+    fn work(&self, mut poll: Option<&mut dyn FnMut() -> bool>) {
         let n = self.job.n;
+        let mut asked = Instant::now();
         loop {
             let i = self.next.fetch_add(1, AcqRel);
             if i >= n {
                 return;
+            }
+            if let Some(p) = poll.as_mut()
+                && asked.elapsed() >= POLL
+            {
+                asked = Instant::now();
+                if p() {
+                    self.cancel.store(true, SeqCst);
+                }
+            }
+            if self.cancel.load(Acquire) {
+                self.finish_one(n);
+                continue;
             }
             let jitter = self.jitter.load(Relaxed);
             if jitter != 0 {
@@ -128,10 +159,15 @@ impl Shared {
             {
                 *slot = Some((i, f));
             }
-            if self.done.fetch_add(1, SeqCst) + 1 == n && self.caller_asleep.load(SeqCst) {
-                let _g = self.lock.lock();
-                self.finished.notify_one();
-            }
+            self.finish_one(n);
+        }
+    }
+
+    /// Count one env of the step as finished, waking the caller after the last.
+    fn finish_one(&self, n: usize) {
+        if self.done.fetch_add(1, SeqCst) + 1 == n && self.caller_asleep.load(SeqCst) {
+            let _g = self.lock.lock();
+            self.finished.notify_one();
         }
     }
 
@@ -160,7 +196,7 @@ impl Shared {
                 return;
             }
             seen = self.epoch.load(Acquire);
-            self.work();
+            self.work(None);
         }
     }
 }
@@ -385,6 +421,7 @@ impl VecEnv {
                 work: Condvar::new(),
                 finished: Condvar::new(),
                 action_f32: AtomicBool::new(false),
+                cancel: AtomicBool::new(false),
                 jitter: AtomicU64::new(0),
                 failure: Mutex::new(None),
             }),
@@ -542,7 +579,7 @@ impl VecEnv {
                 actions.len(),
             )
         };
-        self.run(false)
+        self.run(false, None).map(|_| ())
     }
 
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
@@ -557,7 +594,39 @@ impl VecEnv {
                 actions.len(),
             )
         };
-        self.run(true)
+        self.run(true, None).map(|_| ())
+    }
+
+    /// [`VecEnv::step`] or [`VecEnv::step_f32`] that asks `interrupted` about every 50 ms,
+    /// between envs, and stops part-way when it says true (a Python binding checks for Ctrl-C
+    /// there). An interrupted step needs a reset before the next (E1103).
+    pub fn step_interruptible(
+        &mut self,
+        actions: JointAction<'_>,
+        interrupted: &mut dyn FnMut() -> bool,
+    ) -> Result<Stepped, EnvError> {
+        self.check_actions(actions)?;
+        // SAFETY: as in `step`: no step is running, and each buffer has the batch's length.
+        unsafe {
+            match actions {
+                JointAction::F64(a) => std::ptr::copy_nonoverlapping(
+                    a.as_ptr(),
+                    self.shared.job.actions as *mut f64,
+                    a.len(),
+                ),
+                JointAction::F32(a) => std::ptr::copy_nonoverlapping(
+                    a.as_ptr(),
+                    self.shared.job.actions_f32 as *mut f32,
+                    a.len(),
+                ),
+            }
+        };
+        let f32_actions = matches!(actions, JointAction::F32(_));
+        let stepped = self.run(f32_actions, Some(interrupted))?;
+        if stepped == Stepped::Interrupted {
+            self.has_reset = false;
+        }
+        Ok(stepped)
     }
 
     /// Checked before any env moves, so a bad action fails the whole batch.
@@ -569,9 +638,14 @@ impl VecEnv {
     }
 
     /// Run one step of every env over the action buffer just written.
-    fn run(&mut self, f32_actions: bool) -> Result<(), EnvError> {
+    fn run(
+        &mut self,
+        f32_actions: bool,
+        mut poll: Option<&mut dyn FnMut() -> bool>,
+    ) -> Result<Stepped, EnvError> {
         let s = &*self.shared;
         s.action_f32.store(f32_actions, SeqCst);
+        s.cancel.store(false, SeqCst);
         s.done.store(0, SeqCst);
         s.next.store(0, SeqCst);
         if !self.workers.is_empty() {
@@ -581,17 +655,20 @@ impl VecEnv {
                 s.work.notify_all();
             }
         }
-        s.work();
-        self.wait_done();
+        s.work(poll.as_mut().map(|p| &mut **p as &mut dyn FnMut() -> bool));
+        self.wait_done(poll);
         let failure = s.failure.lock().ok().and_then(|mut f| f.take());
         match failure {
-            None => Ok(()),
+            None if s.cancel.load(SeqCst) => Ok(Stepped::Interrupted),
+            None => Ok(Stepped::Done),
             Some((_, Failure::Error(e))) => Err(e),
             Some((_, Failure::Panic(p))) => std::panic::resume_unwind(p),
         }
     }
 
-    fn wait_done(&self) {
+    /// Wait for the workers' last envs; `poll` is asked every [`POLL`] meanwhile (a stop skips
+    /// the envs nobody has claimed yet; the ones running finish).
+    fn wait_done(&self, mut poll: Option<&mut dyn FnMut() -> bool>) {
         let s = &*self.shared;
         let n = s.job.n;
         let start = Instant::now();
@@ -603,10 +680,32 @@ impl VecEnv {
                 let Ok(mut g) = s.lock.lock() else { return };
                 s.caller_asleep.store(true, SeqCst);
                 while s.done.load(SeqCst) < n {
-                    g = match s.finished.wait(g) {
-                        Ok(g) => g,
+                    let Some(p) = poll.as_mut() else {
+                        g = match s.finished.wait(g) {
+                            Ok(g) => g,
+                            Err(_) => break,
+                        };
+                        continue;
+                    };
+                    let timed_out = match s.finished.wait_timeout(g, POLL) {
+                        Ok((g2, t)) => {
+                            g = g2;
+                            t.timed_out()
+                        }
                         Err(_) => break,
                     };
+                    if timed_out && s.done.load(SeqCst) < n {
+                        // Asked without the lock: a worker finishing meanwhile must not wait on
+                        // the caller's check (which takes Python's GIL in the binding).
+                        drop(g);
+                        if p() {
+                            s.cancel.store(true, SeqCst);
+                        }
+                        g = match s.lock.lock() {
+                            Ok(g) => g,
+                            Err(_) => break,
+                        };
+                    }
                 }
                 s.caller_asleep.store(false, SeqCst);
                 return;

@@ -215,6 +215,50 @@ def test_collect_stops_on_ctrl_c_within_a_second(tmp_path):
     assert not (tmp_path / "fz").exists()
 
 
+def test_a_long_vector_step_stops_on_ctrl_c_within_a_second():
+    """One step of 48 Humanoids at frame_skip 1000 (that never end) takes seconds; Ctrl-C lands
+    part-way (between envs), the env then needs a reset (E1103), and a reset makes it step again."""
+    prog = textwrap.dedent(
+        """
+        import time, numpy as np, envc
+        v = envc.make_vec("Humanoid-v5", 48, num_threads=2, frame_skip=1000,
+                          terminate_when_unhealthy=False)
+        v.reset(seed=0)
+        a = np.zeros((48, 17))
+        t = time.monotonic()
+        v.step(a)
+        print("full", time.monotonic() - t, flush=True)
+        print("start", flush=True)
+        try:
+            v.step(a)
+            print("finished")
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+        try:
+            v.step(a)
+            print("stepped without a reset")
+        except envc.NotResetError as e:
+            print("code", e.code)
+        v.reset(seed=1)
+        v.step(a)
+        print("stepped")
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", prog], stdout=subprocess.PIPE, text=True)
+    full = float(p.stdout.readline().split()[1])
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(0.3)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    assert p.stdout.readline().strip() == "interrupted"
+    took = time.monotonic() - sent
+    out = p.stdout.read()  # (not communicate(timeout): it skips what readline buffered)
+    assert p.wait(timeout=120) == 0
+    assert full > 2.0, f"a full step took only {full:.2f} s: the test needs a longer one"
+    assert took < 1.0, f"{took:.2f} s after SIGINT (a full step takes {full:.2f} s)"
+    assert out.split() == ["code", "E1103", "stepped"]
+
+
 def test_delay_rings_count_in_the_vector_env_memory_check(tmp_path):
     spec = ROOT / "specs" / "gymnasium" / "humanoid.toml"
     text = spec.read_text()
