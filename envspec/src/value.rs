@@ -80,9 +80,15 @@ impl Val {
     }
     /// An error saying this value has the wrong type.
     pub fn type_error(&self, what: &str, expected: &str) -> Diagnostic {
+        // An array says how long it is: most array mistakes are a wrong count, not a wrong type.
+        let found = match &self.kind {
+            ValKind::Array(a) if a.len() == 1 => "an array of 1 value".to_string(),
+            ValKind::Array(a) => format!("an array of {} values", a.len()),
+            _ => self.type_name().to_string(),
+        };
         Diagnostic::new(
             Code::E0102,
-            format!("{what} must be {expected}, found {}", self.type_name()),
+            format!("{what} must be {expected}, found {found}"),
         )
         .at(self.loc.clone())
         .label(format!("expected {expected}"))

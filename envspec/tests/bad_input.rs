@@ -743,6 +743,19 @@ fn sizes_that_do_not_fit() {
         "`qpos[0]` has 1 elements but `qpos0[0:2]` has 2"
     );
     assert_eq!(lc(&d.0[1]), "52:9");
+    // An array of the wrong length says how long it is.
+    let text = format!(
+        "{}\n[sites.tip]\nbody = \"torso\"\npos = [0.0, 0.1]\n",
+        mini()
+    );
+    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
+    let d = errors(r);
+    assert_eq!(d.codes(), [Code::E0102]);
+    assert!(
+        d.0[0].message.ends_with("found an array of 2 values"),
+        "{}",
+        d.0[0].message
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
