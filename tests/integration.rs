@@ -25,6 +25,7 @@ mod readme;
 mod render;
 mod rng_numpy;
 mod runtime_errors;
+mod terrain;
 mod typed;
 mod urdf;
 mod vector;

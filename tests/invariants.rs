@@ -14,6 +14,13 @@ const EXAMPLE_MODELS: &[(&str, &str)] = &[
         ),
     ),
     (
+        "MjlabVelocityRoughGo1-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/mjlab/unitree_go1/go1.xml"
+        ),
+    ),
+    (
         "MjlabVelocityFlatGo1-v0",
         concat!(
             env!("CARGO_MANIFEST_DIR"),

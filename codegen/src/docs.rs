@@ -247,6 +247,9 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 Distribution::Constant { value } => format!("constant {value}"),
                 Distribution::Keyframe { name, .. } => format!("keyframe `{name}`"),
                 Distribution::RootPose { .. } => "root pose (x, y, z, roll, pitch, yaw)".into(),
+                Distribution::TerrainOrigin { rows } => {
+                    format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
+                }
             };
             let mode = if s.set { "set" } else { "add" };
             d.push_str(&format!(

@@ -212,6 +212,14 @@ pub fn reset_step(r: &ResetStep) -> String {
                 }
             );
         }
+        Distribution::TerrainOrigin { rows } => {
+            return format!(
+                "{}: position += the spawn origin of a [terrain] tile drawn uniformly (rows {} … {}, any column)",
+                sel(&r.target),
+                rows.0,
+                rows.1
+            );
+        }
     };
     let op = if r.set { "=" } else { "= initial +" };
     let until = match r.resample_until {

@@ -68,6 +68,12 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 /// of the body count (0.18 s at 2,000 bodies, 13.6 s at 16,000, over 120 s at 50,000). At this
 /// limit a compile takes about a second; the largest bundled model has 17 bodies.
 pub const MAX_BODIES: usize = 5_000;
+/// Tiles of a `[terrain]` grid (mjlab's rough grid has 200): each adds up to ~100 geoms, and
+/// MuJoCo's collision broad phase grows with them.
+pub const MAX_TERRAIN_TILES: usize = 2_000;
+/// Heightfield cells of one `[terrain]` in all (a 10 × 20 grid of 8 m tiles at 0.1 m is 1.28 M):
+/// memory for the model and its copies.
+pub const MAX_TERRAIN_CELLS: usize = 20_000_000;
 /// An observation noise's amplitude (`level × scale`), like reset draws: noise beyond it would
 /// drown every observation or overflow.
 pub const MAX_NOISE: f64 = 1e6;

@@ -17,6 +17,7 @@ mod edits;
 mod events;
 mod goal;
 mod keyframes;
+mod terrain;
 pub(crate) use commands::command_selection;
 pub use keyframes::ROOT_POSE_KEYS;
 mod noise;
@@ -132,7 +133,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     };
     let health = cx.health();
     let termination = cx.terminations();
-    let reset = cx.reset();
+    let reset = cx.reset(model_edits.terrain.as_ref());
     let mut info = cx.info(&reward, &off);
     for (i, t) in reward.iter().enumerate() {
         if let Some(key) = &t.info {
@@ -272,7 +273,9 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
             (v, v)
         }
         // (no `resample_until` on these kinds)
-        Distribution::Keyframe { .. } | Distribution::RootPose { .. } => (0.0, f64::INFINITY),
+        Distribution::Keyframe { .. }
+        | Distribution::RootPose { .. }
+        | Distribution::TerrainOrigin { .. } => (0.0, f64::INFINITY),
     };
     match until {
         Until::NormBelow(x) if x <= 0.0 => Some(format!("a norm is never below {x}")),
@@ -1061,9 +1064,13 @@ impl Ctx<'_> {
         out
     }
 
-    fn reset(&mut self) -> Vec<ResetStep> {
+    fn reset(&mut self, terrain: Option<&crate::ir::Terrain>) -> Vec<ResetStep> {
         let mut out = vec![];
         for s in &self.spec.reset {
+            if s.kind("") == "terrain_origin" {
+                out.extend(self.terrain_origin(s, terrain));
+                continue;
+            }
             if let Some(step) = self.keyframe_reset(s) {
                 out.extend(step);
                 continue;
@@ -1135,7 +1142,9 @@ impl Ctx<'_> {
                 }
                 Distribution::Normal { scale } => scale.abs(),
                 Distribution::Constant { value } => value.abs(),
-                Distribution::Keyframe { .. } | Distribution::RootPose { .. } => 0.0,
+                Distribution::Keyframe { .. }
+                | Distribution::RootPose { .. }
+                | Distribution::TerrainOrigin { .. } => 0.0,
             };
             if widest > limits::MAX_COORDINATE {
                 let at = ["scale", "low", "high", "value"]

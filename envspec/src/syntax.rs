@@ -111,6 +111,9 @@ pub struct Spec {
     pub latency: Option<Section>,
     /// `[events.<name>]`: domain randomization and pushes (`envspec::events`).
     pub events: Vec<Section>,
+    /// `[terrain]` with its `[terrain.<tile>]` generators (`envspec::resolve::terrain` checks
+    /// the keys).
+    pub terrain: Option<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -218,6 +221,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "commands",
     "actions",
     "events",
+    "terrain",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 
@@ -320,7 +324,72 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
         "root_pose",
         &["joint", "x", "y", "z", "roll", "pitch", "yaw"],
     ),
+    ("terrain_origin", &["joint", "rows"]),
 ];
+/// Keys of `[terrain]` itself (its tables are the tile generators).
+pub const TERRAIN_KEYS: &[&str] = &[
+    "tile_size",
+    "rows",
+    "cols",
+    "border_width",
+    "border_height",
+    "seed",
+    "layout",
+    "difficulty",
+    "doc",
+];
+/// Tile generators of `[terrain.<name>]` with the keys each accepts besides `TILE_COMMON`.
+pub const TILE_KINDS: &[(&str, &[&str])] = &[
+    ("flat", &[]),
+    (
+        "pyramid_stairs",
+        &[
+            "step_height",
+            "step_width",
+            "platform_width",
+            "border_width",
+            "inverted",
+        ],
+    ),
+    (
+        "pyramid_slope",
+        &[
+            "slope",
+            "platform_width",
+            "border_width",
+            "inverted",
+            "horizontal_scale",
+            "vertical_scale",
+        ],
+    ),
+    (
+        "random_uniform",
+        &[
+            "noise",
+            "noise_step",
+            "border_width",
+            "horizontal_scale",
+            "vertical_scale",
+            "scale_with_difficulty",
+        ],
+    ),
+];
+const TILE_COMMON: &[&str] = &["kind", "proportion", "doc"];
+
+/// The `[terrain.<name>]` tables of `[terrain]`'s entries, as sections.
+pub fn terrain_tiles(entries: &[Entry]) -> Vec<Section> {
+    entries
+        .iter()
+        .filter_map(|e| {
+            Some(Section {
+                name: e.key.clone(),
+                name_loc: e.key_loc.clone(),
+                loc: e.value.loc.clone(),
+                entries: e.value.as_table()?.to_vec(),
+            })
+        })
+        .collect()
+}
 /// Keys of `[keyframes.<name>]`.
 pub const KEYFRAME_KEYS: &[&str] = &["from", "root_pos", "root_quat", "joints", "doc"];
 
@@ -456,6 +525,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         actions: None,
         latency: None,
         events: vec![],
+        terrain: None,
     };
 
     if let Some(e) = get("maze") {
@@ -605,7 +675,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         // (a keyframe sets every qpos; a root pose draw finds the free joint's)
         match s.kind("") {
             "keyframe" => require(s, "keyframe", &format!("[reset.{}]", s.name), d),
-            "root_pose" => {}
+            "root_pose" | "terrain_origin" => {}
             _ => require(s, "target", &format!("[reset.{}]", s.name), d),
         }
     }
@@ -689,6 +759,26 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             loc: e.value.loc.clone(),
             entries: t.to_vec(),
         });
+    }
+    if let Some(e) = get("terrain")
+        && let Some(t) = table(&e.value, "[terrain]", d)
+    {
+        let terrain = Section {
+            name: "terrain".into(),
+            name_loc: e.key_loc.clone(),
+            loc: e.value.loc.clone(),
+            entries: t.to_vec(),
+        };
+        let (tiles, keys): (Vec<Entry>, Vec<Entry>) = terrain
+            .entries
+            .iter()
+            .cloned()
+            .partition(|e| e.value.as_table().is_some());
+        check_keys(&keys, TERRAIN_KEYS, "[terrain]", d);
+        for tile in terrain_tiles(&tiles) {
+            check_kinded(&tile, "terrain", None, TILE_KINDS, TILE_COMMON, d);
+        }
+        spec.terrain = Some(terrain);
     }
     spec.events = sections(get("events"), "events", &[], d);
     for s in &spec.events {

@@ -14,6 +14,7 @@ mod maze_errors;
 mod messages;
 mod noise;
 mod selector_roundtrip;
+mod terrain_errors;
 mod v4_terms;
 
 /// A test file that is not declared above would silently never run.

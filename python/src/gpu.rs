@@ -186,6 +186,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     not_exported.push(format!("[reset.{}] kind = \"root_pose\"", r.name));
                     json!({"kind": "unsupported"})
                 }
+                Distribution::TerrainOrigin { .. } => {
+                    not_exported.push(format!("[reset.{}] kind = \"terrain_origin\"", r.name));
+                    json!({"kind": "unsupported"})
+                }
             };
             let until = r.resample_until.map(|u| match u {
                 Until::NormBelow(x) => json!({"norm_below": num(x)}),

@@ -266,6 +266,9 @@ pub struct Env {
     qpos_init: Vec<f64>,
     qvel_init: Vec<f64>,
     draw: Vec<f64>,
+    /// Where the terrain tiles' spawn origins are in the model's `numeric_data` (address, count
+    /// of tiles): `[terrain]` puts them there (`model_build::TERRAIN_ORIGINS`).
+    terrain_origins: Option<(usize, usize)>,
     elapsed: u64,
     has_reset: bool,
     /// Why the last reset gave no valid start (E1104, E1004): `step` refuses until a reset
@@ -470,6 +473,7 @@ impl Env {
             qvel_init: vec![0.0; sim.nv],
             qpos_init,
             draw: vec![0.0; max_draw],
+            terrain_origins: terrain_origins(&model),
             sim,
             rng: None,
             dt,
@@ -690,6 +694,22 @@ impl Env {
                     qpos.copy_from_slice(key);
                     continue;
                 }
+                Distribution::TerrainOrigin { rows } => {
+                    // Row first, then column (`integers` draws); the resolver checked the rows
+                    // against `[terrain]`, which the model was built with.
+                    let Some((adr, tiles)) = self.terrain_origins else {
+                        continue;
+                    };
+                    let cols = tiles / self.spec.model_edits.terrain.as_ref().map_or(1, |t| t.rows);
+                    let row = rng.integers(rows.0 as i64, rows.1 as i64 + 1) as usize;
+                    let col = rng.integers(0, cols.max(1) as i64) as usize;
+                    let o = &self.sim.model.numeric_data()[adr + 3 * (row * cols + col)..][..3];
+                    let a = step.target.indices[0];
+                    for i in 0..3 {
+                        qpos[a + i] += o[i];
+                    }
+                    continue;
+                }
                 Distribution::RootPose { ranges } => {
                     let mut x = [0.0; 6];
                     for (v, r) in x.iter_mut().zip(ranges) {
@@ -720,7 +740,9 @@ impl Env {
                         }
                     }
                     Distribution::Constant { value } => draw.fill(*value),
-                    Distribution::Keyframe { .. } | Distribution::RootPose { .. } => {}
+                    Distribution::Keyframe { .. }
+                    | Distribution::RootPose { .. }
+                    | Distribution::TerrainOrigin { .. } => {}
                 }
                 let done = match step.resample_until {
                     None => true,
@@ -1310,6 +1332,17 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel, world_sites: usize) -> Resu
         )));
     }
     Ok(())
+}
+
+/// The terrain origins in the model's numerics (see `Env::terrain_origins`).
+fn terrain_origins(model: &MjModel) -> Option<(usize, usize)> {
+    let id = model.name_to_id(
+        mujoco_rs::prelude::MjtObjBase::mjOBJ_NUMERIC,
+        crate::model_build::TERRAIN_ORIGINS,
+    )?;
+    let adr = *model.numeric_adr().get(id)? as usize;
+    let size = *model.numeric_size().get(id)? as usize;
+    Some((adr, size / 3))
 }
 
 /// mjlab's `quat_from_euler_xyz` (w, x, y, z), term for term in its order of operations.

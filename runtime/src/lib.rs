@@ -47,6 +47,7 @@ mod os;
 pub mod registry;
 pub mod render;
 pub mod rng;
+pub mod terrain;
 pub mod typed;
 pub mod vector;
 

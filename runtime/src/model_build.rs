@@ -133,6 +133,9 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
     for e in &edits.added {
         add_element(&mut spec, e)?;
     }
+    if let Some(t) = &edits.terrain {
+        add_terrain(&mut spec, t)?;
+    }
     for a in &edits.actuators {
         add_actuator(&mut spec, a)?;
     }
@@ -302,6 +305,53 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             *l.dir_mut() = *dir;
         }
     }
+    Ok(())
+}
+
+/// The name of the model's numeric that holds each terrain tile's spawn origin (x, y, z, row-major
+/// over rows × cols): the compiled model carries them, so every env of a vector env reads them
+/// without generating the terrain again.
+pub(crate) const TERRAIN_ORIGINS: &str = "envc_terrain_origins";
+
+/// `[terrain]`'s geoms on the world body (boxes, and heightfields with their fields), and the
+/// tiles' spawn origins.
+fn add_terrain(spec: &mut MjSpec, t: &envspec::ir::Terrain) -> Result<(), String> {
+    use crate::terrain::TerrainGeom;
+    let g = crate::terrain::generate(t);
+    // Terrain grey; the robot keeps its own colours.
+    const RGBA: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
+    for (i, geom) in g.geoms.iter().enumerate() {
+        match geom {
+            TerrainGeom::Box(b) => {
+                let gm = spec.world_body_mut().add_geom();
+                gm.set_type(MjtGeomBase::mjGEOM_BOX);
+                *gm.pos_mut() = b.pos;
+                *gm.size_mut() = b.size;
+                *gm.rgba_mut() = RGBA;
+            }
+            TerrainGeom::Field(f) => {
+                let name = format!("envc_terrain_{i}");
+                let h = spec.add_hfield().with_size(f.size);
+                h.set_name(&name)
+                    .map_err(|e| format!("cannot add heightfield `{name}`: {e}"))?;
+                h.set_nrow(f.nrow as i32);
+                h.set_ncol(f.ncol as i32);
+                h.set_userdata(&f.data);
+                let gm = spec.world_body_mut().add_geom();
+                gm.set_type(MjtGeomBase::mjGEOM_HFIELD);
+                gm.set_hfieldname(&name);
+                *gm.pos_mut() = f.pos;
+                *gm.rgba_mut() = RGBA;
+            }
+        }
+    }
+    let n = spec.add_numeric();
+    n.set_name(TERRAIN_ORIGINS)
+        .map_err(|e| format!("cannot add the terrain origins: {e}"))?;
+    let flat: Vec<f64> = g.origins.iter().flatten().copied().collect();
+    n.set_data(&flat);
+    n.set_size(flat.len() as i32)
+        .map_err(|e| format!("cannot size the terrain origins: {e}"))?;
     Ok(())
 }
 

@@ -174,6 +174,7 @@ enum DistKey {
     Constant(Bits),
     Keyframe(usize),
     RootPose(Vec<Bits>),
+    TerrainOrigin(usize, usize),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -199,6 +200,7 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
         Distribution::RootPose { ranges } => {
             DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
         }
+        Distribution::TerrainOrigin { rows } => DistKey::TerrainOrigin(rows.0, rows.1),
     };
     ResetKey {
         target: sel(&r.target),

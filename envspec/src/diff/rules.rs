@@ -423,6 +423,13 @@ rules! {
         "A joint value of a keyframe changed: resets from it and default poses read from it move.";
     KeyframesResolvedChanged = "keyframes-resolved-changed", Reset, true,
         "A keyframe's text is unchanged but it resolves to other positions (the model or a pattern's matches changed).";
+    // The ground (`[terrain]`).
+    TerrainAdded = "terrain-added", Dynamics, true,
+        "`[terrain]` was added: the robot walks on generated tiles (and a `terrain_origin` reset can spawn on them).";
+    TerrainRemoved = "terrain-removed", Dynamics, true,
+        "`[terrain]` was removed: the generated ground is gone.";
+    TerrainChanged = "terrain-changed", Dynamics, true,
+        "A `[terrain]` key or generator changed (or resolves differently): the ground's geometry, difficulties or spawn origins change, whatever one seeded rollout happens to walk on.";
     // Domain randomization (`[events.*]`).
     EventsAdded = "events-added", Randomization, true,
         "An `[events.*]` entry was added: the policy trains on randomized models (or is pushed) where it saw one model; returns are not comparable.";

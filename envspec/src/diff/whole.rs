@@ -58,3 +58,85 @@ pub(super) fn reset_order(cx: &mut Ctx) {
         );
     }
 }
+
+/// `[terrain]` judged by what it resolves to; each written key or generator key that differs is
+/// one change at its lines. A terrain change is breaking by rule: a seeded rollout walks on a few
+/// tiles and cannot witness the others.
+pub(super) fn terrain(cx: &mut Ctx) {
+    let (o, n) = (&cx.old_r.model_edits.terrain, &cx.new_r.model_edits.terrain);
+    if o == n {
+        return;
+    }
+    let (a, b) = (cx.old.terrain.as_ref(), cx.new.terrain.as_ref());
+    match (a, b) {
+        (None, Some(s)) => cx.add(
+            Change::new(RuleId::TerrainAdded, "terrain", "added")
+                .values(None, Some(super::sections::summary(s)))
+                .at(None, Some(pos(&s.name_loc))),
+        ),
+        (Some(s), None) => cx.add(
+            Change::new(RuleId::TerrainRemoved, "terrain", "removed")
+                .values(Some(super::sections::summary(s)), None)
+                .at(Some(pos(&s.name_loc)), None),
+        ),
+        (Some(a), Some(b)) => {
+            let (ka, kb) = (keys(a), keys(b));
+            let mut any = false;
+            let mut names: Vec<&String> = ka.iter().chain(&kb).map(|(k, _, _)| k).collect();
+            names.dedup();
+            let mut seen = std::collections::BTreeSet::new();
+            for name in names {
+                if !seen.insert(name.clone()) {
+                    continue;
+                }
+                let find = |v: &[(String, String, super::Pos)]| {
+                    v.iter().find(|(k, _, _)| k == name).cloned()
+                };
+                let (x, y) = (find(&ka), find(&kb));
+                if x.as_ref().map(|e| &e.1) != y.as_ref().map(|e| &e.1) {
+                    any = true;
+                    cx.add(
+                        Change::new(RuleId::TerrainChanged, "terrain", name.clone())
+                            .values(
+                                x.as_ref().map(|e| e.1.clone()),
+                                y.as_ref().map(|e| e.1.clone()),
+                            )
+                            .at(x.map(|e| e.2), y.map(|e| e.2)),
+                    );
+                }
+            }
+            if !any {
+                // Same text, another result: a parameter it reads changed.
+                cx.add(
+                    Change::new(RuleId::TerrainChanged, "terrain", "resolved")
+                        .values(Some(format!("{o:?}")), Some(format!("{n:?}")))
+                        .at(Some(pos(&a.name_loc)), Some(pos(&b.name_loc))),
+                );
+            }
+        }
+        (None, None) => {}
+    }
+}
+
+/// `[terrain]`'s keys and its generators' keys (`<generator>.<key>`), with values and lines.
+fn keys(s: &crate::syntax::Section) -> Vec<(String, String, super::Pos)> {
+    let mut out = vec![];
+    for e in &s.entries {
+        if e.key == "doc" {
+            continue;
+        }
+        match e.value.as_table() {
+            Some(t) => {
+                for inner in t.iter().filter(|x| x.key != "doc") {
+                    out.push((
+                        format!("{}.{}", e.key, inner.key),
+                        inner.value.to_toml(),
+                        pos(&inner.key_loc),
+                    ));
+                }
+            }
+            None => out.push((e.key.clone(), e.value.to_toml(), pos(&e.key_loc))),
+        }
+    }
+    out
+}

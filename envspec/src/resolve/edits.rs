@@ -20,6 +20,7 @@ impl Ctx<'_> {
         }
         self.joint_properties(&mut edits);
         edits.keyframes = self.keyframes();
+        edits.terrain = self.terrain();
         if let Some(p) = &spec.physics {
             if let Some(v) = p.get("timestep")
                 && let Some(ts) = self.num(v, "physics.timestep")

@@ -1,0 +1,475 @@
+//! `[terrain]`: a grid of generated tiles (mjlab's terrain generator as data), and the reset kind
+//! that spawns on a tile (`terrain_origin`). Only the generators' parameters are resolved here;
+//! the runtime builds the geoms (`envc::terrain`), since the random layout draws from numpy's
+//! generator, which lives there.
+
+use crate::diagnostic::{Code, Diagnostic};
+use crate::ir::{Distribution, ResetStep, Terrain, TerrainTile, TileKind};
+use crate::limits::{MAX_TERRAIN_CELLS, MAX_TERRAIN_TILES};
+use crate::mjcf::JointKind;
+use crate::selector::{Field, Selection};
+use crate::syntax::{Section, terrain_tiles};
+use crate::value::Val;
+
+use super::Ctx;
+
+/// The largest tile side and border, in metres (a 1 km tile is already far beyond any task).
+const MAX_TILE_SIZE: f64 = 1000.0;
+
+impl Ctx<'_> {
+    fn e0105(&mut self, v: &Val, message: String, label: &str) {
+        self.d.push(
+            Diagnostic::new(Code::E0105, message)
+                .at(v.loc.clone())
+                .label(label.to_string()),
+        );
+    }
+
+    /// A number in `[lo, hi]` (`open`: above `lo`), or the default when the key is absent.
+    fn bounded(&mut self, s: &Section, key: &str, default: f64, lo: f64, hi: f64) -> Option<f64> {
+        let Some(v) = s.get(key) else {
+            return Some(default);
+        };
+        let what = format!("{}.{key}", section_name(s));
+        let x = self.num(v, &what)?;
+        if !(lo..=hi).contains(&x) {
+            self.e0105(
+                v,
+                format!("{what} = {x} is outside [{lo}, {hi}]"),
+                &format!("expected a number in [{lo}, {hi}]"),
+            );
+            return None;
+        }
+        Some(x)
+    }
+
+    /// A positive number at most `hi` (or the default).
+    fn positive(&mut self, s: &Section, key: &str, default: f64, hi: f64) -> Option<f64> {
+        let x = self.bounded(s, key, default, 0.0, hi)?;
+        if x <= 0.0 {
+            let v = s.get(key)?;
+            self.e0105(
+                v,
+                format!("{}.{key} must be above 0", section_name(s)),
+                "expected a positive number",
+            );
+            return None;
+        }
+        Some(x)
+    }
+
+    /// A whole number in `[lo, hi]` (or the default).
+    fn count(
+        &mut self,
+        s: &Section,
+        key: &str,
+        default: usize,
+        lo: usize,
+        hi: usize,
+    ) -> Option<usize> {
+        let x = self.bounded(s, key, default as f64, lo as f64, hi as f64)?;
+        if x.fract() != 0.0 {
+            let v = s.get(key)?;
+            self.e0105(
+                v,
+                format!("{}.{key} = {x} is not a whole number", section_name(s)),
+                "expected an integer",
+            );
+            return None;
+        }
+        Some(x as usize)
+    }
+
+    /// A range within `[lo, hi]` (or the default).
+    fn span(
+        &mut self,
+        s: &Section,
+        key: &str,
+        default: (f64, f64),
+        lo: f64,
+        hi: f64,
+    ) -> Option<(f64, f64)> {
+        let Some(v) = s.get(key) else {
+            return Some(default);
+        };
+        let what = format!("{}.{key}", section_name(s));
+        let r = self.range(v, &what)?;
+        if !(r.0 >= lo && r.1 <= hi && r.0 <= r.1) {
+            self.e0105(
+                v,
+                format!("{what} = [{}, {}] is not within [{lo}, {hi}]", r.0, r.1),
+                &format!("expected [low, high] with {lo} ≤ low ≤ high ≤ {hi}"),
+            );
+            return None;
+        }
+        Some(r)
+    }
+
+    fn switch(&mut self, s: &Section, key: &str) -> Option<bool> {
+        match s.get(key) {
+            None => Some(false),
+            Some(v) => self.flag(v, &format!("{}.{key}", section_name(s))),
+        }
+    }
+
+    /// `[terrain]`, resolved (None when the spec has none or it has errors, reported).
+    pub(super) fn terrain(&mut self) -> Option<Terrain> {
+        let s = self.spec.terrain.as_ref()?;
+        let errors = self.d.0.len();
+        let tile_size = match s.get("tile_size") {
+            None => Some([8.0, 8.0]),
+            Some(v) => match &v.kind {
+                crate::value::ValKind::Array(a) if a.len() == 2 => {
+                    let x = self.num(&a[0], "terrain.tile_size");
+                    let y = self.num(&a[1], "terrain.tile_size");
+                    match (x, y) {
+                        (Some(x), Some(y)) if x > 0.0 && y > 0.0 && x.max(y) <= MAX_TILE_SIZE => {
+                            Some([x, y])
+                        }
+                        (Some(_), Some(_)) => {
+                            self.e0105(
+                                v,
+                                "terrain.tile_size must be two sides in (0, 1000] metres".into(),
+                                "expected [x, y] in metres",
+                            );
+                            None
+                        }
+                        _ => None,
+                    }
+                }
+                _ => self
+                    .positive(s, "tile_size", 8.0, MAX_TILE_SIZE)
+                    .map(|x| [x, x]),
+            },
+        };
+        let layout = match s.get("layout") {
+            None => Some(true),
+            Some(v) => match v.as_str() {
+                Some("curriculum") => Some(true),
+                Some("random") => Some(false),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!("unknown terrain layout {}", v.to_toml()),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected \"curriculum\" or \"random\""),
+                    );
+                    None
+                }
+            },
+        };
+        let tiles = self.terrain_generators(s);
+        let rows = self.count(s, "rows", 10, 1, MAX_TERRAIN_TILES);
+        let cols = match (layout, &tiles) {
+            // One column per generator in the curriculum layout, as mjlab's.
+            (Some(true), Some(t)) => {
+                if let Some(v) = s.get("cols")
+                    && self.count(s, "cols", 0, 1, MAX_TERRAIN_TILES) != Some(t.len())
+                {
+                    self.e0105(
+                        v,
+                        format!(
+                            "the curriculum layout has one column per generator ({}); `cols` says otherwise",
+                            t.len()
+                        ),
+                        "leave `cols` out, or use layout = \"random\"",
+                    );
+                }
+                Some(t.len())
+            }
+            _ => self.count(s, "cols", 20, 1, MAX_TERRAIN_TILES),
+        };
+        let border_width = self.bounded(s, "border_width", 0.0, 0.0, MAX_TILE_SIZE);
+        let border_height = self.positive(s, "border_height", 1.0, MAX_TILE_SIZE);
+        let seed = self.count(s, "seed", 0, 0, u32::MAX as usize);
+        let difficulty = self.span(s, "difficulty", (0.0, 1.0), 0.0, 1.0);
+        let (Some(tile_size), Some(curriculum), Some(tiles), Some(rows), Some(cols)) =
+            (tile_size, layout, tiles, rows, cols)
+        else {
+            return None;
+        };
+        if rows * cols > MAX_TERRAIN_TILES {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!(
+                        "[terrain] has {rows} × {cols} = {} tiles, beyond envc's limit of {MAX_TERRAIN_TILES}",
+                        rows * cols
+                    ),
+                )
+                .at(s.name_loc.clone())
+                .label(format!("expected at most {MAX_TERRAIN_TILES} tiles")),
+            );
+            return None;
+        }
+        // Heightfield cells in the worst case (every tile a heightfield).
+        let cells = tiles
+            .iter()
+            .filter_map(|t| match t.kind {
+                TileKind::PyramidSlope {
+                    horizontal_scale, ..
+                }
+                | TileKind::RandomUniform {
+                    horizontal_scale, ..
+                } => Some(
+                    ((tile_size[0] / horizontal_scale) * (tile_size[1] / horizontal_scale))
+                        as usize,
+                ),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
+            .saturating_mul(rows * cols);
+        if cells > MAX_TERRAIN_CELLS {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!(
+                        "[terrain] could make {cells} heightfield cells, beyond envc's limit of {MAX_TERRAIN_CELLS}"
+                    ),
+                )
+                .at(s.name_loc.clone())
+                .label("fewer or smaller tiles, or a coarser horizontal_scale"),
+            );
+            return None;
+        }
+        if self.d.0.len() > errors {
+            return None;
+        }
+        Some(Terrain {
+            tile_size,
+            rows,
+            cols,
+            border_width: border_width?,
+            border_height: border_height?,
+            seed: seed? as u64,
+            curriculum,
+            difficulty: difficulty?,
+            tiles,
+        })
+    }
+
+    /// The `[terrain.<name>]` generators (at least one).
+    fn terrain_generators(&mut self, s: &Section) -> Option<Vec<TerrainTile>> {
+        let sections = terrain_tiles(&s.entries);
+        if sections.is_empty() {
+            self.d.push(
+                Diagnostic::new(Code::E0103, "[terrain] has no tile generator")
+                    .at(s.name_loc.clone())
+                    .label("expected at least one [terrain.<name>] table with a `kind`"),
+            );
+            return None;
+        }
+        let mut out = vec![];
+        for t in &sections {
+            let proportion = self.bounded(t, "proportion", 1.0, 0.0, 1e6);
+            let kind = match t.kind("") {
+                "flat" => Some(TileKind::Flat),
+                "pyramid_stairs" => self.stairs(t),
+                "pyramid_slope" => self.slope(t),
+                "random_uniform" => self.random_uniform(t),
+                // An unknown or missing kind was reported with the keys.
+                _ => None,
+            };
+            if let (Some(proportion), Some(kind)) = (proportion, kind) {
+                out.push(TerrainTile {
+                    name: t.name.clone(),
+                    proportion,
+                    kind,
+                });
+            }
+        }
+        if out.len() == sections.len() && out.iter().all(|t| t.proportion == 0.0) {
+            self.d.push(
+                Diagnostic::new(Code::E0105, "every [terrain] generator has proportion 0")
+                    .at(s.name_loc.clone())
+                    .label("expected a positive proportion somewhere"),
+            );
+            return None;
+        }
+        (out.len() == sections.len()).then_some(out)
+    }
+
+    fn stairs(&mut self, t: &Section) -> Option<TileKind> {
+        let step_height = self.span(t, "step_height", (0.0, 0.1), 0.0, MAX_TILE_SIZE);
+        let step_width = self.positive(t, "step_width", 0.3, MAX_TILE_SIZE);
+        let platform_width = self.bounded(t, "platform_width", 1.0, 0.0, MAX_TILE_SIZE);
+        let border_width = self.bounded(t, "border_width", 0.0, 0.0, MAX_TILE_SIZE);
+        let inverted = self.switch(t, "inverted");
+        Some(TileKind::PyramidStairs {
+            step_height: step_height?,
+            step_width: step_width?,
+            platform_width: platform_width?,
+            border_width: border_width?,
+            inverted: inverted?,
+        })
+    }
+
+    /// The heightfield scales, and a border at least one cell wide (mjlab refuses a thinner one).
+    fn scales(&mut self, t: &Section) -> Option<(f64, f64, f64)> {
+        let horizontal = self.positive(t, "horizontal_scale", 0.1, MAX_TILE_SIZE)?;
+        let vertical = self.positive(t, "vertical_scale", 0.005, MAX_TILE_SIZE)?;
+        let border = self.bounded(t, "border_width", 0.0, 0.0, MAX_TILE_SIZE)?;
+        if border > 0.0 && border < horizontal {
+            let v = t.get("border_width")?;
+            self.e0105(
+                v,
+                format!(
+                    "terrain.{}.border_width = {border} is narrower than one cell ({horizontal} m)",
+                    t.name
+                ),
+                "expected 0, or at least horizontal_scale",
+            );
+            return None;
+        }
+        Some((horizontal, vertical, border))
+    }
+
+    fn slope(&mut self, t: &Section) -> Option<TileKind> {
+        let slope = self.span(t, "slope", (0.0, 1.0), 0.0, MAX_TILE_SIZE);
+        let platform_width = self.bounded(t, "platform_width", 1.0, 0.0, MAX_TILE_SIZE);
+        let inverted = self.switch(t, "inverted");
+        let (horizontal_scale, vertical_scale, border_width) = self.scales(t)?;
+        Some(TileKind::PyramidSlope {
+            slope: slope?,
+            platform_width: platform_width?,
+            border_width,
+            inverted: inverted?,
+            horizontal_scale,
+            vertical_scale,
+        })
+    }
+
+    fn random_uniform(&mut self, t: &Section) -> Option<TileKind> {
+        let noise = self.span(t, "noise", (0.02, 0.1), -MAX_TILE_SIZE, MAX_TILE_SIZE);
+        let noise_step = self.positive(t, "noise_step", 0.005, MAX_TILE_SIZE);
+        let scale_with_difficulty = self.switch(t, "scale_with_difficulty");
+        let (horizontal_scale, vertical_scale, border_width) = self.scales(t)?;
+        Some(TileKind::RandomUniform {
+            noise: noise?,
+            noise_step: noise_step?,
+            border_width,
+            horizontal_scale,
+            vertical_scale,
+            scale_with_difficulty: scale_with_difficulty?,
+        })
+    }
+
+    /// `[reset.<name>] kind = "terrain_origin"`: spawn on a tile of `[terrain]`.
+    pub(super) fn terrain_origin(
+        &mut self,
+        s: &Section,
+        terrain: Option<&Terrain>,
+    ) -> Option<ResetStep> {
+        let Some(terrain) = terrain else {
+            if self.spec.terrain.is_some() {
+                // The terrain's own errors are reported; no second one here.
+                return None;
+            }
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0162,
+                    format!(
+                        "[reset.{}]: a terrain_origin reset needs a [terrain]",
+                        s.name
+                    ),
+                )
+                .at(s.name_loc.clone())
+                .label("spawns on a tile of [terrain]"),
+            );
+            return None;
+        };
+        let joint = self.root_joint(s, "terrain_origin")?;
+        let last = terrain.rows - 1;
+        let rows = match s.get("rows") {
+            None => (0, last),
+            Some(v) => {
+                let (lo, hi) = self.range(v, &format!("reset.{}.rows", s.name))?;
+                let whole = lo.fract() == 0.0 && hi.fract() == 0.0;
+                if !(whole && lo >= 0.0 && lo <= hi && hi <= last as f64) {
+                    self.e0105(
+                        v,
+                        format!(
+                            "[reset.{}] rows = [{lo}, {hi}] is not a range of the terrain's rows 0 … {last}",
+                            s.name
+                        ),
+                        &format!("expected [low, high], whole numbers with 0 ≤ low ≤ high ≤ {last}"),
+                    );
+                    return None;
+                }
+                (lo as usize, hi as usize)
+            }
+        };
+        let a = joint.qposadr;
+        Some(ResetStep {
+            name: s.name.clone(),
+            doc: s.doc(),
+            target: Selection {
+                field: Field::Qpos,
+                indices: (a..a + 3).collect(),
+                names: ["x", "y", "z"]
+                    .iter()
+                    .map(|c| format!("qpos[{}].{c}", joint.name))
+                    .collect(),
+                text: format!("qpos[{}]", joint.name),
+            },
+            dist: Distribution::TerrainOrigin { rows },
+            set: false,
+            resample_until: None,
+        })
+    }
+
+    /// The free joint a root reset moves: `joint = "…"`, else the model's first.
+    fn root_joint(&mut self, s: &Section, kind: &str) -> Option<crate::mjcf::Joint> {
+        if let Some(v) = s.get("joint") {
+            let name = v.as_str().unwrap_or_default();
+            return match self.model.joint(name) {
+                Some(j) if matches!(j.kind, JointKind::Free) => Some(j.clone()),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0162,
+                            format!(
+                                "[reset.{}]: `{name}` is not a free joint of the model",
+                                s.name
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected the name of a free joint (a floating base)"),
+                    );
+                    None
+                }
+            };
+        }
+        let free = self
+            .model
+            .joints
+            .iter()
+            .find(|j| matches!(j.kind, JointKind::Free))
+            .cloned();
+        if free.is_none() {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0162,
+                    format!(
+                        "[reset.{}]: a {kind} reset needs a free joint; the model has none",
+                        s.name
+                    ),
+                )
+                .at(s.name_loc.clone())
+                .label(format!("{kind} moves a floating base")),
+            );
+        }
+        free
+    }
+}
+
+fn section_name(s: &Section) -> String {
+    if s.name == "terrain" {
+        "terrain".to_string()
+    } else {
+        format!("terrain.{}", s.name)
+    }
+}
