@@ -42,6 +42,8 @@ MAX_ATTEMPTS = 4
 # Seconds with no chunk finished and no worker (re)joining before the collection gives up (E1602):
 # a cluster that lost the CPUs its actors need waits for them forever otherwise.
 STALL_TIMEOUT_S = 900.0
+# The driver's longest single wait: Ctrl-C lands within it.
+POLL_S = 0.5
 
 
 def _default_root() -> str:
@@ -226,8 +228,11 @@ def collect(
             # otherwise scan all outstanding references once per completion).
             ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
             if not ready:
+                # Waits of at most half a second: Python sees Ctrl-C between them (a signal does
+                # not interrupt Ray's wait), and the stall deadline is checked.
                 left = None if stall_timeout is None else tally["progress"] + stall_timeout - time.monotonic()
-                ready, _ = ray.wait(refs, num_returns=1, timeout=None if left is None else max(left, 0.0))
+                wait = POLL_S if left is None else min(max(left, 0.0), POLL_S)
+                ready, _ = ray.wait(refs, num_returns=1, timeout=wait)
             for ref in ready:
                 handle(ref)
             stalled = stall_timeout is not None and time.monotonic() - tally["progress"] > stall_timeout

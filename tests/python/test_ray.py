@@ -278,6 +278,37 @@ def test_a_killed_driver_leaves_nothing_loadable_and_a_rerun_starts_over(cluster
     _same_dataset(Path(one), root / "tests" / "k-v0")
 
 
+def test_ctrl_c_stops_the_driver_within_a_second_and_publishes_nothing(cluster, tmp_path):
+    root = tmp_path / "root"
+    script = textwrap.dedent(f"""
+        import time, envc.ray
+        def slow(obs, rng):
+            time.sleep(0.002)
+            return rng.uniform(-1.0, 1.0, 3)
+        try:
+            envc.ray.collect("Hopper-v5", "tests/int-v0", 60, slow, seed=1, num_workers=2,
+                             root={str(root)!r}, chunk_size=2, address={cluster!r},
+                             stall_timeout=120, max_episode_steps=50)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+    """)
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    staging = root / ".envc-staging"
+    deadline = time.time() + 90
+    while not any(staging.glob("*/ds/data/2")):
+        assert p.poll() is None, "the driver ended before it was interrupted"
+        assert time.time() < deadline, "no episode was written in time"
+        time.sleep(0.05)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    assert p.stdout.readline().strip() == "interrupted"
+    took = time.monotonic() - sent
+    assert p.wait(timeout=60) == 0
+    assert took < 1.5, f"{took:.2f} s after SIGINT"
+    assert not (root / "tests" / "int-v0").exists()
+    assert not any(staging.iterdir()) if staging.exists() else True
+
+
 def test_more_workers_than_the_cluster_has_cpus_for_finish_on_those_it_has(cluster, tmp_path):
     """Four actors of one CPU on a two-CPU cluster: two are never placed, get no chunk, and the
     collection finishes on the two that started, with the one-process dataset."""
