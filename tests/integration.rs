@@ -17,6 +17,7 @@ mod joystick_terms;
 mod mamujoco;
 mod maze;
 mod minari;
+mod mjlab_terms;
 mod no_alloc;
 mod numerics;
 mod obs_noise;

@@ -101,8 +101,9 @@ pub struct FeetContact {
 /// Reward kernels of legged locomotion (`TermKind::Legged`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum LeggedTerm {
-    /// `exp(−Σₖ coefₖ·(targetₖ − xₖ)² / σ)`: velocity tracking (`target` a command), or a pose
-    /// kept near a default (`target = "default_pose"`).
+    /// `exp(−(Σₖ coefₖ·(targetₖ − xₖ)² + Σⱼ zⱼ²) / σ)`: velocity tracking (`target` a command,
+    /// `zero` the velocities commanded to be 0, as mjlab's kernels), or a pose kept near a
+    /// default (`target = "default_pose"`).
     Tracking {
         /// The tracked quantities `x`.
         source: Selection,
@@ -112,6 +113,8 @@ pub enum LeggedTerm {
         coefs: Vec<f64>,
         /// Width of the exponential.
         sigma: f64,
+        /// Quantities whose target is 0 (`z`), their squares added after the tracked sum.
+        zero: Option<Selection>,
     },
     /// `Σₖ |xₖ − mₖ|`, optionally gated.
     SumAbs {
@@ -142,8 +145,10 @@ pub enum LeggedTerm {
         /// When the term counts.
         gate: Option<Gate>,
     },
-    /// `Σ max(f·lo − q, 0) + max(q − f·hi, 0)` over hinge/slide joints (soft limits: the
-    /// model's range scaled by `factor`); joints without a range add 0.
+    /// `Σ max(lo′ − q, 0) + max(q − hi′, 0)` over hinge/slide joints, with soft limits
+    /// `(lo′, hi′)` the model's range scaled by `factor`: about zero (`f·lo, f·hi`: Playground,
+    /// legged_gym) or about its centre (`mid ∓ f·(hi − lo)/2`: mjlab, Isaac Lab); joints without a
+    /// range add 0.
     JointLimits {
         /// The joint positions `q`.
         source: Selection,
@@ -151,6 +156,8 @@ pub enum LeggedTerm {
         joints: Vec<usize>,
         /// Scale of the model's range.
         factor: f64,
+        /// Scale about the range's centre instead of about zero.
+        centered: bool,
     },
 }
 
@@ -187,7 +194,12 @@ impl LeggedTerm {
     /// The selections the kernel reads, in order.
     pub fn sources(&self) -> Vec<&Selection> {
         let mut out: Vec<&Selection> = match self {
-            LeggedTerm::Tracking { source, target, .. } => vec![source, target],
+            LeggedTerm::Tracking {
+                source,
+                target,
+                zero,
+                ..
+            } => [source, target].into_iter().chain(zero.as_ref()).collect(),
             LeggedTerm::SumAbs { source, minus, .. } => {
                 std::iter::once(source).chain(minus.as_ref()).collect()
             }
@@ -221,8 +233,15 @@ impl LeggedTerm {
                 source,
                 target,
                 sigma,
+                zero,
                 ..
-            } => format!("exp(−Σ c·({} − {})² / {sigma})", target.text, source.text),
+            } => match zero {
+                Some(z) => format!(
+                    "exp(−(Σ c·({} − {})² + Σ {}²) / {sigma})",
+                    target.text, source.text, z.text
+                ),
+                None => format!("exp(−Σ c·({} − {})² / {sigma})", target.text, source.text),
+            },
             LeggedTerm::SumAbs {
                 source,
                 minus,
@@ -248,8 +267,17 @@ impl LeggedTerm {
                 feet.floor,
                 gate(g)
             ),
-            LeggedTerm::JointLimits { source, factor, .. } => {
-                format!("Σ out of {factor} × range of {}", source.text)
+            LeggedTerm::JointLimits {
+                source,
+                factor,
+                centered,
+                ..
+            } => {
+                let about = if *centered { "its centre" } else { "zero" };
+                format!(
+                    "Σ out of {factor} × range (about {about}) of {}",
+                    source.text
+                )
             }
         }
     }

@@ -610,6 +610,10 @@ pub struct ModelEdits {
     pub keyframes: Vec<SpecKeyframe>,
     /// `[terrain]`: a grid of generated tiles added to the world body.
     pub terrain: Option<Terrain>,
+    /// `[physics] forward_before_observation`: not a model change but a step option: `mj_forward`
+    /// runs after the reward and termination, so the observation reads the state's own
+    /// kinematics rather than the last physics substep's (mjlab's step).
+    pub forward_before_observation: bool,
 }
 
 /// `[terrain]`: a grid of `rows × cols` square tiles centred on the world origin, each made by

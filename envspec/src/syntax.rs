@@ -278,12 +278,12 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("constant", &[]),
     ("goal_sparse", GOAL_KEYS),
     ("goal_dense", &["achieved", "desired", "norm"]),
-    ("tracking", &["source", "target", "coefs", "sigma"]),
+    ("tracking", &["source", "target", "coefs", "sigma", "zero"]),
     ("sum_abs", &["source", "minus", "gate"]),
     ("action_rate", &[]),
     ("feet_air_time", &["feet", "floor", "threshold", "gate"]),
     ("feet_slip", &["feet", "floor", "sites", "gate"]),
-    ("joint_limits", &["source", "factor"]),
+    ("joint_limits", &["source", "factor", "about"]),
 ];
 /// Keys of `[commands.<name>]`.
 pub const COMMAND_KEYS: &[&str] = &[
@@ -449,7 +449,7 @@ pub const EVENT_KINDS: &[(&str, &[&str])] = &[
 ];
 const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "when", "doc"];
 /// Keys of `[physics]`.
-pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator"];
+pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator", "forward_before_observation"];
 
 fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
     Diagnostic::new(

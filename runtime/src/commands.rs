@@ -172,12 +172,23 @@ impl Legged {
                     })
                 }
             });
-            if let TermKind::Legged(LeggedTerm::JointLimits { factor, .. }) = &t.kind
+            if let TermKind::Legged(LeggedTerm::JointLimits {
+                factor, centered, ..
+            }) = &t.kind
                 && l.jnt_range.is_empty()
             {
                 let (limited, range) = (model.jnt_limited(), model.jnt_range());
+                let soft = |[lo, hi]: [f64; 2]| {
+                    if *centered {
+                        // mjlab's order of operations: mean ∓ 0.5 · range · factor.
+                        let (mean, width) = ((lo + hi) / 2.0, hi - lo);
+                        (mean - 0.5 * width * factor, mean + 0.5 * width * factor)
+                    } else {
+                        (factor * lo, factor * hi)
+                    }
+                };
                 l.jnt_range = (0..njnt)
-                    .map(|j| limited[j].then(|| (factor * range[j][0], factor * range[j][1])))
+                    .map(|j| limited[j].then(|| soft(range[j])))
                     .collect();
             }
         }
@@ -356,12 +367,17 @@ impl Legged {
                 target,
                 coefs,
                 sigma,
+                zero,
             } => {
                 let (x, y) = (field(source.field), field(target.field));
-                let s = pairwise_sum(source.len(), &|k| {
+                let mut s = pairwise_sum(source.len(), &|k| {
                     let d = y[target.indices[k]] - x[source.indices[k]];
                     d * d * coefs[k]
                 });
+                if let Some(z) = zero {
+                    let v = field(z.field);
+                    s += pairwise_sum(z.len(), &|k| v[z.indices[k]] * v[z.indices[k]]);
+                }
                 (-s / sigma).exp()
             }
             LeggedTerm::SumAbs {

@@ -1019,6 +1019,15 @@ impl Env {
         if self.events.is_some() {
             self.interval_events()?;
         }
+        // `[physics] forward_before_observation` (mjlab's step): the observation reads the new
+        // state's kinematics, where reward and termination read the last substep's.
+        if self.spec.model_edits.forward_before_observation {
+            if let Err(message) = self.sim.call(Call::Forward) {
+                return Err(self.step_failed(message));
+            }
+            self.derive_after_physics();
+            self.sim.legged.update_sites(&self.sim.data);
+        }
         // Draw order step 6: the observation (noise, delay); it holds the previous action as
         // `last_action`, which becomes this step's action only after it is written.
         self.write_obs();

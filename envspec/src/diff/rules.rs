@@ -423,6 +423,9 @@ rules! {
         "A joint value of a keyframe changed: resets from it and default poses read from it move.";
     KeyframesResolvedChanged = "keyframes-resolved-changed", Reset, true,
         "A keyframe's text is unchanged but it resolves to other positions (the model or a pattern's matches changed).";
+    // When the observation is read (`[physics] forward_before_observation`).
+    ObservationRefreshChanged = "observation-refresh-changed", Observation, true,
+        "`[physics] forward_before_observation` changed: the observation reads the new state's kinematics (or the last physics substep's), so velocities, positions and contacts in it change.";
     // The ground (`[terrain]`).
     TerrainAdded = "terrain-added", Dynamics, true,
         "`[terrain]` was added: the robot walks on generated tiles (and a `terrain_origin` reset can spawn on them).";

@@ -59,6 +59,31 @@ pub(super) fn reset_order(cx: &mut Ctx) {
     }
 }
 
+/// `[physics] forward_before_observation`, which changes no model array.
+pub(super) fn observation_refresh(cx: &mut Ctx) {
+    let (o, n) = (
+        cx.old_r.model_edits.forward_before_observation,
+        cx.new_r.model_edits.forward_before_observation,
+    );
+    if o != n {
+        let at = |s: &Spec| {
+            s.physics
+                .as_ref()
+                .and_then(|p| p.get("forward_before_observation"))
+                .map(|v| pos(&v.loc))
+        };
+        cx.add(
+            Change::new(
+                RuleId::ObservationRefreshChanged,
+                "physics",
+                "forward_before_observation",
+            )
+            .values(Some(o.to_string()), Some(n.to_string()))
+            .at(at(cx.old), at(cx.new)),
+        );
+    }
+}
+
 /// `[terrain]` judged by what it resolves to; each written key or generator key that differs is
 /// one change at its lines. A terrain change is breaking by rule: a seeded rollout walks on a few
 /// tiles and cannot witness the others.

@@ -409,11 +409,16 @@ impl Ctx<'_> {
                     }
                     None => 1.0,
                 };
+                let zero = match s.get("zero") {
+                    Some(v) => Some(self.selection(v, "zero")?),
+                    None => None,
+                };
                 LeggedTerm::Tracking {
                     source,
                     target,
                     coefs,
                     sigma,
+                    zero,
                 }
             }
             "sum_abs" => {
@@ -538,10 +543,29 @@ impl Ctx<'_> {
                     Some(v) => self.num(v, "factor")?,
                     None => 1.0,
                 };
+                let centered = match s.get("about") {
+                    None => false,
+                    Some(v) => match v.as_str() {
+                        Some("zero") => false,
+                        Some("center") => true,
+                        _ => {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0104,
+                                    format!("joint_limits `about` is {}", v.to_toml()),
+                                )
+                                .at(v.loc.clone())
+                                .label("expected \"zero\" (f·lo, f·hi) or \"center\" (mid ∓ f·(hi − lo)/2)"),
+                            );
+                            return None;
+                        }
+                    },
+                };
                 LeggedTerm::JointLimits {
                     source,
                     joints,
                     factor,
+                    centered,
                 }
             }
             _ => return None,

@@ -41,6 +41,11 @@ impl Ctx<'_> {
                     );
                 }
             }
+            if let Some(v) = p.get("forward_before_observation") {
+                edits.forward_before_observation = self
+                    .flag(v, "physics.forward_before_observation")
+                    .unwrap_or(false);
+            }
             if let Some(v) = p.get("integrator") {
                 match v.as_str() {
                     Some(s) => match Integrator::parse(s) {

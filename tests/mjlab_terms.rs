@@ -1,0 +1,141 @@
+//! `specs/examples/mjlab_velocity_flat_go1.toml` term by term against mjlab 1.6.0's term functions,
+//! recomputed in numpy (`tests/reference/mjlab_terms.py`, written from mjlab's
+//! `tasks/velocity/mdp/rewards.py`, `envs/mdp/rewards.py`, `envs/mdp/observations.py`, the entity's
+//! derived quantities and soft joint limits, and `ManagerBasedRlEnv.step`) on states dumped from
+//! envc's env: the observation (read after `mj_forward`, as mjlab's), every reward term and the
+//! termination (read from the last physics substep's kinematics, as mjlab's), and the reward.
+//! Where the spec language cannot say mjlab's term (the slip gate's norm), numpy computes the spec's
+//! documented approximation and reports how far mjlab's own formula is.
+
+use std::path::Path;
+
+use envc::Env;
+use envc::rng::NumpyRng;
+
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+/// The flat Go1 spec without noise or randomization, with commands redrawn every 0.2 s and a
+/// standing probability of 0.4, so both sides of every gate occur. `fresh = false` leaves out the
+/// `mj_forward` before the observation: the data after a step then holds what the reward read.
+fn flat_go1(fresh: bool) -> Env {
+    let original = Path::new(ROOT).join("specs/examples/mjlab_velocity_flat_go1.toml");
+    let text = std::fs::read_to_string(&original)
+        .unwrap()
+        .replacen("resample_seconds = 5.5", "resample_seconds = 0.2", 1)
+        .replacen(
+            "standing_probability = 0.1",
+            "standing_probability = 0.4",
+            1,
+        )
+        .replacen(
+            "forward_before_observation = true",
+            &format!("forward_before_observation = {fresh}"),
+            1,
+        );
+    let p = original.with_file_name(format!(".mjlab-terms-{}-{fresh}.toml", std::process::id()));
+    std::fs::write(&p, text).unwrap();
+    let o = [
+        envc::Override::text("observation_noise", "false"),
+        envc::Override::text("domain_randomization", "false"),
+    ];
+    let env = Env::from_spec_file(&p, &o);
+    let _ = std::fs::remove_file(&p);
+    env.unwrap()
+}
+
+#[test]
+fn terms_match_numpy_from_mjlabs_term_functions() {
+    let py = format!("{ROOT}/.venv/bin/python");
+    if !Path::new(&py).exists() {
+        eprintln!("skipped: no venv at {py} (scripts/setup.sh makes it)");
+        return;
+    }
+    // `env` is the spec as written; `stale` the same without the forward: the same states (an
+    // extra mj_forward changes no state, checked below), read where mjlab's rewards read them.
+    let mut env = flat_go1(true);
+    let mut stale = flat_go1(false);
+    let keys = [
+        "reward_track_linear_velocity",
+        "reward_track_angular_velocity",
+        "reward_dof_pos_limits",
+        "reward_action_rate_l2",
+        "reward_foot_slip",
+    ];
+    let dir = std::env::temp_dir().join(format!("envc-mjlab-terms-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let m = env.model();
+    let mut mjb = vec![0u8; m.size()];
+    m.save_to_buffer(&mut mjb).unwrap();
+    std::fs::write(dir.join("model.mjb"), &mjb).unwrap();
+    let (nq, nv, nbody, nsite) = {
+        let f = m.ffi();
+        (
+            f.nq as usize,
+            f.nv as usize,
+            f.nbody as usize,
+            f.nsite as usize,
+        )
+    };
+    let row = |env: &Env, stale: &Env, kind: &str, action: &[f64], reward: f64, done: bool| {
+        let (d, s) = (env.data(), stale.data());
+        // SAFETY: each call below passes a data array with its length from the model's sizes.
+        let arr = |p: *const f64, n: usize| unsafe { std::slice::from_raw_parts(p, n) }.to_vec();
+        let contacts: Vec<[i32; 2]> = (0..s.ncon as usize)
+            // SAFETY: the contact list holds ncon contacts.
+            .map(|c| unsafe { (*s.contact.add(c)).geom })
+            .collect();
+        let info: serde_json::Map<String, serde_json::Value> = if kind == "step" {
+            keys.iter()
+                .map(|k| (k.to_string(), env.step_info().scalar(k).unwrap().into()))
+                .collect()
+        } else {
+            Default::default()
+        };
+        let derived = |d: &mujoco_rs::mujoco_c::mjData| {
+            serde_json::json!({
+                "qpos": arr(d.qpos, nq), "qvel": arr(d.qvel, nv),
+                "cvel": arr(d.cvel, nbody * 6), "subtree_com": arr(d.subtree_com, nbody * 3),
+                "site_xpos": arr(d.site_xpos, nsite * 3), "site_xmat": arr(d.site_xmat, nsite * 9),
+            })
+        };
+        serde_json::json!({
+            "kind": kind, "action": action, "reward": reward, "done": done, "obs": env.obs(),
+            "fresh": derived(d), "stale": derived(s), "contacts": contacts, "info": info,
+        })
+    };
+    let mut rng = NumpyRng::from_seed(77);
+    let mut rows = vec![];
+    let zero = vec![0.0; 12];
+    env.reset(Some(5));
+    stale.reset(Some(5));
+    rows.push(row(&env, &stale, "reset", &zero, 0.0, false));
+    for steps in 0..900 {
+        // Small actions keep it walking-ish; large ones (past the soft limits) make it fall.
+        let amp = if steps < 450 { 0.5 } else { 3.0 };
+        let a: Vec<f64> = (0..12).map(|_| rng.uniform(-amp, amp)).collect();
+        let s = env.step(&a).unwrap();
+        let (r, term, done) = (s.reward, s.terminated, s.terminated || s.truncated);
+        let t = stale.step(&a).unwrap();
+        assert_eq!((t.reward.to_bits(), t.terminated), (r.to_bits(), term));
+        assert_eq!(env.state(), stale.state(), "the forward changed the state");
+        rows.push(row(&env, &stale, "step", &a, r, term));
+        if done {
+            env.reset(None);
+            stale.reset(None);
+            rows.push(row(&env, &stale, "reset", &zero, 0.0, false));
+        }
+    }
+    let dump = dir.join("rollout.json");
+    std::fs::write(&dump, serde_json::to_string(&rows).unwrap()).unwrap();
+    let out = std::process::Command::new(&py)
+        .arg(format!("{ROOT}/tests/reference/mjlab_terms.py"))
+        .arg(&dump)
+        .arg(dir.join("model.mjb"))
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let text = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "numpy disagrees");
+    assert!(text.contains("all terms agree"), "{text}");
+}
