@@ -74,6 +74,10 @@ struct Sizes {
 #[allow(clippy::too_many_lines)] // The JSON plan field by field, in the order the GPU executor reads it.
 fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     let mut not_exported: Vec<String> = vec![];
+    if spec.model_edits.forward_before_observation {
+        // The executors read the observation where the step leaves the data.
+        not_exported.push("[physics] forward_before_observation = true".to_string());
+    }
     let observation: Vec<Value> = spec
         .observation
         .iter()
