@@ -19,17 +19,13 @@ import pytest
 
 import envc
 import envc.datasets
+from conftest import envc_cli
 
 ROOT = Path(__file__).resolve().parents[2]
 BUNDLED = ROOT / "specs" / "datasets" / "mujoco" / "invertedpendulum" / "medium-v0.toml"
 DATASET = "tests/invertedpendulum/medium-v0"
 STEPS = 3000
 PARAMS = {"max_episode_steps": 20, "reset_noise_scale": 0.02}
-
-
-def _envc_cli() -> str:
-    subprocess.run(["cargo", "build", "-q", "-p", "envc-cli"], cwd=ROOT, check=True)
-    return str(ROOT / "target" / "debug" / "envc")
 
 
 def _tree(root: Path) -> dict[str, bytes]:
@@ -60,7 +56,7 @@ def test_same_bytes_twice_and_from_the_cli(spec, built, tmp_path):
     envc.datasets.build(spec, steps=STEPS, root=again, dataset_id=DATASET)
     cli = tmp_path / "cli"
     subprocess.run(
-        [_envc_cli(), "dataset", "build", str(spec), "--steps", str(STEPS), "--root", str(cli), "--dataset-id", DATASET],
+        [envc_cli(), "dataset", "build", str(spec), "--steps", str(STEPS), "--root", str(cli), "--dataset-id", DATASET],
         check=True, capture_output=True,
     )
     first = _tree(built)
@@ -70,17 +66,23 @@ def test_same_bytes_twice_and_from_the_cli(spec, built, tmp_path):
 
 
 def test_same_bytes_on_one_and_two_ray_workers(spec, built, tmp_path):
-    ray = pytest.importorskip("ray")
-    if ray.is_initialized():
-        ray.shutdown()
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
-    try:
-        for n in (1, 2):
-            root = tmp_path / f"ray{n}"
-            envc.datasets.build(spec, steps=STEPS, root=root, dataset_id=DATASET, workers=n)
-            assert _tree(root) == _tree(built), f"{n} worker(s)"
-    finally:
-        ray.shutdown()
+    pytest.importorskip("ray")
+    # In a process of its own: a Ray session started and shut down in pytest's process leaves
+    # state behind that kills the actors of the next cluster it joins (test_ray.py's).
+    script = f"""
+import ray, envc.datasets
+ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+try:
+    for n in (1, 2):
+        envc.datasets.build({str(spec)!r}, steps={STEPS}, root={str(tmp_path)!r} + f"/ray{{n}}",
+                            dataset_id={DATASET!r}, workers=n)
+finally:
+    ray.shutdown()
+"""
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=500)
+    assert r.returncode == 0, r.stderr[-3000:]
+    for n in (1, 2):
+        assert _tree(tmp_path / f"ray{n}") == _tree(built), f"{n} worker(s)"
 
 
 def test_minari_loads_scores_and_gymnasium_replays(built, monkeypatch):
