@@ -41,6 +41,45 @@ impl Ctx<'_> {
         }
     }
 
+    /// The free joint a root reset moves: `joint = "…"`, else the model's first.
+    pub(super) fn root_joint(&mut self, s: &Section, kind: &str) -> Option<crate::mjcf::Joint> {
+        if let Some(v) = s.get("joint") {
+            let name = v.as_str().unwrap_or_default();
+            return match self.model.joint(name) {
+                Some(j) if matches!(j.kind, JointKind::Free) => Some(j.clone()),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0162,
+                            format!(
+                                "[reset.{}]: `{name}` is not a free joint of the model",
+                                s.name
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected the name of a free joint (a floating base)"),
+                    );
+                    None
+                }
+            };
+        }
+        let free = self.free_joint().cloned();
+        if free.is_none() {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0162,
+                    format!(
+                        "[reset.{}]: a {kind} reset needs a free joint; the model has none",
+                        s.name
+                    ),
+                )
+                .at(s.name_loc.clone())
+                .label(format!("{kind} moves a floating base")),
+            );
+        }
+        free
+    }
+
     /// The first free joint (a floating base), for root values.
     fn free_joint(&self) -> Option<&crate::mjcf::Joint> {
         self.model
@@ -225,42 +264,7 @@ impl Ctx<'_> {
     }
 
     fn root_pose(&mut self, s: &Section) -> Option<ResetStep> {
-        let joint = match s.get("joint") {
-            Some(v) => {
-                let name = v.as_str().unwrap_or_default();
-                match self.model.joint(name) {
-                    Some(j) if matches!(j.kind, JointKind::Free) => j.clone(),
-                    _ => {
-                        self.e0162(
-                            v,
-                            format!(
-                                "[reset.{}]: `{name}` is not a free joint of the model",
-                                s.name
-                            ),
-                            "expected the name of a free joint (a floating base)",
-                        );
-                        return None;
-                    }
-                }
-            }
-            None => match self.free_joint() {
-                Some(j) => j.clone(),
-                None => {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0162,
-                            format!(
-                                "[reset.{}]: a root pose draw needs a free joint; the model has none",
-                                s.name
-                            ),
-                        )
-                        .at(s.name_loc.clone())
-                        .label("root_pose moves a floating base"),
-                    );
-                    return None;
-                }
-            },
-        };
+        let joint = self.root_joint(s, "root_pose")?;
         let mut ranges = [(0.0, 0.0); 6];
         for (i, key) in ROOT_POSE_KEYS.iter().enumerate() {
             let Some(v) = s.get(key) else { continue };

@@ -6,7 +6,6 @@
 use crate::diagnostic::{Code, Diagnostic};
 use crate::ir::{Distribution, ResetStep, Terrain, TerrainTile, TileKind};
 use crate::limits::{MAX_TERRAIN_CELLS, MAX_TERRAIN_TILES};
-use crate::mjcf::JointKind;
 use crate::selector::{Field, Selection};
 use crate::syntax::{Section, terrain_tiles};
 use crate::value::Val;
@@ -419,50 +418,6 @@ impl Ctx<'_> {
             set: false,
             resample_until: None,
         })
-    }
-
-    /// The free joint a root reset moves: `joint = "…"`, else the model's first.
-    fn root_joint(&mut self, s: &Section, kind: &str) -> Option<crate::mjcf::Joint> {
-        if let Some(v) = s.get("joint") {
-            let name = v.as_str().unwrap_or_default();
-            return match self.model.joint(name) {
-                Some(j) if matches!(j.kind, JointKind::Free) => Some(j.clone()),
-                _ => {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0162,
-                            format!(
-                                "[reset.{}]: `{name}` is not a free joint of the model",
-                                s.name
-                            ),
-                        )
-                        .at(v.loc.clone())
-                        .label("expected the name of a free joint (a floating base)"),
-                    );
-                    None
-                }
-            };
-        }
-        let free = self
-            .model
-            .joints
-            .iter()
-            .find(|j| matches!(j.kind, JointKind::Free))
-            .cloned();
-        if free.is_none() {
-            self.d.push(
-                Diagnostic::new(
-                    Code::E0162,
-                    format!(
-                        "[reset.{}]: a {kind} reset needs a free joint; the model has none",
-                        s.name
-                    ),
-                )
-                .at(s.name_loc.clone())
-                .label(format!("{kind} moves a floating base")),
-            );
-        }
-        free
     }
 }
 
