@@ -284,22 +284,33 @@ impl Ctx<'_> {
             }
             ranges[i] = (lo, hi);
         }
-        let a = joint.qposadr;
-        Some(ResetStep {
-            name: s.name.clone(),
-            doc: s.doc(),
-            target: Selection {
-                field: Field::Qpos,
-                indices: (a..a + 7).collect(),
-                names: ["x", "y", "z", "qw", "qx", "qy", "qz"]
-                    .iter()
-                    .map(|c| format!("qpos[{}].{c}", joint.name))
-                    .collect(),
-                text: format!("qpos[{}]", joint.name),
-            },
-            dist: Distribution::RootPose { ranges },
-            set: false,
-            resample_until: None,
-        })
+        Some(root_step(s, &joint, 7, Distribution::RootPose { ranges }))
+    }
+}
+
+/// A reset step adding `dist`'s draw to the first `n` of a free joint's `qpos` (x, y, z, then
+/// the quaternion).
+pub(super) fn root_step(
+    s: &Section,
+    joint: &crate::mjcf::Joint,
+    n: usize,
+    dist: Distribution,
+) -> ResetStep {
+    let a = joint.qposadr;
+    ResetStep {
+        name: s.name.clone(),
+        doc: s.doc(),
+        target: Selection {
+            field: Field::Qpos,
+            indices: (a..a + n).collect(),
+            names: ["x", "y", "z", "qw", "qx", "qy", "qz"][..n]
+                .iter()
+                .map(|c| format!("qpos[{}].{c}", joint.name))
+                .collect(),
+            text: format!("qpos[{}]", joint.name),
+        },
+        dist,
+        set: false,
+        resample_until: None,
     }
 }

@@ -6,7 +6,6 @@
 use crate::diagnostic::{Code, Diagnostic};
 use crate::ir::{Distribution, ResetStep, Terrain, TerrainTile, TileKind};
 use crate::limits::{MAX_TERRAIN_CELLS, MAX_TERRAIN_TILES};
-use crate::selector::{Field, Selection};
 use crate::syntax::{Section, terrain_tiles};
 use crate::value::Val;
 
@@ -401,23 +400,12 @@ impl Ctx<'_> {
                 (lo as usize, hi as usize)
             }
         };
-        let a = joint.qposadr;
-        Some(ResetStep {
-            name: s.name.clone(),
-            doc: s.doc(),
-            target: Selection {
-                field: Field::Qpos,
-                indices: (a..a + 3).collect(),
-                names: ["x", "y", "z"]
-                    .iter()
-                    .map(|c| format!("qpos[{}].{c}", joint.name))
-                    .collect(),
-                text: format!("qpos[{}]", joint.name),
-            },
-            dist: Distribution::TerrainOrigin { rows },
-            set: false,
-            resample_until: None,
-        })
+        Some(super::keyframes::root_step(
+            s,
+            &joint,
+            3,
+            Distribution::TerrainOrigin { rows },
+        ))
     }
 }
 
