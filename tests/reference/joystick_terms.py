@@ -17,6 +17,8 @@ import sys
 import mujoco
 import numpy as np
 
+import term_checks
+
 DT = 0.02
 SIGMA = 0.25
 FEET = ["FR", "FL", "RR", "RL"]
@@ -35,28 +37,9 @@ def main():
     soft_lo, soft_hi = lowers * 0.95, uppers * 0.95
 
     def site_vel(r, s, local):
-        """mj_objectVelocity(site): [angular, linear] at the site, world or site frame."""
-        cvel = np.array(r["cvel"]).reshape(-1, 6)
-        com = np.array(r["subtree_com"]).reshape(-1, 3)
-        pos = np.array(r["site_xpos"]).reshape(-1, 3)[s]
-        b = m.site_bodyid[s]
-        ang, lin = cvel[b, :3], cvel[b, 3:]
-        lin = lin - np.cross(pos - com[m.body_rootid[b]], ang)
-        if local:
-            R = np.array(r["site_xmat"]).reshape(-1, 3, 3)[s]
-            return R.T @ ang, R.T @ lin
-        return ang, lin
+        return term_checks.site_vel(m, r, s, local)
 
-    worst = [0.0]
-
-    def close(name, got, want, t):
-        got, want = np.asarray(got, float), np.asarray(want, float)
-        rel = np.abs(got - want) / np.maximum(np.abs(want), 1e-300)
-        worst[0] = max(worst[0], float(np.max(np.where(got == want, 0.0, rel))))
-        if not np.allclose(got, want, rtol=1e-12, atol=1e-15):
-            print(f"step {t}: {name}: envc {got} numpy {want}")
-            return False
-        return True
+    close = term_checks.Close("step")
 
     ok = True
     checked = 0
@@ -128,7 +111,7 @@ def main():
         command = obs[45:48]
         checked += 1
     print(f"{checked} steps, gates {gates}, steps where each is nonzero: {nonzero}")
-    print(f"largest relative difference: {worst[0]:.3g}")
+    print(f"largest relative difference: {close.worst:.3g}")
     if not ok:
         sys.exit(1)
     if min(gates.values()) == 0 or min(nonzero.values()) == 0:

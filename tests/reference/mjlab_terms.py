@@ -26,6 +26,8 @@ import sys
 import mujoco
 import numpy as np
 
+import term_checks
+
 DT = 0.02
 FEET_GEOMS = ["FR_foot_collision", "FL_foot_collision", "RR_foot_collision", "RL_foot_collision"]
 FEET_SITES = ["FR", "FL", "RR", "RL"]
@@ -43,7 +45,6 @@ def main():
     m = mujoco.MjModel.from_binary_path(sys.argv[2])
     imu = m.site("imu").id
     base = m.site("base").id  # at the trunk's (the root link's) frame
-    trunk = m.site_bodyid[base]
     feet_geoms = [m.geom(n).id for n in FEET_GEOMS]
     floor = m.geom("floor").id
     feet_sites = [m.site(n).id for n in FEET_SITES]
@@ -54,37 +55,16 @@ def main():
     soft_lo, soft_hi = mean - 0.5 * rng * 0.9, mean + 0.5 * rng * 0.9
 
     def root(r):
-        """(R, v_b, ω_b): the root link's frame and its velocities in it (EntityData)."""
-        R = np.array(r["site_xmat"]).reshape(-1, 3, 3)[base]
-        pos = np.array(r["site_xpos"]).reshape(-1, 3)[base]
-        cvel = np.array(r["cvel"]).reshape(-1, 6)[trunk]
-        com = np.array(r["subtree_com"]).reshape(-1, 3)[m.body_rootid[trunk]]
-        ang, lin = cvel[:3], cvel[3:] - np.cross(pos - com, cvel[:3])
-        return R, R.T @ lin, R.T @ ang
+        """(R, v_b, ω_b): the root link's frame and its velocities in it (EntityData's
+        root_link_*_b: the velocity at the frame's origin, from cvel)."""
+        ang, lin = term_checks.site_vel(m, r, base, True)
+        return np.array(r["site_xmat"]).reshape(-1, 3, 3)[base], lin, ang
 
     def site_vel(r, s, local):
-        cvel = np.array(r["cvel"]).reshape(-1, 6)
-        com = np.array(r["subtree_com"]).reshape(-1, 3)
-        pos = np.array(r["site_xpos"]).reshape(-1, 3)[s]
-        b = m.site_bodyid[s]
-        ang, lin = cvel[b, :3], cvel[b, 3:]
-        lin = lin - np.cross(pos - com[m.body_rootid[b]], ang)
-        if local:
-            R = np.array(r["site_xmat"]).reshape(-1, 3, 3)[s]
-            return R.T @ ang, R.T @ lin
-        return ang, lin
+        return term_checks.site_vel(m, r, s, local)
 
-    worst = [0.0]
+    close = term_checks.Close("row")
     mjlab_gap = {k: 0.0 for k in W}
-
-    def close(name, got, want, t):
-        got, want = np.asarray(got, float), np.asarray(want, float)
-        rel = np.abs(got - want) / np.maximum(np.abs(want), 1e-300)
-        worst[0] = max(worst[0], float(np.max(np.where(got == want, 0.0, rel))))
-        if not np.allclose(got, want, rtol=1e-12, atol=1e-15):
-            print(f"row {t}: {name}: envc {got} numpy {want}")
-            return False
-        return True
 
     ok, checked, gate_mismatch = True, 0, 0
     gates = {"active": 0, "inactive": 0}
@@ -144,7 +124,7 @@ def main():
         command = obs[45:48]
         checked += 1
     print(f"{checked} steps, gates {gates}, steps where each is nonzero: {nonzero}")
-    print(f"largest relative difference: {worst[0]:.3g}")
+    print(f"largest relative difference: {close.worst:.3g}")
     print("mjlab's own formula differs from the spec's by at most (weighted, per step): "
           + ", ".join(f"{k} {v:.3g}" for k, v in mjlab_gap.items())
           + f"; feet_slip's gate differs on {gate_mismatch} steps")
