@@ -254,8 +254,9 @@ def test_a_long_vector_step_stops_on_ctrl_c_within_a_second():
     took = time.monotonic() - sent
     out = p.stdout.read()  # (not communicate(timeout): it skips what readline buffered)
     assert p.wait(timeout=120) == 0
-    assert full > 2.0, f"a full step took only {full:.2f} s: the test needs a longer one"
-    assert took < 1.0, f"{took:.2f} s after SIGINT (a full step takes {full:.2f} s)"
+    # (4–5 s on the 2-core development machine; a faster CPU still needs a step to interrupt)
+    assert full > 1.0, f"a full step took only {full:.2f} s: the test needs a longer one"
+    assert took < min(1.0, full / 2), f"{took:.2f} s after SIGINT (a full step takes {full:.2f} s)"
     assert out.split() == ["code", "E1103", "stepped"]
 
 
