@@ -1,11 +1,11 @@
-//! `specs/examples/mjlab_velocity_flat_go1.toml` term by term against mjlab 1.6.0's term functions,
-//! recomputed in numpy (`tests/reference/mjlab_terms.py`, written from mjlab's
-//! `tasks/velocity/mdp/rewards.py`, `envs/mdp/rewards.py`, `envs/mdp/observations.py`, the entity's
-//! derived quantities and soft joint limits, and `ManagerBasedRlEnv.step`) on states dumped from
-//! envc's env: the observation (read after `mj_forward`, as mjlab's), every reward term and the
-//! termination (read from the last physics substep's kinematics, as mjlab's), and the reward.
-//! Where the spec language cannot say mjlab's term (the slip gate's norm), numpy computes the spec's
-//! documented approximation and reports how far mjlab's own formula is.
+//! `specs/examples/mjlab_velocity_flat_go1.toml` and `mjlab_velocity_flat_g1.toml` term by term
+//! against mjlab 1.6.0's term functions, recomputed in numpy (`tests/reference/mjlab_terms.py`,
+//! written from mjlab's `tasks/velocity/mdp/rewards.py`, `envs/mdp/rewards.py`,
+//! `envs/mdp/observations.py`, the entity's derived quantities and soft joint limits, the robots'
+//! action scales and posture widths, and `ManagerBasedRlEnv.step`) on states dumped from envc's
+//! env: the observation (read after `mj_forward`, as mjlab's), the PD targets, every reward term
+//! and the termination (read from the last physics substep's kinematics, as mjlab's), the reward
+//! and the solver options.
 
 use std::path::Path;
 
@@ -14,11 +14,12 @@ use envc::rng::NumpyRng;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
-/// The flat Go1 spec without noise or randomization, with commands redrawn every 0.2 s and a
-/// standing probability of 0.4, so both sides of every gate occur. `fresh = false` leaves out the
-/// `mj_forward` before the observation: the data after a step then holds what the reward read.
-fn flat_go1(fresh: bool) -> Env {
-    let original = Path::new(ROOT).join("specs/examples/mjlab_velocity_flat_go1.toml");
+/// A flat mjlab spec without noise or randomization, with commands redrawn every 0.2 s and a
+/// standing probability of 0.4, so both sides of every gate and every posture regime occur.
+/// `fresh = false` leaves out the `mj_forward` before the observation: the data after a step then
+/// holds what the reward read.
+fn flat(robot: &str, fresh: bool) -> Env {
+    let original = Path::new(ROOT).join(format!("specs/examples/mjlab_velocity_flat_{robot}.toml"));
     let text = std::fs::read_to_string(&original)
         .unwrap()
         .replacen("resample_seconds = 5.5", "resample_seconds = 0.2", 1)
@@ -32,7 +33,10 @@ fn flat_go1(fresh: bool) -> Env {
             &format!("forward_before_observation = {fresh}"),
             1,
         );
-    let p = original.with_file_name(format!(".mjlab-terms-{}-{fresh}.toml", std::process::id()));
+    let p = original.with_file_name(format!(
+        ".mjlab-terms-{robot}-{}-{fresh}.toml",
+        std::process::id()
+    ));
     std::fs::write(&p, text).unwrap();
     let o = [
         envc::Override::text("observation_noise", "false"),
@@ -44,7 +48,16 @@ fn flat_go1(fresh: bool) -> Env {
 }
 
 #[test]
-fn terms_match_numpy_from_mjlabs_term_functions() {
+fn go1_terms_match_numpy_from_mjlabs_term_functions() {
+    check("go1");
+}
+
+#[test]
+fn g1_terms_match_numpy_from_mjlabs_term_functions() {
+    check("g1");
+}
+
+fn check(robot: &str) {
     let py = format!("{ROOT}/.venv/bin/python");
     if !Path::new(&py).exists() {
         eprintln!("skipped: no venv at {py} (scripts/setup.sh makes it)");
@@ -52,26 +65,26 @@ fn terms_match_numpy_from_mjlabs_term_functions() {
     }
     // `env` is the spec as written; `stale` the same without the forward: the same states (an
     // extra mj_forward changes no state, checked below), read where mjlab's rewards read them.
-    let mut env = flat_go1(true);
-    let mut stale = flat_go1(false);
-    let keys = [
-        "reward_track_linear_velocity",
-        "reward_track_angular_velocity",
-        "reward_dof_pos_limits",
-        "reward_action_rate_l2",
-        "reward_foot_slip",
-    ];
-    let dir = std::env::temp_dir().join(format!("envc-mjlab-terms-{}", std::process::id()));
+    let mut env = flat(robot, true);
+    let mut stale = flat(robot, false);
+    let keys: Vec<String> = env
+        .spec()
+        .reward
+        .iter()
+        .map(|t| format!("reward_{}", t.name))
+        .collect();
+    let dir = std::env::temp_dir().join(format!("envc-mjlab-terms-{robot}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let m = env.model();
     let mut mjb = vec![0u8; m.size()];
     m.save_to_buffer(&mut mjb).unwrap();
     std::fs::write(dir.join("model.mjb"), &mjb).unwrap();
-    let (nq, nv, nbody, nsite) = {
+    let (nq, nv, nu, nbody, nsite) = {
         let f = m.ffi();
         (
             f.nq as usize,
             f.nv as usize,
+            f.nu as usize,
             f.nbody as usize,
             f.nsite as usize,
         )
@@ -96,23 +109,25 @@ fn terms_match_numpy_from_mjlabs_term_functions() {
                 "qpos": arr(d.qpos, nq), "qvel": arr(d.qvel, nv),
                 "cvel": arr(d.cvel, nbody * 6), "subtree_com": arr(d.subtree_com, nbody * 3),
                 "site_xpos": arr(d.site_xpos, nsite * 3), "site_xmat": arr(d.site_xmat, nsite * 9),
+                "xipos": arr(d.xipos, nbody * 3), "ximat": arr(d.ximat, nbody * 9),
             })
         };
         serde_json::json!({
             "kind": kind, "action": action, "reward": reward, "done": done, "obs": env.obs(),
             "fresh": derived(d), "stale": derived(s), "contacts": contacts, "info": info,
+            "ctrl": arr(d.ctrl, nu),
         })
     };
     let mut rng = NumpyRng::from_seed(77);
     let mut rows = vec![];
-    let zero = vec![0.0; 12];
+    let zero = vec![0.0; nu];
     env.reset(Some(5));
     stale.reset(Some(5));
     rows.push(row(&env, &stale, "reset", &zero, 0.0, false));
     for steps in 0..900 {
         // Small actions keep it walking-ish; large ones (past the soft limits) make it fall.
         let amp = if steps < 450 { 0.5 } else { 3.0 };
-        let a: Vec<f64> = (0..12).map(|_| rng.uniform(-amp, amp)).collect();
+        let a: Vec<f64> = (0..nu).map(|_| rng.uniform(-amp, amp)).collect();
         let s = env.step(&a).unwrap();
         let (r, term, done) = (s.reward, s.terminated, s.terminated || s.truncated);
         let t = stale.step(&a).unwrap();
@@ -129,6 +144,7 @@ fn terms_match_numpy_from_mjlabs_term_functions() {
     std::fs::write(&dump, serde_json::to_string(&rows).unwrap()).unwrap();
     let out = std::process::Command::new(&py)
         .arg(format!("{ROOT}/tests/reference/mjlab_terms.py"))
+        .arg(robot)
         .arg(&dump)
         .arg(dir.join("model.mjb"))
         .output()

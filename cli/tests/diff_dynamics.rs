@@ -1,6 +1,6 @@
 //! `envc diff` misses no dynamics change: actuator gains and force ranges, joint armature and
-//! damping, keyframes, pushes, a model change only the binary comparison sees, and a multi-agent
-//! default factorization. Each case is one file of `cli/tests/diff_golden/dynamics/` against
+//! damping, keyframes, pushes, solver options, per-joint action scales, posture widths, a model
+//! change only the binary comparison sees, and a multi-agent default factorization. Each case is one file of `cli/tests/diff_golden/dynamics/` against
 //! `base.toml`; the reports are pinned in `cli/tests/diff_golden/dynamics.txt` (ENVC_BLESS=1
 //! regenerates it; review the change).
 
@@ -89,6 +89,31 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         3,
         &[
             "  ! [model-binary-changed] model: compiled model: was one binary model, now another (outside the compared arrays)",
+        ],
+    ),
+    (
+        "base.toml",
+        "solver.toml",
+        3,
+        &[
+            "  ! [physics-option-changed] physics: iterations: was the model's, now 20 (cli/tests/diff_golden/dynamics/solver.toml:11)",
+            "  ! [model-option-changed] model: opt.iterations: was 100, now 20",
+        ],
+    ),
+    (
+        "scale_old.toml",
+        "scale_new.toml",
+        3,
+        &[
+            "  ! [actions-mapping-changed] actions: scale: was knee 0.25 (cli/tests/diff_golden/dynamics/scale_old.toml:29), now knee 0.4 (cli/tests/diff_golden/dynamics/scale_new.toml:29)",
+        ],
+    ),
+    (
+        "scale_old.toml",
+        "posture_new.toml",
+        3,
+        &[
+            "  ! [reward-term-key-changed] reward.pose: std: was [{ * = 0.1 }, { hip = 0.3, knee = 0.5 }] (cli/tests/diff_golden/dynamics/scale_old.toml:53), now [{ * = 0.1 }, { hip = 0.3, knee = 0.6 }] (cli/tests/diff_golden/dynamics/posture_new.toml:53)",
         ],
     ),
     (

@@ -57,8 +57,8 @@ pub enum DefaultPose {
 /// `[actions]`: an action is a joint target, `ctrl = default_pose + scale × action`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PdActions {
-    /// Action scale: radians (or metres) of target per unit of action.
-    pub scale: f64,
+    /// Action scale of each actuator: radians (or metres) of target per unit of action.
+    pub scale: Vec<f64>,
     /// The target of action 0.
     pub default_pose: DefaultPose,
     /// The action space (every actuator), not the control range.
@@ -72,11 +72,12 @@ pub struct PdActions {
 }
 
 /// `‖command‖ > threshold` (or `<` with `below`) gates a term: the kernel is multiplied by 1 or 0
-/// (no air-time reward for a standing command; a stand-still cost only for one).
+/// (no air-time reward for a standing command; a stand-still cost only for one). With several
+/// selections, their norms are added: `‖cmd_xy‖ + |cmd_wz|` is mjlab's command speed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Gate {
-    /// The command components whose norm is compared.
-    pub command: Selection,
+    /// The command selections whose norms are added and compared (at least one).
+    pub command: Vec<Selection>,
     /// The norm it is compared with.
     pub threshold: f64,
     /// Gate open below the threshold instead of above it.
@@ -102,12 +103,13 @@ pub struct FeetContact {
 #[derive(Clone, Debug, PartialEq)]
 pub enum LeggedTerm {
     /// `exp(−(Σₖ coefₖ·(targetₖ − xₖ)² + Σⱼ zⱼ²) / σ)`: velocity tracking (`target` a command,
-    /// `zero` the velocities commanded to be 0, as mjlab's kernels), or a pose kept near a
-    /// default (`target = "default_pose"`).
+    /// `zero` the velocities commanded to be 0, as mjlab's kernels), a pose kept near a
+    /// default (`target = "default_pose"`), or with `zero` alone a quantity kept near 0
+    /// (mjlab's `upright`: the projected gravity's x and y).
     Tracking {
-        /// The tracked quantities `x`.
+        /// The tracked quantities `x` (empty with `zero` alone).
         source: Selection,
-        /// Their targets.
+        /// Their targets (as long as `source`).
         target: Selection,
         /// One weight per element.
         coefs: Vec<f64>,
@@ -115,6 +117,39 @@ pub enum LeggedTerm {
         sigma: f64,
         /// Quantities whose target is 0 (`z`), their squares added after the tracked sum.
         zero: Option<Selection>,
+    },
+    /// `exp(−meanₖ((xₖ − mₖ)² / σₖ²))` with a per-element width chosen by a speed regime:
+    /// mjlab's `variable_posture` (tighter standing, looser walking and running).
+    Posture {
+        /// The joint positions `x` (qpos of hinge or slide joints).
+        source: Selection,
+        /// Their targets `m` (as long as `source`).
+        minus: Selection,
+        /// The selections whose norms, added, are the speed (empty: one regime).
+        speed: Vec<Selection>,
+        /// Ascending speed thresholds: regime `r` holds while `speed < thresholds[r]`; the last
+        /// regime from the last threshold up. One fewer than `sigma` has rows.
+        thresholds: Vec<f64>,
+        /// Per regime, one width σₖ per element of `source`.
+        sigma: Vec<Vec<f64>>,
+    },
+    /// `Σᵢ |hᵢ − target| · ‖vᵢ,xy‖^power`, gated: feet kept at a clearance height while they
+    /// move (mjlab's `feet_clearance`, Playground's with `power = 0.5`). `hᵢ` is the site's
+    /// height above the plane z = 0, clamped to `[0, max_height]` (a downward ray of that
+    /// length, as mjlab's foot height scan on flat ground).
+    FeetClearance {
+        /// `site_xpos` z of each foot site.
+        height: Selection,
+        /// `site_linvel` x and y of each foot site (2 per foot).
+        velocity: Selection,
+        /// The target clearance, metres.
+        target: f64,
+        /// The ray's length: heights are clamped to `[0, max_height]`.
+        max_height: f64,
+        /// Exponent of the velocity norm.
+        power: f64,
+        /// When the term counts.
+        gate: Option<Gate>,
     },
     /// `Σₖ |xₖ − mₖ|`, optionally gated.
     SumAbs {
@@ -170,6 +205,8 @@ impl LeggedTerm {
         "feet_air_time",
         "feet_slip",
         "joint_limits",
+        "posture",
+        "feet_clearance",
     ];
     /// The `kind` a spec writes for this term.
     pub fn kind_name(&self) -> &'static str {
@@ -180,6 +217,8 @@ impl LeggedTerm {
             LeggedTerm::FeetAirTime { .. } => "feet_air_time",
             LeggedTerm::FeetSlip { .. } => "feet_slip",
             LeggedTerm::JointLimits { .. } => "joint_limits",
+            LeggedTerm::Posture { .. } => "posture",
+            LeggedTerm::FeetClearance { .. } => "feet_clearance",
         }
     }
     /// The term's gate, for the kinds that have one.
@@ -187,7 +226,8 @@ impl LeggedTerm {
         match self {
             LeggedTerm::SumAbs { gate, .. }
             | LeggedTerm::FeetAirTime { gate, .. }
-            | LeggedTerm::FeetSlip { gate, .. } => gate.as_ref(),
+            | LeggedTerm::FeetSlip { gate, .. }
+            | LeggedTerm::FeetClearance { gate, .. } => gate.as_ref(),
             _ => None,
         }
     }
@@ -205,9 +245,18 @@ impl LeggedTerm {
             }
             LeggedTerm::FeetSlip { velocity, .. } => vec![velocity],
             LeggedTerm::JointLimits { source, .. } => vec![source],
+            LeggedTerm::Posture {
+                source,
+                minus,
+                speed,
+                ..
+            } => [source, minus].into_iter().chain(speed).collect(),
+            LeggedTerm::FeetClearance {
+                height, velocity, ..
+            } => vec![height, velocity],
             LeggedTerm::ActionRate | LeggedTerm::FeetAirTime { .. } => vec![],
         };
-        out.extend(self.gate().map(|g| &g.command));
+        out.extend(self.gate().into_iter().flat_map(|g| &g.command));
         out
     }
     /// The contact pairs the kernel reads.
@@ -221,8 +270,8 @@ impl LeggedTerm {
     pub fn formula(&self) -> String {
         let gate = |g: &Option<Gate>| match g {
             Some(g) => format!(
-                " · [‖{}‖ {} {}]",
-                g.command.text,
+                " · [{} {} {}]",
+                speed_text(&g.command),
                 if g.below { "<" } else { ">" },
                 g.threshold
             ),
@@ -236,12 +285,42 @@ impl LeggedTerm {
                 zero,
                 ..
             } => match zero {
+                Some(z) if source.is_empty() => format!("exp(−Σ {}² / {sigma})", z.text),
                 Some(z) => format!(
                     "exp(−(Σ c·({} − {})² + Σ {}²) / {sigma})",
                     target.text, source.text, z.text
                 ),
                 None => format!("exp(−Σ c·({} − {})² / {sigma})", target.text, source.text),
             },
+            LeggedTerm::Posture {
+                source,
+                minus,
+                speed,
+                thresholds,
+                ..
+            } => {
+                let regimes = if speed.is_empty() {
+                    String::new()
+                } else {
+                    format!(", σ by {} against {thresholds:?}", speed_text(speed))
+                };
+                format!(
+                    "exp(−mean(({} − {})² / σ²)){regimes}",
+                    source.text, minus.text
+                )
+            }
+            LeggedTerm::FeetClearance {
+                height,
+                target,
+                max_height,
+                power,
+                gate: g,
+                ..
+            } => format!(
+                "Σ |clamp({}, 0, {max_height}) − {target}| · ‖v_xy‖^{power}{}",
+                height.text,
+                gate(g)
+            ),
             LeggedTerm::SumAbs {
                 source,
                 minus,
@@ -283,6 +362,15 @@ impl LeggedTerm {
     }
 }
 
+/// `‖a‖ + ‖b‖ …` for a gate's or a posture's speed.
+fn speed_text(parts: &[Selection]) -> String {
+    parts
+        .iter()
+        .map(|s| format!("‖{}‖", s.text))
+        .collect::<Vec<_>>()
+        .join(" + ")
+}
+
 impl Command {
     /// One line for `envc show`: components, ranges, schedule, standing probability.
     pub fn describe(&self) -> String {
@@ -305,6 +393,13 @@ impl Command {
 }
 
 impl PdActions {
+    /// The scale as one number when every actuator has the same, else one per actuator.
+    pub fn scale_text(&self) -> String {
+        match self.scale.split_first() {
+            Some((first, rest)) if rest.iter().all(|s| s == first) => first.to_string(),
+            _ => format!("{:?}", self.scale),
+        }
+    }
     /// What `envc show` prints under the action table.
     pub fn describe(&self) -> String {
         let pose = match &self.default_pose {
@@ -314,7 +409,7 @@ impl PdActions {
         let gain = |k: &str, v: Option<f64>| v.map(|x| format!(", {k} {x}")).unwrap_or_default();
         format!(
             "PD position targets: ctrl = default_pose + {} × action, default_pose from {pose}{}{}{}",
-            self.scale,
+            self.scale_text(),
             gain("kp", self.kp),
             gain("kd", self.kd),
             gain("joint damping", self.damping)

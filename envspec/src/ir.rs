@@ -599,6 +599,9 @@ pub struct ModelEdits {
     pub timestep: Option<f64>,
     /// `mjOption.integrator`, when the spec sets it.
     pub integrator: Option<Integrator>,
+    /// Solver options `[physics]` sets (`cone`, `iterations`, `impratio`, …), in the order of
+    /// [`SOLVER_OPTIONS`]; `cone` as MuJoCo's number (0 pyramidal, 1 elliptic).
+    pub solver: Vec<(SolverOption, f64)>,
     /// Elements added to the model (`[bodies]`, `[sites]`, `[geoms]`, `[cameras]`, `[lights]`).
     pub added: Vec<AddedElement>,
     /// Joint properties set by `[joint_properties]` rows (resolved per joint, model order).
@@ -844,6 +847,7 @@ impl ModelEdits {
         self.actuators.is_empty()
             && self.timestep.is_none()
             && self.integrator.is_none()
+            && self.solver.is_empty()
             && self.added.is_empty()
             && self.joints.is_empty()
             && self.keyframes.is_empty()
@@ -887,6 +891,45 @@ pub enum ActuatorKind {
         kv: f64,
     },
 }
+
+/// A numeric `mjOption` field `[physics]` may set (MJCF's `<option>` attribute of that name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolverOption {
+    /// `cone`: 0 pyramidal (MuJoCo's default), 1 elliptic.
+    Cone,
+    /// `iterations`: main solver iterations.
+    Iterations,
+    /// `ls_iterations`: line-search iterations.
+    LsIterations,
+    /// `noslip_iterations`: no-slip solver iterations.
+    NoslipIterations,
+    /// `ccd_iterations`: convex collision iterations.
+    CcdIterations,
+    /// `tolerance`: main solver tolerance.
+    Tolerance,
+    /// `ls_tolerance`: line-search tolerance.
+    LsTolerance,
+    /// `impratio`: frictional-to-normal impedance ratio.
+    Impratio,
+}
+
+/// The `[physics]` solver options: (key, option, whole number, smallest value). `cone` is read as
+/// a name (`"pyramidal"`, `"elliptic"`); the others as numbers.
+pub const SOLVER_OPTIONS: &[(&str, SolverOption, bool, f64)] = &[
+    ("cone", SolverOption::Cone, true, 0.0),
+    ("iterations", SolverOption::Iterations, true, 1.0),
+    ("ls_iterations", SolverOption::LsIterations, true, 1.0),
+    (
+        "noslip_iterations",
+        SolverOption::NoslipIterations,
+        true,
+        0.0,
+    ),
+    ("ccd_iterations", SolverOption::CcdIterations, true, 1.0),
+    ("tolerance", SolverOption::Tolerance, false, 0.0),
+    ("ls_tolerance", SolverOption::LsTolerance, false, 0.0),
+    ("impratio", SolverOption::Impratio, false, f64::MIN_POSITIVE),
+];
 
 /// MuJoCo's integrators, spelt as in MJCF's `<option integrator>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

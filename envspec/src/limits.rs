@@ -50,6 +50,9 @@ pub const MAX_COORDINATE: f64 = 1e6;
 /// draws, a value beyond this makes the simulation diverge within a step (`kp = 1e308` gave NaN
 /// accelerations, a command range of ±1e308 overflowed numpy's `uniform`).
 pub const MAX_MAGNITUDE: f64 = 1e6;
+/// The most solver, line-search, no-slip or collision iterations `[physics]` may ask for per
+/// physics step (MuJoCo's defaults are 100, 50, 0 and 35; mjlab's rough tasks use 500).
+pub const MAX_SOLVER_ITERATIONS: u32 = 10_000;
 /// Envs in one vector env (each holds its own `mjData`; the memory they need is checked too).
 pub const MAX_VEC_ENVS: usize = 100_000;
 /// Observation delay and action latency, in env steps: each env keeps that many past values of

@@ -45,6 +45,12 @@ pub enum Field {
     Xipos,
     /// `site_xpos`: site positions.
     SiteXpos,
+    /// `subtree_linvel`: linear velocity of each body's subtree centre of mass (world frame;
+    /// MuJoCo's `mj_subtreeVel` over the lagged quantities, as a `subtreelinvel` sensor).
+    SubtreeLinvel,
+    /// `subtree_angmom`: angular momentum of each body's subtree about its centre of mass
+    /// (world frame; `mj_subtreeVel`, as a `subtreeangmom` sensor).
+    SubtreeAngmom,
     /// `ten_length`: tendon lengths.
     TenLength,
     /// `ten_velocity`: tendon velocities.
@@ -120,6 +126,8 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("xpos", Field::Xpos),
     ("xipos", Field::Xipos),
     ("site_xpos", Field::SiteXpos),
+    ("subtree_linvel", Field::SubtreeLinvel),
+    ("subtree_angmom", Field::SubtreeAngmom),
     ("ten_length", Field::TenLength),
     ("ten_velocity", Field::TenVelocity),
     ("ten_J", Field::TenJ),
@@ -162,7 +170,9 @@ impl Field {
             | Field::Cinert
             | Field::Cvel
             | Field::Xpos
-            | Field::Xipos => Rows::Body,
+            | Field::Xipos
+            | Field::SubtreeLinvel
+            | Field::SubtreeAngmom => Rows::Body,
             Field::SiteXpos | Field::SiteLinvel | Field::SiteAngvel => Rows::Site,
             Field::SiteLocalLinvel
             | Field::SiteLocalAngvel
@@ -179,6 +189,7 @@ impl Field {
             Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => 6,
             Field::Cinert => 10,
             Field::Xpos | Field::Xipos | Field::SiteXpos => 3,
+            Field::SubtreeLinvel | Field::SubtreeAngmom => 3,
             f if f.is_site_frame() => 3,
             _ => 1,
         }
@@ -195,6 +206,10 @@ impl Field {
                 | Field::SiteGravity
         )
     }
+    /// Whether reading the field needs `mj_subtreeVel` after the physics steps.
+    pub fn needs_subtree_vel(self) -> bool {
+        matches!(self, Field::SubtreeLinvel | Field::SubtreeAngmom)
+    }
     /// Whether reading the field needs `mj_rnePostConstraint` after the physics steps.
     pub fn needs_rne_post_constraint(self) -> bool {
         matches!(self, Field::CfrcExt | Field::CfrcInt | Field::Cacc)
@@ -206,6 +221,7 @@ impl Field {
             }
             Field::Cinert => &["i0", "i1", "i2", "i3", "i4", "i5", "mx", "my", "mz", "m"],
             Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
+            Field::SubtreeLinvel | Field::SubtreeAngmom => &["x", "y", "z"],
             f if f.is_site_frame() => &["x", "y", "z"],
             _ => &[""],
         }

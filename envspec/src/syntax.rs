@@ -284,6 +284,14 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("feet_air_time", &["feet", "floor", "threshold", "gate"]),
     ("feet_slip", &["feet", "floor", "sites", "gate"]),
     ("joint_limits", &["source", "factor", "about"]),
+    (
+        "posture",
+        &["source", "minus", "std", "speed", "thresholds"],
+    ),
+    (
+        "feet_clearance",
+        &["sites", "target_height", "max_height", "power", "gate"],
+    ),
 ];
 /// Keys of `[commands.<name>]`.
 pub const COMMAND_KEYS: &[&str] = &[
@@ -449,7 +457,19 @@ pub const EVENT_KINDS: &[(&str, &[&str])] = &[
 ];
 const EVENT_COMMON: &[&str] = &["kind", "mode", "interval_seconds", "when", "doc"];
 /// Keys of `[physics]`.
-pub const PHYSICS_KEYS: &[&str] = &["timestep", "integrator", "forward_before_observation"];
+pub const PHYSICS_KEYS: &[&str] = &[
+    "timestep",
+    "integrator",
+    "forward_before_observation",
+    "cone",
+    "iterations",
+    "ls_iterations",
+    "noslip_iterations",
+    "ccd_iterations",
+    "tolerance",
+    "ls_tolerance",
+    "impratio",
+];
 
 fn unknown_key(entry: &Entry, context: &str, allowed: &[&str]) -> Diagnostic {
     Diagnostic::new(

@@ -79,8 +79,8 @@ fn the_joystick_resolves() {
     assert_eq!(c.resample_steps, 250);
     let a = r.actions.as_ref().unwrap();
     assert_eq!(
-        (a.scale, a.kp, a.damping, a.range),
-        (0.5, Some(35.0), Some(0.5), (-1.0, 1.0))
+        (a.scale.clone(), a.kp, a.damping, a.range),
+        (vec![0.5; 12], Some(35.0), Some(0.5), (-1.0, 1.0))
     );
     // The keyframe pose is taken at each actuator's joint: qpos 7.. for the Go1.
     match &a.default_pose {

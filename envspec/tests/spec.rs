@@ -12,6 +12,7 @@ mod fuzz_regressions;
 mod gymnasium_specs;
 mod maze_errors;
 mod messages;
+mod mjlab_kinds;
 mod noise;
 mod selector_roundtrip;
 mod terrain_errors;

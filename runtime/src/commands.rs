@@ -7,7 +7,7 @@
 //! below the probability, every component is 0. A spec without `[commands]` draws nothing.
 
 use envspec::ir::*;
-use envspec::{Field, ResolvedSpec};
+use envspec::{Field, ResolvedSpec, Selection};
 use mujoco_rs::mujoco_c::{mjModel, mjtBias, mjtGain, mjtObj};
 use mujoco_rs::prelude::{MjData, MjModel, MjtObjBase};
 use mujoco_rs::wrappers::mj_model::traits::ModelType;
@@ -95,7 +95,8 @@ pub(crate) struct Legged {
     steps: u64,
     pub last_action: Vec<f64>,
     pub default_pose: Vec<f64>,
-    scale: f64,
+    /// Action scale of each actuator (`[actions] scale`).
+    scale: Vec<f64>,
     pd: bool,
     /// nsite × 3 each: linvel, angvel, local linvel, local angvel, z axis, gravity.
     pub site: [Vec<f64>; 6],
@@ -114,12 +115,12 @@ impl Legged {
             command: vec![0.0; spec.command_dim],
             last_action: vec![0.0; nu],
             default_pose: vec![0.0; nu],
-            scale: 1.0,
+            scale: vec![1.0; nu],
             ..Default::default()
         };
         if let Some(a) = &spec.actions {
             l.pd = true;
-            l.scale = a.scale;
+            l.scale.clone_from(&a.scale);
             match &a.default_pose {
                 DefaultPose::Values(v) => l.default_pose.copy_from_slice(v),
                 DefaultPose::Keyframe { name, qposadr } => {
@@ -224,7 +225,7 @@ impl Legged {
     pub fn write_ctrl(&self, action: &[f64], ctrl: &mut [f64]) {
         if self.pd {
             for i in 0..ctrl.len() {
-                ctrl[i] = self.default_pose[i] + self.scale * action[i];
+                ctrl[i] = self.default_pose[i] + self.scale[i] * action[i];
             }
         } else {
             ctrl.copy_from_slice(action);
@@ -348,11 +349,17 @@ impl Legged {
         field: &dyn Fn(Field) -> &'a [f64],
         action: &[f64],
     ) -> f64 {
+        // The sum of the selections' norms, left to right (mjlab's `‖cmd_xy‖ + |cmd_wz|`).
+        let speed = |parts: &[Selection]| {
+            parts.iter().fold(0.0, |acc, p| {
+                let f = field(p.field);
+                acc + norm(numerics, p.len(), &|k| f[p.indices[k]])
+            })
+        };
         let gate = |g: &Option<Gate>| match g {
             None => 1.0,
             Some(g) => {
-                let f = field(g.command.field);
-                let n = norm(numerics, g.command.len(), &|k| f[g.command.indices[k]]);
+                let n = speed(&g.command);
                 let open = if g.below {
                     n < g.threshold
                 } else {
@@ -417,6 +424,44 @@ impl Legged {
                 pairwise_sum(f.geoms.len(), &|k| {
                     let (vx, vy) = (v[velocity.indices[2 * k]], v[velocity.indices[2 * k + 1]]);
                     (vx * vx + vy * vy) * f.contact[k] as u8 as f64
+                }) * gate(g)
+            }
+            LeggedTerm::Posture {
+                source,
+                minus,
+                speed: parts,
+                thresholds,
+                sigma,
+            } => {
+                let v = if parts.is_empty() { 0.0 } else { speed(parts) };
+                let regime = thresholds.iter().take_while(|&&t| v >= t).count();
+                let (x, m, std) = (field(source.field), field(minus.field), &sigma[regime]);
+                let n = source.len();
+                let s = pairwise_sum(n, &|k| {
+                    let d = x[source.indices[k]] - m[minus.indices[k]];
+                    d * d / (std[k] * std[k])
+                });
+                (-(s / n as f64)).exp()
+            }
+            LeggedTerm::FeetClearance {
+                height,
+                velocity,
+                target,
+                max_height,
+                power,
+                gate: g,
+            } => {
+                let (z, v) = (field(height.field), field(velocity.field));
+                pairwise_sum(height.len(), &|k| {
+                    let h = z[height.indices[k]].clamp(0.0, *max_height);
+                    let (vx, vy) = (v[velocity.indices[2 * k]], v[velocity.indices[2 * k + 1]]);
+                    let speed = (vx * vx + vy * vy).sqrt();
+                    let speed = if *power == 1.0 {
+                        speed
+                    } else {
+                        speed.powf(*power)
+                    };
+                    (h - target).abs() * speed
                 }) * gate(g)
             }
             LeggedTerm::JointLimits { source, joints, .. } => {

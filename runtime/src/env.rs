@@ -172,6 +172,8 @@ impl Sim {
             Field::Xpos => d.xpos().as_flattened(),
             Field::Xipos => d.xipos().as_flattened(),
             Field::SiteXpos => d.site_xpos().as_flattened(),
+            Field::SubtreeLinvel => d.subtree_linvel().as_flattened(),
+            Field::SubtreeAngmom => d.subtree_angmom().as_flattened(),
             Field::TenLength => d.ten_length(),
             Field::TenVelocity => d.ten_velocity(),
             Field::MassCenter => &self.mass_center,
@@ -248,6 +250,8 @@ pub struct Env {
     dt: f64,
     timestep: f64,
     uses_mass_center: bool,
+    /// A source reads `subtree_linvel` or `subtree_angmom` (`mj_subtreeVel` after the physics).
+    uses_subtree: bool,
     /// One scalar source per velocity term / velocity info entry.
     velocity_sources: Vec<Selection>,
     before: Vec<f64>,
@@ -409,6 +413,7 @@ impl Env {
             })
             .collect();
         let uses_mass_center = spec.reads(Field::MassCenter);
+        let uses_subtree = spec.reads(Field::SubtreeLinvel) || spec.reads(Field::SubtreeAngmom);
 
         let layout = |items: &mut dyn Iterator<Item = &InfoItem>| {
             let mut off = 0;
@@ -479,6 +484,7 @@ impl Env {
             dt,
             timestep,
             uses_mass_center,
+            uses_subtree,
             elapsed: 0,
             has_reset: false,
             reset_failure: None,
@@ -658,6 +664,7 @@ impl Env {
     pub(crate) fn read_also<'a>(&mut self, sources: impl Iterator<Item = &'a Selection>) {
         for s in sources {
             self.uses_mass_center |= s.field == Field::MassCenter;
+            self.uses_subtree |= s.field.needs_subtree_vel();
             if s.field.is_site_frame() {
                 self.sim.legged.enable_site_frames(self.sim.nsite);
             }
@@ -900,6 +907,12 @@ impl Env {
     fn derive_after_physics(&mut self) {
         if self.uses_mass_center {
             self.sim.update_mass_center();
+        }
+        if self.uses_subtree {
+            // mj_subtreeVel reads only the kinematics the physics just computed and takes stack
+            // space mj_step has already used; MuJoCo raises no error from it. A failure would
+            // leave the data reset, which the next step reports.
+            let _ = self.sim.call(Call::SubtreeVel);
         }
         self.sim.update_ten_j();
     }

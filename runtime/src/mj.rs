@@ -43,6 +43,8 @@ pub(crate) mod calls {
         SetConst,
         /// `n × mj_step`, then `mj_rnePostConstraint` when `rne`: one env step of physics.
         Step { n: u32, rne: bool },
+        /// `mj_subtreeVel`: `subtree_linvel` and `subtree_angmom` from the current kinematics.
+        SubtreeVel,
     }
 
     /// Run `call` on `data` and its own model. After an error the data is reset
@@ -60,6 +62,8 @@ pub(crate) mod calls {
             // SAFETY: as above; mj_setConst also writes the model's constants, which
             // `Call::SetConst`'s contract allows.
             Call::SetConst => mujoco_log::guard(|| unsafe { ffi::mj_setConst(m.cast_mut(), d) }),
+            // SAFETY: as above.
+            Call::SubtreeVel => mujoco_log::guard(|| unsafe { ffi::mj_subtreeVel(m, d) }),
             Call::Step { n, rne } => mujoco_log::guard(|| {
                 for _ in 0..n {
                     // SAFETY: as above.

@@ -3,7 +3,7 @@
 //! URDF files (MuJoCo reads both).
 
 use envspec::ir::{
-    ActuatorKind, AddedActuator, AddedElement, AddedGeomType, Integrator, ModelEdits,
+    ActuatorKind, AddedActuator, AddedElement, AddedGeomType, Integrator, ModelEdits, SolverOption,
 };
 use mujoco_rs::mujoco_c::mjtIntegrator;
 use mujoco_rs::prelude::*;
@@ -129,6 +129,20 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
             Integrator::Implicit => mjtIntegrator::mjINT_IMPLICIT,
             Integrator::ImplicitFast => mjtIntegrator::mjINT_IMPLICITFAST,
         } as i32;
+    }
+    for &(option, x) in &edits.solver {
+        let o = spec.option_mut();
+        // The resolver checked each value's range; integers are whole numbers.
+        match option {
+            SolverOption::Cone => o.cone = x as i32,
+            SolverOption::Iterations => o.iterations = x as i32,
+            SolverOption::LsIterations => o.ls_iterations = x as i32,
+            SolverOption::NoslipIterations => o.noslip_iterations = x as i32,
+            SolverOption::CcdIterations => o.ccd_iterations = x as i32,
+            SolverOption::Tolerance => o.tolerance = x,
+            SolverOption::LsTolerance => o.ls_tolerance = x,
+            SolverOption::Impratio => o.impratio = x,
+        }
     }
     for e in &edits.added {
         add_element(&mut spec, e)?;

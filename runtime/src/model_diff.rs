@@ -256,6 +256,25 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
         ("opt.integrator", oa.integrator as f64, ob.integrator as f64),
         ("opt.solver", oa.solver as f64, ob.solver as f64),
         ("opt.iterations", oa.iterations as f64, ob.iterations as f64),
+        (
+            "opt.ls_iterations",
+            oa.ls_iterations as f64,
+            ob.ls_iterations as f64,
+        ),
+        (
+            "opt.noslip_iterations",
+            oa.noslip_iterations as f64,
+            ob.noslip_iterations as f64,
+        ),
+        (
+            "opt.ccd_iterations",
+            oa.ccd_iterations as f64,
+            ob.ccd_iterations as f64,
+        ),
+        ("opt.tolerance", oa.tolerance, ob.tolerance),
+        ("opt.ls_tolerance", oa.ls_tolerance, ob.ls_tolerance),
+        ("opt.impratio", oa.impratio, ob.impratio),
+        ("opt.cone", oa.cone as f64, ob.cone as f64),
     ];
     for (n, x, y) in scalars {
         if x.to_bits() != y.to_bits() {

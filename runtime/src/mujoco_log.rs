@@ -114,6 +114,7 @@ pub(crate) mod ffi {
         pub fn mj_forward(m: *const mjModel, d: *mut mjData);
         pub fn mj_resetData(m: *const mjModel, d: *mut mjData);
         pub fn mj_rnePostConstraint(m: *const mjModel, d: *mut mjData);
+        pub fn mj_subtreeVel(m: *const mjModel, d: *mut mjData);
         pub fn mj_setConst(m: *mut mjModel, d: *mut mjData);
         pub fn mj_copyModel(dest: *mut mjModel, src: *const mjModel) -> *mut mjModel;
         pub fn mjv_makeScene(m: *const mjModel, scn: *mut mjvScene, maxgeom: i32);

@@ -4,7 +4,7 @@
 use super::change::Change;
 use super::rules::RuleId;
 use super::{Ctx, Pos, pos};
-use crate::ir::{Command, PdActions};
+use crate::ir::{Command, PdActions, ResolvedSpec};
 
 fn at(cx: &Ctx, old: bool, name: &str) -> Option<Pos> {
     let spec = if old { cx.old } else { cx.new };
@@ -133,7 +133,7 @@ pub(super) fn actions(cx: &mut Ctx) {
     let f = |x: Option<f64>| x.map_or("the model's".to_string(), |v| v.to_string());
     let mut out = vec![];
     let mapping = [
-        ("scale", o.scale.to_string(), n.scale.to_string()),
+        scale_change(&o.scale, &n.scale, cx.new_r),
         (
             "default_pose",
             format!("{:?}", o.default_pose),
@@ -161,4 +161,29 @@ pub(super) fn actions(cx: &mut Ctx) {
             .at(old_at.clone(), new_at.clone());
         cx.add(c);
     }
+}
+
+/// The scale aspect: one number when each side has one, else only the actuators whose scale
+/// differs, by name (a per-joint table changes a few of many).
+fn scale_change(o: &[f64], n: &[f64], r: &ResolvedSpec) -> (&'static str, String, String) {
+    let uniform = |s: &[f64]| s.windows(2).all(|w| w[0] == w[1]);
+    if o.len() != n.len() || (uniform(o) && uniform(n)) {
+        let text = |s: &[f64]| match s.first() {
+            Some(x) if uniform(s) => x.to_string(),
+            _ => format!("{s:?}"),
+        };
+        return ("scale", text(o), text(n));
+    }
+    let name = |i: usize| {
+        r.model
+            .actuators
+            .get(i)
+            .map_or_else(|| format!("actuator {i}"), |a| a.name.clone())
+    };
+    let (mut was, mut now) = (vec![], vec![]);
+    for i in (0..o.len()).filter(|&i| o[i].to_bits() != n[i].to_bits()) {
+        was.push(format!("{} {}", name(i), o[i]));
+        now.push(format!("{} {}", name(i), n[i]));
+    }
+    ("scale", was.join(", "), now.join(", "))
 }

@@ -116,6 +116,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     whole::reset_order(&mut cx);
     whole::terrain(&mut cx);
     whole::observation_refresh(&mut cx);
+    whole::physics_options(&mut cx);
     info::info_items(&mut cx);
     commands::commands(&mut cx);
     commands::actions(&mut cx);

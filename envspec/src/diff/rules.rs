@@ -289,7 +289,7 @@ rules! {
     ModelActuatorCountChanged = "model-actuator-count-changed", Action, true,
         "The number of actuators (nu, the action dimension) changed.";
     ModelOptionChanged = "model-option-changed", Dynamics, true,
-        "A physics option (timestep, gravity, density, viscosity, integrator, solver, iterations) changed.";
+        "A physics option (timestep, gravity, density, viscosity, integrator, solver, iterations and the other solver options) changed.";
     ModelArrayChanged = "model-array-changed", Dynamics, true,
         "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; actuator gear, gains, biases, dynamics, types and force range) differs (witness: the rows).";
     ModelActuatorArrayChanged = "model-actuator-array-changed", Action, true,
@@ -423,6 +423,9 @@ rules! {
         "A joint value of a keyframe changed: resets from it and default poses read from it move.";
     KeyframesResolvedChanged = "keyframes-resolved-changed", Reset, true,
         "A keyframe's text is unchanged but it resolves to other positions (the model or a pattern's matches changed).";
+    // `[physics]` solver options.
+    PhysicsOptionChanged = "physics-option-changed", Dynamics, true,
+        "A `[physics]` solver option (`cone`, `iterations`, `ls_iterations`, `noslip_iterations`, `ccd_iterations`, `tolerance`, `ls_tolerance`, `impratio`) was set, changed or removed: contacts and constraint forces are solved differently.";
     // When the observation is read (`[physics] forward_before_observation`).
     ObservationRefreshChanged = "observation-refresh-changed", Observation, true,
         "`[physics] forward_before_observation` changed: the observation reads the new state's kinematics (or the last physics substep's), so velocities, positions and contacts in it change.";

@@ -4,7 +4,7 @@
 use super::rules::RuleId;
 use super::{Change, Ctx, pos};
 use crate::describe;
-use crate::ir::ResolvedSpec;
+use crate::ir::{ResolvedSpec, SOLVER_OPTIONS, SolverOption};
 use crate::syntax::Spec;
 
 pub(super) fn reward_sum(cx: &mut Ctx) {
@@ -56,6 +56,35 @@ pub(super) fn reset_order(cx: &mut Ctx) {
             Change::new(RuleId::ResetDrawOrderChanged, "reset", "draw order")
                 .values(Some(a.join(", ")), Some(b.join(", "))),
         );
+    }
+}
+
+/// `[physics]` solver options, one change per key that differs, at its lines (the compiled
+/// model's `opt.*` witness the same change when models are compared).
+pub(super) fn physics_options(cx: &mut Ctx) {
+    let value = |r: &ResolvedSpec, o: SolverOption| {
+        r.model_edits
+            .solver
+            .iter()
+            .find(|(x, _)| *x == o)
+            .map(|(_, v)| v.to_string())
+    };
+    for &(key, option, _, _) in SOLVER_OPTIONS {
+        let (was, now) = (value(cx.old_r, option), value(cx.new_r, option));
+        if was != now {
+            let at = |s: &Spec| {
+                s.physics
+                    .as_ref()
+                    .and_then(|p| p.get(key))
+                    .map(|v| pos(&v.loc))
+            };
+            let unset = || Some("the model's".to_string());
+            cx.add(
+                Change::new(RuleId::PhysicsOptionChanged, "physics", key)
+                    .values(was.or_else(unset), now.or_else(unset))
+                    .at(at(cx.old), at(cx.new)),
+            );
+        }
     }
 }
 

@@ -118,6 +118,67 @@ impl Ctx<'_> {
     }
 
     /// `[actions]`: PD position targets over every actuator of the model.
+    /// `[actions] scale` as a table `joint pattern = scale` over the actuators' joints (mjlab's
+    /// per-actuator action scale); later rows win, each row matches a joint, and every actuator
+    /// gets a scale.
+    fn action_scales(&mut self, v: &Val) -> Option<Vec<f64>> {
+        let rows = v.as_table()?;
+        let joints: Vec<Option<String>> = self
+            .model
+            .actuators
+            .iter()
+            .map(|a| a.target.clone())
+            .collect();
+        let mut scale: Vec<Option<f64>> = vec![None; joints.len()];
+        for e in rows {
+            let x = self.num(&e.value, "[actions] scale")?;
+            let x = self.within(&e.value, x, "[actions] scale", limits::MAX_MAGNITUDE)?;
+            let hit: Vec<usize> = (0..joints.len())
+                .filter(|&k| {
+                    joints[k]
+                        .as_deref()
+                        .is_some_and(|j| crate::selector::glob(&e.key, j))
+                })
+                .collect();
+            if hit.is_empty() {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0160,
+                        format!(
+                            "`{}` matches the joint of none of the model's {} actuators",
+                            e.key,
+                            joints.len()
+                        ),
+                    )
+                    .at(e.key_loc.clone())
+                    .label("a glob pattern over the actuators' joint names (`*`: any run of characters, `?`: one)")
+                    .help_opt(suggest(&e.key, joints.iter().flatten().map(String::as_str))),
+                );
+                return None;
+            }
+            for k in hit {
+                scale[k] = Some(x);
+            }
+        }
+        if let Some(k) = scale.iter().position(Option::is_none) {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0132,
+                    format!(
+                        "[actions] scale covers {} of the model's {} actuators: no row matches actuator `{}`",
+                        scale.iter().filter(|x| x.is_some()).count(),
+                        scale.len(),
+                        self.model.actuators[k].name
+                    ),
+                )
+                .at(v.loc.clone())
+                .label("expected a row matching every actuator's joint (e.g. \"*\" = 0.25 first)"),
+            );
+            return None;
+        }
+        Some(scale.into_iter().flatten().collect())
+    }
+
     pub(super) fn actions(&mut self) -> Option<PdActions> {
         let s = self.spec.actions.as_ref()?;
         let nu = self.model.nu();
@@ -137,11 +198,12 @@ impl Ctx<'_> {
         }
         let max = limits::MAX_MAGNITUDE;
         let scale = match s.get("scale") {
+            Some(v) if v.as_table().is_some() => self.action_scales(v)?,
             Some(v) => {
                 let x = self.num(v, "[actions] scale")?;
-                self.within(v, x, "[actions] scale", max)?
+                vec![self.within(v, x, "[actions] scale", max)?; nu]
             }
-            None => 1.0,
+            None => vec![1.0; nu],
         };
         let range = match s.get("range") {
             Some(v) => {
@@ -347,6 +409,67 @@ impl Ctx<'_> {
         })
     }
 
+    /// The feet sites of a term (`sites = [...]`): their heights (`site_xpos` z) and their
+    /// world velocities' x and y (2 per site). `count`: the number of feet they must match.
+    fn feet_sites(&mut self, s: &Section, count: Option<usize>) -> Option<(Selection, Selection)> {
+        let Some(v) = s.get("sites") else {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0103,
+                    format!("missing `sites` in [reward.{}]", s.name),
+                )
+                .at(s.name_loc.clone())
+                .label("expected sites = [one site per foot]"),
+            );
+            return None;
+        };
+        let names: Vec<&Val> = match &v.kind {
+            ValKind::Array(a) if !a.is_empty() => a.iter().collect(),
+            _ => {
+                self.d.push(v.type_error("sites", "an array of site names"));
+                return None;
+            }
+        };
+        if let Some(n) = count
+            && names.len() != n
+        {
+            self.d.push(
+                Diagnostic::new(Code::E0134, format!("{} sites for {n} feet", names.len()))
+                    .at(v.loc.clone())
+                    .label("expected one site per foot geom, in the same order"),
+            );
+            return None;
+        }
+        let empty = |field| Selection {
+            field,
+            indices: vec![],
+            names: vec![],
+            text: String::new(),
+        };
+        let (mut height, mut velocity) = (empty(Field::SiteXpos), empty(Field::SiteLinvel));
+        for n in names {
+            let name = n.as_str().unwrap_or("?");
+            for (out, text) in [
+                (&mut height, format!("site_xpos[{name}][2]")),
+                (&mut velocity, format!("site_linvel[{name}][0:2]")),
+            ] {
+                let sel = self.selection(
+                    &Val {
+                        kind: ValKind::Str(text),
+                        loc: n.loc.clone(),
+                    },
+                    "sites",
+                )?;
+                out.indices.extend(sel.indices);
+                out.names.extend(sel.names);
+            }
+        }
+        let n = height.len();
+        height.text = format!("site_xpos z of {n} sites");
+        velocity.text = format!("site_linvel of {n} sites");
+        Some((height, velocity))
+    }
+
     fn gate(&mut self, s: &Section) -> Option<Option<Gate>> {
         let Some(v) = s.get("gate") else {
             return Some(None);
@@ -375,7 +498,7 @@ impl Ctx<'_> {
             );
             return None;
         };
-        let command = self.selection(&c.value, "gate.command")?;
+        let command = self.selections(&c.value, "gate.command")?;
         let threshold = self.num(&a.value, "gate threshold")?;
         Some(Some(Gate {
             command,
@@ -384,15 +507,294 @@ impl Ctx<'_> {
         }))
     }
 
+    /// One selector, or a non-empty array of them (whose norms a gate or a posture adds).
+    fn selections(&mut self, v: &Val, what: &str) -> Option<Vec<Selection>> {
+        match &v.kind {
+            ValKind::Array(a) if !a.is_empty() => a
+                .iter()
+                .map(|x| self.selection(x, what))
+                .collect::<Option<Vec<_>>>(),
+            ValKind::Array(_) => {
+                self.d
+                    .push(v.type_error(what, "a selector or a non-empty array of selectors"));
+                None
+            }
+            _ => Some(vec![self.selection(v, what)?]),
+        }
+    }
+
+    /// The joint of each element of a selection of hinge or slide joint positions (E0135 when
+    /// an element is not one), for the kinds that read joint ranges or names.
+    fn hinge_joints(
+        &mut self,
+        source: &Selection,
+        loc: &Location,
+        kind: &str,
+    ) -> Option<Vec<usize>> {
+        let mut joints = vec![];
+        for &i in &source.indices {
+            let j = (source.field == Field::Qpos)
+                .then(|| {
+                    self.model.joints.iter().position(|j| {
+                        j.qposadr == i && matches!(j.kind, JointKind::Hinge | JointKind::Slide)
+                    })
+                })
+                .flatten();
+            match j {
+                Some(j) => joints.push(j),
+                None => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0135,
+                            format!(
+                                "{kind} reads `{}`, which is not the position of a hinge or slide joint",
+                                source.text
+                            ),
+                        )
+                        .at(loc.clone())
+                        .label("expected qpos of hinge or slide joints, e.g. \"qpos[7:]\""),
+                    );
+                    return None;
+                }
+            }
+        }
+        Some(joints)
+    }
+
+    /// A posture's `std`: a table `joint pattern = width`, or an array of such tables (one per
+    /// speed regime). Each joint of `joints` matches exactly one pattern of each table
+    /// (mjlab's `resolve_matching_names_values`); every pattern matches a joint.
+    fn posture_std(&mut self, v: &Val, joints: &[usize]) -> Option<Vec<Vec<f64>>> {
+        let tables: Vec<&Val> = match &v.kind {
+            ValKind::Array(a) if !a.is_empty() => a.iter().collect(),
+            ValKind::Table(_) => vec![v],
+            _ => {
+                self.d.push(v.type_error(
+                    "std",
+                    "a table `joint pattern = width`, or an array of them (one per regime)",
+                ));
+                return None;
+            }
+        };
+        let names: Vec<String> = joints
+            .iter()
+            .map(|&j| self.model.joints[j].name.clone())
+            .collect();
+        let mut out = vec![];
+        for t in tables {
+            let Some(rows) = t.as_table() else {
+                self.d
+                    .push(t.type_error("std", "a table `joint pattern = width`"));
+                return None;
+            };
+            let mut width: Vec<Option<(f64, &str)>> = vec![None; names.len()];
+            for e in rows {
+                let x = self.num(&e.value, "std")?;
+                if !(x.is_finite() && x > 0.0) {
+                    self.d.push(
+                        Diagnostic::new(Code::E0135, format!("std {x} for `{}`", e.key))
+                            .at(e.value.loc.clone())
+                            .label("expected a finite width > 0"),
+                    );
+                    return None;
+                }
+                let hit: Vec<usize> = (0..names.len())
+                    .filter(|&k| crate::selector::glob(&e.key, &names[k]))
+                    .collect();
+                if hit.is_empty() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0160,
+                            format!(
+                                "`{}` matches none of the {} joints the posture reads",
+                                e.key,
+                                names.len()
+                            ),
+                        )
+                        .at(e.key_loc.clone())
+                        .label("a glob pattern over joint names (`*`: any run of characters, `?`: one)")
+                        .help_opt(suggest(&e.key, names.iter().map(String::as_str))),
+                    );
+                    return None;
+                }
+                for k in hit {
+                    if let Some((_, other)) = width[k] {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0135,
+                                format!(
+                                    "joint `{}` matches both `{other}` and `{}`",
+                                    names[k], e.key
+                                ),
+                            )
+                            .at(e.key_loc.clone())
+                            .label(
+                                "each joint takes its width from exactly one pattern of a table",
+                            ),
+                        );
+                        return None;
+                    }
+                    width[k] = Some((x, &e.key));
+                }
+            }
+            if let Some(k) = width.iter().position(Option::is_none) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0135,
+                        format!(
+                            "no pattern of this std table matches joint `{}` ({} of {} joints have a width)",
+                            names[k],
+                            width.iter().filter(|w| w.is_some()).count(),
+                            names.len()
+                        ),
+                    )
+                    .at(t.loc.clone())
+                    .label("every joint the posture reads needs a width"),
+                );
+                return None;
+            }
+            out.push(width.into_iter().flatten().map(|(x, _)| x).collect());
+        }
+        Some(out)
+    }
+
+    /// `kind = "feet_clearance"`.
+    fn feet_clearance_term(&mut self, s: &Section) -> Option<LeggedTerm> {
+        let (height, velocity) = self.feet_sites(s, None)?;
+        let mut num = |key: &str, default: Option<f64>, positive: bool| -> Option<f64> {
+            let Some(v) = s.get(key) else {
+                if default.is_none() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0103,
+                            format!("missing `{key}` in [reward.{}]", s.name),
+                        )
+                        .at(s.name_loc.clone())
+                        .label("expected target_height = the clearance in metres"),
+                    );
+                }
+                return default;
+            };
+            let x = self.num(v, key)?;
+            let ok = if positive { x > 0.0 } else { x >= 0.0 };
+            if !ok || x.is_nan() {
+                self.d.push(
+                    Diagnostic::new(Code::E0135, format!("feet_clearance {key} is {x}"))
+                        .at(v.loc.clone())
+                        .label(if positive {
+                            "expected a number > 0"
+                        } else {
+                            "expected a number ≥ 0"
+                        }),
+                );
+                return None;
+            }
+            Some(x)
+        };
+        let target = num("target_height", None, false)?;
+        let max_height = num("max_height", Some(f64::INFINITY), true)?;
+        let power = num("power", Some(1.0), false)?;
+        Some(LeggedTerm::FeetClearance {
+            height,
+            velocity,
+            target,
+            max_height,
+            power,
+            gate: self.gate(s)?,
+        })
+    }
+
+    /// `kind = "posture"`.
+    fn posture_term(&mut self, s: &Section) -> Option<LeggedTerm> {
+        let source = self.need_sel(s, "source")?;
+        let loc = s.get("source")?.loc.clone();
+        let joints = self.hinge_joints(&source, &loc, "posture")?;
+        let minus = self.need_sel(s, "minus")?;
+        if !self.same_len(&source, &minus, &s.get("minus")?.loc) {
+            return None;
+        }
+        let Some(std) = s.get("std") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `std` in [reward.{}]", s.name))
+                    .at(s.name_loc.clone())
+                    .label("expected std = { \"*\" = 0.3 } (joint pattern = width)"),
+            );
+            return None;
+        };
+        let sigma = self.posture_std(std, &joints)?;
+        let speed = match s.get("speed") {
+            Some(v) => self.selections(v, "speed")?,
+            None => vec![],
+        };
+        let thresholds = match s.get("thresholds") {
+            Some(v) => match &v.kind {
+                ValKind::Array(a) => a
+                    .iter()
+                    .map(|x| self.num(x, "thresholds"))
+                    .collect::<Option<Vec<_>>>()?,
+                _ => {
+                    self.d
+                        .push(v.type_error("thresholds", "an array of speeds"));
+                    return None;
+                }
+            },
+            None => vec![],
+        };
+        let ascending = thresholds.windows(2).all(|w| w[0] < w[1]);
+        if thresholds.len() + 1 != sigma.len()
+            || speed.is_empty() != thresholds.is_empty()
+            || !ascending
+            || thresholds.iter().any(|t| !t.is_finite())
+        {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0135,
+                    format!(
+                        "a posture with {} std tables needs {} ascending finite thresholds and a speed; {} thresholds were given{}",
+                        sigma.len(),
+                        sigma.len() - 1,
+                        thresholds.len(),
+                        if speed.is_empty() { ", no speed" } else { "" }
+                    ),
+                )
+                .at(std.loc.clone())
+                .label("regime r holds while speed < thresholds[r]; the last from the last threshold up"),
+            );
+            return None;
+        }
+        Some(LeggedTerm::Posture {
+            source,
+            minus,
+            speed,
+            thresholds,
+            sigma,
+        })
+    }
+
     /// The legged kinds of `[reward.*]` (None: not one of them, or an error was reported).
     pub(super) fn legged_term(&mut self, s: &Section) -> Option<TermKind> {
         let term = match s.kind("") {
             "tracking" => {
-                let source = self.need_sel(s, "source")?;
-                let target = self.need_sel(s, "target")?;
-                if !self.same_len(&source, &target, &s.get("target")?.loc) {
-                    return None;
-                }
+                // With `zero` alone (no source, no target) the kernel keeps a quantity near 0.
+                let alone = s.get("zero").is_some()
+                    && s.get("source").is_none()
+                    && s.get("target").is_none();
+                let (source, target) = if alone {
+                    let none = Selection {
+                        field: Field::Qpos,
+                        indices: vec![],
+                        names: vec![],
+                        text: String::new(),
+                    };
+                    (none.clone(), none)
+                } else {
+                    let source = self.need_sel(s, "source")?;
+                    let target = self.need_sel(s, "target")?;
+                    if !self.same_len(&source, &target, &s.get("target")?.loc) {
+                        return None;
+                    }
+                    (source, target)
+                };
                 let coefs = self.num_list(s, "coefs", source.len(), 1.0)?;
                 let sigma = match s.get("sigma") {
                     Some(v) => {
@@ -454,91 +856,19 @@ impl Ctx<'_> {
             }
             "feet_slip" => {
                 let feet = self.feet(s)?;
-                let Some(v) = s.get("sites") else {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0103,
-                            format!("missing `sites` in [reward.{}]", s.name),
-                        )
-                        .at(s.name_loc.clone())
-                        .label("expected sites = [one site per foot], whose velocities slip"),
-                    );
-                    return None;
-                };
-                let names: Vec<&Val> = match &v.kind {
-                    ValKind::Array(a) => a.iter().collect(),
-                    _ => {
-                        self.d.push(v.type_error("sites", "an array of site names"));
-                        return None;
-                    }
-                };
-                if names.len() != feet.geoms.len() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0134,
-                            format!("{} sites for {} feet", names.len(), feet.geoms.len()),
-                        )
-                        .at(v.loc.clone())
-                        .label("expected one site per foot geom, in the same order"),
-                    );
-                    return None;
-                }
-                let mut velocity = Selection {
-                    field: Field::SiteLinvel,
-                    indices: vec![],
-                    names: vec![],
-                    text: String::new(),
-                };
-                for n in names {
-                    let text = format!("site_linvel[{}][0:2]", n.as_str().unwrap_or("?"));
-                    let sel = self.selection(
-                        &Val {
-                            kind: ValKind::Str(text),
-                            loc: n.loc.clone(),
-                        },
-                        "sites",
-                    )?;
-                    velocity.indices.extend(sel.indices);
-                    velocity.names.extend(sel.names);
-                }
-                velocity.text = format!("site_linvel of {} sites", feet.geoms.len());
+                let (_, velocity) = self.feet_sites(s, Some(feet.geoms.len()))?;
                 LeggedTerm::FeetSlip {
                     feet,
                     velocity,
                     gate: self.gate(s)?,
                 }
             }
+            "feet_clearance" => self.feet_clearance_term(s)?,
+            "posture" => self.posture_term(s)?,
             "joint_limits" => {
                 let source = self.need_sel(s, "source")?;
                 let loc = s.get("source")?.loc.clone();
-                let mut joints = vec![];
-                for &i in &source.indices {
-                    let j = (source.field == Field::Qpos)
-                        .then(|| {
-                            self.model.joints.iter().position(|j| {
-                                j.qposadr == i
-                                    && matches!(j.kind, JointKind::Hinge | JointKind::Slide)
-                            })
-                        })
-                        .flatten();
-                    match j {
-                        Some(j) => joints.push(j),
-                        None => {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0135,
-                                    format!(
-                                        "joint_limits reads `{}`, which is not the position of a hinge or slide joint",
-                                        source.text
-                                    ),
-                                )
-                                .at(loc)
-                                .label("expected qpos of hinge or slide joints, e.g. \"qpos[7:]\""),
-                            );
-                            return None;
-                        }
-                    }
-                }
+                let joints = self.hinge_joints(&source, &loc, "joint_limits")?;
                 let factor = match s.get("factor") {
                     Some(v) => self.num(v, "factor")?,
                     None => 1.0,

@@ -3,7 +3,9 @@
 //! layout and the timestep already include them.
 
 use crate::diagnostic::{Code, Diagnostic, suggest};
-use crate::ir::{ActuatorKind, AddedActuator, Integrator, JointEdit, ModelEdits};
+use crate::ir::{
+    ActuatorKind, AddedActuator, Integrator, JointEdit, ModelEdits, SOLVER_OPTIONS, SolverOption,
+};
 use crate::mjcf::{Actuator, JointKind, ModelInfo};
 use crate::syntax::Section;
 use crate::value::{Val, ValKind};
@@ -46,6 +48,7 @@ impl Ctx<'_> {
                     .flag(v, "physics.forward_before_observation")
                     .unwrap_or(false);
             }
+            self.solver_options(p, &mut edits);
             if let Some(v) = p.get("integrator") {
                 match v.as_str() {
                     Some(s) => match Integrator::parse(s) {
@@ -62,6 +65,57 @@ impl Ctx<'_> {
             }
         }
         edits
+    }
+
+    /// `[physics]` solver options (`cone`, `iterations`, `impratio`, …): whole numbers where
+    /// MuJoCo's field is an integer, each at least its smallest value and at most the limits'.
+    fn solver_options(&mut self, p: &Section, edits: &mut ModelEdits) {
+        for &(key, option, whole, min) in SOLVER_OPTIONS {
+            let Some(v) = p.get(key) else { continue };
+            let x = if option == SolverOption::Cone {
+                match v.as_str() {
+                    Some("pyramidal") => 0.0,
+                    Some("elliptic") => 1.0,
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0104,
+                                format!("physics.cone is {}", v.to_toml()),
+                            )
+                            .at(v.loc.clone())
+                            .label("expected \"pyramidal\" or \"elliptic\""),
+                        );
+                        continue;
+                    }
+                }
+            } else {
+                let Some(x) = self.num(v, &format!("physics.{key}")) else {
+                    continue;
+                };
+                let max = if whole {
+                    crate::limits::MAX_SOLVER_ITERATIONS as f64
+                } else {
+                    crate::limits::MAX_MAGNITUDE
+                };
+                if !(x >= min && x <= max) || (whole && x.fract() != 0.0) {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!("physics.{key} is {x}, not in [{min}, {max}]"),
+                        )
+                        .at(v.loc.clone())
+                        .label(if whole {
+                            format!("expected a whole number from {min} to {max}")
+                        } else {
+                            format!("expected a number from {min:e} to {max:e}")
+                        }),
+                    );
+                    continue;
+                }
+                x
+            };
+            edits.solver.push((option, x));
+        }
     }
 
     fn actuator_section(&mut self, s: &Section, out: &mut Vec<AddedActuator>) {
