@@ -337,30 +337,6 @@ fn actuators_can_be_added_to_an_mjcf_model() {
     assert_eq!(env.action_space().dim(), 7);
 }
 
-#[test]
-fn reach_arm_from_the_cli() {
-    let out = std::process::Command::new(env!("CARGO"))
-        .args(["run", "-q", "-p", "envc-cli", "--", "show"])
-        .arg(reach_arm())
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        text.contains("nq 5, nv 5, nu 3, nbody 8; timestep 0.005"),
-        "{text}"
-    );
-    assert!(
-        text.contains("shoulder_lift        -> shoulder_lift"),
-        "{text}"
-    );
-}
-
 envc::env!(ReachArm = "fixtures/urdf/reach_arm.toml");
 
 #[test]

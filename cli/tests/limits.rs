@@ -313,6 +313,30 @@ fn an_env_without_a_time_limit_needs_max_steps() {
 }
 
 #[test]
+fn solver_iterations_have_a_limit() {
+    let dir = Scratch::new("solver");
+    for (iterations, code, what) in [
+        (
+            "100000",
+            "E0105",
+            "physics.iterations is 100000, not in [1, 10000]",
+        ),
+        ("0", "E0105", "physics.iterations is 0, not in [1, 10000]"),
+    ] {
+        let spec = dir.spec(
+            "hopper.toml",
+            &[(
+                "[params]",
+                &format!("[physics]\niterations = {iterations}\n\n[params]"),
+            )],
+            &[],
+        );
+        let text = refused(&envc(&["check", s(&spec)]), code);
+        assert!(text.contains(what), "{text}");
+    }
+}
+
+#[test]
 fn frame_skip_and_episode_length_have_limits_in_the_spec_and_in_overrides() {
     let dir = Scratch::new("steps");
     let spec = dir.spec("hopper.toml", &[], &[]);

@@ -1,7 +1,7 @@
 //! `envc show` says what the env computes without misleading: a cost that is a sum is
 //! printed in parentheses (InvertedDoublePendulum-v5's reference: `reward = alive_bonus −
 //! dist_penalty − vel_penalty`, `dist_penalty = 0.01·x² + (y − 2)²`), and an env with no health
-//! checks does not claim that an unhealthy state ends it.
+//! checks does not claim that an unhealthy state ends it. A URDF spec shows its compiled layout.
 
 use std::process::Command;
 
@@ -70,5 +70,22 @@ fn actuators_the_spec_adds_show_their_kind_and_gear() {
     assert!(
         out.contains("elbow                -> elbow                [-1, 1]  motor, gear 5 (added by the spec)"),
         "{out}"
+    );
+}
+
+#[test]
+fn a_urdf_spec_shows_its_compiled_layout() {
+    let spec = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/fixtures/urdf/reach_arm.toml"
+    );
+    let text = show(spec);
+    assert!(
+        text.contains("nq 5, nv 5, nu 3, nbody 8; timestep 0.005"),
+        "{text}"
+    );
+    assert!(
+        text.contains("shoulder_lift        -> shoulder_lift"),
+        "{text}"
     );
 }

@@ -393,13 +393,6 @@ impl Command {
 }
 
 impl PdActions {
-    /// The scale as one number when every actuator has the same, else one per actuator.
-    pub fn scale_text(&self) -> String {
-        match self.scale.split_first() {
-            Some((first, rest)) if rest.iter().all(|s| s == first) => first.to_string(),
-            _ => format!("{:?}", self.scale),
-        }
-    }
     /// What `envc show` prints under the action table.
     pub fn describe(&self) -> String {
         let pose = match &self.default_pose {
@@ -407,9 +400,18 @@ impl PdActions {
             DefaultPose::Values(v) => format!("{v:?}"),
         };
         let gain = |k: &str, v: Option<f64>| v.map(|x| format!(", {k} {x}")).unwrap_or_default();
+        let uniform = self.scale.windows(2).all(|w| w[0] == w[1]);
+        let scale = match self.scale.first() {
+            Some(x) if uniform => x.to_string(),
+            _ => "scale".to_string(),
+        };
+        let per_joint = if uniform {
+            ""
+        } else {
+            " (scale per actuator: the joints table)"
+        };
         format!(
-            "PD position targets: ctrl = default_pose + {} × action, default_pose from {pose}{}{}{}",
-            self.scale_text(),
+            "PD position targets: ctrl = default_pose + {scale} × action{per_joint}, default_pose from {pose}{}{}{}",
             gain("kp", self.kp),
             gain("kd", self.kd),
             gain("joint damping", self.damping)

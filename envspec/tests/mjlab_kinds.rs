@@ -40,7 +40,10 @@ fn error(test: &str, from: &str, to: &str) -> (Code, bool, String) {
     let e = &d.0[0];
     let original =
         std::fs::read_to_string(repo().join("specs/examples/mjlab_velocity_flat_g1.toml")).unwrap();
-    let line = original[..original.find(from).unwrap()].matches('\n').count() + 1;
+    let line = original[..original.find(from).unwrap()]
+        .matches('\n')
+        .count()
+        + 1;
     let at = e.position().expect("a position");
     let on_line = at.rsplit(':').nth(1) == Some(&line.to_string());
     (e.code, on_line, e.message.clone())
@@ -107,7 +110,10 @@ fn the_g1_example_resolves_scales_widths_and_solver_options() {
         panic!("upright")
     };
     assert!(source.is_empty());
-    assert_eq!(zero.as_ref().expect("zero").text, "site_gravity[torso][0:2]");
+    assert_eq!(
+        zero.as_ref().expect("zero").text,
+        "site_gravity[torso][0:2]"
+    );
 }
 
 #[test]

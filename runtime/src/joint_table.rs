@@ -13,6 +13,8 @@ pub struct JointRow {
     pub joint: String,
     /// The actuator's name and index in the action.
     pub actuator: Option<(String, usize)>,
+    /// The actuator's `[actions]` scale (target radians or metres per unit of action).
+    pub action_scale: Option<f64>,
     /// `position`, `velocity`, `motor` or `other` (from the gain and bias types).
     pub kind: &'static str,
     /// Position gain (position actuators).
@@ -64,6 +66,7 @@ pub fn joint_table(env: &Env) -> Vec<JointRow> {
                 .unwrap_or_default(),
             joint,
             actuator: None,
+            action_scale: None,
             kind: "-",
             kp: None,
             kv: None,
@@ -92,6 +95,7 @@ pub fn joint_table(env: &Env) -> Vec<JointRow> {
                 "other"
             };
             row.actuator = Some((name(m, mjtObj::mjOBJ_ACTUATOR, a), a));
+            row.action_scale = spec.actions.as_ref().and_then(|p| p.scale.get(a).copied());
             row.gear = Some(model.actuator_gear()[a][0]);
             let range = |r: [f64; 2]| (r[0], r[1]);
             row.ctrlrange =

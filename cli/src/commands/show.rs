@@ -317,7 +317,7 @@ fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
         r.map(|(a, b)| format!("[{}, {}]", num(a), num(b)))
             .unwrap_or("-".into())
     };
-    let cells: Vec<[String; 12]> = rows
+    let cells: Vec<[String; 13]> = rows
         .iter()
         .map(|r| {
             [
@@ -326,6 +326,7 @@ fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
                     .as_ref()
                     .map(|(n, i)| format!("{i}:{n}"))
                     .unwrap_or("-".into()),
+                opt(r.action_scale),
                 r.kind.to_string(),
                 opt(r.kp),
                 opt(r.kv),
@@ -346,6 +347,7 @@ fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
     let head = [
         "joint",
         "actuator",
+        "scale",
         "kind",
         "kp",
         "kv",
@@ -357,7 +359,7 @@ fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
         "frictionloss",
         "[joint_properties] rows",
     ];
-    let w: Vec<usize> = (0..12)
+    let w: Vec<usize> = (0..13)
         .map(|i| {
             cells
                 .iter()
