@@ -89,10 +89,10 @@ fn check(robot: &str) {
             f.nsite as usize,
         )
     };
+    // SAFETY: each call passes a data array with its length from the model's sizes.
+    let arr = |p: *const f64, n: usize| unsafe { std::slice::from_raw_parts(p, n) }.to_vec();
     let row = |env: &Env, stale: &Env, kind: &str, action: &[f64], reward: f64, done: bool| {
         let (d, s) = (env.data(), stale.data());
-        // SAFETY: each call below passes a data array with its length from the model's sizes.
-        let arr = |p: *const f64, n: usize| unsafe { std::slice::from_raw_parts(p, n) }.to_vec();
         let contacts: Vec<[i32; 2]> = (0..s.ncon as usize)
             // SAFETY: the contact list holds ncon contacts.
             .map(|c| unsafe { (*s.contact.add(c)).geom })
@@ -128,12 +128,22 @@ fn check(robot: &str) {
         // Small actions keep it walking-ish; large ones (past the soft limits) make it fall.
         let amp = if steps < 450 { 0.5 } else { 3.0 };
         let a: Vec<f64> = (0..nu).map(|_| rng.uniform(-amp, amp)).collect();
+        // What numpy needs to replay the step's physics substeps with MuJoCo itself.
+        let pre = {
+            let d = stale.data();
+            serde_json::json!({
+                "qpos": arr(d.qpos, nq), "qvel": arr(d.qvel, nv),
+                "qacc_warmstart": arr(d.qacc_warmstart, nv), "time": d.time,
+            })
+        };
         let s = env.step(&a).unwrap();
         let (r, term, done) = (s.reward, s.terminated, s.terminated || s.truncated);
         let t = stale.step(&a).unwrap();
         assert_eq!((t.reward.to_bits(), t.terminated), (r.to_bits(), term));
         assert_eq!(env.state(), stale.state(), "the forward changed the state");
-        rows.push(row(&env, &stale, "step", &a, r, term));
+        let mut step_row = row(&env, &stale, "step", &a, r, term);
+        step_row["pre"] = pre;
+        rows.push(step_row);
         if done {
             env.reset(None);
             stale.reset(None);

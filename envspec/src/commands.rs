@@ -151,6 +151,39 @@ pub enum LeggedTerm {
         /// When the term counts.
         gate: Option<Gate>,
     },
+    /// mjlab's `feet_swing_height`: `Σᵢ (peakᵢ / target − 1)² · landingᵢ`, gated. `peakᵢ` is
+    /// the highest `clamp(site zᵢ, 0, max_height)` seen at env steps while foot `i` was off the
+    /// floor, cleared at each landing (and, as mjlab's, kept across resets); `landingᵢ`: the foot
+    /// touched down during this env step's physics substeps and is still down.
+    FeetSwingHeight {
+        /// The feet and the floor.
+        feet: FeetContact,
+        /// `site_xpos` z of each foot site.
+        height: Selection,
+        /// The target peak height, metres (> 0).
+        target: f64,
+        /// The ray's length: heights are clamped to `[0, max_height]`.
+        max_height: f64,
+        /// When the term counts.
+        gate: Option<Gate>,
+    },
+    /// mjlab's `soft_landing`: `Σᵢ ‖Fᵢ‖ · landingᵢ`, gated: the net contact force of each foot
+    /// with the floor (world frame, summed over its contacts) when it lands (as
+    /// `FeetSwingHeight`).
+    SoftLanding {
+        /// The feet and the floor.
+        feet: FeetContact,
+        /// When the term counts.
+        gate: Option<Gate>,
+    },
+    /// mjlab's `self_collision_cost`: the number of this env step's physics substeps whose first
+    /// contact between two geoms of a body's subtree pushes harder than `threshold` newtons.
+    SelfCollisions {
+        /// The body whose subtree's geoms collide (the robot's root body: every self contact).
+        subtree: String,
+        /// Contact force norm (N) above which a substep counts.
+        threshold: f64,
+    },
     /// `Σₖ |xₖ − mₖ|`, optionally gated.
     SumAbs {
         /// The quantities `x`.
@@ -207,6 +240,9 @@ impl LeggedTerm {
         "joint_limits",
         "posture",
         "feet_clearance",
+        "feet_swing_height",
+        "soft_landing",
+        "self_collisions",
     ];
     /// The `kind` a spec writes for this term.
     pub fn kind_name(&self) -> &'static str {
@@ -219,6 +255,9 @@ impl LeggedTerm {
             LeggedTerm::JointLimits { .. } => "joint_limits",
             LeggedTerm::Posture { .. } => "posture",
             LeggedTerm::FeetClearance { .. } => "feet_clearance",
+            LeggedTerm::FeetSwingHeight { .. } => "feet_swing_height",
+            LeggedTerm::SoftLanding { .. } => "soft_landing",
+            LeggedTerm::SelfCollisions { .. } => "self_collisions",
         }
     }
     /// The term's gate, for the kinds that have one.
@@ -227,7 +266,9 @@ impl LeggedTerm {
             LeggedTerm::SumAbs { gate, .. }
             | LeggedTerm::FeetAirTime { gate, .. }
             | LeggedTerm::FeetSlip { gate, .. }
-            | LeggedTerm::FeetClearance { gate, .. } => gate.as_ref(),
+            | LeggedTerm::FeetClearance { gate, .. }
+            | LeggedTerm::FeetSwingHeight { gate, .. }
+            | LeggedTerm::SoftLanding { gate, .. } => gate.as_ref(),
             _ => None,
         }
     }
@@ -254,17 +295,34 @@ impl LeggedTerm {
             LeggedTerm::FeetClearance {
                 height, velocity, ..
             } => vec![height, velocity],
-            LeggedTerm::ActionRate | LeggedTerm::FeetAirTime { .. } => vec![],
+            LeggedTerm::FeetSwingHeight { height, .. } => vec![height],
+            LeggedTerm::ActionRate
+            | LeggedTerm::FeetAirTime { .. }
+            | LeggedTerm::SoftLanding { .. }
+            | LeggedTerm::SelfCollisions { .. } => vec![],
         };
         out.extend(self.gate().into_iter().flat_map(|g| &g.command));
         out
     }
-    /// The contact pairs the kernel reads.
+    /// The contact pairs the kernel reads after the env step (Playground's air time, slip).
     pub fn feet(&self) -> Option<&FeetContact> {
         match self {
             LeggedTerm::FeetAirTime { feet, .. } | LeggedTerm::FeetSlip { feet, .. } => Some(feet),
             _ => None,
         }
+    }
+    /// The contact pairs tracked at every physics substep (mjlab's landings).
+    pub fn landing_feet(&self) -> Option<&FeetContact> {
+        match self {
+            LeggedTerm::FeetSwingHeight { feet, .. } | LeggedTerm::SoftLanding { feet, .. } => {
+                Some(feet)
+            }
+            _ => None,
+        }
+    }
+    /// Whether the kernel needs contacts of every physics substep, not only of the last.
+    pub fn per_substep(&self) -> bool {
+        self.landing_feet().is_some() || matches!(self, LeggedTerm::SelfCollisions { .. })
     }
     /// The formula, for `envc show` and generated docs.
     pub fn formula(&self) -> String {
@@ -309,6 +367,27 @@ impl LeggedTerm {
                     source.text, minus.text
                 )
             }
+            LeggedTerm::FeetSwingHeight {
+                feet,
+                target,
+                max_height,
+                gate: g,
+                ..
+            } => format!(
+                "Σ (peak height in the air, clamped to {max_height} / {target} − 1)² · landing({} on {}){}",
+                feet.geoms.join(","),
+                feet.floor,
+                gate(g)
+            ),
+            LeggedTerm::SoftLanding { feet, gate: g } => format!(
+                "Σ ‖net contact force‖ · landing({} on {}){}",
+                feet.geoms.join(","),
+                feet.floor,
+                gate(g)
+            ),
+            LeggedTerm::SelfCollisions { subtree, threshold } => format!(
+                "substeps whose first contact within the subtree of {subtree} exceeds {threshold} N"
+            ),
             LeggedTerm::FeetClearance {
                 height,
                 target,

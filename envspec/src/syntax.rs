@@ -292,6 +292,19 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
         "feet_clearance",
         &["sites", "target_height", "max_height", "power", "gate"],
     ),
+    (
+        "feet_swing_height",
+        &[
+            "feet",
+            "floor",
+            "sites",
+            "target_height",
+            "max_height",
+            "gate",
+        ],
+    ),
+    ("soft_landing", &["feet", "floor", "gate"]),
+    ("self_collisions", &["subtree", "threshold"]),
 ];
 /// Keys of `[commands.<name>]`.
 pub const COMMAND_KEYS: &[&str] = &[

@@ -105,6 +105,8 @@ pub(crate) struct Legged {
     feet: Vec<Option<Feet>>,
     /// Per joint: the soft-limit range (`joint_limits` reads it), or None when unlimited.
     jnt_range: Vec<Option<(f64, f64)>>,
+    /// Contacts tracked at every physics substep (mjlab's landings and self contacts).
+    pub landings: crate::landings::Landings,
 }
 
 impl Legged {
@@ -134,6 +136,7 @@ impl Legged {
                 }
             }
         }
+        l.landings = crate::landings::Landings::new(spec, model)?;
         l.site_frames = spec.sources().any(|s| s.field.is_site_frame());
         if l.site_frames {
             l.site = std::array::from_fn(|_| vec![0.0; nsite * 3]);
@@ -256,6 +259,7 @@ impl Legged {
     /// Reset: zero the previous action and the feet state, draw every command.
     pub fn reset(&mut self, spec: &ResolvedSpec, rng: &mut NumpyRng) {
         self.last_action.fill(0.0);
+        self.landings.reset();
         self.steps = 0;
         for f in self.feet.iter_mut().flatten() {
             f.last_contact.fill(false);
@@ -464,6 +468,9 @@ impl Legged {
                     (h - target).abs() * speed
                 }) * gate(g)
             }
+            LeggedTerm::FeetSwingHeight { gate: g, .. }
+            | LeggedTerm::SoftLanding { gate: g, .. } => self.landings.kernel(i) * gate(g),
+            LeggedTerm::SelfCollisions { .. } => self.landings.kernel(i),
             LeggedTerm::JointLimits { source, joints, .. } => {
                 let x = field(source.field);
                 pairwise_sum(source.len(), &|k| match self.jnt_range[joints[k]] {

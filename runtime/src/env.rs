@@ -974,13 +974,29 @@ impl Env {
         let ctrl = self.sim.data.ctrl_mut();
         self.sim.legged.write_ctrl(&self.sim.action, ctrl);
         let (n, rne) = (self.spec.frame_skip, self.spec.needs_rne_post_constraint);
-        let stepped = self.sim.call(Call::Step { n, rne });
+        let stepped = if self.sim.legged.landings.active() {
+            // Substep by substep: mjlab's contact sensors are updated after each one.
+            self.sim.legged.landings.begin_step();
+            let mut stepped = Ok(());
+            for k in 0..n {
+                let rne = rne && k + 1 == n;
+                stepped = self.sim.call(Call::Step { n: 1, rne });
+                if stepped.is_err() {
+                    break;
+                }
+                self.sim.legged.landings.substep(&self.sim.data);
+            }
+            stepped
+        } else {
+            self.sim.call(Call::Step { n, rne })
+        };
         if let Err(message) = stepped {
             return Err(self.step_failed(message));
         }
         self.derive_after_physics();
         self.sim.legged.update_sites(&self.sim.data);
         self.sim.legged.update_contacts(&self.sim.data, self.dt);
+        self.sim.legged.landings.before_reward(&self.sim.data);
 
         let healthy = self.spec.health.iter().all(|c| self.check(c));
         for (i, t) in self.spec.reward.iter().enumerate() {

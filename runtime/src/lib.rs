@@ -29,6 +29,7 @@ pub mod gymnasium;
 pub mod inventory;
 pub mod joint_env;
 pub mod joint_table;
+mod landings;
 mod latency;
 pub mod maze;
 pub mod memory;

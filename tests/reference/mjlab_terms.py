@@ -55,7 +55,8 @@ ROBOTS = {
         pose=[{GO1_LEGS: 0.05, GO1_CALF: 0.1}, {GO1_LEGS: 0.3, GO1_CALF: 0.6}, {GO1_LEGS: 0.3, GO1_CALF: 0.6}],
         weights={"track_linear_velocity": 2.0, "track_angular_velocity": 2.0, "upright": 1.0,
                  "pose": 1.0, "dof_pos_limits": -1.0, "action_rate_l2": -0.1,
-                 "foot_clearance": -2.0, "foot_slip": -0.1},
+                 "foot_clearance": -2.0, "foot_slip": -0.1, "foot_swing_height": -0.25,
+                 "soft_landing": -1e-5},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=10.0,
                     cone=mujoco.mjtCone.mjCONE_ELLIPTIC),
     ),
@@ -67,7 +68,8 @@ ROBOTS = {
         weights={"track_linear_velocity": 2.0, "track_angular_velocity": 2.0, "upright": 1.0,
                  "pose": 1.0, "body_ang_vel": -0.05, "angular_momentum": -0.02,
                  "dof_pos_limits": -1.0, "action_rate_l2": -0.1, "foot_clearance": -2.0,
-                 "foot_slip": -0.1},
+                 "foot_slip": -0.1, "foot_swing_height": -0.25, "soft_landing": -1e-5,
+                 "self_collisions": -1.0},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=1.0,
                     cone=mujoco.mjtCone.mjCONE_PYRAMIDAL),
     ),
@@ -147,6 +149,62 @@ def main():
         return any((m.geom_bodyid[x] == b and y == floor) or (m.geom_bodyid[y] == b and x == floor)
                    for x, y in contacts)
 
+    # The physics substeps replayed with MuJoCo (mujoco.mj_step from the dumped pre-step state):
+    # mjlab's contact sensors are updated after each one (ManagerBasedRlEnv.step).
+    replay = mujoco.MjData(m)
+    frame_skip = 4
+    physics_dt = np.float32(m.opt.timestep)
+    feet_bodies = ([m.geom(f).bodyid[0] for f in feet_names] if feet_kind == "geom"
+                   else [m.body(f).id for f in feet_names])
+    foot_geoms = [[m.geom(f).id] if feet_kind == "geom"
+                  else [g for g in range(m.ngeom) if _descends_or_is(m, m.geom_bodyid[g], b)]
+                  for f, b in zip(feet_names, feet_bodies)]
+    floor_body = m.geom_bodyid[floor]
+    robot = [b for b in range(m.nbody) if _descends_or_is(m, b, root)]
+    # ContactSensor state: contact time (float32, as mjlab's tensors); the swing peaks
+    # (feet_swing_height's, never reset).
+    contact_time = np.zeros(len(feet_names), np.float32)
+    peak = np.zeros(len(feet_names))
+
+    def feet_found(d):
+        """Per foot: any contact between its geoms (mode geom or subtree) and the floor's body."""
+        out = []
+        for geoms in foot_geoms:
+            found = False
+            for c in d.contact[:d.ncon]:
+                g1, g2 = c.geom
+                if (g1 in geoms and m.geom_bodyid[g2] == floor_body) or \
+                   (g2 in geoms and m.geom_bodyid[g1] == floor_body):
+                    found = True
+            out.append(found)
+        return np.array(out)
+
+    def netforce(d, geoms):
+        """The contact sensor's netforce: the sum of the foot's contact forces, world frame, on
+        the foot."""
+        total = np.zeros(3)
+        f6 = np.zeros(6)
+        for k, c in enumerate(d.contact[:d.ncon]):
+            g1, g2 = c.geom
+            if g2 in geoms and m.geom_bodyid[g1] == floor_body:
+                sign = 1.0
+            elif g1 in geoms and m.geom_bodyid[g2] == floor_body:
+                sign = -1.0
+            else:
+                continue
+            mujoco.mj_contactForce(m, d, k, f6)
+            total += sign * (np.array(c.frame).reshape(3, 3).T @ f6[:3])
+        return np.linalg.norm(total)
+
+    def first_self_contact_force(d):
+        """num_slots = 1, reduce = "none": the first contact between two robot geoms, its force."""
+        f6 = np.zeros(6)
+        for k, c in enumerate(d.contact[:d.ncon]):
+            if m.geom_bodyid[c.geom[0]] in robot and m.geom_bodyid[c.geom[1]] in robot:
+                mujoco.mj_contactForce(m, d, k, f6)
+                return np.linalg.norm(f6[:3])
+        return None
+
     close = term_checks.Close("row")
     checked, regimes, gates, nonzero = 0, [0, 0, 0], {"active": 0, "inactive": 0}, {}
     n_obs = 9 + 3 * nu
@@ -163,9 +221,28 @@ def main():
         ok &= close("observation", obs, want, t)
         if r["kind"] == "reset":
             command = obs[n_obs:n_obs + 3]
+            contact_time[:] = 0.0  # ContactSensor.reset
             continue
         act = np.array(r["action"])
         ok &= close("ctrl", r["ctrl"], default + scale * act, t)
+        pre = r["pre"]
+        replay.qpos[:], replay.qvel[:] = pre["qpos"], pre["qvel"]
+        replay.qacc_warmstart[:], replay.time = pre["qacc_warmstart"], pre["time"]
+        replay.ctrl[:] = default + scale * act
+        self_hits = 0
+        for _ in range(frame_skip):
+            mujoco.mj_step(m, replay)
+            # ContactSensor._update_air_time_tracking(dt = physics_dt), float32 as mjlab's.
+            found_k = feet_found(replay)
+            contact_time = np.where(found_k, contact_time + physics_dt, np.float32(0.0))
+            f = first_self_contact_force(replay)
+            self_hits += f is not None and f > 10.0
+        if not np.array_equal(replay.qpos, np.array(r["fresh"]["qpos"])):
+            print(f"row {t}: MuJoCo's replay of the substeps left another state")
+            ok = False
+        # compute_first_contact(dt = step_dt): contact time in (0, dt + 1e-6).
+        first = (contact_time > 0.0) & (contact_time < np.float32(DT + 1e-6))
+        in_air = ~feet_found(replay)
         contacts = [tuple(c) for c in r["contacts"]]
         sqp = np.array(stale["qpos"])
         ang_b, lin_b = root_vel(stale)
@@ -199,6 +276,14 @@ def main():
             "foot_clearance": np.sum(np.abs(height - 0.1) * vel_norm) * float(active),
             "foot_slip": np.sum(np.square(vel_norm) * found) * float(active),
         }
+        # feet_swing_height: the peak while in the air, the cost at landing, the peak cleared.
+        peak = np.where(in_air, np.maximum(peak, height), peak)
+        terms["foot_swing_height"] = np.sum(np.square(peak / 0.1 - 1.0) * first) * float(active)
+        peak = np.where(first, 0.0, peak)
+        # soft_landing: the net force's norm at landing.
+        forces = np.array([netforce(replay, g) for g in foot_geoms])
+        terms["soft_landing"] = np.sum(forces * first) * float(active)
+        terms["self_collisions"] = float(self_hits)
         total = 0.0
         for k, w in W.items():
             v = terms[k.removeprefix("reward_")]
@@ -224,6 +309,10 @@ def main():
         print("a gate side, a posture regime or a term's nonzero case never occurred")
         sys.exit(1)
     print("all terms agree")
+
+
+def _descends_or_is(m, b, root):
+    return b == root or _descends(m, b, root)
 
 
 def _descends(m, b, root):

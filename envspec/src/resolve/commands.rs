@@ -864,6 +864,69 @@ impl Ctx<'_> {
                 }
             }
             "feet_clearance" => self.feet_clearance_term(s)?,
+            "feet_swing_height" => {
+                let feet = self.feet(s)?;
+                let (height, _) = self.feet_sites(s, Some(feet.geoms.len()))?;
+                let LeggedTerm::FeetClearance {
+                    target, max_height, ..
+                } = self.feet_clearance_term(s)?
+                else {
+                    return None;
+                };
+                if target <= 0.0 {
+                    let v = s.get("target_height")?;
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0135,
+                            format!("feet_swing_height target_height is {target}"),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected a height > 0 (the cost divides by it)"),
+                    );
+                    return None;
+                }
+                LeggedTerm::FeetSwingHeight {
+                    feet,
+                    height,
+                    target,
+                    max_height,
+                    gate: self.gate(s)?,
+                }
+            }
+            "soft_landing" => LeggedTerm::SoftLanding {
+                feet: self.feet(s)?,
+                gate: self.gate(s)?,
+            },
+            "self_collisions" => {
+                let Some(v) = s.get("subtree") else {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0103,
+                            format!("missing `subtree` in [reward.{}]", s.name),
+                        )
+                        .at(s.name_loc.clone())
+                        .label("expected subtree = \"<the robot's root body>\""),
+                    );
+                    return None;
+                };
+                let (name, is_body) = self.geom_name(v, "subtree")?;
+                if !is_body {
+                    self.d.push(
+                        Diagnostic::new(Code::E0134, format!("`{name}` is a geom, not a body"))
+                            .at(v.loc.clone())
+                            .label("expected the body whose subtree's geoms collide"),
+                    );
+                    return None;
+                }
+                let threshold = match s.get("threshold") {
+                    Some(v) => self.num(v, "threshold")?,
+                    None => 10.0,
+                };
+                LeggedTerm::SelfCollisions {
+                    subtree: name,
+                    threshold,
+                }
+            }
             "posture" => self.posture_term(s)?,
             "joint_limits" => {
                 let source = self.need_sel(s, "source")?;
