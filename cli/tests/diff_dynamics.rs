@@ -1,5 +1,5 @@
 //! `envc diff` misses no dynamics change: actuator gains and force ranges, joint armature and
-//! damping, keyframes, pushes, solver options, per-joint action scales, posture widths, a model
+//! damping, geom contact properties, keyframes, pushes, solver options, per-joint action scales, posture widths, a model
 //! change only the binary comparison sees, and a multi-agent default factorization. Each case is one file of `cli/tests/diff_golden/dynamics/` against
 //! `base.toml`; the reports are pinned in `cli/tests/diff_golden/dynamics.txt` (ENVC_BLESS=1
 //! regenerates it; review the change).
@@ -98,6 +98,15 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         &[
             "  ! [physics-option-changed] physics: iterations: was the model's, now 20 (cli/tests/diff_golden/dynamics/solver.toml:11)",
             "  ! [model-option-changed] model: opt.iterations: was 100, now 20",
+        ],
+    ),
+    (
+        "geoms_old.toml",
+        "geoms_new.toml",
+        3,
+        &[
+            "  ! [geom-properties-key-changed] geom_properties.foot: friction: was [0.8] (cli/tests/diff_golden/dynamics/geoms_old.toml:25), now [0.5] (cli/tests/diff_golden/dynamics/geoms_new.toml:25)",
+            "  ! [model-array-changed] model: geom_friction[foot]: was [0.8, 0.005, 0.0001], now [0.5, 0.005, 0.0001]",
         ],
     ),
     (

@@ -609,6 +609,11 @@ pub struct ModelEdits {
     /// Each `[joint_properties]` row resolved: its pattern, the joints it matches and the values
     /// it sets (parameters resolved), for `envc diff`.
     pub joint_rows: Vec<JointRow>,
+    /// Contact properties set by `[geom_properties]` rows (resolved per geom, model order).
+    pub geoms: Vec<GeomEdit>,
+    /// Each `[geom_properties]` row resolved: its pattern, the geoms it matches and the values it
+    /// sets, for `envc diff`.
+    pub geom_rows: Vec<JointRow>,
     /// Keyframes added after the model's own (`[keyframes.*]`).
     pub keyframes: Vec<SpecKeyframe>,
     /// `[terrain]`: a grid of generated tiles added to the world body.
@@ -724,6 +729,35 @@ pub struct JointEdit {
     pub frictionloss: Option<f64>,
     /// The `[joint_properties]` row (pattern) that set each value last, for `envc show`.
     pub rows: Vec<String>,
+}
+
+/// Contact properties of one geom set by the spec (`None`: the model's value stays). Arrays set
+/// their first entries only (`friction = [0.6]` sets the sliding friction).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GeomEdit {
+    /// The geom's name.
+    pub geom: String,
+    /// `contype`, `conaffinity`, `condim`, `priority`.
+    pub ints: [Option<i32>; 4],
+    /// `solmix`, `margin`, `gap`.
+    pub reals: [Option<f64>; 3],
+    /// `friction` (up to 3), `solref` (up to 2), `solimp` (up to 5): the leading entries set.
+    pub friction: Vec<f64>,
+    /// See `friction`.
+    pub solref: Vec<f64>,
+    /// See `friction`.
+    pub solimp: Vec<f64>,
+    /// The `[geom_properties]` rows (patterns) that set one of its values, in order.
+    pub rows: Vec<String>,
+}
+
+impl GeomEdit {
+    /// The integer keys, in the order of `ints`.
+    pub const INTS: [&'static str; 4] = ["contype", "conaffinity", "condim", "priority"];
+    /// The real keys, in the order of `reals`.
+    pub const REALS: [&'static str; 3] = ["solmix", "margin", "gap"];
+    /// The array keys with their most entries.
+    pub const ARRAYS: [(&'static str, usize); 3] = [("friction", 3), ("solref", 2), ("solimp", 5)];
 }
 
 /// A keyframe a spec declares (`[keyframes.<name>]`): the compiled model's `qpos0` (or the
@@ -850,6 +884,7 @@ impl ModelEdits {
             && self.solver.is_empty()
             && self.added.is_empty()
             && self.joints.is_empty()
+            && self.geoms.is_empty()
             && self.keyframes.is_empty()
     }
 }

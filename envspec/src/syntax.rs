@@ -96,6 +96,9 @@ pub struct Spec {
     /// `[joint_properties."<glob>"]`: joint and actuator properties by joint-name pattern, one
     /// section per row (its name is the pattern), in file order.
     pub joint_properties: Vec<Section>,
+    /// `[geom_properties."<glob>"]`: contact properties by geom-name pattern, one section per
+    /// row (its name is the pattern), in file order.
+    pub geom_properties: Vec<Section>,
     /// `[keyframes.<name>]`: keyframes added to the model, by joint name or pattern.
     pub keyframes: Vec<Section>,
     /// `[physics]`: simulation options set when the model is loaded.
@@ -208,6 +211,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "termination",
     "actuators",
     "joint_properties",
+    "geom_properties",
     "keyframes",
     "physics",
     "bodies",
@@ -438,6 +442,19 @@ pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["kv"]),
 ];
 const ACTUATOR_COMMON: &[&str] = &["joint", "kind", "gear", "ctrlrange", "forcerange", "doc"];
+/// Keys of a `[geom_properties]` row: MJCF's `<geom>` contact attributes of the same names.
+pub const GEOM_PROPERTY_KEYS: &[&str] = &[
+    "contype",
+    "conaffinity",
+    "condim",
+    "priority",
+    "friction",
+    "solref",
+    "solimp",
+    "solmix",
+    "margin",
+    "gap",
+];
 /// Keys of a `[joint_properties]` row: joint keys, then keys of the joints' added actuators.
 pub const JOINT_PROPERTY_KEYS: &[&str] = &[
     "armature",
@@ -551,6 +568,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         info: vec![],
         actuators: vec![],
         joint_properties: vec![],
+        geom_properties: vec![],
         keyframes: vec![],
         physics: None,
         added: vec![],
@@ -754,6 +772,15 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             &s.entries,
             JOINT_PROPERTY_KEYS,
             &format!("[joint_properties.\"{}\"]", s.name),
+            d,
+        );
+    }
+    spec.geom_properties = sections(get("geom_properties"), "geom_properties", &[], d);
+    for s in &spec.geom_properties {
+        check_keys(
+            &s.entries,
+            GEOM_PROPERTY_KEYS,
+            &format!("[geom_properties.\"{}\"]", s.name),
             d,
         );
     }

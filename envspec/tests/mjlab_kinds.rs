@@ -1,6 +1,7 @@
 //! The spec features mjlab's velocity tasks need, over the flat G1 example: per-joint action
-//! scales, posture widths by speed regime, solver options, feet clearance and command-speed gates
-//! resolve to what the spec says; each mistake is a located, coded error.
+//! scales, posture widths by speed regime, solver options, geom contact properties, feet
+//! clearance, landings, self contacts and command-speed gates resolve to what the spec says; each
+//! mistake is a located, coded error.
 
 use std::path::{Path, PathBuf};
 
@@ -105,6 +106,25 @@ fn the_g1_example_resolves_scales_widths_and_solver_options() {
     };
     assert_eq!((height.len(), *target, *max_height), (2, 0.1, 1.0));
     assert_eq!(gate.as_ref().expect("a gate").command.len(), 2);
+    // FULL_COLLISION: every collision geom (later rows win), the 14 foot capsules last.
+    let feet: Vec<_> = r
+        .model_edits
+        .geoms
+        .iter()
+        .filter(|g| g.geom.contains("_foot"))
+        .collect();
+    assert_eq!(feet.len(), 14);
+    assert_eq!(feet[0].ints, [Some(1), Some(1), Some(3), Some(1)]);
+    assert_eq!(feet[0].friction, [0.6]);
+    let pelvis = r
+        .model_edits
+        .geoms
+        .iter()
+        .find(|g| g.geom == "pelvis_collision");
+    assert_eq!(
+        pelvis.expect("pelvis").ints,
+        [Some(1), Some(1), Some(1), Some(0)]
+    );
     // upright: the tracking kernel with `zero` alone.
     let LeggedTerm::Tracking { source, zero, .. } = term(&r, "upright") else {
         panic!("upright")
@@ -221,6 +241,27 @@ fn action_scale_solver_and_clearance_mistakes_are_located_errors() {
             "missing `subtree` in [reward.self_collisions]",
         ),
         (
+            "geom_nothing",
+            r#""*_foot?_collision" = { condim"#,
+            r#""*_fot?_collision" = { condim"#,
+            Code::E0160,
+            "`*_fot?_collision` matches none of the 33 named geoms of",
+        ),
+        (
+            "geom_condim",
+            "condim = 3, priority = 1",
+            "condim = 2, priority = 1",
+            Code::E0161,
+            "geom_properties.\"*_foot?_collision\".condim is 2",
+        ),
+        (
+            "geom_friction",
+            "friction = [0.6] }",
+            "friction = [0.6, 0.1, 0.1, 0.1] }",
+            Code::E0161,
+            "geom_properties.\"*_foot?_collision\".friction has 4 numbers",
+        ),
+        (
             "clearance_power",
             "max_height = 1.0                          # foot_height_scan's max_distance:",
             "power = -1.0\nmax_height = 1.0                          # foot_height_scan's max_distance:",
@@ -230,6 +271,9 @@ fn action_scale_solver_and_clearance_mistakes_are_located_errors() {
     ];
     for (test, from, to, code, message) in cases {
         let (c, _, m) = error(test, from, to);
+        // Messages naming the model file are compared up to it.
+        let m = m.split(" .../").next().unwrap_or(&m).to_string();
+        let m = m.split(" /").next().unwrap_or(&m).to_string();
         assert_eq!((c, m.as_str()), (*code, *message), "{test}");
     }
     // The errors point at what was written.

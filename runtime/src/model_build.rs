@@ -158,6 +158,44 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
             .set_name(&k.name)
             .map_err(|e| format!("cannot add keyframe `{}`: {e}", k.name))?;
     }
+    for g in &edits.geoms {
+        let geom = spec
+            .geom_mut(&g.geom)
+            .ok_or_else(|| format!("no geom `{}` to set properties of", g.geom))?;
+        let [contype, conaffinity, condim, priority] = g.ints;
+        if let Some(x) = contype {
+            geom.set_contype(x);
+        }
+        if let Some(x) = conaffinity {
+            geom.set_conaffinity(x);
+        }
+        if let Some(x) = condim {
+            geom.set_condim(x);
+        }
+        if let Some(x) = priority {
+            geom.set_priority(x);
+        }
+        let [solmix, margin, gap] = g.reals;
+        if let Some(x) = solmix {
+            geom.set_solmix(x);
+        }
+        if let Some(x) = margin {
+            geom.set_margin(x);
+        }
+        if let Some(x) = gap {
+            geom.set_gap(x);
+        }
+        // The resolver keeps at most 3, 2 and 5 entries: the leading ones are set.
+        for (dst, src) in geom.friction_mut().iter_mut().zip(&g.friction) {
+            *dst = *src;
+        }
+        for (dst, src) in geom.solref_mut().iter_mut().zip(&g.solref) {
+            *dst = *src;
+        }
+        for (dst, src) in geom.solimp_mut().iter_mut().zip(&g.solimp) {
+            *dst = *src;
+        }
+    }
     for j in &edits.joints {
         let joint = spec
             .joint_mut(&j.joint)

@@ -59,6 +59,12 @@ ROBOTS = {
                  "soft_landing": -1e-5},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=10.0,
                     cone=mujoco.mjtCone.mjCONE_ELLIPTIC),
+        # go1_constants.FULL_COLLISION (first-match dicts over geom_names_expr's matches).
+        collision=dict(expr=r".*_collision\d*", contype=1, conaffinity=1,
+                       condim={r"^[FR][LR]_foot_collision$": 6, r".*_collision\d*": 1},
+                       priority={r"^[FR][LR]_foot_collision$": 1, ".*": 0},
+                       friction={r"^[FR][LR]_foot_collision$": (1, 5e-3, 5e-4)},
+                       solref=(0.01, 1)),
     ),
     "g1": dict(
         keyframe="knees_bent", imu="imu_in_pelvis", base="base", upright="torso", root="pelvis",
@@ -72,6 +78,12 @@ ROBOTS = {
                  "self_collisions": -1.0},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=1.0,
                     cone=mujoco.mjtCone.mjCONE_PYRAMIDAL),
+        # g1_constants.FULL_COLLISION.
+        collision=dict(expr=".*_collision", contype=1, conaffinity=1,
+                       condim={r"^(left|right)_foot[1-7]_collision$": 3, ".*_collision": 1},
+                       priority={r"^(left|right)_foot[1-7]_collision$": 1, ".*": 0},
+                       friction={r"^(left|right)_foot[1-7]_collision$": (0.6,)},
+                       solref=None),
     ),
 }
 
@@ -97,6 +109,7 @@ def main():
         if getattr(m.opt, k) != want:
             print(f"opt.{k}: envc {getattr(m.opt, k)} mjlab {want}")
             ok = False
+    ok &= check_collision(m, cfg["collision"])
     imu, base, up = (m.site(cfg[k]).id for k in ("imu", "base", "upright"))
     feet_names, feet_kind = cfg["feet"]
     floor = m.geom("floor").id
@@ -309,6 +322,33 @@ def main():
         print("a gate side, a posture regime or a term's nonzero case never occurred")
         sys.exit(1)
     print("all terms agree")
+
+
+def check_collision(m, c):
+    """CollisionCfg.edit_spec: every geom the expression matches gets the structural fields (a
+    dict's first matching pattern) and the patches (their leading entries); compared with the
+    compiled model's geom arrays."""
+    def first(field, name):
+        if not isinstance(field, dict):
+            return field
+        return next((v for k, v in field.items() if re.match(k, name)), None)
+
+    good = True
+    for g in range(m.ngeom):
+        name = m.geom(g).name
+        if not name or not re.match(c["expr"], name):
+            continue
+        for key, arr in [("contype", m.geom_contype), ("conaffinity", m.geom_conaffinity),
+                         ("condim", m.geom_condim), ("priority", m.geom_priority)]:
+            if arr[g] != first(c[key], name):
+                print(f"geom {name}: {key} envc {arr[g]} mjlab {first(c[key], name)}")
+                good = False
+        for key, arr in [("friction", m.geom_friction), ("solref", m.geom_solref)]:
+            want = first(c[key], name) if c[key] is not None else None
+            if want is not None and not np.array_equal(arr[g][:len(want)], want):
+                print(f"geom {name}: {key} envc {arr[g]} mjlab {want}")
+                good = False
+    return good
 
 
 def _descends_or_is(m, b, root):

@@ -153,6 +153,19 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     );
     sections::sections(
         &mut cx,
+        &sections::GEOM_PROPERTIES,
+        &old.geom_properties,
+        &new.geom_properties,
+        &|r: &ResolvedSpec, n: &str| {
+            r.model_edits
+                .geom_rows
+                .iter()
+                .find(|row| row.0 == n)
+                .map(|row| format!("{:?} {:?}", row.1, row.2))
+        },
+    );
+    sections::sections(
+        &mut cx,
         &sections::KEYFRAMES,
         &old.keyframes,
         &new.keyframes,

@@ -413,6 +413,16 @@ rules! {
         "A value of a `[joint_properties]` row changed; compatible when the resolved per-joint table is unchanged.";
     JointPropertiesResolvedChanged = "joint-properties-resolved-changed", Dynamics, true,
         "A `[joint_properties]` row's text is unchanged but it resolves differently (the model's joints or a parameter changed).";
+    GeomPropertiesAdded = "geom-properties-added", Dynamics, true,
+        "A `[geom_properties]` row was added: contact properties (contype, conaffinity, condim, priority, friction, solref, solimp, solmix, margin, gap) of the geoms it matches change.";
+    GeomPropertiesRemoved = "geom-properties-removed", Dynamics, true,
+        "A `[geom_properties]` row was removed: the geoms it matched fall back to earlier rows or the model.";
+    GeomPropertiesRenamed = "geom-properties-renamed", Dynamics, true,
+        "A `[geom_properties]` row's pattern changed (same values); compatible when it matches the same geoms with the same result.";
+    GeomPropertiesKeyChanged = "geom-properties-key-changed", Dynamics, true,
+        "A value of a `[geom_properties]` row changed; compatible when the resolved per-geom table is unchanged.";
+    GeomPropertiesResolvedChanged = "geom-properties-resolved-changed", Dynamics, true,
+        "A `[geom_properties]` row's text is unchanged but it resolves differently (the model's geoms changed).";
     KeyframesAdded = "keyframes-added", Reset, true,
         "A `[keyframes.*]` keyframe was added; compatible when nothing reads it.";
     KeyframesRemoved = "keyframes-removed", Reset, true,

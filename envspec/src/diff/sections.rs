@@ -167,6 +167,12 @@ fn describe_joint_properties(r: &ResolvedSpec, name: &str) -> Option<String> {
     })
 }
 
+fn describe_geom_properties(r: &ResolvedSpec, name: &str) -> Option<String> {
+    let row = r.model_edits.geom_rows.iter().find(|row| row.0 == name)?;
+    let set: Vec<String> = row.2.iter().map(|(k, v)| format!("{k} {v:?}")).collect();
+    Some(format!("{} on {} geoms", set.join(", "), row.1.len()))
+}
+
 fn describe_keyframe(r: &ResolvedSpec, name: &str) -> Option<String> {
     r.model_edits
         .keyframes
@@ -192,6 +198,15 @@ pub(super) const JOINT_PROPERTIES: Kind = Kind {
     key_changed: RuleId::JointPropertiesKeyChanged,
     resolved_changed: RuleId::JointPropertiesResolvedChanged,
     describe: describe_joint_properties,
+};
+pub(super) const GEOM_PROPERTIES: Kind = Kind {
+    name: "geom_properties",
+    added: RuleId::GeomPropertiesAdded,
+    removed: RuleId::GeomPropertiesRemoved,
+    renamed: RuleId::GeomPropertiesRenamed,
+    key_changed: RuleId::GeomPropertiesKeyChanged,
+    resolved_changed: RuleId::GeomPropertiesResolvedChanged,
+    describe: describe_geom_properties,
 };
 pub(super) const KEYFRAMES: Kind = Kind {
     name: "keyframes",
