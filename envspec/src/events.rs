@@ -12,6 +12,8 @@ pub enum EventField {
     BodyMass,
     /// `body_ipos` (the centre of mass in the body frame): x, y, z.
     BodyIpos,
+    /// One axis of `body_ipos` (0 x, 1 y, 2 z): per-axis ranges, as mjlab's `body_com_offset`.
+    BodyIposAxis(usize),
     /// `dof_damping` of every dof of the joint.
     JointDamping,
     /// `dof_armature` of every dof of the joint.
@@ -73,6 +75,9 @@ pub const FIELDS: &[(&str, EventField)] = &[
     ("geom_friction.rolling", EventField::GeomFriction(2)),
     ("body_mass", EventField::BodyMass),
     ("body_ipos", EventField::BodyIpos),
+    ("body_ipos.x", EventField::BodyIposAxis(0)),
+    ("body_ipos.y", EventField::BodyIposAxis(1)),
+    ("body_ipos.z", EventField::BodyIposAxis(2)),
     ("joint_damping", EventField::JointDamping),
     ("joint_armature", EventField::JointArmature),
     ("actuator_gain", EventField::ActuatorGain),
@@ -99,7 +104,9 @@ impl EventField {
     pub fn elements(self) -> ElementKind {
         match self {
             EventField::GeomFriction(_) => ElementKind::Geom,
-            EventField::BodyMass | EventField::BodyIpos => ElementKind::Body,
+            EventField::BodyMass | EventField::BodyIpos | EventField::BodyIposAxis(_) => {
+                ElementKind::Body
+            }
             EventField::JointDamping | EventField::JointArmature => ElementKind::Joint,
             EventField::ActuatorGain | EventField::ActuatorBias | EventField::ActuatorKp => {
                 ElementKind::Actuator
@@ -141,7 +148,10 @@ impl EventField {
     pub fn needs_set_const(self) -> bool {
         matches!(
             self,
-            EventField::BodyMass | EventField::BodyIpos | EventField::JointArmature
+            EventField::BodyMass
+                | EventField::BodyIpos
+                | EventField::BodyIposAxis(_)
+                | EventField::JointArmature
         )
     }
 }

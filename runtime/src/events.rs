@@ -120,6 +120,10 @@ fn layout(env: &str, e: &Event, m: &mjModel) -> Result<Vec<Value>, EnvError> {
                 out.push(one((Arr::GeomFriction, 3 * g + k), name.clone()));
             }
             EventField::BodyMass => out.push(one((Arr::BodyMass, el.index), name.clone())),
+            EventField::BodyIposAxis(k) => out.push(one(
+                (Arr::BodyIpos, 3 * el.index + k),
+                format!("{name}.{}", xyz[k]),
+            )),
             EventField::BodyIpos => {
                 for (k, c) in xyz.iter().enumerate() {
                     out.push(one(
