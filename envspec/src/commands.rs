@@ -153,8 +153,8 @@ pub enum LeggedTerm {
     },
     /// mjlab's `feet_swing_height`: `Σᵢ (peakᵢ / target − 1)² · landingᵢ`, gated. `peakᵢ` is
     /// the highest `clamp(site zᵢ, 0, max_height)` seen at env steps while foot `i` was off the
-    /// floor, cleared at each landing (and, as mjlab's, kept across resets); `landingᵢ`: the foot
-    /// touched down during this env step's physics substeps and is still down.
+    /// floor, cleared at each landing and at reset (mjlab keeps it across resets); `landingᵢ`: the
+    /// foot touched down during this env step's physics substeps and is still down.
     FeetSwingHeight {
         /// The feet and the floor.
         feet: FeetContact,

@@ -4,8 +4,9 @@
 //!
 //! A foot *lands* in an env step when it is on the floor at the last substep and has been for at
 //! most `frame_skip` substeps (mjlab's `compute_first_contact`: contact time in `(0, dt]`). The
-//! contact time restarts at reset, as the sensor's; a swing's peak height does not (mjlab's
-//! `feet_swing_height` keeps it).
+//! contact time restarts at reset, as the sensor's, and so does a swing's peak height: mjlab's
+//! `feet_swing_height` keeps it across resets (the term has no reset), which would make an
+//! episode depend on the one before and break `reset(seed)`'s promise of the same trajectory.
 
 use envspec::ir::{LeggedTerm, ResolvedSpec, TermKind};
 use mujoco_rs::mujoco_c::mjtObj;
@@ -163,12 +164,13 @@ impl Landings {
         self.terms.iter().any(Option::is_some)
     }
 
-    /// Reset: contact times restart (peaks stay, as mjlab's).
+    /// Reset: contact times and swing peaks restart.
     pub fn reset(&mut self) {
         for t in self.terms.iter_mut().flatten() {
             match t {
                 Tracked::Feet(f) => {
                     f.contact_substeps.fill(0);
+                    f.peak.fill(0.0);
                     f.value.fill(0.0);
                 }
                 Tracked::SelfContacts { hits, .. } => *hits = 0,

@@ -174,8 +174,7 @@ def main():
                   for f, b in zip(feet_names, feet_bodies)]
     floor_body = m.geom_bodyid[floor]
     robot = [b for b in range(m.nbody) if _descends_or_is(m, b, root)]
-    # ContactSensor state: contact time (float32, as mjlab's tensors); the swing peaks
-    # (feet_swing_height's, never reset).
+    # ContactSensor state: contact time (float32, as mjlab's tensors); the swing peaks.
     contact_time = np.zeros(len(feet_names), np.float32)
     peak = np.zeros(len(feet_names))
 
@@ -235,6 +234,9 @@ def main():
         if r["kind"] == "reset":
             command = obs[n_obs:n_obs + 3]
             contact_time[:] = 0.0  # ContactSensor.reset
+            # mjlab's feet_swing_height has no reset (its peaks cross episodes); envc clears them
+            # so that reset(seed) repeats a trajectory (docs/mjlab.md).
+            peak[:] = 0.0
             continue
         act = np.array(r["action"])
         ok &= close("ctrl", r["ctrl"], default + scale * act, t)
