@@ -299,8 +299,9 @@ fn net_force<M: ModelType>(
         };
         // k < ncon.
         let f = d.try_contact_force(k).unwrap_or_default();
-        // MuJoCo's contact force acts on the second geom; the frame's rows are the normal and
-        // the two tangents.
+        // The frame's rows are the normal (from the first geom to the second) and the two
+        // tangents; every contact of one foot with the floor is oriented the same way (on the
+        // foot), so the norm of the sum is the contact sensor's netforce.
         let sign = if second { 1.0 } else { -1.0 };
         for (j, t) in total.iter_mut().enumerate() {
             *t += sign * (f[0] * c.frame[j] + f[1] * c.frame[3 + j] + f[2] * c.frame[6 + j]);
