@@ -870,18 +870,54 @@ impl Ctx<'_> {
     }
 
     fn need_sel(&mut self, s: &Section, key: &str) -> Option<Selection> {
-        if s.get(key).is_none() {
+        self.need_key(s, key, &format!("expected a `{key}` selector"))?;
+        self.sel_key(s, key)
+    }
+
+    /// The indices of the names a glob pattern (`*`, `?`) matches. A pattern that matches none is
+    /// E0160 at `loc`, "`pattern` matches none of {what}", with the nearest name (a row that
+    /// selects nothing is almost always a typo).
+    fn glob_hits<'n>(
+        &mut self,
+        pattern: &str,
+        names: impl Iterator<Item = &'n str> + Clone,
+        loc: &Location,
+        what: &str,
+        label: &str,
+    ) -> Option<Vec<usize>> {
+        let hit: Vec<usize> = names
+            .clone()
+            .enumerate()
+            .filter(|(_, n)| selector::glob(pattern, n))
+            .map(|(i, _)| i)
+            .collect();
+        if hit.is_empty() {
+            self.d.push(
+                Diagnostic::new(Code::E0160, format!("`{pattern}` matches none of {what}"))
+                    .at(loc.clone())
+                    .label(label.to_string())
+                    .help_opt(suggest(pattern, names)),
+            );
+            return None;
+        }
+        Some(hit)
+    }
+
+    /// A required key of a `[reward.*]` term: its value, or E0103 at the table (`label` says what
+    /// belongs there).
+    fn need_key<'s>(&mut self, s: &'s Section, key: &str, label: &str) -> Option<&'s Val> {
+        let v = s.get(key);
+        if v.is_none() {
             self.d.push(
                 Diagnostic::new(
                     Code::E0103,
                     format!("missing `{key}` in [reward.{}]", s.name),
                 )
                 .at(s.name_loc.clone())
-                .label(format!("expected a `{key}` selector")),
+                .label(label.to_string()),
             );
-            return None;
         }
-        self.sel_key(s, key)
+        v
     }
 
     /// A list of `n` numbers (default: all `default`).

@@ -189,7 +189,7 @@ fn action_scale_solver_and_clearance_mistakes_are_located_errors() {
             r#""*_elbow_joint" = 0.43857731392336724,"#,
             r#""*_elbo_joint" = 0.43857731392336724,"#,
             Code::E0160,
-            "`*_elbo_joint` matches the joint of none of the model's 29 actuators",
+            "`*_elbo_joint` matches none of the joints of the model's 29 actuators",
         ),
         (
             "scale_uncovered",

@@ -133,29 +133,14 @@ impl Ctx<'_> {
         for e in rows {
             let x = self.num(&e.value, "[actions] scale")?;
             let x = self.within(&e.value, x, "[actions] scale", limits::MAX_MAGNITUDE)?;
-            let hit: Vec<usize> = (0..joints.len())
-                .filter(|&k| {
-                    joints[k]
-                        .as_deref()
-                        .is_some_and(|j| crate::selector::glob(&e.key, j))
-                })
-                .collect();
-            if hit.is_empty() {
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0160,
-                        format!(
-                            "`{}` matches the joint of none of the model's {} actuators",
-                            e.key,
-                            joints.len()
-                        ),
-                    )
-                    .at(e.key_loc.clone())
-                    .label("a glob pattern over the actuators' joint names (`*`: any run of characters, `?`: one)")
-                    .help_opt(suggest(&e.key, joints.iter().flatten().map(String::as_str))),
-                );
-                return None;
-            }
+            // Actuators without a joint take the empty name, which no pattern matches.
+            let hit = self.glob_hits(
+                &e.key,
+                joints.iter().map(|j| j.as_deref().unwrap_or("")),
+                &e.key_loc,
+                &format!("the joints of the model's {} actuators", joints.len()),
+                "a glob pattern over the actuators' joint names (`*`: any run of characters, `?`: one)",
+            )?;
             for k in hit {
                 scale[k] = Some(x);
             }
@@ -412,17 +397,7 @@ impl Ctx<'_> {
     /// The feet sites of a term (`sites = [...]`): their heights (`site_xpos` z) and their
     /// world velocities' x and y (2 per site). `count`: the number of feet they must match.
     fn feet_sites(&mut self, s: &Section, count: Option<usize>) -> Option<(Selection, Selection)> {
-        let Some(v) = s.get("sites") else {
-            self.d.push(
-                Diagnostic::new(
-                    Code::E0103,
-                    format!("missing `sites` in [reward.{}]", s.name),
-                )
-                .at(s.name_loc.clone())
-                .label("expected sites = [one site per foot]"),
-            );
-            return None;
-        };
+        let v = self.need_key(s, "sites", "expected sites = [one site per foot]")?;
         let names: Vec<&Val> = match &v.kind {
             ValKind::Array(a) if !a.is_empty() => a.iter().collect(),
             _ => {
@@ -598,25 +573,13 @@ impl Ctx<'_> {
                     );
                     return None;
                 }
-                let hit: Vec<usize> = (0..names.len())
-                    .filter(|&k| crate::selector::glob(&e.key, &names[k]))
-                    .collect();
-                if hit.is_empty() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0160,
-                            format!(
-                                "`{}` matches none of the {} joints the posture reads",
-                                e.key,
-                                names.len()
-                            ),
-                        )
-                        .at(e.key_loc.clone())
-                        .label("a glob pattern over joint names (`*`: any run of characters, `?`: one)")
-                        .help_opt(suggest(&e.key, names.iter().map(String::as_str))),
-                    );
-                    return None;
-                }
+                let hit = self.glob_hits(
+                    &e.key,
+                    names.iter().map(String::as_str),
+                    &e.key_loc,
+                    &format!("the {} joints the posture reads", names.len()),
+                    "a glob pattern over joint names (`*`: any run of characters, `?`: one)",
+                )?;
                 for k in hit {
                     if let Some((_, other)) = width[k] {
                         self.d.push(
@@ -661,18 +624,13 @@ impl Ctx<'_> {
     /// `kind = "feet_clearance"`.
     fn feet_clearance_term(&mut self, s: &Section) -> Option<LeggedTerm> {
         let (height, velocity) = self.feet_sites(s, None)?;
+        self.need_key(
+            s,
+            "target_height",
+            "expected target_height = the clearance in metres",
+        )?;
         let mut num = |key: &str, default: Option<f64>, positive: bool| -> Option<f64> {
             let Some(v) = s.get(key) else {
-                if default.is_none() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0103,
-                            format!("missing `{key}` in [reward.{}]", s.name),
-                        )
-                        .at(s.name_loc.clone())
-                        .label("expected target_height = the clearance in metres"),
-                    );
-                }
                 return default;
             };
             let x = self.num(v, key)?;
@@ -713,14 +671,11 @@ impl Ctx<'_> {
         if !self.same_len(&source, &minus, &s.get("minus")?.loc) {
             return None;
         }
-        let Some(std) = s.get("std") else {
-            self.d.push(
-                Diagnostic::new(Code::E0103, format!("missing `std` in [reward.{}]", s.name))
-                    .at(s.name_loc.clone())
-                    .label("expected std = { \"*\" = 0.3 } (joint pattern = width)"),
-            );
-            return None;
-        };
+        let std = self.need_key(
+            s,
+            "std",
+            "expected std = { \"*\" = 0.3 } (joint pattern = width)",
+        )?;
         let sigma = self.posture_std(std, &joints)?;
         let speed = match s.get("speed") {
             Some(v) => self.selections(v, "speed")?,
@@ -898,17 +853,11 @@ impl Ctx<'_> {
                 gate: self.gate(s)?,
             },
             "self_collisions" => {
-                let Some(v) = s.get("subtree") else {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0103,
-                            format!("missing `subtree` in [reward.{}]", s.name),
-                        )
-                        .at(s.name_loc.clone())
-                        .label("expected subtree = \"<the robot's root body>\""),
-                    );
-                    return None;
-                };
+                let v = self.need_key(
+                    s,
+                    "subtree",
+                    "expected subtree = \"<the robot's root body>\"",
+                )?;
                 let (name, is_body) = self.geom_name(v, "subtree")?;
                 if !is_body {
                     self.d.push(

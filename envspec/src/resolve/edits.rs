@@ -92,26 +92,19 @@ impl Ctx<'_> {
             .collect();
         for row in rows {
             let what = |k: &str| format!("geom_properties.\"{}\".{k}", row.name);
-            let hit: Vec<usize> = (0..geoms.len())
-                .filter(|&i| crate::selector::glob(&row.name, &geoms[i]))
-                .collect();
-            if hit.is_empty() {
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0160,
-                        format!(
-                            "`{}` matches none of the {} named geoms of {}",
-                            row.name,
-                            geoms.len(),
-                            self.model.path.display()
-                        ),
-                    )
-                    .at(row.name_loc.clone())
-                    .label("a glob pattern over geom names (`*`: any run of characters, `?`: one)")
-                    .help_opt(suggest(&row.name, geoms.iter().map(String::as_str))),
-                );
+            let Some(hit) = self.glob_hits(
+                &row.name,
+                geoms.iter().map(String::as_str),
+                &row.name_loc,
+                &format!(
+                    "the {} named geoms of {}",
+                    geoms.len(),
+                    self.model.path.display()
+                ),
+                "a glob pattern over geom names (`*`: any run of characters, `?`: one)",
+            ) else {
                 continue;
-            }
+            };
             let mut set: Vec<(String, Vec<f64>)> = vec![];
             let bad =
                 |d: &mut crate::diagnostic::Diagnostics, v: &Val, msg: String, label: &str| {

@@ -4,7 +4,7 @@
 use crate::diagnostic::{Code, Diagnostic, suggest};
 use crate::ir::{Distribution, ResetStep, SpecKeyframe};
 use crate::mjcf::JointKind;
-use crate::selector::{Field, Selection, glob};
+use crate::selector::{Field, Selection};
 use crate::syntax::Section;
 use crate::value::{Val, ValKind};
 
@@ -181,28 +181,20 @@ impl Ctx<'_> {
                 let Some(x) = self.num(&row.value, &what("joints")) else {
                     continue;
                 };
-                let hit: Vec<usize> = joints
-                    .iter()
-                    .filter(|(n, _)| glob(&row.key, n))
-                    .map(|(_, a)| *a)
-                    .collect();
-                if hit.is_empty() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0160,
-                            format!(
-                                "`{}` matches none of the {} hinge and slide joints of {}",
-                                row.key,
-                                joints.len(),
-                                self.model.path.display()
-                            ),
-                        )
-                        .at(row.key_loc.clone())
-                        .label("a joint name or glob pattern (`*`, `?`)")
-                        .help_opt(suggest(&row.key, joints.iter().map(|(n, _)| n.as_str()))),
-                    );
+                let Some(hit) = self.glob_hits(
+                    &row.key,
+                    joints.iter().map(|(n, _)| n.as_str()),
+                    &row.key_loc,
+                    &format!(
+                        "the {} hinge and slide joints of {}",
+                        joints.len(),
+                        self.model.path.display()
+                    ),
+                    "a joint name or glob pattern (`*`, `?`)",
+                ) else {
                     continue;
-                }
+                };
+                let hit: Vec<usize> = hit.into_iter().map(|i| joints[i].1).collect();
                 // Later rows win: the runtime writes the values in order.
                 k.values.extend(hit.into_iter().map(|a| (a, x)));
             }
