@@ -35,8 +35,10 @@ strip --strip-debug "$PKG/_bin/envc"
 patchelf --set-rpath '$ORIGIN/../../mujoco' "$PKG/_bin/envc"
 
 # The wheel. maturin's own repair would copy libmujoco into it; the mujoco wheel already has it.
+# `-i` and `--strip` as in scripts/setup.sh's `maturin develop`: the same PyO3 configuration and
+# profile, so only the extension crate is rebuilt (for ENVC_WHEEL), not PyO3 and numpy.
 rm -f "$OUT"/envc-*.whl
-ENVC_WHEEL=1 maturin build -q --release --locked --strip --features hdf5-static --auditwheel skip \
+ENVC_WHEEL=1 maturin build -q --release --locked --strip --features hdf5-static --auditwheel skip -i "$VENV/bin/python" \
   --compatibility "manylinux_${GLIBC_FLOOR/./_}" --out "$OUT" >/dev/null
 WHEEL="$(ls "$OUT"/envc-*.whl)"
 

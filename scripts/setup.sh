@@ -90,7 +90,11 @@ if ! cmp -s "$MJDIR/libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so.$MJ_VERSIO
   mv -f "$DEST/lib/.libmujoco.so.$MJ_VERSION.new" "$DEST/lib/libmujoco.so.$MJ_VERSION"
 fi
 ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-rs's build script looks for
-rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
+# The headers only when they differ: fresh timestamps alone would make build scripts that watch
+# them rerun.
+if ! diff -rq "$MJDIR/include" "$DEST/include" >/dev/null 2>&1; then
+  rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
+fi
 # The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
 # Cargo rebuilds only what changed, so re-running this is quick.
 # MuJoCo for crates outside this workspace (a crate that depends on envc builds with plain
@@ -99,8 +103,8 @@ if [ "$(id -u)" = 0 ]; then
   PYTHON="$PY" bash "$ROOT/scripts/install-mujoco.sh" /usr/local >/dev/null
 fi
 # Release builds link HDF5 built from source (`hdf5-static`), as the wheel does: the package
-# installed here and the wheel's are the same build.
-if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release --features hdf5-static 2>&1)"; then
+# installed here and the wheel's are the same build (`--strip` as scripts/build-wheel.sh).
+if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release --strip --features hdf5-static 2>&1)"; then
   echo "$out" >&2
   exit 1
 fi

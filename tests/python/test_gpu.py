@@ -15,6 +15,12 @@ import pytest
 os.environ.setdefault(
     "XLA_FLAGS", "--xla_backend_optimization_level=0 --xla_llvm_disable_expensive_passes=true"
 )
+# XLA's compiled programs kept between runs (keyed by program, flags and jax version): a warm
+# suite skips the compiles that are most of this file's time.
+os.environ.setdefault(
+    "JAX_COMPILATION_CACHE_DIR",
+    os.path.join(os.path.dirname(__file__), "..", "..", "target", "jax-cache"),
+)
 jax = pytest.importorskip("jax")
 pytest.importorskip("mujoco.mjx")
 

@@ -316,7 +316,7 @@ def test_a_killed_driver_leaves_nothing_loadable_and_a_rerun_starts_over(cluster
     _same_dataset(Path(one), root / "tests" / "k-v0")
 
 
-def test_ctrl_c_stops_the_driver_within_a_second_and_publishes_nothing(cluster, tmp_path):
+def test_ctrl_c_stops_the_driver_within_a_second_and_publishes_nothing(cluster, tmp_path, spawn):
     root = tmp_path / "root"
     script = textwrap.dedent(f"""
         import time, envc.ray
@@ -330,7 +330,7 @@ def test_ctrl_c_stops_the_driver_within_a_second_and_publishes_nothing(cluster, 
         except KeyboardInterrupt:
             print("interrupted", flush=True)
     """)
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    p = spawn([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     staging = root / ".envc-staging"
     deadline = time.time() + 90
     while not any(staging.glob("*/ds/data/2")):

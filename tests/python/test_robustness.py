@@ -190,7 +190,7 @@ def test_collect_refuses_more_episodes_than_the_cli(tmp_path):
     assert not any(tmp_path.iterdir())
 
 
-def test_collect_stops_on_ctrl_c_within_a_second(tmp_path):
+def test_collect_stops_on_ctrl_c_within_a_second(tmp_path, spawn):
     prog = textwrap.dedent(
         f"""
         import envc
@@ -202,7 +202,7 @@ def test_collect_stops_on_ctrl_c_within_a_second(tmp_path):
             print("interrupted", flush=True)
         """
     )
-    p = subprocess.Popen([sys.executable, "-c", prog], stdout=subprocess.PIPE, text=True)
+    p = spawn([sys.executable, "-c", prog], stdout=subprocess.PIPE, text=True)
     assert p.stdout.readline().strip() == "start"
     time.sleep(2.0)
     sent = time.monotonic()
@@ -215,7 +215,7 @@ def test_collect_stops_on_ctrl_c_within_a_second(tmp_path):
     assert not (tmp_path / "fz").exists()
 
 
-def test_a_long_vector_step_stops_on_ctrl_c_within_a_second():
+def test_a_long_vector_step_stops_on_ctrl_c_within_a_second(spawn):
     """One step of 48 Humanoids at frame_skip 1000 (that never end) takes seconds; Ctrl-C lands
     part-way (between envs), the env then needs a reset (E1103), and a reset makes it step again."""
     prog = textwrap.dedent(
@@ -244,7 +244,7 @@ def test_a_long_vector_step_stops_on_ctrl_c_within_a_second():
         print("stepped")
         """
     )
-    p = subprocess.Popen([sys.executable, "-c", prog], stdout=subprocess.PIPE, text=True)
+    p = spawn([sys.executable, "-c", prog], stdout=subprocess.PIPE, text=True)
     full = float(p.stdout.readline().split()[1])
     assert p.stdout.readline().strip() == "start"
     time.sleep(0.3)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # envc outside its checkout (scripts/test.sh runs this):
-#  1. the wheel of scripts/build-wheel.sh, installed into a fresh venv, run with the checkout hidden
+#  1. the wheel of scripts/build-wheel.sh, installed into a venv of its pinned dependencies, run with the checkout hidden
 #     under an empty tmpfs (a private mount namespace): tests/wheel/smoke.py against the live
 #     reference, then the `envc` command of the wheel;
 #  2. a hand-made crate (`cargo new` plus `envc = { path = ... }`) built with plain `cargo build`,
@@ -37,24 +37,45 @@ hidden() {
 
 "$ROOT/scripts/build-wheel.sh" "$WORK/dist" | tail -1
 WHEEL="$(ls "$WORK"/dist/envc-*.whl)"
-python3 -m venv "$WORK/venv"
 # The wheel and its extras (mazes, PettingZoo, Ray); minari reads the dataset back.
 # The reference's pins as constraints (extras dropped: pip refuses them there): the same versions
 # as the project venv, and its pip cache.
 sed 's/\[[^]]*\]//' "$ROOT/tests/reference/requirements.txt" > "$WORK/constraints.txt"
-"$WORK/venv/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
-  "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
+# The venv outlives a run: its dependencies are a pure function of the pins, the interpreter and
+# the wheel's declared requirements, so it is keyed by them and made fresh when any changes (a
+# dropped requirement included). The wheel itself is reinstalled every run, then the ordinary
+# install must find every requirement satisfied. Installing the dependencies is most of a minute.
+KEY="$( { cat "$WORK/constraints.txt"; python3 --version; python3 -c 'import sys, zipfile
+z = zipfile.ZipFile(sys.argv[1])
+meta = next(n for n in z.namelist() if n.endswith(".dist-info/METADATA"))
+print("\n".join(l for l in z.read(meta).decode().splitlines() if l.startswith("Requires-Dist")))' "$WHEEL"; } \
+  | sha256sum | cut -c1-16)"
+CACHE="${XDG_CACHE_HOME:-$HOME/.cache}/envc-tests"
+VENV="$CACHE/wheel-venv-$KEY"
+mkdir -p "$CACHE"
+find "$CACHE" -maxdepth 1 -name 'wheel-venv-*' ! -name "wheel-venv-$KEY" -exec rm -rf {} +
+if [ ! -e "$VENV/.complete" ]; then
+  rm -rf "$VENV"
+  python3 -m venv "$VENV"
+  "$VENV/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
+    "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
+  touch "$VENV/.complete"
+else
+  "$VENV/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps "$WHEEL"
+  "$VENV/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
+    "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
+fi
 cp "$ROOT/tests/wheel/smoke.py" "$WORK/smoke.py"
-hidden "MUJOCO_GL=egl '$WORK/venv/bin/python' '$WORK/smoke.py' '$VERSION' '$WORK'"
+hidden "MUJOCO_GL=egl '$VENV/bin/python' '$WORK/smoke.py' '$VERSION' '$WORK'"
 
 # The wheel's `envc` command: every subcommand the judges name, from the hidden checkout's side.
-E="$WORK/venv/bin/envc"
+E="$VENV/bin/envc"
 hidden "
   set -e
   test \"\$('$E' --version)\" = 'envc $VERSION'
   '$E' list | grep -q '^Ant-v5 '
-  '$E' info | grep -q 'installed: $WORK/venv/'
-  '$E' info | grep -q 'specs:     $WORK/venv/.*/envc/_bundle/specs (the installed package'
+  '$E' info | grep -q 'installed: $VENV/'
+  '$E' info | grep -q 'specs:     $VENV/.*/envc/_bundle/specs (the installed package'
   '$E' run Hopper-v5 --episodes 1 --seed 0 >/dev/null
   '$E' collect Hopper-v5 --dataset-id smoke/cli-v0 --episodes 2 --seed 0 --format hdf5 --root '$WORK/cli-datasets' >/dev/null
   test -d '$WORK/cli-datasets/smoke/cli-v0'
@@ -99,6 +120,6 @@ OUTSIDE="$ROOT/target/outside"
   CARGO_TARGET_DIR="$OUTSIDE" cargo build -q)
 cp "$OUTSIDE/debug/mybot" "$WORK/mybot-bin"
 got="$(hidden "'$WORK/mybot-bin'")"
-want="$("$WORK/venv/bin/python" "$ROOT/tests/reference/zero_action_episode.py")"
+want="$("$VENV/bin/python" "$ROOT/tests/reference/zero_action_episode.py")"
 [ "$got" = "$want" ] || { echo "hand-made crate: got '$got', the reference gives '$want'" >&2; exit 1; }
 echo "hand-made crate: plain cargo build, run with the checkout hidden: $got (as the reference)"
