@@ -33,8 +33,11 @@ fn flat(robot: &str, fresh: bool) -> Env {
             &format!("forward_before_observation = {fresh}"),
             1,
         );
-    let p = original.with_file_name(format!(
-        ".mjlab-terms-{robot}-{}-{fresh}.toml",
+    // Written outside the repository (a file written under `specs/`, even briefly, makes cargo
+    // rebuild envspec, which embeds that directory), so the model path is made absolute.
+    let text = text.replace("\"../../assets/", &format!("\"{ROOT}/assets/"));
+    let p = std::env::temp_dir().join(format!(
+        "envc-mjlab-terms-{robot}-{}-{fresh}.toml",
         std::process::id()
     ));
     std::fs::write(&p, text).unwrap();

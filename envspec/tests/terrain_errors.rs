@@ -11,17 +11,26 @@ fn repo() -> PathBuf {
         .to_path_buf()
 }
 
-/// The rough example with `from` replaced by `to`, loaded from beside the original (its model
-/// path is relative).
+/// A spec's text with its repository-relative model path made absolute, to be written outside the
+/// repository: a file written (even briefly) under `specs/` makes cargo rebuild envspec, which
+/// embeds that directory, and everything above it.
+fn absolute_model(text: &str) -> String {
+    text.replace(
+        "\"../../assets/",
+        &format!("\"{}/assets/", repo().display()),
+    )
+}
+
+/// The rough example with `from` replaced by `to`, loaded from a temporary file.
 fn errors(test: &str, from: &str, to: &str) -> Diagnostics {
     let original = repo().join("specs/examples/mjlab_velocity_rough_go1.toml");
     let text = std::fs::read_to_string(&original).expect("the rough spec");
     assert_eq!(text.matches(from).count(), 1, "`{from}` must occur once");
-    let p = original.with_file_name(format!(
-        ".terrain-errors-{}-{test}.toml",
+    let p = std::env::temp_dir().join(format!(
+        "envc-terrain-errors-{}-{test}.toml",
         std::process::id()
     ));
-    std::fs::write(&p, text.replacen(from, to, 1)).expect("write the spec");
+    std::fs::write(&p, absolute_model(&text.replacen(from, to, 1))).expect("write the spec");
     let r = load(&p, &[]);
     let _ = std::fs::remove_file(&p);
     match r {
@@ -126,8 +135,15 @@ fn terrain_origin_needs_a_terrain_and_rows_it_has() {
     let text = std::fs::read_to_string(&original).expect("the rough spec");
     let start = text.find("\n[terrain]\n").expect("[terrain]") + 1;
     let end = text.find("[sites.base]").expect("[sites.base]");
-    let p = original.with_file_name(format!(".terrain-errors-{}-none.toml", std::process::id()));
-    std::fs::write(&p, format!("{}{}", &text[..start], &text[end..])).expect("write");
+    let p = std::env::temp_dir().join(format!(
+        "envc-terrain-errors-{}-none.toml",
+        std::process::id()
+    ));
+    std::fs::write(
+        &p,
+        absolute_model(&format!("{}{}", &text[..start], &text[end..])),
+    )
+    .expect("write");
     let d = load(&p, &[]).expect_err("refused");
     let _ = std::fs::remove_file(&p);
     assert_eq!(d.codes(), [Code::E0162], "{}", d.0[0]);
