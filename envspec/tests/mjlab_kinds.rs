@@ -27,7 +27,7 @@ fn g1(test: &str, edits: &[(&str, &str)]) -> Result<ResolvedSpec, Diagnostics> {
         "envc-mjlab-kinds-{}-{test}.toml",
         std::process::id()
     ));
-    std::fs::write(&p, beside_nothing(&text)).expect("write the spec");
+    std::fs::write(&p, absolute_model(&text)).expect("write the spec");
     let r = load(&p, &[]);
     let _ = std::fs::remove_file(&p);
     r
@@ -36,7 +36,7 @@ fn g1(test: &str, edits: &[(&str, &str)]) -> Result<ResolvedSpec, Diagnostics> {
 /// A spec's text with its repository-relative model path made absolute, to be written outside the
 /// repository: a file written (even briefly) under `specs/` makes cargo rebuild envspec, which
 /// embeds that directory, and everything above it.
-fn beside_nothing(text: &str) -> String {
+fn absolute_model(text: &str) -> String {
     text.replace(
         "\"../../assets/",
         &format!("\"{}/assets/", repo().display()),
