@@ -12,8 +12,8 @@
 #   5. the Python package's tests (tests/python, pytest) against the live reference;
 #   6. live cross-checks: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
-# After the Rust tests, the checks run in two lanes at once (the Python package's, and the rest),
-# their lines marked [python] and [checks].
+# After the hygiene checks, the Python package's checks run in a lane of their own beside the Rust
+# tests, and then the rest in two more lanes; lines are marked [python], [rust], [checks], [live].
 # The reference and envc both read OPENBLAS_CORETYPE and NPY_*_CPU_FEATURES from the environment,
 # so every check holds for whatever this machine (or its environment) makes numpy compute.
 set -euo pipefail
@@ -32,21 +32,21 @@ passed() { echo "$1" >> "$PASSED"; echo "test.sh: check $(wc -l < "$PASSED") pas
 cargo fmt --all --check
 cargo clippy -q --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
-passed "hygiene (fmt, clippy, rustdoc)"
-# The Rust tests, but for the fuzzer's bounded pass (a fixed minute of wall time): it runs in the
-# second lane below, beside pytest, rather than holding up everything after it.
-cargo test --workspace -- --skip fuzz::fuzz
-passed "Rust tests"
-
-# What the lanes below run: the release CLI (the build the wheel ships) and the Python package
-# (setup.sh built it).
-cargo build -q --release --locked -p envc-cli --features hdf5-static   # the build the wheel ships
+# The extension's and the CLI's release builds ask for shared dependencies alike, so the second
+# reuses the first's (workspace-hack/Cargo.toml).
+"$PY" scripts/release_features.py
+passed "hygiene (fmt, clippy, rustdoc, release features)"
+# What the Python lane below needs besides the package setup.sh built: the release CLI (the build
+# the wheel ships, and pytest's `envc`). With workspace-hack's unified features it compiles only
+# the CLI's own crates on top of setup's extension build.
+cargo build -q --release --locked -p envc-cli --features hdf5-static
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
 
-# The rest in two lanes, one a core: the Python package's checks, and everything else. The checks
-# are independent of each other but for the order inside a lane (Ray runs in the first lane only:
-# pytest's clusters and the wheel's would find each other). Each lane's lines carry its name.
+# The rest in three lanes: the Python package's checks, the Rust-side checks, and the live
+# checks against the reference. The checks are independent of each other but for the order inside
+# a lane (Ray runs in the Python lane only: pytest's clusters and the wheel's would find each other).
+# Each lane's lines carry its name.
 lane_python() {
   # The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built.
   scripts/stubtest.sh
@@ -89,18 +89,10 @@ lane_checks() {
   scripts/gallery.sh --check
   passed "gallery"
 
-
   # The dispatch matrix (see 4. above).
   "$PY" tests/reference/record_numerics.py --matrix "$LIVE/numerics" --quick
   ENVC_NUMERICS_DIR="$LIVE/numerics" cargo test -q --workspace --test integration numerics::
   passed "numerics dispatch matrix"
-
-  # `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds):
-  # in this machine's environment, then with OpenBLAS forced to another kernel and numpy's AVX-512
-  # loops off, where the CPU can run them (suite, mazes, MaMuJoCo, and Minari datasets written by
-  # `envc collect` and replayed by the real minari).
-  # (target/debug/envc: built by `cargo test --workspace` above. Every later cargo command selects
-  # the whole workspace too, so features unify as they did there and nothing is rebuilt.)
 
   # A crate of one's own, outside the repository (`envc new`): builds and runs with plain `cargo run`
   # (no environment variables, nothing copied by hand), and its typed env's zero-action episode is
@@ -113,7 +105,15 @@ lane_checks() {
   [ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
   echo "envc new: $got (as the reference)"
   passed "envc new"
+}
 
+lane_live() {
+  # `envc rollout` checked against the reference from outside, as any other tool would (fresh seeds):
+  # in this machine's environment, then with OpenBLAS forced to another kernel and numpy's AVX-512
+  # loops off, where the CPU can run them (suite, mazes, MaMuJoCo, and Minari datasets written by
+  # `envc collect` and replayed by the real minari).
+  # (target/debug/envc: built by `cargo test --workspace` above. Every later cargo command selects
+  # the whole workspace too, so features unify as they did there and nothing is rebuilt.)
   "$PY" tests/reference/check_rollout.py --envc target/debug/envc
   passed "envc rollout, live"
   # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)
@@ -179,21 +179,36 @@ lane_checks() {
 
 }
 
-# Job control: each lane is a process group, so a failing lane stops the other at once.
+# Job control: each lane is a process group, so a failing lane stops the others at once.
+# The Python lane starts now; the Rust tests run beside it, and the two other lanes after them
+# (they read target/debug/envc and the test binaries the Rust tests build). Three lanes on two
+# cores: much of each lane is waiting (on a child process, a Ray cluster, the fuzzer's fixed
+# minute), and with two lanes a quarter of the cores' time went idle.
 set -m
 ( lane_python 2>&1 | sed -u 's/^/[python] /' ) &
-PY_LANE=$!
+LANES=("$!")
+fail() {
+  kill -- "${LANES[@]/#/-}" 2>/dev/null || true
+  wait || true
+  echo "test.sh: $(wc -l < "$PASSED") passed, 1 failed (the lane whose last lines are above)" >&2
+  exit "$1"
+}
+# The Rust tests, but for the fuzzer's bounded pass (a fixed minute of wall time): the checks lane
+# runs it, rather than holding up everything after it.
+status=0
+( cargo test --workspace -- --skip fuzz::fuzz 2>&1 | sed -u 's/^/[rust] /' ) || status=$?
+[ "$status" = 0 ] || fail "$status"
+passed "Rust tests"
 ( lane_checks 2>&1 | sed -u 's/^/[checks] /' ) &
-CHECKS_LANE=$!
-for _ in 1 2; do
+LANES+=("$!")
+( lane_live 2>&1 | sed -u 's/^/[live] /' ) &
+LANES+=("$!")
+while [ "${#LANES[@]}" -gt 0 ]; do
   status=0
-  wait -n || status=$?
-  if [ "$status" != 0 ]; then
-    kill -- -"$PY_LANE" -"$CHECKS_LANE" 2>/dev/null || true
-    wait || true
-    echo "test.sh: $(wc -l < "$PASSED") passed, 1 failed (the lane whose last lines are above)" >&2
-    exit "$status"
-  fi
+  wait -n -p done_pid "${LANES[@]}" || status=$?
+  [ "$status" = 0 ] || fail "$status"
+  for i in "${!LANES[@]}"; do [ "${LANES[$i]}" = "$done_pid" ] && unset 'LANES[i]'; done
+  LANES=("${LANES[@]}")
 done
 
 # A closing line in the plain "N passed, N failed" form, over the checks above.
