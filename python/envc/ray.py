@@ -44,6 +44,9 @@ MAX_ATTEMPTS = 4
 STALL_TIMEOUT_S = 900.0
 # The driver's longest single wait: Ctrl-C lands within it.
 POLL_S = 0.5
+# How long an interrupted or failed collection waits for its killed actors' processes to end
+# before removing the staging directory (they end in well under a second).
+KILL_WAIT_S = 5.0
 
 
 def _default_root() -> str:
@@ -145,6 +148,7 @@ def collect(
         spec_json, policy_fn is not None,
     )
     workers: list[Any] = []
+    running: dict[Any, tuple[int, tuple[int, int]]] = {}  # chunk in flight -> (worker, chunk)
     try:
         if not ray.is_initialized():
             ray.init(address=address, include_dashboard=False, log_to_driver=False)
@@ -157,7 +161,6 @@ def collect(
         n_chunks = len(pending)
         attempts: dict[tuple[int, int], int] = {}
         done_eps: list[tuple[int, int] | None] = [None] * episodes  # (steps, bytes) of each
-        running: dict[Any, tuple[int, tuple[int, int]]] = {}
         # A dead actor gets no chunk until it answers a ping (Ray restarts it, on another node
         # if its node is gone, once a CPU is free): a chunk handed to it at once could wait for
         # a CPU the live actors hold until the end, while they could run it.
@@ -259,12 +262,17 @@ def collect(
             )
         return directory
     finally:
-        driver.abort()  # after finish: nothing left to abort
+        # The actors go first: one still recording would write into the staging directory while
+        # `abort` removes it, and leave part of it behind. `ray.kill` only asks; a chunk in flight
+        # resolves (with the actor's death) once its process is gone, so those are waited for.
         for w in workers:
             try:
                 ray.kill(w)
             except Exception:  # noqa: BLE001 - an actor already gone
                 pass
+        if running:
+            ray.wait(list(running), num_returns=len(running), timeout=KILL_WAIT_S)
+        driver.abort()  # after finish: nothing left to abort
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -344,7 +344,8 @@ def test_ctrl_c_stops_the_driver_within_a_second_and_publishes_nothing(cluster, 
     assert p.wait(timeout=60) == 0
     assert took < 1.5, f"{took:.2f} s after SIGINT"
     assert not (root / "tests" / "int-v0").exists()
-    assert not any(staging.iterdir()) if staging.exists() else True
+    left = sorted(str(p.relative_to(staging)) for p in staging.rglob("*")) if staging.exists() else []
+    assert left == [], left
 
 
 def test_more_workers_than_the_cluster_has_cpus_for_finish_on_those_it_has(cluster, tmp_path):

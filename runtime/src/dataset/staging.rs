@@ -122,11 +122,22 @@ impl Staging {
     }
 }
 
+/// Attempts at removing a staging directory that entries keep appearing in (20 ms apart).
+const REMOVE_TRIES: u32 = 50;
+
 impl Drop for Staging {
     fn drop(&mut self) {
         // Only what is still ours: never remove what someone else now owns.
         if same_file(&self.dir_handle, &self.dir) {
-            let _ = fs::remove_dir_all(&self.dir);
+            // A sharded collection's worker that is still ending (killed, not yet gone) can add
+            // an entry while the tree is being removed, which then fails on the non-empty
+            // directory: a few more tries, briefly apart, remove what it added.
+            for _ in 0..REMOVE_TRIES {
+                if fs::remove_dir_all(&self.dir).is_ok() || !self.dir.exists() {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
         }
         if same_file(&self.lock, &self.lock_path) {
             let _ = fs::remove_file(&self.lock_path);
