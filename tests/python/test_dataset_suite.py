@@ -148,3 +148,32 @@ def test_policy_is_the_exported_mlp(spec):
         mu = z["mu_w"].astype(np.float64) @ x + z["mu_b"]
         want = (lo + 0.5 * (np.tanh(mu) + 1.0) * (hi - lo)).astype(np.float32)
         np.testing.assert_allclose(pol(obs), want, rtol=0, atol=1e-6)
+
+
+SUITE = ROOT / "specs" / "datasets" / "mujoco"
+
+
+def test_reference_scores_are_stored_wherever_an_expert_policy_is():
+    """An env whose expert tier's policy is committed has Minari's reference scores in every
+    tier, the same in each; one without has none (`get_normalized_score` would be made up)."""
+    for env_dir in sorted(p for p in SUITE.iterdir() if p.is_dir()):
+        tiers = {p.stem: tomllib.loads(p.read_text()) for p in sorted(env_dir.glob("*.toml"))}
+        expert = tiers["expert-v0"]
+        has_expert = (env_dir / expert["policy"]["file"]).exists()
+        scores = [t.get("reference_scores") for t in tiers.values()]
+        if has_expert:
+            assert scores[0] is not None and all(s == scores[0] for s in scores), env_dir.name
+            assert scores[0]["ref_max_score"] > scores[0]["ref_min_score"], env_dir.name
+        else:
+            assert all(s is None for s in scores), env_dir.name
+
+
+def test_reacher_reference_scores_are_minaris_computation():
+    """Reacher's stored scores recomputed live, as Minari computes them (its seeded random policy
+    and the expert policy, 100 episodes each, on Gymnasium's env): 2 × 5,000 steps."""
+    pytest.importorskip("minari")
+    spec = SUITE / "reacher" / "expert-v0.toml"
+    stored = tomllib.loads(spec.read_text())["reference_scores"]
+    got = envc.datasets.reference_scores(spec, episodes=stored["num_episodes_average_score"])
+    for k in ("ref_min_score", "ref_max_score"):
+        np.testing.assert_allclose(got[k], stored[k], rtol=1e-9, err_msg=k)
