@@ -13,7 +13,8 @@
 #   6. live cross-checks: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
 # After the hygiene checks, the Python package's checks run in a lane of their own beside the Rust
-# tests, and then the rest in two more lanes; lines are marked [python], [rust], [checks], [live].
+# tests, and then the rest in three more lanes; lines are marked [python], [rust], [checks],
+# [live] and [new].
 # The reference and envc both read OPENBLAS_CORETYPE and NPY_*_CPU_FEATURES from the environment,
 # so every check holds for whatever this machine (or its environment) makes numpy compute.
 set -euo pipefail
@@ -93,12 +94,17 @@ lane_checks() {
   "$PY" tests/reference/record_numerics.py --matrix "$LIVE/numerics" --quick
   ENVC_NUMERICS_DIR="$LIVE/numerics" cargo test -q --workspace --test integration numerics::
   passed "numerics dispatch matrix"
+}
 
+# Its own lane: on a fresh machine its crate's dependencies (a build of their own, as a user's
+# crate gets) take minutes, which beside the other lanes fill what they leave idle.
+lane_new() {
   # A crate of one's own, outside the repository (`envc new`): builds and runs with plain `cargo run`
   # (no environment variables, nothing copied by hand), and its typed env's zero-action episode is
   # the reference's (steps and return).
   target/debug/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
-  # (target/outside/: the crates of one's own share it, tests/wheel/run.sh's included.)
+  # (target/outside/: tests/wheel/run.sh's hand-made crate builds there too, plain, while this
+  # template optimizes its dependencies, so the two share the directory, not the builds.)
   got="$(cd "$LIVE/newbot" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
     CARGO_TARGET_DIR="$ROOT/target/outside" cargo run -q)"
   want="$("$PY" "$ROOT/tests/reference/zero_action_episode.py")"
@@ -181,7 +187,7 @@ lane_live() {
 
 # Job control: each lane is a process group, so a failing lane stops the others at once.
 # The Python lane starts now; the Rust tests run beside it, and the two other lanes after them
-# (they read target/debug/envc and the test binaries the Rust tests build). Three lanes on two
+# (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
 # cores: much of each lane is waiting (on a child process, a Ray cluster, the fuzzer's fixed
 # minute), and with two lanes a quarter of the cores' time went idle.
 set -m
@@ -202,6 +208,8 @@ passed "Rust tests"
 ( lane_checks 2>&1 | sed -u 's/^/[checks] /' ) &
 LANES+=("$!")
 ( lane_live 2>&1 | sed -u 's/^/[live] /' ) &
+LANES+=("$!")
+( lane_new 2>&1 | sed -u 's/^/[new] /' ) &
 LANES+=("$!")
 while [ "${#LANES[@]}" -gt 0 ]; do
   status=0

@@ -113,8 +113,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 EOF
-# Its dependencies build into the checkout's target/outside/, which scripts/test.sh's `envc new`
-# crate shares: both are plain crates of one's own, so a fresh machine builds envc for them once.
+# Its dependencies build into the checkout's target/outside/, kept between runs and shared with
+# scripts/test.sh's `envc new` crate (whose template optimizes its dependencies: separate builds).
 OUTSIDE="$ROOT/target/outside"
 (cd "$CRATE" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
   CARGO_TARGET_DIR="$OUTSIDE" cargo build -q)
