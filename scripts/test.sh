@@ -44,9 +44,11 @@ cargo build -q --release --locked -p envc-cli --features hdf5-static
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
 
-# The rest in three lanes: the Python package's checks, the Rust-side checks, and the live
-# checks against the reference. The checks are independent of each other but for the order inside
-# a lane (Ray runs in the Python lane only: pytest's clusters and the wheel's would find each other).
+# The rest in four lanes: the Python package's checks, the Rust-side checks, `envc new`'s crate,
+# and the live checks against the reference. The checks are independent of each other but for the order inside
+# a lane (Ray runs in the Python lane only: pytest's clusters and the wheel's would find each other;
+# the MaMuJoCo reference, used by pytest and the live lane, builds under a lock:
+# tests/reference/record_mamujoco.py).
 # Each lane's lines carry its name.
 lane_python() {
   # The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built.
@@ -186,7 +188,7 @@ lane_live() {
 }
 
 # Job control: each lane is a process group, so a failing lane stops the others at once.
-# The Python lane starts now; the Rust tests run beside it, and the two other lanes after them
+# The Python lane starts now; the Rust tests run beside it, and the three other lanes after them
 # (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
 # cores: much of each lane is waiting (on a child process, a Ray cluster, the fuzzer's fixed
 # minute), and with two lanes a quarter of the cores' time went idle.

@@ -26,6 +26,25 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import numerics_profile  # noqa: E402
 
 
+# The reference writes a many-segment scenario's model into its own package directory
+# (`many_segment_*_<n>_segments.auto.xml`), loads it and deletes it, so two processes building the
+# same scenario at once (scripts/test.sh runs pytest beside the live checks) delete each other's
+# file. Every process that imports this module builds the reference under one lock.
+_orig_multi_init = MultiAgentMujocoEnv.__init__
+
+
+def _locked_multi_init(self, *args, **kwargs):
+    import fcntl
+    import tempfile
+
+    with open(os.path.join(tempfile.gettempdir(), "envc-mamujoco-reference.lock"), "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        _orig_multi_init(self, *args, **kwargs)
+
+
+MultiAgentMujocoEnv.__init__ = _locked_multi_init
+
+
 # CoupledHalfCheetah reads the tendon Jacobian `ten_J` as the dense ntendon × nv matrix of MuJoCo
 # <= 3.5; MuJoCo 3.17 stores it sparse and the installed reference crashes. We run the reference's
 # own code with `data.ten_J` seen as the dense matrix (its original semantics), nothing else changed.
