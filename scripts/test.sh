@@ -12,17 +12,26 @@
 #   5. the Python package's tests (tests/python, pytest) against the live reference;
 #   6. live cross-checks: the Python reference records fresh trajectories under a new random seed
 #      and envc must reproduce them bit for bit. Set ENVC_LIVE_SEED to repeat a run.
-# After the hygiene checks, the Python package's checks run in a lane of their own beside the Rust
-# tests, and then the rest in three more lanes; lines are marked [python], [rust], [checks],
-# [live] and [new].
+# The set-up's release builds run beside the hygiene checks. Then the Python package's checks and
+# the crates outside the repository run in lanes of their own beside the Rust tests, and after
+# those the rest in two more lanes; lines are marked [setup], [python], [new], [rust], [checks]
+# and [live].
 # The reference and envc both read OPENBLAS_CORETYPE and NPY_*_CPU_FEATURES from the environment,
 # so every check holds for whatever this machine (or its environment) makes numpy compute.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
-bash scripts/setup.sh
+# What cargo needs (the toolchain, system packages, MuJoCo); the rest of the set-up (the reference's
+# venv, the Python package's release build) runs beside the hygiene checks below, and then the
+# release CLI (the build the wheel ships, and pytest's `envc`). With workspace-hack's unified
+# features the CLI compiles only its own crates on top of the extension's build.
+bash scripts/setup.sh --mujoco
+set -m
+( { bash scripts/setup.sh && cargo build -q --release --locked -p envc-cli --features hdf5-static; } 2>&1 \
+  | sed -u 's/^/[setup] /' ) &
+SETUP="$!"
 PY="$ROOT/.venv/bin/python"
-# Each check that passes is counted (in a file: the two lanes below are processes of their own),
+# Each check that passes is counted (in a file: the lanes below are processes of their own),
 # with the suite's elapsed time; `set -e` stops at the first that fails.
 LIVE="$(mktemp -d)"
 PASSED="$(mktemp)"
@@ -30,22 +39,28 @@ trap 'rm -rf "$LIVE" "$PASSED"' EXIT
 passed() { echo "$1" >> "$PASSED"; echo "test.sh: check $(wc -l < "$PASSED") passed, ${SECONDS}s: $1"; }
 
 # Hygiene first (it fails fastest): formatted, no clippy warnings (workspace lints in Cargo.toml), docs build without warnings.
-cargo fmt --all --check
-cargo clippy -q --workspace --all-targets -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
+# (Chained: `set -e` does not reach inside a function called with `||`.)
+hygiene() {
+  cargo fmt --all --check &&
+    cargo clippy -q --workspace --all-targets -- -D warnings &&
+    RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
+}
+status=0
+hygiene || status=$?
+if [ "$status" != 0 ]; then
+  kill -- "-$SETUP" 2>/dev/null || true
+  exit "$status"
+fi
+wait "$SETUP" || { echo "test.sh: the set-up or the release CLI build failed (lines marked [setup])" >&2; exit 1; }
 # The extension's and the CLI's release builds ask for shared dependencies alike, so the second
 # reuses the first's (workspace-hack/Cargo.toml).
 "$PY" scripts/release_features.py
 passed "hygiene (fmt, clippy, rustdoc, release features)"
-# What the Python lane below needs besides the package setup.sh built: the release CLI (the build
-# the wheel ships, and pytest's `envc`). With workspace-hack's unified features it compiles only
-# the CLI's own crates on top of setup's extension build.
-cargo build -q --release --locked -p envc-cli --features hdf5-static
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
 
-# The rest in four lanes: the Python package's checks, the Rust-side checks, `envc new`'s crate,
-# and the live checks against the reference. The checks are independent of each other but for the order inside
+# The rest in four lanes: the Python package's checks, the Rust-side checks, the crates outside the
+# repository, and the live checks against the reference. The checks are independent of each other but for the order inside
 # a lane (Ray runs in the Python lane only: pytest's clusters and the wheel's would find each other;
 # the MaMuJoCo reference, used by pytest and the live lane, builds under a lock:
 # tests/reference/record_mamujoco.py).
@@ -61,10 +76,10 @@ lane_python() {
   ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider tests/python
   passed "pytest"
 
-  # envc outside its checkout: the wheel of scripts/build-wheel.sh in a venv of its pinned dependencies, and a hand-made
-  # crate built with plain `cargo build`, both run with the checkout hidden (tests/wheel/run.sh).
+  # The wheel of scripts/build-wheel.sh outside its checkout, in a venv of its pinned dependencies,
+  # run with the checkout hidden (tests/wheel/run.sh).
   tests/wheel/run.sh "$LIVE/wheel"
-  passed "wheel and hand-made crate"
+  passed "wheel"
 }
 
 lane_checks() {
@@ -98,14 +113,14 @@ lane_checks() {
   passed "numerics dispatch matrix"
 }
 
-# Its own lane: on a fresh machine its crate's dependencies (a build of their own, as a user's
-# crate gets) take minutes, which beside the other lanes fill what they leave idle.
+# Crates outside the repository, in a lane of their own from the start: on a fresh machine their
+# dependencies (builds of their own, as a user's crate gets) take minutes.
 lane_new() {
-  # A crate of one's own, outside the repository (`envc new`): builds and runs with plain `cargo run`
-  # (no environment variables, nothing copied by hand), and its typed env's zero-action episode is
-  # the reference's (steps and return).
-  target/debug/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
-  # (target/outside/: tests/wheel/run.sh's hand-made crate builds there too, plain, while this
+  # A crate of one's own made by `envc new` (with the release CLI built above): builds and runs
+  # with plain `cargo run` (no environment variables, nothing copied by hand), and its typed env's
+  # zero-action episode is the reference's (steps and return).
+  target/release/envc new "$LIVE/newbot" --spec Hopper-v5 >/dev/null
+  # (target/outside/: tests/wheel/crate.sh's hand-made crate builds there too, plain, while this
   # template optimizes its dependencies, so the two share the directory, not the builds.)
   got="$(cd "$LIVE/newbot" && env -u MUJOCO_DYNAMIC_LINK_DIR -u MUJOCO_INCLUDE_DIR -u PKG_CONFIG_PATH \
     CARGO_TARGET_DIR="$ROOT/target/outside" cargo run -q)"
@@ -113,6 +128,9 @@ lane_new() {
   [ "$got" = "$want" ] || { echo "envc new: got '$got', the reference gives '$want'" >&2; exit 1; }
   echo "envc new: $got (as the reference)"
   passed "envc new"
+  # A hand-made crate (`envc = { path = ... }`, plain `cargo build`), run with the checkout hidden.
+  tests/wheel/crate.sh "$LIVE/crate"
+  passed "hand-made crate"
 }
 
 lane_live() {
@@ -187,14 +205,15 @@ lane_live() {
 
 }
 
-# Job control: each lane is a process group, so a failing lane stops the others at once.
-# The Python lane starts now; the Rust tests run beside it, and the three other lanes after them
-# (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
+# Job control (`set -m` above): each lane is a process group, so a failing lane stops the others at once.
+# The Python lane and the outside crates' lane start now; the Rust tests run beside them, and the
+# two other lanes after them (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
 # cores: much of each lane is waiting (on a child process, a Ray cluster, the fuzzer's fixed
 # minute), and with two lanes a quarter of the cores' time went idle.
-set -m
 ( lane_python 2>&1 | sed -u 's/^/[python] /' ) &
 LANES=("$!")
+( lane_new 2>&1 | sed -u 's/^/[new] /' ) &
+LANES+=("$!")
 fail() {
   kill -- "${LANES[@]/#/-}" 2>/dev/null || true
   wait || true
@@ -210,8 +229,6 @@ passed "Rust tests"
 ( lane_checks 2>&1 | sed -u 's/^/[checks] /' ) &
 LANES+=("$!")
 ( lane_live 2>&1 | sed -u 's/^/[live] /' ) &
-LANES+=("$!")
-( lane_new 2>&1 | sed -u 's/^/[new] /' ) &
 LANES+=("$!")
 while [ "${#LANES[@]}" -gt 0 ]; do
   status=0

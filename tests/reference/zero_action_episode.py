@@ -1,5 +1,5 @@
 """The reference's zero-action Hopper-v5 episode from seed 0, in the line the crates made by
-`envc new` (scripts/test.sh) and by hand (tests/wheel/run.sh) print."""
+`envc new` (scripts/test.sh) and by hand (tests/wheel/crate.sh) print."""
 
 import gymnasium as gym
 import numpy as np

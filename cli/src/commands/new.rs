@@ -173,7 +173,7 @@ fn cargo_toml(name: &str, repo: &Path) -> String {
     );
     let _ = writeln!(
         o,
-        "# MuJoCo-facing dependencies optimized in debug builds too (debug physics is ~10x slower).\n[profile.dev.package.\"*\"]\nopt-level = 2"
+        "# MuJoCo-facing dependencies optimized in debug builds too (debug physics is ~10x slower);\n# line tables only: backtraces keep files and lines, and the first build is faster.\n[profile.dev.package.\"*\"]\nopt-level = 2\ndebug = \"line-tables-only\""
     );
     o
 }
