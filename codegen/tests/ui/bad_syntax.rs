@@ -1,4 +1,4 @@
 // Not the macro's syntax: the spec path must be a string literal.
-envc::env!(specs::ant);
+envc_codegen::env!(specs::ant);
 
 fn main() {}

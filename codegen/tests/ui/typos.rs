@@ -1,4 +1,4 @@
 // Three misspelt names in one spec (a body, two parameters): all reported, each at its line.
-envc::env!("ui/typos.toml");
+envc_codegen::env!("ui/typos.toml");
 
 fn main() {}

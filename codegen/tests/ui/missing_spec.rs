@@ -1,4 +1,4 @@
 // A spec path that does not exist.
-envc::env!("ui/no_such_spec.toml");
+envc_codegen::env!("ui/no_such_spec.toml");
 
 fn main() {}

@@ -1,4 +1,4 @@
 // A misspelt key: located, with the keys that are allowed and the near miss.
-envc::env!("ui/unknown_key.toml");
+envc_codegen::env!("ui/unknown_key.toml");
 
 fn main() {}

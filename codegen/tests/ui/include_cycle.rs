@@ -1,4 +1,4 @@
 // A model that includes itself: the same located error as `envc check` and `envc diff REV:path`.
-envc::env!("ui/include_cycle.toml");
+envc_codegen::env!("ui/include_cycle.toml");
 
 fn main() {}
