@@ -21,15 +21,6 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
-# What cargo needs (the toolchain, system packages, MuJoCo); the rest of the set-up (the reference's
-# venv, the Python package's release build) runs beside the hygiene checks below, and then the
-# release CLI (the build the wheel ships, and pytest's `envc`). With workspace-hack's unified
-# features the CLI compiles only its own crates on top of the extension's build.
-bash scripts/setup.sh --mujoco
-set -m
-( { bash scripts/setup.sh && cargo build -q --release --locked -p envc-cli --features hdf5-static; } 2>&1 \
-  | sed -u 's/^/[setup] /' ) &
-SETUP="$!"
 PY="$ROOT/.venv/bin/python"
 # Each check that passes is counted (in a file: the lanes below are processes of their own),
 # with the suite's elapsed time; `set -e` stops at the first that fails.
@@ -37,6 +28,26 @@ LIVE="$(mktemp -d)"
 PASSED="$(mktemp)"
 trap 'rm -rf "$LIVE" "$PASSED"' EXIT
 passed() { echo "$1" >> "$PASSED"; echo "test.sh: check $(wc -l < "$PASSED") passed, ${SECONDS}s: $1"; }
+# Job control: every background job below is a process group of its own, so a failure stops the
+# others at once.
+set -m
+JOBS=()
+fail() {
+  kill -- "${JOBS[@]/#/-}" 2>/dev/null || true
+  wait || true
+  echo "test.sh: $(wc -l < "$PASSED") passed, 1 failed (the job whose last lines are above)" >&2
+  exit "$1"
+}
+
+# What cargo needs (the toolchain, system packages, MuJoCo); the rest of the set-up (the reference's
+# venv, the Python package's release build) runs beside the hygiene checks below, and then the
+# wheel (scripts/build-wheel.sh: the release CLI, the build it ships and pytest's `envc`, and the
+# extension again). With workspace-hack's unified features the CLI compiles only its own crates
+# on top of the extension's build.
+bash scripts/setup.sh --mujoco
+( { bash scripts/setup.sh && scripts/build-wheel.sh "$LIVE/dist" | tail -1; } 2>&1 | sed -u 's/^/[setup] /' ) &
+SETUP="$!"
+JOBS+=("$SETUP")
 
 # Hygiene first (it fails fastest): formatted, no clippy warnings (workspace lints in Cargo.toml), docs build without warnings.
 # (Chained: `set -e` does not reach inside a function called with `||`.)
@@ -47,11 +58,14 @@ hygiene() {
 }
 status=0
 hygiene || status=$?
-if [ "$status" != 0 ]; then
-  kill -- "-$SETUP" 2>/dev/null || true
-  exit "$status"
-fi
-wait "$SETUP" || { echo "test.sh: the set-up or the release CLI build failed (lines marked [setup])" >&2; exit 1; }
+[ "$status" = 0 ] || fail "$status"
+# The Rust tests' build while the set-up finishes (running them needs its venv).
+( cargo test -q --workspace --no-run 2>&1 | sed -u 's/^/[rust] /' ) &
+BUILD="$!"
+JOBS+=("$BUILD")
+status=0
+wait "$SETUP" || status=$?
+[ "$status" = 0 ] || fail "$status"
 # The extension's and the CLI's release builds ask for shared dependencies alike, so the second
 # reuses the first's (workspace-hack/Cargo.toml).
 "$PY" scripts/release_features.py
@@ -66,6 +80,9 @@ echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats
 # tests/reference/record_mamujoco.py).
 # Each lane's lines carry its name.
 lane_python() {
+  # The wheel's venv of its pinned dependencies (a minute of pip) is made meanwhile.
+  tests/wheel/run.sh --prebuilt "$LIVE/dist" --venv-only "$LIVE/wheel" > "$LIVE/wheel-venv.log" 2>&1 &
+  local venv="$!"
   # The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built.
   scripts/stubtest.sh
   passed "stubs (mypy stubtest)"
@@ -78,7 +95,8 @@ lane_python() {
 
   # The wheel of scripts/build-wheel.sh outside its checkout, in a venv of its pinned dependencies,
   # run with the checkout hidden (tests/wheel/run.sh).
-  tests/wheel/run.sh "$LIVE/wheel"
+  wait "$venv" || { cat "$LIVE/wheel-venv.log"; exit 1; }
+  tests/wheel/run.sh --prebuilt "$LIVE/dist" "$LIVE/wheel"
   passed "wheel"
 }
 
@@ -205,7 +223,7 @@ lane_live() {
 
 }
 
-# Job control (`set -m` above): each lane is a process group, so a failing lane stops the others at once.
+# Each lane is a process group (`set -m` above), so a failing lane stops the others at once.
 # The Python lane and the outside crates' lane start now; the Rust tests run beside them, and the
 # two other lanes after them (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
 # cores: much of each lane is waiting (on a child process, a Ray cluster, the fuzzer's fixed
@@ -214,12 +232,10 @@ lane_live() {
 LANES=("$!")
 ( lane_new 2>&1 | sed -u 's/^/[new] /' ) &
 LANES+=("$!")
-fail() {
-  kill -- "${LANES[@]/#/-}" 2>/dev/null || true
-  wait || true
-  echo "test.sh: $(wc -l < "$PASSED") passed, 1 failed (the lane whose last lines are above)" >&2
-  exit "$1"
-}
+JOBS+=("${LANES[@]}")
+status=0
+wait "$BUILD" || status=$?
+[ "$status" = 0 ] || fail "$status"
 # The Rust tests, but for the fuzzer's bounded pass (a fixed minute of wall time): the checks lane
 # runs it, rather than holding up everything after it.
 status=0
@@ -230,6 +246,7 @@ passed "Rust tests"
 LANES+=("$!")
 ( lane_live 2>&1 | sed -u 's/^/[live] /' ) &
 LANES+=("$!")
+JOBS+=("${LANES[@]: -2}")
 while [ "${#LANES[@]}" -gt 0 ]; do
   status=0
   wait -n -p done_pid "${LANES[@]}" || status=$?

@@ -3,10 +3,23 @@
 # installed into a venv of its pinned dependencies, run with the checkout hidden under an empty
 # tmpfs (a private mount namespace): tests/wheel/smoke.py against the live reference, then the
 # `envc` command of the wheel. (A crate outside the checkout: tests/wheel/crate.sh.)
-# Usage: tests/wheel/run.sh WORKDIR
+# Usage: tests/wheel/run.sh [--prebuilt DIST] [--venv-only] WORKDIR
+#   --prebuilt DIST: the wheel scripts/build-wheel.sh has just built into DIST, rather than building it;
+#   --venv-only: stop once the venv is made (scripts/test.sh makes it while pytest runs).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-WORK="${1:?usage: tests/wheel/run.sh WORKDIR}"
+USAGE="usage: tests/wheel/run.sh [--prebuilt DIST] [--venv-only] WORKDIR"
+PREBUILT=""
+VENV_ONLY=0
+while [ $# -gt 1 ]; do
+  case "$1" in
+    --prebuilt) PREBUILT="${2:?$USAGE}"; shift ;;
+    --venv-only) VENV_ONLY=1 ;;
+    *) echo "$USAGE" >&2; exit 2 ;;
+  esac
+  shift
+done
+WORK="${1:?$USAGE}"
 mkdir -p "$WORK"
 WORK="$(cd "$WORK" && pwd)"
 case "$WORK" in "$ROOT"/*) echo "wheel test: WORKDIR must be outside the checkout" >&2; exit 1 ;; esac
@@ -15,8 +28,11 @@ VERSION="$(sed -n 's/^version = "\(.*\)"/\1/p' "$ROOT/Cargo.toml" | head -1)"
 # shellcheck source=tests/wheel/hidden.sh
 source "$ROOT/tests/wheel/hidden.sh"
 
-"$ROOT/scripts/build-wheel.sh" "$WORK/dist" | tail -1
-WHEEL="$(ls "$WORK"/dist/envc-*.whl)"
+if [ -z "$PREBUILT" ]; then
+  "$ROOT/scripts/build-wheel.sh" "$WORK/dist" | tail -1
+  PREBUILT="$WORK/dist"
+fi
+WHEEL="$(ls "$PREBUILT"/envc-*.whl)"
 # The wheel and its extras (mazes, PettingZoo, Ray); minari reads the dataset back.
 # The reference's pins as constraints (extras dropped: pip refuses them there): the same versions
 # as the project venv, and its pip cache.
@@ -40,7 +56,9 @@ if [ ! -e "$VENV/.complete" ]; then
   "$VENV/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
     "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
   touch "$VENV/.complete"
+  [ "$VENV_ONLY" = 0 ] || exit 0
 else
+  [ "$VENV_ONLY" = 0 ] || exit 0
   "$VENV/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps "$WHEEL"
   "$VENV/bin/pip" install -q --disable-pip-version-check -c "$WORK/constraints.txt" \
     "$WHEEL[robotics,ray]" minari h5py pyarrow imageio
