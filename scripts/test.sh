@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
-#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied; the Python stubs (stubtest);
+#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied (the Python stubs, by mypy's stubtest, in the checks lane below);
 #   2. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py),
 #      and the installed reference still gives the published golden values (record.py --verify-golden);
 #   3. the Rust tests (a few binaries: `cargo test --workspace`), including the parity replay of the committed fixtures under the numerics
@@ -80,13 +80,9 @@ echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats
 # tests/reference/record_mamujoco.py).
 # Each lane's lines carry its name.
 lane_python() {
-  # The wheel's venv of its pinned dependencies (a minute of pip) is made meanwhile.
+  # The wheel's venv of its pinned dependencies (a minute of pip) is made while pytest runs.
   tests/wheel/run.sh --prebuilt "$LIVE/dist" --venv-only "$LIVE/wheel" > "$LIVE/wheel-venv.log" 2>&1 &
   local venv="$!"
-  # The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built.
-  scripts/stubtest.sh
-  passed "stubs (mypy stubtest)"
-
   # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
   # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
   # Its fresh cases draw from the run's one seed, as the live checks below do.
@@ -101,6 +97,10 @@ lane_python() {
 }
 
 lane_checks() {
+  # The native core's type stubs (python/envc/_envc.pyi) against the extension setup.sh built
+  # (here rather than before pytest, which is the longest lane).
+  scripts/stubtest.sh
+  passed "stubs (mypy stubtest)"
   "$PY" tests/reference/check_models.py
   passed "compiled models"
   # The golden values were published from an AVX-512 Xeon; a forced SSE kernel (OPENBLAS_CORETYPE=Prescott)
