@@ -134,8 +134,6 @@ lane_checks() {
 # Crates outside the repository, in a lane of their own from the start: on a fresh machine their
 # dependencies (builds of their own, as a user's crate gets) take minutes.
 lane_new() {
-  # Lower priority than pytest, the longest lane: these builds have time to spare beside it.
-  renice -n 10 -p "$BASHPID" >/dev/null || true
   # A crate of one's own made by `envc new` (with the release CLI built above): builds and runs
   # with plain `cargo run` (no environment variables, nothing copied by hand), and its typed env's
   # zero-action episode is the reference's (steps and return).
