@@ -105,6 +105,8 @@ fn term_formula(t: &envspec::ir::RewardTerm) -> String {
         TermKind::Constant => format!("{w}"),
         TermKind::GoalSparse(c) => format!("{w} × (1 if {} else 0)", describe::goal_check(c)),
         TermKind::GoalDense(g) => format!("{w} × exp(−{})", describe::goal_distance(g)),
+        TermKind::GoalMissed(c) => format!("{w} × (1 if not {} else 0)", describe::goal_check(c)),
+        TermKind::GoalDistance(g) => format!("{w} × {}", describe::goal_distance(g)),
     }
 }
 
@@ -245,6 +247,7 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 }
                 Distribution::Normal { scale } => format!("{scale} × normal"),
                 Distribution::Constant { value } => format!("constant {value}"),
+                Distribution::Values { values } => format!("constant {values:?}"),
                 Distribution::Keyframe { name, .. } => format!("keyframe `{name}`"),
                 Distribution::RootPose { .. } => "root pose (x, y, z, roll, pitch, yaw)".into(),
                 Distribution::TerrainOrigin { rows } => {

@@ -77,6 +77,8 @@ pub fn kernel(t: &RewardTerm) -> String {
         TermKind::Constant => "1".into(),
         TermKind::GoalSparse(c) => format!("1 if {} else 0", goal_check(c)),
         TermKind::GoalDense(g) => format!("exp(−{})", goal_distance(g)),
+        TermKind::GoalMissed(c) => format!("1 if not {} else 0", goal_check(c)),
+        TermKind::GoalDistance(g) => goal_distance(g),
         TermKind::Legged(l) => l.formula(),
     }
 }
@@ -92,7 +94,8 @@ pub fn goal_distance(g: &GoalDistance) -> String {
 
 /// A goal check, e.g. `‖qpos[0:2] − goal‖₂ (blas) ≤ 0.45`.
 pub fn goal_check(c: &GoalCheck) -> String {
-    format!("{} ≤ {}", goal_distance(&c.distance), num(c.threshold))
+    let op = if c.strict { "<" } else { "≤" };
+    format!("{} {op} {}", goal_distance(&c.distance), num(c.threshold))
 }
 
 /// A `[termination.*]` condition.
@@ -192,6 +195,10 @@ pub fn reset_step(r: &ResetStep) -> String {
         }
         Distribution::Normal { scale } => format!("{} × normal(0, 1)", num(*scale)),
         Distribution::Constant { value } => num(*value),
+        Distribution::Values { values } => {
+            let v: Vec<String> = values.iter().map(|x| num(*x)).collect();
+            format!("[{}]", v.join(", "))
+        }
         Distribution::Keyframe { name, .. } => {
             return format!("qpos = keyframe `{name}`");
         }
@@ -225,9 +232,19 @@ pub fn reset_step(r: &ResetStep) -> String {
     let until = match r.resample_until {
         Some(Until::NormBelow(x)) => format!(", redrawn until ‖·‖ < {}", num(x)),
         Some(Until::NormAbove(x)) => format!(", redrawn until ‖·‖ > {}", num(x)),
+        Some(Until::MinDistance(x)) => {
+            format!(", redrawn while closer than {} to where it is drawn around", num(x))
+        }
         None => String::new(),
     };
-    format!("{} {op} {dist}{until}", sel(&r.target))
+    let op = match (&r.around, r.set) {
+        (Some(a), _) => format!("= [init] record {a:?} +"),
+        (None, _) => op.to_string(),
+    };
+    let chance = r
+        .probability
+        .map_or(String::new(), |p| format!(" (with probability {})", num(p)));
+    format!("{} {op} {dist}{until}{chance}", sel(&r.target))
 }
 
 /// An info entry: what it reports and how it is computed.

@@ -179,6 +179,10 @@ pub enum Code {
     /// A `[keyframes.*]` table or a keyframe reset that does not fit: an unknown joint or
     /// keyframe, values of another count, a root draw on a model without a free joint.
     E0162,
+    /// A manipulation table (`[init]`, `[end_effector]`, `[hold.*]`, `[goal]`) or a reset's
+    /// `around` that does not fit the model or the spec: an unknown joint, site, body, actuator
+    /// or record, values of another count, a goal selector beyond the goal vector.
+    E0170,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.
@@ -323,6 +327,9 @@ pub enum Code {
     /// Warning: `minus` pairs elements of different joints (e.g. `qpos[7:] − default_pose` with
     /// the actuators in another order than the joints).
     W0401,
+    /// An `[end_effector]` or `[init] mocap` body that is not a mocap body of the compiled model,
+    /// or (for `[end_effector]`) one no weld constraint ties to a robot body.
+    E1111,
     /// An internal failure (a bug in envc) caught at the Python boundary.
     E1900,
 }

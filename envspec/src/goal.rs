@@ -57,6 +57,7 @@ impl GoalTask {
             TermKind::GoalSparse(GoalCheck {
                 distance: distance(GoalNorm::Pairwise),
                 threshold,
+                strict: false,
             })
         };
         Ok(GoalTask {
@@ -73,6 +74,7 @@ impl GoalTask {
             reached: GoalCheck {
                 distance: distance(GoalNorm::Blas),
                 threshold,
+                strict: false,
             },
             terminate,
         })

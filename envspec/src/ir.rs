@@ -73,6 +73,8 @@ pub struct ResolvedSpec {
     pub events: Vec<crate::events::Event>,
     /// What the spec may not mean (`warning[W…]`): printed by `envc check`, never fatal.
     pub warnings: Vec<crate::diagnostic::Diagnostic>,
+    /// `[init]`, `[end_effector]`, `[hold.*]`, `[goal]` (`envspec::manipulation`).
+    pub manipulation: crate::manipulation::Manipulation,
 }
 
 impl ResolvedSpec {
@@ -83,9 +85,13 @@ impl ResolvedSpec {
             .find(|p| p.name == name)
             .map(|p| &p.value)
     }
-    /// Length of the action: the model's actuators, the spec's included.
+    /// Length of the action: the model's actuators, the spec's included; with
+    /// `[end_effector]`, its Cartesian action.
     pub fn act_dim(&self) -> usize {
-        self.model.nu()
+        match &self.manipulation.end_effector {
+            Some(e) => e.act_dim(),
+            None => self.model.nu(),
+        }
     }
     /// `timestep × frame_skip`, as Gymnasium computes it (from the XML timestep).
     pub fn dt(&self) -> f64 {
@@ -113,10 +119,12 @@ impl ResolvedSpec {
             .termination
             .iter()
             .flat_map(|t| t.reached.distance.sources());
+        let achieved = self.manipulation.goal.iter().map(|g| &g.achieved);
         obs.chain(terms)
             .chain(health)
             .chain(info)
             .chain(termination)
+            .chain(achieved)
     }
     /// Whether anything the env computes reads `field`.
     pub fn reads(&self, field: Field) -> bool {
@@ -148,6 +156,9 @@ pub struct Segment {
     pub apply: Option<Apply>,
     /// Clipped to `[lo, hi]` last.
     pub clip: Option<(f64, f64)>,
+    /// `scale`: `source` and `minus` are each multiplied by it before the subtraction
+    /// (Gymnasium-Robotics' velocities `× dt`).
+    pub scale: Option<f64>,
     /// Start index in the observation vector.
     pub offset: usize,
 }
@@ -172,6 +183,9 @@ impl Segment {
                 let mut n = self.source.names[i].clone();
                 if let Some(m) = &self.minus {
                     n = format!("{n} - {}", m.names[i]);
+                }
+                if let Some(s) = self.scale {
+                    n = format!("{}·({n})", crate::value::format_float(s));
                 }
                 match self.apply {
                     Some(Apply::Sin) => format!("sin({n})"),
@@ -242,6 +256,11 @@ pub enum TermKind {
     /// `exp(−d)` of a goal distance `d` (spec kind `goal_dense`; numpy's `np.exp` under the env's
     /// numerics profile).
     GoalDense(GoalDistance),
+    /// `1.0 if d > threshold else 0.0` (spec kind `goal_missed`; as a cost, Gymnasium-Robotics'
+    /// sparse `-(d > threshold)`).
+    GoalMissed(GoalCheck),
+    /// `d` itself (spec kind `goal_distance`; as a cost, Gymnasium-Robotics' dense `-d`).
+    GoalDistance(GoalDistance),
     /// A legged-locomotion kernel (`tracking`, `sum_abs`, `action_rate`, `feet_air_time`,
     /// `feet_slip`, `joint_limits`).
     Legged(LeggedTerm),
@@ -321,13 +340,16 @@ impl GoalDistance {
     }
 }
 
-/// The goal is reached when `d ≤ threshold` (a NaN distance never reaches it).
+/// The goal is reached when `d ≤ threshold`, or `d < threshold` when `strict` (a NaN distance
+/// never reaches it).
 #[derive(Clone, Debug)]
 pub struct GoalCheck {
     /// The distance `d`.
     pub distance: GoalDistance,
     /// The largest distance that counts as reached.
     pub threshold: f64,
+    /// Reached only below the threshold (Gymnasium-Robotics' `d < distance_threshold`).
+    pub strict: bool,
 }
 
 /// `[termination.<name>]`: the episode terminates on a step after which the condition holds.
@@ -375,8 +397,10 @@ impl TermKind {
             | TermKind::Quadratic { source, .. }
             | TermKind::Value { source, .. } => (Some(source), None),
             TermKind::Norm { source, minus } => (Some(source), minus.as_ref()),
-            TermKind::GoalSparse(c) => return Either::Goal(c.distance.sources()),
-            TermKind::GoalDense(g) => return Either::Goal(g.sources()),
+            TermKind::GoalSparse(c) | TermKind::GoalMissed(c) => {
+                return Either::Goal(c.distance.sources());
+            }
+            TermKind::GoalDense(g) | TermKind::GoalDistance(g) => return Either::Goal(g.sources()),
             TermKind::Healthy | TermKind::Constant => (None, None),
             TermKind::Legged(l) => return Either::Many(l.sources().into_iter()),
         };
@@ -397,6 +421,8 @@ impl RewardTerm {
             TermKind::Constant => "constant",
             TermKind::GoalSparse(_) => "goal_sparse",
             TermKind::GoalDense(_) => "goal_dense",
+            TermKind::GoalMissed(_) => "goal_missed",
+            TermKind::GoalDistance(_) => "goal_distance",
             TermKind::Legged(l) => l.kind_name(),
         }
     }
@@ -481,6 +507,11 @@ pub enum Distribution {
         /// The value.
         value: f64,
     },
+    /// One value per element (`value` as an array); no draw.
+    Values {
+        /// The values.
+        values: Vec<f64>,
+    },
     /// The whole `qpos` of keyframe `index` (the model's keyframes, then the spec's); no draw.
     Keyframe {
         /// The keyframe's index.
@@ -511,6 +542,9 @@ pub enum Until {
     NormBelow(f64),
     /// Until the norm is above the bound.
     NormAbove(f64),
+    /// Until `‖(around + draw) − around‖ ≥ x` (OpenBLAS norm): redraw while the point is closer
+    /// than `x` to where it is drawn around (Gymnasium-Robotics' object placement).
+    MinDistance(f64),
 }
 
 /// `[reset.<name>]`: one draw applied to the initial state.
@@ -528,6 +562,11 @@ pub struct ResetStep {
     pub set: bool,
     /// Redraw until the block's norm satisfies this, if set.
     pub resample_until: Option<Until>,
+    /// `around`: indices into the `[init] record` values; the step writes `around + draw`
+    /// (`set`) instead of the draw.
+    pub around: Option<Vec<usize>>,
+    /// `probability`: one uniform is drawn first, and the step runs only when it is below this.
+    pub probability: Option<f64>,
 }
 
 /// What an info entry reports.

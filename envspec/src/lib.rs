@@ -29,6 +29,7 @@ pub mod events;
 pub mod goal;
 pub mod ir;
 pub mod limits;
+pub mod manipulation;
 pub mod maze;
 pub mod mjcf;
 pub mod noise;

@@ -150,6 +150,7 @@ impl ModelInfo {
                 keyframes: vec![],
             },
             asset_dirs: Default::default(),
+            in_world: false,
             defaults: HashMap::new(),
             world_children: vec![],
             including: vec![],
@@ -185,6 +186,8 @@ struct Reader {
     source: Option<std::sync::Arc<SourceFile>>,
     /// Bodies read so far, every file together.
     nbody: usize,
+    /// Reading a file included inside `<worldbody>`: its elements are world children.
+    in_world: bool,
 }
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
@@ -311,12 +314,82 @@ impl Reader {
         Ok(())
     }
 
+    /// One element of `<worldbody>` (or of a file included there).
+    fn read_world_child(
+        &mut self,
+        path: &Path,
+        dir: &Path,
+        child: roxmltree::Node,
+    ) -> Result<(), Diagnostic> {
+        match child.tag_name().name() {
+            // An include inside <worldbody>: the included file's elements are world children.
+            "include" => {
+                let file = child
+                    .attribute_node("file")
+                    .ok_or_else(|| malformed(path, "<include> without file"))?;
+                let at = self
+                    .source
+                    .as_ref()
+                    .map(|s| Location::new(s, file.range_value()));
+                let was = std::mem::replace(&mut self.in_world, true);
+                let read = self.read_file(&dir.join(file.value()), at);
+                self.in_world = was;
+                read?;
+            }
+            "body" => {
+                let b = self.read_body(path, child, None)?;
+                self.world_children.push(b);
+            }
+            "site" => {
+                self.info
+                    .sites
+                    .push(child.attribute("name").unwrap_or("").into());
+                self.info.site_bodies.push(0);
+            }
+            "geom" => self
+                .info
+                .geoms
+                .push(child.attribute("name").unwrap_or("").into()),
+            "frame" => {
+                let mut holder = BodyNode {
+                    name: String::new(),
+                    joints: vec![],
+                    sites: vec![],
+                    geoms: vec![],
+                    children: vec![],
+                };
+                self.read_body_content(path, child, None, &mut holder)?;
+                if !holder.joints.is_empty() {
+                    return Err(malformed(path, "joints in the world body"));
+                }
+                self.info.site_bodies.extend(holder.sites.iter().map(|_| 0));
+                self.info.sites.extend(holder.sites);
+                self.info.geoms.extend(holder.geoms);
+                self.world_children.extend(holder.children);
+            }
+            "joint" | "freejoint" => {
+                return Err(malformed(path, "joints in the world body"));
+            }
+            tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
+                return Err(malformed(
+                    path,
+                    format!("<{tag}> is not supported by the spec resolver yet"),
+                ));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
     fn read_section(
         &mut self,
         path: &Path,
         dir: &Path,
         node: roxmltree::Node,
     ) -> Result<(), Diagnostic> {
+        if self.in_world {
+            return self.read_world_child(path, dir, node);
+        }
         match node.tag_name().name() {
             "include" => {
                 let file = node
@@ -345,49 +418,7 @@ impl Reader {
             }
             "worldbody" => {
                 for child in node.children().filter(|n| n.is_element()) {
-                    match child.tag_name().name() {
-                        "body" => {
-                            let b = self.read_body(path, child, None)?;
-                            self.world_children.push(b);
-                        }
-                        "site" => {
-                            self.info
-                                .sites
-                                .push(child.attribute("name").unwrap_or("").into());
-                            self.info.site_bodies.push(0);
-                        }
-                        "geom" => self
-                            .info
-                            .geoms
-                            .push(child.attribute("name").unwrap_or("").into()),
-                        "frame" => {
-                            let mut holder = BodyNode {
-                                name: String::new(),
-                                joints: vec![],
-                                sites: vec![],
-                                geoms: vec![],
-                                children: vec![],
-                            };
-                            self.read_body_content(path, child, None, &mut holder)?;
-                            if !holder.joints.is_empty() {
-                                return Err(malformed(path, "joints in the world body"));
-                            }
-                            self.info.site_bodies.extend(holder.sites.iter().map(|_| 0));
-                            self.info.sites.extend(holder.sites);
-                            self.info.geoms.extend(holder.geoms);
-                            self.world_children.extend(holder.children);
-                        }
-                        "joint" | "freejoint" => {
-                            return Err(malformed(path, "joints in the world body"));
-                        }
-                        tag @ ("replicate" | "attach" | "composite" | "flexcomp") => {
-                            return Err(malformed(
-                                path,
-                                format!("<{tag}> is not supported by the spec resolver yet"),
-                            ));
-                        }
-                        _ => {}
-                    }
+                    self.read_world_child(path, dir, child)?;
                 }
             }
             "actuator" => {

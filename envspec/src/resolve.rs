@@ -20,6 +20,7 @@ mod keyframes;
 mod terrain;
 pub(crate) use commands::command_selection;
 pub use keyframes::ROOT_POSE_KEYS;
+mod manipulation;
 mod noise;
 mod pairing;
 
@@ -32,6 +33,10 @@ struct Ctx<'a> {
     goal_dim: Option<(usize, Location)>,
     /// `[commands.*]`, resolved before anything that may select them (`command[...]`).
     commands: Vec<Command>,
+    /// `[init] record`s: name, offset in the flat record vector, length (`around`).
+    records: Vec<(String, usize, usize)>,
+    /// `timestep × frame_skip` (a segment's `scale = "dt"`).
+    dt: f64,
 }
 
 /// Resolve a checked spec with parameter overrides against its model.
@@ -68,6 +73,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d: Diagnostics::default(),
         goal_dim: None,
         commands: vec![],
+        records: vec![],
+        dt: 0.0,
     };
     let model_edits = cx.model_edits();
     let d = cx.d;
@@ -79,6 +86,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d,
         goal_dim: None,
         commands: vec![],
+        records: vec![],
+        dt: 0.0,
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
@@ -109,10 +118,12 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         _ => None,
     };
 
+    cx.dt = model.timestep * frame_skip as f64;
     let commands = cx.commands(model.timestep * frame_skip as f64);
     cx.commands = commands.clone();
     let command_dim = commands.iter().map(Command::len).sum();
     let actions = cx.actions();
+    let manipulation = cx.manipulation();
 
     let observation = cx.observation();
     let corruption = cx.corruption(&observation);
@@ -191,6 +202,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         corruption,
         events,
         warnings: vec![],
+        manipulation,
     };
     resolved.warnings = pairing::warnings(spec, &resolved);
     let rne = resolved
@@ -272,6 +284,10 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
             let v = norm(&|_| *value);
             (v, v)
         }
+        Distribution::Values { values } => {
+            let v = norm(&|i| values[i]);
+            (v, v)
+        }
         // (no `resample_until` on these kinds)
         Distribution::Keyframe { .. }
         | Distribution::RootPose { .. }
@@ -284,6 +300,9 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
         )),
         Until::NormAbove(x) if hi <= x => Some(format!(
             "the largest norm a draw can have is {hi}, not above {x}"
+        )),
+        Until::MinDistance(x) if hi < x => Some(format!(
+            "the largest distance a draw can have is {hi}, not {x} or more"
         )),
         _ => None,
     }
@@ -446,14 +465,21 @@ impl Ctx<'_> {
         match &v.kind {
             ValKind::Int(i) => Some(*i as f64),
             ValKind::Float(x) => Some(*x),
-            ValKind::Str(name) => match self.lookup(name, &v.loc, "a number")? {
-                ParamValue::Float(x) => Some(x),
-                ParamValue::Int(i) => Some(i as f64),
-                other => {
-                    self.wrong_param_type(name, &v.loc, "a number", &other);
-                    None
+            // `"-name"`: the parameter's value, negated (exactly).
+            ValKind::Str(text) => {
+                let (sign, name) = match text.strip_prefix('-') {
+                    Some(n) if self.param(n.trim()).is_some() => (-1.0, n.trim()),
+                    _ => (1.0, text.as_str()),
+                };
+                match self.lookup(name, &v.loc, "a number")? {
+                    ParamValue::Float(x) => Some(sign * x),
+                    ParamValue::Int(i) => Some(sign * i as f64),
+                    other => {
+                        self.wrong_param_type(name, &v.loc, "a number", &other);
+                        None
+                    }
                 }
-            },
+            }
             _ => {
                 self.d
                     .push(v.type_error(what, "a number or a parameter name"));
@@ -498,6 +524,25 @@ impl Ctx<'_> {
     fn flag(&mut self, v: &Val, what: &str) -> Option<bool> {
         match &v.kind {
             ValKind::Bool(b) => Some(*b),
+            // `name == "value"` / `name != "value"`: a string parameter compared with a literal
+            // (`when = "reward_type == 'dense'"`).
+            ValKind::Str(s) if s.contains("==") || s.contains("!=") => {
+                let (name, lit, eq) = match s.split_once("==") {
+                    Some((n, l)) => (n, l, true),
+                    None => {
+                        let (n, l) = s.split_once("!=").unwrap_or((s, ""));
+                        (n, l, false)
+                    }
+                };
+                let lit = lit.trim().trim_matches(|c| c == '\'' || c == '"');
+                match self.lookup(name.trim(), &v.loc, "a string parameter")? {
+                    ParamValue::Str(x) => Some((x == lit) == eq),
+                    other => {
+                        self.wrong_param_type(name.trim(), &v.loc, "a string", &other);
+                        None
+                    }
+                }
+            }
             ValKind::Str(s) => {
                 let (neg, name) = match s.strip_prefix('!') {
                     Some(n) => (true, n.trim()),
@@ -525,6 +570,11 @@ impl Ctx<'_> {
                 .push(v.type_error(what, "a selector string such as \"qpos[2:]\""));
             return None;
         };
+        if text.trim().starts_with("goal")
+            && !text.trim()["goal".len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+        {
+            return self.goal_selection(text, &v.loc);
+        }
         if text.trim().starts_with("command")
             && !text.trim()["command".len()..]
                 .starts_with(|c: char| c.is_alphanumeric() || c == '_')
@@ -641,6 +691,13 @@ impl Ctx<'_> {
                 },
             };
             let clip = s.get("clip").and_then(|v| self.range(v, "clip"));
+            let scale = s.get("scale").and_then(|v| match v.as_str() {
+                Some("dt") => Some(self.dt),
+                _ => {
+                    let x = self.num(v, "scale")?;
+                    self.within(v, x, "scale", limits::MAX_MAGNITUDE)
+                }
+            });
             let seg = Segment {
                 name: s.name.clone(),
                 doc: s.doc(),
@@ -648,6 +705,7 @@ impl Ctx<'_> {
                 minus,
                 apply,
                 clip,
+                scale,
                 offset,
             };
             if !enabled {
@@ -847,6 +905,12 @@ impl Ctx<'_> {
                 "goal_dense" => self
                     .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                     .map(TermKind::GoalDense),
+                "goal_missed" => self
+                    .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                    .map(TermKind::GoalMissed),
+                "goal_distance" => self
+                    .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                    .map(TermKind::GoalDistance),
                 k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
                 _ => None, // reported by the syntax check
             };
@@ -1111,21 +1175,25 @@ impl Ctx<'_> {
                 out.extend(step);
                 continue;
             }
+            let enabled = match s.get("when") {
+                Some(w) => self.flag(w, "when").unwrap_or(true),
+                None => true,
+            };
             let Some(target) = self.sel_key(s, "target") else {
                 continue;
             };
-            if !matches!(target.field, Field::Qpos | Field::Qvel) {
+            if !matches!(target.field, Field::Qpos | Field::Qvel | Field::Goal) {
                 self.d.push(
                     Diagnostic::new(
                         Code::E0107,
-                        format!("reset target `{}` is not qpos or qvel", target.text),
+                        format!("reset target `{}` is not qpos, qvel or goal", target.text),
                     )
                     .at(s
                         .get("target")
                         .expect("`target` was read just above")
                         .loc
                         .clone())
-                    .label("expected a selection of qpos or qvel"),
+                    .label("expected a selection of qpos, qvel or goal"),
                 );
                 continue;
             }
@@ -1160,16 +1228,21 @@ impl Ctx<'_> {
                     };
                     Distribution::Normal { scale }
                 }
-                "constant" => {
-                    let Some(value) = s
-                        .get("value")
-                        .map(|v| self.num(v, "value"))
-                        .unwrap_or(Some(0.0))
-                    else {
-                        continue;
-                    };
-                    Distribution::Constant { value }
-                }
+                "constant" => match s.get("value") {
+                    Some(v) if matches!(v.kind, ValKind::Array(_)) => {
+                        let Some(values) = self.bound(s, "value", n) else {
+                            continue;
+                        };
+                        Distribution::Values { values }
+                    }
+                    v => {
+                        let Some(value) = v.map(|v| self.num(v, "value")).unwrap_or(Some(0.0))
+                        else {
+                            continue;
+                        };
+                        Distribution::Constant { value }
+                    }
+                },
                 _ => continue,
             };
             let widest = match &dist {
@@ -1178,6 +1251,7 @@ impl Ctx<'_> {
                 }
                 Distribution::Normal { scale } => scale.abs(),
                 Distribution::Constant { value } => value.abs(),
+                Distribution::Values { values } => values.iter().fold(0.0, |m: f64, x| m.max(x.abs())),
                 Distribution::Keyframe { .. }
                 | Distribution::RootPose { .. }
                 | Distribution::TerrainOrigin { .. } => 0.0,
@@ -1241,8 +1315,39 @@ impl Ctx<'_> {
                     }
                 }
             };
+            let around = s
+                .get("around")
+                .and_then(|v| self.around(v, n, &format!("[reset.{}]", s.name)));
+            let probability = s.get("probability").and_then(|v| {
+                let p = self.num(v, "probability")?;
+                if (0.0..=1.0).contains(&p) {
+                    Some(p)
+                } else {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!("[reset.{}]: probability {p} is outside [0, 1]", s.name),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected a probability in [0, 1]"),
+                    );
+                    None
+                }
+            });
             let resample_until = s.get("resample_until").and_then(|v| {
                 let until = self.until(v)?;
+                if matches!(until, Until::MinDistance(_)) && s.get("around").is_none() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0170,
+                            format!("[reset.{}]: min_distance needs `around`", s.name),
+                        )
+                        .at(v.loc.clone())
+                        .label("min_distance is measured from the `around` point")
+                        .help("add around = \"<record>\" (an `[init] record`)"),
+                    );
+                    return None;
+                }
                 match unmet(&dist, n, until) {
                     None => Some(until),
                     Some(why) => {
@@ -1262,6 +1367,9 @@ impl Ctx<'_> {
                     }
                 }
             });
+            if !enabled {
+                continue;
+            }
             out.push(ResetStep {
                 name: s.name.clone(),
                 doc: s.doc(),
@@ -1269,6 +1377,8 @@ impl Ctx<'_> {
                 dist,
                 set,
                 resample_until,
+                around,
+                probability,
             });
         }
         out
@@ -1307,13 +1417,14 @@ impl Ctx<'_> {
         let t = v.as_table().filter(|t| t.len() == 1);
         let Some(e) = t.map(|t| &t[0]) else {
             self.d
-                .push(v.type_error("resample_until", "{ norm_below = x } or { norm_above = x }"));
+                .push(v.type_error("resample_until", "{ norm_below = x }, { norm_above = x } or { min_distance = x }"));
             return None;
         };
         let x = self.num(&e.value, &e.key)?;
         match e.key.as_str() {
             "norm_below" => Some(Until::NormBelow(x)),
             "norm_above" => Some(Until::NormAbove(x)),
+            "min_distance" => Some(Until::MinDistance(x)),
             k => {
                 self.d.push(
                     Diagnostic::new(
@@ -1321,8 +1432,8 @@ impl Ctx<'_> {
                         format!("unknown condition `{k}` in resample_until"),
                     )
                     .at(e.key_loc.clone())
-                    .label("expected norm_below or norm_above")
-                    .help_opt(suggest(k, ["norm_below", "norm_above"])),
+                    .label("expected norm_below, norm_above or min_distance")
+                    .help_opt(suggest(k, ["norm_below", "norm_above", "min_distance"])),
                 );
                 None
             }

@@ -84,6 +84,19 @@ pub enum Field {
     DefaultPose,
     /// The current command vectors (`[commands.*]`), written `command[NAME]`.
     Command,
+    /// `xquat`: body orientations as quaternions (w, x, y, z).
+    Xquat,
+    /// `site_xmat`: site orientations as row-major 3 × 3 matrices.
+    SiteXmat,
+    /// Site orientations as Euler angles, Gymnasium-Robotics' `rotations.mat2euler(site_xmat)`.
+    SiteEuler,
+    /// Site linear velocity `jacp @ qvel` (`mj_jacSite`, then numpy's matmul: OpenBLAS `dgemv`
+    /// as the numerics profile sums it), Gymnasium-Robotics' `get_site_xvelp`.
+    SiteXvelp,
+    /// Site angular velocity `jacr @ qvel`, as `SiteXvelp` (`get_site_xvelr`).
+    SiteXvelr,
+    /// The env-held goal vector (`[goal]`), written `goal` or `goal[0:2]`.
+    Goal,
 }
 
 /// What the rows of a field are indexed by.
@@ -142,6 +155,12 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("last_action", Field::LastAction),
     ("default_pose", Field::DefaultPose),
     ("command", Field::Command),
+    ("xquat", Field::Xquat),
+    ("site_xmat", Field::SiteXmat),
+    ("site_euler", Field::SiteEuler),
+    ("site_xvelp", Field::SiteXvelp),
+    ("site_xvelr", Field::SiteXvelr),
+    ("goal", Field::Goal),
 ];
 
 impl Field {
@@ -163,7 +182,7 @@ impl Field {
             | Field::ActuatorForce
             | Field::LastAction
             | Field::DefaultPose => Rows::Actuator,
-            Field::Command => Rows::Command,
+            Field::Command | Field::Goal => Rows::Command,
             Field::CfrcExt
             | Field::CfrcInt
             | Field::Cacc
@@ -172,8 +191,10 @@ impl Field {
             | Field::Xpos
             | Field::Xipos
             | Field::SubtreeLinvel
-            | Field::SubtreeAngmom => Rows::Body,
+            | Field::SubtreeAngmom
+            | Field::Xquat => Rows::Body,
             Field::SiteXpos | Field::SiteLinvel | Field::SiteAngvel => Rows::Site,
+            Field::SiteXmat | Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => Rows::Site,
             Field::SiteLocalLinvel
             | Field::SiteLocalAngvel
             | Field::SiteZaxis
@@ -191,6 +212,9 @@ impl Field {
             Field::Xpos | Field::Xipos | Field::SiteXpos => 3,
             Field::SubtreeLinvel | Field::SubtreeAngmom => 3,
             f if f.is_site_frame() => 3,
+            Field::Xquat => 4,
+            Field::SiteXmat => 9,
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => 3,
             _ => 1,
         }
     }
@@ -223,6 +247,9 @@ impl Field {
             Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
             Field::SubtreeLinvel | Field::SubtreeAngmom => &["x", "y", "z"],
             f if f.is_site_frame() => &["x", "y", "z"],
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => &["x", "y", "z"],
+            Field::Xquat => &["w", "x", "y", "z"],
+            Field::SiteXmat => &["xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"],
             _ => &[""],
         }
     }

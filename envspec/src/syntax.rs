@@ -117,6 +117,14 @@ pub struct Spec {
     /// `[terrain]` with its `[terrain.<tile>]` generators (`envspec::resolve::terrain` checks
     /// the keys).
     pub terrain: Option<Section>,
+    /// `[init]`: what runs once before the first reset (`envspec::manipulation`).
+    pub init: Option<Section>,
+    /// `[end_effector]`: Cartesian actions through a mocap body.
+    pub end_effector: Option<Section>,
+    /// `[goal]`: a goal-conditioned task (dict observations, `compute_reward`).
+    pub goal: Option<Section>,
+    /// `[hold.<name>]`: joints held at a value after every step.
+    pub hold: Vec<Section>,
 }
 
 /// The kinds of model element a spec can add.
@@ -226,6 +234,10 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "actions",
     "events",
     "terrain",
+    "init",
+    "end_effector",
+    "goal",
+    "hold",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 
@@ -264,6 +276,7 @@ const SEGMENT_KEYS: &[&str] = &[
     "drop_first",
     "noise",
     "delay",
+    "scale",
     "doc",
 ];
 /// Keys of an observation segment's `noise` table.
@@ -282,6 +295,8 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("constant", &[]),
     ("goal_sparse", GOAL_KEYS),
     ("goal_dense", &["achieved", "desired", "norm"]),
+    ("goal_missed", GOAL_KEYS),
+    ("goal_distance", &["achieved", "desired", "norm"]),
     ("tracking", &["source", "target", "coefs", "sigma", "zero"]),
     ("sum_abs", &["source", "minus", "gate"]),
     ("action_rate", &[]),
@@ -427,7 +442,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("term", &["term", "unweighted"]),
     (
         "goal_reached",
-        &["achieved", "desired", "threshold", "norm", "in_reset"],
+        &["achieved", "desired", "threshold", "norm", "strict", "in_reset"],
     ),
 ];
 
@@ -577,6 +592,10 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         latency: None,
         events: vec![],
         terrain: None,
+        init: None,
+        end_effector: None,
+        goal: None,
+        hold: vec![],
     };
 
     if let Some(e) = get("maze") {
@@ -720,7 +739,15 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             "reset",
             None,
             RESET_KINDS,
-            &["target", "kind", "mode", "doc"],
+            &[
+                "target",
+                "kind",
+                "mode",
+                "around",
+                "probability",
+                "when",
+                "doc",
+            ],
             d,
         );
         // (a keyframe sets every qpos; a root pose draw finds the free joint's)
@@ -865,6 +892,37 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             loc: e.value.loc.clone(),
             entries: t.to_vec(),
         });
+    }
+    for (name, keys, slot) in [
+        ("init", crate::manipulation::INIT_KEYS, &mut spec.init),
+        (
+            "end_effector",
+            crate::manipulation::END_EFFECTOR_KEYS,
+            &mut spec.end_effector,
+        ),
+        ("goal", crate::manipulation::GOAL_TABLE_KEYS, &mut spec.goal),
+    ] {
+        if let Some(e) = get(name)
+            && let Some(t) = table(&e.value, &format!("[{name}]"), d)
+        {
+            check_keys(t, keys, &format!("[{name}]"), d);
+            *slot = Some(Section {
+                name: name.into(),
+                name_loc: e.key_loc.clone(),
+                loc: e.value.loc.clone(),
+                entries: t.to_vec(),
+            });
+        }
+    }
+    spec.hold = sections(get("hold"), "hold", &[], d);
+    for s in &spec.hold {
+        check_keys(
+            &s.entries,
+            crate::manipulation::HOLD_KEYS,
+            &format!("[hold.{}]", s.name),
+            d,
+        );
+        require(s, "joints", &format!("[hold.{}]", s.name), d);
     }
     spec
 }

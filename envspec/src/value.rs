@@ -71,6 +71,13 @@ impl Val {
             _ => None,
         }
     }
+    /// The elements, if the value is an array.
+    pub fn as_array(&self) -> Option<&[Val]> {
+        match &self.kind {
+            ValKind::Array(a) => Some(a),
+            _ => None,
+        }
+    }
     /// The entries, if the value is a table.
     pub fn as_table(&self) -> Option<&[Entry]> {
         match &self.kind {

@@ -78,6 +78,33 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         // The executors read the observation where the step leaves the data.
         not_exported.push("[physics] forward_before_observation = true".to_string());
     }
+    // The manipulation tables and the fields only they compute run on the CPU core alone.
+    let m = &spec.manipulation;
+    for (on, table) in [
+        (m.init.is_some(), "[init]"),
+        (m.end_effector.is_some(), "[end_effector]"),
+        (!m.hold.is_empty(), "[hold.*]"),
+        (m.goal.is_some(), "[goal]"),
+    ] {
+        if on {
+            not_exported.push(table.to_string());
+        }
+    }
+    for seg in spec.observation.iter().filter(|s| s.scale.is_some()) {
+        not_exported.push(format!("[observation.{}] scale", seg.name));
+    }
+    for f in [
+        envspec::Field::Xquat,
+        envspec::Field::SiteXmat,
+        envspec::Field::SiteEuler,
+        envspec::Field::SiteXvelp,
+        envspec::Field::SiteXvelr,
+        envspec::Field::Goal,
+    ] {
+        if spec.reads(f) {
+            not_exported.push(format!("the field `{}`", f.name()));
+        }
+    }
     let observation: Vec<Value> = spec
         .observation
         .iter()
@@ -142,7 +169,11 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     o.insert("divide_by".into(), json!(d));
                 }
                 TermKind::Healthy | TermKind::Constant => {}
-                TermKind::GoalSparse(_) | TermKind::GoalDense(_) | TermKind::Legged(_) => {
+                TermKind::GoalSparse(_)
+                | TermKind::GoalDense(_)
+                | TermKind::GoalMissed(_)
+                | TermKind::GoalDistance(_)
+                | TermKind::Legged(_) => {
                     not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
                 }
             }
@@ -182,6 +213,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 Distribution::Constant { value } => {
                     json!({"kind": "constant", "value": num(*value)})
                 }
+                Distribution::Values { .. } => {
+                    not_exported.push(format!("[reset.{}] value = [per element]", r.name));
+                    json!({"kind": "unsupported"})
+                }
                 Distribution::Keyframe { name, .. } => {
                     not_exported.push(format!("[reset.{}] kind = \"keyframe\" ({name})", r.name));
                     json!({"kind": "unsupported"})
@@ -198,7 +233,11 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
             let until = r.resample_until.map(|u| match u {
                 Until::NormBelow(x) => json!({"norm_below": num(x)}),
                 Until::NormAbove(x) => json!({"norm_above": num(x)}),
+                Until::MinDistance(x) => json!({"min_distance": num(x)}),
             });
+            if r.around.is_some() || r.probability.is_some() || r.target.field == envspec::Field::Goal {
+                not_exported.push(format!("[reset.{}] around / probability / a goal target", r.name));
+            }
             json!({
                 "name": r.name, "target": sel(&r.target), "dist": dist, "set": r.set,
                 "resample_until": until,

@@ -115,7 +115,7 @@ impl Legged {
         let (nu, nsite, nq) = (m.nu as usize, m.nsite as usize, m.nq as usize);
         let mut l = Legged {
             command: vec![0.0; spec.command_dim],
-            last_action: vec![0.0; nu],
+            last_action: vec![0.0; spec.act_dim()],
             default_pose: vec![0.0; nu],
             scale: vec![1.0; nu],
             ..Default::default()

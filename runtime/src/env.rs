@@ -131,6 +131,9 @@ struct Sim {
     goal: Vec<f64>,
     /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
     legged: crate::commands::Legged,
+    /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
+    /// (`runtime/src/manipulation.rs`).
+    manip: crate::manipulation::Manip,
 }
 
 /// Why a reset gave no valid start.
@@ -172,6 +175,12 @@ impl Sim {
             Field::Xpos => d.xpos().as_flattened(),
             Field::Xipos => d.xipos().as_flattened(),
             Field::SiteXpos => d.site_xpos().as_flattened(),
+            Field::Xquat => d.xquat().as_flattened(),
+            Field::SiteXmat => d.site_xmat().as_flattened(),
+            Field::Goal => &self.goal,
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => {
+                self.manip.field(f).unwrap_or(&[])
+            }
             Field::SubtreeLinvel => d.subtree_linvel().as_flattened(),
             Field::SubtreeAngmom => d.subtree_angmom().as_flattened(),
             Field::TenLength => d.ten_length(),
@@ -362,11 +371,12 @@ impl Env {
             nv: size(m.nv),
             nu: size(m.nu),
             nsite: size(m.nsite),
-            action: vec![0.0; size(m.nu)],
+            action: vec![0.0; spec.act_dim()],
             mass_center: [0.0; 3],
             ten_j: vec![0.0; size(m.ntendon) * size(m.nv)],
             mass_sum: 0.0,
             legged: crate::commands::Legged::new(&spec, &model)?,
+            manip: crate::manipulation::Manip::new(&spec, &model)?,
             model: Arc::clone(&model),
             data,
         };
@@ -385,6 +395,25 @@ impl Env {
                 during: "in a trial mj_forward when building the env",
                 message,
             });
+        }
+        // `[init]`: its end state is where every reset starts.
+        let mut qpos_init = model.qpos0().to_vec();
+        let mut qvel_init = vec![0.0; sim.nv];
+        if let Some(init) = &spec.manipulation.init {
+            let numerics = sim.numerics;
+            if let Err(message) =
+                sim.manip
+                    .run_init(init, &mut sim.data, spec.frame_skip, numerics)
+            {
+                return Err(EnvError::Mujoco {
+                    env: spec.id.clone(),
+                    during: "in [init] when building the env",
+                    message,
+                });
+            }
+            qpos_init.copy_from_slice(sim.data.qpos());
+            qvel_init.copy_from_slice(sim.data.qvel());
+            mujoco_log::drain_into(&mut warnings);
         }
         let timestep = m.opt.timestep;
         let dt = timestep * spec.frame_skip as f64;
@@ -433,7 +462,6 @@ impl Env {
         let reset_info = layout(&mut spec.reset_info());
         let total = |l: &[InfoSlot]| l.iter().map(|s| s.len).sum::<usize>();
 
-        let qpos_init = model.qpos0().to_vec();
         let ctrlrange = model.actuator_ctrlrange().as_flattened();
         // Gymnasium: Box(ctrlrange.astype(float32)); the bounds are the float32-rounded values.
         let mut action_space = BoxSpace {
@@ -449,13 +477,21 @@ impl Env {
             action_space.low.fill(a.range.0 as f32 as f64);
             action_space.high.fill(a.range.1 as f32 as f64);
         }
+        // End-effector actions: Box(-1, 1) of their own length.
+        if spec.manipulation.end_effector.is_some() {
+            action_space = BoxSpace {
+                low: vec![-1.0; spec.act_dim()],
+                high: vec![1.0; spec.act_dim()],
+            };
+        }
         let observation_space = BoxSpace {
             low: vec![f64::NEG_INFINITY; spec.obs_dim],
             high: vec![f64::INFINITY; spec.obs_dim],
         };
         let max_draw = spec.reset.iter().map(|r| r.target.len()).max().unwrap_or(0);
 
-        let latency = crate::latency::ActionLatency::new(spec.corruption.action_latency, sim.nu);
+        let latency =
+            crate::latency::ActionLatency::new(spec.corruption.action_latency, spec.act_dim());
         mujoco_log::drain_into(&mut warnings);
         Ok(Env {
             before: vec![0.0; velocity_sources.len()],
@@ -475,7 +511,7 @@ impl Env {
             reset_info_values: vec![0.0; total(&reset_info)],
             step_info,
             reset_info,
-            qvel_init: vec![0.0; sim.nv],
+            qvel_init,
             qpos_init,
             draw: vec![0.0; max_draw],
             terrain_origins: terrain_origins(&model),
@@ -683,6 +719,9 @@ impl Env {
         let event_error = self.reset_events(seed.is_some());
         let rng = self.rng.as_mut().expect("set above");
         let mut mujoco_error = self.sim.call(Call::ResetData).err().or(event_error);
+        if self.spec.manipulation.init.is_some() {
+            mj::manip::set_time(&mut self.sim.data, self.sim.manip.init_time);
+        }
 
         let nq = self.sim.nq;
         let numerics = self.sim.numerics;
@@ -733,6 +772,13 @@ impl Env {
                 }
                 _ => {}
             }
+            // `probability`: one uniform decides whether the step runs at all.
+            if let Some(p) = step.probability
+                && rng.uniform(0.0, 1.0) >= p
+            {
+                continue;
+            }
+            let records = &self.sim.manip.records;
             // The reference redraws for ever; envc gives up after a bound no real spec reaches.
             for attempt in 1.. {
                 match &step.dist {
@@ -747,6 +793,7 @@ impl Env {
                         }
                     }
                     Distribution::Constant { value } => draw.fill(*value),
+                    Distribution::Values { values } => draw.copy_from_slice(values),
                     Distribution::Keyframe { .. }
                     | Distribution::RootPose { .. }
                     | Distribution::TerrainOrigin { .. } => {}
@@ -755,6 +802,11 @@ impl Env {
                     None => true,
                     Some(Until::NormBelow(x)) => norm(numerics, n, &|i| draw[i]) < x,
                     Some(Until::NormAbove(x)) => norm(numerics, n, &|i| draw[i]) > x,
+                    Some(Until::MinDistance(x)) => {
+                        let a = step.around.as_deref().unwrap_or(&[]);
+                        let at = |i: usize| a.get(i).map_or(0.0, |&j| records[j]);
+                        norm(numerics, n, &|i| (at(i) + draw[i]) - at(i)) >= x
+                    }
                 };
                 if done {
                     break;
@@ -764,16 +816,16 @@ impl Env {
                     break;
                 }
             }
-            let target: &mut [f64] = if step.target.field == Field::Qpos {
-                qpos
-            } else {
-                qvel
+            let target: &mut [f64] = match step.target.field {
+                Field::Qpos => qpos,
+                Field::Goal => &mut self.sim.goal,
+                _ => qvel,
             };
             for (k, &i) in step.target.indices.iter().enumerate() {
-                target[i] = if step.set {
-                    draw[k]
-                } else {
-                    target[i] + draw[k]
+                target[i] = match &step.around {
+                    Some(a) => records[a[k]] + draw[k],
+                    None if step.set => draw[k],
+                    None => target[i] + draw[k],
                 };
             }
         }
@@ -915,6 +967,8 @@ impl Env {
             let _ = self.sim.call(Call::SubtreeVel);
         }
         self.sim.update_ten_j();
+        let numerics = self.sim.numerics;
+        self.sim.manip.update(&self.sim.data, numerics);
     }
 
     /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
@@ -946,7 +1000,7 @@ impl Env {
     }
 
     fn check_action(&self, action: crate::JointAction<'_>) -> Result<(), EnvError> {
-        crate::joint_env::check_action(&self.spec.id, self.sim.nu, action, || {
+        crate::joint_env::check_action(&self.spec.id, self.sim.action.len(), action, || {
             (!self.has_reset).then(|| self.reset_error().unwrap_or(EnvError::NotReset))
         })
     }
@@ -971,8 +1025,14 @@ impl Env {
                 }
             }
         }
-        let ctrl = self.sim.data.ctrl_mut();
-        self.sim.legged.write_ctrl(&self.sim.action, ctrl);
+        if let Some(e) = &self.spec.manipulation.end_effector {
+            self.sim
+                .manip
+                .apply_action(e, &self.sim.action, self.action_f32, &mut self.sim.data);
+        } else {
+            let ctrl = self.sim.data.ctrl_mut();
+            self.sim.legged.write_ctrl(&self.sim.action, ctrl);
+        }
         let (n, rne) = (self.spec.frame_skip, self.spec.needs_rne_post_constraint);
         let stepped = if self.sim.legged.landings.active() {
             // Substep by substep: mjlab's contact sensors are updated after each one.
@@ -992,6 +1052,19 @@ impl Env {
         };
         if let Err(message) = stepped {
             return Err(self.step_failed(message));
+        }
+        // `[hold.*]`: joints set after the physics, then `mj_forward` (the reference's step
+        // callback).
+        if !self.spec.manipulation.hold.is_empty() {
+            let (qpos, _) = mj::state::qpos_qvel_mut(&mut self.sim.data);
+            for h in &self.spec.manipulation.hold {
+                for &a in &h.qpos {
+                    qpos[a] = h.value;
+                }
+            }
+            if let Err(message) = self.sim.call(Call::Forward) {
+                return Err(self.step_failed(message));
+            }
         }
         self.derive_after_physics();
         self.sim.legged.update_sites(&self.sim.data);
@@ -1197,7 +1270,10 @@ impl Env {
                 sim.legged
                     .kernel(i, l, sim.numerics, &|f| sim.field(f), &sim.action)
             }
-            TermKind::GoalSparse(GoalCheck { distance: g, .. }) | TermKind::GoalDense(g) => sim
+            TermKind::GoalSparse(GoalCheck { distance: g, .. })
+            | TermKind::GoalMissed(GoalCheck { distance: g, .. })
+            | TermKind::GoalDense(g)
+            | TermKind::GoalDistance(g) => sim
                 .with_goal_diff(g, |diff| crate::goal::kernel(&t.kind, sim.numerics, diff))
                 .expect("a goal kind"),
         };
@@ -1324,6 +1400,9 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     }
     // (with no edits, the same parse and compile as `mj_loadXML`)
     let mut model = crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)?;
+    if spec.manipulation.init.as_ref().is_some_and(|i| i.reset_welds) {
+        mj::manip::reset_welds(&mut model);
+    }
     crate::commands::apply_gains(spec, &mut model)?;
     Ok(model)
 }

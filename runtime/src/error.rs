@@ -93,6 +93,18 @@ pub enum EnvError {
         /// What does not fit.
         what: String,
     },
+    /// An `[end_effector]` or `[init] mocap` body the compiled model cannot drive (E1111).
+    #[error(
+        "error[E1111]: {}: {}",
+        envspec::diagnostic::escape(env),
+        envspec::diagnostic::escape(what)
+    )]
+    Mocap {
+        /// The env's id.
+        env: String,
+        /// What does not fit.
+        what: String,
+    },
     /// An `[events]` entry names an element the compiled model lacks (E1120).
     #[error(
         "error[E1120]: {}: the compiled model has no {what}, which an [events] entry names (the MJCF reader and MuJoCo disagree)",
@@ -134,6 +146,7 @@ impl EnvError {
             EnvError::BadModelValues { .. } => Code::E1003,
             EnvError::Mujoco { .. } => Code::E1004,
             EnvError::Legged { .. } => Code::E1110,
+            EnvError::Mocap { .. } => Code::E1111,
             EnvError::TooLarge { .. } => Code::E1403,
             EnvError::EventElement { .. } => Code::E1120,
             EnvError::Numerics(e) => e.code(),

@@ -26,9 +26,14 @@ pub(crate) fn distance(
     }
 }
 
-/// `d ≤ threshold` (false for a NaN distance).
+/// `d ≤ threshold`, or `d < threshold` when strict (false for a NaN distance).
 pub(crate) fn reached_by(c: &GoalCheck, profile: Profile, diff: &dyn Fn(usize) -> f64) -> bool {
-    distance(c.distance.norm, profile, c.distance.len(), diff) <= c.threshold
+    let d = distance(c.distance.norm, profile, c.distance.len(), diff);
+    if c.strict {
+        d < c.threshold
+    } else {
+        d <= c.threshold
+    }
 }
 
 /// The kernel of a goal reward term (`None` for other kinds).
@@ -44,6 +49,15 @@ pub(crate) fn kernel(
             0.0
         }),
         TermKind::GoalDense(g) => Some(exp(profile, -distance(g.norm, profile, g.len(), diff))),
+        // `d > threshold` (false for a NaN distance, as numpy's comparison).
+        TermKind::GoalMissed(c) => Some(
+            if distance(c.distance.norm, profile, c.distance.len(), diff) > c.threshold {
+                1.0
+            } else {
+                0.0
+            },
+        ),
+        TermKind::GoalDistance(g) => Some(distance(g.norm, profile, g.len(), diff)),
         _ => None,
     }
 }
@@ -58,8 +72,8 @@ pub fn term_value(
     desired: &[f64],
 ) -> Option<f64> {
     let n = match &t.kind {
-        TermKind::GoalSparse(c) => c.distance.len(),
-        TermKind::GoalDense(g) => g.len(),
+        TermKind::GoalSparse(c) | TermKind::GoalMissed(c) => c.distance.len(),
+        TermKind::GoalDense(g) | TermKind::GoalDistance(g) => g.len(),
         _ => return None,
     };
     if achieved.len() != n || desired.len() != n {

@@ -31,6 +31,7 @@ pub mod joint_env;
 pub mod joint_table;
 mod landings;
 mod latency;
+mod manipulation;
 pub mod maze;
 pub mod memory;
 mod mj;

@@ -8,7 +8,9 @@
 //!   through envc's `C-unwind` declarations and [`crate::mujoco_log::guard`];
 //! - [`names`]: names and ids (no panic on a name MuJoCo cannot hold);
 //! - [`model_edit`]: the model values `[actions]` gains and `[events]` write;
-//! - [`state`]: borrows mujoco-rs cannot split (qpos and qvel at once).
+//! - [`state`]: borrows mujoco-rs cannot split (qpos and qvel at once);
+//! - [`manip`]: what manipulation tasks read and write (site Jacobians, mocap poses, the
+//!   simulation time, weld poses).
 
 pub(crate) use calls::{Call, call};
 
@@ -256,6 +258,92 @@ pub(crate) mod state {
         } else {
             // SAFETY: the caller's contract.
             unsafe { std::slice::from_raw_parts_mut(ptr, len) }
+        }
+    }
+}
+
+pub(crate) mod manip {
+    //! Site Jacobians, mocap poses, the simulation time and weld poses (`runtime::manipulation`).
+
+    use mujoco_rs::mujoco_c as ffi;
+    use mujoco_rs::prelude::{MjData, MjModel};
+    use mujoco_rs::wrappers::mj_model::traits::ModelType;
+
+    fn count(x: i64) -> usize {
+        usize::try_from(x).unwrap_or(0)
+    }
+
+    /// `mj_jacSite`: the site's translational (`jacp`) and rotational (`jacr`) Jacobians, 3 × nv
+    /// each, row-major. Does nothing when the site or a buffer does not fit.
+    pub(crate) fn jac_site<M: ModelType>(
+        data: &MjData<M>,
+        site: usize,
+        jacp: &mut [f64],
+        jacr: &mut [f64],
+    ) {
+        let m = data.model().ffi();
+        let nv = count(m.nv);
+        if site >= count(m.nsite) || jacp.len() < 3 * nv || jacr.len() < 3 * nv || nv == 0 {
+            return;
+        }
+        // SAFETY: a live model and its data; the two buffers hold 3 × nv doubles each, which is
+        // all mj_jacSite writes; the site id is in range.
+        unsafe {
+            ffi::mj_jacSite(m, data.ffi(), jacp.as_mut_ptr(), jacr.as_mut_ptr(), site as i32);
+        }
+    }
+
+    /// The simulation time.
+    pub(crate) fn set_time<M: ModelType>(data: &mut MjData<M>, t: f64) {
+        // SAFETY: a plain double of the data, borrowed exclusively.
+        unsafe { data.ffi_mut().time = t };
+    }
+
+    /// `mocap_pos` (3 × nmocap) and `mocap_quat` (4 × nmocap), both writable at once, with
+    /// `xpos` and `xquat` (3 and 4 × nbody) to read from.
+    pub(crate) fn mocap_mut<M: ModelType>(
+        data: &mut MjData<M>,
+    ) -> (&mut [f64], &mut [f64], &[f64], &[f64]) {
+        let m = data.model().ffi();
+        let (nmocap, nbody) = (count(m.nmocap), count(m.nbody));
+        // SAFETY: four arrays of the data, of the sizes MuJoCo allocates them with; none
+        // overlaps another, and all borrows end with the exclusive borrow of `data`.
+        unsafe {
+            let d = data.ffi_mut();
+            let part = |p: *mut f64, n: usize| -> &mut [f64] {
+                if n == 0 || p.is_null() {
+                    &mut []
+                } else {
+                    std::slice::from_raw_parts_mut(p, n)
+                }
+            };
+            (
+                part(d.mocap_pos, 3 * nmocap),
+                part(d.mocap_quat, 4 * nmocap),
+                part(d.xpos, 3 * nbody),
+                part(d.xquat, 4 * nbody),
+            )
+        }
+    }
+
+    /// Every weld constraint's relative pose becomes the identity: anchor and offset 0, the
+    /// quaternion's w 1 (`eq_data[:7] = [0, 0, 0, 0, 0, 0, 1]`, as Gymnasium-Robotics'
+    /// `reset_mocap_welds`, which leaves the quaternion's other entries as they were).
+    pub(crate) fn reset_welds(model: &mut MjModel) {
+        const WELD: i32 = ffi::mjtEq::mjEQ_WELD as i32;
+        let n = ffi::mjNEQDATA as usize;
+        // SAFETY: the model is borrowed exclusively; eq_type and eq_data hold neq and
+        // neq × mjNEQDATA entries; only values change, no size or address.
+        unsafe {
+            let m = model.ffi_mut();
+            for i in 0..count(m.neq) {
+                if *m.eq_type.add(i) as i32 == WELD {
+                    let row = m.eq_data.add(i * n);
+                    for (k, v) in [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0].into_iter().enumerate() {
+                        *row.add(k) = v;
+                    }
+                }
+            }
         }
     }
 }

@@ -32,8 +32,12 @@ pub(crate) fn write_segments_with<'a>(
         let dst = &mut out[seg.offset..seg.offset + seg.len()];
         for (k, o) in dst.iter_mut().enumerate() {
             let mut x = f[seg.source.indices[k]];
+            if let Some(s) = seg.scale {
+                x *= s;
+            }
             if let Some((m, g)) = minus {
-                x -= g[m.indices[k]];
+                let y = g[m.indices[k]];
+                x -= seg.scale.map_or(y, |s| y * s);
             }
             x = match seg.apply {
                 Some(Apply::Sin) => x.sin(),

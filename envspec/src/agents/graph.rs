@@ -204,6 +204,7 @@ fn build_agent(
                 minus,
                 apply,
                 clip,
+                scale: None,
                 offset,
             });
             offset += len;

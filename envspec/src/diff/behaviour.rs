@@ -43,6 +43,7 @@ pub(crate) struct SegmentKey {
     minus: Option<Sel>,
     apply: Option<Apply>,
     clip: Option<(Bits, Bits)>,
+    scale: Option<Bits>,
 }
 
 pub(crate) fn segment(s: &Segment) -> SegmentKey {
@@ -51,6 +52,7 @@ pub(crate) fn segment(s: &Segment) -> SegmentKey {
         minus: s.minus.as_ref().map(sel),
         apply: s.apply,
         clip: range(s.clip),
+        scale: s.scale.map(bits),
     }
 }
 
@@ -65,6 +67,8 @@ enum TermKindKey {
     Constant,
     GoalSparse(GoalCheckKey),
     GoalDense(GoalDistanceKey),
+    GoalMissed(GoalCheckKey),
+    GoalDistance(GoalDistanceKey),
     /// A legged kernel, compared by its whole resolved value.
     Legged(String),
 }
@@ -82,6 +86,7 @@ pub(crate) struct GoalDistanceKey {
 pub(crate) struct GoalCheckKey {
     distance: GoalDistanceKey,
     threshold: Bits,
+    strict: bool,
 }
 
 fn goal_distance(g: &GoalDistance) -> GoalDistanceKey {
@@ -99,6 +104,7 @@ pub(crate) fn goal_check(c: &GoalCheck) -> GoalCheckKey {
     GoalCheckKey {
         distance: goal_distance(&c.distance),
         threshold: bits(c.threshold),
+        strict: c.strict,
     }
 }
 
@@ -131,6 +137,8 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         TermKind::Constant => TermKindKey::Constant,
         TermKind::GoalSparse(c) => TermKindKey::GoalSparse(goal_check(c)),
         TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
+        TermKind::GoalMissed(c) => TermKindKey::GoalMissed(goal_check(c)),
+        TermKind::GoalDistance(g) => TermKindKey::GoalDistance(goal_distance(g)),
         TermKind::Legged(l) => TermKindKey::Legged(format!("{l:?}")),
     };
     TermKey {
@@ -172,6 +180,7 @@ enum DistKey {
     Uniform(Vec<Bits>, Vec<Bits>),
     Normal(Bits),
     Constant(Bits),
+    Values(Vec<Bits>),
     Keyframe(usize),
     RootPose(Vec<Bits>),
     TerrainOrigin(usize, usize),
@@ -181,6 +190,7 @@ enum DistKey {
 enum UntilKey {
     NormBelow(Bits),
     NormAbove(Bits),
+    MinDistance(Bits),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -189,6 +199,8 @@ pub(crate) struct ResetKey {
     dist: DistKey,
     set: bool,
     resample_until: Option<UntilKey>,
+    around: Option<Vec<usize>>,
+    probability: Option<Bits>,
 }
 
 pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
@@ -196,6 +208,7 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
         Distribution::Uniform { low, high } => DistKey::Uniform(bits_all(low), bits_all(high)),
         Distribution::Normal { scale } => DistKey::Normal(bits(*scale)),
         Distribution::Constant { value } => DistKey::Constant(bits(*value)),
+        Distribution::Values { values } => DistKey::Values(bits_all(values)),
         Distribution::Keyframe { index, .. } => DistKey::Keyframe(*index),
         Distribution::RootPose { ranges } => {
             DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
@@ -209,7 +222,10 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
         resample_until: r.resample_until.map(|u| match u {
             Until::NormBelow(x) => UntilKey::NormBelow(bits(x)),
             Until::NormAbove(x) => UntilKey::NormAbove(bits(x)),
+            Until::MinDistance(x) => UntilKey::MinDistance(bits(x)),
         }),
+        around: r.around.clone(),
+        probability: r.probability.map(bits),
     }
 }
 
@@ -257,6 +273,7 @@ mod tests {
             minus: None,
             apply: None,
             clip: None,
+            scale: None,
             offset: 0,
         }
     }

@@ -147,9 +147,14 @@ impl Ctx<'_> {
                 }
             }),
         };
+        let strict = match s.get("strict") {
+            Some(v) => self.flag(v, "strict")?,
+            None => false,
+        };
         Some(GoalCheck {
             distance: distance?,
             threshold: threshold?,
+            strict,
         })
     }
 

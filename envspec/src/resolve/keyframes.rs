@@ -252,6 +252,8 @@ impl Ctx<'_> {
             },
             set: true,
             resample_until: None,
+            around: None,
+            probability: None,
         })
     }
 
@@ -304,5 +306,7 @@ pub(super) fn root_step(
         dist,
         set: false,
         resample_until: None,
+        around: None,
+        probability: None,
     }
 }

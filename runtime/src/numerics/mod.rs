@@ -11,7 +11,9 @@
 pub mod cpu;
 mod npy;
 pub mod openblas;
+mod openblas_gemv;
 mod profile;
+mod svml_atan2;
 mod svml_exp;
 
 pub use openblas::Kernel;
@@ -108,6 +110,22 @@ pub fn exp(profile: Profile, x: f64) -> f64 {
     } else {
         x.exp()
     }
+}
+
+/// `np.arctan2(y, x)` for float64 under `profile`: SVML's where numpy's X86_V4 loop runs (the
+/// `+svml` profiles), glibc's otherwise.
+pub fn atan2(profile: Profile, y: f64, x: f64) -> f64 {
+    if profile.svml_exp {
+        svml_atan2::atan2(y, x)
+    } else {
+        y.atan2(x)
+    }
+}
+
+/// numpy's `a @ x` for a C-contiguous float64 `rows × n` matrix and a vector of `n`: OpenBLAS
+/// `dgemv` under `profile` (numpy hands matrix-vector products to `cblas_dgemv`).
+pub fn matvec(profile: Profile, rows: usize, n: usize, a: &[f64], x: &[f64], y: &mut [f64]) {
+    openblas_gemv::dgemv_t(profile.blas, rows, n, a, x, y);
 }
 
 unsafe extern "C" {

@@ -1,0 +1,155 @@
+//! Manipulation tasks as data: what runs once before the first reset (`[init]`), Cartesian
+//! end-effector actions through a mocap body (`[end_effector]`), joints held after every step
+//! (`[hold.*]`) and the goal-conditioned task (`[goal]`: dict observations, `compute_reward`).
+//! Gymnasium-Robotics' Fetch envs are these tables (`specs/robotics/fetch/`); the language is
+//! `docs/spec-reference.md` §22. The resolver is `resolve::manipulation`.
+
+use crate::selector::Selection;
+
+/// Keys of `[init]`.
+pub const INIT_KEYS: &[&str] = &[
+    "qpos",
+    "reset_welds",
+    "mocap",
+    "settle_steps",
+    "record",
+    "doc",
+];
+/// Keys of one `[init] mocap` placement.
+pub const MOCAP_KEYS: &[&str] = &["body", "site", "offset", "lift", "quat"];
+/// Keys of `[end_effector]`.
+pub const END_EFFECTOR_KEYS: &[&str] = &[
+    "mocap",
+    "scale",
+    "rotation",
+    "gripper",
+    "gripper_action",
+    "block_gripper",
+    "doc",
+];
+/// Keys of `[goal]`.
+pub const GOAL_TABLE_KEYS: &[&str] = &["achieved", "doc"];
+/// Keys of `[hold.<name>]`.
+pub const HOLD_KEYS: &[&str] = &["joints", "value", "when", "doc"];
+
+/// The manipulation tables of a spec, resolved (all empty for a spec without them).
+#[derive(Clone, Debug, Default)]
+pub struct Manipulation {
+    /// `[init]`.
+    pub init: Option<Init>,
+    /// `[end_effector]`.
+    pub end_effector: Option<EndEffector>,
+    /// `[hold.*]` switched on, in document order.
+    pub hold: Vec<Hold>,
+    /// `[goal]`.
+    pub goal: Option<GoalTable>,
+}
+
+impl Manipulation {
+    /// Whether the spec declares any of the tables (executors that run none of them refuse such
+    /// specs).
+    pub fn any(&self) -> bool {
+        self.init.is_some()
+            || self.end_effector.is_some()
+            || !self.hold.is_empty()
+            || self.goal.is_some()
+    }
+    /// The length of the flat vector of `[init] record` values.
+    pub fn record_len(&self) -> usize {
+        self.init
+            .as_ref()
+            .map_or(0, |i| i.records.iter().map(|r| r.source.len()).sum())
+    }
+}
+
+/// `[init]`: run once when the env is made, as Gymnasium-Robotics' `_env_setup`; its end state
+/// (qpos, qvel, time) is where every reset starts, instead of the model's `qpos0`.
+#[derive(Clone, Debug)]
+pub struct Init {
+    /// `qpos = { joint = value(s) }`: the joint's qpos address and its values, in table order.
+    pub qpos: Vec<(String, usize, Vec<f64>)>,
+    /// `reset_welds`: every weld constraint's relative pose becomes the identity (anchor and
+    /// offset 0, quaternion w = 1), as `reset_mocap_welds`.
+    pub reset_welds: bool,
+    /// `mocap`: mocap bodies placed after `mj_forward`, in order.
+    pub mocap: Vec<MocapPlacement>,
+    /// `settle_steps`: control steps (`frame_skip` × `mj_step` each) run after the placement.
+    pub settle_steps: u32,
+    /// `record`: values read after settling, which reset draws may start from (`around`).
+    pub records: Vec<Record>,
+}
+
+/// One `[init] mocap` placement: `mocap_pos = site_xpos[site] + offset` (or `offset` alone),
+/// `mocap_quat = quat`.
+#[derive(Clone, Debug)]
+pub struct MocapPlacement {
+    /// The mocap body's name (checked against the compiled model).
+    pub body: String,
+    /// The site the position is relative to.
+    pub site: Option<usize>,
+    /// Added to the site's position: `offset + [0, 0, lift]`, computed first as the reference
+    /// does (`np.array([x, y, z + lift]) + site_xpos`).
+    pub offset: [f64; 3],
+    /// The mocap quaternion (w, x, y, z), as written (MuJoCo normalizes a copy).
+    pub quat: [f64; 4],
+}
+
+/// A named value recorded at the end of `[init]`.
+#[derive(Clone, Debug)]
+pub struct Record {
+    /// Its name (`around = "name[...]"`).
+    pub name: String,
+    /// What is read.
+    pub source: Selection,
+    /// Where its values start in the flat record vector.
+    pub offset: usize,
+}
+
+/// `[end_effector]`: the action moves a mocap body welded to the robot, as Gymnasium-Robotics'
+/// `mocap_set_action`: `mocap_pos = xpos[welded] + scale · action[0:3]`,
+/// `mocap_quat = xquat[welded] + rotation`; `action[3]` (when `gripper_action`) goes to each
+/// gripper actuator: `ctrl = action[3]`, or `qpos[joint] + action[3]` for an actuator with a bias
+/// (a position servo), as `ctrl_set_action`. The action is clipped to [−1, 1] first.
+#[derive(Clone, Debug)]
+pub struct EndEffector {
+    /// The mocap body's name (its weld partner is found in the compiled model).
+    pub mocap: String,
+    /// Position scale of `action[0:3]`.
+    pub scale: f64,
+    /// Added to the welded body's quaternion every step.
+    pub rotation: [f64; 4],
+    /// Whether the action has a fourth, gripper element.
+    pub gripper_action: bool,
+    /// The gripper actuators (indices), each given the gripper element.
+    pub gripper: Vec<usize>,
+    /// Whether the gripper element is replaced by 0 (`block_gripper`).
+    pub block_gripper: bool,
+}
+
+impl EndEffector {
+    /// The action's length.
+    pub fn act_dim(&self) -> usize {
+        3 + usize::from(self.gripper_action)
+    }
+}
+
+/// `[hold.<name>]`: after every step's physics, these joints' positions are set to `value`, then
+/// `mj_forward` (Gymnasium-Robotics' blocked gripper).
+#[derive(Clone, Debug)]
+pub struct Hold {
+    /// The table's name.
+    pub name: String,
+    /// qpos addresses of the joints (hinge or slide).
+    pub qpos: Vec<usize>,
+    /// The value they are held at.
+    pub value: f64,
+}
+
+/// `[goal]`: a goal-conditioned task. The observation becomes Gymnasium's dict
+/// (`observation`, `achieved_goal` = `achieved`, `desired_goal` = the env-held goal vector),
+/// and `compute_reward` evaluates the spec's goal reward terms on given goals.
+#[derive(Clone, Debug)]
+pub struct GoalTable {
+    /// What the env has achieved (read after each step, as the observation).
+    pub achieved: Selection,
+}

@@ -1,0 +1,307 @@
+//! The manipulation tables at run time (`envspec::manipulation`): `[init]` when the env is made,
+//! `[end_effector]` actions, `[hold.*]` after the physics, and the fields manipulation tasks read
+//! (`site_euler`, `site_xvelp`, `site_xvelr`), as Gymnasium-Robotics computes them.
+
+use envspec::ir::ResolvedSpec;
+use envspec::manipulation::{EndEffector, Init};
+use envspec::{Field, Selection};
+use mujoco_rs::prelude::{MjData, MjModel};
+
+use crate::error::EnvError;
+use crate::mj::{self, Call};
+use crate::numerics::{self, Profile};
+
+/// `_EPS4` of Gymnasium-Robotics' `rotations.py`: `np.finfo(float).eps * 4.0`.
+const EPS4: f64 = f64::EPSILON * 4.0;
+
+/// What the end effector drives, resolved in the compiled model.
+#[derive(Clone, Debug)]
+struct Driven {
+    /// The mocap body's index in `mocap_pos`.
+    mocap: usize,
+    /// The body welded to it, whose pose the action starts from.
+    body: usize,
+    /// Per gripper actuator: its index, and the qpos address of its joint when it has a bias
+    /// (a position servo: `ctrl = qpos + action`).
+    gripper: Vec<(usize, Option<usize>)>,
+}
+
+/// The manipulation state of one env.
+pub(crate) struct Manip {
+    /// Where `[init]` left the state: every reset starts from it.
+    pub(crate) init_time: f64,
+    /// `[init] record` values, flat.
+    pub(crate) records: Vec<f64>,
+    driven: Option<Driven>,
+    euler: bool,
+    xvel: bool,
+    site_euler: Vec<f64>,
+    site_xvelp: Vec<f64>,
+    site_xvelr: Vec<f64>,
+    jacp: Vec<f64>,
+    jacr: Vec<f64>,
+    velocity: [f64; 3],
+}
+
+/// The mocap index of body `name`, or E1111.
+fn mocap_of(spec: &ResolvedSpec, model: &MjModel, name: &str, what: &str) -> Result<usize, EnvError> {
+    let err = |why: String| EnvError::Mocap {
+        env: spec.id.clone(),
+        what: format!("{what} `{name}` {why}"),
+    };
+    let body = mj::names::id(model.ffi(), mujoco_rs::mujoco_c::mjtObj::mjOBJ_BODY, name)
+        .ok_or_else(|| err("is not a body of the compiled model".into()))?;
+    usize::try_from(model.body_mocapid()[body])
+        .map_err(|_| err("is not a mocap body (declare it with mocap=\"true\" in the MJCF)".into()))
+}
+
+impl Manip {
+    /// The manipulation state for `spec` over `model` (the mocap bodies and welds checked).
+    pub(crate) fn new(spec: &ResolvedSpec, model: &MjModel) -> Result<Manip, EnvError> {
+        let m = &spec.manipulation;
+        let driven = match &m.end_effector {
+            Some(e) => Some(Self::driven(spec, model, e)?),
+            None => None,
+        };
+        if let Some(init) = &m.init {
+            for p in &init.mocap {
+                mocap_of(spec, model, &p.body, "[init] mocap body")?;
+            }
+        }
+        let nsite = usize::try_from(model.ffi().nsite).unwrap_or(0);
+        let nv = usize::try_from(model.ffi().nv).unwrap_or(0);
+        let euler = spec.reads(Field::SiteEuler) || records_read(m.init.as_ref(), Field::SiteEuler);
+        let xvel = [Field::SiteXvelp, Field::SiteXvelr]
+            .into_iter()
+            .any(|f| spec.reads(f) || records_read(m.init.as_ref(), f));
+        let sized = |on: bool, n: usize| if on { vec![0.0; n] } else { vec![] };
+        Ok(Manip {
+            init_time: 0.0,
+            records: vec![0.0; m.record_len()],
+            driven,
+            euler,
+            xvel,
+            site_euler: sized(euler, 3 * nsite),
+            site_xvelp: sized(xvel, 3 * nsite),
+            site_xvelr: sized(xvel, 3 * nsite),
+            jacp: sized(xvel, 3 * nv),
+            jacr: sized(xvel, 3 * nv),
+            velocity: [0.0; 3],
+        })
+    }
+
+    fn driven(spec: &ResolvedSpec, model: &MjModel, e: &EndEffector) -> Result<Driven, EnvError> {
+        let mocap = mocap_of(spec, model, &e.mocap, "[end_effector] mocap")?;
+        let ids = model.body_mocapid();
+        let weld = mujoco_rs::mujoco_c::mjtEq::mjEQ_WELD as i32;
+        let (types, a, b) = (model.eq_type(), model.eq_obj1id(), model.eq_obj2id());
+        // The weld's other side, as `reset_mocap2body_xpos` finds it.
+        let body = (0..types.len()).find_map(|i| {
+            if types[i] as i32 != weld {
+                return None;
+            }
+            let (a, b) = (usize::try_from(a[i]).ok()?, usize::try_from(b[i]).ok()?);
+            let is = |x: usize| usize::try_from(ids[x]).ok() == Some(mocap);
+            if is(a) {
+                Some(b)
+            } else if is(b) {
+                Some(a)
+            } else {
+                None
+            }
+        });
+        let body = body.ok_or_else(|| EnvError::Mocap {
+            env: spec.id.clone(),
+            what: format!(
+                "[end_effector] mocap `{}` is tied to no body by a weld constraint (add <weld body1=\"{}\" body2=\"...\"/> to the MJCF's <equality>)",
+                e.mocap, e.mocap
+            ),
+        })?;
+        let (bias, trn, adr) = (
+            model.actuator_biastype(),
+            model.actuator_trnid(),
+            model.jnt_qposadr(),
+        );
+        let gripper = e
+            .gripper
+            .iter()
+            .map(|&i| {
+                let biased = bias.get(i).is_some_and(|b| *b as i32 != 0);
+                let joint = trn.get(i).and_then(|t| usize::try_from(t[0]).ok());
+                let qpos = joint.and_then(|j| adr.get(j)).and_then(|&a| usize::try_from(a).ok());
+                (i, if biased { qpos } else { None })
+            })
+            .collect();
+        Ok(Driven {
+            mocap,
+            body,
+            gripper,
+        })
+    }
+
+    /// `[init]` on a data fresh from `mj_resetData`: the joint values, `mj_forward`, the mocap
+    /// placements, the settling steps, then the records. Returns MuJoCo's error message, if any.
+    pub(crate) fn run_init(
+        &mut self,
+        init: &Init,
+        data: &mut MjData<std::sync::Arc<MjModel>>,
+        frame_skip: u32,
+        profile: Profile,
+    ) -> Result<(), String> {
+        mj::call(data, Call::ResetData)?;
+        {
+            let (qpos, _) = mj::state::qpos_qvel_mut(data);
+            for (_, adr, values) in &init.qpos {
+                if let Some(dst) = qpos.get_mut(*adr..*adr + values.len()) {
+                    dst.copy_from_slice(values);
+                }
+            }
+        }
+        mj::call(data, Call::Forward)?;
+        for p in &init.mocap {
+            let model = data.model();
+            let Some(id) = mj::names::id(model.ffi(), mujoco_rs::mujoco_c::mjtObj::mjOBJ_BODY, &p.body)
+                .and_then(|b| usize::try_from(model.body_mocapid()[b]).ok())
+            else {
+                continue; // checked in `new`
+            };
+            let site = p.site.map(|s| data.site_xpos()[s]);
+            let (pos, quat, _, _) = mj::manip::mocap_mut(data);
+            for k in 0..3 {
+                pos[3 * id + k] = match site {
+                    Some(x) => p.offset[k] + x[k],
+                    None => p.offset[k],
+                };
+            }
+            quat[4 * id..4 * id + 4].copy_from_slice(&p.quat);
+        }
+        for _ in 0..init.settle_steps {
+            mj::call(
+                data,
+                Call::Step {
+                    n: frame_skip,
+                    rne: false,
+                },
+            )?;
+        }
+        self.update(data, profile);
+        for r in &init.records {
+            for (k, &i) in r.source.indices.iter().enumerate() {
+                self.records[r.offset + k] = self.read(data, &r.source, i);
+            }
+        }
+        self.init_time = data.ffi().time;
+        Ok(())
+    }
+
+    fn read(&self, data: &MjData<std::sync::Arc<MjModel>>, s: &Selection, i: usize) -> f64 {
+        match s.field {
+            Field::Qpos => data.qpos()[i],
+            Field::Qvel => data.qvel()[i],
+            Field::Xpos => data.xpos().as_flattened()[i],
+            Field::Xquat => data.xquat().as_flattened()[i],
+            Field::SiteXpos => data.site_xpos().as_flattened()[i],
+            Field::SiteXmat => data.site_xmat().as_flattened()[i],
+            f => self.field(f).and_then(|v| v.get(i).copied()).unwrap_or(0.0),
+        }
+    }
+
+    /// The end-effector action: the gripper controls, then the mocap pose from the welded
+    /// body's current (lagged) pose plus the scaled action. `f32`: the action came as float32,
+    /// and numpy scales it in float32.
+    pub(crate) fn apply_action(
+        &self,
+        e: &EndEffector,
+        action: &[f64],
+        f32: bool,
+        data: &mut MjData<std::sync::Arc<MjModel>>,
+    ) {
+        let Some(d) = &self.driven else { return };
+        let clip = |x: f64| x.clamp(-1.0, 1.0);
+        let g = if e.block_gripper || !e.gripper_action {
+            0.0
+        } else {
+            clip(action[3])
+        };
+        for &(i, qpos) in &d.gripper {
+            let v = match qpos {
+                Some(a) => data.qpos()[a] + g,
+                None => g,
+            };
+            if let Some(c) = data.ctrl_mut().get_mut(i) {
+                *c = v;
+            }
+        }
+        let mut delta = [0.0; 3];
+        for (k, dk) in delta.iter_mut().enumerate() {
+            *dk = if f32 {
+                f64::from(clip(action[k]) as f32 * e.scale as f32)
+            } else {
+                clip(action[k]) * e.scale
+            };
+        }
+        let (pos, quat, xpos, xquat) = mj::manip::mocap_mut(data);
+        let (m, b) = (d.mocap, d.body);
+        for k in 0..3 {
+            pos[3 * m + k] = xpos[3 * b + k] + delta[k];
+        }
+        for k in 0..4 {
+            quat[4 * m + k] = xquat[4 * b + k] + e.rotation[k];
+        }
+    }
+
+    /// The derived fields the spec reads, from the current (lagged) kinematics.
+    pub(crate) fn update(&mut self, data: &MjData<std::sync::Arc<MjModel>>, profile: Profile) {
+        if self.euler {
+            for (s, m) in data.site_xmat().iter().enumerate() {
+                self.site_euler[3 * s..3 * s + 3].copy_from_slice(&mat2euler(m, profile));
+            }
+        }
+        if self.xvel {
+            let qvel = data.qvel();
+            let nv = qvel.len();
+            for s in 0..self.site_xvelp.len() / 3 {
+                mj::manip::jac_site(data, s, &mut self.jacp, &mut self.jacr);
+                numerics::matvec(profile, 3, nv, &self.jacp, qvel, &mut self.velocity);
+                self.site_xvelp[3 * s..3 * s + 3].copy_from_slice(&self.velocity);
+                numerics::matvec(profile, 3, nv, &self.jacr, qvel, &mut self.velocity);
+                self.site_xvelr[3 * s..3 * s + 3].copy_from_slice(&self.velocity);
+            }
+        }
+    }
+
+    /// The values of the fields this module computes.
+    pub(crate) fn field(&self, f: Field) -> Option<&[f64]> {
+        Some(match f {
+            Field::SiteEuler => &self.site_euler,
+            Field::SiteXvelp => &self.site_xvelp,
+            Field::SiteXvelr => &self.site_xvelr,
+            _ => return None,
+        })
+    }
+}
+
+fn records_read(init: Option<&Init>, f: Field) -> bool {
+    init.is_some_and(|i| i.records.iter().any(|r| r.source.field == f))
+}
+
+/// Gymnasium-Robotics' `rotations.mat2euler` of one row-major 3 × 3 matrix: numpy's `sqrt`,
+/// `arctan2` (SVML's under an AVX-512 profile, glibc's otherwise) and negations, in its order.
+pub(crate) fn mat2euler(m: &[f64; 9], profile: Profile) -> [f64; 3] {
+    let at = |r: usize, c: usize| m[3 * r + c];
+    let atan2 = |y: f64, x: f64| numerics::atan2(profile, y, x);
+    let cy = (at(2, 2) * at(2, 2) + at(1, 2) * at(1, 2)).sqrt();
+    let condition = cy > EPS4;
+    let z = if condition {
+        -atan2(at(0, 1), at(0, 0))
+    } else {
+        -atan2(-at(1, 0), at(1, 1))
+    };
+    let y = -atan2(-at(0, 2), cy);
+    let x = if condition {
+        -atan2(at(1, 2), at(2, 2))
+    } else {
+        0.0
+    };
+    [x, y, z]
+}
