@@ -298,6 +298,8 @@ enum Index {
     Int(i64),
     Slice(Option<i64>, Option<i64>),
     List(Vec<i64>),
+    /// Names (or integers) listed in order.
+    Names(Vec<String>),
     Name(String),
     Param(String),
 }
@@ -364,8 +366,15 @@ fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), Diagnostic>
                 Some(int(b)?)
             };
             Index::Slice(a, b)
-        } else if inner.contains(',') {
+        } else if inner.contains(',') && inner.split(',').all(|x| x.trim().parse::<i64>().is_ok()) {
             Index::List(inner.split(',').map(int).collect::<Result<_, _>>()?)
+        } else if inner.contains(',') {
+            // Names (or indices) listed in order: `qpos[goal_x,goal_y,goal_z]`.
+            let parts: Vec<String> = inner.split(',').map(|x| x.trim().to_string()).collect();
+            if parts.iter().any(String::is_empty) {
+                return Err(syntax_error(loc, "an empty entry in a `,` list"));
+            }
+            Index::Names(parts)
         } else if let Ok(i) = inner.parse::<i64>() {
             Index::Int(i)
         } else if inner.is_empty() {
@@ -431,6 +440,28 @@ pub fn resolve(
         // A column by name (`xpos[torso][x]`, `xpos[torso].x`, `cfrc_ext[foot].tz`).
         Some(Index::Name(n)) if field.col_names().contains(&n.as_str()) => {
             vec![field.col_names().iter().position(|c| c == n).unwrap_or(0)]
+        }
+        Some(Index::Names(l)) => {
+            let mut out = vec![];
+            for n in l {
+                match (n.parse::<i64>(), field.col_names().iter().position(|c| c == n)) {
+                    (Ok(i), _) => out.extend(select_ints(&Index::Int(i), cols, loc)?),
+                    (_, Some(c)) => out.push(c),
+                    _ => {
+                        return Err(Diagnostic::new(
+                            Code::E0401,
+                            format!("`{n}` is not a column of `{field_name}`"),
+                        )
+                        .at(loc.clone())
+                        .label(format!(
+                            "expected column indices or names ({})",
+                            field.col_names().join(", ")
+                        ))
+                        .help_opt(suggest(n, field.col_names().iter().copied())));
+                    }
+                }
+            }
+            out
         }
         Some(Index::Name(n)) | Some(Index::Param(n)) => {
             let names = field.col_names().join(", ");
@@ -559,6 +590,16 @@ fn select_rows(
     };
     match idx {
         Index::Name(n) => by_name(n),
+        Index::Names(l) => {
+            let mut out = vec![];
+            for n in l {
+                match n.parse::<i64>() {
+                    Ok(i) => out.extend(select_ints(&Index::Int(i), nrows, loc)?),
+                    Err(_) => out.extend(by_name(n)?),
+                }
+            }
+            Ok(out)
+        }
         Index::Param(p) => match param(p)? {
             ParamIndex::Name(n) => by_name(&n),
             ParamIndex::Int(i) => select_ints(&Index::Int(i), nrows, loc),
@@ -684,7 +725,9 @@ fn select_ints(idx: &Index, n: usize, loc: &Location) -> Result<Vec<usize>, Diag
             let b = b.map(clamp).unwrap_or(n_i);
             Ok((a..b.max(a)).map(|i| i as usize).collect())
         }
-        Index::Name(_) | Index::Param(_) => unreachable!("names are resolved by the caller"),
+        Index::Name(_) | Index::Names(_) | Index::Param(_) => {
+            unreachable!("names are resolved by the caller")
+        }
     }
 }
 
