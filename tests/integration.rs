@@ -9,6 +9,7 @@ static A: envc_tests::ThreadCounting = envc_tests::ThreadCounting;
 mod added_elements;
 mod error_codes;
 mod events;
+mod fetch;
 mod goal_terms;
 mod golden;
 mod invariants;

@@ -329,14 +329,19 @@ fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
         return crate::maze::registry(path)
             .unwrap_or_default()
             .into_iter()
-            .map(|r| Entry {
-                id: r.id,
-                kind: Kind::Maze,
-                path: r.spec,
-                overrides: r.overrides,
-                example,
-                task: false,
-                user: false,
+            .map(|r| {
+                // A family of task specs (Fetch's sparse and dense ids) opens as tasks.
+                let kind = crate::value::read_document(&r.spec, None, "spec")
+                    .map_or(Kind::Maze, |(_, root)| Kind::of_document(&root));
+                Entry {
+                    id: r.id,
+                    kind,
+                    path: r.spec,
+                    overrides: r.overrides,
+                    example,
+                    task: kind == Kind::Task,
+                    user: false,
+                }
             })
             .collect();
     }

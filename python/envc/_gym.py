@@ -112,6 +112,24 @@ def as_actions(actions) -> np.ndarray:
         ) from None
 
 
+def goal_batches(
+    achieved_goal: Any, desired_goal: Any, n: int
+) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
+    """Goals broadcast against each other as ``[N, n]`` float64 rows, and the leading shape."""
+    a = np.asarray(achieved_goal, dtype=np.float64)
+    d = np.asarray(desired_goal, dtype=np.float64)
+    try:
+        a, d = np.broadcast_arrays(a, d)
+    except ValueError:
+        raise ValueError(
+            f"achieved_goal {a.shape} and desired_goal {d.shape} do not broadcast together"
+        ) from None
+    if a.ndim == 0 or a.shape[-1] != n:
+        raise ValueError(f"goals have shape {a.shape}; expected [..., {n}]")
+    ra, rd = (np.ascontiguousarray(x.reshape(-1, n)) for x in (a, d))
+    return ra, rd, a.shape[:-1]
+
+
 def _fps(dt: float) -> int:
     return int(np.round(1.0 / dt))
 
@@ -146,9 +164,16 @@ class EnvcEnv(gym.Env):
         self._core = core
         self.render_mode = render_mode
         self.metadata = {"render_modes": list(RENDER_MODES), "render_fps": _fps(core.dt)}
-        self.observation_space = gym.spaces.Box(
-            low=core.obs_low, high=core.obs_high, dtype=np.float64
-        )
+        obs_space = gym.spaces.Box(low=core.obs_low, high=core.obs_high, dtype=np.float64)
+        self._goal_dim = core.goal_dim
+        if self._goal_dim:
+            # A `[goal]` task: Gymnasium-Robotics' dict observation (its Dict sorts the keys).
+            goal = gym.spaces.Box(-np.inf, np.inf, shape=(self._goal_dim,), dtype="float64")
+            self.observation_space: gym.Space = gym.spaces.Dict(
+                dict(desired_goal=goal, achieved_goal=goal, observation=obs_space)
+            )
+        else:
+            self.observation_space = obs_space
         self.action_space = gym.spaces.Box(
             low=core.act_low.astype(np.float32),
             high=core.act_high.astype(np.float32),
@@ -179,6 +204,40 @@ class EnvcEnv(gym.Env):
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
         return self._core.render(self.render_mode)
+
+    def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
+        """A ``[goal]`` task's reward for these goals (``info`` is unused), exactly as ``step``
+        computes it: a scalar for ``[goal_dim]`` goals, an array of the leading shape for
+        ``[..., goal_dim]`` (what hindsight relabelling, e.g. SB3's ``HerReplayBuffer``, calls).
+        float32 where the reference computes float32 (``-(d > threshold)``), else float64."""
+        if not self._goal_dim:
+            raise _errors.coded(
+                f"error[E0170]: compute_reward: {self.spec.id if self.spec else 'this env'} has no "
+                "[goal] table (docs/spec-reference.md §22)",
+                "E0170",
+            )
+        a, d, lead = goal_batches(achieved_goal, desired_goal, self._goal_dim)
+        r = self._core.compute_reward(a, d)
+        if self._core.goal_reward_float32:
+            r = r.astype(np.float32)
+        return r.reshape(lead) if lead else r[0]
+
+    def compute_terminated(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
+        """False for a task without ``[termination.*]`` (Gymnasium-Robotics' Fetch): a bool, or
+        a bool array of the leading shape (E0170 for a task with termination conditions)."""
+        if self._core.terminations:
+            raise _errors.coded(
+                "error[E0170]: compute_terminated: this task's [termination.*] conditions are not "
+                "evaluated on given goals; step the env instead",
+                "E0170",
+            )
+        a, _, lead = goal_batches(achieved_goal, desired_goal, self._goal_dim or 1)
+        t = np.zeros(a.shape[0], dtype=bool)
+        return t.reshape(lead) if lead else bool(t[0])
+
+    def compute_truncated(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
+        """Always false (the ``TimeLimit`` truncates)."""
+        return self.compute_terminated(achieved_goal, desired_goal, info)
 
     def close(self):
         core = self._core

@@ -18,6 +18,7 @@ from ._gym import (
     _Closed,
     as_actions,
     check_render_mode,
+    goal_batches,
     reference_seed,
     overrides_to_toml,
     render_overrides,
@@ -42,18 +43,7 @@ def _cell(options: dict, key: str) -> tuple[int, int] | None:
 
 def _goal_batches(achieved_goal, desired_goal) -> tuple[np.ndarray, np.ndarray, tuple]:
     """Goals broadcast against each other as ``[N, 2]`` float64 rows, and the leading shape."""
-    a = np.asarray(achieved_goal, dtype=np.float64)
-    d = np.asarray(desired_goal, dtype=np.float64)
-    try:
-        a, d = np.broadcast_arrays(a, d)
-    except ValueError:
-        raise ValueError(
-            f"achieved_goal {a.shape} and desired_goal {d.shape} do not broadcast together"
-        ) from None
-    if a.ndim == 0 or a.shape[-1] != 2:
-        raise ValueError(f"goals have shape {a.shape}; expected [..., 2] (x, y)")
-    rows = (np.ascontiguousarray(x.reshape(-1, 2)) for x in (a, d))
-    return *rows, a.shape[:-1]
+    return goal_batches(achieved_goal, desired_goal, 2)
 
 
 def _unbounded(n: int) -> gym.spaces.Box:

@@ -42,6 +42,16 @@ pub(crate) fn observe<'py>(py: Python<'py>, env: &AnyEnv, after: After) -> PyRes
         After::Step => physics.step_info(),
     };
     Ok(match env {
+        // A `[goal]` task: Gymnasium-Robotics' dict, keys in the reference's insertion order.
+        AnyEnv::Task(e) if e.spec().manipulation.goal.is_some() => {
+            let d = PyDict::new(py);
+            let mut achieved = vec![];
+            e.achieved_goal(&mut achieved);
+            d.set_item("observation", PyArray1::from_slice(py, e.obs()))?;
+            d.set_item("achieved_goal", PyArray1::from_vec(py, achieved))?;
+            d.set_item("desired_goal", PyArray1::from_slice(py, e.goal()))?;
+            (d.into_any(), convert::info(py, info)?)
+        }
         AnyEnv::Task(e) => (
             PyArray1::from_slice(py, e.obs()).into_any(),
             convert::info(py, info)?,

@@ -1,7 +1,7 @@
 //! The core of a single-agent task env: what `EnvCore` shares, plus the observation bounds, the
 //! state and the resolved parameters.
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use crate::env_core::EnvCore;
@@ -39,6 +39,57 @@ impl TaskCore {
             py,
             &slf.as_super().task()?.observation_space().high,
         ))
+    }
+    /// Length of the goal vectors of a `[goal]` task (0 without `[goal]`).
+    #[getter]
+    fn goal_dim(slf: PyRef<'_, Self>) -> PyResult<usize> {
+        let t = slf.as_super().task()?;
+        Ok(if t.spec().manipulation.goal.is_some() {
+            t.spec().goal_dim
+        } else {
+            0
+        })
+    }
+    /// How many `[termination.*]` conditions the task has.
+    #[getter]
+    fn terminations(slf: PyRef<'_, Self>) -> PyResult<usize> {
+        Ok(slf.as_super().task()?.spec().termination.len())
+    }
+    /// Whether every reward term is `goal_missed` (the reference computes that reward in
+    /// float32: `-(d > threshold).astype(np.float32)`).
+    #[getter]
+    fn goal_reward_float32(slf: PyRef<'_, Self>) -> PyResult<bool> {
+        let spec = slf.as_super().task()?.spec();
+        Ok(!spec.reward.is_empty()
+            && spec
+                .reward
+                .iter()
+                .all(|t| matches!(t.kind, envspec::ir::TermKind::GoalMissed(_))))
+    }
+    /// `compute_reward` of a `[goal]` task over rows of two `[N, goal_dim]` arrays, exactly as the
+    /// step reward (E0170 when the reward is not a function of the goals alone).
+    fn compute_reward<'py>(
+        slf: PyRef<'py, Self>,
+        py: Python<'py>,
+        achieved: PyReadonlyArray2<'py, f64>,
+        desired: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let env = slf.as_super().task()?;
+        let n = env.spec().goal_dim;
+        let (a, d) = (achieved.as_array(), desired.as_array());
+        if a.shape() != d.shape() || a.shape()[1] != n {
+            return Err(errors::argument(format!(
+                "achieved_goal {:?} and desired_goal {:?}: expected two arrays of shape [N, {n}]",
+                a.shape(),
+                d.shape()
+            )));
+        }
+        let (a, d): (Vec<f64>, Vec<f64>) = (a.iter().copied().collect(), d.iter().copied().collect());
+        let mut out = vec![0.0; a.len() / n.max(1)];
+        env.compute_reward(&a, &d, &mut out).map_err(|why| {
+            errors::coded("E0170", format!("error[E0170]: compute_reward: {why}"))
+        })?;
+        Ok(PyArray1::from_vec(py, out))
     }
     /// The resolved parameters: `{name: value as TOML text}`.
     #[getter]

@@ -621,6 +621,53 @@ impl Env {
     pub fn set_numerics(&mut self, profile: Profile) {
         self.sim.numerics = profile;
     }
+    /// `[goal]`: the achieved goal now (what the observation dict reports as `achieved_goal`).
+    /// Empty for an env without `[goal]`.
+    pub fn achieved_goal(&self, out: &mut Vec<f64>) {
+        out.clear();
+        if let Some(g) = &self.spec.manipulation.goal {
+            out.extend((0..g.achieved.len()).map(|k| self.sim.get(&g.achieved, k)));
+        }
+    }
+    /// `compute_reward` of a `[goal]` task for rows of `goal_dim` numbers each: the reward sum of
+    /// the goal terms, each evaluated on `achieved` against `desired` exactly as `step` does. `Err`
+    /// names a reward term that reads anything but the goal distance (no reward from goals
+    /// alone), or says the env has no `[goal]`.
+    pub fn compute_reward(
+        &self,
+        achieved: &[f64],
+        desired: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        let n = self.spec.goal_dim;
+        if self.spec.manipulation.goal.is_none() || n == 0 {
+            return Err(format!("{} has no [goal] table", self.spec.id));
+        }
+        if let Some(t) = self.spec.reward.iter().find(|t| {
+            !matches!(
+                &t.kind,
+                TermKind::GoalSparse(GoalCheck { distance: g, .. })
+                    | TermKind::GoalMissed(GoalCheck { distance: g, .. })
+                    | TermKind::GoalDense(g)
+                    | TermKind::GoalDistance(g) if matches!(g.desired, Desired::Goal)
+            )
+        }) {
+            return Err(format!(
+                "[reward.{}] (kind {}) is not a goal term against desired = \"goal\", so the reward is not a function of the goals",
+                t.name,
+                t.kind_name()
+            ));
+        }
+        let mut values = vec![0.0; self.spec.reward.len()];
+        for (r, o) in out.iter_mut().enumerate() {
+            let (a, d) = (&achieved[r * n..(r + 1) * n], &desired[r * n..(r + 1) * n]);
+            for (v, t) in values.iter_mut().zip(&self.spec.reward) {
+                *v = crate::goal::term_value(t, self.sim.numerics, a, d).unwrap_or(f64::NAN);
+            }
+            *o = sum_values(&self.spec.reward_sum, &values);
+        }
+        Ok(())
+    }
     /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
@@ -1281,14 +1328,7 @@ impl Env {
     }
 
     fn sum(&self, node: &SumNode) -> f64 {
-        match node {
-            SumNode::Term(i) => self.term_values[*i],
-            SumNode::Sum(children) => {
-                let mut it = children.iter();
-                let Some(first) = it.next() else { return 0.0 };
-                it.fold(self.sum(first), |acc, c| acc + self.sum(c))
-            }
-        }
+        sum_values(node, &self.term_values)
     }
 
     fn write_obs(&mut self) {
@@ -1380,6 +1420,20 @@ fn write_info(
         InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
         InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
+    }
+}
+
+/// The reward sum over signed term values: each list left to right, nested lists first.
+fn sum_values(node: &SumNode, values: &[f64]) -> f64 {
+    match node {
+        SumNode::Term(i) => values[*i],
+        SumNode::Sum(children) => {
+            let mut it = children.iter();
+            let Some(first) = it.next() else { return 0.0 };
+            it.fold(sum_values(first, values), |acc, c| {
+                acc + sum_values(c, values)
+            })
+        }
     }
 }
 

@@ -1,5 +1,6 @@
-//! Maze registry files: `[[family]]` tables expanding one maze spec over several maps and both
-//! reward types into registered ids.
+//! Registry files: `[[family]]` tables expanding one maze spec over several maps and both
+//! reward types into registered ids, or one task spec over both reward types (`id` without
+//! `{map}`, no `maps`: Gymnasium-Robotics' `FetchReach-v4` and `FetchReachDense-v4`).
 
 use std::path::{Path, PathBuf};
 
@@ -93,11 +94,22 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
         let spec = get("spec").and_then(Val::as_str);
         let id = get("id").and_then(Val::as_str);
         let maps = get("maps").and_then(Val::as_table);
+        // Without `{map}` in the id, the family is one spec over both reward types.
+        let mapless = id.is_some_and(|i| !i.contains("{map}")) && get("maps").is_none();
         let ok = [
-            need("spec", spec.is_some(), "a string (the maze spec path)"),
+            need("spec", spec.is_some(), "a string (the spec path)"),
             need("id", id.is_some(), "a string with {map} and {reward}"),
-            need("maps", maps.is_some(), "a table of map entries"),
+            mapless || need("maps", maps.is_some(), "a table of map entries"),
         ];
+        let one = [crate::value::Entry {
+            key: String::new(),
+            key_loc: f.loc.clone(),
+            value: Val {
+                kind: ValKind::Table(vec![]),
+                loc: f.loc.clone(),
+            },
+        }];
+        let maps = if mapless { Some(&one[..]) } else { maps };
         let (Some(spec), Some(id), Some(maps), [true, true, true]) = (spec, id, maps, ok) else {
             continue;
         };
