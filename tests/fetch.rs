@@ -90,7 +90,11 @@ fn replay(id: &str) {
         } else {
             env.step(a).unwrap()
         };
-        assert_eq!(s.reward.to_bits(), reward[t].to_bits(), "{id} step {t}: reward");
+        assert_eq!(
+            s.reward.to_bits(),
+            reward[t].to_bits(),
+            "{id} step {t}: reward"
+        );
         assert_eq!(
             s.info.scalar("is_success"),
             Some(success[t]),
@@ -111,7 +115,11 @@ fn replay(id: &str) {
     let (g, d) = (unhex(&rec["batch_achieved"]), unhex(&rec["batch_desired"]));
     let mut out = vec![0.0; g.len() / 3];
     env.compute_reward(&g, &d, &mut out).unwrap();
-    assert_eq!(bits(&out), bits(&unhex(&rec["batch_reward"])), "{id}: compute_reward");
+    assert_eq!(
+        bits(&out),
+        bits(&unhex(&rec["batch_reward"])),
+        "{id}: compute_reward"
+    );
 }
 
 #[test]
@@ -144,6 +152,8 @@ fn fetch_pick_and_place() {
 fn compute_reward_needs_goal_terms() {
     let spec = root().join("specs/gymnasium/reacher.toml");
     let env = Env::from_spec_file(spec, &[]).unwrap();
-    let err = env.compute_reward(&[0.0; 3], &[0.0; 3], &mut [0.0]).unwrap_err();
+    let err = env
+        .compute_reward(&[0.0; 3], &[0.0; 3], &mut [0.0])
+        .unwrap_err();
     assert!(err.contains("no [goal] table"), "{err}");
 }

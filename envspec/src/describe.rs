@@ -233,7 +233,10 @@ pub fn reset_step(r: &ResetStep) -> String {
         Some(Until::NormBelow(x)) => format!(", redrawn until ‖·‖ < {}", num(x)),
         Some(Until::NormAbove(x)) => format!(", redrawn until ‖·‖ > {}", num(x)),
         Some(Until::MinDistance(x)) => {
-            format!(", redrawn while closer than {} to where it is drawn around", num(x))
+            format!(
+                ", redrawn while closer than {} to where it is drawn around",
+                num(x)
+            )
         }
         None => String::new(),
     };

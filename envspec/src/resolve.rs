@@ -1251,7 +1251,9 @@ impl Ctx<'_> {
                 }
                 Distribution::Normal { scale } => scale.abs(),
                 Distribution::Constant { value } => value.abs(),
-                Distribution::Values { values } => values.iter().fold(0.0, |m: f64, x| m.max(x.abs())),
+                Distribution::Values { values } => {
+                    values.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+                }
                 Distribution::Keyframe { .. }
                 | Distribution::RootPose { .. }
                 | Distribution::TerrainOrigin { .. } => 0.0,
@@ -1315,25 +1317,7 @@ impl Ctx<'_> {
                     }
                 }
             };
-            let around = s
-                .get("around")
-                .and_then(|v| self.around(v, n, &format!("[reset.{}]", s.name)));
-            let probability = s.get("probability").and_then(|v| {
-                let p = self.num(v, "probability")?;
-                if (0.0..=1.0).contains(&p) {
-                    Some(p)
-                } else {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0105,
-                            format!("[reset.{}]: probability {p} is outside [0, 1]", s.name),
-                        )
-                        .at(v.loc.clone())
-                        .label("expected a probability in [0, 1]"),
-                    );
-                    None
-                }
-            });
+            let (around, probability) = self.reset_placement(s, n);
             let resample_until = s.get("resample_until").and_then(|v| {
                 let until = self.until(v)?;
                 if matches!(until, Until::MinDistance(_)) && s.get("around").is_none() {
@@ -1416,8 +1400,10 @@ impl Ctx<'_> {
     fn until(&mut self, v: &Val) -> Option<Until> {
         let t = v.as_table().filter(|t| t.len() == 1);
         let Some(e) = t.map(|t| &t[0]) else {
-            self.d
-                .push(v.type_error("resample_until", "{ norm_below = x }, { norm_above = x } or { min_distance = x }"));
+            self.d.push(v.type_error(
+                "resample_until",
+                "{ norm_below = x }, { norm_above = x } or { min_distance = x }",
+            ));
             return None;
         };
         let x = self.num(&e.value, &e.key)?;

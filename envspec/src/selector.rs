@@ -444,7 +444,10 @@ pub fn resolve(
         Some(Index::Names(l)) => {
             let mut out = vec![];
             for n in l {
-                match (n.parse::<i64>(), field.col_names().iter().position(|c| c == n)) {
+                match (
+                    n.parse::<i64>(),
+                    field.col_names().iter().position(|c| c == n),
+                ) {
                     (Ok(i), _) => out.extend(select_ints(&Index::Int(i), cols, loc)?),
                     (_, Some(c)) => out.push(c),
                     _ => {

@@ -442,7 +442,14 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("term", &["term", "unweighted"]),
     (
         "goal_reached",
-        &["achieved", "desired", "threshold", "norm", "strict", "in_reset"],
+        &[
+            "achieved",
+            "desired",
+            "threshold",
+            "norm",
+            "strict",
+            "in_reset",
+        ],
     ),
 ];
 

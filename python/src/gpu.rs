@@ -235,8 +235,14 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 Until::NormAbove(x) => json!({"norm_above": num(x)}),
                 Until::MinDistance(x) => json!({"min_distance": num(x)}),
             });
-            if r.around.is_some() || r.probability.is_some() || r.target.field == envspec::Field::Goal {
-                not_exported.push(format!("[reset.{}] around / probability / a goal target", r.name));
+            if r.around.is_some()
+                || r.probability.is_some()
+                || r.target.field == envspec::Field::Goal
+            {
+                not_exported.push(format!(
+                    "[reset.{}] around / probability / a goal target",
+                    r.name
+                ));
             }
             json!({
                 "name": r.name, "target": sel(&r.target), "dist": dist, "set": r.set,

@@ -84,7 +84,8 @@ impl TaskCore {
                 d.shape()
             )));
         }
-        let (a, d): (Vec<f64>, Vec<f64>) = (a.iter().copied().collect(), d.iter().copied().collect());
+        let (a, d): (Vec<f64>, Vec<f64>) =
+            (a.iter().copied().collect(), d.iter().copied().collect());
         let mut out = vec![0.0; a.len() / n.max(1)];
         env.compute_reward(&a, &d, &mut out).map_err(|why| {
             errors::coded("E0170", format!("error[E0170]: compute_reward: {why}"))

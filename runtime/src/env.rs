@@ -401,9 +401,9 @@ impl Env {
         let mut qvel_init = vec![0.0; sim.nv];
         if let Some(init) = &spec.manipulation.init {
             let numerics = sim.numerics;
-            if let Err(message) =
-                sim.manip
-                    .run_init(init, &mut sim.data, spec.frame_skip, numerics)
+            if let Err(message) = sim
+                .manip
+                .run_init(init, &mut sim.data, spec.frame_skip, numerics)
             {
                 return Err(EnvError::Mujoco {
                     env: spec.id.clone(),
@@ -1454,7 +1454,12 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     }
     // (with no edits, the same parse and compile as `mj_loadXML`)
     let mut model = crate::model_build::compile_edited(path, &spec.model_edits).map_err(bad)?;
-    if spec.manipulation.init.as_ref().is_some_and(|i| i.reset_welds) {
+    if spec
+        .manipulation
+        .init
+        .as_ref()
+        .is_some_and(|i| i.reset_welds)
+    {
         mj::manip::reset_welds(&mut model);
     }
     crate::commands::apply_gains(spec, &mut model)?;

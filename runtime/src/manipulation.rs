@@ -44,7 +44,12 @@ pub(crate) struct Manip {
 }
 
 /// The mocap index of body `name`, or E1111.
-fn mocap_of(spec: &ResolvedSpec, model: &MjModel, name: &str, what: &str) -> Result<usize, EnvError> {
+fn mocap_of(
+    spec: &ResolvedSpec,
+    model: &MjModel,
+    name: &str,
+    what: &str,
+) -> Result<usize, EnvError> {
     let err = |why: String| EnvError::Mocap {
         env: spec.id.clone(),
         what: format!("{what} `{name}` {why}"),
@@ -128,7 +133,9 @@ impl Manip {
             .map(|&i| {
                 let biased = bias.get(i).is_some_and(|b| *b as i32 != 0);
                 let joint = trn.get(i).and_then(|t| usize::try_from(t[0]).ok());
-                let qpos = joint.and_then(|j| adr.get(j)).and_then(|&a| usize::try_from(a).ok());
+                let qpos = joint
+                    .and_then(|j| adr.get(j))
+                    .and_then(|&a| usize::try_from(a).ok());
                 (i, if biased { qpos } else { None })
             })
             .collect();
@@ -160,9 +167,12 @@ impl Manip {
         mj::call(data, Call::Forward)?;
         for p in &init.mocap {
             let model = data.model();
-            let Some(id) = mj::names::id(model.ffi(), mujoco_rs::mujoco_c::mjtObj::mjOBJ_BODY, &p.body)
-                .and_then(|b| usize::try_from(model.body_mocapid()[b]).ok())
-            else {
+            let Some(id) = mj::names::id(
+                model.ffi(),
+                mujoco_rs::mujoco_c::mjtObj::mjOBJ_BODY,
+                &p.body,
+            )
+            .and_then(|b| usize::try_from(model.body_mocapid()[b]).ok()) else {
                 continue; // checked in `new`
             };
             let site = p.site.map(|s| data.site_xpos()[s]);

@@ -289,7 +289,13 @@ pub(crate) mod manip {
         // SAFETY: a live model and its data; the two buffers hold 3 × nv doubles each, which is
         // all mj_jacSite writes; the site id is in range.
         unsafe {
-            ffi::mj_jacSite(m, data.ffi(), jacp.as_mut_ptr(), jacr.as_mut_ptr(), site as i32);
+            ffi::mj_jacSite(
+                m,
+                data.ffi(),
+                jacp.as_mut_ptr(),
+                jacr.as_mut_ptr(),
+                site as i32,
+            );
         }
     }
 
@@ -337,7 +343,7 @@ pub(crate) mod manip {
         unsafe {
             let m = model.ffi_mut();
             for i in 0..count(m.neq) {
-                if *m.eq_type.add(i) as i32 == WELD {
+                if *m.eq_type.add(i) == WELD {
                     let row = m.eq_data.add(i * n);
                     for (k, v) in [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0].into_iter().enumerate() {
                         *row.add(k) = v;

@@ -10,12 +10,17 @@ use crate::syntax::Section;
 use crate::value::{Val, ValKind};
 
 fn misfit(at: &Location, msg: String, label: &str) -> Diagnostic {
-    Diagnostic::new(Code::E0170, msg).at(at.clone()).label(label)
+    Diagnostic::new(Code::E0170, msg)
+        .at(at.clone())
+        .label(label)
 }
 
 /// `name` or `name[i]` / `name[a:b]` (Python slice without step, clamped): the name and the
 /// indices into a vector of `n` elements.
-fn name_and_rows(text: &str, n_of: impl Fn(&str) -> Option<usize>) -> Result<(String, Vec<usize>), String> {
+fn name_and_rows(
+    text: &str,
+    n_of: impl Fn(&str) -> Option<usize>,
+) -> Result<(String, Vec<usize>), String> {
     let text = text.trim();
     let (name, rest) = match text.find('[') {
         Some(i) => (text[..i].trim(), Some(&text[i..])),
@@ -38,8 +43,16 @@ fn name_and_rows(text: &str, n_of: impl Fn(&str) -> Option<usize>) -> Result<(St
     let ni = n as i64;
     let clamp = |x: i64| -> i64 { if x < 0 { (x + ni).max(0) } else { x.min(ni) } };
     let rows = if let Some((a, b)) = inner.split_once(':') {
-        let a = if a.trim().is_empty() { 0 } else { clamp(int(a)?) };
-        let b = if b.trim().is_empty() { ni } else { clamp(int(b)?) };
+        let a = if a.trim().is_empty() {
+            0
+        } else {
+            clamp(int(a)?)
+        };
+        let b = if b.trim().is_empty() {
+            ni
+        } else {
+            clamp(int(b)?)
+        };
         (a..b.max(a)).map(|i| i as usize).collect()
     } else {
         let i = int(inner)?;
@@ -101,7 +114,10 @@ impl Ctx<'_> {
         if achieved.is_empty() || achieved.field == Field::Goal {
             self.d.push(misfit(
                 &v.loc,
-                format!("[goal] achieved `{}` selects no simulation element", achieved.text),
+                format!(
+                    "[goal] achieved `{}` selects no simulation element",
+                    achieved.text
+                ),
                 "expected a selector of the simulation, e.g. \"site_xpos[grip]\"",
             ));
             return None;
@@ -182,6 +198,34 @@ impl Ctx<'_> {
         }
     }
 
+    /// A reset step's `around` and `probability`.
+    pub(super) fn reset_placement(
+        &mut self,
+        s: &Section,
+        n: usize,
+    ) -> (Option<Vec<usize>>, Option<f64>) {
+        let around = s
+            .get("around")
+            .and_then(|v| self.around(v, n, &format!("[reset.{}]", s.name)));
+        let probability = s.get("probability").and_then(|v| {
+            let p = self.num(v, "probability")?;
+            if (0.0..=1.0).contains(&p) {
+                Some(p)
+            } else {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0105,
+                        format!("[reset.{}]: probability {p} is outside [0, 1]", s.name),
+                    )
+                    .at(v.loc.clone())
+                    .label("expected a probability in [0, 1]"),
+                );
+                None
+            }
+        });
+        (around, probability)
+    }
+
     /// A list of numbers (or numeric parameters) of length `n`.
     fn number_list(&mut self, v: &Val, what: &str, n: usize) -> Option<Vec<f64>> {
         match &v.kind {
@@ -251,7 +295,6 @@ impl Ctx<'_> {
     }
 
     fn init(&mut self, s: &Section) -> Option<Init> {
-        let mut ok = true;
         let mut qpos = vec![];
         if let Some(v) = s.get("qpos") {
             match v.as_table() {
@@ -259,7 +302,6 @@ impl Ctx<'_> {
                     for e in rows {
                         let Some((adr, kind)) = self.joint_qpos(&e.key, &e.key_loc, "[init] qpos")
                         else {
-                            ok = false;
                             continue;
                         };
                         let n = kind.nq();
@@ -268,16 +310,14 @@ impl Ctx<'_> {
                             _ if n == 1 => self.num(&e.value, "[init] qpos").map(|x| vec![x]),
                             _ => self.number_list(&e.value, "[init] qpos", n),
                         };
-                        match values {
-                            Some(values) => qpos.push((e.key.clone(), adr, values)),
-                            None => ok = false,
+                        if let Some(values) = values {
+                            qpos.push((e.key.clone(), adr, values));
                         }
                     }
                 }
                 None => {
                     self.d
                         .push(v.type_error("[init] qpos", "a table joint = value(s)"));
-                    ok = false;
                 }
             }
         }
@@ -297,14 +337,12 @@ impl Ctx<'_> {
                     "[init] mocap",
                     "{ body, site, offset, lift, quat } or an array of them",
                 ));
-                ok = false;
             }
-            for t in tables {
-                match self.mocap_placement(t, &v.loc) {
-                    Some(m) => mocap.push(m),
-                    None => ok = false,
-                }
-            }
+            mocap.extend(
+                tables
+                    .into_iter()
+                    .filter_map(|t| self.mocap_placement(t, &v.loc)),
+            );
         }
         let settle_steps = match s.get("settle_steps") {
             None => 0,
@@ -318,7 +356,6 @@ impl Ctx<'_> {
                             crate::limits::MAX_EPISODE_STEPS
                         ),
                     ));
-                    ok = false;
                     0
                 }
             },
@@ -330,7 +367,6 @@ impl Ctx<'_> {
                 Some(rows) => {
                     for e in rows {
                         let Some(source) = self.selection(&e.value, "[init] record") else {
-                            ok = false;
                             continue;
                         };
                         if source.field == Field::Goal {
@@ -339,7 +375,6 @@ impl Ctx<'_> {
                                 "[init] record cannot read the goal vector".into(),
                                 "expected a selector of the simulation",
                             ));
-                            ok = false;
                             continue;
                         }
                         let n = source.len();
@@ -354,11 +389,12 @@ impl Ctx<'_> {
                 None => {
                     self.d
                         .push(v.type_error("[init] record", "a table name = selector"));
-                    ok = false;
                 }
             }
         }
-        ok.then_some(Init {
+        // Kept even when a part failed (its error is already reported): the records it did
+        // resolve spare the reset steps that use them a follow-on error.
+        Some(Init {
             qpos,
             reset_welds,
             mocap,
@@ -464,7 +500,9 @@ impl Ctx<'_> {
                         self.d.push(
                             misfit(
                                 &n.loc,
-                                format!("[end_effector] gripper: the model has no actuator `{name}`"),
+                                format!(
+                                    "[end_effector] gripper: the model has no actuator `{name}`"
+                                ),
                                 "expected an actuator of the model",
                             )
                             .help_opt(suggest(
