@@ -4,7 +4,8 @@
 //! reward, `is_success`, termination and truncation of a 60-step rollout (float64 and float32
 //! actions, some outside [−1, 1], through a truncation and a second reset), then the batched
 //! `compute_reward` on 256 goal pairs. Each fixture replays under the numerics profile it was
-//! recorded with.
+//! recorded with. `ENVC_FETCH_DIR=<dir>` replays a fresh recording instead (the test command's
+//! live lane records one under a new seed).
 
 use std::path::{Path, PathBuf};
 
@@ -72,7 +73,9 @@ fn check_event(env: &Env, rec: &Value, k: usize, what: &str) {
 }
 
 fn replay(id: &str) {
-    let path = root().join(format!("tests/reference/fixtures/fetch/{id}.json"));
+    let dir = std::env::var_os("ENVC_FETCH_DIR")
+        .map_or_else(|| root().join("tests/reference/fixtures/fetch"), PathBuf::from);
+    let path = dir.join(format!("{id}.json"));
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut env = open(id);
     env.set_numerics(envc_tests::recorded_profile(&rec));

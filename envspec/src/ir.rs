@@ -626,6 +626,9 @@ pub struct InfoItem {
     /// `Term` items only: report the term's signed value computed with weight 1 (spec key
     /// `unweighted = true`).
     pub unweighted: bool,
+    /// `dtype = "float32"`: Python reports the value as a numpy float32 (the reference's
+    /// `is_success`); the value itself is the same.
+    pub float32: bool,
 }
 
 /// Changes the runtime makes to the model when it loads it, before compiling (spec sections

@@ -162,6 +162,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
                     len: 1,
                     at_reset: false,
                     unweighted: false,
+                    float32: false,
                 },
                 loc,
             ));
@@ -1541,6 +1542,21 @@ impl Ctx<'_> {
             if !enabled {
                 continue;
             }
+            let float32 = match s.get("dtype") {
+                None => false,
+                Some(v) => match v.as_str() {
+                    Some("float32") => true,
+                    Some("float64") => false,
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown info `dtype`")
+                                .at(v.loc.clone())
+                                .label("expected \"float64\" (the default) or \"float32\""),
+                        );
+                        false
+                    }
+                },
+            };
             out.push((
                 InfoItem {
                     key,
@@ -1549,6 +1565,7 @@ impl Ctx<'_> {
                     len,
                     at_reset,
                     unweighted,
+                    float32,
                 },
                 Some(key_loc),
             ));

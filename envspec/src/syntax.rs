@@ -455,7 +455,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
 
 /// Condition kinds of `[termination.*]` with the keys each accepts besides kind, when, doc.
 pub const TERMINATION_KINDS: &[(&str, &[&str])] = &[("goal_reached", GOAL_KEYS)];
-const INFO_COMMON: &[&str] = &["kind", "key", "when", "doc"];
+const INFO_COMMON: &[&str] = &["kind", "key", "when", "dtype", "doc"];
 
 /// Actuator kinds of `[actuators.*]` with the keys each accepts besides `ACTUATOR_COMMON`.
 pub const ACTUATOR_KINDS: &[(&str, &[&str])] = &[

@@ -181,6 +181,10 @@ class EnvcEnv(gym.Env):
         )
         self.frame_skip = None
         self.dt = core.dt
+        # What the reference reports as numpy float32: a reward of `goal_missed` terms alone,
+        # info keys declared `dtype = "float32"`.
+        self._f32_reward = bool(core.goal_reward_float32)
+        self._f32_keys = tuple(core.float32_info_keys)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         seed = reference_seed(seed, super().reset)
@@ -195,8 +199,16 @@ class EnvcEnv(gym.Env):
                 "E1101",
             )
         if a.dtype == np.float32:
-            return self._core.step_f32(np.ascontiguousarray(a))
-        return self._core.step(np.ascontiguousarray(a, dtype=np.float64))
+            out = self._core.step_f32(np.ascontiguousarray(a))
+        else:
+            out = self._core.step(np.ascontiguousarray(a, dtype=np.float64))
+        if self._f32_reward or self._f32_keys:
+            obs, reward, terminated, truncated, info = out
+            for k in self._f32_keys:
+                if k in info:
+                    info[k] = np.float32(info[k])
+            return obs, np.float32(reward) if self._f32_reward else reward, terminated, truncated, info
+        return out
 
     def render(self):
         """A frame in ``render_mode``, as Gymnasium's ``MujocoEnv.render`` (docs/rendering.md)."""

@@ -50,6 +50,19 @@ impl TaskCore {
             0
         })
     }
+    /// The info keys reported as numpy float32 (`dtype = "float32"`).
+    #[getter]
+    fn float32_info_keys(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        Ok(slf
+            .as_super()
+            .task()?
+            .spec()
+            .info
+            .iter()
+            .filter(|i| i.float32)
+            .map(|i| i.key.clone())
+            .collect())
+    }
     /// How many `[termination.*]` conditions the task has.
     #[getter]
     fn terminations(slf: PyRef<'_, Self>) -> PyResult<usize> {
