@@ -77,7 +77,12 @@ pub fn kernel(t: &RewardTerm) -> String {
         TermKind::Constant => "1".into(),
         TermKind::GoalSparse(c) => format!("1 if {} else 0", goal_check(c)),
         TermKind::GoalDense(g) => format!("exp(−{})", goal_distance(g)),
-        TermKind::GoalMissed(c) => format!("1 if not {} else 0", goal_check(c)),
+        TermKind::GoalMissed(c) => format!(
+            "1 if {} {} {} else 0",
+            goal_distance(&c.distance),
+            if c.strict { "≥" } else { ">" },
+            num(c.threshold)
+        ),
         TermKind::GoalDistance(g) => goal_distance(g),
         TermKind::Legged(l) => l.formula(),
     }
@@ -320,4 +325,92 @@ pub fn keyframe(r: &ResolvedSpec, k: &SpecKeyframe) -> String {
     } else {
         format!("{base} with {}", vals.join(", "))
     }
+}
+
+/// The manipulation tables, one line each (`envc show`); empty for a spec without them.
+pub fn manipulation(spec: &ResolvedSpec) -> Vec<String> {
+    let m = &spec.manipulation;
+    let mut out = vec![];
+    if let Some(i) = &m.init {
+        let joints: Vec<String> = i
+            .qpos
+            .iter()
+            .map(|(j, _, v)| {
+                let v: Vec<String> = v.iter().map(|x| num(*x)).collect();
+                format!("{j} = {}", v.join(" "))
+            })
+            .collect();
+        out.push(format!("[init] qpos: {}", joints.join(", ")));
+        if i.reset_welds {
+            out.push("[init] weld poses reset to the identity".into());
+        }
+        for p in &i.mocap {
+            let at = p.site.map_or(String::new(), |s| {
+                format!(" + site_xpos[{}]", spec.model.sites[s])
+            });
+            let o: Vec<String> = p.offset.iter().map(|x| num(*x)).collect();
+            let q: Vec<String> = p.quat.iter().map(|x| num(*x)).collect();
+            out.push(format!(
+                "[init] mocap {}: pos = [{}]{at}, quat = [{}]",
+                p.body,
+                o.join(", "),
+                q.join(", ")
+            ));
+        }
+        out.push(format!(
+            "[init] then {} settling steps of frame_skip × mj_step",
+            i.settle_steps
+        ));
+        for r in &i.records {
+            out.push(format!(
+                "[init] record {} = {} (values {}..{})",
+                r.name,
+                r.source.text,
+                r.offset,
+                r.offset + r.source.len()
+            ));
+        }
+    }
+    if let Some(e) = &m.end_effector {
+        let g = if e.block_gripper {
+            "blocked (0)".to_string()
+        } else if e.gripper.is_empty() {
+            "drives no actuator".to_string()
+        } else {
+            let names: Vec<&str> = e
+                .gripper
+                .iter()
+                .map(|&i| spec.model.actuators[i].name.as_str())
+                .collect();
+            format!("to {}", names.join(", "))
+        };
+        let r: Vec<String> = e.rotation.iter().map(|x| num(*x)).collect();
+        out.push(format!(
+            "[end_effector] mocap {}: pos = xpos[welded] + {} × clip(action[0:3]), quat = xquat[welded] + [{}]{}",
+            e.mocap,
+            num(e.scale),
+            r.join(", "),
+            if e.gripper_action {
+                format!("; action[3] (gripper) {g}")
+            } else {
+                String::new()
+            }
+        ));
+    }
+    for h in &m.hold {
+        out.push(format!(
+            "[hold.{}] qpos {:?} = {} after every step, then mj_forward",
+            h.name,
+            h.qpos,
+            num(h.value)
+        ));
+    }
+    if let Some(g) = &m.goal {
+        out.push(format!(
+            "[goal] achieved_goal = {} ({} values); desired_goal = goal",
+            g.achieved.text,
+            g.achieved.len()
+        ));
+    }
+    out
 }

@@ -603,7 +603,7 @@ impl Env {
     }
     /// The action's length (the model's actuator count).
     pub fn act_dim(&self) -> usize {
-        self.sim.nu
+        self.sim.action.len()
     }
     /// `timestep × frame_skip` of the compiled model.
     pub fn dt(&self) -> f64 {

@@ -129,7 +129,19 @@ pub fn run(args: Args) -> Result<Outcome> {
         env.act_dim()
     )?;
     let sp = env.action_space();
-    for (i, a) in m.actuators.iter().enumerate() {
+    let manipulation = describe::manipulation(&spec);
+    if spec.manipulation.end_effector.is_some() {
+        for (i, (lo, hi)) in sp.low.iter().zip(&sp.high).enumerate() {
+            let what = ["dx", "dy", "dz", "gripper"][i.min(3)];
+            writeln!(o, "  {i:>3}  {what:<20} [{lo}, {hi}]")?;
+        }
+    }
+    let ee_actuators = if spec.manipulation.end_effector.is_some() {
+        &[][..]
+    } else {
+        &m.actuators[..]
+    };
+    for (i, a) in ee_actuators.iter().enumerate() {
         let target = a.target.as_deref().unwrap_or("-");
         let name = if a.name.is_empty() {
             "(unnamed)"
@@ -168,6 +180,13 @@ pub fn run(args: Args) -> Result<Outcome> {
 
     if !spec.model_edits.actuators.is_empty() || !spec.model_edits.joints.is_empty() {
         joints(&mut o, &env)?;
+    }
+
+    if !manipulation.is_empty() {
+        writeln!(o, "\nmanipulation:")?;
+        for line in &manipulation {
+            writeln!(o, "  {line}")?;
+        }
     }
 
     writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;

@@ -18,6 +18,7 @@ mod behaviour;
 mod change;
 mod commands;
 mod events;
+mod manipulation;
 mod info;
 mod maze;
 mod noise;
@@ -178,6 +179,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         },
     );
     events::events(&mut cx);
+    manipulation::manipulation(&mut cx);
 
     let mut report = Report::new(
         &old_r.id,

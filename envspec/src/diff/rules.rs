@@ -392,6 +392,15 @@ rules! {
         "The action scale, default pose or action range changed: the same action means another joint target.";
     ActionsGainsChanged = "actions-gains-changed", Action, true,
         "PD gains or joint damping changed: the same target is tracked differently (the dynamics the policy learned changes).";
+    // Manipulation (`[init]`, `[end_effector]`, `[hold.*]`, `[goal]`).
+    ManipulationInitChanged = "manipulation-init-changed", Reset, true,
+        "`[init]` was added, removed or changed: the settled start pose every episode begins from, or the points reset draws are made around, move.";
+    EndEffectorChanged = "end-effector-changed", Action, true,
+        "`[end_effector]` was added, removed or changed: the same action moves the gripper (or opens the fingers) differently.";
+    HoldChanged = "hold-changed", Dynamics, true,
+        "A `[hold.*]` table was added, removed or changed: other joints are held after each step, or at another value.";
+    GoalChanged = "goal-changed", Observation, true,
+        "`[goal]` was added, removed or changed: the observation becomes (or stops being) a goal dict, or `achieved_goal` reads something else.";
     // Model edits a spec makes (`[actuators.*]`, `[joint_properties]`, `[keyframes.*]`).
     ActuatorsAdded = "actuators-added", Action, true,
         "An `[actuators.*]` table was added: the action gains entries (and the physics a drive).";
