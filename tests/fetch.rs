@@ -73,8 +73,10 @@ fn check_event(env: &Env, rec: &Value, k: usize, what: &str) {
 }
 
 fn replay(id: &str) {
-    let dir = std::env::var_os("ENVC_FETCH_DIR")
-        .map_or_else(|| root().join("tests/reference/fixtures/fetch"), PathBuf::from);
+    let dir = std::env::var_os("ENVC_FETCH_DIR").map_or_else(
+        || root().join("tests/reference/fixtures/fetch"),
+        PathBuf::from,
+    );
     let path = dir.join(format!("{id}.json"));
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut env = open(id);

@@ -46,3 +46,45 @@ mod tests {
         }
     }
 }
+
+/// `${NAME}` in a path replaced by the environment variable's value (a model installed by a
+/// Python package, found through a variable the user sets). `Err` names a variable that is unset
+/// or not valid Unicode; a `$` not followed by `{NAME}` stays as it is.
+pub fn expand_env(s: &str) -> Result<String, String> {
+    let mut out = String::with_capacity(s.len());
+    let mut rest = s;
+    while let Some(i) = rest.find("${") {
+        let Some(len) = rest[i + 2..].find('}') else {
+            break;
+        };
+        let name = &rest[i + 2..i + 2 + len];
+        out.push_str(&rest[..i]);
+        match std::env::var(name) {
+            Ok(v) => out.push_str(&v),
+            Err(_) => return Err(name.to_string()),
+        }
+        rest = &rest[i + 3 + len..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod env_tests {
+    use super::expand_env;
+
+    #[test]
+    fn variables_expand_and_unset_ones_are_named() {
+        // SAFETY (test-only): no other test of this crate reads this variable.
+        unsafe { std::env::set_var("ENVC_TEST_MODELS", "/opt/models") };
+        assert_eq!(
+            expand_env("${ENVC_TEST_MODELS}/arm.xml").unwrap(),
+            "/opt/models/arm.xml"
+        );
+        assert_eq!(expand_env("a/$b/c.xml").unwrap(), "a/$b/c.xml");
+        assert_eq!(
+            expand_env("${ENVC_TEST_NOT_SET_ANYWHERE}/x").unwrap_err(),
+            "ENVC_TEST_NOT_SET_ANYWHERE"
+        );
+    }
+}

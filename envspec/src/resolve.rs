@@ -45,10 +45,28 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let param = |n: &str| params.iter().find(|p| p.name == n);
 
     let xml = param("xml_file").expect("checked by syntax");
-    let model_path = match (&xml.value, &xml.origin) {
-        (ParamValue::Str(s), Origin::Default(_)) => crate::path::normalize(&spec.dir().join(s)),
-        (ParamValue::Str(s), Origin::Override(_)) => PathBuf::from(s),
+    // `${NAME}`: an environment variable (a model inside an installed package, say).
+    let expanded = match &xml.value {
+        ParamValue::Str(s) => crate::path::expand_env(s).map_err(|name| {
+            let at = match &xml.origin {
+                Origin::Default(loc) => Some(loc.clone()),
+                Origin::Override(_) => None,
+            };
+            Diagnostics::from(
+                Diagnostic::new(
+                    Code::E0301,
+                    format!("xml_file names ${{{name}}}, an environment variable that is not set"),
+                )
+                .at_opt(at)
+                .label("expected a path; ${NAME} reads the variable NAME")
+                .help(format!("set it, e.g. `export {name}=/path/to/models`")),
+            )
+        })?,
         _ => unreachable!("xml_file is a path parameter"),
+    };
+    let model_path = match &xml.origin {
+        Origin::Default(_) => crate::path::normalize(&spec.dir().join(&expanded)),
+        Origin::Override(_) => PathBuf::from(&expanded),
     };
     let mut model = ModelInfo::from_file(&model_path).map_err(|e| {
         let at = match &xml.origin {

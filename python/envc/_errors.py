@@ -105,7 +105,7 @@ def class_for(code: str) -> type[Error]:
         return NotResetError
     if code in ("E1101", "E1102"):
         return ActionError
-    if code in ("E1001", "E1002", "E1003", "E1110", "E1120"):
+    if code in ("E1001", "E1002", "E1003", "E1110", "E1111", "E1120"):
         return ModelError
     if code.startswith(("E12", "E16")):
         return DatasetError

@@ -157,9 +157,10 @@ class EnvcEnv(gym.Env):
             pairs.append(("max_episode_steps", "0"))
         kind, core = _envc.open(_id(spec_id), pairs)
         if kind != "task":
-            raise TypeError(
-                f"`{spec_id}` is a {kind} spec; open it with envc.make (mazes) or "
-                "envc.parallel_env (multi-agent specs)"
+            raise _errors.coded(
+                f"error[E0602]: `{spec_id}` is a {kind} spec; open it with envc.make (mazes) or "
+                "envc.parallel_env (multi-agent specs)",
+                "E0602",
             )
         self._core = core
         self.render_mode = render_mode

@@ -99,8 +99,9 @@ class EnvcMazeEnv(_Base):
             pairs.append(("max_episode_steps", "0"))
         kind, core = _envc.open(spec_id, pairs)
         if kind != "maze":
-            raise TypeError(
-                f"`{spec_id}` is a {kind} spec, not a maze; open it with envc.make"
+            raise _errors.coded(
+                f"error[E0602]: `{spec_id}` is a {kind} spec, not a maze; open it with envc.make",
+                "E0602",
             )
         self._core = core
         self.render_mode = render_mode

@@ -128,8 +128,10 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         except _envc.SpecError:
             kind = "agents"  # a spec that needs its overrides to check out: open reports the rest
         if kind != "agents":
-            raise TypeError(
-                f"`{spec}` is a {kind} spec, not a multi-agent one; open it with envc.make"
+            raise _errors.coded(
+                f"error[E0602]: `{spec}` is a {kind} spec, not a multi-agent one; open it with "
+                "envc.make",
+                "E0602",
             )
         _, core = _envc.open(spec, list(overrides))
         self._core = core

@@ -294,7 +294,9 @@ def make_vec(
     num_envs = _errors.integer(num_envs, "num_envs", 1, 2**63)
     env_id = env_id_for(_id(id_or_path), overrides)
     if spec_of(env_id).vector_entry_point is None:
-        raise TypeError(f"`{id_or_path}` is not a task spec: vector envs step task specs")
+        raise _errors.coded(
+            f"error[E0602]: `{id_or_path}` is not a task spec: vector envs step task specs", "E0602"
+        )
     return gym.make_vec(
         env_id,
         num_envs=num_envs,

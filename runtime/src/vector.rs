@@ -366,6 +366,19 @@ impl VecEnv {
     ) -> Result<VecEnv, EnvError> {
         let spec = Arc::clone(first.spec());
         let model = Arc::clone(first.model());
+        if spec.manipulation.goal.is_some() {
+            // The batch buffers are flat observations; a goal task's are dicts.
+            return Err(EnvError::Spec(
+                envspec::Diagnostic::new(
+                    envspec::Code::E0602,
+                    format!(
+                        "`{}` is a goal-conditioned task ([goal]): envc's vector envs do not batch dict observations yet; use gymnasium.vector.SyncVectorEnv over envc.make",
+                        spec.id
+                    ),
+                )
+                .into(),
+            ));
+        }
         VecEnv::check_count(&spec, num_envs)?;
         let too_large = |what: String| EnvError::TooLarge {
             env: spec.id.clone(),

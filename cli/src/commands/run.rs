@@ -86,6 +86,14 @@ pub fn run(args: Args) -> Result<Outcome> {
     bar.set_message(env.id().to_string());
     let (mut returns, mut lengths) = (vec![], vec![]);
     let (mut steps, mut terminations) = (0u64, 0u64);
+    // Episodes whose last step reported `is_success` = 1 (goal tasks, as HER evaluates them).
+    let tracks_success = env
+        .physics_env()
+        .spec()
+        .info
+        .iter()
+        .any(|i| i.key == "is_success");
+    let mut successes = 0u64;
     // Why episodes ended: reason → (count, an example), and a failing reset state.
     let mut endings: std::collections::BTreeMap<String, (u64, String)> = Default::default();
     let mut bad_start: Option<envc::Unhealthy> = None;
@@ -107,6 +115,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             len += 1;
             if s.terminated || s.truncated || len >= cap {
                 terminations += s.terminated as u64;
+                let info = env.physics_env().step_info();
+                successes += u64::from(info.scalar("is_success") == Some(1.0));
                 if s.terminated {
                     let (reason, example) = ending(&env);
                     let e = endings.entry(reason).or_insert((0, example));
@@ -151,6 +161,7 @@ pub fn run(args: Args) -> Result<Outcome> {
                 "steps_per_second": sps, "warnings": env.warnings(),
                 "terminated_by": endings.iter().map(|(r, (n, e))| serde_json::json!({"reason": r, "count": n, "example": e})).collect::<Vec<_>>(),
                 "reset_state_fails": bad_start.as_ref().map(|u| u.check.clone()),
+                "success_rate": tracks_success.then(|| successes as f64 / args.episodes as f64),
             }))?
         ),
         Format::Text => {
@@ -162,6 +173,13 @@ pub fn run(args: Args) -> Result<Outcome> {
             );
             println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
             println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
+            if tracks_success {
+                println!(
+                    "  success {:.1} % ({successes} of {} episodes end with is_success = 1)",
+                    100.0 * successes as f64 / args.episodes as f64,
+                    args.episodes
+                );
+            }
             println!("  {sps:.0} steps/s");
             for (reason, (n, example)) in &endings {
                 println!("  terminated {n}× by {reason}: {example}");

@@ -102,6 +102,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     let w = spec.params.iter().map(|p| p.name.len()).max().unwrap_or(0);
     for p in &spec.params {
         let origin = match &p.origin {
+            // The rendering parameters every spec has without writing them.
+            Origin::Default(loc) if loc.span.is_empty() => "built-in".to_string(),
             Origin::Default(loc) => format!(
                 "default ({})",
                 loc.position().replace(&format!("{}/", cwd.display()), "")

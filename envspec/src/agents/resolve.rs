@@ -128,6 +128,34 @@ pub(super) fn base(
     table: &[Entry],
     base_overrides: &[Override],
 ) -> Result<ResolvedSpec, Diagnostics> {
+    let base = base_spec(file, root, table, base_overrides)?;
+    // Agents split the actuators; an end-effector action or a goal dict has no such split.
+    let m = &base.manipulation;
+    if m.end_effector.is_some() || m.goal.is_some() {
+        let at = get(table, "base").map_or_else(
+            || crate::diagnostic::Location::new(file, 0..0),
+            |v| v.loc.clone(),
+        );
+        return Err(err(
+            Code::E0170,
+            &at,
+            &format!(
+                "`{}` has [end_effector] or [goal]: a multi-agent split of its actions and goal dicts is not supported",
+                base.id
+            ),
+            "a task whose actions are its actuators",
+        )
+        .into());
+    }
+    Ok(base)
+}
+
+fn base_spec(
+    file: &Arc<SourceFile>,
+    root: &Val,
+    table: &[Entry],
+    base_overrides: &[Override],
+) -> Result<ResolvedSpec, Diagnostics> {
     let path = file.path.as_path();
     Ok(match get(table, "base") {
         Some(v) => match v.as_str() {

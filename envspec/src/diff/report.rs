@@ -6,7 +6,7 @@ use std::fmt::Write;
 use serde::Serialize;
 
 use super::change::{Change, Pos};
-use super::rules::Category;
+use super::rules::{Category, RuleId};
 
 /// What `envc diff` reports: the changes between two specs, ordered by category, and flags.
 #[derive(Clone, Debug, Serialize)]
@@ -99,7 +99,12 @@ impl Report {
 
     /// Breaking if any change breaks or any flag is raised, else compatible, or no change.
     pub fn verdict(&self) -> Verdict {
-        if self.changes.is_empty() {
+        let counted = self
+            .changes
+            .iter()
+            .filter(|c| c.rule != RuleId::SelectorRespelled)
+            .count();
+        if counted == 0 && self.flags.is_empty() {
             Verdict::NoChange
         } else if self.changes.iter().any(|c| c.breaking) || !self.flags.is_empty() {
             Verdict::Breaking

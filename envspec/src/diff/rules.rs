@@ -162,6 +162,8 @@ rules! {
         "The Python entry point datasets name for the env changed (recover_environment builds another class).";
     DocChanged = "doc-changed", Documentation, false,
         "The `doc` of a section, an info table or a parameter changed.";
+    SelectorRespelled = "selector-respelled", Documentation, false,
+        "A selector was written another way that selects the same elements in the same order (`qpos[0:7]` → `qpos[:7]`): shown, but no change (the verdict ignores it).";
     EnvDtChanged = "env-dt-changed", Dynamics, true,
         "The control step `dt = timestep × frame_skip` changed: velocities, costs per step and episode durations change.";
 

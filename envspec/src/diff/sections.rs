@@ -247,8 +247,12 @@ pub(super) fn summary(s: &Section) -> String {
 }
 
 /// The rule of a changed key: docs are documentation, any other key the section kind's.
-fn key_rule(kind: &Kind, key: &str) -> RuleId {
-    if key == "doc" {
+fn key_rule(kind: &Kind, key: &str, same_effect: bool) -> RuleId {
+    // A selector spelled another way whose section resolves the same.
+    let selector = matches!(key, "source" | "minus" | "target" | "achieved" | "desired");
+    if same_effect && selector {
+        RuleId::SelectorRespelled
+    } else if key == "doc" {
         RuleId::DocChanged
     } else {
         kind.key_changed
@@ -294,7 +298,7 @@ pub(super) fn sections<K: PartialEq>(
                 Some((_, v2, p2)) => (Some(v2.clone()), Some(p2.clone())),
                 None => (None, Some(pos(&t.name_loc))),
             };
-            let rule = key_rule(kind, k);
+            let rule = key_rule(kind, k, same_effect && now.is_some());
             cx.add(
                 Change::new(rule, &subject, k.clone())
                     .values(Some(v.clone()), now)
@@ -304,7 +308,7 @@ pub(super) fn sections<K: PartialEq>(
         }
         for (k, v, p) in &b {
             if !(a.iter().any(|(k2, _, _)| k2 == k) || skipped(kind, k)) {
-                let rule = key_rule(kind, k);
+                let rule = key_rule(kind, k, false);
                 cx.add(
                     Change::new(rule, &subject, k.clone())
                         .values(None, Some(v.clone()))

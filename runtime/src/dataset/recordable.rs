@@ -65,9 +65,19 @@ fn columns(spec: &envspec::ResolvedSpec) -> impl Iterator<Item = InfoColumn> + '
 
 impl<E: Environment> Recordable for E {
     type Obs = [f64];
+    /// A `[goal]` task's is the reference's dict (keys sorted), as a maze's.
     fn observation_space(&self) -> Space {
         let o = Environment::observation_space(self);
-        Space::box1(Dtype::F64, &o.low, &o.high)
+        let flat = Space::box1(Dtype::F64, &o.low, &o.high);
+        let spec = self.spec();
+        if spec.manipulation.goal.is_none() {
+            return flat;
+        }
+        Space::Dict(vec![
+            ("achieved_goal".into(), unbounded(spec.goal_dim)),
+            ("desired_goal".into(), unbounded(spec.goal_dim)),
+            ("observation".into(), flat),
+        ])
     }
     fn info_columns(&self) -> Vec<InfoColumn> {
         columns(self.spec()).collect()
@@ -90,9 +100,9 @@ impl<E: Environment> Recordable for E {
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
     ) -> Result<(), EnvError> {
-        let (o, info) = self.reset(Some(seed));
-        obs.extend_from_slice(o);
-        push_info(infos, None, info);
+        self.reset(Some(seed));
+        push_task_obs(obs, self.env());
+        push_info(infos, None, self.env().reset_info());
         Ok(())
     }
     fn record_step(
@@ -102,10 +112,21 @@ impl<E: Environment> Recordable for E {
         infos: &mut [InfoColumn],
     ) -> Result<JointStep, EnvError> {
         let s = self.step_joint(JointAction::F32(action))?;
-        obs.extend_from_slice(self.obs());
+        push_task_obs(obs, self.env());
         push_info(infos, None, self.env().step_info());
         Ok(s)
     }
+}
+
+/// A task's row: the flat observation, or a `[goal]` task's dict in sorted key order.
+fn push_task_obs(buf: &mut Vec<f64>, env: &crate::Env) {
+    if env.spec().manipulation.goal.is_some() {
+        let mut achieved = vec![];
+        env.achieved_goal(&mut achieved);
+        buf.extend_from_slice(&achieved);
+        buf.extend_from_slice(env.goal());
+    }
+    buf.extend_from_slice(env.obs());
 }
 
 fn unbounded(n: usize) -> Space {
