@@ -97,3 +97,26 @@ def test_compute_reward_shapes_are_checked():
     env = envc.make("FetchReach-v4")
     with pytest.raises(ValueError):
         env.unwrapped.compute_reward(np.zeros((4, 2)), np.zeros((4, 2)), {})
+
+
+def test_a_fetch_dataset_is_minaris_dict_and_replays_in_the_reference(tmp_path, monkeypatch):
+    """``envc.collect`` of a goal task writes the dict observation (keys sorted, as Minari's
+    DataCollector does); minari loads it, and the reference env ``recover_environment`` makes
+    replays every episode's actions to the same observations, rewards and ``is_success``."""
+    minari = pytest.importorskip("minari")
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path))
+    envc.collect("FetchPickAndPlace-v4", "tests/fetch-v0", 2, seed=LIVE_SEED % 1000, root=tmp_path,
+                 policy="random")
+    ds = minari.load_dataset("tests/fetch-v0")
+    assert list(ds.observation_space.spaces) == ["achieved_goal", "desired_goal", "observation"]
+    env = ds.recover_environment()
+    for k, ep in enumerate(ds.iterate_episodes()):
+        obs, _ = env.reset(seed=(LIVE_SEED % 1000) + k)
+        for key in obs:
+            assert same(obs[key], ep.observations[key][0]), (k, key)
+        for t, a in enumerate(ep.actions):
+            obs, r, *_, info = env.step(a)
+            for key in obs:
+                assert same(obs[key], ep.observations[key][t + 1]), (k, t, key)
+            assert r == ep.rewards[t]
+            assert info["is_success"] == ep.infos["is_success"][t + 1]
