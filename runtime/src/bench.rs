@@ -85,6 +85,7 @@ pub struct BenchResult {
 }
 
 /// Actions drawn uniformly in the control range, reused cyclically (drawing is not timed).
+#[derive(Clone)]
 struct Actions {
     data: Vec<f64>,
     act_dim: usize,
@@ -102,6 +103,20 @@ impl Actions {
         Actions {
             data,
             act_dim: nu,
+            rows,
+        }
+    }
+    /// Uniform draws in an action space of another length than the controls (an end-effector
+    /// action).
+    fn in_space(space: &crate::env::BoxSpace, rows: usize) -> Actions {
+        let n = space.dim();
+        let mut rng = NumpyRng::from_seed(0);
+        let data = (0..rows * n)
+            .map(|k| rng.uniform(space.low[k % n], space.high[k % n]))
+            .collect();
+        Actions {
+            data,
+            act_dim: n,
             rows,
         }
     }
@@ -230,8 +245,15 @@ pub fn bench(
     let model = Arc::clone(env.physics_env().model());
     let envs = cfg.envs.max(1);
     let actions = Actions::new(&model, 4096.max(envs * 4));
+    // The env's own actions where they are not the controls (an end-effector action).
+    let env_actions = if env.physics_env().act_dim() == model.ffi().nu as usize {
+        actions.clone()
+    } else {
+        Actions::in_space(env.physics_env().action_space(), 4096.max(envs * 4))
+    };
     let mut vec = match env.kind() {
-        crate::Kind::Task => Some(VecEnv::new(
+        // (a goal task's dict observations are not batched: single env only)
+        crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
             Arc::clone(&spec),
             envs,
             cfg.threads,
@@ -302,7 +324,7 @@ pub fn bench(
                 }
                 1 => rate(slice, thread_cpu, || {
                     for _ in 0..CHUNK {
-                        let a = actions.rows(cursor, 1);
+                        let a = env_actions.rows(cursor, 1);
                         cursor += 1;
                         // The action has the env's length and is finite: only MuJoCo can fail.
                         let done = match env.step_joint(JointAction::F64(a)) {
@@ -345,7 +367,7 @@ pub fn bench(
                     Some(vec) => rate(slice, wall, || {
                         let mut real = 0;
                         for _ in 0..CHUNK / 4 {
-                            let a = actions.rows(cursor, envs);
+                            let a = env_actions.rows(cursor, envs);
                             cursor += 1;
                             if let Err(e) = vec.step(a) {
                                 env_error.get_or_insert(e);
