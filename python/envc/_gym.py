@@ -118,6 +118,15 @@ def goal_batches(
     """Goals broadcast against each other as ``[N, n]`` float64 rows, and the leading shape."""
     a = np.asarray(achieved_goal, dtype=np.float64)
     d = np.asarray(desired_goal, dtype=np.float64)
+    if (
+        a.shape == d.shape
+        and a.ndim >= 1
+        and a.shape[-1] == n
+        and a.flags.c_contiguous
+        and d.flags.c_contiguous
+    ):
+        # The usual batch: views, no copy.
+        return a.reshape(-1, n), d.reshape(-1, n), a.shape[:-1]
     try:
         a, d = np.broadcast_arrays(a, d)
     except ValueError:

@@ -97,10 +97,17 @@ impl TaskCore {
                 d.shape()
             )));
         }
-        let (a, d): (Vec<f64>, Vec<f64>) =
-            (a.iter().copied().collect(), d.iter().copied().collect());
-        let mut out = vec![0.0; a.len() / n.max(1)];
-        env.compute_reward(&a, &d, &mut out).map_err(|why| {
+        let mut out = vec![0.0; a.shape()[0]];
+        // C-contiguous batches (what Python passes) are read in place.
+        let result = match (achieved.as_slice(), desired.as_slice()) {
+            (Ok(a), Ok(d)) => env.compute_reward(a, d, &mut out),
+            _ => {
+                let (a, d): (Vec<f64>, Vec<f64>) =
+                    (a.iter().copied().collect(), d.iter().copied().collect());
+                env.compute_reward(&a, &d, &mut out)
+            }
+        };
+        result.map_err(|why| {
             errors::coded("E0170", format!("error[E0170]: compute_reward: {why}"))
         })?;
         Ok(PyArray1::from_vec(py, out))

@@ -658,6 +658,14 @@ impl Env {
                 t.kind_name()
             ));
         }
+        if achieved.len() != out.len() * n || desired.len() != out.len() * n {
+            return Err(format!(
+                "{} and {} goal numbers for {} rows of {n}",
+                achieved.len(),
+                desired.len(),
+                out.len()
+            ));
+        }
         let mut values = vec![0.0; self.spec.reward.len()];
         for (r, o) in out.iter_mut().enumerate() {
             let (a, d) = (&achieved[r * n..(r + 1) * n], &desired[r * n..(r + 1) * n]);
