@@ -93,3 +93,131 @@ fn gear_can_be_one_per_joint() {
     assert_eq!(e.code(), envc::envspec::Code::E0403, "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The spec fixture with its URDF path made absolute, edited, in a scratch file of its own.
+fn edited(tag: &str, edit: impl Fn(String) -> String) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("envc-added-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(SPEC).unwrap().replace(
+        "arm.urdf",
+        &format!("{}/fixtures/urdf/arm.urdf", env!("CARGO_MANIFEST_DIR")),
+    );
+    let p = dir.join("spec.toml");
+    std::fs::write(&p, edit(text)).unwrap();
+    p
+}
+
+fn codes(r: &Result<envc::ResolvedSpec, envc::envspec::Diagnostics>) -> Vec<envc::envspec::Code> {
+    match r {
+        Ok(s) => s.warnings.iter().map(|w| w.code).collect(),
+        Err(d) => d.0.iter().map(|e| e.code).collect(),
+    }
+}
+
+/// A goal on a vertical slide joint falls for ever: W0170 says so at check time, naming the
+/// body; a colliding geom or gravity compensation holds it, and a mocap body cannot have joints.
+#[test]
+fn a_falling_added_body_is_a_warning() {
+    use envc::envspec::Code;
+    let slide_z = |t: String| {
+        t.replace(
+            "joints = { goal_x = \"slide x\", goal_y = \"slide y\" }",
+            "joints = { goal_x = \"slide x\", goal_y = \"slide y\", goal_z = \"slide z\" }",
+        )
+    };
+    let p = edited("fall", slide_z);
+    let r = envc::envspec::load(&p, &[]);
+    assert_eq!(codes(&r), [Code::W0170]);
+    let w = &r.unwrap().warnings[0];
+    assert!(
+        w.message
+            .contains("[bodies.goal] slides vertically on `goal_z`"),
+        "{}",
+        w.message
+    );
+    let p = edited("float", |t| {
+        slide_z(t).replace("size = 0.02", "size = 0.02\ngravcomp = 1.0")
+    });
+    assert!(codes(&envc::envspec::load(&p, &[])).is_empty());
+    let p = edited("mocap-joints", |t| {
+        t.replace("size = 0.02", "size = 0.02\nmocap = true")
+    });
+    assert_eq!(codes(&envc::envspec::load(&p, &[])), [Code::E0170]);
+}
+
+/// A free object and a mocap goal marker added by the spec: the free joint has 7 positions and
+/// 6 velocities (`qpos[cube]`, `xquat[cube]`), the object's geom takes a mass, a
+/// `[joint_properties]` row reaches the joints `[bodies]` adds, and `[goal] marker` puts the mocap
+/// body at the goal drawn at every reset (it never falls).
+#[test]
+fn free_objects_mocap_markers_and_properties_of_added_joints() {
+    let p = edited("objects", |t| {
+        t.replace(
+            "\n[sites.tip]\n",
+            r#"[bodies.cube]
+pos = [0.3, 0.0, 0.5]
+joints = { cube = "free" }
+
+[geoms.cube_box]
+body = "cube"
+type = "box"
+size = [0.02, 0.02, 0.02]
+mass = 0.25
+
+[bodies.marker]
+mocap = true
+geom = "sphere"
+
+[joint_properties."goal_*"]
+damping = 5.0
+
+[goal]
+achieved = "site_xpos[tip]"
+marker = "marker"
+
+[reset.target]
+target = "goal"
+kind = "uniform"
+low = -0.2
+high = 0.2
+
+[observation.cube]
+source = "qpos[cube]"
+
+[observation.cube_quat]
+source = "xquat[cube]"
+
+[observation.marker]
+source = "xpos[marker]"
+
+[sites.tip]
+"#,
+        )
+    });
+    let mut env = Env::from_spec_file(&p, &[]).unwrap();
+    let spec = std::sync::Arc::clone(env.spec());
+    let m = env.model();
+    let cube = m.ffi().nbody as usize - 2;
+    assert_eq!(m.body_mass()[cube], 0.25);
+    assert_eq!(m.ffi().nmocap, 1);
+    // goal_x and goal_y are dofs 5 and 6 (after the arm's five).
+    assert_eq!(&m.dof_damping()[5..7], &[5.0, 5.0]);
+    for seed in [0, 1] {
+        let obs = env.reset(Some(seed)).0.to_vec();
+        let goal = env.goal().to_vec();
+        assert_eq!(seg(&spec, &obs, "marker"), &goal[..]);
+        assert_eq!(
+            seg(&spec, &obs, "cube"),
+            &[0.3, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0]
+        );
+        assert_eq!(seg(&spec, &obs, "cube_quat"), &[1.0, 0.0, 0.0, 0.0]);
+        let mut last = obs.clone();
+        for _ in 0..5 {
+            last = env.step(&[0.0, 0.0, 0.0]).unwrap().obs.to_vec();
+        }
+        // The free cube falls (the arm's world has no floor); the mocap marker stays.
+        assert!(seg(&spec, &last, "cube")[2] < 0.5);
+        assert_eq!(seg(&spec, &last, "marker"), &goal[..]);
+    }
+    std::fs::remove_dir_all(p.parent().unwrap()).ok();
+}

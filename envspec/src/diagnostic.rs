@@ -327,6 +327,9 @@ pub enum Code {
     /// Warning: `minus` pairs elements of different joints (e.g. `qpos[7:] − default_pose` with
     /// the actuators in another order than the joints).
     W0401,
+    /// Warning: an added body that falls under gravity with nothing holding it (a vertical
+    /// slide joint, no contact geom, no gravity compensation): a goal marker that would drop.
+    W0170,
     /// An `[end_effector]` or `[init] mocap` body that is not a mocap body of the compiled model,
     /// or (for `[end_effector]`) one no weld constraint ties to a robot body.
     E1111,

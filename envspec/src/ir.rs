@@ -824,10 +824,17 @@ pub enum AddedElement {
         name: String,
         /// Position in the world frame.
         pos: [f64; 3],
-        /// (name, slide?, axis): slide or hinge joints along or about a world axis, in order.
-        joints: Vec<(String, bool, [f64; 3])>,
+        /// (name, kind, axis): slide or hinge joints along or about a world axis, or a free or
+        /// ball joint (axis unused), in order.
+        joints: Vec<(String, crate::mjcf::JointKind, [f64; 3])>,
         /// A marker geom (no contacts): type, size, rgba.
         geom: Option<(AddedGeomType, [f64; 3], [f32; 4])>,
+        /// A mocap body: placed by `mocap_pos` / `mocap_quat`, never moved by the physics.
+        mocap: bool,
+        /// Gravity compensation (0: none, 1: the body floats).
+        gravcomp: f64,
+        /// The marker geom's mass (None: MuJoCo's default density).
+        mass: Option<f64>,
     },
     /// `[sites]`: a site on a body.
     Site {
@@ -858,6 +865,10 @@ pub enum AddedElement {
         rgba: [f32; 4],
         /// Whether it collides (false: `contype = conaffinity = 0`).
         contact: bool,
+        /// Its mass (None: from the density).
+        mass: Option<f64>,
+        /// Its density (None: MuJoCo's 1000).
+        density: Option<f64>,
     },
     /// `[cameras]`: a camera on a body.
     Camera {

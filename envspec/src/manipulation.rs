@@ -28,7 +28,7 @@ pub const END_EFFECTOR_KEYS: &[&str] = &[
     "doc",
 ];
 /// Keys of `[goal]`.
-pub const GOAL_TABLE_KEYS: &[&str] = &["achieved", "doc"];
+pub const GOAL_TABLE_KEYS: &[&str] = &["achieved", "marker", "doc"];
 /// Keys of `[hold.<name>]`.
 pub const HOLD_KEYS: &[&str] = &["joints", "value", "when", "doc"];
 
@@ -152,4 +152,7 @@ pub struct Hold {
 pub struct GoalTable {
     /// What the env has achieved (read after each step, as the observation).
     pub achieved: Selection,
+    /// `marker`: a mocap body put at the goal at every reset (a 3-D goal), so the goal is
+    /// seen in renders and read as `xpos[marker]`.
+    pub marker: Option<String>,
 }

@@ -83,7 +83,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         Diagnostics::from(e.help(help))
     })?;
 
-    // `[actuators]` / `[physics]` change the model itself: resolve them first.
+    // `[bodies]` ... add elements to the model, which the other model edits may name (a
+    // `[joint_properties]` row over an added joint): resolve them first.
     let mut cx = Ctx {
         spec,
         params: &params,
@@ -94,7 +95,22 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         records: vec![],
         dt: 0.0,
     };
-    let model_edits = cx.model_edits();
+    let added = cx.added_elements();
+    let d = cx.d;
+    let mut with_added = model.clone();
+    added::apply(&added, &mut with_added);
+    // `[actuators]` / `[physics]` change the model itself: resolve them first.
+    let mut cx = Ctx {
+        spec,
+        params: &params,
+        model: &with_added,
+        d,
+        goal_dim: None,
+        commands: vec![],
+        records: vec![],
+        dt: 0.0,
+    };
+    let model_edits = cx.model_edits(added);
     let d = cx.d;
     edits::apply(&model_edits, &mut model);
     let mut cx = Ctx {
@@ -224,6 +240,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         manipulation,
     };
     resolved.warnings = pairing::warnings(spec, &resolved);
+    resolved.warnings.extend(added::falling(spec, &resolved));
     let rne = resolved
         .sources()
         .any(|s| s.field.needs_rne_post_constraint());

@@ -148,7 +148,9 @@ impl AddedKind {
         (
             AddedKind::Body,
             "bodies",
-            &["pos", "joints", "geom", "size", "rgba", "doc"],
+            &[
+                "pos", "joints", "geom", "size", "rgba", "mocap", "gravcomp", "mass", "doc",
+            ],
         ),
         (
             AddedKind::Site,
@@ -158,7 +160,9 @@ impl AddedKind {
         (
             AddedKind::Geom,
             "geoms",
-            &["body", "type", "pos", "size", "rgba", "contact", "doc"],
+            &[
+                "body", "type", "pos", "size", "rgba", "contact", "mass", "density", "doc",
+            ],
         ),
         (
             AddedKind::Camera,

@@ -884,6 +884,9 @@ impl Env {
                 };
             }
         }
+        self.sim
+            .manip
+            .place_marker(&self.sim.goal, &mut self.sim.data);
         // Gymnasium's set_state: qpos, qvel, then mj_forward.
         if mujoco_error.is_none() {
             mujoco_error = self.sim.call(Call::Forward).err();

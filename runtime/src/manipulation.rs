@@ -33,6 +33,8 @@ pub(crate) struct Manip {
     /// `[init] record` values, flat.
     pub(crate) records: Vec<f64>,
     driven: Option<Driven>,
+    /// `[goal] marker`'s mocap index.
+    marker: Option<usize>,
     euler: bool,
     xvel: bool,
     site_euler: Vec<f64>,
@@ -73,6 +75,10 @@ impl Manip {
                 mocap_of(spec, model, &p.body, "[init] mocap body")?;
             }
         }
+        let marker = match m.goal.as_ref().and_then(|g| g.marker.as_ref()) {
+            Some(b) => Some(mocap_of(spec, model, b, "[goal] marker")?),
+            None => None,
+        };
         let nsite = usize::try_from(model.ffi().nsite).unwrap_or(0);
         let nv = usize::try_from(model.ffi().nv).unwrap_or(0);
         let euler = spec.reads(Field::SiteEuler) || records_read(m.init.as_ref(), Field::SiteEuler);
@@ -84,6 +90,7 @@ impl Manip {
             init_time: 0.0,
             records: vec![0.0; m.record_len()],
             driven,
+            marker,
             euler,
             xvel,
             site_euler: sized(euler, 3 * nsite),
@@ -277,6 +284,14 @@ impl Manip {
                 numerics::matvec(profile, 3, nv, &self.jacr, qvel, &mut self.velocity);
                 self.site_xvelr[3 * s..3 * s + 3].copy_from_slice(&self.velocity);
             }
+        }
+    }
+
+    /// `[goal] marker`: its mocap body to the goal (at reset, before `mj_forward`).
+    pub(crate) fn place_marker(&self, goal: &[f64], data: &mut MjData<std::sync::Arc<MjModel>>) {
+        if let (Some(m), [x, y, z]) = (self.marker, goal) {
+            let (pos, _, _, _) = mj::manip::mocap_mut(data);
+            pos[3 * m..3 * m + 3].copy_from_slice(&[*x, *y, *z]);
         }
     }
 

@@ -5,6 +5,7 @@
 use envspec::ir::{
     ActuatorKind, AddedActuator, AddedElement, AddedGeomType, Integrator, ModelEdits, SolverOption,
 };
+use envspec::mjcf::JointKind;
 use mujoco_rs::mujoco_c::mjtIntegrator;
 use mujoco_rs::prelude::*;
 use mujoco_rs::wrappers::mj_editing::{MjsBody, MjtLimited, PositionConfig};
@@ -271,17 +272,23 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             pos,
             joints,
             geom,
+            mocap,
+            gravcomp,
+            mass,
         } => {
             let b = spec.world_body_mut().add_body();
             named("body", name, b.set_name(name))?;
             *b.pos_mut() = *pos;
-            for (j, slide, axis) in joints {
+            b.set_mocap(*mocap);
+            b.set_gravcomp(*gravcomp);
+            for (j, kind, axis) in joints {
                 let jt = b.add_joint();
                 named("joint", j, jt.set_name(j))?;
-                jt.set_type(if *slide {
-                    MjtJoint::mjJNT_SLIDE
-                } else {
-                    MjtJoint::mjJNT_HINGE
+                jt.set_type(match kind {
+                    JointKind::Slide => MjtJoint::mjJNT_SLIDE,
+                    JointKind::Hinge => MjtJoint::mjJNT_HINGE,
+                    JointKind::Free => MjtJoint::mjJNT_FREE,
+                    JointKind::Ball => MjtJoint::mjJNT_BALL,
                 });
                 *jt.axis_mut() = *axis;
             }
@@ -293,6 +300,9 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
                 *g.rgba_mut() = *rgba;
                 g.set_contype(0);
                 g.set_conaffinity(0);
+                if let Some(m) = mass {
+                    g.set_mass(*m);
+                }
             }
         }
         AddedElement::Site {
@@ -316,6 +326,8 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             size,
             rgba,
             contact,
+            mass,
+            density,
         } => {
             let g = body_named(spec, body)?.add_geom();
             named("geom", name, g.set_name(name))?;
@@ -326,6 +338,12 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             if !contact {
                 g.set_contype(0);
                 g.set_conaffinity(0);
+            }
+            if let Some(m) = mass {
+                g.set_mass(*m);
+            }
+            if let Some(d) = density {
+                g.set_density(*d);
             }
         }
         AddedElement::Camera {

@@ -65,6 +65,29 @@ impl Ctx<'_> {
         }
     }
 
+    /// An optional positive number within envc's magnitude limit (`Some(None)` when absent;
+    /// `None` after an error).
+    fn optional_positive(&mut self, s: &Section, key: &str) -> Option<Option<f64>> {
+        let Some(v) = s.get(key) else {
+            return Some(None);
+        };
+        let x = self.num(v, key)?;
+        if x <= 0.0 {
+            self.d.push(
+                Diagnostic::new(Code::E0105, format!("{key} {x} is not positive"))
+                    .at(v.loc.clone())
+                    .label("expected a number > 0"),
+            );
+            return None;
+        }
+        Some(Some(self.within(
+            v,
+            x,
+            key,
+            crate::limits::MAX_MAGNITUDE,
+        )?))
+    }
+
     fn rgba(&mut self, s: &Section, default: [f32; 4]) -> Option<[f32; 4]> {
         let v = self.vec_n(s, "rgba", default.map(f64::from))?;
         Some(v.map(|x| x as f32))
@@ -161,9 +184,11 @@ impl Ctx<'_> {
                         let spec_text = j.value.as_str().unwrap_or("");
                         let mut words = spec_text.split_whitespace();
                         let (kind, axis) = (words.next(), words.next());
-                        let slide = match kind {
-                            Some("slide") => true,
-                            Some("hinge") => false,
+                        let jkind = match kind {
+                            Some("slide") => JointKind::Slide,
+                            Some("hinge") => JointKind::Hinge,
+                            Some("free") => JointKind::Free,
+                            Some("ball") => JointKind::Ball,
                             _ => {
                                 self.d.push(
                                     Diagnostic::new(
@@ -171,20 +196,24 @@ impl Ctx<'_> {
                                         format!("joint `{}`: `{spec_text}`", j.key),
                                     )
                                     .at(j.value.loc.clone())
-                                    .label("expected \"slide x|y|z\" or \"hinge x|y|z\""),
+                                    .label("expected \"slide x|y|z\", \"hinge x|y|z\", \"free\" or \"ball\""),
                                 );
                                 return None;
                             }
                         };
-                        let Some(axis) = AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1)
-                        else {
+                        let axis = match (jkind, axis) {
+                            (JointKind::Free | JointKind::Ball, None) => Some([0.0, 0.0, 1.0]),
+                            (JointKind::Free | JointKind::Ball, Some(_)) => None,
+                            (_, axis) => AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1),
+                        };
+                        let Some(axis) = axis else {
                             self.d.push(
                                 Diagnostic::new(
                                     Code::E0104,
                                     format!("joint `{}`: `{spec_text}`", j.key),
                                 )
                                 .at(j.value.loc.clone())
-                                .label("expected an axis x, y or z after the joint type"),
+                                .label("expected an axis x, y or z after slide or hinge (free and ball take none)"),
                             );
                             return None;
                         };
@@ -199,9 +228,34 @@ impl Ctx<'_> {
                             );
                             return None;
                         }
-                        joints.push((j.key.clone(), slide, axis));
+                        joints.push((j.key.clone(), jkind, axis));
                     }
                 }
+                let mut mocap = match s.get("mocap") {
+                    None => false,
+                    Some(v) => self.flag(v, "mocap")?,
+                };
+                if mocap && !joints.is_empty() {
+                    // (the body is kept, without mocap, so what names it is not a follow-on)
+                    mocap = false;
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0170,
+                            format!("[bodies.{name}]: a mocap body has no joints"),
+                        )
+                        .at(s.get("mocap").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                        .label("expected mocap = true without joints, or joints without mocap")
+                        .help("a mocap body is placed by [init] mocap or the physics never moves it; a body with joints moves"),
+                    );
+                }
+                let gravcomp = match s.get("gravcomp") {
+                    None => 0.0,
+                    Some(v) => {
+                        let g = self.num(v, "gravcomp")?;
+                        self.within(v, g, "gravcomp", crate::limits::MAX_MAGNITUDE)?
+                    }
+                };
+                let mass = self.optional_positive(s, "mass")?;
                 let geom = match s.get("geom") {
                     None => None,
                     Some(g) => {
@@ -221,6 +275,9 @@ impl Ctx<'_> {
                     pos,
                     joints,
                     geom,
+                    mocap,
+                    gravcomp,
+                    mass,
                 }
             }
             AddedKind::Site => AddedElement::Site {
@@ -257,6 +314,8 @@ impl Ctx<'_> {
                             }
                         },
                     },
+                    mass: self.optional_positive(s, "mass")?,
+                    density: self.optional_positive(s, "density")?,
                     name,
                 }
             }
@@ -291,21 +350,16 @@ pub(super) fn apply(added: &[AddedElement], model: &mut ModelInfo) {
             AddedElement::Body { name, joints, .. } => {
                 let id = model.bodies.len();
                 model.bodies.push(name.clone());
-                for (j, slide, _) in joints {
-                    let kind = if *slide {
-                        JointKind::Slide
-                    } else {
-                        JointKind::Hinge
-                    };
+                for (j, kind, _) in joints {
                     model.joints.push(Joint {
                         name: j.clone(),
-                        kind,
+                        kind: *kind,
                         body: id,
                         qposadr: model.nq,
                         dofadr: model.nv,
                     });
-                    model.nq += 1;
-                    model.nv += 1;
+                    model.nq += kind.nq();
+                    model.nv += kind.nv();
                 }
             }
             AddedElement::Site { name, body, .. } => {
@@ -330,4 +384,48 @@ pub(super) fn nul_in_name(what: &str, at: crate::diagnostic::Location) -> Diagno
     )
     .at(at)
     .label("expected a name without NUL bytes (MuJoCo's names are C strings)")
+}
+
+/// W0170: an added body on a vertical slide joint, with no geom that collides and no gravity
+/// compensation, falls for ever under gravity (a goal marker written as slides, say): envc says
+/// so at check time, where the reference would only show a return of −30,000.
+pub(super) fn falling(spec: &crate::syntax::Spec, r: &crate::ir::ResolvedSpec) -> Vec<Diagnostic> {
+    let added = &r.model_edits.added;
+    let mut out = vec![];
+    for e in added {
+        let AddedElement::Body {
+            name,
+            joints,
+            gravcomp,
+            ..
+        } = e
+        else {
+            continue;
+        };
+        let vertical = joints
+            .iter()
+            .find(|(_, k, axis)| *k == JointKind::Slide && axis[2] != 0.0);
+        let collides = added
+            .iter()
+            .any(|g| matches!(g, AddedElement::Geom { body, contact: true, .. } if body == name));
+        if let (Some((joint, _, _)), false, true) = (vertical, collides, *gravcomp < 1.0) {
+            let at = spec
+                .added
+                .iter()
+                .find(|(k, s)| *k == AddedKind::Body && s.name == *name)
+                .map(|(_, s)| s.name_loc.clone());
+            out.push(
+                Diagnostic::new(
+                    Code::W0170,
+                    format!(
+                        "[bodies.{name}] slides vertically on `{joint}` with nothing to hold it: it falls under gravity"
+                    ),
+                )
+                .at_opt(at)
+                .label("a body on a vertical slide joint, without a colliding geom or gravity compensation")
+                .help("for a goal or target marker: `mocap = true` and no joints (or the [goal] table's goal vector); to float: `gravcomp = 1`"),
+            );
+        }
+    }
+    out
 }

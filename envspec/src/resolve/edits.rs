@@ -3,6 +3,7 @@
 //! layout and the timestep already include them.
 
 use crate::diagnostic::{Code, Diagnostic, suggest};
+use crate::ir::AddedElement;
 use crate::ir::{
     ActuatorKind, AddedActuator, GeomEdit, Integrator, JointEdit, ModelEdits, SOLVER_OPTIONS,
     SolverOption,
@@ -14,10 +15,12 @@ use crate::value::{Val, ValKind};
 use super::Ctx;
 
 impl Ctx<'_> {
-    pub(super) fn model_edits(&mut self) -> ModelEdits {
+    /// The model edits; `added`: the `[bodies]` ... elements, resolved first (this context's
+    /// model already holds them, so the other tables see the joints and geoms they add).
+    pub(super) fn model_edits(&mut self, added: Vec<AddedElement>) -> ModelEdits {
         let mut edits = ModelEdits::default();
         let spec = self.spec;
-        edits.added = self.added_elements();
+        edits.added = added;
         for s in &spec.actuators {
             self.actuator_section(s, &mut edits.actuators);
         }

@@ -123,7 +123,25 @@ impl Ctx<'_> {
             return None;
         }
         self.goal_dim = Some((achieved.len(), v.loc.clone()));
-        Some(GoalTable { achieved })
+        let marker = match s.get("marker") {
+            None => None,
+            Some(m) => {
+                let body = self.body_name(m, "[goal] marker")?;
+                if achieved.len() != 3 {
+                    self.d.push(misfit(
+                        &m.loc,
+                        format!(
+                            "[goal] marker: the goal has {} elements; a marker body takes a 3-D goal",
+                            achieved.len()
+                        ),
+                        "expected an `achieved` of 3 elements (a position)",
+                    ));
+                    return None;
+                }
+                Some(body)
+            }
+        };
+        Some(GoalTable { achieved, marker })
     }
 
     /// `goal`, `goal[i]`, `goal[a:b]`: elements of the env-held goal vector.
