@@ -17,6 +17,22 @@ fn sel(s: &Selection) -> String {
     s.text.clone()
 }
 
+/// A selection with its elements' names when the text does not say them (`qpos[7:10]`
+/// → `qpos[7:10] (qpos[finger_l], qpos[finger_r], qpos[goal_x])`), so an index that is off by
+/// two shows; long selections are cut after 8 names.
+fn named(s: &Selection) -> String {
+    if s.names.len() == 1 && s.names[0] == s.text {
+        return s.text.clone();
+    }
+    let shown: Vec<&str> = s.names.iter().take(8).map(String::as_str).collect();
+    let more = if s.names.len() > 8 {
+        format!(", … {} more", s.names.len() - 8)
+    } else {
+        String::new()
+    };
+    format!("{} ({}{more})", s.text, shown.join(", "))
+}
+
 /// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
 pub fn kernel(t: &RewardTerm) -> String {
     match &t.kind {
@@ -183,6 +199,15 @@ pub fn check(c: &HealthCheck) -> String {
 
 /// A `[reset.*]` step: its target, how it is set and the distribution drawn.
 pub fn reset_step(r: &ResetStep) -> String {
+    reset_step_as(r, &sel(&r.target))
+}
+
+/// [`reset_step`] with the target's element names (`envc show`).
+pub fn reset_step_named(r: &ResetStep) -> String {
+    reset_step_as(r, &named(&r.target))
+}
+
+fn reset_step_as(r: &ResetStep, target: &str) -> String {
     let dist = match &r.dist {
         Distribution::Uniform { low, high } => {
             let same =
@@ -216,7 +241,7 @@ pub fn reset_step(r: &ResetStep) -> String {
                 .collect();
             return format!(
                 "{}: position += (x, y, z), quat ← quat ⊗ euler_xyz(roll, pitch, yaw); {}",
-                sel(&r.target),
+                target,
                 if v.is_empty() {
                     "every range 0".into()
                 } else {
@@ -227,9 +252,7 @@ pub fn reset_step(r: &ResetStep) -> String {
         Distribution::TerrainOrigin { rows } => {
             return format!(
                 "{}: position += the spawn origin of a [terrain] tile drawn uniformly (rows {} … {}, any column)",
-                sel(&r.target),
-                rows.0,
-                rows.1
+                target, rows.0, rows.1
             );
         }
     };
@@ -252,7 +275,7 @@ pub fn reset_step(r: &ResetStep) -> String {
     let chance = r
         .probability
         .map_or(String::new(), |p| format!(" (with probability {})", num(p)));
-    format!("{} {op} {dist}{until}{chance}", sel(&r.target))
+    format!("{target} {op} {dist}{until}{chance}")
 }
 
 /// An info entry: what it reports and how it is computed.

@@ -164,17 +164,32 @@ pub fn read_document(
 /// Parse a whole TOML document. Syntax errors are reported with their location.
 pub fn parse_document(file: &Arc<SourceFile>) -> Result<Val, Diagnostics> {
     let (table, errors) = DeTable::parse_recoverable(&file.text);
-    if !errors.is_empty() {
-        let mut diags = Diagnostics::default();
-        for e in errors {
-            let span = e.span().unwrap_or(0..0);
-            diags.push(
-                Diagnostic::new(Code::E0100, format!("invalid TOML: {}", e.message().trim()))
-                    .at(Location::new(file, span))
-                    .label("TOML syntax error"),
-            );
+    // The first syntax error only: the parser's recovery turns one missing `]` into dozens of
+    // errors on the lines after it.
+    if let Some(e) = errors.first() {
+        let span = e.span().unwrap_or(0..0);
+        let message = e.message().trim();
+        let mut d = Diagnostic::new(Code::E0100, format!("invalid TOML: {message}"));
+        // An array left open shows where the next line starts: point at its `[`.
+        d = match message
+            .contains("array")
+            .then(|| unclosed_bracket(&file.text, span.start))
+            .flatten()
+            .filter(|&open| file.text[open..span.start.max(open)].contains('\n'))
+            .map(Some)
+        {
+            Some(Some(open)) => d
+                .at(Location::new(file, open..open + 1))
+                .label("this `[` is not closed (the next line was read as more of the array)"),
+            _ => d.at(Location::new(file, span)).label("TOML syntax error"),
+        };
+        if errors.len() > 1 {
+            d = d.help(format!(
+                "{} more syntax errors follow from this one; fix it and check again",
+                errors.len() - 1
+            ));
         }
-        return Err(diags);
+        return Err(Diagnostics::from(d));
     }
     let span = 0..file.text.len();
     let mut diags = Diagnostics::default();
@@ -183,6 +198,37 @@ pub fn parse_document(file: &Arc<SourceFile>) -> Result<Val, Diagnostics> {
         kind: ValKind::Table(entries),
         loc: Location::new(file, span),
     })
+}
+
+/// The last `[` before `end` that no `]` closes (strings and comments skipped).
+fn unclosed_bracket(text: &str, end: usize) -> Option<usize> {
+    let b = text.as_bytes();
+    let end = end.min(b.len());
+    let mut open: Vec<usize> = vec![];
+    let mut i = 0;
+    while i < end {
+        match b[i] {
+            b'#' => {
+                while i < end && b[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            q @ (b'"' | b'\'') => {
+                i += 1;
+                while i < end && b[i] != q && b[i] != b'\n' {
+                    // (a basic string's escape skips the escaped byte)
+                    i += if q == b'"' && b[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'[' => open.push(i),
+            b']' => {
+                open.pop();
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    open.pop()
 }
 
 /// Parse one TOML value written on its own, e.g. the right-hand side of `--set key=value`.

@@ -872,6 +872,23 @@ fn invalid_toml() {
     );
 }
 
+/// One missing `]` is one error, at the `[` it leaves open (the parser's recovery reads the
+/// next lines as more of the array and would report each of them).
+#[test]
+fn an_unclosed_array_is_one_error_at_its_bracket() {
+    let text = with(&mini(), "clip = [-10.0, 10.0]", "clip = [-10.0, 10.0");
+    let d = match Spec::parse(Path::new("mini.toml"), text) {
+        Ok(_) => panic!("parsed invalid TOML"),
+        Err(d) => d,
+    };
+    assert_eq!(d.codes(), [Code::E0100], "{d}");
+    assert_eq!(lc(&d.0[0]), "18:8");
+    assert_eq!(
+        d.0[0].label.as_deref(),
+        Some("this `[` is not closed (the next line was read as more of the array)")
+    );
+}
+
 #[test]
 fn invalid_toml_reports_only_syntax_errors() {
     // The TOML parser recovers and may report several errors for one mistake; all are E0100.

@@ -257,7 +257,7 @@ fn action_scale_solver_and_clearance_mistakes_are_located_errors() {
             r#""*_foot?_collision" = { condim"#,
             r#""*_fot?_collision" = { condim"#,
             Code::E0160,
-            "`*_fot?_collision` matches none of the 33 named geoms of",
+            "`*_fot?_collision` matches none of the 34 named geoms of",
         ),
         (
             "geom_condim",

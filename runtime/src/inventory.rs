@@ -15,6 +15,9 @@ pub struct Group {
     pub title: &'static str,
     /// One line per element.
     pub lines: Vec<String>,
+    /// The element's index is its position in the list (selector rows, keyframes), which
+    /// `envc show --model` prints beside it.
+    pub numbered: bool,
 }
 
 /// The fields listed, with what they read, and whether their rows have columns (`[x]` / `.x`).
@@ -64,8 +67,31 @@ pub fn inventory(spec: &ResolvedSpec, model: &MjModel) -> Vec<Group> {
             }
         }
         if !lines.is_empty() {
-            out.push(Group { title, lines });
+            out.push(Group {
+                title,
+                lines,
+                numbered: true,
+            });
         }
+    }
+    if !spec.model.keyframes.is_empty() {
+        out.push(Group {
+            title: "keyframes (reset kind = \"keyframe\", [actions] default_pose)",
+            lines: spec
+                .model
+                .keyframes
+                .iter()
+                .enumerate()
+                .map(|(i, k)| {
+                    if k.is_empty() {
+                        format!("#{i} (unnamed)")
+                    } else {
+                        k.clone()
+                    }
+                })
+                .collect(),
+            numbered: true,
+        });
     }
     let m = model.ffi();
     for (title, obj, n) in [
@@ -75,7 +101,11 @@ pub fn inventory(spec: &ResolvedSpec, model: &MjModel) -> Vec<Group> {
     ] {
         let lines: Vec<String> = (0..n.max(0) as usize).map(|i| name(m, obj, i)).collect();
         if !lines.is_empty() {
-            out.push(Group { title, lines });
+            out.push(Group {
+                title,
+                lines,
+                numbered: false,
+            });
         }
     }
     out

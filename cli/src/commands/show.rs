@@ -53,7 +53,16 @@ pub fn run(args: Args) -> Result<Outcome> {
         )?;
         for g in envc::inventory::inventory(env.spec(), env.model()) {
             writeln!(o, "\n{} ({}):", g.title, g.lines.len())?;
-            writeln!(o, "{}", wrap(&g.lines, 2, 100))?;
+            let lines: Vec<String> = if g.numbered {
+                g.lines
+                    .iter()
+                    .enumerate()
+                    .map(|(i, l)| format!("[{i}] {l}"))
+                    .collect()
+            } else {
+                g.lines
+            };
+            writeln!(o, "{}", wrap(&lines, 2, 100))?;
         }
         print!("{o}");
         return Ok(Outcome::Ok);
@@ -228,7 +237,7 @@ pub fn run(args: Args) -> Result<Outcome> {
 
     writeln!(o, "\nreset (in RNG draw order; then mj_forward):")?;
     for r in &spec.reset {
-        writeln!(o, "  {:<14} {}", r.name, describe::reset_step(r))?;
+        writeln!(o, "  {:<14} {}", r.name, describe::reset_step_named(r))?;
     }
 
     if !spec.commands.is_empty() {
