@@ -135,6 +135,21 @@ impl Legged {
                     }
                 }
             }
+            // A target outside a limited actuator's control range is clamped by MuJoCo: the
+            // default pose would not be what the spec says (degrees for radians, say).
+            let (limited, range) = (model.actuator_ctrllimited(), model.actuator_ctrlrange());
+            for (i, &p) in l.default_pose.iter().enumerate() {
+                let (lo, hi) = (range[i][0], range[i][1]);
+                if limited.get(i).is_some_and(|&on| on) && !(lo <= p && p <= hi) {
+                    let name = crate::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                    return Err(unfit(
+                        spec,
+                        format!(
+                            "[actions] default_pose[{i}] = {p} is outside actuator `{name}`'s control range [{lo}, {hi}] (MuJoCo would clamp every target to it; are the values in the model's units?)"
+                        ),
+                    ));
+                }
+            }
         }
         l.landings = crate::landings::Landings::new(spec, model)?;
         l.site_frames = spec.sources().any(|s| s.field.is_site_frame());
