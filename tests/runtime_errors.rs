@@ -311,3 +311,27 @@ fn a_model_mujoco_cannot_run_at_all_is_refused_when_the_env_is_built() {
         "{e}"
     );
 }
+
+/// A PD default pose outside a limited actuator's control range (degrees where the model takes
+/// radians) is E1110 naming the range: MuJoCo would clamp every target to it without a word.
+#[test]
+fn a_default_pose_outside_the_control_range_is_an_error() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("specs/examples/mjlab_velocity_flat_go1.toml"))
+        .unwrap()
+        .replace("\"*thigh_joint\" = 0.9,", "\"*thigh_joint\" = 51.6,")
+        .replace("\"../../assets/", &format!("\"{}/assets/", root.display()));
+    let dir = tempdir("degrees");
+    let p = dir.join("go1.toml");
+    std::fs::write(&p, text).unwrap();
+    let Err(e) = Env::from_spec_file(&p, &[]) else {
+        panic!("a default pose in degrees must not load");
+    };
+    assert_eq!(e.code(), Code::E1110, "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("default_pose[1] = 51.6 is outside actuator `FR_thigh_joint`'s control range"),
+        "{msg}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
