@@ -162,3 +162,26 @@ fn compute_reward_needs_goal_terms() {
         .unwrap_err();
     assert!(err.contains("no [goal] table"), "{err}");
 }
+
+envc::env!(FetchPush = "../specs/robotics/fetch/push.toml");
+
+/// The typed env of a manipulation spec: a Cartesian action of 4 (`dx`, `dy`, `dz`, `gripper`),
+/// the flat observation of 25, the same numbers as the dynamic env (the goal dict's other two
+/// entries are the inner env's `achieved_goal` and `goal`).
+#[test]
+fn typed_fetch_push() {
+    assert_eq!(FetchPushAction::ACT_DIM, 4);
+    assert_eq!(FetchPushAction::ACTUATORS, ["dx", "dy", "dz", "gripper"]);
+    let mut typed = FetchPush::new(&FetchPushConfig::default()).unwrap();
+    let mut dynamic = open("FetchPush-v4");
+    typed.reset(Some(7));
+    dynamic.reset(Some(7));
+    let a = [0.5, -0.25, 0.75, 0.0];
+    for _ in 0..5 {
+        let s = typed.step(&FetchPushAction::from(a)).unwrap();
+        let d = dynamic.step(&a).unwrap();
+        assert_eq!(s.reward.to_bits(), d.reward.to_bits());
+        assert_eq!(bits(typed.inner().obs()), bits(d.obs));
+    }
+    assert_eq!(bits(typed.inner().goal()), bits(dynamic.goal()));
+}

@@ -264,7 +264,11 @@ fn generate(
     }
 
     // Action.
-    let act_names: Vec<&str> = r.model.actuators.iter().map(docs::actuator_label).collect();
+    // An end-effector action is Cartesian, not one value per actuator.
+    let act_names: Vec<&str> = match &r.manipulation.end_effector {
+        Some(e) => ["dx", "dy", "dz", "gripper"][..e.act_dim()].to_vec(),
+        None => r.model.actuators.iter().map(docs::actuator_label).collect(),
+    };
 
     // Info: step info has every key, reset info the `at_reset` ones.
     let info_struct = |items: Vec<&envspec::ir::InfoItem>, tyname: &Ident, what: &str| {
