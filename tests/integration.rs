@@ -27,6 +27,7 @@ mod readme;
 mod render;
 mod rng_numpy;
 mod runtime_errors;
+mod sensors;
 mod terrain;
 mod typed;
 mod urdf;

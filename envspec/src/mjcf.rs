@@ -112,6 +112,9 @@ pub struct ModelInfo {
     pub nv: usize,
     /// Names of the `<keyframe>` keys, in order (legged tasks take a PD default pose from one).
     pub keyframes: Vec<String>,
+    /// `<sensor>` elements in MuJoCo's order: name and the number of values each writes to
+    /// `sensordata` (None for a kind whose size the MJCF alone does not fix, e.g. a plugin).
+    pub sensors: Vec<(String, Option<usize>)>,
 }
 
 impl ModelInfo {
@@ -148,6 +151,7 @@ impl ModelInfo {
                 nq: 0,
                 nv: 0,
                 keyframes: vec![],
+                sensors: vec![],
             },
             asset_dirs: Default::default(),
             in_world: false,
@@ -188,6 +192,26 @@ struct Reader {
     nbody: usize,
     /// Reading a file included inside `<worldbody>`: its elements are world children.
     in_world: bool,
+}
+
+/// Values a sensor of this MJCF kind writes to `sensordata` (MuJoCo 3.17's fixed sizes); None
+/// where the size depends on more than the kind (`contact`, `tactile`, plugins).
+fn sensor_dim(tag: &str) -> Option<usize> {
+    Some(match tag {
+        "touch" | "rangefinder" | "jointpos" | "jointvel" | "tendonpos" | "tendonvel"
+        | "actuatorpos" | "actuatorvel" | "actuatorfrc" | "jointactuatorfrc"
+        | "tendonactuatorfrc" | "jointlimitpos" | "jointlimitvel" | "jointlimitfrc"
+        | "tendonlimitpos" | "tendonlimitvel" | "tendonlimitfrc" | "insidesite" | "distance"
+        | "e_potential" | "e_kinetic" | "clock" => 1,
+        "camprojection" => 2,
+        "accelerometer" | "velocimeter" | "gyro" | "force" | "torque" | "magnetometer"
+        | "ballangvel" | "framepos" | "framexaxis" | "frameyaxis" | "framezaxis"
+        | "framelinvel" | "frameangvel" | "framelinacc" | "frameangacc" | "subtreecom"
+        | "subtreelinvel" | "subtreeangmom" | "normal" => 3,
+        "ballquat" | "framequat" => 4,
+        "fromto" => 6,
+        _ => return None,
+    })
 }
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
@@ -445,6 +469,17 @@ impl Reader {
                     self.info
                         .tendons
                         .push(t.attribute("name").unwrap_or("").into());
+                }
+            }
+            "sensor" => {
+                for t in node.children().filter(|n| n.is_element()) {
+                    let dim = match t.tag_name().name() {
+                        "user" => t.attribute("dim").and_then(|d| d.trim().parse().ok()),
+                        tag => sensor_dim(tag),
+                    };
+                    self.info
+                        .sensors
+                        .push((t.attribute("name").unwrap_or("").into(), dim));
                 }
             }
             _ => {}

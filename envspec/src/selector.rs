@@ -97,6 +97,8 @@ pub enum Field {
     SiteXvelr,
     /// The env-held goal vector (`[goal]`), written `goal` or `goal[0:2]`.
     Goal,
+    /// `sensordata`: the model's `<sensor>` values (a name selects all of a sensor's values).
+    SensorData,
 }
 
 /// What the rows of a field are indexed by.
@@ -120,6 +122,8 @@ pub enum Rows {
     Xyz,
     /// Command components (`[commands.*]`); selected by the resolver, not by name here.
     Command,
+    /// Sensor values (`sensordata`): a sensor's name selects its values.
+    Sensor,
 }
 
 /// Every field by the name a selector writes, e.g. `qpos`.
@@ -161,6 +165,7 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("site_xvelp", Field::SiteXvelp),
     ("site_xvelr", Field::SiteXvelr),
     ("goal", Field::Goal),
+    ("sensordata", Field::SensorData),
 ];
 
 impl Field {
@@ -183,6 +188,7 @@ impl Field {
             | Field::LastAction
             | Field::DefaultPose => Rows::Actuator,
             Field::Command | Field::Goal => Rows::Command,
+            Field::SensorData => Rows::Sensor,
             Field::CfrcExt
             | Field::CfrcInt
             | Field::Cacc
@@ -561,6 +567,20 @@ fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
             .collect(),
         Rows::Xyz => vec!["x".into(), "y".into(), "z".into()],
         Rows::Command => vec![],
+        // One row per value: `touch` (one value), `accel:0` … `accel:2`.
+        Rows::Sensor => {
+            let mut out = vec![];
+            for (i, (name, dim)) in model.sensors.iter().enumerate() {
+                let base = or_id(name, "sensor", i);
+                match dim {
+                    Some(1) => out.push(base),
+                    Some(n) => out.extend((0..*n).map(|k| format!("{base}:{k}"))),
+                    // (a sensor of unknown size ends what can be numbered)
+                    None => break,
+                }
+            }
+            out
+        }
         Rows::TendonDof => {
             let dofs = row_names(Field::Qvel, model);
             let mut out = vec![];
@@ -661,6 +681,23 @@ fn rows_by_name(
                 .map(|i| vec![i]),
         ),
         Rows::TendonDof => ("tendon:dof pair", vec![], None),
+        Rows::Sensor => {
+            let mut adr = 0;
+            let mut found = None;
+            for (n, dim) in &model.sensors {
+                let Some(dim) = dim else { break };
+                if n == name {
+                    found = Some((adr..adr + dim).collect());
+                    break;
+                }
+                adr += dim;
+            }
+            (
+                "sensor",
+                model.sensors.iter().map(|s| s.0.as_str()).collect(),
+                found,
+            )
+        }
         Rows::Command => ("command", vec![], None),
         Rows::Xyz => (
             "component",

@@ -112,6 +112,7 @@ impl ModelInfo {
             nq: 0,
             nv: 0,
             keyframes: vec![],
+            sensors: vec![],
         };
         let mut walk = Walk {
             robot: &robot,

@@ -100,6 +100,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         envspec::Field::SiteXvelp,
         envspec::Field::SiteXvelr,
         envspec::Field::Goal,
+        envspec::Field::SensorData,
     ] {
         if spec.reads(f) {
             not_exported.push(format!("the field `{}`", f.name()));

@@ -178,6 +178,7 @@ impl Sim {
             Field::Xquat => d.xquat().as_flattened(),
             Field::SiteXmat => d.site_xmat().as_flattened(),
             Field::Goal => &self.goal,
+            Field::SensorData => d.sensordata(),
             Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => {
                 self.manip.field(f).unwrap_or(&[])
             }
@@ -1517,6 +1518,23 @@ fn check_model(spec: &ResolvedSpec, model: &MjModel, world_sites: usize) -> Resu
             "timestep is {} compiled but {} from the MJCF",
             m.opt.timestep, info.timestep
         )));
+    }
+    // `sensordata[...]` indices come from the sizes read in the MJCF: each sensor read must sit
+    // where MuJoCo put it.
+    if spec.reads(Field::SensorData) {
+        let (adr, dim) = (model.sensor_adr(), model.sensor_dim());
+        let mut at = 0;
+        for (s, (name, size)) in info.sensors.iter().enumerate() {
+            let Some(size) = size else { break };
+            let same = adr.get(s).is_some_and(|&a| a as usize == at)
+                && dim.get(s).is_some_and(|&d| d as usize == *size);
+            if !same {
+                return Err(mismatch(format!(
+                    "sensor {s} (`{name}`) has another address or size than the MJCF says"
+                )));
+            }
+            at += size;
+        }
     }
     Ok(())
 }
