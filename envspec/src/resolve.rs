@@ -45,43 +45,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let param = |n: &str| params.iter().find(|p| p.name == n);
 
     let xml = param("xml_file").expect("checked by syntax");
-    // `${NAME}`: an environment variable (a model inside an installed package, say).
-    let expanded = match &xml.value {
-        ParamValue::Str(s) => crate::path::expand_env(s).map_err(|name| {
-            let at = match &xml.origin {
-                Origin::Default(loc) => Some(loc.clone()),
-                Origin::Override(_) => None,
-            };
-            Diagnostics::from(
-                Diagnostic::new(
-                    Code::E0301,
-                    format!("xml_file names ${{{name}}}, an environment variable that is not set"),
-                )
-                .at_opt(at)
-                .label("expected a path; ${NAME} reads the variable NAME")
-                .help(format!("set it, e.g. `export {name}=/path/to/models`")),
-            )
-        })?,
-        _ => unreachable!("xml_file is a path parameter"),
-    };
-    let model_path = match &xml.origin {
-        Origin::Default(_) => crate::path::normalize(&spec.dir().join(&expanded)),
-        Origin::Override(_) => PathBuf::from(&expanded),
-    };
-    let mut model = ModelInfo::from_file(&model_path).map_err(|e| {
-        let at = match &xml.origin {
-            Origin::Default(loc) => Some(loc.clone()),
-            Origin::Override(_) => None,
-        };
-        let help = format!("xml_file resolved to {}", model_path.display());
-        // A problem inside the model keeps its own location; else point at `xml_file`.
-        let e = if e.location.is_some() {
-            e
-        } else {
-            e.at_opt(at)
-        };
-        Diagnostics::from(e.help(help))
-    })?;
+    let (model_path, mut model) = load_model(spec, xml)?;
 
     // `[bodies]` ... add elements to the model, which the other model edits may name (a
     // `[joint_properties]` row over an added joint): resolve them first.
@@ -258,6 +222,49 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     }
     let d = blame_overrides(d, &params);
     d.into_result(resolved)
+}
+
+/// The model `xml_file` names (`${NAME}` expanded; a relative default against the spec's
+/// directory), read for its names and numbering.
+fn load_model(spec: &Spec, xml: &Param) -> Result<(PathBuf, ModelInfo), Diagnostics> {
+    // `${NAME}`: an environment variable (a model inside an installed package, say).
+    let expanded = match &xml.value {
+        ParamValue::Str(s) => crate::path::expand_env(s).map_err(|name| {
+            let at = match &xml.origin {
+                Origin::Default(loc) => Some(loc.clone()),
+                Origin::Override(_) => None,
+            };
+            Diagnostics::from(
+                Diagnostic::new(
+                    Code::E0301,
+                    format!("xml_file names ${{{name}}}, an environment variable that is not set"),
+                )
+                .at_opt(at)
+                .label("expected a path; ${NAME} reads the variable NAME")
+                .help(format!("set it, e.g. `export {name}=/path/to/models`")),
+            )
+        })?,
+        _ => unreachable!("xml_file is a path parameter"),
+    };
+    let model_path = match &xml.origin {
+        Origin::Default(_) => crate::path::normalize(&spec.dir().join(&expanded)),
+        Origin::Override(_) => PathBuf::from(&expanded),
+    };
+    let model = ModelInfo::from_file(&model_path).map_err(|e| {
+        let at = match &xml.origin {
+            Origin::Default(loc) => Some(loc.clone()),
+            Origin::Override(_) => None,
+        };
+        let help = format!("xml_file resolved to {}", model_path.display());
+        // A problem inside the model keeps its own location; else point at `xml_file`.
+        let e = if e.location.is_some() {
+            e
+        } else {
+            e.at_opt(at)
+        };
+        Diagnostics::from(e.help(help))
+    })?;
+    Ok((model_path, model))
 }
 
 /// An error about a value that came from an override is the override's: its message names the

@@ -40,32 +40,37 @@ fn wrap(names: &[String], indent: usize, width: usize) -> String {
     out
 }
 
+/// `envc show --model`: the model's elements as selectors to paste into a spec, rows numbered.
+fn model_inventory(any: &envc::AnyEnv) -> Result<Outcome> {
+    let env = any.physics_env();
+    let mut o = String::new();
+    writeln!(
+        o,
+        "{}: model {} (selectors to paste into a spec)",
+        any.id(),
+        env.spec().model_path.display()
+    )?;
+    for g in envc::inventory::inventory(env.spec(), env.model()) {
+        writeln!(o, "\n{} ({}):", g.title, g.lines.len())?;
+        let lines: Vec<String> = if g.numbered {
+            g.lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| format!("[{i}] {l}"))
+                .collect()
+        } else {
+            g.lines
+        };
+        writeln!(o, "{}", wrap(&lines, 2, 100))?;
+    }
+    print!("{o}");
+    Ok(Outcome::Ok)
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     let any = crate::target::env(&args.spec, &args.set)?;
     if args.model {
-        let env = any.physics_env();
-        let mut o = String::new();
-        writeln!(
-            o,
-            "{}: model {} (selectors to paste into a spec)",
-            any.id(),
-            env.spec().model_path.display()
-        )?;
-        for g in envc::inventory::inventory(env.spec(), env.model()) {
-            writeln!(o, "\n{} ({}):", g.title, g.lines.len())?;
-            let lines: Vec<String> = if g.numbered {
-                g.lines
-                    .iter()
-                    .enumerate()
-                    .map(|(i, l)| format!("[{i}] {l}"))
-                    .collect()
-            } else {
-                g.lines
-            };
-            writeln!(o, "{}", wrap(&lines, 2, 100))?;
-        }
-        print!("{o}");
-        return Ok(Outcome::Ok);
+        return model_inventory(&any);
     }
     let env = match any {
         envc::AnyEnv::Task(env) => env,

@@ -139,7 +139,7 @@ pub(super) fn base(
         return Err(err(
             Code::E0170,
             &at,
-            &format!(
+            format!(
                 "`{}` has [end_effector] or [goal]: a multi-agent split of its actions and goal dicts is not supported",
                 base.id
             ),
