@@ -89,6 +89,11 @@ pub const MAX_TERRAIN_LEVELS: f64 = 1e6;
 /// drown every observation or overflow.
 pub const MAX_NOISE: f64 = 1e6;
 
+/// Entries (files and directories) one registered spec directory may hold in all, and how deep
+/// it may nest: `register("/proc/self")` walked the whole file system.
+pub const MAX_SPEC_DIR_ENTRIES: usize = 100_000;
+/// Directories nested in one registered spec directory.
+pub const MAX_SPEC_DIR_DEPTH: usize = 32;
 /// A power a reward term raises a speed to (`feet_clearance power`): 100 m/s to the 16th is
 /// 1e32; 1e308 turned every return into -inf.
 pub const MAX_EXPONENT: f64 = 16.0;
