@@ -21,6 +21,8 @@ pub const MAX_EPISODE_STEPS: i64 = 10_000_000;
 /// Episodes of one `envc run`, `envc collect` or `envc.collect`: each one's return and length
 /// are kept for the summary or the dataset's metadata.
 pub const MAX_EPISODES: u64 = 10_000_000;
+/// Steps of a dataset spec's `steps` budget (Minari's largest MuJoCo datasets hold 1–2 million).
+pub const MAX_DATASET_STEPS: u64 = 1_000_000_000;
 /// A trajectory `envc rollout` holds in memory before writing it (observations, actions, rewards
 /// and info, 8 bytes a number): about a million Humanoid steps.
 pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
