@@ -636,3 +636,44 @@ fn dataset_show_verifies_before_printing_and_never_opens_a_fifo() {
     assert!(text(&o.stdout).contains("show/cut-v0"));
     let _ = std::fs::remove_dir_all(&root);
 }
+
+#[test]
+fn sigint_sigterm_and_sighup_stop_a_collection_and_remove_its_staging() {
+    for (sig, name) in [
+        (libc::SIGINT, "int"),
+        (libc::SIGTERM, "term"),
+        (libc::SIGHUP, "hup"),
+    ] {
+        let root = tmp(&format!("signal-{name}"));
+        let id = format!("sig/{name}-v0");
+        let mut child = spawn(&collect_args(
+            "Hopper-v5",
+            root.to_str().unwrap(),
+            &id,
+            "5000",
+            "arrow",
+        ));
+        wait_for_staging(&root, &mut child);
+        std::thread::sleep(Duration::from_millis(100));
+        // SAFETY: a signal to the child this test spawned.
+        unsafe {
+            libc::kill(child.id() as libc::pid_t, sig);
+        }
+        let t0 = Instant::now();
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "{name}: slow to stop"
+        );
+        assert!(!out.status.success(), "{name}");
+        assert!(
+            text(&out.stderr).contains("interrupted"),
+            "{name}: {}",
+            text(&out.stderr)
+        );
+        assert!(staging_dirs(&root).is_empty(), "{name}: staging left");
+        assert!(locks(&root).is_empty(), "{name}: lock left");
+        assert!(!root.join(&id).exists());
+        let _ = std::fs::remove_dir_all(&root);
+    }
+}
