@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import threading
 from typing import Any
@@ -136,6 +137,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     def numerics(self, name: str) -> None:
         self._core.numerics = name
 
+    @contextlib.contextmanager
     def _one_at_a_time(self, what: str):
         if not self._busy.acquire(blocking=False):
             raise _errors.coded(
@@ -143,7 +145,10 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
                 "use one vector env per thread, or a lock around its calls",
                 "E1106",
             )
-        return self._busy
+        try:
+            yield
+        finally:
+            self._busy.release()
 
     def reset(
         self,

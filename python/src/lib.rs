@@ -123,7 +123,10 @@ fn spec_path_problems() -> Vec<String> {
     }
     envspec::registry::spec_path_problems()
         .into_iter()
-        .map(|d| format!("{}: {}", d.code, d.message))
+        .map(|d| match d.position() {
+            Some(at) => format!("{at}: {}: {}", d.code, d.message),
+            None => format!("{}: {}", d.code, d.message),
+        })
         .collect()
 }
 
