@@ -15,6 +15,7 @@ __all__ = [
     "parameters",
     "describe",
     "register",
+    "spec_path_problems",
     "set_bundle_root",
     "bundle_root",
     "collect",
