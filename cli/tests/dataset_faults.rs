@@ -408,10 +408,22 @@ fn collect_into_an_unwritable_root_or_a_full_disk_fails_cleanly() {
         assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));
         assert_one_clean_line(&text(&o.stderr), "E1203");
         assert!(text(&o.stderr).contains("Read-only file system"));
-        // Full: a 1 MiB tmpfs; 400 Hopper episodes (~9000 steps) take a few.
+        // Too small: a 1 MiB tmpfs; 400 Hopper episodes (~9000 steps) take a few. Refused from
+        // the first 8 episodes' size (E1211), before the disk is full.
         let args = collect_args("Hopper-v5", m, "xx/y-v0", "400", format).join(" ");
         let o = in_mount_ns(&format!(
             "mount -t tmpfs -o size=1m tmpfs {m} && \"$ENVC\" {args}; rc=$?; \
+             find {m} -name '*.arrow' -o -name '*.hdf5' -o -name '*.lock' | wc -l; exit $rc"
+        ));
+        assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));
+        let err = text(&o.stderr);
+        assert_one_clean_line(&err, "E1211");
+        assert!(err.contains("are free"), "{err}");
+        assert_eq!(text(&o.stdout).trim(), "0", "{format}");
+        // Full within the first episodes (before any estimate): the disk's own error (E1203).
+        let args = collect_args("Hopper-v5", m, "xx/y-v0", "8", format).join(" ");
+        let o = in_mount_ns(&format!(
+            "mount -t tmpfs -o size=32k tmpfs {m} && \"$ENVC\" {args}; rc=$?; \
              find {m} -name '*.arrow' -o -name '*.hdf5' -o -name '*.lock' | wc -l; exit $rc"
         ));
         assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));

@@ -270,7 +270,11 @@ pub(crate) fn disk_fits(staging: &Path, done: u64, episodes: u64) -> Result<(), 
     if need <= free as f64 {
         return Ok(());
     }
-    let human = |b: f64| envspec::limits::human_bytes(b.min(u64::MAX as f64) as u64);
+    let human = |b: f64| match b {
+        b if b >= (1u64 << 30) as f64 => format!("{:.1} GiB", b / (1u64 << 30) as f64),
+        b if b >= (1u64 << 20) as f64 => format!("{:.1} MiB", b / (1u64 << 20) as f64),
+        b => format!("{:.0} KiB", b / 1024.0),
+    };
     Err(DatasetError::DiskTooSmall {
         path: staging.to_path_buf(),
         episodes,
