@@ -101,24 +101,43 @@ pub fn bundled() -> impl Iterator<Item = &'static Entry> {
 fn user_table() -> &'static Mutex<Vec<&'static Entry>> {
     static USER: OnceLock<Mutex<Vec<&'static Entry>>> = OnceLock::new();
     USER.get_or_init(|| {
-        let mut table = vec![];
+        let mut table: Vec<&'static Entry> = vec![];
+        // Ids already taken, for a walk linear in the number of files.
+        let mut by_id = std::collections::HashMap::<String, usize>::new();
+        let mut problems = vec![];
         for dir in std::env::var_os("ENVC_SPEC_PATH")
             .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
             .unwrap_or_default()
         {
-            // A conflicting or unreadable entry of the variable is left out here; `envc list`
-            // and `envc info` name it (`spec_path_problems`).
-            if let Ok((found, _problems)) = user_entries_of(&dir) {
-                for e in found {
-                    if claim(&table, &e).is_ok() && !table.iter().any(|t: &&Entry| t.id == e.id) {
-                        table.push(&*Box::leak(Box::new(e)));
+            // A conflicting, unreadable or unparsable entry of the variable is left out here;
+            // `envc` commands and `import envc` name it (`spec_path_problems`).
+            match user_entries_of(&dir) {
+                Ok((found, p)) => {
+                    problems.extend(p);
+                    for e in found {
+                        match by_id.get(&e.id) {
+                            Some(&i) if same_file(&table[i].path, &e.path) => {}
+                            Some(&i) => problems.push(taken(&e, &table[i].path, "registered")),
+                            None => match claim(&[], &e) {
+                                Ok(()) => {
+                                    by_id.insert(e.id.clone(), table.len());
+                                    table.push(Box::leak(Box::new(e)));
+                                }
+                                Err(d) => problems.push(d),
+                            },
+                        }
                     }
                 }
+                Err(d) => problems.push(d),
             }
         }
+        let _ = SPEC_PATH_PROBLEMS.set(problems);
         Mutex::new(table)
     })
 }
+
+/// What the first walk of `ENVC_SPEC_PATH` left out, and why.
+static SPEC_PATH_PROBLEMS: OnceLock<Vec<Diagnostic>> = OnceLock::new();
 
 /// The user's registered ids, sorted by id.
 pub fn user_entries() -> Vec<&'static Entry> {
@@ -157,28 +176,11 @@ pub fn register(path: &Path) -> Result<Vec<String>, Diagnostic> {
     Ok(ids)
 }
 
-/// The problems of `ENVC_SPEC_PATH`: entries that are unreadable or claim a taken id.
+/// The problems of `ENVC_SPEC_PATH`: entries that are unreadable, do not parse, declare an id
+/// Gymnasium refuses or one that is taken (read once, with the registry).
 pub fn spec_path_problems() -> Vec<Diagnostic> {
-    let mut out = vec![];
-    let mut seen: Vec<&'static Entry> = vec![];
-    for dir in std::env::var_os("ENVC_SPEC_PATH")
-        .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
-        .unwrap_or_default()
-    {
-        match user_entries_of(&dir) {
-            Ok((found, problems)) => {
-                out.extend(problems);
-                for e in found {
-                    match claim(&seen, &e) {
-                        Ok(()) => seen.push(Box::leak(Box::new(e))),
-                        Err(d) => out.push(d),
-                    }
-                }
-            }
-            Err(d) => out.push(d),
-        }
-    }
-    out
+    user_table();
+    SPEC_PATH_PROBLEMS.get().cloned().unwrap_or_default()
 }
 
 /// Ok when `e` may take its id: not bundled, and not registered from another file.
@@ -374,10 +376,15 @@ pub fn lookup(id: &str) -> Result<&'static Entry, Diagnostic> {
     if let Some(e) = entries().iter().find(|e| e.id == id) {
         return Ok(e);
     }
-    let user = user_entries();
-    if let Some(e) = user.iter().find(|e| e.id == id) {
+    // Found without copying and sorting the table: `envc.registry()` looks up every id.
+    let found = user_table()
+        .lock()
+        .ok()
+        .and_then(|t| t.iter().find(|e| e.id == id).copied());
+    if let Some(e) = found {
         return Ok(e);
     }
+    let user = user_entries();
     let names: Vec<&str> = entries()
         .iter()
         .chain(user.iter().copied())
