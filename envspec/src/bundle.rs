@@ -150,8 +150,9 @@ fn user_tag() -> String {
 fn extract() -> Resolved {
     let name = format!("bundle-{}-{}", env!("CARGO_PKG_VERSION"), embedded::HASH);
     let mut errors = vec![];
+    let temp = std::env::temp_dir();
     for base in cache_base() {
-        if let Err(e) = trusted_base(&base) {
+        if let Err(e) = trusted_base(&base, base.starts_with(&temp)) {
             errors.push(format!("{}: {e}", base.display()));
             continue;
         }
@@ -177,9 +178,9 @@ fn extract() -> Resolved {
 }
 
 /// A cache directory envc may trust: created if missing (private), a real directory (not a
-/// link) owned by this user and writable by no one else. The shared temporary directory is where
-/// another user could have made it first.
-fn trusted_base(base: &Path) -> std::io::Result<()> {
+/// link) owned by this user and writable by no other (in the shared temporary directory, where
+/// another user could have made it first, not by its group either).
+fn trusted_base(base: &Path, shared: bool) -> std::io::Result<()> {
     use std::os::unix::fs::{DirBuilderExt, MetadataExt};
     if std::fs::symlink_metadata(base).is_err() {
         std::fs::DirBuilder::new()
@@ -197,7 +198,7 @@ fn trusted_base(base: &Path) -> std::io::Result<()> {
     if meta.uid() != me {
         return refuse("owned by another user");
     }
-    if meta.mode() & 0o022 != 0 {
+    if meta.mode() & if shared { 0o022 } else { 0o002 } != 0 {
         return refuse("writable by other users");
     }
     Ok(())
@@ -342,14 +343,17 @@ mod tests {
         sweep(&base);
         assert!(!dead.exists() && ours.exists());
         // The cache base must be this user's and private.
-        assert!(trusted_base(&base).is_ok());
+        assert!(trusted_base(&base, true).is_ok());
         use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&base, std::fs::Permissions::from_mode(0o770)).unwrap();
+        assert!(trusted_base(&base, true).is_err());
+        assert!(trusted_base(&base, false).is_ok());
         std::fs::set_permissions(&base, std::fs::Permissions::from_mode(0o777)).unwrap();
-        assert!(trusted_base(&base).is_err());
+        assert!(trusted_base(&base, false).is_err());
         let link = base.with_extension("link");
         let _ = std::fs::remove_file(&link);
         std::os::unix::fs::symlink(&base, &link).unwrap();
-        assert!(trusted_base(&link).is_err());
+        assert!(trusted_base(&link, false).is_err());
         let _ = std::fs::remove_file(&link);
         let _ = std::fs::remove_dir_all(&base);
     }
