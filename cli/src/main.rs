@@ -72,6 +72,26 @@ pub enum Outcome {
     Breaking,
 }
 
+/// A collection stops at its next step on SIGINT, SIGTERM or SIGHUP, and the error that follows
+/// removes its staging directory (the default action would end the process with it in place).
+/// A second signal has the default action: the process ends at once.
+pub(crate) fn stop_collections_on_signals() {
+    extern "C" fn stop(sig: libc::c_int) {
+        envc::dataset::STOP.store(true, std::sync::atomic::Ordering::Relaxed);
+        // SAFETY: `signal` is async-signal-safe; the next signal of this kind takes its default.
+        unsafe {
+            libc::signal(sig, libc::SIG_DFL);
+        }
+    }
+    for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+        // SAFETY: the handler only stores to an atomic and resets its own disposition, both
+        // async-signal-safe.
+        unsafe {
+            libc::signal(sig, stop as *const () as libc::sighandler_t);
+        }
+    }
+}
+
 fn main() -> ExitCode {
     // Die quietly when the reader of stdout goes away (`envc list | head`), as Unix tools do,
     // instead of panicking in println!.

@@ -408,10 +408,22 @@ fn collect_into_an_unwritable_root_or_a_full_disk_fails_cleanly() {
         assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));
         assert_one_clean_line(&text(&o.stderr), "E1203");
         assert!(text(&o.stderr).contains("Read-only file system"));
-        // Full: a 1 MiB tmpfs; 400 Hopper episodes (~9000 steps) take a few.
+        // Too small: a 1 MiB tmpfs; 400 Hopper episodes (~9000 steps) take a few. Refused from
+        // the first 8 episodes' size (E1211), before the disk is full.
         let args = collect_args("Hopper-v5", m, "xx/y-v0", "400", format).join(" ");
         let o = in_mount_ns(&format!(
             "mount -t tmpfs -o size=1m tmpfs {m} && \"$ENVC\" {args}; rc=$?; \
+             find {m} -name '*.arrow' -o -name '*.hdf5' -o -name '*.lock' | wc -l; exit $rc"
+        ));
+        assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));
+        let err = text(&o.stderr);
+        assert_one_clean_line(&err, "E1211");
+        assert!(err.contains("are free"), "{err}");
+        assert_eq!(text(&o.stdout).trim(), "0", "{format}");
+        // Full within the first episodes (before any estimate): the disk's own error (E1203).
+        let args = collect_args("Hopper-v5", m, "xx/y-v0", "8", format).join(" ");
+        let o = in_mount_ns(&format!(
+            "mount -t tmpfs -o size=32k tmpfs {m} && \"$ENVC\" {args}; rc=$?; \
              find {m} -name '*.arrow' -o -name '*.hdf5' -o -name '*.lock' | wc -l; exit $rc"
         ));
         assert_eq!(o.status.code(), Some(2), "{format}: {}", text(&o.stdout));
@@ -635,4 +647,45 @@ fn dataset_show_verifies_before_printing_and_never_opens_a_fifo() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("show/cut-v0"));
     let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn sigint_sigterm_and_sighup_stop_a_collection_and_remove_its_staging() {
+    for (sig, name) in [
+        (libc::SIGINT, "int"),
+        (libc::SIGTERM, "term"),
+        (libc::SIGHUP, "hup"),
+    ] {
+        let root = tmp(&format!("signal-{name}"));
+        let id = format!("sig/{name}-v0");
+        let mut child = spawn(&collect_args(
+            "Hopper-v5",
+            root.to_str().unwrap(),
+            &id,
+            "5000",
+            "arrow",
+        ));
+        wait_for_staging(&root, &mut child);
+        std::thread::sleep(Duration::from_millis(100));
+        // SAFETY: a signal to the child this test spawned.
+        unsafe {
+            libc::kill(child.id() as libc::pid_t, sig);
+        }
+        let t0 = Instant::now();
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "{name}: slow to stop"
+        );
+        assert!(!out.status.success(), "{name}");
+        assert!(
+            text(&out.stderr).contains("interrupted"),
+            "{name}: {}",
+            text(&out.stderr)
+        );
+        assert!(staging_dirs(&root).is_empty(), "{name}: staging left");
+        assert!(locks(&root).is_empty(), "{name}: lock left");
+        assert!(!root.join(&id).exists());
+        let _ = std::fs::remove_dir_all(&root);
+    }
 }

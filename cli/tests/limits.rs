@@ -842,6 +842,7 @@ fn a_nul_byte_in_an_added_element_name_is_a_spec_error_not_a_panic() {
         "[cameras.\"a\\u0000b\"]\npos = [0.0, -1.0, 1.0]\n",
         "[lights.\"a\\u0000b\"]\npos = [0.0, 0.0, 2.0]\n",
         "[actuators.\"a\\u0000b\"]\njoint = \"rootx\"\n",
+        "[keyframes.\"a\\u0000b\"]\njoints = { rootz = 0.0 }\n",
     ];
     for (i, section) in sections.iter().enumerate() {
         let spec = dir.spec("hopper.toml", &[], &[]);
@@ -857,6 +858,75 @@ fn a_nul_byte_in_an_added_element_name_is_a_spec_error_not_a_panic() {
         ] {
             let text = refused(&envc(args), "E0102");
             assert!(text.contains("contains a NUL byte"), "{section}: {text}");
+        }
+    }
+}
+
+/// The rough terrain example with `edits`, its model path made absolute, in `dir`.
+fn rough_spec(dir: &Path, name: &str, edits: Edits) -> PathBuf {
+    let mut text = std::fs::read_to_string(
+        Path::new(ROOT).join("specs/examples/mjlab_velocity_rough_go1.toml"),
+    )
+    .unwrap()
+    .replace("\"../../assets/", &format!("\"{ROOT}/assets/"));
+    for (a, b) in edits {
+        assert!(text.contains(a), "{a} not in the rough spec");
+        text = text.replacen(a, b, 1);
+    }
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn terrain_work_beyond_its_limits_is_refused_before_anything_is_built() {
+    let dir = Scratch::new("terrain-work");
+    let cases: [(&str, Edits); 5] = [
+        // Billions of stairs boxes: an allocation of 6 GB aborted envc.
+        ("stairs", &[("step_width = 0.3", "step_width = 1e-6")]),
+        // Default stairs on 1000 m tiles: did not compile in 30 s.
+        (
+            "tiles",
+            &[("tile_size = [8.0, 8.0]", "tile_size = [1000.0, 1000.0]")],
+        ),
+        // A 4 GiB table of height levels: abort.
+        (
+            "levels",
+            &[(
+                "noise = [0.02, 0.10]\nnoise_step = 0.02\n",
+                "noise = [-1000.0, 1000.0]\nnoise_step = 1e-6\nvertical_scale = 1e-6\n",
+            )],
+        ),
+        // Saturated integer heights: an index out of bounds.
+        (
+            "saturation",
+            &[(
+                "noise_step = 0.02\n",
+                "noise_step = 0.02\nvertical_scale = 1e-300\n",
+            )],
+        ),
+        // A slope too tall for its scale: reported at its key, not by MuJoCo at the model.
+        ("slope", &[("slope = [0.0, 1.0]", "slope = [0.0, 1000.0]")]),
+    ];
+    for (name, edits) in cases {
+        let edits: Vec<(&str, &str)> = if name == "slope" {
+            vec![
+                edits[0],
+                (
+                    "border_width = 0.25\n",
+                    "border_width = 0.25\nvertical_scale = 1e-4\n",
+                ),
+            ]
+        } else {
+            edits.to_vec()
+        };
+        let spec = rough_spec(&dir.0, &format!("{name}.toml"), &edits);
+        for args in [
+            &["check", "--compile", s(&spec)][..],
+            &["run", s(&spec), "--episodes", "1"],
+        ] {
+            let text = refused(&envc(args), "E0110");
+            assert!(text.contains(&format!("{}.toml:", name)), "{name}: {text}");
         }
     }
 }

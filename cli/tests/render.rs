@@ -316,3 +316,24 @@ fn failures_are_coded_and_leave_nothing_behind() {
     );
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn max_steps_zero_is_an_argument_error_and_renders_nothing() {
+    let d = tmp("zero");
+    let out = d.join("frames");
+    let o = envc(
+        &[
+            "render",
+            "InvertedPendulum-v5",
+            "--max-steps",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--max-steps"));
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}

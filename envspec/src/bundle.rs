@@ -150,13 +150,24 @@ fn user_tag() -> String {
 fn extract() -> Resolved {
     let name = format!("bundle-{}-{}", env!("CARGO_PKG_VERSION"), embedded::HASH);
     let mut errors = vec![];
+    let temp = std::env::temp_dir();
     for base in cache_base() {
+        if let Err(e) = trusted_base(&base, base.starts_with(&temp)) {
+            errors.push(format!("{}: {e}", base.display()));
+            continue;
+        }
+        sweep(&base);
         let dest = base.join(&name);
         if dest.join("specs").is_dir() {
-            return Ok((dest, Origin::Embedded));
+            // Verified once per process: an edited or planted file is not the bundle.
+            if intact(&dest) {
+                return Ok((dest, Origin::Embedded));
+            }
+            discard(&base, &dest);
         }
         match write_copy(&base, &dest) {
-            Ok(()) => return Ok((dest, Origin::Embedded)),
+            Ok(()) if intact(&dest) => return Ok((dest, Origin::Embedded)),
+            Ok(()) => errors.push(format!("{}: the extracted copy differs", dest.display())),
             Err(e) => errors.push(format!("{}: {e}", base.display())),
         }
     }
@@ -164,6 +175,95 @@ fn extract() -> Resolved {
         "cannot write envc's bundled specs into a cache directory ({})",
         errors.join("; ")
     ))
+}
+
+/// A cache directory envc may trust: created if missing (private), a real directory (not a
+/// link) owned by this user and writable by no other (in the shared temporary directory, where
+/// another user could have made it first, not by its group either).
+fn trusted_base(base: &Path, shared: bool) -> std::io::Result<()> {
+    use std::os::unix::fs::{DirBuilderExt, MetadataExt};
+    if std::fs::symlink_metadata(base).is_err() {
+        std::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(base)?;
+    }
+    let meta = std::fs::symlink_metadata(base)?;
+    // /proc/self belongs to the process's effective user.
+    let me = std::fs::metadata("/proc/self")?.uid();
+    let refuse = |why: &str| Err(std::io::Error::other(why.to_string()));
+    if !meta.is_dir() {
+        return refuse("not a directory (a symbolic link or a file)");
+    }
+    if meta.uid() != me {
+        return refuse("owned by another user");
+    }
+    if meta.mode() & if shared { 0o022 } else { 0o002 } != 0 {
+        return refuse("writable by other users");
+    }
+    Ok(())
+}
+
+/// Whether `dest` holds exactly the embedded files, byte for byte, and nothing else.
+fn intact(dest: &Path) -> bool {
+    for (rel, bytes) in embedded::FILES {
+        let p = dest.join(rel);
+        let regular = std::fs::symlink_metadata(&p)
+            .is_ok_and(|m| m.is_file() && m.len() == bytes.len() as u64);
+        if !regular || std::fs::read(&p).ok().as_deref() != Some(*bytes) {
+            return false;
+        }
+    }
+    count_files(dest).is_some_and(|n| n == embedded::FILES.len())
+}
+
+/// Files under `dir` (links not followed; None past a bound: not the bundle).
+fn count_files(dir: &Path) -> Option<usize> {
+    let mut n = 0usize;
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).ok()?.flatten() {
+            let t = e.file_type().ok()?;
+            if t.is_dir() {
+                dirs.push(e.path());
+            } else {
+                n += 1;
+            }
+            if n > embedded::FILES.len() * 2 + 1000 {
+                return None;
+            }
+        }
+    }
+    Some(n)
+}
+
+/// Moves a damaged copy aside (a rename, so no process sees it half removed), then removes it.
+fn discard(base: &Path, dest: &Path) {
+    let aside = base.join(format!(".tmp-{}-stale", std::process::id()));
+    let _ = std::fs::remove_dir_all(&aside);
+    if std::fs::rename(dest, &aside).is_ok() {
+        let _ = std::fs::remove_dir_all(&aside);
+    }
+}
+
+/// Removes the `.tmp-<pid>-*` directories of extractions whose process is gone (killed part-way).
+fn sweep(base: &Path) {
+    let Ok(read) = std::fs::read_dir(base) else {
+        return;
+    };
+    for e in read.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = name
+            .strip_prefix(".tmp-")
+            .and_then(|r| r.split('-').next())
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
 }
 
 /// Writes every embedded file into a fresh sibling of `dest`, then renames it into place. A
@@ -212,6 +312,50 @@ mod tests {
         for (rel, bytes) in embedded::FILES {
             assert_eq!(std::fs::read(src.join(rel)).unwrap(), *bytes, "{rel}");
         }
+    }
+
+    #[test]
+    fn an_edited_or_planted_copy_is_not_intact_and_leftovers_are_swept() {
+        let base = std::env::temp_dir().join(format!("envc-bundle-trust-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&base);
+        let dest = base.join("copy");
+        write_copy(&base, &dest).unwrap();
+        assert!(intact(&dest));
+        let hopper = dest.join("specs/gymnasium/hopper.toml");
+        let text = std::fs::read_to_string(&hopper).unwrap();
+        std::fs::write(&hopper, text.replace("frame_skip", "frame_skip ")).unwrap();
+        assert!(!intact(&dest));
+        std::fs::write(&hopper, text).unwrap();
+        assert!(intact(&dest));
+        std::fs::write(
+            dest.join("specs/gymnasium/extra.toml"),
+            "[env]\nid = \"X-v0\"\n",
+        )
+        .unwrap();
+        assert!(!intact(&dest));
+        discard(&base, &dest);
+        assert!(!dest.exists());
+        // A killed extraction's directory (a process that no longer runs) is swept; ours is not.
+        let dead = base.join(".tmp-4294967-1");
+        let ours = base.join(format!(".tmp-{}-1", std::process::id()));
+        std::fs::create_dir_all(&dead).unwrap();
+        std::fs::create_dir_all(&ours).unwrap();
+        sweep(&base);
+        assert!(!dead.exists() && ours.exists());
+        // The cache base must be this user's and private.
+        assert!(trusted_base(&base, true).is_ok());
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&base, std::fs::Permissions::from_mode(0o770)).unwrap();
+        assert!(trusted_base(&base, true).is_err());
+        assert!(trusted_base(&base, false).is_ok());
+        std::fs::set_permissions(&base, std::fs::Permissions::from_mode(0o777)).unwrap();
+        assert!(trusted_base(&base, false).is_err());
+        let link = base.with_extension("link");
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&base, &link).unwrap();
+        assert!(trusted_base(&link, false).is_err());
+        let _ = std::fs::remove_file(&link);
+        let _ = std::fs::remove_dir_all(&base);
     }
 
     #[test]

@@ -21,6 +21,8 @@ pub const MAX_EPISODE_STEPS: i64 = 10_000_000;
 /// Episodes of one `envc run`, `envc collect` or `envc.collect`: each one's return and length
 /// are kept for the summary or the dataset's metadata.
 pub const MAX_EPISODES: u64 = 10_000_000;
+/// Steps of a dataset spec's `steps` budget (Minari's largest MuJoCo datasets hold 1–2 million).
+pub const MAX_DATASET_STEPS: u64 = 1_000_000_000;
 /// A trajectory `envc rollout` holds in memory before writing it (observations, actions, rewards
 /// and info, 8 bytes a number): about a million Humanoid steps.
 pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
@@ -77,9 +79,26 @@ pub const MAX_TERRAIN_TILES: usize = 2_000;
 /// Heightfield cells of one `[terrain]` in all (a 10 × 20 grid of 8 m tiles at 0.1 m is 1.28 M):
 /// memory for the model and its copies.
 pub const MAX_TERRAIN_CELLS: usize = 20_000_000;
+/// Geoms in a model with its `[terrain]` (the model's own, the spec's, the terrain's boxes,
+/// heightfields and borders): MuJoCo's compile time grows with the square of the geom count
+/// (90,000 stairs boxes took 14–17 s).
+pub const MAX_GEOMS: usize = 20_000;
+/// Height levels of a heightfield tile (a height over `vertical_scale`, and the count of
+/// `random_uniform`'s steps): the heights are integers, as mjlab's, so a tiny scale saturated them
+/// and a tiny step asked for billions of levels (mjlab's rough tiles have at most 800).
+pub const MAX_TERRAIN_LEVELS: f64 = 1e6;
 /// An observation noise's amplitude (`level × scale`), like reset draws: noise beyond it would
 /// drown every observation or overflow.
 pub const MAX_NOISE: f64 = 1e6;
+
+/// Entries (files and directories) one registered spec directory may hold in all, and how deep
+/// it may nest: `register("/proc/self")` walked the whole file system.
+pub const MAX_SPEC_DIR_ENTRIES: usize = 100_000;
+/// Directories nested in one registered spec directory.
+pub const MAX_SPEC_DIR_DEPTH: usize = 32;
+/// A power a reward term raises a speed to (`feet_clearance power`): 100 m/s to the 16th is
+/// 1e32; 1e308 turned every return into -inf.
+pub const MAX_EXPONENT: f64 = 16.0;
 
 /// Why a file could not be read.
 #[derive(Debug)]

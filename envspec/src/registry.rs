@@ -101,24 +101,43 @@ pub fn bundled() -> impl Iterator<Item = &'static Entry> {
 fn user_table() -> &'static Mutex<Vec<&'static Entry>> {
     static USER: OnceLock<Mutex<Vec<&'static Entry>>> = OnceLock::new();
     USER.get_or_init(|| {
-        let mut table = vec![];
+        let mut table: Vec<&'static Entry> = vec![];
+        // Ids already taken, for a walk linear in the number of files.
+        let mut by_id = std::collections::HashMap::<String, usize>::new();
+        let mut problems = vec![];
         for dir in std::env::var_os("ENVC_SPEC_PATH")
             .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
             .unwrap_or_default()
         {
-            // A conflicting or unreadable entry of the variable is left out here; `envc list`
-            // and `envc info` name it (`spec_path_problems`).
-            if let Ok(found) = user_entries_of(&dir) {
-                for e in found {
-                    if claim(&table, &e).is_ok() && !table.iter().any(|t: &&Entry| t.id == e.id) {
-                        table.push(&*Box::leak(Box::new(e)));
+            // A conflicting, unreadable or unparsable entry of the variable is left out here;
+            // `envc` commands and `import envc` name it (`spec_path_problems`).
+            match user_entries_of(&dir) {
+                Ok((found, p)) => {
+                    problems.extend(p);
+                    for e in found {
+                        match by_id.get(&e.id) {
+                            Some(&i) if same_file(&table[i].path, &e.path) => {}
+                            Some(&i) => problems.push(taken(&e, &table[i].path, "registered")),
+                            None => match claim(&[], &e) {
+                                Ok(()) => {
+                                    by_id.insert(e.id.clone(), table.len());
+                                    table.push(Box::leak(Box::new(e)));
+                                }
+                                Err(d) => problems.push(d),
+                            },
+                        }
                     }
                 }
+                Err(d) => problems.push(d),
             }
         }
+        let _ = SPEC_PATH_PROBLEMS.set(problems);
         Mutex::new(table)
     })
 }
+
+/// What the first walk of `ENVC_SPEC_PATH` left out, and why.
+static SPEC_PATH_PROBLEMS: OnceLock<Vec<Diagnostic>> = OnceLock::new();
 
 /// The user's registered ids, sorted by id.
 pub fn user_entries() -> Vec<&'static Entry> {
@@ -137,7 +156,10 @@ pub fn all_entries() -> Vec<&'static Entry> {
 /// again is a no-op; an id that is bundled, or registered from another file, is E0603 and
 /// nothing is registered.
 pub fn register(path: &Path) -> Result<Vec<String>, Diagnostic> {
-    let found = user_entries_of(path)?;
+    let (found, problems) = user_entries_of(path)?;
+    if let Some(first) = problems.into_iter().next() {
+        return Err(first);
+    }
     let mut table = user_table()
         .lock()
         .map_err(|_| Diagnostic::new(Code::E0603, "the registry is unusable after a panic"))?;
@@ -154,27 +176,11 @@ pub fn register(path: &Path) -> Result<Vec<String>, Diagnostic> {
     Ok(ids)
 }
 
-/// The problems of `ENVC_SPEC_PATH`: entries that are unreadable or claim a taken id.
+/// The problems of `ENVC_SPEC_PATH`: entries that are unreadable, do not parse, declare an id
+/// Gymnasium refuses or one that is taken (read once, with the registry).
 pub fn spec_path_problems() -> Vec<Diagnostic> {
-    let mut out = vec![];
-    let mut seen: Vec<&'static Entry> = vec![];
-    for dir in std::env::var_os("ENVC_SPEC_PATH")
-        .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
-        .unwrap_or_default()
-    {
-        match user_entries_of(&dir) {
-            Ok(found) => {
-                for e in found {
-                    match claim(&seen, &e) {
-                        Ok(()) => seen.push(Box::leak(Box::new(e))),
-                        Err(d) => out.push(d),
-                    }
-                }
-            }
-            Err(d) => out.push(d),
-        }
-    }
-    out
+    user_table();
+    SPEC_PATH_PROBLEMS.get().cloned().unwrap_or_default()
 }
 
 /// Ok when `e` may take its id: not bundled, and not registered from another file.
@@ -212,20 +218,54 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// The entries of a user's spec file, or of every spec file under a directory.
-fn user_entries_of(path: &Path) -> Result<Vec<Entry>, Diagnostic> {
+/// The entries of a user's spec file, or of every spec file under a directory, and the problems
+/// of the files left out: files that do not parse or cannot be read, ids Gymnasium cannot
+/// register (E0111), one id declared by two files (E0603, both left out).
+fn user_entries_of(path: &Path) -> Result<(Vec<Entry>, Vec<Diagnostic>), Diagnostic> {
     let abs = path.canonicalize().map_err(|e| {
         Diagnostic::new(
             Code::E0600,
             format!("cannot read spec path {}: {e}", path.display()),
         )
     })?;
-    let mut found = if abs.is_dir() {
-        scan(&abs)
+    let mut problems = vec![];
+    let mut found = vec![];
+    if abs.is_dir() {
+        for file in user_walk(&abs)? {
+            match user_file(&file) {
+                Ok(v) => found.extend(v),
+                Err(d) => problems.push(d),
+            }
+        }
     } else {
-        entries_of(&abs, false)
-    };
-    if found.is_empty() {
+        found = user_file(&abs)?;
+    }
+    // One id from two files: neither is taken, and both are named.
+    found.sort_by(|a, b| {
+        (&a.id, a.overrides.is_empty(), &a.path).cmp(&(&b.id, b.overrides.is_empty(), &b.path))
+    });
+    let mut twice: Vec<String> = vec![];
+    for w in found.windows(2) {
+        if w[0].id == w[1].id && w[0].path != w[1].path && !twice.contains(&w[0].id) {
+            twice.push(w[0].id.clone());
+            problems.push(
+                Diagnostic::new(
+                    Code::E0603,
+                    format!(
+                        "{} and {} both declare the id `{}`",
+                        w[0].path.display(),
+                        w[1].path.display(),
+                        w[0].id
+                    ),
+                )
+                .help("give each spec an id of its own; neither is registered until then"),
+            );
+        }
+    }
+    found.retain(|e| !twice.contains(&e.id));
+    // A maze file's own id is also one of its registry's ids: keep the registered one.
+    found.dedup_by(|later, first| later.id == first.id);
+    if found.is_empty() && problems.is_empty() {
         return Err(Diagnostic::new(
             Code::E0600,
             format!("{} holds no spec with an id", path.display()),
@@ -238,7 +278,97 @@ fn user_entries_of(path: &Path) -> Result<Vec<Entry>, Diagnostic> {
         e.user = true;
         e.example = false;
     }
-    Ok(found)
+    Ok((found, problems))
+}
+
+/// The `.toml` files under a user's directory, each once: directories are walked by their
+/// canonical paths (a symbolic link back to a parent is a directory already seen), at most
+/// `MAX_SPEC_DIR_DEPTH` deep and `MAX_SPEC_DIR_ENTRIES` entries in all (`/proc/self` leads to
+/// the whole file system).
+fn user_walk(root: &Path) -> Result<Vec<PathBuf>, Diagnostic> {
+    use crate::limits::{MAX_SPEC_DIR_DEPTH, MAX_SPEC_DIR_ENTRIES};
+    let too_big = |why: String| {
+        Diagnostic::new(
+            Code::E0110,
+            format!("spec directory {}: {why}", root.display()),
+        )
+        .help("register a directory that holds only specs; see docs/limits.md")
+    };
+    let mut seen = std::collections::HashSet::new();
+    seen.insert(root.to_path_buf());
+    let mut dirs = vec![(root.to_path_buf(), 0usize)];
+    let mut files = vec![];
+    let mut count = 0usize;
+    while let Some((dir, depth)) = dirs.pop() {
+        let Ok(read) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        let mut names: Vec<PathBuf> = vec![];
+        for e in read.flatten() {
+            count += 1;
+            if count > MAX_SPEC_DIR_ENTRIES {
+                return Err(too_big(format!(
+                    "more than {MAX_SPEC_DIR_ENTRIES} entries, beyond envc's limit"
+                )));
+            }
+            names.push(e.path());
+        }
+        names.sort();
+        for p in names {
+            // `metadata` follows links: a link to a directory is walked once, by its target.
+            let Ok(meta) = std::fs::metadata(&p) else {
+                continue;
+            };
+            if meta.is_dir() {
+                let Ok(real) = p.canonicalize() else { continue };
+                if !seen.insert(real.clone()) {
+                    continue;
+                }
+                if depth + 1 > MAX_SPEC_DIR_DEPTH {
+                    return Err(too_big(format!(
+                        "{} is nested deeper than envc's limit of {MAX_SPEC_DIR_DEPTH} directories",
+                        p.display()
+                    )));
+                }
+                dirs.push((real, depth + 1));
+            } else if p.extension().is_some_and(|x| x == "toml") {
+                files.push(p);
+            }
+        }
+    }
+    Ok(files)
+}
+
+/// The entries of one user's file; a file that cannot be read or parsed, or that declares an id
+/// Gymnasium cannot register, is its error.
+fn user_file(path: &Path) -> Result<Vec<Entry>, Diagnostic> {
+    let text = crate::limits::read_text(path, crate::limits::MAX_SPEC_BYTES).map_err(|e| {
+        Diagnostic::new(
+            e.code(Code::E0600),
+            format!("cannot read spec {}: {e}", path.display()),
+        )
+    })?;
+    let file = SourceFile::new(path, text);
+    let root = parse_document(&file).map_err(|d| {
+        d.0.into_iter().next().unwrap_or_else(|| {
+            Diagnostic::new(Code::E0600, format!("{} does not parse", path.display()))
+        })
+    })?;
+    let top = root.as_table().unwrap_or(&[]);
+    for k in ["env", "maze", "agents"] {
+        let id = top
+            .iter()
+            .find(|e| e.key == k)
+            .and_then(|t| t.value.as_table())
+            .and_then(|t| t.iter().find(|e| e.key == "id"));
+        if let Some(id) = id
+            && let Some(s) = id.value.as_str()
+            && let Some(d) = crate::syntax::env_id_problem(s, id.value.loc.clone())
+        {
+            return Err(d);
+        }
+    }
+    Ok(entries_of(path, false))
 }
 
 /// The entry of an id, bundled or the user's; E0601 with the closest id when there is none.
@@ -246,10 +376,15 @@ pub fn lookup(id: &str) -> Result<&'static Entry, Diagnostic> {
     if let Some(e) = entries().iter().find(|e| e.id == id) {
         return Ok(e);
     }
-    let user = user_entries();
-    if let Some(e) = user.iter().find(|e| e.id == id) {
+    // Found without copying and sorting the table: `envc.registry()` looks up every id.
+    let found = user_table()
+        .lock()
+        .ok()
+        .and_then(|t| t.iter().find(|e| e.id == id).copied());
+    if let Some(e) = found {
         return Ok(e);
     }
+    let user = user_entries();
     let names: Vec<&str> = entries()
         .iter()
         .chain(user.iter().copied())

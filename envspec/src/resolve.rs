@@ -429,6 +429,12 @@ impl Ctx<'_> {
         None
     }
 
+    /// A finite number within `±limit` (E0105 / E0110 otherwise), as `[actions]` bounds its own.
+    fn num_within(&mut self, v: &Val, what: &str, limit: f64) -> Option<f64> {
+        let x = self.num(v, what)?;
+        self.within(v, x, what, limit)
+    }
+
     fn unknown_param(&self, name: &str, loc: &Location, expected: &str) -> Diagnostic {
         Diagnostic::new(
             Code::E0201,
@@ -1209,8 +1215,25 @@ impl Ctx<'_> {
 
     fn reset(&mut self, terrain: Option<&crate::ir::Terrain>) -> Vec<ResetStep> {
         let mut out = vec![];
+        // One tile per episode: a second spawn would redraw and overwrite the first.
+        let mut spawn: Option<&str> = None;
         for s in &self.spec.reset {
             if s.kind("") == "terrain_origin" {
+                if let Some(first) = spawn {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0162,
+                            format!(
+                                "[reset.{}] is a second terrain_origin reset (the first is [reset.{first}])",
+                                s.name
+                            ),
+                        )
+                        .at(s.name_loc.clone())
+                        .label("expected one terrain_origin reset: each episode spawns on one tile"),
+                    );
+                    continue;
+                }
+                spawn = Some(&s.name);
                 out.extend(self.terrain_origin(s, terrain));
                 continue;
             }

@@ -14,6 +14,7 @@ mod maze_errors;
 mod messages;
 mod mjlab_kinds;
 mod noise;
+mod registry_walks;
 mod selector_roundtrip;
 mod terrain_errors;
 mod v4_terms;

@@ -87,6 +87,11 @@ _LAZY = {
 
 
 def __getattr__(name: str):
+    if name == "gpu":
+        # The batched executor needs JAX: imported on first use, as an attribute too.
+        import importlib
+
+        return importlib.import_module(".gpu", __name__)
     if name in _LAZY:
         import importlib
 

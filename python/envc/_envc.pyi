@@ -15,6 +15,7 @@ __all__ = [
     "parameters",
     "describe",
     "register",
+    "spec_path_problems",
     "set_bundle_root",
     "bundle_root",
     "collect",
@@ -48,8 +49,13 @@ def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, 
 def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, bytes]:
     """The resolved IR of a task spec as JSON, and its compiled model as MJB bytes (`envc.gpu`)."""
 
-def registry() -> list[tuple[str, str, int | None, bool, float | None]]:
-    """Every bundled id: `(id, kind, max_episode_steps, example, reward_threshold)`."""
+def registry(
+    only: list[str] | None = None,
+) -> list[tuple[str, str, int | None, bool, float | None]]:
+    """Every known id (or those of `only`): `(id, kind, max_episode_steps, example, reward_threshold)`."""
+
+def spec_path_problems() -> list[str]:
+    """The problems of `ENVC_SPEC_PATH`: the entries left out of the registry."""
 
 def describe(
     id_or_path: str, overrides: list[tuple[str, str]] = ...

@@ -78,6 +78,11 @@ def render_overrides(overrides: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+class SeedError(_errors.ArgumentError, gym.error.Error):
+    """A negative seed: E1105, and the ``gymnasium.error.Error`` the reference raises."""
+
+
+
 def reference_seed(seed: Any, gym_reset) -> int | None:
     """A reset seed checked as the reference checks it: an integer goes to Gymnasium's own
     ``Env.reset`` first (a negative seed is its error, as for the reference's envs); then
@@ -85,7 +90,12 @@ def reference_seed(seed: Any, gym_reset) -> int | None:
     import numbers
 
     if isinstance(seed, numbers.Integral) and not isinstance(seed, (bool, np.bool_)):
-        gym_reset(seed=int(seed))
+        try:
+            gym_reset(seed=int(seed))
+        except gym.error.Error as e:
+            # Still Gymnasium's error (as for the reference's envs), and coded as envc's.
+            message = f"error[E1105]: seed must be in [0, 2**64), got {int(seed)} ({e})"
+            raise SeedError(message, "E1105") from None
         return _errors.seed(seed)
     seed = _errors.seed(seed)
     gym_reset(seed=seed)
@@ -100,7 +110,9 @@ def as_actions(actions) -> np.ndarray:
         raise _errors.coded(f"error[E1101]: actions must be numbers ({e})", "E1101") from None
     if a.dtype == np.float32:
         return a
-    if a.dtype.kind == "c":
+    # Only booleans, integers and floats are numbers: numpy would parse strings ("0") and
+    # turn dates, durations and objects into numbers without a word.
+    if a.dtype.kind not in "biuf":
         raise _errors.coded(
             f"error[E1101]: actions must be real numbers, got {a.dtype}", "E1101"
         )

@@ -294,6 +294,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         a = np.asarray(x)
         if a.ndim != 1:
             raise ValueError(f"{what} has shape {a.shape}; expected a vector")
+        # Strings, dates and objects are not numbers, whatever numpy would make of them.
+        if a.dtype.kind not in "biuf":
+            raise ValueError(f"{what} is not numeric: dtype {a.dtype}")
         try:
             return np.ascontiguousarray(a, dtype=np.float64)
         except (TypeError, ValueError) as e:

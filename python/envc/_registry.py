@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import warnings
 
 import gymnasium as gym
 
@@ -33,12 +34,32 @@ def _register(
     )
 
 
-def register_all() -> None:
-    """Register every known single-agent id as ``envc/<id>`` (idempotent): the bundled ones and
-    the user's (``ENVC_SPEC_PATH``, :func:`register`)."""
-    for spec_id, kind, max_steps, _example, threshold in _envc.registry():
+def _register_rows(rows) -> None:
+    for spec_id, kind, max_steps, _example, threshold in rows:
         if kind in _ENTRY and f"envc/{spec_id}" not in gym.registry:
             _register(f"envc/{spec_id}", kind, spec_id, max_steps, threshold)
+
+
+def register_all() -> None:
+    """Register every known single-agent id as ``envc/<id>`` (idempotent): the bundled ones and
+    the user's (``ENVC_SPEC_PATH``, :func:`register`). A user's spec that cannot be registered
+    is left out with a warning (``envc list`` names it too); it never breaks ``import envc``."""
+    try:
+        rows = _envc.registry()
+    except Exception as e:  # noqa: BLE001 - a broken user spec must not break the import
+        warnings.warn(f"envc: the registry could not be read: {e}", stacklevel=2)
+        return
+    for row in rows:
+        try:
+            _register_rows([row])
+        except Exception as e:  # noqa: BLE001
+            warnings.warn(f"envc: `{row[0]}` is not registered: {e}", stacklevel=2)
+    try:
+        problems = _envc.spec_path_problems()
+    except Exception:  # noqa: BLE001
+        problems = []
+    for p in problems:
+        warnings.warn(f"envc: ENVC_SPEC_PATH: {p} (left out)", stacklevel=2)
 
 
 def register(path: str | os.PathLike) -> list[str]:
@@ -50,7 +71,8 @@ def register(path: str | os.PathLike) -> list[str]:
     nothing. ``ENVC_SPEC_PATH`` (directories or files, ``:``-separated) registers at import.
     """
     ids = _envc.register(os.fspath(path))
-    register_all()
+    # Only the new ids are read: registering file after file stays linear.
+    _register_rows(_envc.registry([i for i in ids if f"envc/{i}" not in gym.registry]))
     return ids
 
 
@@ -86,9 +108,12 @@ def env_id_for(id_or_path: str, overrides: dict | None = None) -> "str | gym.env
         )
     env_id = f"envc/{spec_id}"
     path = os.path.abspath(name) if os.path.isfile(name) else name
-    if any(row[0] == spec_id for row in _envc.registry()):
-        # A file whose id is bundled or registered from another file never takes that id over:
-        # the env is made from an unregistered spec of the same name.
+    if env_id in gym.registry and gym.registry[env_id].kwargs.get("spec_id") == path:
+        # The same file again (perhaps edited): its registration is refreshed.
+        del gym.registry[env_id]
+    if env_id in gym.registry or _envc.registry([spec_id]):
+        # A file whose id is bundled, registered, or made from another file never takes that id
+        # over: the env is made from an unregistered spec of the same name.
         return gym.envs.registration.EnvSpec(
             id=env_id,
             entry_point=_ENTRY[kind],
@@ -96,7 +121,5 @@ def env_id_for(id_or_path: str, overrides: dict | None = None) -> "str | gym.env
             max_episode_steps=max_steps or None,
             vector_entry_point="envc._vector:EnvcVectorEnv" if kind == "task" else None,
         )
-    if env_id in gym.registry:
-        del gym.registry[env_id]
     _register(env_id, kind, path, max_steps)
     return env_id

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import threading
 from typing import Any
 
 import gymnasium as gym
@@ -93,6 +95,9 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             steps = _errors.integer(max_episode_steps, "max_episode_steps", 0, 2**63)
             pairs.append(("max_episode_steps", str(steps)))
         core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, mode.value)
+        # One call at a time: the core is stepped with the GIL released, so a second thread's
+        # call would meet it mid-step.
+        self._busy = threading.Lock()
         self._core = core
         self._buf = core.buffers
         self._generation = core.generation
@@ -132,12 +137,29 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     def numerics(self, name: str) -> None:
         self._core.numerics = name
 
+    @contextlib.contextmanager
+    def _one_at_a_time(self, what: str):
+        if not self._busy.acquire(blocking=False):
+            raise _errors.coded(
+                f"error[E1106]: `{what}` while another thread is in a call of this vector env; "
+                "use one vector env per thread, or a lock around its calls",
+                "E1106",
+            )
+        try:
+            yield
+        finally:
+            self._busy.release()
+
     def reset(
         self,
         *,
         seed: int | list[int | None] | None = None,
         options: dict[str, Any] | None = None,
     ):
+        with self._one_at_a_time("reset"):
+            return self._reset(seed, options)
+
+    def _reset(self, seed, options):
         """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
 
         ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
@@ -200,6 +222,10 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
 
     def step(self, actions):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
+        with self._one_at_a_time("step"):
+            return self._step(actions)
+
+    def _step(self, actions):
         a = as_actions(actions)
         if a.ndim != 2:
             raise _errors.coded(
@@ -225,13 +251,16 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
         if self.render_mode is None:
             return None
-        return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
+        with self._one_at_a_time("render"):
+            return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
 
     def close_extras(self, **kwargs: Any) -> None:
         """Stop the threads and free the envs."""
         core = getattr(self, "_core", None)  # None when __init__ failed
         if core is not None:
-            core.close()
+            # Waits for a call running in another thread, then closes.
+            with self._busy:
+                core.close()
 
     def _obs(self) -> np.ndarray:
         obs = self._buf["obs"]

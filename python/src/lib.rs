@@ -51,10 +51,13 @@ fn open(
 /// the bundled ones sorted by id, then the user's (`ENVC_SPEC_PATH`, `register`).
 type RegistryRow = (String, String, Option<u64>, bool, Option<f64>);
 
+/// `only`: just those ids (registering a few files reads only them, not every spec again).
 #[pyfunction]
-fn registry() -> Vec<RegistryRow> {
+#[pyo3(signature = (only = None))]
+fn registry(only: Option<Vec<String>>) -> Vec<RegistryRow> {
     envspec::registry::all_entries()
         .into_iter()
+        .filter(|e| only.as_ref().is_none_or(|o| o.contains(&e.id)))
         .map(|e| {
             let (max, threshold) = match envspec::open(&e.id, &[]) {
                 Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
@@ -111,6 +114,22 @@ fn register(path: std::path::PathBuf) -> PyResult<Vec<String>> {
     envspec::registry::register(&path).map_err(|d| errors::diagnostics(d.into()))
 }
 
+/// The problems of `ENVC_SPEC_PATH` (unreadable or unparsable files, bad or taken ids), as
+/// messages: the entries left out of the registry.
+#[pyfunction]
+fn spec_path_problems() -> Vec<String> {
+    if std::env::var_os("ENVC_SPEC_PATH").is_none_or(|v| v.is_empty()) {
+        return vec![];
+    }
+    envspec::registry::spec_path_problems()
+        .into_iter()
+        .map(|d| match d.position() {
+            Some(at) => format!("{at}: {}: {}", d.code, d.message),
+            None => format!("{}: {}", d.code, d.message),
+        })
+        .collect()
+}
+
 /// Names the directory holding the bundled `specs/` and `assets/` (the package's data). Only
 /// before the first lookup; returns whether it took effect.
 #[pyfunction]
@@ -140,6 +159,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
     m.add_function(wrap_pyfunction!(register, m)?)?;
+    m.add_function(wrap_pyfunction!(spec_path_problems, m)?)?;
     m.add_function(wrap_pyfunction!(set_bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;

@@ -155,6 +155,7 @@ pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<
         add_actuator(&mut spec, a)?;
     }
     for k in &edits.keyframes {
+        c_name("keyframe", &k.name)?;
         spec.add_key()
             .set_name(&k.name)
             .map_err(|e| format!("cannot add keyframe `{}`: {e}", k.name))?;

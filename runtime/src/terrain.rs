@@ -434,13 +434,14 @@ fn uniform_grid(
         (noise.1 / vs) as i64,
         ((step / vs) as i64).max(1),
     );
-    // np.arange(hmin, hmax + hstep, hstep)
-    let heights: Vec<i64> = (0..)
-        .map(|k| hmin + k * hstep)
-        .take_while(|&x| x < hmax + hstep)
-        .collect();
+    // np.arange(hmin, hmax + hstep, hstep), never materialized: its k-th entry is
+    // hmin + k·hstep (envspec bounds the levels, so nothing here saturates).
+    let span = hmax.saturating_sub(hmin).max(0).unsigned_abs();
+    let count = i64::try_from(span.div_ceil(hstep.unsigned_abs()))
+        .unwrap_or(i64::MAX - 1)
+        .saturating_add(1);
     let drawn: Vec<i64> = (0..dw * dl)
-        .map(|_| heights[rng.integers(0, heights.len().max(1) as i64) as usize])
+        .map(|_| hmin.saturating_add(rng.integers(0, count).saturating_mul(hstep)))
         .collect();
     let near = |i: usize, n: usize, m: usize| {
         if n <= 1 || m == 0 {

@@ -4,7 +4,9 @@ Input ``i`` is built from SplitMix64 seeded with ``(seed, "python", i)``, exactl
 ``cli/tests/fuzz.rs`` seeds its targets, so every input can be rebuilt from its number. An input
 is a short script of calls: ``envc.make`` or ``envc.make_vec`` of a bundled id with mutated
 keyword arguments (the spec's parameters and Gymnasium's), ``reset`` with mutated seeds and
-options, a few ``step``s with mutated action arrays, or ``envc.collect`` with mutated counts.
+options, a few ``step``s with mutated action arrays, ``envc.collect`` with mutated counts, or
+``envc.register`` of a directory of good and broken specs, bad and duplicate ids, FIFOs and
+symbolic-link loops (or of ``/proc/self``).
 
 A finding is an input that ends the worker (a signal, an abort), runs past the time limit, or
 raises an exception that is not an ``envc.Error`` with a code (Gymnasium's own
@@ -121,7 +123,9 @@ def build(seed: int, i: int) -> list:
     rng = Rng(seed, "python", i)
     env_id = rng.pick(IDS)
     calls = []
-    kind = rng.pick(["make", "make", "make", "vec", "vec", "collect"])
+    kind = rng.pick(["make", "make", "make", "vec", "vec", "collect", "register"])
+    if kind == "register":
+        return [("register", rng.next())]
     kwargs = {}
     for _ in range(rng.below(3)):
         name = rng.pick(PARAMS.get(env_id, []) + GYM_KEYS + ["no_such_parameter"])
@@ -154,6 +158,38 @@ def build(seed: int, i: int) -> list:
 PARAMS: dict[str, list[str]] = {}
 
 
+def _spec_dir(seed: int, root: str, i: int) -> str:
+    """A directory of specs as a careless user leaves one: valid and broken files, ids Gymnasium
+    refuses or another file holds, a FIFO, links back up the tree."""
+    rng = Rng(seed, "register", i)
+    d = tempfile.mkdtemp(prefix=f"reg{i}-", dir=root)
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "..", "..", "specs", "gymnasium", "hopper.toml")) as f:
+        hopper = f.read().replace('"../../assets/', '"' + os.path.join(here, "..", "..", "assets") + "/")
+    sub = d
+    for k in range(1 + rng.below(5)):
+        what = rng.pick(["spec", "spec", "broken", "fifo", "up", "loop", "subdir"])
+        name = os.path.join(sub, f"f{k}.toml")
+        if what == "spec":
+            env_id = rng.pick([f"FzReg{i}x{k}-v0", "a b-v0", "", "envc/X-v0", "Hopper-v5",
+                               f"FzDup{i}-v0", "é-v0", "x" * 300])
+            with open(name, "w") as f:
+                f.write(hopper.replace('id = "Hopper-v5"', f"id = {json.dumps(env_id)}"))
+        elif what == "broken":
+            with open(name, "w") as f:
+                f.write(rng.pick(["[env\n", "\x00", "id = ", "[env]\nid = 3\n", ""]))
+        elif what == "fifo":
+            os.mkfifo(name)
+        elif what == "up":
+            os.symlink("..", os.path.join(sub, f"up{k}"))
+        elif what == "loop":
+            os.symlink(d, os.path.join(sub, f"loop{k}"))
+        else:
+            sub = os.path.join(sub, f"d{k}")
+            os.mkdir(sub)
+    return rng.pick([d, d, os.path.join(d, "f0.toml"), "/proc/self"])
+
+
 def run_input(seed: int, i: int, root: str) -> str | None:
     """Run input i; None when fine, else what went wrong."""
     import gymnasium
@@ -176,6 +212,8 @@ def run_input(seed: int, i: int, root: str) -> str | None:
             elif c[0] == "make_vec":
                 env = envc.make_vec(c[1], c[2], num_threads=c[3], **c[4])
                 vec = True
+            elif c[0] == "register":
+                envc.register(_spec_dir(c[1], root, i))
             elif c[0] == "collect":
                 envc.collect(c[1], f"fz/in{i}-v0", c[2], seed=c[4], root=root,
                              max_episode_steps=5, **{k: v for k, v in c[3].items()
@@ -206,8 +244,11 @@ def run_input(seed: int, i: int, root: str) -> str | None:
                 return f"envc.Error without a code: {type(e).__name__}: {e}"
             if c[0] in ("make", "make_vec"):
                 return None
-        except gymnasium.error.Error:
-            pass
+        except gymnasium.error.Error as e:
+            # Gymnasium's own checks of make/reset arguments are allowed; an id that reached
+            # Gymnasium's registry unchecked is not.
+            if c[0] == "register":
+                return f"gymnasium error from register: {str(e)[:300]}"
         except Exception as e:  # noqa: BLE001 - what the fuzzer looks for
             where = traceback.extract_tb(e.__traceback__)[-1]
             return (

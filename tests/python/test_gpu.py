@@ -294,3 +294,73 @@ def test_gymnasium_view_and_episode_statistics_match_the_cpu_core(pendulum):
         print(f"{name}: gpu {g.mean():.2f} (n={len(g)}), cpu {c.mean():.2f}, KS p={p:.3g}")
         assert abs(g.mean() - c.mean()) <= 4 * se + 0.5, (name, g.mean(), c.mean(), se)
         assert p > 1e-3, (name, p)
+
+
+def _reacher_goal_below(tmp_path, bound: float) -> str:
+    with open(os.path.join(ROOT, "specs", "gymnasium", "reacher.toml")) as f:
+        text = f.read()
+    text = text.replace("resample_until = { norm_below = 0.2 }", f"resample_until = {{ norm_below = {bound} }}")
+    text = text.replace("../../assets/", os.path.join(ROOT, "assets") + "/")
+    path = tmp_path / "reacher.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_rare_resample_conditions_hold_in_every_world_and_impossible_ones_are_e1104(tmp_path):
+    """A goal that must lie within 0.005 (one candidate in ~2,000 passes): every world's goal
+    meets it, as on the CPU core, instead of the 64th candidate being kept."""
+    env = envc.make_vec(
+        _reacher_goal_below(tmp_path, 0.005), num_envs=64, backend="mjx", device="cpu", seed=2
+    )
+    env.reset()
+    goal = np.asarray(env.state.data.qpos)[:, 2:4]
+    assert np.all(np.linalg.norm(goal, axis=1) < 0.005)
+    # Met by no draw within the limit (about one in 10¹⁰): E1104, as the CPU core.
+    env = envc.make_vec(
+        _reacher_goal_below(tmp_path, 2e-6), num_envs=2, backend="mjx", device="cpu", seed=2
+    )
+    with pytest.raises(envc.Error) as e:
+        env.reset()
+    assert e.value.code == "E1104"
+
+
+def test_bad_calls_carry_codes_and_nonfinite_actions_are_e1102(pendulum):
+    env = envc.gpu.make_vec("InvertedPendulum-v5", num_envs=2, backend="mjx", device="cpu")
+    with pytest.raises(envc.Error) as e:
+        env.step(jnp.zeros((2, 1)))
+    assert e.value.code == "E1103"
+    env.reset(seed=0)
+    for bad in (jnp.zeros((3, 1)), jnp.zeros((2,)), np.array([["0"], ["0"]])):
+        with pytest.raises(envc.Error) as e:
+            env.step(bad)
+        assert e.value.code == "E1101", bad
+    for x in (np.nan, np.inf, -np.inf):
+        with pytest.raises(envc.Error) as e:
+            env.step(jnp.full((2, 1), x))
+        assert e.value.code == "E1102"
+    env.step(jnp.zeros((2, 1)))
+    for kwargs, code in (({"backend": "nope"}, "E1105"), ({"device": "tpu9"}, "E1105")):
+        with pytest.raises(envc.Error) as e:
+            envc.gpu.make_vec("InvertedPendulum-v5", num_envs=2, **{"device": "cpu", **kwargs})
+        assert e.value.code == code
+
+
+def test_physics_options_mjx_ignores_are_e1700(tmp_path):
+    with open(os.path.join(ROOT, "specs", "gymnasium", "inverted_pendulum.toml")) as f:
+        text = f.read().replace("../../assets/", os.path.join(ROOT, "assets") + "/")
+    path = tmp_path / "ip.toml"
+    path.write_text(text + "\n[physics]\nnoslip_iterations = 3\nccd_iterations = 50\n")
+    with pytest.raises(gpu.Unsupported) as e:
+        envc.gpu.make_vec(str(path), num_envs=2, backend="mjx", device="cpu")
+    parts = "\n".join(e.value.parts)
+    assert "noslip_iterations" in parts and "ccd_iterations" in parts
+
+
+def test_gpu_is_an_attribute_of_envc():
+    import subprocess
+    import sys
+
+    code = "import envc; print(envc.gpu.backends())"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert "mjx" in out.stdout

@@ -400,3 +400,12 @@ def test_color_agents_changes_the_picture_only():
     for a in env.possible_agents:
         assert np.array_equal(obs[a], obs_again[a])
     env.close()
+
+
+def test_non_numeric_agent_actions_are_refused_not_coerced():
+    env = envc.parallel_env("Ant", "2x4")
+    env.reset(seed=0)
+    for bad in (np.array(["0"] * 4), np.zeros(4, "datetime64[s]"), np.zeros(4, dtype=object)):
+        with pytest.raises(ValueError, match="not numeric"):
+            env.step({a: bad for a in env.possible_agents})
+    env.step({a: np.zeros(4) for a in env.possible_agents})

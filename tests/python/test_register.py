@@ -106,3 +106,78 @@ def test_versions_agree():
         cargo = next(line.split('"')[1] for line in f if line.startswith("version = "))
     assert envc.__version__ == cargo
     assert envc._envc.bundle_root()[0] == ROOT  # an editable install reads its checkout
+
+
+def test_a_broken_or_unregistrable_spec_on_the_path_never_breaks_import(tmp_path):
+    write(tmp_path, "good.toml", spec_text("PathGood-v0"))
+    write(tmp_path, "broken.toml", "[env\nid = 'x'\n")
+    write(tmp_path, "space.toml", spec_text("a b-v0"))
+    write(tmp_path, "slash.toml", spec_text("envc/Foo-v0"))
+    write(tmp_path, "empty.toml", spec_text(""))
+    (tmp_path / "sub").mkdir()
+    os.symlink(tmp_path, tmp_path / "sub" / "loop1")
+    os.symlink("..", tmp_path / "sub" / "loop2")
+    code = (
+        "import warnings; warnings.simplefilter('always');"
+        "import gymnasium as gym, envc;"
+        "gym.make('envc/PathGood-v0');"
+        "envc.register(envc.__file__.rsplit('/', 1)[0] + '/../../specs/gymnasium/hopper.toml');"
+        "print('ok')"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        env={**os.environ, "ENVC_SPEC_PATH": str(tmp_path)},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0 and out.stdout.split() == ["ok"], out.stderr
+    for name in ("broken.toml", "E0111"):
+        assert name in out.stderr, out.stderr
+    # The same directory registered directly: the first problem is the error, nothing registered.
+    with pytest.raises(envc.SpecError) as e:
+        envc.register(tmp_path)
+    assert e.value.code in ("E0111",) or "broken.toml" in str(e.value)
+    with pytest.raises(envc.SpecError) as e:
+        envc.register(tmp_path / "broken.toml")
+    assert "holds no spec" not in str(e.value) and "broken.toml" in str(e.value)
+    with pytest.raises(envc.SpecError) as e:
+        envc.register(tmp_path / "space.toml")
+    assert e.value.code == "E0111"
+
+
+def test_one_id_in_two_files_of_a_directory_is_e0603_naming_both(tmp_path):
+    write(tmp_path, "one.toml", spec_text("RegDup-v0"))
+    write(tmp_path, "two.toml", spec_text("RegDup-v0", frame_skip=2))
+    with pytest.raises(envc.SpecError) as e:
+        envc.register(tmp_path)
+    assert e.value.code == "E0603"
+    assert "one.toml" in str(e.value) and "two.toml" in str(e.value)
+    assert "envc/RegDup-v0" not in gym.registry
+
+
+def test_making_a_second_file_with_the_same_id_does_not_take_the_id_over(tmp_path):
+    a = write(tmp_path, "a.toml", spec_text("MadeTwice-v0"))
+    sub = tmp_path / "b"
+    sub.mkdir()
+    b = write(sub, "b.toml", spec_text("MadeTwice-v0", frame_skip=2))
+    assert envc.make(a).unwrapped.dt == 0.008
+    assert envc.make(b).unwrapped.dt == 0.004  # b's own env...
+    assert gym.make("envc/MadeTwice-v0").unwrapped.dt == 0.008  # ...but the id is still a's
+    assert envc.make(a).unwrapped.dt == 0.008
+
+
+def test_registering_file_after_file_stays_linear(tmp_path):
+    import time
+
+    paths = [write(tmp_path, f"s{i}.toml", spec_text(f"Lin{i}-v0")) for i in range(60)]
+    t0 = time.perf_counter()
+    for p in paths[:30]:
+        envc.register(p)
+    first = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    for p in paths[30:]:
+        envc.register(p)
+    second = time.perf_counter() - t0
+    # Each registration reads its own file, not every one registered before it.
+    assert second < 3 * first + 0.5, (first, second)

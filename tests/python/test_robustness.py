@@ -455,3 +455,29 @@ def test_every_core_shares_the_base_class_methods():
         core.reset(0)
         assert core.act_low.shape == core.act_high.shape and core.dt > 0
         core.close()
+
+
+def test_a_negative_seed_is_e1105_and_still_gymnasiums_error():
+    import gymnasium as gym
+
+    env = envc.make("Hopper-v5")
+    with pytest.raises(envc.ArgumentError) as e:
+        env.reset(seed=-1)
+    assert e.value.code == "E1105"
+    assert isinstance(e.value, gym.error.Error)
+
+
+def test_non_numeric_actions_are_refused_not_coerced():
+    env = envc.make("Hopper-v5")
+    env.reset(seed=0)
+    for bad in (["0", "0", "0"], np.array(["0", "0", "0"]), np.zeros(3, "datetime64[s]"),
+                np.zeros(3, "timedelta64[s]"), np.array([0, 0, 0], dtype=object)):
+        with pytest.raises(envc.Error) as e:
+            env.step(bad)
+        assert e.value.code == "E1101", bad
+    vec = envc.make_vec("Hopper-v5", 2)
+    vec.reset(seed=0)
+    with pytest.raises(envc.Error) as e:
+        vec.step(np.full((2, 3), "0"))
+    assert e.value.code == "E1101"
+    vec.close()

@@ -307,3 +307,34 @@ def test_events_switched_off_by_when_draw_nothing(tmp_path):
     off, none, on = run(spec), run(stripped), run(spec, domain_randomization=True)
     assert len(off) == len(none) and all(np.array_equal(a, b) for a, b in zip(off, none))
     assert not all(np.array_equal(a, b) for a, b in zip(off, on))
+
+
+def test_a_second_thread_is_refused_with_e1106_and_close_waits():
+    import threading
+
+    env = envc.make_vec("Humanoid-v5", 2, frame_skip=1000)
+    env.reset(seed=0)
+    started = threading.Event()
+    errors = []
+
+    def slow():
+        started.set()
+        try:
+            for _ in range(3):
+                env.step(np.zeros((2, 17)))
+        except Exception as e:  # noqa: BLE001
+            errors.append(e)
+
+    t = threading.Thread(target=slow)
+    t.start()
+    started.wait()
+    import time
+
+    time.sleep(0.05)
+    with pytest.raises(envc.Error) as e:
+        env.step(np.zeros((2, 17)))
+    assert e.value.code == "E1106"
+    env.close()  # waits for the running step, then closes
+    t.join()
+    # The other thread's later steps meet the close: refused while it runs (E1106) or after it.
+    assert all(getattr(x, "code", "") == "E1106" or "closed" in str(x) for x in errors), errors

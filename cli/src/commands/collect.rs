@@ -208,6 +208,7 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     );
     bar.set_message(format!("{id} → {}", args.dataset_id));
     let start = Instant::now();
+    crate::stop_collections_on_signals();
     let r = envc::dataset::record(env, &plan, opts, |episodes, steps| {
         bar.set_prefix(steps.to_string());
         bar.set_position(episodes);

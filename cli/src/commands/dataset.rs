@@ -138,6 +138,7 @@ fn build(
     };
     let start = std::time::Instant::now();
     let mut episodes = 0;
+    crate::stop_collections_on_signals();
     let r = build.record(&opts, |e, _| episodes = e).map_err(err)?;
     let secs = start.elapsed().as_secs_f64();
     println!(

@@ -47,8 +47,8 @@ pub struct Args {
     /// Frame size (the `width` and `height` parameters; default 480x480).
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
-    /// Episode length cap (a continuing maze, a spec without `max_episode_steps`).
-    #[arg(long, default_value_t = 1000, value_name = "N")]
+    /// Episode length cap (a continuing maze, a spec without `max_episode_steps`); at least 1.
+    #[arg(long, default_value_t = 1000, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     max_steps: u64,
     /// Parameter overrides (`key=value`, TOML literal values).
     #[arg(long = "set", value_name = "KEY=VALUE")]

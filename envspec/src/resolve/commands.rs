@@ -652,6 +652,26 @@ impl Ctx<'_> {
         let target = num("target_height", None, false)?;
         let max_height = num("max_height", Some(f64::INFINITY), true)?;
         let power = num("power", Some(1.0), false)?;
+        if power > crate::limits::MAX_EXPONENT
+            && let Some(v) = s.get("power")
+        {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!(
+                        "feet_clearance power {power:e} is beyond envc's limit of {}",
+                        crate::limits::MAX_EXPONENT
+                    ),
+                )
+                .at(v.loc.clone())
+                .label(format!(
+                    "expected a power from 0 to {}",
+                    crate::limits::MAX_EXPONENT
+                ))
+                .help("a speed raised to a larger power overflows to inf; see docs/limits.md"),
+            );
+            return None;
+        }
         Some(LeggedTerm::FeetClearance {
             height,
             velocity,
@@ -868,7 +888,21 @@ impl Ctx<'_> {
                     return None;
                 }
                 let threshold = match s.get("threshold") {
-                    Some(v) => self.num(v, "threshold")?,
+                    Some(v) => {
+                        let x = self.num_within(v, "threshold", crate::limits::MAX_MAGNITUDE)?;
+                        if x < 0.0 {
+                            self.d.push(
+                                Diagnostic::new(
+                                    Code::E0135,
+                                    format!("self_collisions threshold is {x}"),
+                                )
+                                .at(v.loc.clone())
+                                .label("expected a contact force ≥ 0 (newtons)"),
+                            );
+                            return None;
+                        }
+                        x
+                    }
                     None => 10.0,
                 };
                 LeggedTerm::SelfCollisions {

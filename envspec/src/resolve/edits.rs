@@ -142,7 +142,7 @@ impl Ctx<'_> {
             }
             for (k, key) in GeomEdit::REALS.iter().enumerate() {
                 let Some(v) = row.get(key) else { continue };
-                let Some(x) = self.num(v, &what(key)) else {
+                let Some(x) = self.num_within(v, &what(key), crate::limits::MAX_MAGNITUDE) else {
                     continue;
                 };
                 if !x.is_finite() || (*key == "solmix" && x < 0.0) {
@@ -164,7 +164,7 @@ impl Ctx<'_> {
                 let values = match &v.kind {
                     ValKind::Array(a) if !a.is_empty() && a.len() <= most => a
                         .iter()
-                        .map(|x| self.num(x, &what(key)))
+                        .map(|x| self.num_within(x, &what(key), crate::limits::MAX_MAGNITUDE))
                         .collect::<Option<Vec<f64>>>(),
                     ValKind::Array(a) => {
                         bad(
@@ -328,7 +328,10 @@ impl Ctx<'_> {
             Some(v) => match &v.kind {
                 ValKind::Array(a) if a.len() == targets.len() => a
                     .iter()
-                    .map(|x| self.num(x, &what("gear")).unwrap_or(1.0))
+                    .map(|x| {
+                        self.num_within(x, &what("gear"), crate::limits::MAX_MAGNITUDE)
+                            .unwrap_or(1.0)
+                    })
                     .collect(),
                 ValKind::Array(a) => {
                     self.d.push(
@@ -346,7 +349,11 @@ impl Ctx<'_> {
                     );
                     vec![1.0; targets.len()]
                 }
-                _ => vec![self.num(v, &what("gear")).unwrap_or(1.0); targets.len()],
+                _ => vec![
+                    self.num_within(v, &what("gear"), crate::limits::MAX_MAGNITUDE)
+                        .unwrap_or(1.0);
+                    targets.len()
+                ],
             },
         };
         let ctrlrange = match s.get("ctrlrange") {
@@ -375,9 +382,13 @@ impl Ctx<'_> {
             },
             None => (-1.0, 1.0),
         };
-        let forcerange = s
-            .get("forcerange")
-            .and_then(|v| self.range(v, &what("forcerange")));
+        let forcerange = s.get("forcerange").and_then(|v| {
+            let (lo, hi) = self.range(v, &what("forcerange"))?;
+            let max = crate::limits::MAX_MAGNITUDE;
+            self.within(v, lo, &what("forcerange"), max)?;
+            self.within(v, hi, &what("forcerange"), max)?;
+            Some((lo, hi))
+        });
         let kind = match s.kind("motor") {
             "position" => ActuatorKind::Position {
                 kp: self.gain(s, "kp").unwrap_or(1.0),
@@ -473,7 +484,7 @@ impl Ctx<'_> {
             // Joint keys.
             for key in ["armature", "damping", "frictionloss"] {
                 let Some(v) = row.get(key) else { continue };
-                let Some(x) = self.num(v, &what(key)) else {
+                let Some(x) = self.num_within(v, &what(key), crate::limits::MAX_MAGNITUDE) else {
                     continue;
                 };
                 set.push((key.to_string(), vec![x]));
@@ -582,7 +593,8 @@ impl Ctx<'_> {
                         }
                     }
                     "effort" => {
-                        let Some(x) = self.num(v, &what(key)) else {
+                        let Some(x) = self.num_within(v, &what(key), crate::limits::MAX_MAGNITUDE)
+                        else {
                             continue;
                         };
                         if !(x.is_finite() && x > 0.0) {
@@ -605,6 +617,15 @@ impl Ctx<'_> {
                         let Some((lo, hi)) = self.range(v, &what(key)) else {
                             continue;
                         };
+                        if self
+                            .within(v, lo, &what(key), crate::limits::MAX_MAGNITUDE)
+                            .is_none()
+                            || self
+                                .within(v, hi, &what(key), crate::limits::MAX_MAGNITUDE)
+                                .is_none()
+                        {
+                            continue;
+                        }
                         if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
                             self.d.push(
                                 Diagnostic::new(
@@ -626,7 +647,8 @@ impl Ctx<'_> {
                         }
                     }
                     _ => {
-                        let Some(x) = self.num(v, &what(key)) else {
+                        let Some(x) = self.num_within(v, &what(key), crate::limits::MAX_MAGNITUDE)
+                        else {
                             continue;
                         };
                         set.push((key.to_string(), vec![x]));
@@ -646,7 +668,7 @@ impl Ctx<'_> {
     }
 
     fn gain_value(&mut self, v: &Val, what: &str, key: &str) -> Option<f64> {
-        let x = self.num(v, what)?;
+        let x = self.num_within(v, what, crate::limits::MAX_MAGNITUDE)?;
         if !(x.is_finite() && x >= 0.0) {
             self.d.push(
                 Diagnostic::new(Code::E0105, format!("{key} {x} is negative"))
@@ -661,7 +683,11 @@ impl Ctx<'_> {
     /// A non-negative gain `kp`/`kv`, when given.
     fn gain(&mut self, s: &Section, key: &str) -> Option<f64> {
         let v = s.get(key)?;
-        let x = self.num(v, &format!("actuators.{}.{key}", s.name))?;
+        let x = self.num_within(
+            v,
+            &format!("actuators.{}.{key}", s.name),
+            crate::limits::MAX_MAGNITUDE,
+        )?;
         if !(x.is_finite() && x >= 0.0) {
             self.d.push(
                 Diagnostic::new(Code::E0105, format!("{key} {x} is negative"))

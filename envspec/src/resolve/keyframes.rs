@@ -24,7 +24,10 @@ impl Ctx<'_> {
 
     fn numbers(&mut self, v: &Val, what: &str, n: usize) -> Option<Vec<f64>> {
         match &v.kind {
-            ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, what)).collect(),
+            ValKind::Array(a) if a.len() == n => a
+                .iter()
+                .map(|x| self.num_within(x, what, crate::limits::MAX_COORDINATE))
+                .collect(),
             ValKind::Array(a) => {
                 self.e0162(
                     v,
@@ -91,6 +94,11 @@ impl Ctx<'_> {
     pub(super) fn keyframes(&mut self) -> Vec<SpecKeyframe> {
         let mut out: Vec<SpecKeyframe> = vec![];
         for s in &self.spec.keyframes {
+            if s.name.contains('\0') {
+                self.d
+                    .push(super::added::nul_in_name("keyframe", s.name_loc.clone()));
+                continue;
+            }
             if self.model.keyframes.iter().any(|k| k == &s.name)
                 || out.iter().any(|k| k.name == s.name)
             {
@@ -178,7 +186,9 @@ impl Ctx<'_> {
                 .map(|j| (j.name.clone(), j.qposadr))
                 .collect();
             for row in rows {
-                let Some(x) = self.num(&row.value, &what("joints")) else {
+                let Some(x) =
+                    self.num_within(&row.value, &what("joints"), crate::limits::MAX_COORDINATE)
+                else {
                     continue;
                 };
                 let Some(hit) = self.glob_hits(

@@ -5,7 +5,7 @@
 
 use crate::diagnostic::{Code, Diagnostic};
 use crate::ir::{Distribution, ResetStep, Terrain, TerrainTile, TileKind};
-use crate::limits::{MAX_TERRAIN_CELLS, MAX_TERRAIN_TILES};
+use crate::limits::{MAX_GEOMS, MAX_TERRAIN_CELLS, MAX_TERRAIN_LEVELS, MAX_TERRAIN_TILES};
 use crate::syntax::{Section, terrain_tiles};
 use crate::value::Val;
 
@@ -233,6 +233,7 @@ impl Ctx<'_> {
             );
             return None;
         }
+        self.terrain_work(s, tile_size, &tiles, curriculum, rows, cols, border_width);
         if self.d.0.len() > errors {
             return None;
         }
@@ -247,6 +248,83 @@ impl Ctx<'_> {
             difficulty: difficulty?,
             tiles,
         })
+    }
+
+    /// Bounds on what the terrain makes, checked before the runtime allocates anything: each
+    /// heightfield's integer height levels, and the geoms of the whole model.
+    #[allow(clippy::too_many_arguments)]
+    fn terrain_work(
+        &mut self,
+        s: &Section,
+        tile_size: [f64; 2],
+        tiles: &[TerrainTile],
+        curriculum: bool,
+        rows: usize,
+        cols: usize,
+        border_width: Option<f64>,
+    ) {
+        let sections = terrain_tiles(&s.entries);
+        let mut geoms = vec![];
+        for (t, sec) in tiles.iter().zip(&sections) {
+            geoms.push(tile_geoms(&t.kind, tile_size));
+            if let Some((levels, key)) = tile_levels(&t.kind, tile_size)
+                && (levels > MAX_TERRAIN_LEVELS || !levels.is_finite())
+            {
+                let at = key.iter().find_map(|k| sec.get(k));
+                self.d.push(
+                        Diagnostic::new(
+                            Code::E0110,
+                            format!(
+                                "terrain.{} would need {levels:.3e} height levels, beyond envc's limit of {MAX_TERRAIN_LEVELS:e}",
+                                sec.name
+                            ),
+                        )
+                        .at(at.map_or(sec.name_loc.clone(), |v| v.loc.clone()))
+                        .label(format!("heights are whole multiples of vertical_scale; expected at most {MAX_TERRAIN_LEVELS:e} of them"))
+                        .help("a larger vertical_scale (or noise_step), or smaller heights; see docs/limits.md"),
+                    );
+            }
+        }
+        let n = (rows * cols) as f64;
+        let terrain = if curriculum {
+            rows as f64 * geoms.iter().sum::<f64>()
+        } else {
+            n * tiles
+                .iter()
+                .zip(&geoms)
+                .filter(|(t, _)| t.proportion > 0.0)
+                .map(|(_, g)| *g)
+                .fold(0.0, f64::max)
+        } + if border_width.is_some_and(|b| b > 0.0) {
+            4.0
+        } else {
+            0.0
+        };
+        let total = terrain + self.model.geoms.len() as f64;
+        if total > MAX_GEOMS as f64 {
+            // Located at the generator that makes the most.
+            let (i, _) = geoms
+                .iter()
+                .enumerate()
+                .fold((0, 0.0), |b, (i, &g)| if g > b.1 { (i, g) } else { b });
+            let sec = &sections[i.min(sections.len().saturating_sub(1))];
+            let at = sec
+                .get("step_width")
+                .map_or(sec.name_loc.clone(), |v| v.loc.clone());
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!(
+                        "[terrain] would make {terrain:.0} geoms ({:.0} per terrain.{} tile), {total:.0} in the model, beyond envc's limit of {MAX_GEOMS}",
+                        geoms.get(i).copied().unwrap_or(0.0),
+                        sec.name
+                    ),
+                )
+                .at(at)
+                .label(format!("expected at most {MAX_GEOMS} geoms in all"))
+                .help("MuJoCo's compile time grows with the square of the geom count: wider steps, smaller or fewer tiles; see docs/limits.md"),
+            );
+        }
     }
 
     /// The `[terrain.<name>]` generators (at least one).
@@ -414,5 +492,58 @@ fn section_name(s: &Section) -> String {
         "terrain".to_string()
     } else {
         format!("terrain.{}", s.name)
+    }
+}
+
+/// The geoms one tile of a generator makes (as `envc::terrain` builds them), in floating point so
+/// that a tiny step width cannot overflow the count.
+fn tile_geoms(kind: &TileKind, size: [f64; 2]) -> f64 {
+    match *kind {
+        TileKind::PyramidStairs {
+            step_width,
+            platform_width,
+            border_width,
+            ..
+        } => {
+            let side =
+                |x: f64| ((x - 2.0 * border_width - platform_width) / (2.0 * step_width)).trunc();
+            let steps = side(size[0]).min(side(size[1])).max(0.0);
+            4.0 * steps + 1.0 + if border_width > 0.0 { 4.0 } else { 0.0 }
+        }
+        _ => 1.0,
+    }
+}
+
+/// The integer height levels a heightfield tile needs at its most difficult, and the key that
+/// sets them (None for box tiles).
+fn tile_levels(kind: &TileKind, size: [f64; 2]) -> Option<(f64, [&'static str; 2])> {
+    match *kind {
+        TileKind::PyramidSlope {
+            slope,
+            vertical_scale,
+            ..
+        } => {
+            let steepest = slope.0.abs().max(slope.1.abs());
+            Some((
+                steepest * size[0] / 2.0 / vertical_scale,
+                ["slope", "vertical_scale"],
+            ))
+        }
+        TileKind::RandomUniform {
+            noise,
+            noise_step,
+            vertical_scale,
+            ..
+        } => {
+            let (lo, hi) = (noise.0 / vertical_scale, noise.1 / vertical_scale);
+            let step = (noise_step / vertical_scale).trunc().max(1.0);
+            let count = (hi.trunc() - lo.trunc()) / step + 1.0;
+            if lo.abs().max(hi.abs()) > count {
+                Some((lo.abs().max(hi.abs()), ["vertical_scale", "noise"]))
+            } else {
+                Some((count, ["noise_step", "vertical_scale"]))
+            }
+        }
+        _ => None,
     }
 }

@@ -35,13 +35,22 @@ def _device(device: str | None):
         return None
     platform = {"cuda": "gpu", "gpu": "gpu", "cpu": "cpu"}.get(device)
     if platform is None:
-        raise ValueError(f"device={device!r}: expected 'cuda' or 'cpu'")
-    return jax.devices(platform)[0]
+        raise _coded(f"device={device!r}: expected 'cuda' or 'cpu'", "E1105")
+    try:
+        return jax.devices(platform)[0]
+    except RuntimeError as e:
+        raise _coded(f"device={device!r}: JAX has no such device ({e})", "E1105") from None
+
+
+def _coded(message: str, code: str):
+    from .._errors import coded
+
+    return coded(f"error[{code}]: {message}", code)
 
 
 def _backend(p: Plan, backend: str, device):
     if backend not in backends():
-        raise ValueError(f"backend={backend!r}: expected one of {', '.join(backends())}")
+        raise _coded(f"backend={backend!r}: expected one of {', '.join(backends())}", "E1105")
     from . import _mjx
 
     refused = p.refusals(_mjx.MjxBackend.fields_supported)
@@ -49,6 +58,8 @@ def _backend(p: Plan, backend: str, device):
         b = _mjx.MjxBackend(p, device)
     except _mjx._ModelRefused as e:
         refused.append(f"the compiled model: MJX says: {e}")
+    else:
+        refused.extend(b.ignored_options())
     if refused:
         raise Unsupported(p.id, backend, refused)
     return b
@@ -80,6 +91,7 @@ class GpuVecEnv:
         self.max_episode_steps = p["max_episode_steps"]
         self._key = jax.random.PRNGKey(seed)
         self.state = None
+        self._resamples = any(r["resample_until"] for r in p["reset"])
 
     @property
     def id(self) -> str:
@@ -101,18 +113,56 @@ class GpuVecEnv:
         import jax
 
         if seed is not None:
-            self._key = jax.random.PRNGKey(seed)
+            from .._errors import seed as check_seed
+
+            self._key = jax.random.PRNGKey(check_seed(seed))
         if mask is None or self.state is None:
-            self.state, info = self.executor.reset(self._key)
+            state, info = self.executor.reset(self._key)
+            self._check_resets(state)
+            self.state = state
             return self.state.obs, info
-        self.state = self.executor.reset_where(self.state, mask)
+        state = self.executor.reset_where(self.state, mask)
+        self._check_resets(state)
+        self.state = state
         return self.state.obs, {}
+
+    def _check_resets(self, state) -> None:
+        """E1104 when a world's reset met no `resample_until` within the draw limit (looked at
+        only for specs that have one: it waits for the device)."""
+        if not self._resamples:
+            return
+        import numpy as np
+
+        failed = np.asarray(state.failed)
+        if failed.any():
+            self.state = None
+            raise _coded(
+                f"`{self.id}`: {int(failed.sum())} world(s) met no `resample_until` within "
+                f"{self.executor.max_draws:,} draws (world {int(np.argmax(failed))} first); "
+                "every world needs a reset",
+                "E1104",
+            )
 
     def step(self, action):
         if self.state is None:
-            raise RuntimeError("step before reset: call reset() first")
+            raise _coded("step before reset: call reset() first", "E1103")
+        import jax.numpy as jnp
+
+        try:
+            a = jnp.asarray(action)
+        except (TypeError, ValueError) as e:
+            raise _coded(f"actions must be numbers ({e})", "E1101") from None
+        if a.dtype.kind not in "biuf":
+            raise _coded(f"actions must be real numbers, got {a.dtype}", "E1101")
+        want = (self.num_envs, self.act_dim)
+        if a.shape != want:
+            raise _coded(f"actions have shape {a.shape}; expected {want}", "E1101")
+        a = a.astype(jnp.float32)
+        if not bool(jnp.all(jnp.isfinite(a))):
+            raise _coded("actions contain NaN or infinite entries; nothing was stepped", "E1102")
         with self._on_device():
-            out = self.executor.step(self.state, action)
+            out = self.executor.step(self.state, a)
+        self._check_resets(out.state)
         self.state = out.state
         return out.obs, out.reward, out.terminated, out.truncated, out.info
 

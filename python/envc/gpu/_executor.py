@@ -12,8 +12,11 @@ import jax.numpy as jnp
 from . import _terms
 
 #: Candidates drawn at once for a `resample_until` reset step (Reacher's goal is accepted with
-#: probability π/4: all 64 fail with probability below 1e-42).
+#: probability π/4: all 64 fail with probability below 1e-42); more rounds follow until one is
+#: accepted.
 RESAMPLE_CANDIDATES = 64
+#: Draws before a reset gives up (E1104), as the CPU core's `limits::MAX_RESAMPLE_DRAWS`.
+MAX_RESAMPLE_DRAWS = 1_000_000
 
 
 class State(NamedTuple):
@@ -23,6 +26,7 @@ class State(NamedTuple):
     obs: jax.Array  # (N, obs_dim): the observation the policy sees now
     elapsed: jax.Array  # (N,) int32: steps since the world's reset
     key: jax.Array  # the executor's PRNG key
+    failed: jax.Array  # (N,) bool: the world's last reset met no `resample_until` (E1104)
 
 
 class StepOut(NamedTuple):
@@ -45,6 +49,7 @@ class Executor:
         # Worlds reset per pass of the reset loop: about 3 % of them, so ~2 % resets per step
         # cost one pass of `forward` over a small batch.
         self.chunk = int(reset_chunk or max(1, min(self.n, -(-self.n * 3 // 100))))
+        self.max_draws = MAX_RESAMPLE_DRAWS
         self._jit_reset = jax.jit(self._reset_all)
         self._jit_step = jax.jit(self._step)
         self._jit_reset_where = jax.jit(self._reset_where)
@@ -55,16 +60,18 @@ class Executor:
         """The `[reset.*]` steps in declared order: qpos0 / zeros, plus or replaced by draws."""
         qpos = self.b.qpos0()
         qvel = jnp.zeros_like(self.b.d0.qvel)
+        ok = jnp.bool_(True)
         for k, r in enumerate(self.plan["reset"]):
             sub = jax.random.fold_in(key, k)
             idx = jnp.asarray(r["target"]["indices"], dtype=jnp.int32)
             n = len(r["target"]["indices"])
-            x = self._draw_until(sub, r, n)
+            x, met = self._draw_until(sub, r, n)
+            ok = ok & met
             if r["target"]["field"] == "qpos":
                 qpos = qpos.at[idx].set(x if r["set"] else qpos[idx] + x)
             else:
                 qvel = qvel.at[idx].set(x if r["set"] else qvel[idx] + x)
-        return qpos, qvel
+        return qpos, qvel, ok
 
     @staticmethod
     def _sample(key, dist, shape):
@@ -76,24 +83,51 @@ class Executor:
         return jnp.full(shape, dist["value"])
 
     def _draw_until(self, key, r, n):
-        """One draw of a reset step; with `resample_until`, rejection sampling over
-        `RESAMPLE_CANDIDATES` draws at once: the first that meets the condition (the same
-        distribution as redrawing until it holds). The CPU core gives up after 10⁶ draws
-        (E1104); here, when no candidate meets it, the last candidate is used."""
+        """One draw of a reset step, and whether it meets its `resample_until`. Rejection
+        sampling in rounds of `RESAMPLE_CANDIDATES` draws: the first candidate that meets the
+        condition (the same distribution as redrawing until it holds), drawing round after round
+        until one does; after `MAX_RESAMPLE_DRAWS` draws the reset gives up, as the CPU core
+        does (E1104 when the caller looks at `State.failed`)."""
         until = r["resample_until"]
         if until is None:
-            return self._sample(key, r["dist"], (n,))
-        xs = self._sample(key, r["dist"], (RESAMPLE_CANDIDATES, n))
-        norms = jnp.sqrt(jnp.sum(xs * xs, axis=1))
-        ok = norms < until["norm_below"] if "norm_below" in until else norms > until["norm_above"]
-        first = jnp.where(jnp.any(ok), jnp.argmax(ok), RESAMPLE_CANDIDATES - 1)
-        return xs[first]
+            return self._sample(key, r["dist"], (n,)), jnp.bool_(True)
+
+        def candidates(k):
+            xs = self._sample(k, r["dist"], (RESAMPLE_CANDIDATES, n))
+            norms = jnp.sqrt(jnp.sum(xs * xs, axis=1))
+            if "norm_below" in until:
+                ok = norms < until["norm_below"]
+            else:
+                ok = norms > until["norm_above"]
+            return xs[jnp.argmax(ok)], jnp.any(ok)
+
+        rounds = -(-MAX_RESAMPLE_DRAWS // RESAMPLE_CANDIDATES)
+
+        def more(c):
+            return (~c[2]) & (c[3] < rounds)
+
+        def body(c):
+            _, k, _, i = c
+            k, sub = jax.random.split(k)
+            x, met = candidates(sub)
+            return x, k, met, i + 1
+
+        x, met = candidates(key)
+        x, _, met, _ = jax.lax.while_loop(
+            more, body, (x, jax.random.fold_in(key, 1), met, jnp.int32(1))
+        )
+        return x, met
 
     def _init_world(self, key):
-        qpos, qvel = self._draw(key)
+        d, obs, _ = self._init_checked(key)
+        return d, obs
+
+    def _init_checked(self, key):
+        """A fresh world, its observation, and whether its reset draws met their conditions."""
+        qpos, qvel, ok = self._draw(key)
         d = self.b.initial(qpos, qvel)
         f = self.b.fields(d, jnp.zeros_like(d.ctrl))
-        return d, _terms.observation(self.plan, f)
+        return d, _terms.observation(self.plan, f), ok
 
     def reset_info_world(self, d):
         f = self.b.fields(d, jnp.zeros_like(d.ctrl))
@@ -127,9 +161,9 @@ class Executor:
     def _reset_all(self, key):
         key, sub = jax.random.split(key)
         keys = jax.random.split(sub, self.n)
-        data, obs = jax.vmap(self._init_world)(keys)
+        data, obs, ok = jax.vmap(self._init_checked)(keys)
         info = jax.vmap(self.reset_info_world)(data)
-        return State(data, obs, jnp.zeros((self.n,), jnp.int32), key), info
+        return State(data, obs, jnp.zeros((self.n,), jnp.int32), key, ~ok), info
 
     def _reset_where(self, state: State, mask):
         """Reset the worlds where `mask` holds, `chunk` at a time (only they run `forward`);
@@ -137,10 +171,10 @@ class Executor:
         n, k = self.n, self.chunk
 
         def body(carry):
-            data, obs, elapsed, remaining, key = carry
+            data, obs, elapsed, remaining, key, failed = carry
             idx = jnp.nonzero(remaining, size=k, fill_value=n)[0]
             key, sub = jax.random.split(key)
-            new_d, new_obs = jax.vmap(self._init_world)(jax.random.split(sub, k))
+            new_d, new_obs, ok = jax.vmap(self._init_checked)(jax.random.split(sub, k))
 
             def put(a, b):
                 return a.at[idx].set(b, mode="drop")
@@ -149,11 +183,14 @@ class Executor:
             obs = put(obs, new_obs)
             elapsed = elapsed.at[idx].set(0, mode="drop")
             remaining = remaining.at[idx].set(False, mode="drop")
-            return data, obs, elapsed, remaining, key
+            failed = failed.at[idx].set(~ok, mode="drop")
+            return data, obs, elapsed, remaining, key, failed
 
-        carry = (state.data, state.obs, state.elapsed, mask, state.key)
-        data, obs, elapsed, _, key = jax.lax.while_loop(lambda c: jnp.any(c[3]), body, carry)
-        return State(data, obs, elapsed, key)
+        carry = (state.data, state.obs, state.elapsed, mask, state.key, state.failed)
+        data, obs, elapsed, _, key, failed = jax.lax.while_loop(
+            lambda c: jnp.any(c[3]), body, carry
+        )
+        return State(data, obs, elapsed, key, failed)
 
     def _step(self, state: State, action):
         data, obs, reward, terminated, info = jax.vmap(self._step_world)(state.data, action)
@@ -163,7 +200,7 @@ class Executor:
         else:
             truncated = jnp.zeros_like(terminated)
         done = terminated | truncated
-        after = self._reset_where(State(data, obs, elapsed, state.key), done)
+        after = self._reset_where(State(data, obs, elapsed, state.key, state.failed), done)
         info = dict(info)
         info["final_obs"] = obs
         return StepOut(after, after.obs, reward, terminated, truncated, info)

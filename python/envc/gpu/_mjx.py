@@ -48,6 +48,23 @@ class MjxBackend:
         self.rne = bool(plan["needs_rne_post_constraint"])
         self.body_mass = jnp.asarray(self.mjm.body_mass, dtype=jnp.float32)
 
+    def ignored_options(self) -> list[str]:
+        """`[physics]` options the compiled model sets that MJX would ignore without a word."""
+        import mujoco
+
+        o, default = self.mjm.opt, mujoco.MjModel.from_xml_string("<mujoco/>").opt
+        out = []
+        if o.noslip_iterations != default.noslip_iterations:
+            out.append(
+                f"[physics] noslip_iterations = {o.noslip_iterations} (MJX has no noslip solver)"
+            )
+        if o.ccd_iterations != default.ccd_iterations:
+            out.append(
+                f"[physics] ccd_iterations = {o.ccd_iterations} (MJX ignores it; MuJoCo's default "
+                f"is {default.ccd_iterations})"
+            )
+        return out
+
     # -- state ----------------------------------------------------------------------------------
     def qpos0(self):
         return self.m.qpos0

@@ -180,6 +180,14 @@ impl Build {
             steps += s.steps as u64;
             ep += 1;
             progress(ep, steps);
+            if ep == super::plan::DISK_SAMPLE {
+                // Episodes the budget will take, at the length of these.
+                let total = match self.budget {
+                    Budget::Episodes(n) => n,
+                    Budget::Steps(b) => b.div_ceil(steps.div_ceil(ep).max(1)),
+                };
+                super::plan::disk_fits(collector.staging(), ep, total)?;
+            }
         }
         collector.finish_recording(steps, seed)
     }

@@ -166,6 +166,8 @@ pub fn datasets_dir() -> PathBuf {
     crate::registry::specs_dir().join("datasets")
 }
 
+use envspec::limits::{MAX_DATASET_STEPS, MAX_EPISODES};
+
 impl DatasetSpec {
     /// A dataset spec file, or a bundled dataset's id (`mujoco/hopper/simple-v0`).
     pub fn open(what: &str) -> Result<DatasetSpec, DatasetError> {
@@ -175,16 +177,22 @@ impl DatasetSpec {
         } else {
             datasets_dir().join(format!("{what}.toml"))
         };
-        let text = std::fs::read_to_string(&path).map_err(|e| DatasetError::BadSpec {
-            path: path.clone(),
-            line: 0,
-            col: 0,
-            why: if p.is_file() || what.ends_with(".toml") {
-                e.to_string()
-            } else {
-                format!("`{what}` is neither a dataset spec file nor a bundled dataset id ({e})")
-            },
-        })?;
+        // A FIFO or device would block the read for ever: regular files only, bounded.
+        let text =
+            envspec::limits::read_text(&path, envspec::limits::MAX_SPEC_BYTES).map_err(|e| {
+                DatasetError::BadSpec {
+                    path: path.clone(),
+                    line: 0,
+                    col: 0,
+                    why: if p.is_file() || what.ends_with(".toml") {
+                        e.to_string()
+                    } else {
+                        format!(
+                            "`{what}` is neither a dataset spec file nor a bundled dataset id ({e})"
+                        )
+                    },
+                }
+            })?;
         DatasetSpec::parse(&path, &text)
     }
 
@@ -205,6 +213,18 @@ impl DatasetSpec {
             (Some(0), _) => return Err(err(key_at(text, "steps"), "steps must be ≥ 1".into())),
             (_, Some(0)) => {
                 return Err(err(key_at(text, "episodes"), "episodes must be ≥ 1".into()));
+            }
+            (_, Some(e)) if e > MAX_EPISODES => {
+                return Err(err(
+                    key_at(text, "episodes"),
+                    format!("episodes = {e} is beyond envc's limit of {MAX_EPISODES}"),
+                ));
+            }
+            (Some(s), _) if s > MAX_DATASET_STEPS => {
+                return Err(err(
+                    key_at(text, "steps"),
+                    format!("steps = {s} is beyond envc's limit of {MAX_DATASET_STEPS}"),
+                ));
             }
             (Some(s), None) => Budget::Steps(s),
             (None, Some(e)) => Budget::Episodes(e),
@@ -387,5 +407,31 @@ mod tests {
         let e = DatasetSpec::parse(Path::new("d.toml"), &typo).unwrap_err();
         assert!(e.to_string().contains("d.toml:10:1"), "{e}");
         assert!(e.to_string().contains("mood"), "{e}");
+    }
+
+    #[test]
+    fn budgets_beyond_the_limits_and_fifos_are_refused() {
+        let text = "[dataset]\nid = \"t/x-v0\"\ntier = \"x\"\nenv = \"Hopper-v5\"\nepisodes = 1000000000\nseed = 1\n[policy]\nfile = \"p.npz\"\nmode = \"deterministic\"\n[metadata]\nalgorithm_name = \"a\"\nauthor = []\ndescription = \"d\"\n";
+        let e = DatasetSpec::parse(Path::new("d.toml"), text).unwrap_err();
+        assert_eq!(e.code(), "E1801");
+        assert!(e.to_string().contains("beyond envc's limit"), "{e}");
+        let steps = text.replace("episodes = 1000000000", "steps = 100000000000");
+        let e = DatasetSpec::parse(Path::new("d.toml"), &steps).unwrap_err();
+        assert!(e.to_string().contains("d.toml:5:1"), "{e}");
+        // A FIFO is refused before it is opened (opening it would block).
+        let dir = std::env::temp_dir().join(format!("envc-fifo-spec-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("d.toml");
+        let _ = std::fs::remove_file(&fifo);
+        if std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success())
+        {
+            let e = DatasetSpec::open(fifo.to_str().unwrap()).unwrap_err();
+            assert_eq!(e.code(), "E1801");
+            assert!(e.to_string().contains("not a regular file"), "{e}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

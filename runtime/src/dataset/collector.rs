@@ -28,6 +28,11 @@ impl<O: ?Sized, F: FnMut(&O, &mut [f32])> Policy<O> for F {
     }
 }
 
+/// Set by a caller that was asked to stop (the `envc` command's SIGINT, SIGTERM and SIGHUP
+/// handlers): every collection stops before its next step with E1601, publishes nothing and
+/// removes its staging directory, as a policy's `interrupted` does.
+pub static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// Where and how to write: `root` `None` is `MINARI_DATASETS_PATH` (default `~/.minari/datasets`).
 #[derive(Clone, Debug)]
 pub struct CollectOptions {
@@ -107,7 +112,7 @@ impl Buffers {
         }
         env.record_reset(seed, &mut self.obs, &mut self.infos)?;
         Ok(loop {
-            if policy.interrupted() {
+            if policy.interrupted() || STOP.load(std::sync::atomic::Ordering::Relaxed) {
                 return Err(DatasetError::PolicyFailed {
                     episode: 0,
                     why: "interrupted".into(),

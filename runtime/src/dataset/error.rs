@@ -80,6 +80,23 @@ pub enum DatasetError {
         /// What does not match.
         why: String,
     },
+    /// The collection, estimated from its first episodes, would not fit on the disk (E1211).
+    #[error(
+        "error[E1211]: {episodes} episodes would need about {need} in {}, where {free} are free (estimated from the first {sample} episodes); nothing was published",
+        path.display()
+    )]
+    DiskTooSmall {
+        /// The staging directory.
+        path: PathBuf,
+        /// Episodes asked for.
+        episodes: u64,
+        /// Episodes the estimate is from.
+        sample: u64,
+        /// The estimate, human-readable.
+        need: String,
+        /// Free space, human-readable.
+        free: String,
+    },
     /// An episode grew past the memory budget (E1402).
     #[error(
         "error[E1402]: an episode reached {steps} steps, about {gib:.2} GiB in memory, beyond what this process may safely allocate ({budget_gib:.2} GiB); nothing was published"
@@ -151,6 +168,7 @@ impl DatasetError {
             DatasetError::Nested { .. } => "E1208".into(),
             DatasetError::StagingLost { .. } => "E1209".into(),
             DatasetError::Unverified { .. } => "E1210".into(),
+            DatasetError::DiskTooSmall { .. } => "E1211".into(),
             DatasetError::EpisodeTooLong { .. } => "E1402".into(),
             DatasetError::ShardMissing { .. } => "E1600".into(),
             DatasetError::PolicyFailed { .. } => "E1601".into(),

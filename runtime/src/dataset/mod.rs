@@ -45,7 +45,7 @@ mod writer;
 
 pub use build::{Build, BuildOptions, SpecActor};
 pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
-pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy};
+pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy, STOP};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;

@@ -247,8 +247,58 @@ pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
         policy.check()?;
         steps += summary?.steps as u64;
         progress(ep + 1, steps);
+        if ep + 1 == DISK_SAMPLE.min(plan.episodes) {
+            disk_fits(collector.staging(), ep + 1, plan.episodes)?;
+        }
     }
     collector.finish_recording(steps, seed)
+}
+
+/// Episodes after which a collection checks that the rest will fit on the disk.
+pub(crate) const DISK_SAMPLE: u64 = 8;
+
+/// E1211 when `episodes` episodes, at the size of the first `done` in `staging`, would not fit in
+/// the space left (with 10 % to spare): refused early rather than after filling the disk.
+pub(crate) fn disk_fits(staging: &Path, done: u64, episodes: u64) -> Result<(), DatasetError> {
+    if done >= episodes {
+        return Ok(());
+    }
+    let (Ok(used), Some(free)) = (disk_usage(staging), crate::os::free_bytes(staging)) else {
+        return Ok(());
+    };
+    let need = (used as f64 / done as f64) * (episodes - done) as f64 * 1.1;
+    if need <= free as f64 {
+        return Ok(());
+    }
+    let human = |b: f64| match b {
+        b if b >= (1u64 << 30) as f64 => format!("{:.1} GiB", b / (1u64 << 30) as f64),
+        b if b >= (1u64 << 20) as f64 => format!("{:.1} MiB", b / (1u64 << 20) as f64),
+        b => format!("{:.0} KiB", b / 1024.0),
+    };
+    Err(DatasetError::DiskTooSmall {
+        path: staging.to_path_buf(),
+        episodes,
+        sample: done,
+        need: human(need),
+        free: human(free as f64),
+    })
+}
+
+/// Bytes `dir` takes on the disk, its directories' blocks included (a collection of short
+/// episodes is mostly directories).
+fn disk_usage(dir: &Path) -> std::io::Result<u64> {
+    use std::os::unix::fs::MetadataExt;
+    let mut total = std::fs::symlink_metadata(dir)?.blocks() * 512;
+    for e in std::fs::read_dir(dir)? {
+        let e = e?;
+        let meta = e.metadata()?;
+        total += if meta.is_dir() {
+            disk_usage(&e.path())?
+        } else {
+            meta.blocks() * 512
+        };
+    }
+    Ok(total)
 }
 
 /// Record episodes `range` of a plan (with its resolved `seed`) into the staging directory of a
@@ -275,4 +325,22 @@ pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
         lengths.push(shard.write(ep)?);
     }
     Ok(lengths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_collection_the_disk_cannot_hold_is_e1211_from_its_first_episodes() {
+        let dir = std::env::temp_dir().join(format!("envc-disk-fits-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("episode_0")).unwrap();
+        std::fs::write(dir.join("episode_0/data"), vec![1u8; 1 << 20]).unwrap();
+        assert!(disk_fits(&dir, 1, 2).is_ok());
+        let e = disk_fits(&dir, 1, 1 << 40).unwrap_err();
+        assert_eq!(e.code(), "E1211");
+        assert!(e.to_string().contains("free"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
