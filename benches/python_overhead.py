@@ -20,8 +20,17 @@ single env, µs per step (thread CPU time and wall time, reset calls not counted
   - a no-op ``step`` in the same loop: the harness's own cost.
 
 vector, steps/s (wall time, autoreset calls not counted), 8 and 16 envs: ``envc.make_vec(X, n,
-num_threads=2)`` if this ``envc`` has it (else skipped, with a message), Gymnasium's
-``SyncVectorEnv`` and ``AsyncVectorEnv`` (``gymnasium.make_vec``), EnvPool (``num_threads=2``).
+num_threads=2)`` if this ``envc`` has it (else skipped, with a message) and, right after it,
+envc's Rust ``VecEnv`` of the same size (``envc bench --envs n --threads 2``: the ratio
+``make_vec`` ÷ Rust ``VecEnv``, and each against twice the physics ceiling of that run),
+Gymnasium's ``SyncVectorEnv`` and ``AsyncVectorEnv`` (``gymnasium.make_vec``), EnvPool
+(``num_threads=2``).
+
+``--sweep Hopper``: batch sizes 8 … 4096 on 2 threads, each ``make_vec`` in a fresh interpreter
+(steps/s, and resident memory per env: RSS growth over making and stepping the batch ÷ n, beside
+E1403's estimate), then the Rust ``VecEnv`` of that size. ``--threads-sweep Hopper``: 1 … (CPUs)
+threads with 16 envs per thread, against t × the single-thread physics ceiling. Both run inside
+the same rounds (rotated order). ``--no-single`` skips the single-env measurements.
 
 Tables of medians over rounds go to stdout (Markdown) and, with ``--markdown``, to a file; the
 per-round samples to ``--json``. Actions: uniform random float32 in the action space (what
@@ -61,6 +70,7 @@ SINGLE = [
     "ceiling_py", "ceiling_nt", "envc_gym", "envc_raw", "envc_core", "gym_gym", "gym_raw", "envpool",
 ]
 VEC_SIZES = (8, 16)
+SWEEP_SIZES = (8, 16, 64, 256, 1024, 4096)
 VECTOR = ["envc_vec", "sync", "async", "envpool_vec"]
 BLOCK = 64  # steps timed as one block (a block also ends at the end of an episode)
 NACT = 4096
@@ -238,11 +248,56 @@ def measure_vec(env, n, seconds, envpool=False):
     return run(seconds * 1e9)
 
 
-def envc_bench(binary, env_id, seconds):
+def envc_bench(binary, env_id, seconds, envs=8, threads=2):
     out = subprocess.run([binary, "bench", env_id, "--rounds", "1", "--seconds", str(4 * seconds),
-                          "--envs", "8", "--threads", "2", "--format", "json"],
+                          "--envs", str(envs), "--threads", str(threads), "--format", "json"],
                          check=True, capture_output=True, text=True).stdout
     return json.loads(out)[0]
+
+
+SWEEP_CHILD = """
+import json, sys, time
+import numpy as np
+import envc
+env_id, n, threads, seconds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+def rss():
+    with open("/proc/self/status") as f:
+        return next(int(l.split()[1]) * 1024 for l in f if l.startswith("VmRSS:"))
+warm = envc.make_vec(env_id, 1, num_threads=1)  # the model, code pages, first allocations
+warm.reset(seed=0)
+warm.step(np.zeros((1,) + warm.single_action_space.shape, dtype=np.float32))
+warm.close()
+before = rss()
+env = envc.make_vec(env_id, n, num_threads=threads)
+space = env.single_action_space
+acts = np.random.default_rng(2).uniform(space.low, space.high,
+                                        size=(8, n) + space.shape).astype(np.float32)
+env.reset(seed=0)
+prev = np.zeros(n, dtype=bool)
+def run(budget):
+    global prev
+    steps, k, start = 0, 0, time.perf_counter()
+    while time.perf_counter() - start < budget:
+        _, _, term, trunc, _ = env.step(acts[k % 8])
+        k += 1
+        steps += n - int(np.count_nonzero(prev))
+        prev = term | trunc
+    return steps / (time.perf_counter() - start)
+run(seconds / 4)
+rate = run(seconds)
+print(json.dumps({"steps_per_s": rate, "rss_per_env": (rss() - before) / n,
+                  "estimate_per_env": env._core.bytes_per_env[0]}))
+"""
+
+
+def sweep_child(env_id, n, threads, seconds):
+    """``make_vec(env_id, n, num_threads=threads)`` in a fresh interpreter: steps/s (wall,
+    autoreset calls not counted) and resident memory per env (RSS growth over making and
+    stepping it, divided by n)."""
+    out = subprocess.run([sys.executable, "-c", SWEEP_CHILD, env_id, str(n), str(threads),
+                          str(max(seconds, 0.2))],
+                         check=True, capture_output=True, text=True, env=dict(os.environ)).stdout
+    return json.loads(out.strip().splitlines()[-1])
 
 
 def make_envc_vec(envc, env_id, n):
@@ -259,9 +314,8 @@ def machine():
             cpu = next(ln.split(":", 1)[1].strip() for ln in f if ln.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return (f"{cpu}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}, "
-            f"Python {platform.python_version()}; load average {load:.1f} at the start")
+            f"Python {platform.python_version()}")
 
 
 def main():
@@ -272,6 +326,12 @@ def main():
     ap.add_argument("--seconds", type=float, default=0.5, help="per measurement per round")
     ap.add_argument("--envs", nargs="*", default=ENVS)
     ap.add_argument("--no-vector", action="store_true", help="skip the vector measurements")
+    ap.add_argument("--no-single", action="store_true", help="skip the single-env measurements")
+    ap.add_argument("--sweep", nargs="*", default=[], metavar="ENV",
+                    help="batch-size sweep (8 … 4096 envs, 2 threads) of these envs, e.g. Hopper")
+    ap.add_argument("--sweep-sizes", nargs="*", type=int, default=list(SWEEP_SIZES))
+    ap.add_argument("--threads-sweep", nargs="*", default=[], metavar="ENV",
+                    help="threads sweep (1 … CPUs) of these envs")
     ap.add_argument("--markdown", help="also write the tables to this file")
     ap.add_argument("--json", help="write the per-round samples to this file")
     args = ap.parse_args()
@@ -296,6 +356,7 @@ def main():
     head = machine()
 
     s = {name: {} for name in args.envs}  # per env: key -> list of samples over rounds
+    sweep = {}  # (kind, env, n or threads) -> key -> samples
     objs = {}
     for name in args.envs:
         env_id = f"{name}-v5"
@@ -328,7 +389,7 @@ def main():
             o.setdefault("rne", b["rne_post_constraint"])
             o.setdefault("ep_len", max(1, round(b["mean_episode_len"])))
             order = SINGLE[r % len(SINGLE):] + SINGLE[:r % len(SINGLE)]
-            for c in order:
+            for c in ([] if args.no_single else order):
                 gc.collect()
                 if c in ("ceiling_py", "ceiling_nt"):
                     with mujoco_timer(c == "ceiling_py"):
@@ -363,10 +424,16 @@ def main():
                             measure_vec(env, n, args.seconds, envpool=c == "envpool_vec"))
                     finally:
                         env.close()
+                    if c == "envc_vec":  # the Rust VecEnv of the same size, right after
+                        rb = envc_bench(args.envc, env_id, args.seconds, envs=n)
+                        row.setdefault(f"rust_vec{n}", []).append(rb["vector_steps_per_s"])
+                        row.setdefault(f"rust_ceiling_n{n}", []).append(rb["ceiling_steps_per_s"])
             print(f"round {r + 1}/{args.rounds} {env_id}: "
                   + ", ".join(f"{k} {v[-1]:.2f}" for k, v in row.items()), flush=True)
+        sweep_round(args, r, sweep)
 
     md = tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco)
+    md += sweep_tables(args, sweep)
     print(md)
     if args.markdown:
         with open(args.markdown, "w") as f:
@@ -374,7 +441,84 @@ def main():
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"started": started.isoformat(), "machine": head, "harness": harness,
-                       "samples": s}, f, indent=1)
+                       "samples": s, "sweep": {" ".join(map(str, k)): v for k, v in sweep.items()}},
+                      f, indent=1)
+
+
+def cpus():
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def sweep_round(args, r, sweep):
+    """One round of the batch-size and threads sweeps, each point a fresh interpreter for
+    ``make_vec`` then ``envc bench`` (Rust ``VecEnv``, same size and threads) right after."""
+    points = [("size", name, n, 2) for name in args.sweep for n in args.sweep_sizes]
+    points += [("threads", name, 16 * t, t) for name in args.threads_sweep
+               for t in range(1, cpus() + 1)]
+    points = points[r % max(len(points), 1):] + points[:r % max(len(points), 1)]
+    for kind, name, n, t in points:
+        env_id = f"{name}-v5"
+        got = sweep_child(env_id, n, t, args.seconds)
+        b = envc_bench(args.envc, env_id, args.seconds, envs=n, threads=t)
+        row = sweep.setdefault((kind, name, n if kind == "size" else t), {})
+        row.setdefault("py", []).append(got["steps_per_s"])
+        row.setdefault("rss", []).append(got["rss_per_env"])
+        row.setdefault("estimate", []).append(got["estimate_per_env"])
+        row.setdefault("rust", []).append(b["vector_steps_per_s"])
+        row.setdefault("ceiling", []).append(b["ceiling_steps_per_s"])
+        print(f"round {r + 1} {kind} {env_id} n={n} threads={t}: make_vec {got['steps_per_s']:,.0f}/s, "
+              f"Rust VecEnv {b['vector_steps_per_s']:,.0f}/s, {got['rss_per_env'] / 1024:.0f} KiB/env",
+              flush=True)
+
+
+def sweep_tables(args, sweep):
+    f0 = lambda x: "–" if x != x else f"{x:,.0f}"  # noqa: E731
+    f2 = lambda x: "–" if x != x else f"{x:.2f}"  # noqa: E731
+    out = []
+    q = lambda a, b: a / b  # noqa: E731
+    if args.sweep:
+        out += [
+            "",
+            "Batch sizes, 2 threads: steps/s (wall, autoreset calls not counted), `make_vec` in a "
+            "fresh interpreter and the Rust `VecEnv` (`envc bench`) right after it; resident memory "
+            "per env (the interpreter's RSS growth over making and stepping the batch, ÷ n) and "
+            "E1403's estimate per env:",
+            "",
+            "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | ÷ 2 × ceiling | "
+            "resident KiB/env | E1403 estimate KiB/env |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for name in args.sweep:
+            for n in args.sweep_sizes:
+                r = sweep.get(("size", name, n), {})
+                out.append(
+                    f"| {name} | {n} | {f0(med(r.get('py', [])))} | {f0(med(r.get('rust', [])))} | "
+                    f"{f2(paired(r, q, 'py', 'rust'))} | "
+                    f"{f2(paired(r, lambda a, c: a / (2 * c), 'py', 'ceiling'))} | "
+                    f"{f0(med(r.get('rss', [])) / 1024)} | {f0(med(r.get('estimate', [])) / 1024)} |")
+    if args.threads_sweep:
+        out += [
+            "",
+            "Threads, 16 envs per thread: steps/s (wall), `make_vec` and the Rust `VecEnv` of the same "
+            "size and threads, against t × the single-thread physics ceiling (`envc bench`'s, thread "
+            "CPU time, the same round):",
+            "",
+            "| env | threads | envs | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | "
+            "`make_vec` ÷ (t × ceiling) | Rust ÷ (t × ceiling) |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for name in args.threads_sweep:
+            for t in range(1, cpus() + 1):
+                r = sweep.get(("threads", name, t), {})
+                out.append(
+                    f"| {name} | {t} | {16 * t} | {f0(med(r.get('py', [])))} | "
+                    f"{f0(med(r.get('rust', [])))} | {f2(paired(r, q, 'py', 'rust'))} | "
+                    f"{f2(paired(r, lambda a, c: a / (t * c), 'py', 'ceiling'))} | "
+                    f"{f2(paired(r, lambda a, c: a / (t * c), 'rust', 'ceiling'))} |")
+    return "\n".join(out) + ("\n" if out else "")
 
 
 def med(v):
@@ -393,7 +537,7 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
     f2 = lambda x: "–" if x != x else f"{x:.2f}"  # noqa: E731
     f0 = lambda x: "–" if x != x else f"{x:,.0f}"  # noqa: E731
     hw, hc = med([h[0] for h in harness]), med([h[1] for h in harness])
-    out = [
+    head_lines = [
         f"Measured {started:%Y-%m-%d %H:%M} UTC by `benches/python_overhead.py` ({args.rounds} rounds, "
         f"{args.seconds:g} s per measurement per round; medians over rounds, ratios and differences "
         "medians of the per-round values).",
@@ -401,6 +545,8 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
         f"and envc's library), {ep_note}.",
         f"Harness (a no-op `step` in the same timing loop): {hw:.2f} µs wall, {hc:.2f} µs CPU per step; "
         "included in every Python column below.",
+    ]
+    out = [
         "",
         "Single env, µs per step, thread CPU time (reset calls not counted):",
         "",
@@ -456,6 +602,7 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
                    f"{f2(paired(r, q, 'envc_gym_cpu', 'rust_ceiling'))} | "
                    f"{f2(paired(r, q, 'gym_gym_cpu', 'rust_ceiling'))} | "
                    f"{f2(paired(r, q, 'envc_gym_wall', 'gym_gym_wall'))} |")
+    out = head_lines + ([] if args.no_single else out)
     if not args.no_vector:
         out += [
             "",
@@ -463,18 +610,22 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
             "(autoreset calls not counted)"
             + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
             "",
-            "| env | n | envc `make_vec` | Gym Sync | Gym Async | EnvPool | envc `VecEnv` (Rust, 8) "
-            "| envc ÷ EnvPool | envc ÷ best Gym |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+            "| env | n | envc `make_vec` | envc `VecEnv` (Rust, n) | `make_vec` ÷ Rust `VecEnv` | "
+            "`make_vec` ÷ 2 × ceiling | Rust `VecEnv` ÷ 2 × ceiling | Gym Sync | Gym Async | EnvPool "
+            "| EnvPool ÷ 2 × ceiling | envc ÷ EnvPool | envc ÷ best Gym |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
+        two = lambda a, c: a / (2 * c)  # noqa: E731
         for name in args.envs:
             r = s[name]
             for n in VEC_SIZES:
-                ev, ep = f"envc_vec{n}", f"envpool_vec{n}"
+                ev, ep, rv, rc = f"envc_vec{n}", f"envpool_vec{n}", f"rust_vec{n}", f"rust_ceiling_n{n}"
                 out.append(
-                    f"| {name} | {n} | {f0(med(r.get(ev, [])))} | {f0(med(r.get(f'sync{n}', [])))} | "
-                    f"{f0(med(r.get(f'async{n}', [])))} | {f0(med(r.get(ep, [])))} | "
-                    f"{f0(med(r['rust_vec8'])) if n == 8 else '–'} | "
+                    f"| {name} | {n} | {f0(med(r.get(ev, [])))} | {f0(med(r.get(rv, [])))} | "
+                    f"{f2(paired(r, lambda a, b: a / b, ev, rv))} | {f2(paired(r, two, ev, rc))} | "
+                    f"{f2(paired(r, two, rv, rc))} | "
+                    f"{f0(med(r.get(f'sync{n}', [])))} | {f0(med(r.get(f'async{n}', [])))} | "
+                    f"{f0(med(r.get(ep, [])))} | {f2(paired(r, two, ep, rc))} | "
                     f"{f2(paired(r, lambda a, b: a / b, ev, ep))} | "
                     f"{f2(paired(r, lambda a, b, c: a / max(b, c), ev, f'sync{n}', f'async{n}'))} |")
     return "\n".join(out) + "\n"

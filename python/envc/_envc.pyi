@@ -307,8 +307,8 @@ class MazeCore(EnvCore):
 
 @final
 class VecCore:
-    """Many task envs stepped by Rust threads into numpy buffers filled in place
-    (`envc.EnvcVectorEnv` wraps it)."""
+    """Many task envs stepped by Rust threads, their batches and Gymnasium vector infos built
+    in Rust (`envc.EnvcVectorEnv` wraps it)."""
 
     def __new__(
         cls,
@@ -343,17 +343,18 @@ class VecCore:
     @numerics.setter
     def numerics(self, name: str) -> None: ...
     @property
-    def info_keys(self) -> list[tuple[str, int, int, bool]]: ...
-    @property
-    def buffers(self) -> dict[str, np.ndarray]: ...
-    @property
-    def generation(self) -> int:
-        """Bumped when a buffer the user made unusable was replaced: read `buffers` again."""
+    def bytes_per_env(self) -> tuple[int, int]:
+        """What each env costs in memory as estimated before making them (E1403): resident
+        and mapped bytes."""
     def reset(
-        self, seeds: list[int | None] | None = None, mask: list[bool] | None = None
-    ) -> None: ...
-    def step(self, actions: npt.NDArray[np.float64]) -> None: ...
-    def step_f32(self, actions: npt.NDArray[np.float32]) -> None: ...
+        self,
+        seeds: list[int | None] | None = None,
+        mask: list[bool] | None = None,
+        copy: bool = True,
+    ) -> tuple[_F64, dict[str, Any]]: ...
+    def step(
+        self, actions: npt.NDArray[np.float32] | npt.NDArray[np.float64], copy: bool = True
+    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]: ...
     def render(self, index: int, mode: str) -> Any:
         """A frame of env `index` in Gymnasium's `render_mode` (as `EnvCore.render`)."""
     def close(self) -> None: ...

@@ -53,9 +53,11 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
       reference); ``max_episode_steps=N`` overrides it, ``0`` turns it off.
 
     Actions are a ``(num_envs, act_dim)`` batch: float64 steps with float64 costs, float32 with
-    float32 costs as numpy computes them. The batch is written by Rust into numpy buffers
-    allocated once, with the GIL released while the threads step; ``copy=False`` returns the
-    observation buffer itself (overwritten by the next call) instead of a copy. Bad batches
+    float32 costs as numpy computes them; a C-contiguous float32 or float64 batch is read in
+    place by the threads (no copy), which step with the GIL released. Results and infos are
+    built in Rust. ``copy=True`` (Gymnasium's default) returns fresh arrays; ``copy=False``
+    returns the same arrays every call (observations, rewards, flags, each info key's values and
+    mask), owned by the env and overwritten by the next ``reset`` or ``step``. Bad batches
     (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` and any call after
     ``close`` raise ``RuntimeError``.
     """
@@ -99,9 +101,6 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         # call would meet it mid-step.
         self._busy = threading.Lock()
         self._core = core
-        self._buf = core.buffers
-        self._generation = core.generation
-        self._keys = core.info_keys
         self.copy = copy
         self.num_envs = int(num_envs)
         self.autoreset_mode = mode
@@ -183,15 +182,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         else:
             first = _errors.integer(seed, "seed", 0, 2**64 - self.num_envs + 1)
             seeds = [first + i for i in range(self.num_envs)]
-        self._core.reset(seeds, None if mask is None else mask.tolist())
-        self._refresh()
-        return self._obs(), self._infos(False, final=False)
-
-    def _refresh(self) -> None:
-        """Read the buffers again when the core replaced one (made read-only or resized)."""
-        if self._core.generation != self._generation:
-            self._buf = self._core.buffers
-            self._generation = self._core.generation
+        return self._core.reset(seeds, None if mask is None else mask.tolist(), bool(self.copy))
 
     def _check_mask(self, mask) -> np.ndarray:
         """A ``reset_mask`` as Gymnasium's vector envs check it."""
@@ -232,20 +223,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
                 f"error[E1101]: actions have shape {a.shape}; expected {self.action_space.shape}",
                 "E1101",
             )
-        f32 = a.dtype == np.float32
-        if f32:
-            self._core.step_f32(np.ascontiguousarray(a))
-        else:
-            self._core.step(np.ascontiguousarray(a, dtype=np.float64))
-        self._refresh()
-        b = self._buf
-        return (
-            self._obs(),
-            b["rewards"].copy(),
-            b["terminated"].copy(),
-            b["truncated"].copy(),
-            self._infos(f32),
-        )
+        return self._core.step(a, bool(self.copy))
 
     def render(self):
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
@@ -261,38 +239,6 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             # Waits for a call running in another thread, then closes.
             with self._busy:
                 core.close()
-
-    def _obs(self) -> np.ndarray:
-        obs = self._buf["obs"]
-        return obs.copy() if self.copy else obs
-
-    def _values(self, values: np.ndarray, k: int, f32: bool) -> np.ndarray:
-        """Info key k's values over envs (``(N,)`` or ``(N, len)``), a fresh array."""
-        _, off, n, is_f32 = self._keys[k]
-        v = values[off] if n == 1 else values[off : off + n].T
-        return np.ascontiguousarray(v, dtype=np.float32 if f32 and is_f32 else np.float64)
-
-    def _infos(self, f32: bool, final: bool = True) -> dict[str, Any]:
-        """The last call's infos in Gymnasium's vector form (``final``: SameStep's finals)."""
-        b = self._buf
-        info: dict[str, Any] = {}
-        mask = b["info_mask"]
-        for k, (name, *_rest) in enumerate(self._keys):
-            if mask[k].any():
-                info[name] = self._values(b["info"], k, f32)
-                info["_" + name] = mask[k].copy()
-        ended = b["has_final"]
-        if final and self.autoreset_mode == AutoresetMode.SAME_STEP and ended.any():
-            final_obs = np.full(self.num_envs, None, dtype=object)
-            for i in np.flatnonzero(ended):
-                final_obs[i] = b["final_obs"][i].copy()
-            final_info: dict[str, Any] = {}
-            for k, (name, *_rest) in enumerate(self._keys):
-                final_info[name] = self._values(b["final_info"], k, f32)
-                final_info["_" + name] = ended.copy()
-            info["final_obs"], info["_final_obs"] = final_obs, ended.copy()
-            info["final_info"], info["_final_info"] = final_info, ended.copy()
-        return info
 
 
 def make_vec(

@@ -1,18 +1,17 @@
-//! The core of a vector env: many task envs stepped by Rust threads into numpy batches.
+//! The core of a vector env: many task envs stepped by Rust threads, their batches handed to
+//! Python as numpy arrays and Gymnasium's vector info dicts built here, with no Python loop.
 //!
-//! The batch buffers are numpy arrays allocated once; every `reset` and `step` fills them in
-//! place (no Python object per env), the threads stepping with the GIL released. Infos are laid
-//! out key-major for Gymnasium's vector form: `info` is `[L, N]` (key k's values in rows
-//! `offset..offset + len`), `info_mask` is `[K, N]` (row k is the `_key` mask), values zero where
-//! an env did not report the key. SameStep's `final_obs` / `final_info` have the same layout,
-//! valid where `has_final`.
+//! `copy=True` (Gymnasium's default) returns fresh arrays each call. `copy=False` returns the
+//! same arrays every call, owned by the core and overwritten in place by the next `reset` or
+//! `step` (observations, rewards, flags, each info key's values and `_key` mask); a buffer the
+//! user made unusable (read-only, resized) is replaced by a fresh one. Infos are gathered
+//! key-major in Rust scratch space (key k's values env-major at `offset * N`), zero where an env
+//! did not report the key, as Gymnasium's `_add_info` leaves them.
 
-use numpy::ndarray::Dimension;
-use numpy::{
-    Element, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
-};
+use numpy::ndarray::IxDyn;
+use numpy::{Element, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString, PyTuple};
 
 use crate::convert;
 use crate::errors;
@@ -26,14 +25,27 @@ pub struct VecCore {
     /// Info key index of each step-info slot and of each reset-info slot.
     step_map: Vec<usize>,
     reset_map: Vec<usize>,
-    out: Buffers,
-    /// Bumped when a buffer is replaced (`Buffers::renew`): the Python layer then reads
-    /// `buffers` again.
-    generation: u64,
+    /// The last call's infos: values (`[L × N]`, key k env-major from `offset * N`), `_key`
+    /// masks (`[K × N]`), and SameStep's final infos (values only: their mask is `has_final`).
+    values: Vec<f64>,
+    mask: Vec<bool>,
+    final_values: Vec<f64>,
+    /// A float32 key's values, converted for the call.
+    f32_scratch: Vec<f32>,
+    /// `copy=False`'s arrays, by `Slot`.
+    f64_slots: Vec<Option<Py<PyArrayDyn<f64>>>>,
+    f32_slots: Vec<Option<Py<PyArrayDyn<f32>>>>,
+    bool_slots: Vec<Option<Py<PyArrayDyn<bool>>>>,
+    final_obs_key: Py<PyString>,
+    final_obs_mask_key: Py<PyString>,
+    final_info_key: Py<PyString>,
+    final_info_mask_key: Py<PyString>,
 }
 
 struct InfoKey {
-    name: String,
+    name: Py<PyString>,
+    /// `"_" + name`: the mask's key.
+    mask_name: Py<PyString>,
     offset: usize,
     len: usize,
     /// A float32 number when the step's actions are float32 (a float32 action cost, as numpy
@@ -41,16 +53,59 @@ struct InfoKey {
     f32_with_f32_actions: bool,
 }
 
-struct Buffers {
-    obs: Py<PyArray2<f64>>,
-    rewards: Py<PyArray1<f64>>,
-    terminated: Py<PyArray1<bool>>,
-    truncated: Py<PyArray1<bool>>,
-    info: Py<PyArray2<f64>>,
-    info_mask: Py<PyArray2<bool>>,
-    final_obs: Py<PyArray2<f64>>,
-    final_info: Py<PyArray2<f64>>,
-    has_final: Py<PyArray1<bool>>,
+/// Where `copy=False` keeps each array: `f64_slots` holds observations, rewards, then each key's
+/// values and final values; `bool_slots` the two flags, `has_final`, then each key's mask;
+/// `f32_slots` each key's float32 values and final values.
+#[derive(Clone, Copy)]
+enum Slot {
+    Obs,
+    Rewards,
+    Terminated,
+    Truncated,
+    HasFinal,
+    Value { key: usize, last: bool },
+    Mask(usize),
+}
+
+impl Slot {
+    fn index(self, nkeys: usize) -> usize {
+        match self {
+            Slot::Obs | Slot::Terminated => 0,
+            Slot::Rewards | Slot::Truncated => 1,
+            Slot::HasFinal => 2,
+            Slot::Value { key, last } => 2 + key + usize::from(last) * nkeys,
+            Slot::Mask(k) => 3 + k,
+        }
+    }
+}
+
+/// `data` as a numpy array of `shape`: fresh (`copy`), or written into the array kept in `slot`
+/// (made, or remade when the user left it unusable) and that array itself.
+fn out_array<'py, T: Element + Copy>(
+    py: Python<'py>,
+    slot: &mut Option<Py<PyArrayDyn<T>>>,
+    shape: &[usize],
+    data: &[T],
+    copy: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    if !copy && let Some(a) = slot.as_ref() {
+        let a = a.bind(py);
+        if a.shape() == shape
+            && let Ok(mut w) = a.try_readwrite()
+            && let Ok(dst) = w.as_slice_mut()
+        {
+            dst.copy_from_slice(data);
+            return Ok(a.clone().into_any());
+        }
+    }
+    // SAFETY: a fresh array of `shape`, C-contiguous, written here before anyone else sees it.
+    let a = unsafe { PyArrayDyn::<T>::new(py, IxDyn(shape), false) };
+    // SAFETY: as above; nothing else holds it.
+    unsafe { a.as_slice_mut() }?.copy_from_slice(data);
+    if !copy {
+        *slot = Some(a.clone().unbind());
+    }
+    Ok(a.into_any())
 }
 
 /// Whether info item `item` is a float32 action cost under float32 actions (see `Env::step_f32`).
@@ -104,96 +159,30 @@ fn closed() -> PyErr {
     errors::coded("E1103", "error[E1103]: the vector env is closed".into())
 }
 
-/// Replace `slot` with a fresh zeroed array of `shape` when the user made it unusable: read-only,
-/// resized, or no longer contiguous (`copy=False` hands the observation buffer itself out).
-/// Returns whether it was replaced.
-fn renew<T: Element, D: Dimension>(
-    py: Python<'_>,
-    slot: &mut Py<PyArray<T, D>>,
-    shape: &[usize],
-    fresh: impl FnOnce(Python<'_>) -> Bound<'_, PyArray<T, D>>,
-) -> bool {
-    let a = slot.bind(py);
-    let usable = a.shape() == shape && a.is_c_contiguous() && a.try_readwrite().is_ok();
-    if !usable {
-        *slot = fresh(py).unbind();
-    }
-    !usable
-}
-
-impl Buffers {
-    /// Every buffer usable for writing (see `renew`); true when one was replaced.
-    fn renew(&mut self, py: Python<'_>, n: usize, od: usize, nval: usize, nkeys: usize) -> bool {
-        let mut r = false;
-        r |= renew(py, &mut self.obs, &[n, od], |py| {
-            PyArray2::zeros(py, [n, od], false)
-        });
-        r |= renew(py, &mut self.rewards, &[n], |py| {
-            PyArray1::zeros(py, n, false)
-        });
-        r |= renew(py, &mut self.terminated, &[n], |py| {
-            PyArray1::zeros(py, n, false)
-        });
-        r |= renew(py, &mut self.truncated, &[n], |py| {
-            PyArray1::zeros(py, n, false)
-        });
-        r |= renew(py, &mut self.info, &[nval, n], |py| {
-            PyArray2::zeros(py, [nval, n], false)
-        });
-        r |= renew(py, &mut self.info_mask, &[nkeys, n], |py| {
-            PyArray2::zeros(py, [nkeys, n], false)
-        });
-        r |= renew(py, &mut self.final_obs, &[n, od], |py| {
-            PyArray2::zeros(py, [n, od], false)
-        });
-        r |= renew(py, &mut self.final_info, &[nval, n], |py| {
-            PyArray2::zeros(py, [nval, n], false)
-        });
-        r |= renew(py, &mut self.has_final, &[n], |py| {
-            PyArray1::zeros(py, n, false)
-        });
-        r
-    }
-}
-
 impl VecCore {
     fn env(&self) -> PyResult<&envc::VecEnv> {
         self.env.as_ref().ok_or_else(closed)
     }
 
-    /// Copy the batch of the last reset or step into the numpy buffers; infos only of the envs
-    /// in `only` (a masked reset), else of every env.
-    fn fill(&mut self, py: Python<'_>, only: Option<&[bool]>) -> PyResult<()> {
-        let (n, od) = {
-            let env = self.env()?;
-            (env.num_envs(), env.obs_dim())
-        };
-        let nval = self.keys.iter().map(|k| k.len).sum();
-        if self.out.renew(py, n, od, nval, self.keys.len()) {
-            self.generation += 1;
-        }
-        let env = self.env()?;
-        let b = &self.out;
-        let mut obs = b.obs.bind(py).readwrite();
-        obs.as_slice_mut()?.copy_from_slice(env.obs());
-        b.rewards
-            .bind(py)
-            .readwrite()
-            .as_slice_mut()?
-            .copy_from_slice(env.rewards());
-        b.terminated
-            .bind(py)
-            .readwrite()
-            .as_slice_mut()?
-            .copy_from_slice(env.terminated());
-        b.truncated
-            .bind(py)
-            .readwrite()
-            .as_slice_mut()?
-            .copy_from_slice(env.truncated());
-        let mut values = b.info.bind(py).readwrite();
-        let mut mask = b.info_mask.bind(py).readwrite();
-        let (values, mask) = (values.as_slice_mut()?, mask.as_slice_mut()?);
+    /// Gather the last call's infos into the scratch space: of the envs in `only` (a masked
+    /// reset), else of every env; and SameStep's final infos where an env ended.
+    fn gather(&mut self) -> PyResult<()> {
+        self.gather_only(None)
+    }
+
+    fn gather_only(&mut self, only: Option<&[bool]>) -> PyResult<()> {
+        let VecCore {
+            env,
+            keys,
+            step_map,
+            reset_map,
+            values,
+            mask,
+            final_values,
+            ..
+        } = self;
+        let env = env.as_ref().ok_or_else(closed)?;
+        let n = env.num_envs();
         values.fill(0.0);
         mask.fill(false);
         for (i, e) in env.envs().iter().enumerate() {
@@ -202,52 +191,171 @@ impl VecCore {
             }
             // As `VecEnv::info`: an (auto)reset leaves the env at 0 elapsed steps.
             let (info, map) = if e.elapsed_steps() == 0 {
-                (e.reset_info(), &self.reset_map)
+                (e.reset_info(), &*reset_map)
             } else {
-                (e.step_info(), &self.step_map)
+                (e.step_info(), &*step_map)
             };
-            self.write_info(info, map, n, i, values, Some(mask));
+            write_info(keys, info, map, n, i, values, Some(mask));
         }
         let has_final = env.has_final();
-        b.has_final
-            .bind(py)
-            .readwrite()
-            .as_slice_mut()?
-            .copy_from_slice(has_final);
-        if has_final.iter().any(|&h| h) {
-            let od = env.obs_dim();
-            let mut fo = b.final_obs.bind(py).readwrite();
-            let mut fi = b.final_info.bind(py).readwrite();
-            let (fo, fi) = (fo.as_slice_mut()?, fi.as_slice_mut()?);
-            fi.fill(0.0);
+        if only.is_none() && has_final.iter().any(|&h| h) {
+            final_values.fill(0.0);
             for i in (0..n).filter(|&i| has_final[i]) {
-                fo[i * od..(i + 1) * od].copy_from_slice(&env.final_obs()[i * od..(i + 1) * od]);
                 if let Some(info) = env.final_info(i) {
-                    self.write_info(info, &self.step_map, n, i, fi, None);
+                    write_info(keys, info, step_map, n, i, final_values, None);
                 }
             }
         }
         Ok(())
     }
 
-    fn write_info(
-        &self,
-        info: envc::Info<'_>,
-        map: &[usize],
-        n: usize,
-        i: usize,
-        values: &mut [f64],
-        mut mask: Option<&mut [bool]>,
-    ) {
-        for ((_, v), &k) in info.iter().zip(map) {
-            let key = &self.keys[k];
-            for (t, &x) in v.iter().enumerate().take(key.len) {
-                values[(key.offset + t) * n + i] = x;
-            }
-            if let Some(m) = mask.as_deref_mut() {
-                m[k * n + i] = true;
-            }
+    /// Key k's values over envs as Gymnasium gives them: `(N,)` or `(N, len)`, float32 where
+    /// `f32` and the key is a float32 action cost.
+    fn value_array<'py>(
+        &mut self,
+        py: Python<'py>,
+        k: usize,
+        last: bool,
+        f32: bool,
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.mask.len() / self.keys.len().max(1);
+        let key = &self.keys[k];
+        let (off, len) = (key.offset * n, key.len * n);
+        let shape: &[usize] = if key.len == 1 { &[n] } else { &[n, key.len] };
+        let src = if last {
+            &self.final_values[off..off + len]
+        } else {
+            &self.values[off..off + len]
+        };
+        let slot = Slot::Value { key: k, last }.index(self.keys.len());
+        if f32 && key.f32_with_f32_actions {
+            self.f32_scratch.clear();
+            // Exact: the value was computed in float32.
+            self.f32_scratch.extend(src.iter().map(|&x| x as f32));
+            out_array(
+                py,
+                &mut self.f32_slots[slot],
+                shape,
+                &self.f32_scratch,
+                copy,
+            )
+        } else {
+            out_array(py, &mut self.f64_slots[slot], shape, src, copy)
         }
+    }
+
+    /// The last call's infos in Gymnasium's vector form; `finals`: SameStep's `final_obs` and
+    /// `final_info` where an env ended.
+    fn info<'py>(
+        &mut self,
+        py: Python<'py>,
+        f32: bool,
+        copy: bool,
+        finals: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let info = PyDict::new(py);
+        let nkeys = self.keys.len();
+        let n = self.env()?.num_envs();
+        for k in 0..nkeys {
+            let m = &self.mask[k * n..(k + 1) * n];
+            if !m.iter().any(|&b| b) {
+                continue;
+            }
+            let v = self.value_array(py, k, false, f32, copy)?;
+            info.set_item(self.keys[k].name.bind(py), v)?;
+            let slot = &mut self.bool_slots[Slot::Mask(k).index(nkeys)];
+            let m = out_array(py, slot, &[n], &self.mask[k * n..(k + 1) * n], copy)?;
+            info.set_item(self.keys[k].mask_name.bind(py), m)?;
+        }
+        let env = self.env.as_ref().ok_or_else(closed)?;
+        if !finals
+            || env.autoreset() != envc::Autoreset::SameStep
+            || !env.has_final().iter().any(|&h| h)
+        {
+            return Ok(info);
+        }
+        // Gymnasium's form: an object array with each ended env's observation, None elsewhere.
+        let od = env.obs_dim();
+        let (has_final, final_obs) = (env.has_final(), env.final_obs());
+        let rows = (0..n)
+            .map(|i| {
+                if has_final[i] {
+                    PyArray1::from_slice(py, &final_obs[i * od..(i + 1) * od])
+                        .into_any()
+                        .unbind()
+                } else {
+                    py.None()
+                }
+            })
+            .collect::<Vec<_>>();
+        let ended = has_final.to_vec();
+        let final_obs = PyArray1::from_vec(py, rows);
+        let slot = Slot::HasFinal.index(nkeys);
+        let ended_array =
+            |core: &mut VecCore| out_array(py, &mut core.bool_slots[slot], &[n], &ended, copy);
+        let final_info = PyDict::new(py);
+        for k in 0..nkeys {
+            let v = self.value_array(py, k, true, f32, copy)?;
+            let (name, mask_name) = (
+                self.keys[k].name.clone_ref(py),
+                self.keys[k].mask_name.clone_ref(py),
+            );
+            final_info.set_item(name, v)?;
+            final_info.set_item(mask_name, ended_array(self)?)?;
+        }
+        info.set_item(self.final_obs_key.bind(py), final_obs)?;
+        let mask_key = self.final_obs_mask_key.clone_ref(py);
+        info.set_item(mask_key, ended_array(self)?)?;
+        info.set_item(self.final_info_key.bind(py), final_info)?;
+        let mask_key = self.final_info_mask_key.clone_ref(py);
+        info.set_item(mask_key, ended_array(self)?)?;
+        Ok(info)
+    }
+
+    /// The observation batch as numpy (`copy`: a fresh array, else the kept one).
+    fn obs<'py>(&mut self, py: Python<'py>, copy: bool) -> PyResult<Bound<'py, PyAny>> {
+        let env = self.env.as_ref().ok_or_else(closed)?;
+        let shape = [env.num_envs(), env.obs_dim()];
+        let slot = &mut self.f64_slots[Slot::Obs.index(self.keys.len())];
+        out_array(py, slot, &shape, env.obs(), copy)
+    }
+
+    /// `(obs, rewards, terminated, truncated, info)` of the last step.
+    fn step_result<'py>(
+        &mut self,
+        py: Python<'py>,
+        f32: bool,
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        self.gather()?;
+        let nkeys = self.keys.len();
+        let obs = self.obs(py, copy)?;
+        let env = self.env.as_ref().ok_or_else(closed)?;
+        let n = env.num_envs();
+        let rewards = out_array(
+            py,
+            &mut self.f64_slots[Slot::Rewards.index(nkeys)],
+            &[n],
+            env.rewards(),
+            copy,
+        )?;
+        let terminated = out_array(
+            py,
+            &mut self.bool_slots[Slot::Terminated.index(nkeys)],
+            &[n],
+            env.terminated(),
+            copy,
+        )?;
+        let truncated = out_array(
+            py,
+            &mut self.bool_slots[Slot::Truncated.index(nkeys)],
+            &[n],
+            env.truncated(),
+            copy,
+        )?;
+        let info = self.info(py, f32, copy, true)?;
+        PyTuple::new(py, [obs, rewards, terminated, truncated, info.into_any()])
     }
 
     /// After a panic: every env needs a reset before the next step.
@@ -270,6 +378,46 @@ impl VecCore {
             ));
         }
         Ok(())
+    }
+
+    /// One step over a checked batch, with the GIL released; the result tuple.
+    fn step_batch<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: envc::JointAction<'_>,
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let f32 = matches!(actions, envc::JointAction::F32(_));
+        errors::no_panic(
+            self,
+            |core| {
+                step_interruptible(py, core, actions)?;
+                core.step_result(py, f32, copy)
+            },
+            VecCore::require_reset,
+        )
+    }
+}
+
+/// Write env i's `info` (its slots mapped to keys by `map`) into the key-major `values`, and
+/// mark the keys in `mask`.
+fn write_info(
+    keys: &[InfoKey],
+    info: envc::Info<'_>,
+    map: &[usize],
+    n: usize,
+    i: usize,
+    values: &mut [f64],
+    mut mask: Option<&mut [bool]>,
+) {
+    for ((_, v), &k) in info.iter().zip(map) {
+        let key = &keys[k];
+        let at = key.offset * n + i * key.len;
+        let len = key.len.min(v.len());
+        values[at..at + len].copy_from_slice(&v[..len]);
+        if let Some(m) = mask.as_deref_mut() {
+            m[k * n + i] = true;
+        }
     }
 }
 
@@ -308,12 +456,13 @@ impl VecCore {
             },
             |_| {},
         )?;
-        let spec = env.spec().expect("num_envs ≥ 1").clone();
+        let spec = env.spec().ok_or_else(closed)?.clone();
         let mut keys = Vec::new();
         let mut offset = 0;
         for item in &spec.info {
             keys.push(InfoKey {
-                name: item.key.clone(),
+                name: PyString::intern(py, &item.key).unbind(),
+                mask_name: PyString::new(py, &format!("_{}", item.key)).unbind(),
                 offset,
                 len: item.len,
                 f32_with_f32_actions: f32_cost(&spec, item),
@@ -322,43 +471,46 @@ impl VecCore {
         }
         let index = |name: &str| {
             keys.iter()
-                .position(|k| k.name == name)
-                .expect("a spec info key")
+                .position(|k| k.name.bind(py).to_str().is_ok_and(|s| s == name))
+                .ok_or_else(|| {
+                    errors::argument(format!("info key {name:?} is not among the spec's"))
+                })
         };
         let e0 = &env.envs()[0];
-        let step_map = e0.step_info().keys().map(index).collect();
-        let reset_map = e0.reset_info().keys().map(index).collect();
-        let (n, od) = (num_envs, env.obs_dim());
-        let out = Buffers {
-            obs: PyArray2::zeros(py, [n, od], false).unbind(),
-            rewards: PyArray1::zeros(py, n, false).unbind(),
-            terminated: PyArray1::zeros(py, n, false).unbind(),
-            truncated: PyArray1::zeros(py, n, false).unbind(),
-            info: PyArray2::zeros(py, [offset, n], false).unbind(),
-            info_mask: PyArray2::zeros(py, [keys.len(), n], false).unbind(),
-            final_obs: PyArray2::zeros(py, [n, od], false).unbind(),
-            final_info: PyArray2::zeros(py, [offset, n], false).unbind(),
-            has_final: PyArray1::zeros(py, n, false).unbind(),
-        };
+        let step_map = e0.step_info().keys().map(index).collect::<PyResult<_>>()?;
+        let reset_map = e0.reset_info().keys().map(index).collect::<PyResult<_>>()?;
+        let n = num_envs;
+        let nkeys = keys.len();
         Ok(VecCore {
             env: Some(env),
-            keys,
             step_map,
             reset_map,
-            out,
-            generation: 0,
+            values: vec![0.0; offset * n],
+            mask: vec![false; nkeys * n],
+            final_values: vec![0.0; offset * n],
+            f32_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
+            f64_slots: (0..2 + 2 * nkeys).map(|_| None).collect(),
+            f32_slots: (0..2 + 2 * nkeys).map(|_| None).collect(),
+            bool_slots: (0..3 + nkeys).map(|_| None).collect(),
+            keys,
+            final_obs_key: PyString::intern(py, "final_obs").unbind(),
+            final_obs_mask_key: PyString::intern(py, "_final_obs").unbind(),
+            final_info_key: PyString::intern(py, "final_info").unbind(),
+            final_info_mask_key: PyString::intern(py, "_final_info").unbind(),
         })
     }
 
     /// Reset every env, or those where `mask` is true: `seeds` is one seed (or `None`) per
-    /// env, or `None` to continue every env's stream. Fills the buffers.
-    #[pyo3(signature = (seeds = None, mask = None))]
-    fn reset(
+    /// env, or `None` to continue every env's stream. Returns `(obs, info)`; `copy=False`
+    /// returns the core's own arrays, overwritten by the next call.
+    #[pyo3(signature = (seeds = None, mask = None, copy = true))]
+    fn reset<'py>(
         &mut self,
-        py: Python<'_>,
+        py: Python<'py>,
         seeds: Option<Vec<Option<u64>>>,
         mask: Option<Vec<bool>>,
-    ) -> PyResult<()> {
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let n = self.env()?.num_envs();
         let seeds = seeds.unwrap_or_else(|| vec![None; n]);
         if seeds.len() != n || mask.as_ref().is_some_and(|m| m.len() != n) {
@@ -381,38 +533,57 @@ impl VecCore {
                             .map_err(errors::env_error)?;
                     }
                 }
-                core.fill(py, mask.as_deref())
+                core.gather_only(Some(mask.as_deref().unwrap_or(&vec![true; n])))?;
+                let obs = core.obs(py, copy)?;
+                let info = core.info(py, false, copy, false)?;
+                PyTuple::new(py, [obs, info.into_any()])
             },
             VecCore::require_reset,
         )
     }
 
-    /// Step with a float64 `(num_envs, act_dim)` C-contiguous batch; fills the buffers.
-    fn step(&mut self, py: Python<'_>, actions: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        self.check_batch(actions.shape())?;
-        let a = actions.as_slice()?;
-        errors::no_panic(
-            self,
-            |core| {
-                step_interruptible(py, core, envc::JointAction::F64(a))?;
-                core.fill(py, None)
-            },
-            VecCore::require_reset,
-        )
-    }
-
-    /// Step with a float32 batch (float32 action costs, as numpy computes them).
-    fn step_f32(&mut self, py: Python<'_>, actions: PyReadonlyArray2<'_, f32>) -> PyResult<()> {
-        self.check_batch(actions.shape())?;
-        let a = actions.as_slice()?;
-        errors::no_panic(
-            self,
-            |core| {
-                step_interruptible(py, core, envc::JointAction::F32(a))?;
-                core.fill(py, None)
-            },
-            VecCore::require_reset,
-        )
+    /// Step with a `(num_envs, act_dim)` float32 or float64 batch: `(obs, rewards, terminated,
+    /// truncated, info)`. A C-contiguous batch is read in place; float32 steps with float32
+    /// action costs, as numpy computes them. `copy` as for `reset`.
+    #[pyo3(signature = (actions, copy = true))]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: &Bound<'py, PyAny>,
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        if let Ok(a) = actions.cast::<PyArray2<f32>>() {
+            let a = a.try_readonly().map_err(errors::argument)?;
+            self.check_batch(a.shape())?;
+            // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
+            return match a.as_slice() {
+                Ok(s) if a.is_c_contiguous() => {
+                    self.step_batch(py, envc::JointAction::F32(s), copy)
+                }
+                _ => {
+                    let rows = a.as_array().iter().copied().collect::<Vec<f32>>();
+                    self.step_batch(py, envc::JointAction::F32(&rows), copy)
+                }
+            };
+        }
+        if let Ok(a) = actions.cast::<PyArray2<f64>>() {
+            let a = a.try_readonly().map_err(errors::argument)?;
+            self.check_batch(a.shape())?;
+            // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
+            return match a.as_slice() {
+                Ok(s) if a.is_c_contiguous() => {
+                    self.step_batch(py, envc::JointAction::F64(s), copy)
+                }
+                _ => {
+                    let rows = a.as_array().iter().copied().collect::<Vec<f64>>();
+                    self.step_batch(py, envc::JointAction::F64(&rows), copy)
+                }
+            };
+        }
+        Err(errors::coded(
+            "E1101",
+            "error[E1101]: actions must be a 2-D float32 or float64 numpy array".into(),
+        ))
     }
 
     /// A frame of env `index` in Gymnasium's `render_mode` (each env has its own renderer).
@@ -432,38 +603,12 @@ impl VecCore {
         self.env = None;
     }
 
-    /// The numpy buffers the batches are written into, by name: `obs`, `rewards`,
-    /// `terminated`, `truncated`, `info`, `info_mask`, `final_obs`, `final_info`, `has_final`.
+    /// What each env costs in memory as envc estimated it before making them (error E1403):
+    /// `(resident bytes, mapped bytes)`.
     #[getter]
-    fn buffers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let b = &self.out;
-        d.set_item("obs", b.obs.bind(py))?;
-        d.set_item("rewards", b.rewards.bind(py))?;
-        d.set_item("terminated", b.terminated.bind(py))?;
-        d.set_item("truncated", b.truncated.bind(py))?;
-        d.set_item("info", b.info.bind(py))?;
-        d.set_item("info_mask", b.info_mask.bind(py))?;
-        d.set_item("final_obs", b.final_obs.bind(py))?;
-        d.set_item("final_info", b.final_info.bind(py))?;
-        d.set_item("has_final", b.has_final.bind(py))?;
-        Ok(d)
-    }
-
-    /// Bumped whenever a buffer the user made read-only or resized is replaced by a fresh one:
-    /// read `buffers` again then.
-    #[getter]
-    fn generation(&self) -> u64 {
-        self.generation
-    }
-
-    /// The info keys: `(name, offset, len, float32 under float32 actions)`, in spec order.
-    #[getter]
-    fn info_keys(&self) -> Vec<(String, usize, usize, bool)> {
-        self.keys
-            .iter()
-            .map(|k| (k.name.clone(), k.offset, k.len, k.f32_with_f32_actions))
-            .collect()
+    fn bytes_per_env(&self) -> PyResult<(u64, u64)> {
+        let f = self.env()?.footprint_per_env();
+        Ok((f.resident, f.mapped))
     }
     #[getter]
     fn num_envs(&self) -> PyResult<usize> {

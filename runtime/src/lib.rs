@@ -54,7 +54,7 @@ pub mod typed;
 pub mod vector;
 
 pub use any_env::{AnyEnv, open};
-pub use env::{BoxSpace, Env, Info, Step, Unhealthy};
+pub use env::{BoxSpace, Env, Footprint, Info, Step, Unhealthy};
 /// A typed env from a spec, checked at compile time: `envc::env!("specs/my_robot.toml")`.
 pub use envc_codegen::env;
 /// Typed per-agent types for one conf of a multi-agent spec: `envc::multi_agent_env!(pub Name = "specs/mamujoco/ant.toml", agent_conf = "2x4")`.

@@ -18,8 +18,8 @@
 //! or on which thread ran which env.
 
 use std::any::Any;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::*};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -43,6 +43,14 @@ pub enum Autoreset {
 /// development VM, more than a whole cheap env step.
 const SPIN: Duration = Duration::from_micros(50);
 
+/// Observation rows per env a caller may hold beyond the vector's own two (see `VecEnv::per_env`):
+/// the Python binding returns fresh arrays (the last two alive at once), and Gymnasium's batched
+/// observation space holds low and high bounds and two masks over the whole batch.
+const CALLER_OBS_ROWS: usize = 6;
+
+/// Address space a worker thread maps (its stack, guard page and thread-local data).
+const THREAD_MAPPED_BYTES: u64 = 8 << 20;
+
 /// How often an interruptible step ([`VecEnv::step_interruptible`]) asks whether to stop: often
 /// enough that Ctrl-C lands well within a second, rarely enough to cost nothing measurable.
 const POLL: Duration = Duration::from_millis(50);
@@ -58,13 +66,14 @@ pub enum Stepped {
     Interrupted,
 }
 
-/// Raw views of the env array and batch buffers. Fixed at construction: the buffers are never
-/// resized, so the pointers stay valid while the `VecEnv` lives, however it moves.
+/// Raw views of the env array and batch buffers. Fixed at construction (the buffers are never
+/// resized, so the pointers stay valid while the `VecEnv` lives, however it moves), but for the
+/// action batch: the caller's own rows, borrowed for one step (no copy), null between steps.
 struct Job {
     envs: *mut Env,
-    actions: *const f64,
+    actions: AtomicPtr<f64>,
     /// The float32 rows of [`VecEnv::step_f32`] (the same layout as `actions`).
-    actions_f32: *const f32,
+    actions_f32: AtomicPtr<f32>,
     obs: *mut f64,
     rewards: *mut f64,
     terminated: *mut bool,
@@ -207,6 +216,11 @@ const _: () = {
     send::<Env>();
 };
 
+/// The pool's lock guards no data, so a poisoned one is as good as any.
+fn relock(lock: &Mutex<()>) -> MutexGuard<'_, ()> {
+    lock.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
 fn splitmix(mut x: u64) -> u64 {
     x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
     x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -243,12 +257,16 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
         *pending = false;
         return Ok(());
     }
+    // The batch was published before `next` was reset for this step (`VecEnv::run`), and the
+    // claim of index i read that reset.
     let action = if f32_actions {
-        // SAFETY: as above; `actions_f32` holds n × act_dim numbers.
-        JointAction::F32(unsafe { std::slice::from_raw_parts(job.actions_f32.add(i * ad), ad) })
+        let a = job.actions_f32.load(Relaxed);
+        // SAFETY: as above; the borrowed batch holds n × act_dim numbers and outlives the step.
+        JointAction::F32(unsafe { std::slice::from_raw_parts(a.add(i * ad), ad) })
     } else {
-        // SAFETY: as above; `actions` holds n × act_dim numbers.
-        JointAction::F64(unsafe { std::slice::from_raw_parts(job.actions.add(i * ad), ad) })
+        let a = job.actions.load(Relaxed);
+        // SAFETY: as above.
+        JointAction::F64(unsafe { std::slice::from_raw_parts(a.add(i * ad), ad) })
     };
     let s = env.step_joint(action)?;
     *reward = s.reward;
@@ -284,8 +302,6 @@ pub struct VecEnv {
     // Written only through the `Job` pointers (`Vec::as_mut_ptr` keeps them valid alongside
     // reads through the Vecs); never resized.
     envs: Vec<Env>,
-    actions: Vec<f64>,
-    actions_f32: Vec<f32>,
     obs: Vec<f64>,
     rewards: Vec<f64>,
     terminated: Vec<bool>,
@@ -294,6 +310,8 @@ pub struct VecEnv {
     has_final: Vec<bool>,
     pending: Vec<bool>,
     has_reset: bool,
+    /// What each env costs in memory, as checked at construction.
+    per_env: crate::env::Footprint,
     /// The process that started the workers (a forked child has none to join).
     pid: u32,
 }
@@ -357,6 +375,79 @@ impl VecEnv {
         Ok(())
     }
 
+    /// What each env costs: its own footprint and its rows of the batch buffers (observations
+    /// twice here, and [`CALLER_OBS_ROWS`] times more for a caller that copies the batch out).
+    fn per_env(first: &Env) -> crate::env::Footprint {
+        let spec = first.spec();
+        let rows = ((2 + CALLER_OBS_ROWS) * spec.obs_dim * 8 + spec.act_dim() * 12 + 64) as u64;
+        let f = first.footprint();
+        crate::env::Footprint {
+            resident: f.resident.saturating_add(rows),
+            mapped: f.mapped.saturating_add(rows),
+        }
+    }
+
+    /// E1403: `num_envs` envs of `per_env` each do not fit in the memory left, or in the
+    /// address space `ulimit -v` leaves.
+    fn check_memory(
+        id: &str,
+        num_envs: usize,
+        threads: usize,
+        per_env: crate::env::Footprint,
+    ) -> Result<(), EnvError> {
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+        let budget = crate::memory::budget();
+        let n = num_envs as u64;
+        let resident = per_env.resident.saturating_mul(n);
+        // Each worker thread maps its stack.
+        let mapped = per_env
+            .mapped
+            .saturating_mul(n)
+            .saturating_add(threads.min(num_envs) as u64 * THREAD_MAPPED_BYTES);
+        let refuse = |need: u64, each: u64, free: u64, what: &str| EnvError::TooLarge {
+            env: id.to_string(),
+            what: format!(
+                "{num_envs} envs need about {:.1} GiB of {what} ({:.2} MiB each), and {:.1} GiB is available; use fewer envs",
+                gib(need),
+                mib(each),
+                gib(free)
+            ),
+        };
+        if let Some(free) = budget.memory
+            && resident > free
+        {
+            return Err(refuse(resident, per_env.resident, free, "memory"));
+        }
+        if let Some(free) = budget.address_space
+            && mapped > free
+        {
+            return Err(refuse(
+                mapped,
+                per_env.mapped,
+                free,
+                "address space under this process's limit (ulimit -v or the kernel's commit limit)",
+            ));
+        }
+        if let Some(cap) = budget.mapped_cap
+            && mapped > cap
+        {
+            return Err(refuse(
+                mapped,
+                per_env.mapped,
+                cap,
+                "address space, mostly MuJoCo arenas (at most 8 times the machine's memory and swap may be mapped)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// What each env of this vector costs in memory, as [`VecEnv::make`] checked it before
+    /// making them (resident and mapped bytes).
+    pub fn footprint_per_env(&self) -> crate::env::Footprint {
+        self.per_env
+    }
+
     /// `num_envs` envs sharing the model of `first` (which is the first of them).
     pub fn from_env(
         first: Env,
@@ -380,28 +471,9 @@ impl VecEnv {
             ));
         }
         VecEnv::check_count(&spec, num_envs)?;
-        let too_large = |what: String| EnvError::TooLarge {
-            env: spec.id.clone(),
-            what,
-        };
-        // Each env holds an mjData (its buffer and arena): refuse before allocating them all
-        // rather than fail (or be killed) part-way.
-        // The env's mjData and rings, and its rows of the batch buffers (observations twice,
-        // actions in both precisions).
-        let per_env = first
-            .memory_bytes()
-            .saturating_add((2 * spec.obs_dim * 8 + spec.act_dim() * 12 + 64) as u64);
-        if let Some(free) = crate::memory::available() {
-            let need = per_env.saturating_mul(num_envs as u64);
-            if need > free {
-                return Err(too_large(format!(
-                    "{num_envs} envs need about {:.1} GiB of memory ({:.1} MiB each), and {:.1} GiB is available; use fewer envs",
-                    need as f64 / (1u64 << 30) as f64,
-                    per_env as f64 / (1u64 << 20) as f64,
-                    free as f64 / (1u64 << 30) as f64
-                )));
-            }
-        }
+        // Refuse before allocating them all rather than fail (or be killed) part-way.
+        let per_env = VecEnv::per_env(&first);
+        VecEnv::check_memory(&spec.id, num_envs, threads, per_env)?;
         let envs = std::iter::once(Ok(first))
             .chain((1..num_envs).map(|_| Env::with_model(Arc::clone(&spec), Arc::clone(&model))))
             .collect::<Result<Vec<Env>, _>>()?;
@@ -410,8 +482,8 @@ impl VecEnv {
             shared: Arc::new(Shared {
                 job: Job {
                     envs: std::ptr::null_mut(),
-                    actions: std::ptr::null(),
-                    actions_f32: std::ptr::null(),
+                    actions: AtomicPtr::new(std::ptr::null_mut()),
+                    actions_f32: AtomicPtr::new(std::ptr::null_mut()),
                     obs: std::ptr::null_mut(),
                     rewards: std::ptr::null_mut(),
                     terminated: std::ptr::null_mut(),
@@ -440,8 +512,6 @@ impl VecEnv {
             }),
             workers: vec![],
             envs,
-            actions: vec![0.0; n * ad],
-            actions_f32: vec![0.0; n * ad],
             obs: vec![0.0; n * od],
             rewards: vec![0.0; n],
             terminated: vec![false; n],
@@ -450,13 +520,12 @@ impl VecEnv {
             has_final: vec![false; n],
             pending: vec![false; n],
             has_reset: false,
+            per_env,
             pid: std::process::id(),
         };
         // The Arc was just created and no worker holds it yet.
         let job = &mut Arc::get_mut(&mut v.shared).expect("unshared").job;
         job.envs = v.envs.as_mut_ptr();
-        job.actions = v.actions.as_mut_ptr();
-        job.actions_f32 = v.actions_f32.as_mut_ptr();
         job.obs = v.obs.as_mut_ptr();
         job.rewards = v.rewards.as_mut_ptr();
         job.terminated = v.terminated.as_mut_ptr();
@@ -581,33 +650,17 @@ impl VecEnv {
     }
 
     /// Step every env with its row of `actions` (`num_envs × act_dim`, env-major). On return the
-    /// batch buffers hold the results.
+    /// batch buffers hold the results. The rows are read in place, not copied.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F64(actions))?;
-        // SAFETY: no step is running; the buffer has exactly actions.len() entries.
-        unsafe {
-            std::ptr::copy_nonoverlapping(
-                actions.as_ptr(),
-                self.shared.job.actions as *mut f64,
-                actions.len(),
-            )
-        };
-        self.run(false, None).map(|_| ())
+        self.run(JointAction::F64(actions), None).map(|_| ())
     }
 
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
     /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
     pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F32(actions))?;
-        // SAFETY: as in `step`.
-        unsafe {
-            std::ptr::copy_nonoverlapping(
-                actions.as_ptr(),
-                self.shared.job.actions_f32 as *mut f32,
-                actions.len(),
-            )
-        };
-        self.run(true, None).map(|_| ())
+        self.run(JointAction::F32(actions), None).map(|_| ())
     }
 
     /// [`VecEnv::step`] or [`VecEnv::step_f32`] that asks `interrupted` about every 50 ms,
@@ -619,23 +672,7 @@ impl VecEnv {
         interrupted: &mut dyn FnMut() -> bool,
     ) -> Result<Stepped, EnvError> {
         self.check_actions(actions)?;
-        // SAFETY: as in `step`: no step is running, and each buffer has the batch's length.
-        unsafe {
-            match actions {
-                JointAction::F64(a) => std::ptr::copy_nonoverlapping(
-                    a.as_ptr(),
-                    self.shared.job.actions as *mut f64,
-                    a.len(),
-                ),
-                JointAction::F32(a) => std::ptr::copy_nonoverlapping(
-                    a.as_ptr(),
-                    self.shared.job.actions_f32 as *mut f32,
-                    a.len(),
-                ),
-            }
-        };
-        let f32_actions = matches!(actions, JointAction::F32(_));
-        let stepped = self.run(f32_actions, Some(interrupted))?;
+        let stepped = self.run(actions, Some(interrupted))?;
         if stepped == Stepped::Interrupted {
             self.has_reset = false;
         }
@@ -645,19 +682,26 @@ impl VecEnv {
     /// Checked before any env moves, so a bad action fails the whole batch.
     fn check_actions(&self, actions: JointAction<'_>) -> Result<(), EnvError> {
         let id = self.spec().map(|s| s.id.as_str()).unwrap_or_default();
-        crate::joint_env::check_action(id, self.actions.len(), actions, || {
+        let len = self.shared.job.n * self.shared.job.act_dim;
+        crate::joint_env::check_action(id, len, actions, || {
             (!self.has_reset).then_some(EnvError::NotReset)
         })
     }
 
-    /// Run one step of every env over the action buffer just written.
+    /// Run one step of every env over `actions` (checked), borrowed until every env is done.
     fn run(
         &mut self,
-        f32_actions: bool,
+        actions: JointAction<'_>,
         mut poll: Option<&mut dyn FnMut() -> bool>,
     ) -> Result<Stepped, EnvError> {
         let s = &*self.shared;
-        s.action_f32.store(f32_actions, SeqCst);
+        // Published by the `next` store below; the threads only read through these pointers.
+        match actions {
+            JointAction::F64(a) => s.job.actions.store(a.as_ptr().cast_mut(), SeqCst),
+            JointAction::F32(a) => s.job.actions_f32.store(a.as_ptr().cast_mut(), SeqCst),
+        }
+        s.action_f32
+            .store(matches!(actions, JointAction::F32(_)), SeqCst);
         s.cancel.store(false, SeqCst);
         s.done.store(0, SeqCst);
         s.next.store(0, SeqCst);
@@ -670,6 +714,9 @@ impl VecEnv {
         }
         s.work(poll.as_mut().map(|p| &mut **p as &mut dyn FnMut() -> bool));
         self.wait_done(poll);
+        // Every env is done (or skipped): nothing reads the borrowed batch any more.
+        s.job.actions.store(std::ptr::null_mut(), SeqCst);
+        s.job.actions_f32.store(std::ptr::null_mut(), SeqCst);
         let failure = s.failure.lock().ok().and_then(|mut f| f.take());
         match failure {
             None if s.cancel.load(SeqCst) => Ok(Stepped::Interrupted),
@@ -680,7 +727,8 @@ impl VecEnv {
     }
 
     /// Wait for the workers' last envs; `poll` is asked every [`POLL`] meanwhile (a stop skips
-    /// the envs nobody has claimed yet; the ones running finish).
+    /// the envs nobody has claimed yet; the ones running finish). Returns only once every env
+    /// is done: the threads read the caller's borrowed action batch until then.
     fn wait_done(&self, mut poll: Option<&mut dyn FnMut() -> bool>) {
         let s = &*self.shared;
         let n = s.job.n;
@@ -690,34 +738,26 @@ impl VecEnv {
             std::hint::spin_loop();
             spins += 1;
             if spins.is_multiple_of(64) && start.elapsed() > SPIN {
-                let Ok(mut g) = s.lock.lock() else { return };
+                let mut g = relock(&s.lock);
                 s.caller_asleep.store(true, SeqCst);
                 while s.done.load(SeqCst) < n {
                     let Some(p) = poll.as_mut() else {
-                        g = match s.finished.wait(g) {
-                            Ok(g) => g,
-                            Err(_) => break,
-                        };
+                        g = s.finished.wait(g).unwrap_or_else(PoisonError::into_inner);
                         continue;
                     };
-                    let timed_out = match s.finished.wait_timeout(g, POLL) {
-                        Ok((g2, t)) => {
-                            g = g2;
-                            t.timed_out()
-                        }
-                        Err(_) => break,
-                    };
-                    if timed_out && s.done.load(SeqCst) < n {
+                    let (g2, t) = s
+                        .finished
+                        .wait_timeout(g, POLL)
+                        .unwrap_or_else(PoisonError::into_inner);
+                    g = g2;
+                    if t.timed_out() && s.done.load(SeqCst) < n {
                         // Asked without the lock: a worker finishing meanwhile must not wait on
                         // the caller's check (which takes Python's GIL in the binding).
                         drop(g);
                         if p() {
                             s.cancel.store(true, SeqCst);
                         }
-                        g = match s.lock.lock() {
-                            Ok(g) => g,
-                            Err(_) => break,
-                        };
+                        g = relock(&s.lock);
                     }
                 }
                 s.caller_asleep.store(false, SeqCst);
