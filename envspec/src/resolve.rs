@@ -1265,51 +1265,8 @@ impl Ctx<'_> {
             }
             let n = target.len();
             let kind = s.kind("");
-            let dist = match kind {
-                "uniform" => {
-                    if let Some(scale) = s.get("scale") {
-                        let Some(sc) = self.num(scale, "scale") else {
-                            continue;
-                        };
-                        Distribution::Uniform {
-                            low: vec![-sc; n],
-                            high: vec![sc; n],
-                        }
-                    } else {
-                        let low = self.bound(s, "low", n);
-                        let high = self.bound(s, "high", n);
-                        let (Some(low), Some(high)) = (low, high) else {
-                            continue;
-                        };
-                        Distribution::Uniform { low, high }
-                    }
-                }
-                "normal" => {
-                    let Some(scale) = s
-                        .get("scale")
-                        .map(|v| self.num(v, "scale"))
-                        .unwrap_or(Some(1.0))
-                    else {
-                        continue;
-                    };
-                    Distribution::Normal { scale }
-                }
-                "constant" => match s.get("value") {
-                    Some(v) if matches!(v.kind, ValKind::Array(_)) => {
-                        let Some(values) = self.bound(s, "value", n) else {
-                            continue;
-                        };
-                        Distribution::Values { values }
-                    }
-                    v => {
-                        let Some(value) = v.map(|v| self.num(v, "value")).unwrap_or(Some(0.0))
-                        else {
-                            continue;
-                        };
-                        Distribution::Constant { value }
-                    }
-                },
-                _ => continue,
+            let Some(dist) = self.reset_dist(s, kind, n) else {
+                continue;
             };
             let widest = match &dist {
                 Distribution::Uniform { low, high } => {
@@ -1432,6 +1389,44 @@ impl Ctx<'_> {
             });
         }
         out
+    }
+
+    /// The distribution of a `uniform`, `normal` or `constant` reset step of `n` elements.
+    fn reset_dist(&mut self, s: &Section, kind: &str, n: usize) -> Option<Distribution> {
+        Some(match kind {
+            "uniform" => {
+                if let Some(scale) = s.get("scale") {
+                    let sc = self.num(scale, "scale")?;
+                    Distribution::Uniform {
+                        low: vec![-sc; n],
+                        high: vec![sc; n],
+                    }
+                } else {
+                    let low = self.bound(s, "low", n);
+                    let high = self.bound(s, "high", n);
+                    Distribution::Uniform {
+                        low: low?,
+                        high: high?,
+                    }
+                }
+            }
+            "normal" => {
+                let scale = s
+                    .get("scale")
+                    .map(|v| self.num(v, "scale"))
+                    .unwrap_or(Some(1.0))?;
+                Distribution::Normal { scale }
+            }
+            "constant" => match s.get("value") {
+                Some(v) if matches!(v.kind, ValKind::Array(_)) => Distribution::Values {
+                    values: self.bound(s, "value", n)?,
+                },
+                v => Distribution::Constant {
+                    value: v.map(|v| self.num(v, "value")).unwrap_or(Some(0.0))?,
+                },
+            },
+            _ => return None,
+        })
     }
 
     /// `low`/`high` of a uniform: one number for all elements, or one per element.
