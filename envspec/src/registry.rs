@@ -151,6 +151,29 @@ pub fn all_entries() -> Vec<&'static Entry> {
     entries().iter().chain(user_entries()).collect()
 }
 
+/// What Gymnasium's registration needs of an id — its time limit (None: none) and reward
+/// threshold — read from the spec's own text and parameters, without its model: registering
+/// thousands of specs stays cheap. `None` when the id is not a task spec whose text checks out
+/// (the caller opens it fully then).
+pub fn task_registration(e: &Entry) -> Option<(Option<u64>, Option<f64>)> {
+    if e.kind != Kind::Task {
+        return None;
+    }
+    let (file, root) = crate::value::read_document(&e.path, None, "spec").ok()?;
+    let spec = crate::syntax::Spec::from_document(&file, &root).ok()?;
+    let params = crate::params::resolve_params(&spec, &e.overrides).ok()?;
+    let max = match params
+        .iter()
+        .find(|p| p.name == "max_episode_steps")
+        .map(|p| &p.value)
+    {
+        Some(crate::params::ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
+        Some(crate::params::ParamValue::Int(_)) => None,
+        _ => return None,
+    };
+    Some((max, spec.reward_threshold))
+}
+
 /// Registers every id of a spec file, or of every spec file under a directory, so that it opens
 /// by id (`envc run MyBot-v0`, `gymnasium.make("envc/MyBot-v0")`). Registering the same file
 /// again is a no-op; an id that is bundled, or registered from another file, is E0603 and

@@ -93,3 +93,42 @@ fn one_id_in_two_files_of_a_directory_is_e0603_naming_both() {
     assert!(envspec::registry::lookup("WalkTwice-v0").is_err());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// What Gymnasium's registration needs of a task comes from its text and parameters, the same
+/// as the fully resolved spec says (the family's overrides included), without reading a model.
+#[test]
+fn registration_facts_are_read_without_the_model() {
+    use envspec::registry::{entries, task_registration};
+    for id in ["Hopper-v5", "Reacher-v5", "FetchReachDense-v4", "Point-v0"] {
+        let e = entries().iter().find(|e| e.id == id).unwrap();
+        let full = envspec::load(&e.path, &e.overrides).unwrap();
+        assert_eq!(
+            task_registration(e),
+            Some((full.max_episode_steps, full.reward_threshold)),
+            "{id}"
+        );
+    }
+    // A task whose model is missing still registers its time limit; a maze is opened fully.
+    let d = scratch("facts");
+    std::fs::write(
+        d.join("t.toml"),
+        "[env]\nid = \"FactsOnly-v0\"\n[params]\nxml_file = \"missing.xml\"\nframe_skip = 1\nmax_episode_steps = 77\n",
+    )
+    .unwrap();
+    let e = envspec::registry::Entry {
+        id: "FactsOnly-v0".into(),
+        kind: envspec::Kind::Task,
+        path: d.join("t.toml"),
+        overrides: vec![],
+        example: false,
+        task: true,
+        user: true,
+    };
+    assert_eq!(task_registration(&e), Some((Some(77), None)));
+    let maze = entries()
+        .iter()
+        .find(|e| e.kind == envspec::Kind::Maze)
+        .unwrap();
+    assert_eq!(task_registration(maze), None);
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -59,12 +59,15 @@ fn registry(only: Option<Vec<String>>) -> Vec<RegistryRow> {
         .into_iter()
         .filter(|e| only.as_ref().is_none_or(|o| o.contains(&e.id)))
         .map(|e| {
-            let (max, threshold) = match envspec::open(&e.id, &[]) {
-                Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
-                Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
-                Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
-                Err(_) => (None, None),
-            };
+            // A task's time limit and threshold come from its text; other kinds are opened.
+            let (max, threshold) = envspec::registry::task_registration(e).unwrap_or_else(|| {
+                match envspec::open(&e.id, &[]) {
+                    Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
+                    Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
+                    Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
+                    Err(_) => (None, None),
+                }
+            });
             (
                 e.id.clone(),
                 kind_name(e.kind).into(),
