@@ -319,9 +319,9 @@ fn solver_iterations_have_a_limit() {
         (
             "100000",
             "E0105",
-            "physics.iterations is 100000, not in [1, 10000]",
+            "physics.iterations is 100000, not in [1, 1000]",
         ),
-        ("0", "E0105", "physics.iterations is 0, not in [1, 10000]"),
+        ("0", "E0105", "physics.iterations is 0, not in [1, 1000]"),
     ] {
         let spec = dir.spec(
             "hopper.toml",

@@ -215,7 +215,7 @@ fn action_scale_solver_and_clearance_mistakes_are_located_errors() {
             "iterations = 10 ",
             "iterations = 1.5 ",
             Code::E0105,
-            "physics.iterations is 1.5, not in [1, 10000]",
+            "physics.iterations is 1.5, not in [1, 1000]",
         ),
         (
             "cone",
