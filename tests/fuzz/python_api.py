@@ -232,7 +232,11 @@ def run_input(seed: int, i: int, root: str) -> str | None:
                 shape = env.action_space.shape
                 env.step(actions(rng, np, shape))
             elif c[0] == "damage" and vec:
-                buf = env._buf["obs"]
+                # copy=False hands out the env's own arrays: a user may freeze or resize them,
+                # and the next step must still work.
+                env.copy = False
+                space = env.action_space
+                buf = env.step(np.zeros(space.shape, dtype=space.dtype))[0]
                 if c[1] == 0:
                     buf.flags.writeable = False
                 elif c[1] == 1:
