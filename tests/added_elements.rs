@@ -145,6 +145,22 @@ fn a_falling_added_body_is_a_warning() {
     assert_eq!(codes(&envc::envspec::load(&p, &[])), [Code::E0170]);
 }
 
+/// A reset that moves a position metres away (a goal box in centimetres) is W0171.
+#[test]
+fn a_far_reset_draw_is_a_warning() {
+    use envc::envspec::Code;
+    let p = edited("far", |t| {
+        t.replace("low = -0.3\nhigh = 0.3", "low = -30.0\nhigh = 30.0")
+    });
+    let r = envc::envspec::load(&p, &[]);
+    assert_eq!(codes(&r), [Code::W0171]);
+    assert!(
+        r.unwrap().warnings[0]
+            .message
+            .contains("[reset.goal] moves a position by up to 30 m")
+    );
+}
+
 /// A free object and a mocap goal marker added by the spec: the free joint has 7 positions and
 /// 6 velocities (`qpos[cube]`, `xquat[cube]`), the object's geom takes a mass, a
 /// `[joint_properties]` row reaches the joints `[bodies]` adds, and `[goal] marker` puts the mocap

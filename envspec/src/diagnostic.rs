@@ -330,6 +330,9 @@ pub enum Code {
     /// Warning: an added body that falls under gravity with nothing holding it (a vertical
     /// slide joint, no contact geom, no gravity compensation): a goal marker that would drop.
     W0170,
+    /// Warning: a reset draw that moves a position (a slide joint, a free joint's position, the
+    /// goal vector) more than 10 m: centimetres written for metres.
+    W0171,
     /// An `[end_effector]` or `[init] mocap` body that is not a mocap body of the compiled model,
     /// or (for `[end_effector]`) one no weld constraint ties to a robot body.
     E1111,

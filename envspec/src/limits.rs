@@ -52,6 +52,9 @@ pub const MAX_COORDINATE: f64 = 1e6;
 /// draws, a value beyond this makes the simulation diverge within a step (`kp = 1e308` gave NaN
 /// accelerations, a command range of ±1e308 overflowed numpy's `uniform`).
 pub const MAX_MAGNITUDE: f64 = 1e6;
+/// A reset draw that moves a position further than this (metres) is warning W0171: a robot's
+/// workspace is a few metres, so 15 is centimetres written for metres.
+pub const PLAUSIBLE_DISTANCE: f64 = 10.0;
 /// The most solver, line-search, no-slip or collision iterations `[physics]` may ask for per
 /// physics step (MuJoCo's defaults are 100, 50, 0 and 35; mjlab's rough tasks use 500). At
 /// 10,000 a step of a contact-rich model took 1–8 s; the cap is 10 × mjlab's largest.

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, suggest};
 use crate::ir::*;
 use crate::limits;
-use crate::mjcf::ModelInfo;
+use crate::mjcf::{JointKind, ModelInfo};
 use crate::params::{Origin, Override, Param, ParamValue, resolve_params};
 use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
@@ -205,6 +205,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     };
     resolved.warnings = pairing::warnings(spec, &resolved);
     resolved.warnings.extend(added::falling(spec, &resolved));
+    resolved.warnings.extend(far_draws(spec, &resolved));
     let rne = resolved
         .sources()
         .any(|s| s.field.needs_rne_post_constraint());
@@ -265,6 +266,61 @@ fn load_model(spec: &Spec, xml: &Param) -> Result<(PathBuf, ModelInfo), Diagnost
         Diagnostics::from(e.help(help))
     })?;
     Ok((model_path, model))
+}
+
+/// W0171: a reset step that puts a position (a slide joint, a free joint's x, y, z, the goal
+/// vector) further than `limits::PLAUSIBLE_DISTANCE` from where it is drawn: centimetres written
+/// for metres, most likely.
+fn far_draws(spec: &Spec, r: &ResolvedSpec) -> Vec<Diagnostic> {
+    let positional = |s: &Selection, k: usize| -> bool {
+        match s.field {
+            Field::Goal => true,
+            Field::Qpos => r.model.joints.iter().any(|j| {
+                let i = s.indices[k];
+                match j.kind {
+                    JointKind::Slide => j.qposadr == i,
+                    JointKind::Free => (j.qposadr..j.qposadr + 3).contains(&i),
+                    _ => false,
+                }
+            }),
+            _ => false,
+        }
+    };
+    let mut out = vec![];
+    for step in &r.reset {
+        let widest = (0..step.target.len())
+            .filter(|&k| positional(&step.target, k))
+            .map(|k| match &step.dist {
+                Distribution::Uniform { low, high } => low[k].abs().max(high[k].abs()),
+                Distribution::Values { values } => values[k].abs(),
+                Distribution::Constant { value } if step.around.is_some() || !step.set => {
+                    value.abs()
+                }
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max);
+        if widest > limits::PLAUSIBLE_DISTANCE {
+            let at = spec
+                .reset
+                .iter()
+                .find(|s| s.name == step.name)
+                .map(|s| s.name_loc.clone());
+            out.push(
+                Diagnostic::new(
+                    Code::W0171,
+                    format!(
+                        "[reset.{}] moves a position by up to {widest} m (more than {} m)",
+                        step.name,
+                        limits::PLAUSIBLE_DISTANCE
+                    ),
+                )
+                .at_opt(at)
+                .label("a draw this far puts the body (or goal) far outside a robot's workspace")
+                .help("MuJoCo lengths are metres: 15 cm is 0.15"),
+            );
+        }
+    }
+    out
 }
 
 /// An error about a value that came from an override is the override's: its message names the
