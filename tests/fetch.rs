@@ -185,3 +185,55 @@ fn typed_fetch_push() {
     }
     assert_eq!(bits(typed.inner().goal()), bits(dynamic.goal()));
 }
+
+/// Hostile manipulation values are located, coded errors before anything runs: a settling that
+/// would take hours, a pose beyond envc's coordinates, an unknown record, a marker on a 2-D goal.
+#[test]
+fn hostile_manipulation_tables_are_coded_errors() {
+    use envc::envspec::Code;
+    let text = std::fs::read_to_string(root().join("specs/robotics/fetch/reach.toml"))
+        .unwrap()
+        .replace(
+            "\"../../../assets/",
+            &format!("\"{}/assets/", root().display()),
+        );
+    let dir = std::env::temp_dir().join(format!("envc-fetch-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (i, (from, to, code)) in [
+        ("settle_steps = 10", "settle_steps = 9999999", Code::E0110),
+        (
+            "lift = \"gripper_extra_height\"",
+            "lift = 1e300",
+            Code::E0110,
+        ),
+        (
+            "\"robot0:slide1\" = 0.48",
+            "\"robot0:slide1\" = 1e300",
+            Code::E0110,
+        ),
+        ("around = \"grip\"", "around = \"gripp\"", Code::E0170),
+        (
+            "rotation = [1.0, 0.0, 1.0, 0.0]",
+            "rotation = [1.0, 0.0]",
+            Code::E0102,
+        ),
+        (
+            "[goal]\nachieved = \"site_xpos[robot0:grip]\"",
+            "[goal]\nachieved = \"site_xpos[robot0:grip][0:2]\"\nmarker = \"robot0:mocap\"",
+            Code::E0170,
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        assert!(text.contains(from), "{from}");
+        let p = dir.join(format!("case{i}.toml"));
+        std::fs::write(&p, text.replace(from, to)).unwrap();
+        let codes: Vec<Code> = match envc::envspec::load(&p, &[]) {
+            Ok(_) => vec![],
+            Err(d) => d.0.iter().map(|e| e.code).collect(),
+        };
+        assert!(codes.contains(&code), "{to}: {codes:?}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -55,6 +55,12 @@ pub const MAX_MAGNITUDE: f64 = 1e6;
 /// A reset draw that moves a position further than this (metres) is warning W0171: a robot's
 /// workspace is a few metres, so 15 is centimetres written for metres.
 pub const PLAUSIBLE_DISTANCE: f64 = 10.0;
+/// The largest `dim` of a `<user>` sensor envspec numbers (`sensordata[...]`); a larger one
+/// is MuJoCo's to check, and `sensordata` cannot select past it.
+pub const MAX_SENSOR_DIM: usize = 10_000;
+/// Physics steps `[init]` may run when an env is made (`settle_steps × frame_skip`): every env
+/// of a vector env runs them.
+pub const MAX_SETTLE_PHYSICS_STEPS: u64 = 100_000;
 /// The most solver, line-search, no-slip or collision iterations `[physics]` may ask for per
 /// physics step (MuJoCo's defaults are 100, 50, 0 and 35; mjlab's rough tasks use 500). At
 /// 10,000 a step of a contact-rich model took 1–8 s; the cap is 10 × mjlab's largest.

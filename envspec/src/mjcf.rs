@@ -474,7 +474,11 @@ impl Reader {
             "sensor" => {
                 for t in node.children().filter(|n| n.is_element()) {
                     let dim = match t.tag_name().name() {
-                        "user" => t.attribute("dim").and_then(|d| d.trim().parse().ok()),
+                        // (a size beyond any real sensor's is left to MuJoCo: unnumbered here)
+                        "user" => t
+                            .attribute("dim")
+                            .and_then(|d| d.trim().parse().ok())
+                            .filter(|&d: &usize| d <= crate::limits::MAX_SENSOR_DIM),
                         tag => sensor_dim(tag),
                     };
                     self.info

@@ -37,6 +37,8 @@ struct Ctx<'a> {
     records: Vec<(String, usize, usize)>,
     /// `timestep × frame_skip` (a segment's `scale = "dt"`).
     dt: f64,
+    /// `frame_skip` (`[init] settle_steps` is bounded in physics steps).
+    frame_skip: u32,
 }
 
 /// Resolve a checked spec with parameter overrides against its model.
@@ -58,6 +60,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         commands: vec![],
         records: vec![],
         dt: 0.0,
+        frame_skip: 1,
     };
     let added = cx.added_elements();
     let d = cx.d;
@@ -73,6 +76,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         commands: vec![],
         records: vec![],
         dt: 0.0,
+        frame_skip: 1,
     };
     let model_edits = cx.model_edits(added);
     let d = cx.d;
@@ -86,6 +90,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         commands: vec![],
         records: vec![],
         dt: 0.0,
+        frame_skip: 1,
     };
 
     let frame_skip = match param("frame_skip").map(|p| &p.value) {
@@ -117,6 +122,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     };
 
     cx.dt = model.timestep * frame_skip as f64;
+    cx.frame_skip = frame_skip;
     let commands = cx.commands(model.timestep * frame_skip as f64);
     cx.commands = commands.clone();
     let command_dim = commands.iter().map(Command::len).sum();

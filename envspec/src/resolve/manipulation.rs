@@ -245,9 +245,16 @@ impl Ctx<'_> {
     }
 
     /// A list of numbers (or numeric parameters) of length `n`.
+    /// Each within `limits::MAX_COORDINATE` (a pose, an offset, a quaternion).
     fn number_list(&mut self, v: &Val, what: &str, n: usize) -> Option<Vec<f64>> {
         match &v.kind {
-            ValKind::Array(a) if a.len() == n => a.iter().map(|x| self.num(x, what)).collect(),
+            ValKind::Array(a) if a.len() == n => a
+                .iter()
+                .map(|x| {
+                    let y = self.num(x, what)?;
+                    self.within(x, y, what, crate::limits::MAX_COORDINATE)
+                })
+                .collect(),
             _ => {
                 self.d
                     .push(v.type_error(what, &format!("an array of {n} numbers")));
@@ -325,7 +332,15 @@ impl Ctx<'_> {
                         let n = kind.nq();
                         let values = match &e.value.kind {
                             ValKind::Array(_) => self.number_list(&e.value, "[init] qpos", n),
-                            _ if n == 1 => self.num(&e.value, "[init] qpos").map(|x| vec![x]),
+                            _ if n == 1 => self.num(&e.value, "[init] qpos").and_then(|x| {
+                                self.within(
+                                    &e.value,
+                                    x,
+                                    "[init] qpos",
+                                    crate::limits::MAX_COORDINATE,
+                                )
+                                .map(|x| vec![x])
+                            }),
                             _ => self.number_list(&e.value, "[init] qpos", n),
                         };
                         if let Some(values) = values {
@@ -362,18 +377,25 @@ impl Ctx<'_> {
                     .filter_map(|t| self.mocap_placement(t, &v.loc)),
             );
         }
+        // Bounded in physics steps: every env of a vector env runs them when it is made.
+        let most = crate::limits::MAX_SETTLE_PHYSICS_STEPS / u64::from(self.frame_skip.max(1));
         let settle_steps = match s.get("settle_steps") {
             None => 0,
             Some(v) => match v.kind {
-                ValKind::Int(n) if (0..=crate::limits::MAX_EPISODE_STEPS).contains(&n) => n as u32,
+                ValKind::Int(n) if n >= 0 && (n as u64) <= most => n as u32,
                 _ => {
-                    self.d.push(v.type_error(
-                        "settle_steps",
-                        &format!(
-                            "a step count from 0 to {}",
-                            crate::limits::MAX_EPISODE_STEPS
-                        ),
-                    ));
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0110,
+                            format!(
+                                "[init] settle_steps must be a step count from 0 to {most} ({} physics steps at frame_skip {})",
+                                crate::limits::MAX_SETTLE_PHYSICS_STEPS,
+                                self.frame_skip
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label(format!("expected a whole number from 0 to {most}")),
+                    );
                     0
                 }
             },
@@ -458,7 +480,10 @@ impl Ctx<'_> {
             None => vec![0.0; 3],
         };
         let lift = match get("lift") {
-            Some(v) => self.num(v, "[init] mocap lift")?,
+            Some(v) => {
+                let x = self.num(v, "[init] mocap lift")?;
+                self.within(v, x, "[init] mocap lift", crate::limits::MAX_COORDINATE)?
+            }
             None => 0.0,
         };
         let quat = match get("quat") {
