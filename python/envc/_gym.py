@@ -127,9 +127,13 @@ def as_actions(actions) -> np.ndarray:
 def goal_batches(
     achieved_goal: Any, desired_goal: Any, n: int
 ) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
-    """Goals broadcast against each other as ``[N, n]`` float64 rows, and the leading shape."""
-    a = np.asarray(achieved_goal, dtype=np.float64)
-    d = np.asarray(desired_goal, dtype=np.float64)
+    """Goals broadcast against each other as ``[N, n]`` float64 rows, and the leading shape
+    (anything else is E1105)."""
+    try:
+        a = np.asarray(achieved_goal, dtype=np.float64)
+        d = np.asarray(desired_goal, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise _errors.coded(f"error[E1105]: goals must be numbers ({e})", "E1105") from None
     if (
         a.shape == d.shape
         and a.ndim >= 1
@@ -142,11 +146,15 @@ def goal_batches(
     try:
         a, d = np.broadcast_arrays(a, d)
     except ValueError:
-        raise ValueError(
-            f"achieved_goal {a.shape} and desired_goal {d.shape} do not broadcast together"
+        raise _errors.coded(
+            f"error[E1105]: achieved_goal {a.shape} and desired_goal {d.shape} do not "
+            "broadcast together",
+            "E1105",
         ) from None
     if a.ndim == 0 or a.shape[-1] != n:
-        raise ValueError(f"goals have shape {a.shape}; expected [..., {n}]")
+        raise _errors.coded(
+            f"error[E1105]: goals have shape {a.shape}; expected [..., {n}]", "E1105"
+        )
     ra, rd = (np.ascontiguousarray(x.reshape(-1, n)) for x in (a, d))
     return ra, rd, a.shape[:-1]
 
