@@ -17,16 +17,7 @@ fn root() -> PathBuf {
 }
 
 fn unhex(v: &Value) -> Vec<f64> {
-    let s = v.as_str().unwrap();
-    (0..s.len())
-        .step_by(16)
-        .map(|i| {
-            let b: Vec<u8> = (0..8)
-                .map(|k| u8::from_str_radix(&s[i + 2 * k..i + 2 * k + 2], 16).unwrap())
-                .collect();
-            f64::from_le_bytes(b.try_into().unwrap())
-        })
-        .collect()
+    envc_tests::unhex(v.as_str().unwrap())
 }
 
 fn bits(a: &[f64]) -> Vec<u64> {

@@ -14,18 +14,6 @@ use std::path::Path;
 
 use envc::Env;
 
-fn unhex(s: &str) -> Vec<f64> {
-    (0..s.len())
-        .step_by(16)
-        .map(|i| {
-            let b: Vec<u8> = (0..8)
-                .map(|k| u8::from_str_radix(&s[i + 2 * k..i + 2 * k + 2], 16).unwrap())
-                .collect();
-            f64::from_le_bytes(b.try_into().unwrap())
-        })
-        .collect()
-}
-
 #[test]
 fn sensor_values_are_mujocos_by_name() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/sensors");
@@ -36,7 +24,7 @@ fn sensor_values_are_mujocos_by_name() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|r| unhex(r.as_str().unwrap()))
+        .map(|r| envc_tests::unhex(r.as_str().unwrap()))
         .collect();
     let mut env = Env::from_spec_file(dir.join("box_sensors.toml"), &[]).unwrap();
     let names = env.spec().obs_names();

@@ -338,6 +338,23 @@ impl Reader {
         Ok(())
     }
 
+    /// The file an `<include>` names, located at its `file` attribute.
+    fn read_include(
+        &mut self,
+        path: &Path,
+        dir: &Path,
+        node: roxmltree::Node,
+    ) -> Result<(), Diagnostic> {
+        let file = node
+            .attribute_node("file")
+            .ok_or_else(|| malformed(path, "<include> without file"))?;
+        let at = self
+            .source
+            .as_ref()
+            .map(|s| Location::new(s, file.range_value()));
+        self.read_file(&dir.join(file.value()), at)
+    }
+
     /// One element of `<worldbody>` (or of a file included there).
     fn read_world_child(
         &mut self,
@@ -348,15 +365,8 @@ impl Reader {
         match child.tag_name().name() {
             // An include inside <worldbody>: the included file's elements are world children.
             "include" => {
-                let file = child
-                    .attribute_node("file")
-                    .ok_or_else(|| malformed(path, "<include> without file"))?;
-                let at = self
-                    .source
-                    .as_ref()
-                    .map(|s| Location::new(s, file.range_value()));
                 let was = std::mem::replace(&mut self.in_world, true);
-                let read = self.read_file(&dir.join(file.value()), at);
+                let read = self.read_include(path, dir, child);
                 self.in_world = was;
                 read?;
             }
@@ -415,16 +425,7 @@ impl Reader {
             return self.read_world_child(path, dir, node);
         }
         match node.tag_name().name() {
-            "include" => {
-                let file = node
-                    .attribute_node("file")
-                    .ok_or_else(|| malformed(path, "<include> without file"))?;
-                let at = self
-                    .source
-                    .as_ref()
-                    .map(|s| Location::new(s, file.range_value()));
-                self.read_file(&dir.join(file.value()), at)?;
-            }
+            "include" => self.read_include(path, dir, node)?,
             "option" => {
                 if let Some(ts) = node.attribute("timestep") {
                     self.info.timestep = ts.trim().parse().map_err(|_| {

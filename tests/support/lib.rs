@@ -43,6 +43,21 @@ pub fn parse_profile(name: &str) -> Profile {
         .unwrap_or_else(|| panic!("fixture numerics profile `{name}` is not a profile"))
 }
 
+/// Little-endian float64s written as hex (the reference recorders' `hexa`).
+pub fn unhex(s: &str) -> Vec<f64> {
+    (0..s.len() / 16)
+        .map(|i| {
+            let b: Vec<u8> = (0..8)
+                .map(|k| {
+                    u8::from_str_radix(&s[16 * i + 2 * k..16 * i + 2 * k + 2], 16)
+                        .expect("a fixture's hex")
+                })
+                .collect();
+            f64::from_le_bytes(b.try_into().expect("eight bytes"))
+        })
+        .collect()
+}
+
 /// The `numerics` key of a recording's JSON (a per-file recording or a manifest).
 pub fn recorded_profile(v: &serde_json::Value) -> Profile {
     parse_profile(
