@@ -143,6 +143,10 @@ fn a_falling_added_body_is_a_warning() {
         t.replace("size = 0.02", "size = 0.02\nmocap = true")
     });
     assert_eq!(codes(&envc::envspec::load(&p, &[])), [Code::E0170]);
+    for tag in ["fall", "float", "mocap-joints"] {
+        let dir = std::env::temp_dir().join(format!("envc-added-{tag}-{}", std::process::id()));
+        std::fs::remove_dir_all(dir).ok();
+    }
 }
 
 /// A reset that moves a position metres away (a goal box in centimetres) is W0171.
@@ -159,6 +163,7 @@ fn a_far_reset_draw_is_a_warning() {
             .message
             .contains("[reset.goal] moves a position by up to 30 m")
     );
+    std::fs::remove_dir_all(p.parent().unwrap()).ok();
 }
 
 /// A free object and a mocap goal marker added by the spec: the free joint has 7 positions and
