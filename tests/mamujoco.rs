@@ -624,3 +624,54 @@ fn multi_agent_step_and_reset_do_not_allocate() {
         assert_eq!(n, 0, "{file}: {n} allocations");
     }
 }
+
+/// An agent's observation may read the manipulation fields (`site_euler`, `site_xvelp`) the
+/// task itself does not: the env computes them for that reader too (they were empty, an
+/// out-of-bounds read), with the values the task computes when it reads them itself.
+#[test]
+fn agents_read_site_orientation_and_jacobian_velocity() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = std::env::temp_dir().join(format!("envc-agents-sites-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string(root.join("specs/gymnasium/reacher.toml"))
+        .unwrap()
+        .replace("\"../../assets/", &format!("\"{}/assets/", root.display()))
+        + "\n[sites.tip]\nbody = \"fingertip\"\n";
+    std::fs::write(dir.join("base.toml"), &base).unwrap();
+    let agents = std::fs::read_to_string(root.join("specs/mamujoco/reacher.toml"))
+        .unwrap()
+        .replace("\"../gymnasium/reacher.toml\"", "\"base.toml\"")
+        .replace(
+            "extra.fingertip_dist = { source = \"xpos[fingertip]\", minus = \"xpos[target]\" }",
+            "extra.fingertip_dist = [{ source = \"site_euler[tip]\" }, { source = \"site_xvelp[tip]\" }]",
+        );
+    std::fs::write(dir.join("agents.toml"), agents).unwrap();
+    // The same fields read by the task itself.
+    let task = base.replace(
+        "[observation.cos]",
+        "[observation.rot]\nsource = \"site_euler[tip]\"\n\n[observation.vel]\nsource = \"site_xvelp[tip]\"\n\n[observation.cos]",
+    );
+    std::fs::write(dir.join("task.toml"), task).unwrap();
+    let envc::AnyEnv::Agents(mut multi) =
+        envc::open(dir.join("agents.toml").to_str().unwrap(), &[]).unwrap()
+    else {
+        panic!("a multi-agent spec");
+    };
+    let mut single = envc::Env::from_spec_file(dir.join("task.toml"), &[]).unwrap();
+    multi.reset(Some(3));
+    single.reset(Some(3));
+    for t in 0..5 {
+        let a = [0.3, -0.4];
+        multi.step_global(&a).unwrap();
+        let s = single.step(&a).unwrap();
+        let elbow = &multi.observations()[1];
+        let want = &s.obs[..6];
+        assert!(want.iter().any(|x| *x != 0.0), "step {t}");
+        // (the extras sit among the agent's other categories)
+        assert!(
+            elbow.windows(6).any(|w| w == want),
+            "step {t}: {want:?} not in {elbow:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

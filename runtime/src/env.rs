@@ -840,6 +840,7 @@ impl Env {
             if s.field.is_site_frame() {
                 self.sim.legged.enable_site_frames(self.sim.nsite);
             }
+            self.sim.manip.read_also(s);
         }
     }
 

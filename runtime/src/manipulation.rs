@@ -35,8 +35,10 @@ pub(crate) struct Manip {
     driven: Option<Driven>,
     /// `[goal] marker`'s mocap index.
     marker: Option<usize>,
-    euler: bool,
-    xvel: bool,
+    /// The sites whose `site_euler` / `site_xvelp` and `site_xvelr` something reads: only
+    /// those are computed after the physics.
+    euler_sites: Vec<usize>,
+    xvel_sites: Vec<usize>,
     site_euler: Vec<f64>,
     site_xvelp: Vec<f64>,
     site_xvelr: Vec<f64>,
@@ -81,25 +83,44 @@ impl Manip {
         };
         let nsite = usize::try_from(model.ffi().nsite).unwrap_or(0);
         let nv = usize::try_from(model.ffi().nv).unwrap_or(0);
-        let euler = spec.reads(Field::SiteEuler) || records_read(m.init.as_ref(), Field::SiteEuler);
-        let xvel = [Field::SiteXvelp, Field::SiteXvelr]
-            .into_iter()
-            .any(|f| spec.reads(f) || records_read(m.init.as_ref(), f));
-        let sized = |on: bool, n: usize| if on { vec![0.0; n] } else { vec![] };
-        Ok(Manip {
+        let mut manip = Manip {
             init_time: 0.0,
             records: vec![0.0; m.record_len()],
             driven,
             marker,
-            euler,
-            xvel,
-            site_euler: sized(euler, 3 * nsite),
-            site_xvelp: sized(xvel, 3 * nsite),
-            site_xvelr: sized(xvel, 3 * nsite),
-            jacp: sized(xvel, 3 * nv),
-            jacr: sized(xvel, 3 * nv),
+            euler_sites: vec![],
+            xvel_sites: vec![],
+            site_euler: vec![0.0; 3 * nsite],
+            site_xvelp: vec![0.0; 3 * nsite],
+            site_xvelr: vec![0.0; 3 * nsite],
+            jacp: vec![0.0; 3 * nv],
+            jacr: vec![0.0; 3 * nv],
             velocity: [0.0; 3],
-        })
+        };
+        let records = m
+            .init
+            .iter()
+            .flat_map(|i| i.records.iter().map(|r| &r.source));
+        for s in spec.sources().chain(records) {
+            manip.read_also(s);
+        }
+        Ok(manip)
+    }
+
+    /// Compute the fields of `s`'s sites from now on (a reader the spec does not know of, e.g.
+    /// an agent's observation, or an `[init] record`).
+    pub(crate) fn read_also(&mut self, s: &Selection) {
+        let list = match s.field {
+            Field::SiteEuler => &mut self.euler_sites,
+            Field::SiteXvelp | Field::SiteXvelr => &mut self.xvel_sites,
+            _ => return,
+        };
+        for &i in &s.indices {
+            if !list.contains(&(i / 3)) {
+                list.push(i / 3);
+            }
+        }
+        list.sort_unstable();
     }
 
     fn driven(spec: &ResolvedSpec, model: &MjModel, e: &EndEffector) -> Result<Driven, EnvError> {
@@ -269,15 +290,14 @@ impl Manip {
 
     /// The derived fields the spec reads, from the current (lagged) kinematics.
     pub(crate) fn update(&mut self, data: &MjData<std::sync::Arc<MjModel>>, profile: Profile) {
-        if self.euler {
-            for (s, m) in data.site_xmat().iter().enumerate() {
-                self.site_euler[3 * s..3 * s + 3].copy_from_slice(&mat2euler(m, profile));
-            }
+        let xmat = data.site_xmat();
+        for &s in &self.euler_sites {
+            self.site_euler[3 * s..3 * s + 3].copy_from_slice(&mat2euler(&xmat[s], profile));
         }
-        if self.xvel {
+        if !self.xvel_sites.is_empty() {
             let qvel = data.qvel();
             let nv = qvel.len();
-            for s in 0..self.site_xvelp.len() / 3 {
+            for &s in &self.xvel_sites {
                 mj::manip::jac_site(data, s, &mut self.jacp, &mut self.jacr);
                 numerics::matvec(profile, 3, nv, &self.jacp, qvel, &mut self.velocity);
                 self.site_xvelp[3 * s..3 * s + 3].copy_from_slice(&self.velocity);
@@ -304,10 +324,6 @@ impl Manip {
             _ => return None,
         })
     }
-}
-
-fn records_read(init: Option<&Init>, f: Field) -> bool {
-    init.is_some_and(|i| i.records.iter().any(|r| r.source.field == f))
 }
 
 /// Gymnasium-Robotics' `rotations.mat2euler` of one row-major 3 × 3 matrix: numpy's `sqrt`,
