@@ -204,11 +204,11 @@ lane_live() {
   passed "mazes, live seed"
   "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$SEED"
   passed "maze rollout, live seed"
-  # Fetch v4 (all 8 ids): fresh-seed rollouts and batched compute_reward of the reference replayed
-  # through envc's manipulation specs.
-  "$PY" tests/reference/record_fetch.py --out "$LIVE/fetch" --seed "$SEED"
-  ENVC_FETCH_DIR="$LIVE/fetch" cargo test -q --workspace --test integration fetch::
-  passed "Fetch, live seed"
+  # Goal-conditioned robotics (Fetch v4, all 8 ids; the Shadow Hand): fresh-seed rollouts and
+  # batched compute_reward of the reference replayed through envc's manipulation specs.
+  "$PY" tests/reference/record_robotics.py --out "$LIVE/robotics" --seed "$SEED"
+  ENVC_ROBOTICS_DIR="$LIVE/robotics" cargo test -q --workspace --test integration -- fetch:: hand::
+  passed "Fetch and Shadow Hand, live seed"
   # Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
   # by the real minari and replayed in Gymnasium-Robotics (fresh seed).
   MZ="$(mktemp -d)"

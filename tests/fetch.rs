@@ -1,11 +1,12 @@
 //! Gymnasium-Robotics' Fetch v4 envs (specs/robotics/fetch/: Reach, Push, Slide, PickAndPlace,
 //! sparse and dense) against the reference's own numbers, recorded by
-//! tests/reference/record_fetch.py (fixtures/fetch/): every observation, achieved and desired goal,
-//! reward, `is_success`, termination and truncation of a 60-step rollout (float64 and float32
-//! actions, some outside [−1, 1], through a truncation and a second reset), then the batched
-//! `compute_reward` on 256 goal pairs. Each fixture replays under the numerics profile it was
-//! recorded with. `ENVC_FETCH_DIR=<dir>` replays a fresh recording instead (the test command's
-//! live lane records one under a new seed).
+//! tests/reference/record_robotics.py (fixtures/fetch/): every observation, achieved and desired
+//! goal, reward, `is_success`, termination and truncation of a 60-step rollout (float64 and
+//! float32 actions, some outside [−1, 1], through a truncation and a second reset), then the
+//! batched `compute_reward` on 256 goal pairs. Each fixture replays under the numerics profile it
+//! was recorded with. `ENVC_ROBOTICS_DIR=<dir>` replays a fresh recording instead (`<dir>/fetch/`;
+//! the test command's live lane records one under a new seed). The other goal-conditioned
+//! families (tests/hand.rs) replay through [`replay`] too.
 
 use std::path::{Path, PathBuf};
 
@@ -63,14 +64,15 @@ fn check_event(env: &Env, rec: &Value, k: usize, what: &str) {
     );
 }
 
-fn replay(id: &str) {
-    let dir = std::env::var_os("ENVC_FETCH_DIR").map_or_else(
-        || root().join("tests/reference/fixtures/fetch"),
-        PathBuf::from,
-    );
+/// Replay the recording of `id` (in the fixtures' or `ENVC_ROBOTICS_DIR`'s `family` folder).
+pub(crate) fn replay_family(family: &str, id: &str) {
+    let dir = std::env::var_os("ENVC_ROBOTICS_DIR")
+        .map_or_else(|| root().join("tests/reference/fixtures"), PathBuf::from)
+        .join(family);
     let path = dir.join(format!("{id}.json"));
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut env = open(id);
+    let (nact, ngoal) = (env.act_dim(), env.goal().len());
     env.set_numerics(envc_tests::recorded_profile(&rec));
     let (_, info) = env.reset(Some(rec["seed"].as_u64().unwrap()));
     assert!(info.is_empty(), "{id}: the reset info is empty");
@@ -78,7 +80,7 @@ fn replay(id: &str) {
     let actions = unhex(&rec["actions"]);
     let (reward, success) = (unhex(&rec["reward"]), unhex(&rec["is_success"]));
     let mut event = 1;
-    for (t, a) in actions.chunks(4).enumerate() {
+    for (t, a) in actions.chunks(nact).enumerate() {
         let f32 = rec["float32"][t].as_bool().unwrap();
         let s = if f32 {
             let a: Vec<f32> = a.iter().map(|&x| x as f32).collect();
@@ -109,13 +111,17 @@ fn replay(id: &str) {
         }
     }
     let (g, d) = (unhex(&rec["batch_achieved"]), unhex(&rec["batch_desired"]));
-    let mut out = vec![0.0; g.len() / 3];
+    let mut out = vec![0.0; g.len() / ngoal];
     env.compute_reward(&g, &d, &mut out).unwrap();
     assert_eq!(
         bits(&out),
         bits(&unhex(&rec["batch_reward"])),
         "{id}: compute_reward"
     );
+}
+
+fn replay(id: &str) {
+    replay_family("fetch", id);
 }
 
 #[test]

@@ -12,6 +12,7 @@ mod events;
 mod fetch;
 mod goal_terms;
 mod golden;
+mod hand;
 mod invariants;
 mod joint_patterns;
 mod joystick_terms;

@@ -253,6 +253,7 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 Distribution::TerrainOrigin { rows } => {
                     format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
                 }
+                Distribution::Meet(_) => "points brought together (meet)".into(),
             };
             let mode = if s.set { "set" } else { "add" };
             d.push_str(&format!(

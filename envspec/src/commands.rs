@@ -52,12 +52,38 @@ pub enum DefaultPose {
     },
     /// One value per actuator, as written.
     Values(Vec<f64>),
+    /// The centre of each actuator's control range, read from the compiled model
+    /// (`kind = "ctrlrange"`).
+    CtrlRangeCentre,
+}
+
+/// How `[actions]` turns an action into `ctrl`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ActionKind {
+    /// `ctrl = default_pose + scale × action`, written as given.
+    PdPosition,
+    /// The action, clipped to [−1, 1], spans each actuator's control range:
+    /// `ctrl = clip(centre + action × half_width, ctrlrange)` (Gymnasium-Robotics' hands).
+    CtrlRange,
+}
+
+impl ActionKind {
+    /// The spec's name of the kind.
+    pub fn name(self) -> &'static str {
+        match self {
+            ActionKind::PdPosition => "pd_position",
+            ActionKind::CtrlRange => "ctrlrange",
+        }
+    }
 }
 
 /// `[actions]`: an action is a joint target, `ctrl = default_pose + scale × action`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PdActions {
-    /// Action scale of each actuator: radians (or metres) of target per unit of action.
+    /// How an action becomes `ctrl`.
+    pub kind: ActionKind,
+    /// Action scale of each actuator: radians (or metres) of target per unit of action (empty
+    /// for `ctrlrange`: each actuator's half-width, read from the compiled model).
     pub scale: Vec<f64>,
     /// The target of action 0.
     pub default_pose: DefaultPose,
@@ -474,7 +500,11 @@ impl Command {
 impl PdActions {
     /// What `envc show` prints under the action table.
     pub fn describe(&self) -> String {
+        if self.kind == ActionKind::CtrlRange {
+            return "actions span the control ranges: ctrl = clip(centre + half_width × clip(action, -1, 1), ctrlrange)".to_string();
+        }
         let pose = match &self.default_pose {
+            DefaultPose::CtrlRangeCentre => "the control ranges' centres".to_string(),
             DefaultPose::Keyframe { name, .. } => format!("keyframe `{name}`"),
             DefaultPose::Values(v) => format!("{v:?}"),
         };

@@ -249,6 +249,25 @@ fn reset_step_as(r: &ResetStep, target: &str) -> String {
                 }
             );
         }
+        Distribution::Meet(m) => {
+            let pts = |v: &[usize]| {
+                v.iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return format!(
+                "{}: points [{}] and one of [{}] meet {} short of record{:?} + {:?} + {} × normal(0, 1)³; with probability {} unchanged",
+                target,
+                pts(&m.always),
+                pts(&m.one_of),
+                num(m.gap),
+                m.center,
+                m.offset,
+                num(m.scale),
+                num(m.unchanged)
+            );
+        }
         Distribution::TerrainOrigin { rows } => {
             return format!(
                 "{}: position += the spawn origin of a [terrain] tile drawn uniformly (rows {} … {}, any column)",

@@ -4,7 +4,9 @@
 
 use std::path::PathBuf;
 
-pub use crate::commands::{Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions};
+pub use crate::commands::{
+    ActionKind, Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions,
+};
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
 use crate::selector::{Field, Selection};
@@ -526,6 +528,12 @@ pub enum Distribution {
         /// `(low, high)` of x, y, z, roll, pitch, yaw.
         ranges: [(f64, f64); 6],
     },
+    /// Points (3 numbers each, starting from `around`) brought together: a meeting point is
+    /// drawn as `center + offset + scale × standard_normal()³`; the points `always` and one of
+    /// `one_of` (an `integers` draw, first) each move to `gap` short of it along the line from
+    /// where they start; a last uniform below `unchanged` keeps `around` as it is
+    /// (Gymnasium-Robotics' HandReach goal: the thumb and one finger meet).
+    Meet(Box<Meet>),
     /// A tile of `[terrain]` drawn uniformly (row in `rows`, any column; `integers` draws, row
     /// first), whose spawn origin is added to a free joint's position (mjlab's env origins). The
     /// target is the free joint's 3 position `qpos`.
@@ -533,6 +541,26 @@ pub enum Distribution {
         /// Inclusive range of rows (difficulty levels) drawn from.
         rows: (usize, usize),
     },
+}
+
+/// The keys of a `meet` reset step (see [`Distribution::Meet`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Meet {
+    /// Indices into the `[init] record` values of the 3 numbers the meeting point is drawn
+    /// around.
+    pub center: [usize; 3],
+    /// Added to `center`.
+    pub offset: [f64; 3],
+    /// Standard deviation of the meeting point's normal draws.
+    pub scale: f64,
+    /// Points that always move.
+    pub always: Vec<usize>,
+    /// Points of which one, drawn uniformly, moves too.
+    pub one_of: Vec<usize>,
+    /// How far short of the meeting point each moved point stops.
+    pub gap: f64,
+    /// Probability that the target keeps `around` unchanged (drawn last).
+    pub unchanged: f64,
 }
 
 /// Redraw the whole block until its norm satisfies the condition.

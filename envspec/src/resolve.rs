@@ -396,6 +396,7 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
         // (no `resample_until` on these kinds)
         Distribution::Keyframe { .. }
         | Distribution::RootPose { .. }
+        | Distribution::Meet(_)
         | Distribution::TerrainOrigin { .. } => (0.0, f64::INFINITY),
     };
     match until {
@@ -1339,6 +1340,10 @@ impl Ctx<'_> {
                 Distribution::Values { values } => {
                     values.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
                 }
+                Distribution::Meet(m) => m
+                    .offset
+                    .iter()
+                    .fold(m.scale.abs() + m.gap.abs(), |a, x| a.max(x.abs())),
                 Distribution::Keyframe { .. }
                 | Distribution::RootPose { .. }
                 | Distribution::TerrainOrigin { .. } => 0.0,
@@ -1487,6 +1492,7 @@ impl Ctx<'_> {
                     value: v.map(|v| self.num(v, "value")).unwrap_or(Some(0.0))?,
                 },
             },
+            "meet" => return self.meet(s, n),
             _ => return None,
         })
     }

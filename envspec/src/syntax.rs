@@ -369,6 +369,18 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
         &["joint", "x", "y", "z", "roll", "pitch", "yaw"],
     ),
     ("terrain_origin", &["joint", "rows"]),
+    (
+        "meet",
+        &[
+            "center",
+            "offset",
+            "scale",
+            "always",
+            "one_of",
+            "gap",
+            "unchanged",
+        ],
+    ),
 ];
 /// Keys of `[terrain]` itself (its tables are the tile generators).
 pub const TERRAIN_KEYS: &[&str] = &[

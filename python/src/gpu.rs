@@ -230,6 +230,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     not_exported.push(format!("[reset.{}] kind = \"terrain_origin\"", r.name));
                     json!({"kind": "unsupported"})
                 }
+                Distribution::Meet(_) => {
+                    not_exported.push(format!("[reset.{}] kind = \"meet\"", r.name));
+                    json!({"kind": "unsupported"})
+                }
             };
             let until = r.resample_until.map(|u| match u {
                 Until::NormBelow(x) => json!({"norm_below": num(x)}),
@@ -288,8 +292,8 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     for c in &spec.commands {
         not_exported.push(format!("[commands.{}]", c.name));
     }
-    if spec.actions.is_some() {
-        not_exported.push("[actions] kind = \"pd_position\"".into());
+    if let Some(a) = &spec.actions {
+        not_exported.push(format!("[actions] kind = \"{}\"", a.kind.name()));
     }
     for s in &spec.corruption.segments {
         if s.noise.is_some() {

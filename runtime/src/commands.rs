@@ -98,6 +98,9 @@ pub(crate) struct Legged {
     /// Action scale of each actuator (`[actions] scale`).
     scale: Vec<f64>,
     pd: bool,
+    /// `[actions] kind = "ctrlrange"`: each actuator's control range; the action is clipped to
+    /// [−1, 1] and `ctrl` to this range.
+    ctrl_clip: Vec<(f64, f64)>,
     /// nsite × 3 each: linvel, angvel, local linvel, local angvel, z axis, gravity.
     pub site: [Vec<f64>; 6],
     site_frames: bool,
@@ -122,9 +125,32 @@ impl Legged {
         };
         if let Some(a) = &spec.actions {
             l.pd = true;
-            l.scale.clone_from(&a.scale);
+            if a.kind == ActionKind::PdPosition {
+                l.scale.clone_from(&a.scale);
+            }
             match &a.default_pose {
                 DefaultPose::Values(v) => l.default_pose.copy_from_slice(v),
+                DefaultPose::CtrlRangeCentre => {
+                    // Gymnasium-Robotics' hands: (hi + lo) / 2 and (hi − lo) / 2, as numpy
+                    // computes them (Adroit's mean and 0.5 × span are the same numbers).
+                    let limited = model.actuator_ctrllimited();
+                    for (i, r) in model.actuator_ctrlrange().iter().enumerate() {
+                        if !limited.get(i).is_some_and(|&on| on)
+                            || r[0].partial_cmp(&r[1]).is_none_or(|o| o.is_gt())
+                        {
+                            let name = crate::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                            return Err(unfit(
+                                spec,
+                                format!(
+                                    "[actions] kind = \"ctrlrange\" needs every actuator's control range, and actuator `{name}` has none (ctrllimited is false)"
+                                ),
+                            ));
+                        }
+                        l.default_pose[i] = (r[1] + r[0]) / 2.0;
+                        l.scale[i] = (r[1] - r[0]) / 2.0;
+                        l.ctrl_clip.push((r[0], r[1]));
+                    }
+                }
                 DefaultPose::Keyframe { name, qposadr } => {
                     let k = id(m, mjtObj::mjOBJ_KEY, name).ok_or_else(|| {
                         unfit(spec, format!("the compiled model has no keyframe `{name}`"))
@@ -241,7 +267,14 @@ impl Legged {
 
     /// `ctrl` for an action: `default_pose + scale × action` under `[actions]`, else the action.
     pub fn write_ctrl(&self, action: &[f64], ctrl: &mut [f64]) {
-        if self.pd {
+        if !self.ctrl_clip.is_empty() {
+            // np.clip twice: the action to the action space, then ctrl to the control range.
+            for i in 0..ctrl.len() {
+                let a = action[i].clamp(-1.0, 1.0);
+                let (lo, hi) = self.ctrl_clip[i];
+                ctrl[i] = (self.default_pose[i] + a * self.scale[i]).clamp(lo, hi);
+            }
+        } else if self.pd {
             for i in 0..ctrl.len() {
                 ctrl[i] = self.default_pose[i] + self.scale[i] * action[i];
             }

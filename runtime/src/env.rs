@@ -916,6 +916,19 @@ impl Env {
                 continue;
             }
             let records = &self.sim.manip.records;
+            if let Distribution::Meet(m) = &step.dist {
+                let around = step.around.as_deref().unwrap_or(&[]);
+                crate::manipulation::meet(m, around, records, rng, numerics, draw);
+                let target: &mut [f64] = match step.target.field {
+                    Field::Qpos => qpos,
+                    Field::Goal => &mut self.sim.goal,
+                    _ => qvel,
+                };
+                for (k, &i) in step.target.indices.iter().enumerate() {
+                    target[i] = draw[k];
+                }
+                continue;
+            }
             // The reference redraws for ever; envc gives up after a bound no real spec reaches.
             for attempt in 1.. {
                 match &step.dist {
@@ -933,6 +946,7 @@ impl Env {
                     Distribution::Values { values } => draw.copy_from_slice(values),
                     Distribution::Keyframe { .. }
                     | Distribution::RootPose { .. }
+                    | Distribution::Meet(_)
                     | Distribution::TerrainOrigin { .. } => {}
                 }
                 let done = match step.resample_until {

@@ -346,3 +346,46 @@ pub(crate) fn mat2euler(m: &[f64; 9], profile: Profile) -> [f64; 3] {
     };
     [x, y, z]
 }
+
+/// A `meet` reset draw into `out` (the target's numbers, 3 per point), starting from the
+/// `around` records; numpy's order: the `one_of` choice, the three normals, the last uniform.
+pub(crate) fn meet(
+    m: &envspec::ir::Meet,
+    around: &[usize],
+    records: &[f64],
+    rng: &mut crate::rng::NumpyRng,
+    numerics: Profile,
+    out: &mut [f64],
+) {
+    for (o, &i) in out.iter_mut().zip(around) {
+        *o = records[i];
+    }
+    let chosen = match m.one_of.len() {
+        0 => None,
+        n => Some(m.one_of[rng.integers(0, n as i64) as usize]),
+    };
+    let mut at = [0.0; 3];
+    for (k, a) in at.iter_mut().enumerate() {
+        *a = records[m.center[k]] + m.offset[k];
+    }
+    for a in &mut at {
+        // numpy's normal(loc=0, scale): loc + scale × z.
+        *a += 0.0 + m.scale * rng.standard_normal();
+    }
+    for &p in m.always.iter().chain(chosen.as_ref()) {
+        let point = &mut out[3 * p..3 * p + 3];
+        let mut dir = [at[0] - point[0], at[1] - point[1], at[2] - point[2]];
+        let len = numerics::norm(numerics, 3, &|i| dir[i]);
+        for d in &mut dir {
+            *d /= len;
+        }
+        for k in 0..3 {
+            point[k] = at[k] - m.gap * dir[k];
+        }
+    }
+    if rng.uniform(0.0, 1.0) < m.unchanged {
+        for (o, &i) in out.iter_mut().zip(around) {
+            *o = records[i];
+        }
+    }
+}

@@ -184,6 +184,7 @@ enum DistKey {
     Keyframe(usize),
     RootPose(Vec<Bits>),
     TerrainOrigin(usize, usize),
+    Meet(Vec<usize>, Vec<Bits>, Vec<usize>, Vec<usize>),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -214,6 +215,12 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
             DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
         }
         Distribution::TerrainOrigin { rows } => DistKey::TerrainOrigin(rows.0, rows.1),
+        Distribution::Meet(m) => DistKey::Meet(
+            m.center.to_vec(),
+            bits_all(&[m.offset.as_slice(), &[m.scale, m.gap, m.unchanged]].concat()),
+            m.always.clone(),
+            m.one_of.clone(),
+        ),
     };
     ResetKey {
         target: sel(&r.target),

@@ -172,14 +172,20 @@ impl Ctx<'_> {
                 .at(v.loc.clone())
                 .label(label.to_string())
         };
-        if let Some(v) = s.get("kind")
-            && v.as_str() != Some("pd_position")
-        {
-            self.d.push(
-                Diagnostic::new(Code::E0104, "unknown [actions] kind")
-                    .at(v.loc.clone())
-                    .label("expected \"pd_position\""),
-            );
+        let kind = match s.get("kind").map(|v| (v, v.as_str())) {
+            None | Some((_, Some("pd_position"))) => ActionKind::PdPosition,
+            Some((_, Some("ctrlrange"))) => ActionKind::CtrlRange,
+            Some((v, _)) => {
+                self.d.push(
+                    Diagnostic::new(Code::E0104, "unknown [actions] kind")
+                        .at(v.loc.clone())
+                        .label("expected \"pd_position\" or \"ctrlrange\""),
+                );
+                ActionKind::PdPosition
+            }
+        };
+        if kind == ActionKind::CtrlRange {
+            return self.ctrlrange_actions(s);
         }
         let max = limits::MAX_MAGNITUDE;
         let scale = match s.get("scale") {
@@ -309,12 +315,39 @@ impl Ctx<'_> {
             }
         };
         Some(PdActions {
+            kind,
             scale,
             default_pose,
             range,
             kp,
             kd,
             damping,
+        })
+    }
+
+    /// `kind = "ctrlrange"`: the control ranges give the mapping, so no other key is taken.
+    fn ctrlrange_actions(&mut self, s: &Section) -> Option<PdActions> {
+        for key in ["scale", "default_pose", "range", "kp", "kd", "damping"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("`{key}` does not apply to [actions] kind = \"ctrlrange\""),
+                    )
+                    .at(v.loc.clone())
+                    .label("the control ranges give the centre, the scale and the action space")
+                    .help("remove it, or use kind = \"pd_position\""),
+                );
+            }
+        }
+        Some(PdActions {
+            kind: ActionKind::CtrlRange,
+            scale: vec![],
+            default_pose: DefaultPose::CtrlRangeCentre,
+            range: (-1.0, 1.0),
+            kp: None,
+            kd: None,
+            damping: None,
         })
     }
 

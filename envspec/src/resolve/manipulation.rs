@@ -3,6 +3,7 @@
 
 use super::Ctx;
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
+use crate::ir::{Distribution, Meet};
 use crate::manipulation::*;
 use crate::mjcf::JointKind;
 use crate::selector::{Field, Selection};
@@ -242,6 +243,109 @@ impl Ctx<'_> {
             }
         });
         (around, probability)
+    }
+
+    /// A `meet` reset step: `n` target numbers are `n / 3` points, which start at `around`.
+    pub(super) fn meet(&mut self, s: &Section, n: usize) -> Option<Distribution> {
+        let what = format!("[reset.{}]", s.name);
+        let Some(around) = s.get("around") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `around` in {what}"))
+                    .at(s.name_loc.clone())
+                    .label("expected the [init] record the points start from"),
+            );
+            return None;
+        };
+        let points = n / 3;
+        if !n.is_multiple_of(3) || points == 0 {
+            self.d.push(misfit(
+                &around.loc,
+                format!("{what}: a meet target is points of 3 numbers, and it has {n} numbers"),
+                "expected a target of 3, 6, 9, … numbers",
+            ));
+            return None;
+        }
+        let Some(center) = s.get("center") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `center` in {what}"))
+                    .at(s.name_loc.clone())
+                    .label(
+                        "expected the [init] record (3 numbers) the meeting point is drawn around",
+                    ),
+            );
+            return None;
+        };
+        let center = self.around(center, 3, &what)?;
+        let offset = match s.get("offset") {
+            Some(v) => self.number_list(v, "offset", 3)?,
+            None => vec![0.0; 3],
+        };
+        let mut number = |key: &str, default: f64, range: (f64, f64)| -> Option<f64> {
+            let Some(v) = s.get(key) else {
+                return Some(default);
+            };
+            let x = self.num(v, key)?;
+            if !(range.0 <= x && x <= range.1) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0105,
+                        format!("{what}: {key} = {x} is outside [{}, {}]", range.0, range.1),
+                    )
+                    .at(v.loc.clone())
+                    .label(format!("expected a number in [{}, {}]", range.0, range.1)),
+                );
+                return None;
+            }
+            Some(x)
+        };
+        let max = crate::limits::MAX_COORDINATE;
+        let scale = number("scale", 0.0, (0.0, max))?;
+        let gap = number("gap", 0.0, (0.0, max))?;
+        let unchanged = number("unchanged", 0.0, (0.0, 1.0))?;
+        let mut indices = |key: &str| -> Option<Vec<usize>> {
+            let Some(v) = s.get(key) else {
+                return Some(vec![]);
+            };
+            let list = match &v.kind {
+                ValKind::Array(a) => a
+                    .iter()
+                    .map(|x| match x.kind {
+                        ValKind::Int(i) => usize::try_from(i).ok().filter(|&i| i < points),
+                        _ => None,
+                    })
+                    .collect::<Option<Vec<usize>>>(),
+                _ => None,
+            };
+            if list.is_none() {
+                self.d.push(v.type_error(
+                    key,
+                    &format!("an array of point indices below {points} (the target's points)"),
+                ));
+            }
+            list
+        };
+        let always = indices("always")?;
+        let one_of = indices("one_of")?;
+        if let Some(i) = always.iter().find(|i| one_of.contains(i)) {
+            let at = s
+                .get("one_of")
+                .map_or(s.name_loc.clone(), |v| v.loc.clone());
+            self.d.push(misfit(
+                &at,
+                format!("{what}: point {i} is in both `always` and `one_of`"),
+                "expected the drawn point to be another than those that always move",
+            ));
+            return None;
+        }
+        Some(Distribution::Meet(Box::new(Meet {
+            center: [center[0], center[1], center[2]],
+            offset: [offset[0], offset[1], offset[2]],
+            scale,
+            always,
+            one_of,
+            gap,
+            unchanged,
+        })))
     }
 
     /// A list of numbers (or numeric parameters) of length `n`.

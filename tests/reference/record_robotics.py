@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
-"""Record Gymnasium-Robotics 1.4.2's Fetch v4 envs (sparse and dense) for envc's replay test
-(tests/fetch.rs) and the live check (tests/python/test_fetch.py): from a seed, random actions
-(half of them float32, some outside [-1, 1] so the clip shows), every observation dict, reward,
-termination, truncation and `is_success`; then `compute_reward` on a batch of goal pairs.
+"""Record Gymnasium-Robotics 1.4.2's goal-conditioned envs (Fetch v4, the Shadow Hand; sparse and
+dense) for envc's replay tests (tests/fetch.rs, tests/hand.rs) and the live check: from a seed,
+random actions (half of them float32, some outside [-1, 1] so the clip shows), every observation
+dict, reward, termination, truncation and `is_success`; then `compute_reward` on a batch of goal
+pairs.
 
-    .venv/bin/python tests/reference/record_fetch.py              # re-record the committed fixtures
-    .venv/bin/python tests/reference/record_fetch.py --out DIR --seed N
+    .venv/bin/python tests/reference/record_robotics.py            # re-record the committed fixtures
+    .venv/bin/python tests/reference/record_robotics.py --out DIR --seed N [--family hand]
 
-Format (one JSON file per id): `{"id", "numerics", "numerics_settings", "seed", "actions" (hex,
-steps x 4, float64 values of the actions given), "float32" (per step: the action was passed as
+Format (one JSON file per id, in DIR/<family>/): `{"id", "numerics", "numerics_settings", "seed",
+"actions" (hex, steps x the action size, float64 values of the actions given), "float32" (per step: the action was passed as
 float32), "obs" / "achieved" / "desired" (hex per event, the reset first), "reward" (hex per step),
 "is_success" (hex per step), "terminated", "truncated" (per step), "batch_achieved",
-"batch_desired" (hex, n x 3), "batch_reward" (hex, float64 of the reference's values),
+"batch_desired" (hex, n x the goal size), "batch_reward" (hex, float64 of the reference's values),
 "batch_float32" (whether the reference's batch reward was float32)}`. The patch the reference
 needs on MuJoCo 3.17 is robotics_patch.py.
 """
@@ -33,7 +34,10 @@ import robotics_patch  # noqa: E402,F401
 
 gym.register_envs(gymnasium_robotics)
 
-IDS = [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")]
+FAMILIES = {
+    "fetch": [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")],
+    "hand": [f"HandReach{r}-v3" for r in ("", "Dense")],
+}
 
 
 def hexa(a):
@@ -56,7 +60,7 @@ def record(env_id, seed, steps=60):
     assert info == {}
     event(o)
     for t in range(steps):
-        a = rng.uniform(-1.3, 1.3, 4)
+        a = rng.uniform(-1.3, 1.3, env.action_space.shape[0])
         as32 = bool(t % 2)
         if as32:
             a = a.astype(np.float32)
@@ -74,8 +78,9 @@ def record(env_id, seed, steps=60):
             event(o)
     u = env.unwrapped
     n = 256
-    g = rng.uniform(-0.1, 0.1, (n, 3)) + np.asarray(u.goal)
-    d = g + rng.normal(0, 0.04, (n, 3))
+    k = np.asarray(u.goal).shape[0]
+    g = rng.uniform(-0.1, 0.1, (n, k)) + np.asarray(u.goal)
+    d = g + rng.normal(0, 0.04 if k == 3 else 0.004, (n, k))
     d[:8] = g[:8]
     br = u.compute_reward(g, d, {})
     return {
@@ -91,17 +96,19 @@ def record(env_id, seed, steps=60):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default=os.path.join(here, "fixtures", "fetch"))
+    ap.add_argument("--out", default=os.path.join(here, "fixtures"))
     ap.add_argument("--seed", type=int, default=3)
-    ap.add_argument("--ids", nargs="*", default=IDS)
+    ap.add_argument("--family", nargs="*", default=list(FAMILIES), choices=list(FAMILIES))
     args = ap.parse_args()
-    os.makedirs(args.out, exist_ok=True)
-    for k, env_id in enumerate(args.ids):
-        rec = record(env_id, args.seed + k)
-        with open(os.path.join(args.out, f"{env_id}.json"), "w") as f:
-            json.dump(rec, f, separators=(",", ":"))
-        print(f"record_fetch: {env_id} seed {rec['seed']}, {len(rec['float32'])} steps, "
-              f"{len(rec['resets_after'])} resets", file=sys.stderr)
+    for family in args.family:
+        out = os.path.join(args.out, family)
+        os.makedirs(out, exist_ok=True)
+        for k, env_id in enumerate(FAMILIES[family]):
+            rec = record(env_id, args.seed + k)
+            with open(os.path.join(out, f"{env_id}.json"), "w") as f:
+                json.dump(rec, f, separators=(",", ":"))
+            print(f"record_robotics: {env_id} seed {rec['seed']}, {len(rec['float32'])} steps, "
+                  f"{len(rec['resets_after'])} resets", file=sys.stderr)
 
 
 if __name__ == "__main__":

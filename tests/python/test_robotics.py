@@ -1,6 +1,8 @@
-"""envc's Fetch v4 specs from Python against the live Gymnasium-Robotics 1.4.2 reference.
+"""envc's goal-conditioned robotics specs from Python against the live Gymnasium-Robotics 1.4.2
+reference.
 
-Every Fetch id (Reach, Push, Slide, PickAndPlace; sparse and dense) runs the same seed and actions
+Every Fetch v4 id (Reach, Push, Slide, PickAndPlace; sparse and dense) and every Shadow Hand id
+envc registers (``HandReach-v3``, sparse and dense) runs the same seed and actions
 through ``gymnasium.make(X)`` and ``gymnasium.make("envc/X")``: spaces, dict observations bitwise,
 rewards and ``is_success`` with their numpy types, flags, the auto-reset continuation after the
 time limit, and ``compute_reward`` on batches and single goals (as hindsight relabelling calls it).
@@ -29,8 +31,9 @@ import robotics_patch  # noqa: E402,F401
 gym.register_envs(gymnasium_robotics)
 
 LIVE_SEED = int(os.environ.get("ENVC_LIVE_SEED", np.random.SeedSequence().entropy % 2**32))
-print(f"test_fetch: live seed {LIVE_SEED} (set ENVC_LIVE_SEED to replay)")
+print(f"test_robotics: live seed {LIVE_SEED} (set ENVC_LIVE_SEED to replay)")
 IDS = [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")]
+IDS += [f"HandReach{r}-v3" for r in ("", "Dense")]
 
 
 def same(x, y) -> bool:
@@ -41,7 +44,7 @@ def same(x, y) -> bool:
 
 @pytest.mark.parametrize("seed", [0, LIVE_SEED])
 @pytest.mark.parametrize("env_id", IDS)
-def test_fetch_matches_the_reference(env_id, seed):
+def test_robotics_matches_the_reference(env_id, seed):
     ref, ours = gym.make(env_id), gym.make("envc/" + env_id)
     assert ours.observation_space == ref.observation_space
     assert ours.action_space == ref.action_space
@@ -53,7 +56,7 @@ def test_fetch_matches_the_reference(env_id, seed):
     resets = 0
     for t in range(110):
         # Sampled float32 actions, and float64 ones beyond the bounds (the reference clips).
-        a = ours.action_space.sample() if t % 2 else rng.uniform(-1.5, 1.5, 4)
+        a = ours.action_space.sample() if t % 2 else rng.uniform(-1.5, 1.5, ours.action_space.shape)
         r1, r2 = ref.step(a), ours.step(a)
         for k in o1:
             assert same(r1[0][k], r2[0][k]), (env_id, seed, t, k)
@@ -68,22 +71,24 @@ def test_fetch_matches_the_reference(env_id, seed):
             for k in o1:
                 assert same(o1[k], o2[k]), (env_id, seed, "reset", k)
     assert resets == 2
-    g = rng.uniform(-0.2, 0.2, (256, 3)) + r1[0]["desired_goal"]
-    d = g + rng.normal(0, 0.04, (256, 3))
+    k = r1[0]["desired_goal"].shape[0]
+    g = rng.uniform(-0.2, 0.2, (256, k)) + r1[0]["desired_goal"]
+    d = g + rng.normal(0, 0.04 if k == 3 else 0.004, (256, k))
     d[:4] = g[:4]
     u1, u2 = ref.unwrapped, ours.unwrapped
     assert same(u1.compute_reward(g, d, {}), u2.compute_reward(g, d, {}))
     assert same(u1.compute_reward(g[5], d[5], {}), u2.compute_reward(g[5], d[5], {}))
     assert same(
-        u1.compute_reward(g.reshape(16, 16, 3), d.reshape(16, 16, 3), {}),
-        u2.compute_reward(g.reshape(16, 16, 3), d.reshape(16, 16, 3), {}),
+        u1.compute_reward(g.reshape(16, 16, k), d.reshape(16, 16, k), {}),
+        u2.compute_reward(g.reshape(16, 16, k), d.reshape(16, 16, k), {}),
     )
 
 
-def test_fetch_passes_gymnasiums_env_checker():
+@pytest.mark.parametrize("env_id", ["FetchPickAndPlace-v4", "HandReach-v3"])
+def test_robotics_passes_gymnasiums_env_checker(env_id):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        check_env(gym.make("envc/FetchPickAndPlace-v4").unwrapped, skip_render_check=True)
+        check_env(gym.make("envc/" + env_id).unwrapped, skip_render_check=True)
 
 
 def test_compute_reward_refuses_a_task_without_goal():

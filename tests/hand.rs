@@ -1,0 +1,12 @@
+//! Gymnasium-Robotics' Shadow Dexterous Hand envs (specs/robotics/hand/) against the reference's
+//! own numbers, recorded by tests/reference/record_robotics.py (fixtures/hand/) and replayed as
+//! the Fetch recordings are (tests/fetch.rs): `HandReach-v3` and its dense twin, whose goal is a
+//! `meet` reset draw and whose actions span the control ranges (`[actions] kind = "ctrlrange"`).
+
+use crate::fetch::replay_family;
+
+#[test]
+fn hand_reach() {
+    replay_family("hand", "HandReach-v3");
+    replay_family("hand", "HandReachDense-v3");
+}
