@@ -242,3 +242,62 @@ source = "xpos[marker]"
     }
     std::fs::remove_dir_all(p.parent().unwrap()).ok();
 }
+
+/// Reset steps may target a mocap body's `mocap_pos` / `mocap_quat` by name, and observations
+/// read them: MuJoCo's forward pass then puts the body there (`xpos`, `xquat` are MuJoCo's).
+#[test]
+fn reset_draws_target_mocap_bodies() {
+    let p = edited("mocap-reset", |t| {
+        t.replace(
+            "\n[sites.tip]\n",
+            r#"[bodies.beacon]
+mocap = true
+geom = "sphere"
+
+[reset.beacon_place]
+target = "mocap_pos[beacon]"
+kind = "constant"
+value = [0.25, -0.125, 0.5]
+
+[reset.beacon_turn]
+target = "mocap_quat[beacon]"
+kind = "constant"
+value = [0.0, 1.0, 0.0, 0.0]
+
+[reset.beacon_jitter]
+target = "mocap_pos[beacon][0]"
+kind = "uniform"
+low = -0.5
+high = 0.5
+
+[observation.beacon_pos]
+source = "mocap_pos[beacon]"
+
+[observation.beacon_xpos]
+source = "xpos[beacon]"
+
+[observation.beacon_xquat]
+source = "xquat[beacon]"
+
+[sites.tip]
+"#,
+        )
+    });
+    let mut env = Env::from_spec_file(&p, &[]).unwrap();
+    let spec = std::sync::Arc::clone(env.spec());
+    for seed in [0, 7] {
+        let obs = env.reset(Some(seed)).0.to_vec();
+        let pos = seg(&spec, &obs, "beacon_pos").to_vec();
+        let x = pos[0] - 0.25;
+        assert!((-0.5..0.5).contains(&x) && x != 0.0, "{pos:?}");
+        assert_eq!(&pos[1..], &[-0.125, 0.5]);
+        assert_eq!(seg(&spec, &obs, "beacon_xpos"), &pos[..]);
+        assert_eq!(seg(&spec, &obs, "beacon_xquat"), &[0.0, 1.0, 0.0, 0.0]);
+    }
+    // A name that is not a mocap body selects no mocap_pos row.
+    let bad = p.with_file_name("bad.toml");
+    let text = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&bad, text.replace("mocap_pos[beacon][0]", "mocap_pos[tip]")).unwrap();
+    assert!(envc::envspec::load(&bad, &[]).is_err());
+    std::fs::remove_dir_all(p.parent().unwrap()).ok();
+}

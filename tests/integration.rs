@@ -24,6 +24,7 @@ mod no_alloc;
 mod numerics;
 mod obs_noise;
 mod parity;
+mod pd_actions;
 mod readme;
 mod render;
 mod rng_numpy;

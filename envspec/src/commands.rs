@@ -43,12 +43,12 @@ impl Command {
 #[derive(Clone, Debug, PartialEq)]
 pub enum DefaultPose {
     /// A keyframe's `qpos` at each actuator's joint (`qposadr`, one per actuator), read from the
-    /// compiled model.
+    /// compiled model; an actuator that drives no joint (a tendon) takes the keyframe's `ctrl`.
     Keyframe {
         /// The keyframe's name.
         name: String,
-        /// The `qpos` address of each actuator's joint.
-        qposadr: Vec<usize>,
+        /// The `qpos` address of each actuator's joint (None: the keyframe's `ctrl`).
+        qposadr: Vec<Option<usize>>,
     },
     /// One value per actuator, as written.
     Values(Vec<f64>),

@@ -115,6 +115,8 @@ pub struct ModelInfo {
     /// `<sensor>` elements in MuJoCo's order: name and the number of values each writes to
     /// `sensordata` (None for a kind whose size the MJCF alone does not fix, e.g. a plugin).
     pub sensors: Vec<(String, Option<usize>)>,
+    /// The mocap bodies (`mocap="true"`), by body id, in MuJoCo's mocap order (body order).
+    pub mocap: Vec<usize>,
 }
 
 impl ModelInfo {
@@ -152,6 +154,7 @@ impl ModelInfo {
                 nv: 0,
                 keyframes: vec![],
                 sensors: vec![],
+                mocap: vec![],
             },
             asset_dirs: Default::default(),
             in_world: false,
@@ -170,6 +173,7 @@ impl ModelInfo {
 /// A body of the kinematic tree, gathered before numbering (includes may add to `<worldbody>`).
 struct BodyNode {
     name: String,
+    mocap: bool,
     joints: Vec<(String, JointKind)>,
     sites: Vec<String>,
     geoms: Vec<String>,
@@ -387,6 +391,7 @@ impl Reader {
             "frame" => {
                 let mut holder = BodyNode {
                     name: String::new(),
+                    mocap: false,
                     joints: vec![],
                     sites: vec![],
                     geoms: vec![],
@@ -558,6 +563,7 @@ impl Reader {
         let childclass = node.attribute("childclass").or(childclass);
         let mut body = BodyNode {
             name: node.attribute("name").unwrap_or("").into(),
+            mocap: node.attribute("mocap") == Some("true"),
             joints: vec![],
             sites: vec![],
             geoms: vec![],
@@ -622,6 +628,9 @@ impl Reader {
         while let Some(b) = stack.pop() {
             let id = self.info.bodies.len();
             self.info.bodies.push(b.name.clone());
+            if b.mocap {
+                self.info.mocap.push(id);
+            }
             for (name, kind) in &b.joints {
                 self.info.joints.push(Joint {
                     name: name.clone(),

@@ -1311,18 +1311,24 @@ impl Ctx<'_> {
             let Some(target) = self.sel_key(s, "target") else {
                 continue;
             };
-            if !matches!(target.field, Field::Qpos | Field::Qvel | Field::Goal) {
+            if !matches!(
+                target.field,
+                Field::Qpos | Field::Qvel | Field::Goal | Field::MocapPos | Field::MocapQuat
+            ) {
                 self.d.push(
                     Diagnostic::new(
                         Code::E0107,
-                        format!("reset target `{}` is not qpos, qvel or goal", target.text),
+                        format!(
+                            "reset target `{}` is not qpos, qvel, goal, mocap_pos or mocap_quat",
+                            target.text
+                        ),
                     )
                     .at(s
                         .get("target")
                         .expect("`target` was read just above")
                         .loc
                         .clone())
-                    .label("expected a selection of qpos, qvel or goal"),
+                    .label("expected a selection of qpos, qvel, goal, mocap_pos or mocap_quat"),
                 );
                 continue;
             }

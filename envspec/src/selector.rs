@@ -99,6 +99,10 @@ pub enum Field {
     Goal,
     /// `sensordata`: the model's `<sensor>` values (a name selects all of a sensor's values).
     SensorData,
+    /// `mocap_pos`: mocap bodies' positions, selected by body name.
+    MocapPos,
+    /// `mocap_quat`: mocap bodies' orientations (w, x, y, z), selected by body name.
+    MocapQuat,
 }
 
 /// What the rows of a field are indexed by.
@@ -124,6 +128,8 @@ pub enum Rows {
     Command,
     /// Sensor values (`sensordata`): a sensor's name selects its values.
     Sensor,
+    /// Mocap bodies (`nmocap`), by body name.
+    Mocap,
 }
 
 /// Every field by the name a selector writes, e.g. `qpos`.
@@ -166,6 +172,8 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("site_xvelr", Field::SiteXvelr),
     ("goal", Field::Goal),
     ("sensordata", Field::SensorData),
+    ("mocap_pos", Field::MocapPos),
+    ("mocap_quat", Field::MocapQuat),
 ];
 
 impl Field {
@@ -189,6 +197,7 @@ impl Field {
             | Field::DefaultPose => Rows::Actuator,
             Field::Command | Field::Goal => Rows::Command,
             Field::SensorData => Rows::Sensor,
+            Field::MocapPos | Field::MocapQuat => Rows::Mocap,
             Field::CfrcExt
             | Field::CfrcInt
             | Field::Cacc
@@ -215,10 +224,10 @@ impl Field {
         match self {
             Field::CfrcExt | Field::CfrcInt | Field::Cacc | Field::Cvel => 6,
             Field::Cinert => 10,
-            Field::Xpos | Field::Xipos | Field::SiteXpos => 3,
+            Field::Xpos | Field::Xipos | Field::SiteXpos | Field::MocapPos => 3,
             Field::SubtreeLinvel | Field::SubtreeAngmom => 3,
             f if f.is_site_frame() => 3,
-            Field::Xquat => 4,
+            Field::Xquat | Field::MocapQuat => 4,
             Field::SiteXmat => 9,
             Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => 3,
             _ => 1,
@@ -250,11 +259,11 @@ impl Field {
                 &["rx", "ry", "rz", "tx", "ty", "tz"]
             }
             Field::Cinert => &["i0", "i1", "i2", "i3", "i4", "i5", "mx", "my", "mz", "m"],
-            Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
+            Field::Xpos | Field::Xipos | Field::SiteXpos | Field::MocapPos => &["x", "y", "z"],
             Field::SubtreeLinvel | Field::SubtreeAngmom => &["x", "y", "z"],
             f if f.is_site_frame() => &["x", "y", "z"],
             Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => &["x", "y", "z"],
-            Field::Xquat => &["w", "x", "y", "z"],
+            Field::Xquat | Field::MocapQuat => &["w", "x", "y", "z"],
             Field::SiteXmat => &["xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"],
             _ => &[""],
         }
@@ -553,6 +562,12 @@ fn row_names(field: Field, model: &ModelInfo) -> Vec<String> {
             .enumerate()
             .map(|(i, s)| or_id(s, "site", i))
             .collect(),
+        Rows::Mocap => model
+            .mocap
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| or_id(&model.bodies[b], "mocap", i))
+            .collect(),
         Rows::Tendon => model
             .tendons
             .iter()
@@ -661,6 +676,19 @@ fn rows_by_name(
             "site",
             model.sites.iter().map(String::as_str).collect(),
             model.sites.iter().position(|s| s == name).map(|i| vec![i]),
+        ),
+        Rows::Mocap => (
+            "mocap body",
+            model
+                .mocap
+                .iter()
+                .map(|&b| model.bodies[b].as_str())
+                .collect(),
+            model
+                .mocap
+                .iter()
+                .position(|&b| model.bodies[b] == name)
+                .map(|i| vec![i]),
         ),
         Rows::Tendon => (
             "tendon",

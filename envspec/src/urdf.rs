@@ -113,6 +113,7 @@ impl ModelInfo {
             nv: 0,
             keyframes: vec![],
             sensors: vec![],
+            mocap: vec![],
         };
         let mut walk = Walk {
             robot: &robot,

@@ -86,7 +86,7 @@ fn the_joystick_resolves() {
     match &a.default_pose {
         envspec::ir::DefaultPose::Keyframe { name, qposadr } => {
             assert_eq!(name, "home");
-            assert_eq!(*qposadr, (7..19).collect::<Vec<_>>());
+            assert_eq!(*qposadr, (7..19).map(Some).collect::<Vec<_>>());
         }
         other => panic!("{other:?}"),
     }

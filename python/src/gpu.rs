@@ -101,6 +101,8 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         envspec::Field::SiteXvelr,
         envspec::Field::Goal,
         envspec::Field::SensorData,
+        envspec::Field::MocapPos,
+        envspec::Field::MocapQuat,
     ] {
         if spec.reads(f) {
             not_exported.push(format!("the field `{}`", f.name()));
@@ -242,10 +244,13 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
             });
             if r.around.is_some()
                 || r.probability.is_some()
-                || r.target.field == envspec::Field::Goal
+                || matches!(
+                    r.target.field,
+                    envspec::Field::Goal | envspec::Field::MocapPos | envspec::Field::MocapQuat
+                )
             {
                 not_exported.push(format!(
-                    "[reset.{}] around / probability / a goal target",
+                    "[reset.{}] around / probability / a goal or mocap target",
                     r.name
                 ));
             }

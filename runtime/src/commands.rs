@@ -37,6 +37,11 @@ pub(crate) fn apply_gains(spec: &ResolvedSpec, model: &mut MjModel) -> Result<()
     // We own the model; no data uses it yet.
     let nu = model.ffi().nu as usize;
     for i in 0..nu {
+        // The gains are the joints' servos: an actuator on a tendon or a site (a tendon-driven
+        // gripper) keeps the model's own gains.
+        if model.actuator_trntype()[i] as i32 != 0 || model.actuator_trnid()[i][0] < 0 {
+            continue;
+        }
         if a.kp.is_some() || a.kd.is_some() {
             let servo = model.actuator_gaintype()[i] as i32 == mjtGain::mjGAIN_FIXED as i32
                 && model.actuator_biastype()[i] as i32 == mjtBias::mjBIAS_AFFINE as i32;
@@ -59,12 +64,6 @@ pub(crate) fn apply_gains(spec: &ResolvedSpec, model: &mut MjModel) -> Result<()
         }
         if let Some(damping) = a.damping {
             let j = model.actuator_trnid()[i][0];
-            if model.actuator_trntype()[i] as i32 != 0 || j < 0 {
-                return Err(unfit(
-                    spec,
-                    format!("actuator {i} drives no joint, so [actions] damping cannot be set"),
-                ));
-            }
             let dof = model.jnt_dofadr()[j as usize] as usize;
             ModelValues::owned(model).set(ModelArray::DofDamping, dof, damping);
         }
@@ -156,8 +155,11 @@ impl Legged {
                         unfit(spec, format!("the compiled model has no keyframe `{name}`"))
                     })?;
                     for (i, &adr) in qposadr.iter().enumerate() {
-                        // k < nkey, adr < nq.
-                        l.default_pose[i] = model.key_qpos()[k * nq + adr];
+                        // k < nkey, adr < nq, i < nu.
+                        l.default_pose[i] = match adr {
+                            Some(adr) => model.key_qpos()[k * nq + adr],
+                            None => model.key_ctrl()[k * nu + i],
+                        };
                     }
                 }
             }

@@ -179,6 +179,8 @@ impl Sim {
             Field::SiteXmat => d.site_xmat().as_flattened(),
             Field::Goal => &self.goal,
             Field::SensorData => d.sensordata(),
+            Field::MocapPos => d.mocap_pos().as_flattened(),
+            Field::MocapQuat => d.mocap_quat().as_flattened(),
             Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => {
                 self.manip.field(f).unwrap_or(&[])
             }
@@ -862,7 +864,7 @@ impl Env {
 
         let nq = self.sim.nq;
         let numerics = self.sim.numerics;
-        let (qpos, qvel) = mj::state::qpos_qvel_mut(&mut self.sim.data);
+        let [qpos, qvel, mocap_pos, mocap_quat] = mj::state::state_mut(&mut self.sim.data);
         qpos.copy_from_slice(&self.qpos_init);
         qvel.copy_from_slice(&self.qvel_init);
         self.reset_failure = None;
@@ -922,6 +924,8 @@ impl Env {
                 let target: &mut [f64] = match step.target.field {
                     Field::Qpos => qpos,
                     Field::Goal => &mut self.sim.goal,
+                    Field::MocapPos => mocap_pos,
+                    Field::MocapQuat => mocap_quat,
                     _ => qvel,
                 };
                 for (k, &i) in step.target.indices.iter().enumerate() {
@@ -970,6 +974,8 @@ impl Env {
             let target: &mut [f64] = match step.target.field {
                 Field::Qpos => qpos,
                 Field::Goal => &mut self.sim.goal,
+                Field::MocapPos => mocap_pos,
+                Field::MocapQuat => mocap_quat,
                 _ => qvel,
             };
             for (k, &i) in step.target.indices.iter().enumerate() {

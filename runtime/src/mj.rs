@@ -250,6 +250,25 @@ pub(crate) mod state {
         }
     }
 
+    /// `mocap_pos` and `mocap_quat` (3 and 4 doubles per mocap body), beside `qpos` and `qvel`:
+    /// what a reset writes.
+    pub(crate) fn state_mut<M: ModelType>(data: &mut MjData<M>) -> [&mut [f64]; 4] {
+        let m = data.model().ffi();
+        let n = |x: i64| usize::try_from(x).unwrap_or(0);
+        let (nq, nv, nmocap) = (n(m.nq), n(m.nv), n(m.nmocap));
+        // SAFETY: the data's own arrays, of these sizes (MuJoCo allocates each, even empty);
+        // they do not overlap, and every borrow ends with the exclusive borrow of `data`.
+        unsafe {
+            let d = data.ffi_mut();
+            [
+                slice_mut(d.qpos, nq),
+                slice_mut(d.qvel, nv),
+                slice_mut(d.mocap_pos, 3 * nmocap),
+                slice_mut(d.mocap_quat, 4 * nmocap),
+            ]
+        }
+    }
+
     /// # Safety
     /// `ptr` points to `len` initialised doubles, borrowed by nothing else for `'a`.
     unsafe fn slice_mut<'a>(ptr: *mut f64, len: usize) -> &'a mut [f64] {

@@ -347,9 +347,17 @@ impl Ctx<'_> {
 pub(super) fn apply(added: &[AddedElement], model: &mut ModelInfo) {
     for e in added {
         match e {
-            AddedElement::Body { name, joints, .. } => {
+            AddedElement::Body {
+                name,
+                joints,
+                mocap,
+                ..
+            } => {
                 let id = model.bodies.len();
                 model.bodies.push(name.clone());
+                if *mocap {
+                    model.mocap.push(id);
+                }
                 for (j, kind, _) in joints {
                     model.joints.push(Joint {
                         name: j.clone(),

@@ -267,19 +267,21 @@ impl Ctx<'_> {
                     let joint = a.target.as_deref().and_then(|t| self.model.joint(t));
                     match joint {
                         Some(j) if matches!(j.kind, JointKind::Hinge | JointKind::Slide) => {
-                            qposadr.push(j.qposadr)
+                            qposadr.push(Some(j.qposadr))
                         }
-                        _ => {
+                        // A tendon's (or site's) target is its control: the keyframe's `ctrl`.
+                        None => qposadr.push(None),
+                        Some(_) => {
                             self.d.push(
                                 Diagnostic::new(
                                     Code::E0133,
                                     format!(
-                                        "actuator `{}` drives no hinge or slide joint, so keyframe `{name}` gives it no default position",
+                                        "actuator `{}` drives a ball or free joint, so keyframe `{name}` gives it no default position",
                                         a.name
                                     ),
                                 )
                                 .at(pose.loc.clone())
-                                .label("expected a model whose actuators each drive one joint")
+                                .label("expected actuators on hinge or slide joints, or tendons")
                                 .help("give default_pose as one number per actuator instead"),
                             );
                             return None;
