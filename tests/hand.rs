@@ -10,3 +10,21 @@ fn hand_reach() {
     replay_family("hand", "HandReach-v3");
     replay_family("hand", "HandReachDense-v3");
 }
+
+#[test]
+fn hand_manipulate_block() {
+    for variant in ["", "Full", "RotateZ", "RotateXYZ"] {
+        for reward in ["", "Dense"] {
+            replay_family("hand", &format!("HandManipulateBlock{variant}{reward}-v1"));
+        }
+    }
+}
+
+#[test]
+fn hand_manipulate_egg() {
+    for variant in ["", "Full", "Rotate"] {
+        for reward in ["", "Dense"] {
+            replay_family("hand", &format!("HandManipulateEgg{variant}{reward}-v1"));
+        }
+    }
+}

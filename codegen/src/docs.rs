@@ -54,6 +54,7 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
         InfoKind::Velocity { source } => format!("velocity of `{}` over dt", source.text),
         InfoKind::Term(i) => format!("signed value of reward term `{}`", r.reward[*i].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", describe::goal_check(c)),
+        InfoKind::GoalsReached(cs) => format!("1 if {} else 0", describe::goal_checks(cs)),
     };
     if it.doc.is_empty() {
         format!("`{}`: {what}.", it.key)
@@ -107,6 +108,9 @@ fn term_formula(t: &envspec::ir::RewardTerm) -> String {
         TermKind::GoalDense(g) => format!("{w} × exp(−{})", describe::goal_distance(g)),
         TermKind::GoalMissed(c) => format!("{w} × (1 if not {} else 0)", describe::goal_check(c)),
         TermKind::GoalDistance(g) => format!("{w} × {}", describe::goal_distance(g)),
+        TermKind::GoalsMissed(cs) => {
+            format!("{w} × ((1 if {} else 0) − 1)", describe::goal_checks(cs))
+        }
     }
 }
 
@@ -254,6 +258,9 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                     format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
                 }
                 Distribution::Meet(_) => "points brought together (meet)".into(),
+                Distribution::Rotation { .. } => "a rotation (angle and axis)".into(),
+                Distribution::UnitQuaternion => "quaternion normalised".into(),
+                Distribution::Settle(_) => "settling steps".into(),
             };
             let mode = if s.set { "set" } else { "add" };
             d.push_str(&format!(

@@ -100,6 +100,7 @@ pub fn kernel(t: &RewardTerm) -> String {
             num(c.threshold)
         ),
         TermKind::GoalDistance(g) => goal_distance(g),
+        TermKind::GoalsMissed(cs) => format!("(1 if {} else 0) − 1", goal_checks(cs)),
         TermKind::Legged(l) => l.formula(),
     }
 }
@@ -110,6 +111,9 @@ pub fn goal_distance(g: &GoalDistance) -> String {
         Desired::Select(s) => sel(s),
         Desired::Goal => "goal".into(),
     };
+    if g.norm == GoalNorm::Angle {
+        return format!("angle({}, {desired})", sel(&g.achieved));
+    }
     format!("‖{} − {desired}‖₂ ({})", sel(&g.achieved), g.norm.name())
 }
 
@@ -117,6 +121,11 @@ pub fn goal_distance(g: &GoalDistance) -> String {
 pub fn goal_check(c: &GoalCheck) -> String {
     let op = if c.strict { "<" } else { "≤" };
     format!("{} {op} {}", goal_distance(&c.distance), num(c.threshold))
+}
+
+/// Goal checks that must all hold, joined by "and".
+pub fn goal_checks(cs: &[GoalCheck]) -> String {
+    cs.iter().map(goal_check).collect::<Vec<_>>().join(" and ")
 }
 
 /// A `[termination.*]` condition.
@@ -249,6 +258,30 @@ fn reset_step_as(r: &ResetStep, target: &str) -> String {
                 }
             );
         }
+        Distribution::Rotation { axis, angle } => {
+            let axis = match axis {
+                Some(a) => format!("{a:?}"),
+                None => "uniform[-1, 1)³".to_string(),
+            };
+            let op = if r.set { "=" } else { "← q ⊗" };
+            return format!(
+                "{target} {op} quat_from_angle_and_axis(uniform[{}, {}), {axis})",
+                num(angle.0),
+                num(angle.1)
+            );
+        }
+        Distribution::UnitQuaternion => return format!("{target} ← q / ‖q‖"),
+        Distribution::Settle(s) => {
+            let watch = match &s.require {
+                Some((sel, above)) => format!(
+                    ", then again from the first step unless {} > {}",
+                    sel.text,
+                    num(*above)
+                ),
+                None => String::new(),
+            };
+            return format!("{} control steps with action 0{watch}", s.steps);
+        }
         Distribution::Meet(m) => {
             let pts = |v: &[usize]| {
                 v.iter()
@@ -308,6 +341,7 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
+        InfoKind::GoalsReached(cs) => format!("1 if {} else 0", goal_checks(cs)),
     }
 }
 

@@ -263,6 +263,9 @@ pub enum TermKind {
     GoalMissed(GoalCheck),
     /// `d` itself (spec kind `goal_distance`; as a cost, Gymnasium-Robotics' dense `-d`).
     GoalDistance(GoalDistance),
+    /// `(1.0 if every check is reached else 0.0) − 1.0` (spec kind `goals_missed`):
+    /// Gymnasium-Robotics' hand manipulation `success − 1`, +0.0 when reached.
+    GoalsMissed(Vec<GoalCheck>),
     /// A legged-locomotion kernel (`tracking`, `sum_abs`, `action_rate`, `feet_air_time`,
     /// `feet_slip`, `joint_limits`).
     Legged(LeggedTerm),
@@ -280,16 +283,20 @@ pub enum GoalNorm {
     /// `np.linalg.norm(a − b)`: OpenBLAS `ddot` as the env's numerics profile sums it, then
     /// `sqrt` (spec `norm = "blas"`; the default of `goal_reached`).
     Blas,
+    /// The angle between two quaternions (w first): `2 · arccos(clip(w(a ⊗ conj(b)), −1, 1))`,
+    /// numpy's `arccos` under the numerics profile (spec `norm = "angle"`; 4 elements).
+    Angle,
 }
 
 impl GoalNorm {
     /// The `norm` values a spec may write (for suggestions).
-    pub const NAMES: &'static [&'static str] = &["pairwise", "blas"];
+    pub const NAMES: &'static [&'static str] = &["pairwise", "blas", "angle"];
     /// The norm a spec's `norm = "..."` names, if any.
     pub fn parse(s: &str) -> Option<GoalNorm> {
         match s {
             "pairwise" => Some(GoalNorm::Pairwise),
             "blas" => Some(GoalNorm::Blas),
+            "angle" => Some(GoalNorm::Angle),
             _ => None,
         }
     }
@@ -298,6 +305,7 @@ impl GoalNorm {
         match self {
             GoalNorm::Pairwise => "pairwise",
             GoalNorm::Blas => "blas",
+            GoalNorm::Angle => "angle",
         }
     }
 }
@@ -403,6 +411,14 @@ impl TermKind {
                 return Either::Goal(c.distance.sources());
             }
             TermKind::GoalDense(g) | TermKind::GoalDistance(g) => return Either::Goal(g.sources()),
+            TermKind::GoalsMissed(cs) => {
+                return Either::Many(
+                    cs.iter()
+                        .flat_map(|c| c.distance.sources())
+                        .collect::<Vec<_>>()
+                        .into_iter(),
+                );
+            }
             TermKind::Healthy | TermKind::Constant => (None, None),
             TermKind::Legged(l) => return Either::Many(l.sources().into_iter()),
         };
@@ -425,6 +441,7 @@ impl RewardTerm {
             TermKind::GoalDense(_) => "goal_dense",
             TermKind::GoalMissed(_) => "goal_missed",
             TermKind::GoalDistance(_) => "goal_distance",
+            TermKind::GoalsMissed(_) => "goals_missed",
             TermKind::Legged(l) => l.kind_name(),
         }
     }
@@ -534,6 +551,21 @@ pub enum Distribution {
     /// where they start; a last uniform below `unchanged` keeps `around` as it is
     /// (Gymnasium-Robotics' HandReach goal: the thumb and one finger meet).
     Meet(Box<Meet>),
+    /// A rotation of a quaternion target (4 numbers, w first): `angle` uniform, then the axis
+    /// (3 uniforms in [−1, 1] when not given), `r = quat_from_angle_and_axis(angle, axis)`
+    /// (axis and quaternion each divided by their OpenBLAS norm); `add`: `q ← q ⊗ r`, `set`:
+    /// `q ← r` (Gymnasium-Robotics' hand manipulation draws).
+    Rotation {
+        /// The axis; None: drawn.
+        axis: Option<[f64; 3]>,
+        /// The angle's uniform range (radians).
+        angle: (f64, f64),
+    },
+    /// `q ← q / ‖q‖` (OpenBLAS norm) of a quaternion target; no draw.
+    UnitQuaternion,
+    /// Control steps with action 0 in the middle of the reset, then a check that may start the
+    /// reset over (see [`Settle`]).
+    Settle(Box<Settle>),
     /// A tile of `[terrain]` drawn uniformly (row in `rows`, any column; `integers` draws, row
     /// first), whose spawn origin is added to a free joint's position (mjlab's env origins). The
     /// target is the free joint's 3 position `qpos`.
@@ -541,6 +573,19 @@ pub enum Distribution {
         /// Inclusive range of rows (difficulty levels) drawn from.
         rows: (usize, usize),
     },
+}
+
+/// A `settle` reset step: `steps` control steps (`frame_skip × mj_step` each) with `ctrl` from
+/// action 0, then `mj_forward`; when `watch` is not above `above`, the reset starts over from its
+/// first step (drawing anew); otherwise the named `[init] record`s are read again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settle {
+    /// Control steps.
+    pub steps: u32,
+    /// The value checked, and the bound it must exceed.
+    pub require: Option<(Selection, f64)>,
+    /// Indices into `[init] record` of the records read again after settling.
+    pub records: Vec<usize>,
 }
 
 /// The keys of a `meet` reset step (see [`Distribution::Meet`]).
@@ -561,6 +606,24 @@ pub struct Meet {
     pub gap: f64,
     /// Probability that the target keeps `around` unchanged (drawn last).
     pub unchanged: f64,
+}
+
+impl Distribution {
+    /// The spec's `kind` of the distribution.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Distribution::Uniform { .. } => "uniform",
+            Distribution::Normal { .. } => "normal",
+            Distribution::Constant { .. } | Distribution::Values { .. } => "constant",
+            Distribution::Keyframe { .. } => "keyframe",
+            Distribution::RootPose { .. } => "root_pose",
+            Distribution::TerrainOrigin { .. } => "terrain_origin",
+            Distribution::Meet(_) => "meet",
+            Distribution::Rotation { .. } => "rotation",
+            Distribution::UnitQuaternion => "unit_quaternion",
+            Distribution::Settle(_) => "settle",
+        }
+    }
 }
 
 /// Redraw the whole block until its norm satisfies the condition.
@@ -621,6 +684,9 @@ pub enum InfoKind {
     Term(usize),
     /// 1.0 when the goal is reached, else 0.0 (spec kind `goal_reached`; e.g. `success`).
     GoalReached(GoalCheck),
+    /// 1.0 when every check is reached, else 0.0 (spec kind `goals_reached`; the float32
+    /// product of Gymnasium-Robotics' hand manipulation `is_success`).
+    GoalsReached(Vec<GoalCheck>),
 }
 
 impl InfoKind {}
@@ -632,6 +698,14 @@ impl InfoKind {
             InfoKind::Value { source, minus } => (Some(source), minus.as_ref()),
             InfoKind::Norm { source } | InfoKind::Velocity { source } => (Some(source), None),
             InfoKind::GoalReached(c) => return Either::Goal(c.distance.sources()),
+            InfoKind::GoalsReached(cs) => {
+                return Either::Many(
+                    cs.iter()
+                        .flat_map(|c| c.distance.sources())
+                        .collect::<Vec<_>>()
+                        .into_iter(),
+                );
+            }
             InfoKind::Term(_) => (None, None),
         };
         Either::Pair(a.into_iter().chain(b))

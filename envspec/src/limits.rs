@@ -29,6 +29,9 @@ pub const MAX_TRAJECTORY_BYTES: u64 = 4 << 30;
 /// Draws one `resample_until` may take at reset before it gives up (E1104). Gymnasium loops for
 /// ever; Reacher's goal is accepted with probability π/4, so a real spec never gets near this.
 pub const MAX_RESAMPLE_DRAWS: u32 = 1_000_000;
+/// Times a reset starts over because a `settle` step's check failed (each restart runs the
+/// settling physics again); beyond it the reset fails with E1104.
+pub const MAX_SETTLE_RESTARTS: u32 = 1_000;
 /// MuJoCo sizes a model states in its MJCF, checked before MuJoCo allocates them: an absurd
 /// `nuser_geom` or texture size otherwise makes MuJoCo allocate gigabytes (or throw
 /// `std::bad_alloc`, caught by `runtime/csrc/mujoco_catch.cc` as E1001).

@@ -13,6 +13,7 @@ pub const INIT_KEYS: &[&str] = &[
     "mocap",
     "settle_steps",
     "record",
+    "reset_data",
     "doc",
 ];
 /// Keys of one `[init] mocap` placement.
@@ -77,6 +78,10 @@ pub struct Init {
     pub settle_steps: u32,
     /// `record`: values read after settling, which reset draws may start from (`around`).
     pub records: Vec<Record>,
+    /// `reset_data` (default true): every reset starts with `mj_resetData`. False: a reset
+    /// writes the time, `qpos` and `qvel` alone, so the controls and the solver's warm start
+    /// carry over from the last episode (Gymnasium-Robotics' hand manipulation resets so).
+    pub reset_data: bool,
 }
 
 /// One `[init] mocap` placement: `mocap_pos = site_xpos[site] + offset` (or `offset` alone),

@@ -397,6 +397,9 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
         Distribution::Keyframe { .. }
         | Distribution::RootPose { .. }
         | Distribution::Meet(_)
+        | Distribution::Rotation { .. }
+        | Distribution::UnitQuaternion
+        | Distribution::Settle(_)
         | Distribution::TerrainOrigin { .. } => (0.0, f64::INFINITY),
     };
     match until {
@@ -636,6 +639,21 @@ impl Ctx<'_> {
     fn flag(&mut self, v: &Val, what: &str) -> Option<bool> {
         match &v.kind {
             ValKind::Bool(b) => Some(*b),
+            // `a and b`: every part holds (each part is one of the forms below).
+            ValKind::Str(s) if s.contains(" and ") => {
+                let mut all = Some(true);
+                for part in s.split(" and ") {
+                    let part = Val {
+                        kind: ValKind::Str(part.trim().to_string()),
+                        loc: v.loc.clone(),
+                    };
+                    all = match (all, self.flag(&part, what)) {
+                        (Some(a), Some(b)) => Some(a && b),
+                        _ => None,
+                    };
+                }
+                all
+            }
             // `name == "value"` / `name != "value"`: a string parameter compared with a literal
             // (`when = "reward_type == 'dense'"`).
             ValKind::Str(s) if s.contains("==") || s.contains("!=") => {
@@ -1023,6 +1041,9 @@ impl Ctx<'_> {
                 "goal_distance" => self
                     .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                     .map(TermKind::GoalDistance),
+                "goals_missed" => self
+                    .goal_checks(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                    .map(TermKind::GoalsMissed),
                 k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
                 _ => None, // reported by the syntax check
             };
@@ -1304,6 +1325,10 @@ impl Ctx<'_> {
                 out.extend(step);
                 continue;
             }
+            if s.kind("") == "settle" {
+                out.extend(self.settle(s));
+                continue;
+            }
             let enabled = match s.get("when") {
                 Some(w) => self.flag(w, "when").unwrap_or(true),
                 None => true,
@@ -1352,6 +1377,9 @@ impl Ctx<'_> {
                     .fold(m.scale.abs() + m.gap.abs(), |a, x| a.max(x.abs())),
                 Distribution::Keyframe { .. }
                 | Distribution::RootPose { .. }
+                | Distribution::Rotation { .. }
+                | Distribution::UnitQuaternion
+                | Distribution::Settle(_)
                 | Distribution::TerrainOrigin { .. } => 0.0,
             };
             if widest > limits::MAX_COORDINATE {
@@ -1499,6 +1527,7 @@ impl Ctx<'_> {
                 },
             },
             "meet" => return self.meet(s, n),
+            "rotation" | "unit_quaternion" => return self.rotation(s, kind, n),
             _ => return None,
         })
     }
@@ -1641,6 +1670,13 @@ impl Ctx<'_> {
                         continue;
                     };
                     (InfoKind::GoalReached(c), 1, in_reset)
+                }
+                "goals_reached" => {
+                    let what = format!("[info.{}]", s.name);
+                    let Some(cs) = self.goal_checks(s, &what, GoalNorm::Blas) else {
+                        continue;
+                    };
+                    (InfoKind::GoalsReached(cs), 1, in_reset)
                 }
                 kind => {
                     let Some(source) = self.sel_key(s, "source") else {

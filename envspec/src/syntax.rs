@@ -301,6 +301,7 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("goal_dense", &["achieved", "desired", "norm"]),
     ("goal_missed", GOAL_KEYS),
     ("goal_distance", &["achieved", "desired", "norm"]),
+    ("goals_missed", &["checks"]),
     ("tracking", &["source", "target", "coefs", "sigma", "zero"]),
     ("sum_abs", &["source", "minus", "gate"]),
     ("action_rate", &[]),
@@ -381,6 +382,9 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
             "unchanged",
         ],
     ),
+    ("rotation", &["axis", "angle"]),
+    ("unit_quaternion", &[]),
+    ("settle", &["steps", "watch", "above", "record"]),
 ];
 /// Keys of `[terrain]` itself (its tables are the tile generators).
 pub const TERRAIN_KEYS: &[&str] = &[
@@ -467,6 +471,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
             "in_reset",
         ],
     ),
+    ("goals_reached", &["checks", "in_reset"]),
 ];
 
 /// Condition kinds of `[termination.*]` with the keys each accepts besides kind, when, doc.
@@ -776,7 +781,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         // (a keyframe sets every qpos; a root pose draw finds the free joint's)
         match s.kind("") {
             "keyframe" => require(s, "keyframe", &format!("[reset.{}]", s.name), d),
-            "root_pose" | "terrain_origin" => {}
+            "root_pose" | "terrain_origin" | "settle" => {}
             _ => require(s, "target", &format!("[reset.{}]", s.name), d),
         }
     }
@@ -787,6 +792,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         let needs = match s.kind("value") {
             "term" => "term",
             "goal_reached" => "achieved",
+            "goals_reached" => "checks",
             _ => "source",
         };
         require(s, needs, &format!("[info.{}]", s.name), d);

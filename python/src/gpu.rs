@@ -176,6 +176,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 | TermKind::GoalDense(_)
                 | TermKind::GoalMissed(_)
                 | TermKind::GoalDistance(_)
+                | TermKind::GoalsMissed(_)
                 | TermKind::Legged(_) => {
                     not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
                 }
@@ -232,8 +233,15 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     not_exported.push(format!("[reset.{}] kind = \"terrain_origin\"", r.name));
                     json!({"kind": "unsupported"})
                 }
-                Distribution::Meet(_) => {
-                    not_exported.push(format!("[reset.{}] kind = \"meet\"", r.name));
+                Distribution::Meet(_)
+                | Distribution::Rotation { .. }
+                | Distribution::UnitQuaternion
+                | Distribution::Settle(_) => {
+                    not_exported.push(format!(
+                        "[reset.{}] kind = \"{}\"",
+                        r.name,
+                        r.dist.kind_name()
+                    ));
                     json!({"kind": "unsupported"})
                 }
             };
@@ -289,6 +297,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 InfoKind::GoalReached(_) => {
                     o.insert("kind".into(), json!("goal_reached"));
                     not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
+                }
+                InfoKind::GoalsReached(_) => {
+                    o.insert("kind".into(), json!("goals_reached"));
+                    not_exported.push(format!("[info.{}] kind = \"goals_reached\"", i.key));
                 }
             }
             v

@@ -74,10 +74,12 @@ impl TaskCore {
     fn goal_reward_float32(slf: PyRef<'_, Self>) -> PyResult<bool> {
         let spec = slf.as_super().task()?.spec();
         Ok(!spec.reward.is_empty()
-            && spec
-                .reward
-                .iter()
-                .all(|t| matches!(t.kind, envspec::ir::TermKind::GoalMissed(_))))
+            && spec.reward.iter().all(|t| {
+                matches!(
+                    t.kind,
+                    envspec::ir::TermKind::GoalMissed(_) | envspec::ir::TermKind::GoalsMissed(_)
+                )
+            }))
     }
     /// `compute_reward` of a `[goal]` task over rows of two `[N, goal_dim]` arrays, exactly as the
     /// step reward (E0170 when the reward is not a function of the goals alone).

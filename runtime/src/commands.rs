@@ -269,19 +269,30 @@ impl Legged {
 
     /// `ctrl` for an action: `default_pose + scale × action` under `[actions]`, else the action.
     pub fn write_ctrl(&self, action: &[f64], ctrl: &mut [f64]) {
+        if self.ctrl_clip.is_empty() && !self.pd {
+            ctrl.copy_from_slice(action);
+        } else {
+            self.write_ctrl_by(|i| action[i], ctrl);
+        }
+    }
+
+    /// [`write_ctrl`](Self::write_ctrl) with the action's elements given by `action(i)`.
+    pub fn write_ctrl_by(&self, action: impl Fn(usize) -> f64, ctrl: &mut [f64]) {
         if !self.ctrl_clip.is_empty() {
             // np.clip twice: the action to the action space, then ctrl to the control range.
-            for i in 0..ctrl.len() {
-                let a = action[i].clamp(-1.0, 1.0);
+            for (i, c) in ctrl.iter_mut().enumerate() {
+                let a = action(i).clamp(-1.0, 1.0);
                 let (lo, hi) = self.ctrl_clip[i];
-                ctrl[i] = (self.default_pose[i] + a * self.scale[i]).clamp(lo, hi);
+                *c = (self.default_pose[i] + a * self.scale[i]).clamp(lo, hi);
             }
         } else if self.pd {
-            for i in 0..ctrl.len() {
-                ctrl[i] = self.default_pose[i] + self.scale[i] * action[i];
+            for (i, c) in ctrl.iter_mut().enumerate() {
+                *c = self.default_pose[i] + self.scale[i] * action(i);
             }
         } else {
-            ctrl.copy_from_slice(action);
+            for (i, c) in ctrl.iter_mut().enumerate() {
+                *c = action(i);
+            }
         }
     }
 

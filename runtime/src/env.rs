@@ -152,6 +152,45 @@ impl Sim {
         mj::call(&mut self.data, call)
     }
 
+    /// Where every reset starts: the `[init]` time (when the spec has `[init]`), `qpos`, `qvel`.
+    fn restart(&mut self, init: bool, qpos0: &[f64], qvel0: &[f64]) {
+        if init {
+            mj::manip::set_time(&mut self.data, self.manip.init_time);
+        }
+        let [qpos, qvel, ..] = mj::state::state_mut(&mut self.data);
+        qpos.copy_from_slice(qpos0);
+        qvel.copy_from_slice(qvel0);
+    }
+
+    /// A `settle` reset step: whether its check holds (the records it names are read again).
+    fn settle(
+        &mut self,
+        s: &Settle,
+        init: Option<&envspec::manipulation::Init>,
+        frame_skip: u32,
+    ) -> Result<bool, String> {
+        for _ in 0..s.steps {
+            let ctrl = self.data.ctrl_mut();
+            self.legged.write_ctrl_by(|_| 0.0, ctrl);
+            self.call(Call::Step {
+                n: frame_skip,
+                rne: false,
+            })?;
+        }
+        if let Some((watch, above)) = &s.require {
+            self.call(Call::Forward)?;
+            self.manip.update(&self.data, self.numerics);
+            if self.get(watch, 0).partial_cmp(above) != Some(std::cmp::Ordering::Greater) {
+                return Ok(false);
+            }
+        }
+        self.manip.update(&self.data, self.numerics);
+        if let Some(init) = init {
+            self.manip.refresh_records(init, &self.data, &s.records);
+        }
+        Ok(true)
+    }
+
     fn m(&self) -> &mujoco_rs::mujoco_c::mjModel {
         self.model.ffi()
     }
@@ -203,21 +242,22 @@ impl Sim {
         self.field(s.field)[s.indices[k]]
     }
 
-    /// Hands `f` the differences `achievedₖ − desiredₖ` of a goal distance.
-    fn with_goal_diff<R>(&self, g: &GoalDistance, f: impl FnOnce(&dyn Fn(usize) -> f64) -> R) -> R {
-        let (a, ai) = (self.field(g.achieved.field), &g.achieved.indices);
+    /// `(achievedₖ, desiredₖ)` of a goal distance.
+    fn goal_pair(&self, g: &GoalDistance, k: usize) -> (f64, f64) {
+        let a = self.field(g.achieved.field)[g.achieved.indices[k]];
         match &g.desired {
-            Desired::Select(d) => {
-                let df = self.field(d.field);
-                f(&|k| a[ai[k]] - df[d.indices[k]])
-            }
-            Desired::Goal => f(&|k| a[ai[k]] - self.goal[k]),
+            Desired::Select(d) => (a, self.field(d.field)[d.indices[k]]),
+            Desired::Goal => (a, self.goal[k]),
         }
     }
 
     fn goal_reached(&self, c: &GoalCheck) -> bool {
-        self.with_goal_diff(&c.distance, |diff| {
-            crate::goal::reached_by(c, self.numerics, diff)
+        crate::goal::reached_by(c, self.numerics, &|k| self.goal_pair(&c.distance, k))
+    }
+
+    fn goals_reached(&self, cs: &[GoalCheck]) -> bool {
+        crate::goal::all_reached(cs, self.numerics, &|i, k| {
+            self.goal_pair(&cs[i].distance, k)
         })
     }
 
@@ -726,20 +766,18 @@ impl Env {
         if self.spec.manipulation.goal.is_none() || n == 0 {
             return Err(format!("{} has no [goal] table", self.spec.id));
         }
-        if let Some(t) = self.spec.reward.iter().find(|t| {
-            !matches!(
-                &t.kind,
-                TermKind::GoalSparse(GoalCheck { distance: g, .. })
-                    | TermKind::GoalMissed(GoalCheck { distance: g, .. })
-                    | TermKind::GoalDense(g)
-                    | TermKind::GoalDistance(g) if matches!(g.desired, Desired::Goal)
-            )
-        }) {
-            return Err(format!(
-                "[reward.{}] (kind {}) is not a goal term against desired = \"goal\", so the reward is not a function of the goals",
-                t.name,
-                t.kind_name()
-            ));
+        // Where each goal distance's elements lie in a goal row.
+        let mut at: Vec<Vec<Vec<usize>>> = vec![];
+        for t in &self.spec.reward {
+            let found = crate::manipulation::goal_positions(&self.spec, &t.kind);
+            let Some(positions) = found else {
+                return Err(format!(
+                    "[reward.{}] (kind {}) is not a goal term comparing the [goal] achieved values with the goal vector, so the reward is not a function of the goals",
+                    t.name,
+                    t.kind_name()
+                ));
+            };
+            at.push(positions);
         }
         if achieved.len() != out.len() * n || desired.len() != out.len() * n {
             return Err(format!(
@@ -752,8 +790,9 @@ impl Env {
         let mut values = vec![0.0; self.spec.reward.len()];
         for (r, o) in out.iter_mut().enumerate() {
             let (a, d) = (&achieved[r * n..(r + 1) * n], &desired[r * n..(r + 1) * n]);
-            for (v, t) in values.iter_mut().zip(&self.spec.reward) {
-                *v = crate::goal::term_value(t, self.sim.numerics, a, d).unwrap_or(f64::NAN);
+            for ((v, t), at) in values.iter_mut().zip(&self.spec.reward).zip(&at) {
+                *v = crate::goal::term_value(t, self.sim.numerics, a, d, &|i, k| at[i][k])
+                    .unwrap_or(f64::NAN);
             }
             *o = sum_values(&self.spec.reward_sum, &values);
         }
@@ -857,18 +896,46 @@ impl Env {
         // Draw order steps 1–2 (docs/spec-reference.md): the events, before `[reset]`.
         let event_error = self.reset_events(seed.is_some());
         let rng = self.rng.as_mut().expect("set above");
-        let mut mujoco_error = self.sim.call(Call::ResetData).err().or(event_error);
-        if self.spec.manipulation.init.is_some() {
-            mj::manip::set_time(&mut self.sim.data, self.sim.manip.init_time);
-        }
-
+        let init = self.spec.manipulation.init.as_ref();
+        let mut mujoco_error = if init.is_some_and(|i| !i.reset_data) {
+            event_error
+        } else {
+            self.sim.call(Call::ResetData).err().or(event_error)
+        };
         let nq = self.sim.nq;
         let numerics = self.sim.numerics;
-        let [qpos, qvel, mocap_pos, mocap_quat] = mj::state::state_mut(&mut self.sim.data);
-        qpos.copy_from_slice(&self.qpos_init);
-        qvel.copy_from_slice(&self.qvel_init);
+        let spec = Arc::clone(&self.spec);
+        self.sim
+            .restart(init.is_some(), &self.qpos_init, &self.qvel_init);
         self.reset_failure = None;
-        for (k, step) in self.spec.reset.iter().enumerate() {
+        let (mut next, mut restarts) = (0, 0);
+        while next < spec.reset.len() {
+            let (k, step) = (next, &spec.reset[next]);
+            next += 1;
+            if let Distribution::Settle(s) = &step.dist {
+                let init = spec.manipulation.init.as_ref();
+                match self.sim.settle(s, init, spec.frame_skip) {
+                    Ok(true) => {}
+                    Ok(false) if restarts < envspec::limits::MAX_SETTLE_RESTARTS => {
+                        // Gymnasium-Robotics' `_reset_sim` until it succeeds: anew from the
+                        // start state, the stream continuing.
+                        restarts += 1;
+                        next = 0;
+                        self.sim
+                            .restart(init.is_some(), &self.qpos_init, &self.qvel_init);
+                    }
+                    Ok(false) => {
+                        self.reset_failure = Some(ResetFailure::Unmet(k));
+                        break;
+                    }
+                    Err(message) => {
+                        mujoco_error = Some(message);
+                        break;
+                    }
+                }
+                continue;
+            }
+            let [qpos, qvel, mocap_pos, mocap_quat] = mj::state::state_mut(&mut self.sim.data);
             let n = step.target.len();
             let draw = &mut self.draw[..n];
             match &step.dist {
@@ -918,16 +985,17 @@ impl Env {
                 continue;
             }
             let records = &self.sim.manip.records;
+            if let Distribution::Rotation { .. } | Distribution::UnitQuaternion = &step.dist {
+                let state = [qpos, qvel, mocap_pos, mocap_quat];
+                let target = reset_target(step.target.field, state, &mut self.sim.goal);
+                crate::manipulation::quaternion_step(step, target, rng, numerics);
+                continue;
+            }
             if let Distribution::Meet(m) = &step.dist {
                 let around = step.around.as_deref().unwrap_or(&[]);
                 crate::manipulation::meet(m, around, records, rng, numerics, draw);
-                let target: &mut [f64] = match step.target.field {
-                    Field::Qpos => qpos,
-                    Field::Goal => &mut self.sim.goal,
-                    Field::MocapPos => mocap_pos,
-                    Field::MocapQuat => mocap_quat,
-                    _ => qvel,
-                };
+                let state = [qpos, qvel, mocap_pos, mocap_quat];
+                let target = reset_target(step.target.field, state, &mut self.sim.goal);
                 for (k, &i) in step.target.indices.iter().enumerate() {
                     target[i] = draw[k];
                 }
@@ -951,6 +1019,9 @@ impl Env {
                     Distribution::Keyframe { .. }
                     | Distribution::RootPose { .. }
                     | Distribution::Meet(_)
+                    | Distribution::Rotation { .. }
+                    | Distribution::UnitQuaternion
+                    | Distribution::Settle(_)
                     | Distribution::TerrainOrigin { .. } => {}
                 }
                 let done = match step.resample_until {
@@ -971,13 +1042,8 @@ impl Env {
                     break;
                 }
             }
-            let target: &mut [f64] = match step.target.field {
-                Field::Qpos => qpos,
-                Field::Goal => &mut self.sim.goal,
-                Field::MocapPos => mocap_pos,
-                Field::MocapQuat => mocap_quat,
-                _ => qvel,
-            };
+            let state = [qpos, qvel, mocap_pos, mocap_quat];
+            let target = reset_target(step.target.field, state, &mut self.sim.goal);
             for (k, &i) in step.target.indices.iter().enumerate() {
                 target[i] = match &step.around {
                     Some(a) => records[a[k]] + draw[k],
@@ -1433,9 +1499,14 @@ impl Env {
             TermKind::GoalSparse(GoalCheck { distance: g, .. })
             | TermKind::GoalMissed(GoalCheck { distance: g, .. })
             | TermKind::GoalDense(g)
-            | TermKind::GoalDistance(g) => sim
-                .with_goal_diff(g, |diff| crate::goal::kernel(&t.kind, sim.numerics, diff))
-                .expect("a goal kind"),
+            | TermKind::GoalDistance(g) => {
+                crate::goal::kernel(&t.kind, sim.numerics, &|_, k| sim.goal_pair(g, k))
+                    .expect("a goal kind")
+            }
+            TermKind::GoalsMissed(cs) => crate::goal::kernel(&t.kind, sim.numerics, &|i, k| {
+                sim.goal_pair(&cs[i].distance, k)
+            })
+            .expect("a goal kind"),
         };
         weight * kernel
     }
@@ -1533,6 +1604,19 @@ fn write_info(
         InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
         InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
+        InfoKind::GoalsReached(cs) => out[0] = sim.goals_reached(cs) as u8 as f64,
+    }
+}
+
+/// What a reset step writes: the state array of its target's field, or the goal vector.
+fn reset_target<'a>(field: Field, state: [&'a mut [f64]; 4], goal: &'a mut [f64]) -> &'a mut [f64] {
+    let [qpos, qvel, mocap_pos, mocap_quat] = state;
+    match field {
+        Field::Qpos => qpos,
+        Field::Goal => goal,
+        Field::MocapPos => mocap_pos,
+        Field::MocapQuat => mocap_quat,
+        _ => qvel,
     }
 }
 

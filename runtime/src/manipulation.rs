@@ -232,6 +232,20 @@ impl Manip {
         Ok(())
     }
 
+    /// Read the `[init] record`s `which` (indices) again from the current state.
+    pub(crate) fn refresh_records(
+        &mut self,
+        init: &Init,
+        data: &MjData<std::sync::Arc<MjModel>>,
+        which: &[usize],
+    ) {
+        for r in which.iter().filter_map(|&i| init.records.get(i)) {
+            for (k, &i) in r.source.indices.iter().enumerate() {
+                self.records[r.offset + k] = self.read(data, &r.source, i);
+            }
+        }
+    }
+
     fn read(&self, data: &MjData<std::sync::Arc<MjModel>>, s: &Selection, i: usize) -> f64 {
         match s.field {
             Field::Qpos => data.qpos()[i],
@@ -387,5 +401,101 @@ pub(crate) fn meet(
         for (o, &i) in out.iter_mut().zip(around) {
             *o = records[i];
         }
+    }
+}
+
+/// Gymnasium-Robotics' `quat_from_angle_and_axis`: the axis divided by its norm, then
+/// `[cos(a/2), sin(a/2) · axis]` divided by its norm (numpy's 1-D norms: OpenBLAS `ddot`).
+pub(crate) fn quat_from_angle_and_axis(angle: f64, axis: [f64; 3], profile: Profile) -> [f64; 4] {
+    let n = numerics::norm(profile, 3, &|i| axis[i]);
+    let axis = axis.map(|x| x / n);
+    let (c, s) = ((angle / 2.0).cos(), (angle / 2.0).sin());
+    let q = [c, s * axis[0], s * axis[1], s * axis[2]];
+    unit_quaternion(q, profile)
+}
+
+/// `q / ‖q‖` (numpy's 1-D norm).
+pub(crate) fn unit_quaternion(q: [f64; 4], profile: Profile) -> [f64; 4] {
+    let n = numerics::norm(profile, 4, &|i| q[i]);
+    q.map(|x| x / n)
+}
+
+/// Gymnasium-Robotics' `rotations.quat_mul` (w first), term by term as it writes it.
+pub(crate) fn quat_mul(q0: [f64; 4], q1: [f64; 4]) -> [f64; 4] {
+    let [w0, x0, y0, z0] = q0;
+    let [w1, x1, y1, z1] = q1;
+    [
+        w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
+        w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
+        w0 * y1 + y0 * w1 + z0 * x1 - x0 * z1,
+        w0 * z1 + z0 * w1 + x0 * y1 - y0 * x1,
+    ]
+}
+
+/// A `rotation` reset draw on the quaternion `q` (numpy's order: the angle, then the axis).
+pub(crate) fn rotation_draw(
+    q: [f64; 4],
+    axis: Option<[f64; 3]>,
+    angle: (f64, f64),
+    set: bool,
+    rng: &mut crate::rng::NumpyRng,
+    profile: Profile,
+) -> [f64; 4] {
+    let a = rng.uniform(angle.0, angle.1);
+    let axis = axis.unwrap_or_else(|| [(); 3].map(|()| rng.uniform(-1.0, 1.0)));
+    let r = quat_from_angle_and_axis(a, axis, profile);
+    if set { r } else { quat_mul(q, r) }
+}
+
+/// Where the elements of each goal distance of reward kernel `kind` lie in a goal row, when the
+/// distance compares elements of `[goal] achieved` with the same elements of the goal vector
+/// (`desired = "goal"`, or `goal[...]` against the matching achieved elements); None otherwise
+/// (the reward is then not a function of the goals).
+pub(crate) fn goal_positions(
+    spec: &ResolvedSpec,
+    kind: &envspec::ir::TermKind,
+) -> Option<Vec<Vec<usize>>> {
+    use envspec::ir::{Desired, GoalCheck, TermKind};
+    let goal = spec.manipulation.goal.as_ref()?;
+    let one = |g: &envspec::ir::GoalDistance| -> Option<Vec<usize>> {
+        match &g.desired {
+            Desired::Goal => (g.achieved == goal.achieved).then(|| (0..g.len()).collect()),
+            Desired::Select(d) if d.field == Field::Goal => {
+                let same = d.indices.iter().zip(&g.achieved.indices).all(|(&p, &i)| {
+                    goal.achieved.field == g.achieved.field
+                        && goal.achieved.indices.get(p) == Some(&i)
+                });
+                same.then(|| d.indices.clone())
+            }
+            Desired::Select(_) => None,
+        }
+    };
+    match kind {
+        TermKind::GoalSparse(GoalCheck { distance: g, .. })
+        | TermKind::GoalMissed(GoalCheck { distance: g, .. })
+        | TermKind::GoalDense(g)
+        | TermKind::GoalDistance(g) => Some(vec![one(g)?]),
+        TermKind::GoalsMissed(cs) => cs.iter().map(|c| one(&c.distance)).collect(),
+        _ => None,
+    }
+}
+
+/// A `rotation` or `unit_quaternion` reset step on its quaternion in `target`.
+pub(crate) fn quaternion_step(
+    step: &envspec::ir::ResetStep,
+    target: &mut [f64],
+    rng: &mut crate::rng::NumpyRng,
+    profile: Profile,
+) {
+    let ix = &step.target.indices;
+    let q = [target[ix[0]], target[ix[1]], target[ix[2]], target[ix[3]]];
+    let q = match &step.dist {
+        envspec::ir::Distribution::Rotation { axis, angle } => {
+            rotation_draw(q, *axis, *angle, step.set, rng, profile)
+        }
+        _ => unit_quaternion(q, profile),
+    };
+    for (k, &i) in ix.iter().enumerate() {
+        target[i] = q[k];
     }
 }

@@ -2,7 +2,8 @@
 reference.
 
 Every Fetch v4 id (Reach, Push, Slide, PickAndPlace; sparse and dense) and every Shadow Hand id
-envc registers (``HandReach-v3``, sparse and dense) runs the same seed and actions
+envc registers (``HandReach-v3``, the ``HandManipulate`` block and egg ids; sparse and dense) runs
+the same seed and actions
 through ``gymnasium.make(X)`` and ``gymnasium.make("envc/X")``: spaces, dict observations bitwise,
 rewards and ``is_success`` with their numpy types, flags, the auto-reset continuation after the
 time limit, and ``compute_reward`` on batches and single goals (as hindsight relabelling calls it).
@@ -34,6 +35,8 @@ LIVE_SEED = int(os.environ.get("ENVC_LIVE_SEED", np.random.SeedSequence().entrop
 print(f"test_robotics: live seed {LIVE_SEED} (set ENVC_LIVE_SEED to replay)")
 IDS = [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")]
 IDS += [f"HandReach{r}-v3" for r in ("", "Dense")]
+IDS += [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ") for r in ("", "Dense")]
+IDS += [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")]
 
 
 def same(x, y) -> bool:
@@ -54,7 +57,7 @@ def test_robotics_matches_the_reference(env_id, seed):
     assert list(o1) == list(o2)
     rng = np.random.default_rng(seed)
     resets = 0
-    for t in range(110):
+    for t in range(2 * ref.spec.max_episode_steps + 10):
         # Sampled float32 actions, and float64 ones beyond the bounds (the reference clips).
         a = ours.action_space.sample() if t % 2 else rng.uniform(-1.5, 1.5, ours.action_space.shape)
         r1, r2 = ref.step(a), ours.step(a)
@@ -84,7 +87,7 @@ def test_robotics_matches_the_reference(env_id, seed):
     )
 
 
-@pytest.mark.parametrize("env_id", ["FetchPickAndPlace-v4", "HandReach-v3"])
+@pytest.mark.parametrize("env_id", ["FetchPickAndPlace-v4", "HandReach-v3", "HandManipulateEgg-v1"])
 def test_robotics_passes_gymnasiums_env_checker(env_id):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

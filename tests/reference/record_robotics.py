@@ -36,7 +36,9 @@ gym.register_envs(gymnasium_robotics)
 
 FAMILIES = {
     "fetch": [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")],
-    "hand": [f"HandReach{r}-v3" for r in ("", "Dense")],
+    "hand": [f"HandReach{r}-v3" for r in ("", "Dense")]
+    + [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ") for r in ("", "Dense")]
+    + [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")],
 }
 
 
@@ -44,9 +46,10 @@ def hexa(a):
     return np.ascontiguousarray(np.asarray(a, dtype="<f8")).tobytes().hex()
 
 
-def record(env_id, seed, steps=60):
-    """One rollout over the 50-step limit (so a truncation and a second reset are in it)."""
+def record(env_id, seed):
+    """One rollout over the time limit (so a truncation and a second reset are in it)."""
     env = gym.make(env_id)
+    steps = max(60, env.spec.max_episode_steps + 10)
     rng = np.random.default_rng(seed + 7)
     actions, f32 = [], []
     obs_l, ach, des, rew, succ, term, trunc, resets = [], [], [], [], [], [], [], []

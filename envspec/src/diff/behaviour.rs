@@ -69,6 +69,7 @@ enum TermKindKey {
     GoalDense(GoalDistanceKey),
     GoalMissed(GoalCheckKey),
     GoalDistance(GoalDistanceKey),
+    GoalsMissed(Vec<GoalCheckKey>),
     /// A legged kernel, compared by its whole resolved value.
     Legged(String),
 }
@@ -139,6 +140,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
         TermKind::GoalMissed(c) => TermKindKey::GoalMissed(goal_check(c)),
         TermKind::GoalDistance(g) => TermKindKey::GoalDistance(goal_distance(g)),
+        TermKind::GoalsMissed(cs) => TermKindKey::GoalsMissed(cs.iter().map(goal_check).collect()),
         TermKind::Legged(l) => TermKindKey::Legged(format!("{l:?}")),
     };
     TermKey {
@@ -185,6 +187,9 @@ enum DistKey {
     RootPose(Vec<Bits>),
     TerrainOrigin(usize, usize),
     Meet(Vec<usize>, Vec<Bits>, Vec<usize>, Vec<usize>),
+    Rotation(Option<Vec<Bits>>, Bits, Bits),
+    UnitQuaternion,
+    Settle(u32, Option<(Sel, Bits)>, Vec<usize>),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -215,6 +220,15 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
             DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
         }
         Distribution::TerrainOrigin { rows } => DistKey::TerrainOrigin(rows.0, rows.1),
+        Distribution::Rotation { axis, angle } => {
+            DistKey::Rotation(axis.map(|a| bits_all(&a)), bits(angle.0), bits(angle.1))
+        }
+        Distribution::UnitQuaternion => DistKey::UnitQuaternion,
+        Distribution::Settle(s) => DistKey::Settle(
+            s.steps,
+            s.require.as_ref().map(|(sel_, x)| (sel(sel_), bits(*x))),
+            s.records.clone(),
+        ),
         Distribution::Meet(m) => DistKey::Meet(
             m.center.to_vec(),
             bits_all(&[m.offset.as_slice(), &[m.scale, m.gap, m.unchanged]].concat()),
@@ -245,6 +259,7 @@ pub(crate) enum InfoKey {
     /// The reported term's value (none when the index is out of range) and `unweighted`.
     Term(Option<TermKey>, bool),
     GoalReached(GoalCheckKey),
+    GoalsReached(Vec<GoalCheckKey>),
 }
 
 pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
@@ -256,6 +271,7 @@ pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
         InfoKind::Velocity { source } => InfoKey::Velocity(sel(source), i.len),
         InfoKind::Term(t) => InfoKey::Term(r.reward.get(*t).map(term), i.unweighted),
         InfoKind::GoalReached(c) => InfoKey::GoalReached(goal_check(c)),
+        InfoKind::GoalsReached(cs) => InfoKey::GoalsReached(cs.iter().map(goal_check).collect()),
     }
 }
 

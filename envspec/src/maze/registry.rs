@@ -125,7 +125,10 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
                 let mut overrides = vec![Override::text("reward_type", &format!("\"{rt}\""))];
                 for e in entry {
                     let text = match (e.key.as_str(), e.value.as_str()) {
-                        ("map", Some(s)) => format!("{:?}", dir.join(s).display().to_string()),
+                        // Paths are relative to the registry file, as the spec path is.
+                        ("map" | "xml_file", Some(s)) => {
+                            format!("{:?}", dir.join(s).display().to_string())
+                        }
                         _ => e.value.to_toml(),
                     };
                     overrides.push(Override::text(&e.key, &text));

@@ -107,10 +107,22 @@ impl Ctx<'_> {
             }
             Desired::Select(d)
         };
+        let norm = norm?;
+        if norm == GoalNorm::Angle && n != 4 {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0801,
+                    format!("{what}: norm = \"angle\" compares quaternions, and `achieved` `{}` selects {n} elements", achieved.text),
+                )
+                .at(s.get("achieved").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                .label("expected 4 elements (w, x, y, z)"),
+            );
+            return None;
+        }
         Some(GoalDistance {
             achieved,
             desired,
-            norm: norm?,
+            norm,
         })
     }
 
@@ -156,6 +168,60 @@ impl Ctx<'_> {
             threshold: threshold?,
             strict,
         })
+    }
+
+    /// `checks = [{ achieved, desired, threshold, norm, strict }, ...]`: goal checks that must
+    /// all hold (`goals_missed`, `goals_reached`).
+    pub(super) fn goal_checks(
+        &mut self,
+        s: &Section,
+        what: &str,
+        default_norm: GoalNorm,
+    ) -> Option<Vec<GoalCheck>> {
+        const KEYS: &[&str] = &["achieved", "desired", "threshold", "norm", "strict"];
+        let Some(v) = s.get("checks") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, format!("missing `checks` in {what}"))
+                    .at(s.name_loc.clone())
+                    .label("expected checks = [{ achieved, desired, threshold }, ...]"),
+            );
+            return None;
+        };
+        let items = v.as_array().filter(|a| !a.is_empty());
+        let Some(items) = items else {
+            self.d.push(v.type_error(
+                "checks",
+                "a non-empty array of { achieved, desired, threshold, norm } tables",
+            ));
+            return None;
+        };
+        let mut out = vec![];
+        for (i, item) in items.iter().enumerate() {
+            let Some(entries) = item.as_table() else {
+                self.d
+                    .push(item.type_error("checks", "a { achieved, desired, threshold } table"));
+                return None;
+            };
+            for e in entries.iter().filter(|e| !KEYS.contains(&e.key.as_str())) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("unknown key `{}` in {what} checks", e.key),
+                    )
+                    .at(e.key_loc.clone())
+                    .label(format!("expected one of: {}", KEYS.join(", ")))
+                    .help_opt(crate::diagnostic::suggest(&e.key, KEYS.iter().copied())),
+                );
+            }
+            let section = Section {
+                name: format!("{}.checks[{i}]", s.name),
+                name_loc: item.loc.clone(),
+                loc: item.loc.clone(),
+                entries: entries.to_vec(),
+            };
+            out.push(self.goal_check(&section, what, default_norm));
+        }
+        out.into_iter().collect()
     }
 
     /// The `[termination.*]` conditions that are switched on.

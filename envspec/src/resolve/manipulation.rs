@@ -3,7 +3,7 @@
 
 use super::Ctx;
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
-use crate::ir::{Distribution, Meet};
+use crate::ir::{Distribution, Meet, ResetStep, Settle};
 use crate::manipulation::*;
 use crate::mjcf::JointKind;
 use crate::selector::{Field, Selection};
@@ -348,6 +348,171 @@ impl Ctx<'_> {
         })))
     }
 
+    /// A `rotation` or `unit_quaternion` reset step: its target is one quaternion.
+    pub(super) fn rotation(&mut self, s: &Section, kind: &str, n: usize) -> Option<Distribution> {
+        if n != 4 {
+            let at = s
+                .get("target")
+                .map_or(s.name_loc.clone(), |v| v.loc.clone());
+            self.d.push(misfit(
+                &at,
+                format!(
+                    "[reset.{}]: a {kind} target is one quaternion (4 numbers), not {n}",
+                    s.name
+                ),
+                "expected a quaternion, e.g. \"qpos[object:joint][3:7]\" or \"goal[3:7]\"",
+            ));
+            return None;
+        }
+        if kind == "unit_quaternion" {
+            return Some(Distribution::UnitQuaternion);
+        }
+        let axis = match s.get("axis") {
+            Some(v) => {
+                let a = self.number_list(v, "axis", 3)?;
+                if a.iter().all(|x| *x == 0.0) {
+                    self.d.push(misfit(
+                        &v.loc,
+                        format!("[reset.{}]: the rotation axis is zero", s.name),
+                        "expected a nonzero axis, e.g. [0.0, 0.0, 1.0]",
+                    ));
+                    return None;
+                }
+                Some([a[0], a[1], a[2]])
+            }
+            None => None,
+        };
+        let angle = match s.get("angle") {
+            Some(v) => {
+                let r = self.range(v, "angle")?;
+                if !(r.0 <= r.1 && (r.1 - r.0).is_finite()) {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0105,
+                            format!(
+                                "[reset.{}]: angle range [{}, {}) is empty or infinite",
+                                s.name, r.0, r.1
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected [low, high] radians with low <= high"),
+                    );
+                    return None;
+                }
+                r
+            }
+            None => (-std::f64::consts::PI, std::f64::consts::PI),
+        };
+        Some(Distribution::Rotation { axis, angle })
+    }
+
+    /// A `settle` reset step (no target).
+    pub(super) fn settle(&mut self, s: &Section) -> Option<ResetStep> {
+        let what = format!("[reset.{}]", s.name);
+        let most = crate::limits::MAX_SETTLE_PHYSICS_STEPS / u64::from(self.frame_skip.max(1));
+        let steps = match s.get("steps") {
+            Some(v) => match v.kind {
+                ValKind::Int(i) if i >= 1 && (i as u64) <= most => i as u32,
+                _ => {
+                    self.d.push(misfit(
+                        &v.loc,
+                        format!("{what}: steps must be a step count from 1 to {most}"),
+                        "expected a whole number of control steps",
+                    ));
+                    return None;
+                }
+            },
+            None => {
+                self.d.push(
+                    Diagnostic::new(Code::E0103, format!("missing `steps` in {what}"))
+                        .at(s.name_loc.clone())
+                        .label("expected steps = the number of control steps"),
+                );
+                return None;
+            }
+        };
+        let require = match (s.get("watch"), s.get("above")) {
+            (None, None) => None,
+            (Some(w), Some(a)) => {
+                let sel = self.selection(w, "watch")?;
+                if sel.len() != 1 {
+                    self.d.push(misfit(
+                        &w.loc,
+                        format!("{what}: `watch` selects {} values", sel.len()),
+                        "expected one value, e.g. \"site_xpos[object:center][2]\"",
+                    ));
+                    return None;
+                }
+                let x = self.num(a, "above")?;
+                Some((sel, x))
+            }
+            (Some(v), None) | (None, Some(v)) => {
+                self.d.push(misfit(
+                    &v.loc,
+                    format!("{what}: `watch` and `above` go together"),
+                    "expected both: the value checked and the bound it must exceed",
+                ));
+                return None;
+            }
+        };
+        let records = match s.get("record") {
+            Some(v) => self.record_names(v, &what)?,
+            None => vec![],
+        };
+        Some(ResetStep {
+            name: s.name.clone(),
+            doc: s.doc(),
+            target: Selection {
+                field: Field::Qpos,
+                indices: vec![],
+                names: vec![],
+                text: String::new(),
+            },
+            dist: Distribution::Settle(Box::new(Settle {
+                steps,
+                require,
+                records,
+            })),
+            set: true,
+            resample_until: None,
+            around: None,
+            probability: None,
+        })
+    }
+
+    /// `record = ["name", ...]`: indices of `[init] record`s.
+    fn record_names(&mut self, v: &Val, what: &str) -> Option<Vec<usize>> {
+        let known: Vec<String> = self.records.iter().map(|r| r.0.clone()).collect();
+        let Some(items) = v.as_array() else {
+            self.d
+                .push(v.type_error("record", "an array of [init] record names"));
+            return None;
+        };
+        let mut out = vec![];
+        for item in items {
+            let Some(name) = item.as_str() else {
+                self.d
+                    .push(item.type_error("record", "the name of an [init] record"));
+                return None;
+            };
+            match known.iter().position(|k| k == name) {
+                Some(i) => out.push(i),
+                None => {
+                    self.d.push(
+                        misfit(
+                            &item.loc,
+                            format!("{what}: `{name}` is no [init] record"),
+                            "expected the name of an [init] record",
+                        )
+                        .help_opt(suggest(name, known.iter().map(String::as_str))),
+                    );
+                    return None;
+                }
+            }
+        }
+        Some(out)
+    }
+
     /// A list of numbers (or numeric parameters) of length `n`.
     /// Each within `limits::MAX_COORDINATE` (a pose, an offset, a quaternion).
     fn number_list(&mut self, v: &Val, what: &str, n: usize) -> Option<Vec<f64>> {
@@ -462,6 +627,10 @@ impl Ctx<'_> {
             Some(v) => self.flag(v, "reset_welds").unwrap_or(false),
             None => false,
         };
+        let reset_data = match s.get("reset_data") {
+            Some(v) => self.flag(v, "reset_data").unwrap_or(true),
+            None => true,
+        };
         let mut mocap = vec![];
         if let Some(v) = s.get("mocap") {
             let tables: Vec<&[crate::value::Entry]> = match &v.kind {
@@ -544,6 +713,7 @@ impl Ctx<'_> {
             mocap,
             settle_steps,
             records,
+            reset_data,
         })
     }
 

@@ -331,7 +331,7 @@ impl MazeEnv {
     }
     /// `np.linalg.norm(a - b)` under this env's profile (the start cell's distance to the goal).
     fn dist_blas(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
-        crate::goal::distance(GoalNorm::Blas, self.robot.numerics(), 2, &|k| a[k] - b[k])
+        crate::goal::distance(GoalNorm::Blas, self.robot.numerics(), 2, &|k| (a[k], b[k]))
     }
     /// The compiled model (maze walls included), shared by every env built from it.
     pub fn model(&self) -> &Arc<MjModel> {
@@ -552,7 +552,7 @@ impl MazeEnv {
     pub fn compute_reward(&self, achieved: &[[f64; 2]], desired: &[[f64; 2]], out: &mut [f64]) {
         let p = self.numerics();
         for ((a, d), o) in achieved.iter().zip(desired).zip(out.iter_mut()) {
-            *o = crate::goal::term_value(&self.task.reward, p, a, d).unwrap_or(f64::NAN);
+            *o = crate::goal::term_value(&self.task.reward, p, a, d, &|_, k| k).unwrap_or(f64::NAN);
         }
     }
 
