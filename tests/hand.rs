@@ -13,7 +13,7 @@ fn hand_reach() {
 
 #[test]
 fn hand_manipulate_block() {
-    for variant in ["", "Full", "RotateZ", "RotateXYZ"] {
+    for variant in ["", "Full", "RotateZ", "RotateXYZ", "RotateParallel"] {
         for reward in ["", "Dense"] {
             replay_family("hand", &format!("HandManipulateBlock{variant}{reward}-v1"));
         }

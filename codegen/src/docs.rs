@@ -258,7 +258,7 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                     format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
                 }
                 Distribution::Meet(_) => "points brought together (meet)".into(),
-                Distribution::Rotation { .. } => "a rotation (angle and axis)".into(),
+                Distribution::Rotation(_) => "a rotation (angle and axis)".into(),
                 Distribution::UnitQuaternion => "quaternion normalised".into(),
                 Distribution::Settle(_) => "settling steps".into(),
             };

@@ -258,14 +258,23 @@ fn reset_step_as(r: &ResetStep, target: &str) -> String {
                 }
             );
         }
-        Distribution::Rotation { axis, angle } => {
+        Distribution::Rotation(crate::ir::Rotation {
+            axis,
+            angle,
+            parallel,
+        }) => {
+            let parallel = if *parallel {
+                " ⊗ one of 24 axis-aligned orientations"
+            } else {
+                ""
+            };
             let axis = match axis {
                 Some(a) => format!("{a:?}"),
                 None => "uniform[-1, 1)³".to_string(),
             };
             let op = if r.set { "=" } else { "← q ⊗" };
             return format!(
-                "{target} {op} quat_from_angle_and_axis(uniform[{}, {}), {axis})",
+                "{target} {op} quat_from_angle_and_axis(uniform[{}, {}), {axis}){parallel}",
                 num(angle.0),
                 num(angle.1)
             );

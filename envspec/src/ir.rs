@@ -555,12 +555,7 @@ pub enum Distribution {
     /// (3 uniforms in [−1, 1] when not given), `r = quat_from_angle_and_axis(angle, axis)`
     /// (axis and quaternion each divided by their OpenBLAS norm); `add`: `q ← q ⊗ r`, `set`:
     /// `q ← r` (Gymnasium-Robotics' hand manipulation draws).
-    Rotation {
-        /// The axis; None: drawn.
-        axis: Option<[f64; 3]>,
-        /// The angle's uniform range (radians).
-        angle: (f64, f64),
-    },
+    Rotation(Rotation),
     /// `q ← q / ‖q‖` (OpenBLAS norm) of a quaternion target; no draw.
     UnitQuaternion,
     /// Control steps with action 0 in the middle of the reset, then a check that may start the
@@ -573,6 +568,18 @@ pub enum Distribution {
         /// Inclusive range of rows (difficulty levels) drawn from.
         rows: (usize, usize),
     },
+}
+
+/// The keys of a `rotation` reset step (see [`Distribution::Rotation`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rotation {
+    /// The axis; None: drawn.
+    pub axis: Option<[f64; 3]>,
+    /// The angle's uniform range (radians).
+    pub angle: (f64, f64),
+    /// Then composed with one of the 24 axis-aligned orientations, drawn uniformly (an
+    /// `integers` draw; Gymnasium-Robotics' "parallel" rotations).
+    pub parallel: bool,
 }
 
 /// A `settle` reset step: `steps` control steps (`frame_skip × mj_step` each) with `ctrl` from
@@ -619,7 +626,7 @@ impl Distribution {
             Distribution::RootPose { .. } => "root_pose",
             Distribution::TerrainOrigin { .. } => "terrain_origin",
             Distribution::Meet(_) => "meet",
-            Distribution::Rotation { .. } => "rotation",
+            Distribution::Rotation(_) => "rotation",
             Distribution::UnitQuaternion => "unit_quaternion",
             Distribution::Settle(_) => "settle",
         }

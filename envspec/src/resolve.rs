@@ -397,7 +397,7 @@ fn unmet(dist: &Distribution, n: usize, until: Until) -> Option<String> {
         Distribution::Keyframe { .. }
         | Distribution::RootPose { .. }
         | Distribution::Meet(_)
-        | Distribution::Rotation { .. }
+        | Distribution::Rotation(_)
         | Distribution::UnitQuaternion
         | Distribution::Settle(_)
         | Distribution::TerrainOrigin { .. } => (0.0, f64::INFINITY),
@@ -1377,7 +1377,7 @@ impl Ctx<'_> {
                     .fold(m.scale.abs() + m.gap.abs(), |a, x| a.max(x.abs())),
                 Distribution::Keyframe { .. }
                 | Distribution::RootPose { .. }
-                | Distribution::Rotation { .. }
+                | Distribution::Rotation(_)
                 | Distribution::UnitQuaternion
                 | Distribution::Settle(_)
                 | Distribution::TerrainOrigin { .. } => 0.0,

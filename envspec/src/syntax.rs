@@ -382,7 +382,7 @@ pub const RESET_KINDS: &[(&str, &[&str])] = &[
             "unchanged",
         ],
     ),
-    ("rotation", &["axis", "angle"]),
+    ("rotation", &["axis", "angle", "parallel"]),
     ("unit_quaternion", &[]),
     ("settle", &["steps", "watch", "above", "record"]),
 ];

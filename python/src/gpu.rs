@@ -234,7 +234,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     json!({"kind": "unsupported"})
                 }
                 Distribution::Meet(_)
-                | Distribution::Rotation { .. }
+                | Distribution::Rotation(_)
                 | Distribution::UnitQuaternion
                 | Distribution::Settle(_) => {
                     not_exported.push(format!(

@@ -985,7 +985,7 @@ impl Env {
                 continue;
             }
             let records = &self.sim.manip.records;
-            if let Distribution::Rotation { .. } | Distribution::UnitQuaternion = &step.dist {
+            if let Distribution::Rotation(_) | Distribution::UnitQuaternion = &step.dist {
                 let state = [qpos, qvel, mocap_pos, mocap_quat];
                 let target = reset_target(step.target.field, state, &mut self.sim.goal);
                 crate::manipulation::quaternion_step(step, target, rng, numerics);
@@ -1019,7 +1019,7 @@ impl Env {
                     Distribution::Keyframe { .. }
                     | Distribution::RootPose { .. }
                     | Distribution::Meet(_)
-                    | Distribution::Rotation { .. }
+                    | Distribution::Rotation(_)
                     | Distribution::UnitQuaternion
                     | Distribution::Settle(_)
                     | Distribution::TerrainOrigin { .. } => {}
@@ -1215,7 +1215,10 @@ impl Env {
             ResetFailure::Unmet(k) => EnvError::ResampleUnmet {
                 env: self.spec.id.clone(),
                 step: self.spec.reset[*k].name.clone(),
-                draws: envspec::limits::MAX_RESAMPLE_DRAWS,
+                draws: match self.spec.reset[*k].dist {
+                    Distribution::Settle(_) => envspec::limits::MAX_SETTLE_RESTARTS,
+                    _ => envspec::limits::MAX_RESAMPLE_DRAWS,
+                },
             },
             ResetFailure::Mujoco(message) => EnvError::Mujoco {
                 env: self.spec.id.clone(),

@@ -53,7 +53,7 @@ pub enum EnvError {
     NotReset,
     /// A reset step's `resample_until` condition was not met within its draw limit (E1104).
     #[error(
-        "error[E1104]: {env}: the reset step [reset.{step}] drew {draws} times without meeting its resample_until condition; reset again with another seed, or widen the condition"
+        "error[E1104]: {env}: the reset step [reset.{step}] ran {draws} times without meeting its condition (resample_until, or a settle step's watch); reset again with another seed, or widen the condition"
     )]
     ResampleUnmet {
         /// The env's id.

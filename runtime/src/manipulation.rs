@@ -432,19 +432,24 @@ pub(crate) fn quat_mul(q0: [f64; 4], q1: [f64; 4]) -> [f64; 4] {
     ]
 }
 
-/// A `rotation` reset draw on the quaternion `q` (numpy's order: the angle, then the axis).
+/// A `rotation` reset draw on the quaternion `q` (numpy's order: the angle, then the axis,
+/// then the parallel orientation's index).
 pub(crate) fn rotation_draw(
     q: [f64; 4],
-    axis: Option<[f64; 3]>,
-    angle: (f64, f64),
+    r: &envspec::ir::Rotation,
     set: bool,
     rng: &mut crate::rng::NumpyRng,
     profile: Profile,
 ) -> [f64; 4] {
-    let a = rng.uniform(angle.0, angle.1);
-    let axis = axis.unwrap_or_else(|| [(); 3].map(|()| rng.uniform(-1.0, 1.0)));
-    let r = quat_from_angle_and_axis(a, axis, profile);
-    if set { r } else { quat_mul(q, r) }
+    let a = rng.uniform(r.angle.0, r.angle.1);
+    let axis = r
+        .axis
+        .unwrap_or_else(|| [(); 3].map(|()| rng.uniform(-1.0, 1.0)));
+    let mut d = quat_from_angle_and_axis(a, axis, profile);
+    if r.parallel {
+        d = quat_mul(d, PARALLEL[rng.integers(0, PARALLEL.len() as i64) as usize]);
+    }
+    if set { d } else { quat_mul(q, d) }
 }
 
 /// Where the elements of each goal distance of reward kernel `kind` lie in a goal row, when the
@@ -490,12 +495,163 @@ pub(crate) fn quaternion_step(
     let ix = &step.target.indices;
     let q = [target[ix[0]], target[ix[1]], target[ix[2]], target[ix[3]]];
     let q = match &step.dist {
-        envspec::ir::Distribution::Rotation { axis, angle } => {
-            rotation_draw(q, *axis, *angle, step.set, rng, profile)
-        }
+        envspec::ir::Distribution::Rotation(r) => rotation_draw(q, r, step.set, rng, profile),
         _ => unit_quaternion(q, profile),
     };
     for (k, &i) in ix.iter().enumerate() {
         target[i] = q[k];
     }
+}
+
+/// The 24 axis-aligned orientations of Gymnasium-Robotics' `get_parallel_rotations`, as its
+/// `euler2quat` gives them (w first), bit for bit: the `parallel` rotations of a reset step.
+const PARALLEL: [[f64; 4]; 24] = [
+    [
+        f(0x3ff0000000000000),
+        f(0x0000000000000000),
+        f(0x8000000000000000),
+        f(0x0000000000000000),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0x0000000000000000),
+        f(0x8000000000000000),
+        f(0x3fe6a09e667f3bcc),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0x0000000000000000),
+        f(0x0000000000000000),
+        f(0xbfe6a09e667f3bcc),
+    ],
+    [
+        f(0x3c91a62633145c07),
+        f(0x0000000000000000),
+        f(0x8000000000000000),
+        f(0x3ff0000000000000),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0x0000000000000000),
+        f(0x3fe6a09e667f3bcc),
+        f(0x0000000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0x3fdffffffffffffe),
+        f(0x3fe0000000000000),
+        f(0x3fe0000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0xbfdffffffffffffe),
+        f(0x3fe0000000000000),
+        f(0xbfe0000000000000),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0x3fe6a09e667f3bcc),
+        f(0x3c88f5a0be038ed5),
+        f(0x3fe6a09e667f3bcd),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0x0000000000000000),
+        f(0xbfe6a09e667f3bcc),
+        f(0x0000000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0xbfdffffffffffffe),
+        f(0xbfe0000000000000),
+        f(0x3fe0000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0x3fdffffffffffffe),
+        f(0xbfe0000000000000),
+        f(0xbfe0000000000000),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0xbfe6a09e667f3bcc),
+        f(0xbc88f5a0be038ed5),
+        f(0x3fe6a09e667f3bcd),
+    ],
+    [
+        f(0x393377ce858a5d48),
+        f(0x3c91a62633145c07),
+        f(0xbff0000000000000),
+        f(0x3c91a62633145c07),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0x3fe6a09e667f3bcd),
+        f(0x3fe6a09e667f3bcc),
+        f(0xbc88f5a0be038ed5),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0x3fe6a09e667f3bcd),
+        f(0xbfe6a09e667f3bcc),
+        f(0x3c88f5a0be038ed5),
+    ],
+    [
+        f(0x3c91a62633145c07),
+        f(0x3ff0000000000000),
+        f(0x0000000000000000),
+        f(0x0000000000000000),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0x3fe6a09e667f3bcc),
+        f(0x8000000000000000),
+        f(0x0000000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0x3fe0000000000000),
+        f(0xbfdffffffffffffe),
+        f(0x3fe0000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0x3fe0000000000000),
+        f(0x3fdffffffffffffe),
+        f(0xbfe0000000000000),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0x3c88f5a0be038ed5),
+        f(0xbfe6a09e667f3bcc),
+        f(0x3fe6a09e667f3bcd),
+    ],
+    [
+        f(0x3c88f5a0be038ed7),
+        f(0xbc88f5a0be038ed5),
+        f(0x3fe6a09e667f3bcc),
+        f(0x3fe6a09e667f3bcd),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0xbfe0000000000000),
+        f(0xbfdffffffffffffe),
+        f(0xbfe0000000000000),
+    ],
+    [
+        f(0x3fe0000000000001),
+        f(0xbfe0000000000000),
+        f(0x3fdffffffffffffe),
+        f(0x3fe0000000000000),
+    ],
+    [
+        f(0x3fe6a09e667f3bcd),
+        f(0xbfe6a09e667f3bcc),
+        f(0x8000000000000000),
+        f(0x8000000000000000),
+    ],
+];
+
+const fn f(bits: u64) -> f64 {
+    f64::from_bits(bits)
 }

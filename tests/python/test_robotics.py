@@ -35,7 +35,7 @@ LIVE_SEED = int(os.environ.get("ENVC_LIVE_SEED", np.random.SeedSequence().entrop
 print(f"test_robotics: live seed {LIVE_SEED} (set ENVC_LIVE_SEED to replay)")
 IDS = [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")]
 IDS += [f"HandReach{r}-v3" for r in ("", "Dense")]
-IDS += [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ") for r in ("", "Dense")]
+IDS += [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ", "RotateParallel") for r in ("", "Dense")]
 IDS += [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")]
 
 

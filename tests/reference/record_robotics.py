@@ -37,7 +37,7 @@ gym.register_envs(gymnasium_robotics)
 FAMILIES = {
     "fetch": [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")],
     "hand": [f"HandReach{r}-v3" for r in ("", "Dense")]
-    + [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ") for r in ("", "Dense")]
+    + [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ", "RotateParallel") for r in ("", "Dense")]
     + [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")],
 }
 

@@ -187,7 +187,7 @@ enum DistKey {
     RootPose(Vec<Bits>),
     TerrainOrigin(usize, usize),
     Meet(Vec<usize>, Vec<Bits>, Vec<usize>, Vec<usize>),
-    Rotation(Option<Vec<Bits>>, Bits, Bits),
+    Rotation(Option<Vec<Bits>>, Bits, Bits, bool),
     UnitQuaternion,
     Settle(u32, Option<(Sel, Bits)>, Vec<usize>),
 }
@@ -220,9 +220,12 @@ pub(crate) fn reset_step(r: &ResetStep) -> ResetKey {
             DistKey::RootPose(ranges.iter().flat_map(|r| [bits(r.0), bits(r.1)]).collect())
         }
         Distribution::TerrainOrigin { rows } => DistKey::TerrainOrigin(rows.0, rows.1),
-        Distribution::Rotation { axis, angle } => {
-            DistKey::Rotation(axis.map(|a| bits_all(&a)), bits(angle.0), bits(angle.1))
-        }
+        Distribution::Rotation(r) => DistKey::Rotation(
+            r.axis.map(|a| bits_all(&a)),
+            bits(r.angle.0),
+            bits(r.angle.1),
+            r.parallel,
+        ),
         Distribution::UnitQuaternion => DistKey::UnitQuaternion,
         Distribution::Settle(s) => DistKey::Settle(
             s.steps,

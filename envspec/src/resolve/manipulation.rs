@@ -403,7 +403,15 @@ impl Ctx<'_> {
             }
             None => (-std::f64::consts::PI, std::f64::consts::PI),
         };
-        Some(Distribution::Rotation { axis, angle })
+        let parallel = match s.get("parallel") {
+            Some(v) => self.flag(v, "parallel")?,
+            None => false,
+        };
+        Some(Distribution::Rotation(crate::ir::Rotation {
+            axis,
+            angle,
+            parallel,
+        }))
     }
 
     /// A `settle` reset step (no target).
