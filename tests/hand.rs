@@ -28,3 +28,25 @@ fn hand_manipulate_egg() {
         }
     }
 }
+
+/// The touch-sensor models: the 92 sensors' values, or whether each is touched, observed.
+#[test]
+fn hand_manipulate_touch_sensors() {
+    for object in [
+        "Block",
+        "BlockRotateZ",
+        "BlockRotateXYZ",
+        "BlockRotateParallel",
+        "Egg",
+        "EggRotate",
+    ] {
+        for touch in ["Continuous", "Boolean"] {
+            for reward in ["", "Dense"] {
+                replay_family(
+                    "hand",
+                    &format!("HandManipulate{object}_{touch}TouchSensors{reward}-v1"),
+                );
+            }
+        }
+    }
+}

@@ -141,6 +141,8 @@ pub enum Apply {
     Sin,
     /// `cos(x)`.
     Cos,
+    /// `1.0 if x > 0 else 0.0` (numpy's `x > 0.0` in a float array: a touch sensor's contact).
+    Positive,
 }
 
 /// One named observation segment.
@@ -192,6 +194,7 @@ impl Segment {
                 match self.apply {
                     Some(Apply::Sin) => format!("sin({n})"),
                     Some(Apply::Cos) => format!("cos({n})"),
+                    Some(Apply::Positive) => format!("({n} > 0)"),
                     None => n,
                 }
             })

@@ -810,11 +810,12 @@ impl Ctx<'_> {
                 Some(v) => match v.as_str() {
                     Some("sin") => Some(Apply::Sin),
                     Some("cos") => Some(Apply::Cos),
+                    Some("positive") => Some(Apply::Positive),
                     _ => {
                         self.d.push(
                             Diagnostic::new(Code::E0104, "unknown function in `apply`")
                                 .at(v.loc.clone())
-                                .label("expected \"sin\" or \"cos\""),
+                                .label("expected \"sin\", \"cos\" or \"positive\""),
                         );
                         None
                     }

@@ -116,7 +116,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 "name": s.name,
                 "source": sel(&s.source),
                 "minus": opt_sel(s.minus.as_ref()),
-                "apply": s.apply.map(|a| match a { Apply::Sin => "sin", Apply::Cos => "cos" }),
+                "apply": s.apply.map(|a| match a { Apply::Sin => "sin", Apply::Cos => "cos", Apply::Positive => "positive" }),
                 "clip": range(s.clip),
                 "offset": s.offset,
                 "len": s.len(),

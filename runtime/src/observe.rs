@@ -42,6 +42,7 @@ pub(crate) fn write_segments_with<'a>(
             x = match seg.apply {
                 Some(Apply::Sin) => x.sin(),
                 Some(Apply::Cos) => x.cos(),
+                Some(Apply::Positive) => f64::from(u8::from(x > 0.0)),
                 None => x,
             };
             x = pre_clip(i, x);

@@ -37,6 +37,8 @@ IDS = [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for
 IDS += [f"HandReach{r}-v3" for r in ("", "Dense")]
 IDS += [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ", "RotateParallel") for r in ("", "Dense")]
 IDS += [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")]
+IDS += [f"HandManipulate{o}_{t}TouchSensors{r}-v1" for o in ("Block", "BlockRotateParallel", "EggRotate")
+        for t in ("Continuous", "Boolean") for r in ("", "Dense")]
 
 
 def same(x, y) -> bool:
@@ -81,10 +83,14 @@ def test_robotics_matches_the_reference(env_id, seed):
     u1, u2 = ref.unwrapped, ours.unwrapped
     assert same(u1.compute_reward(g, d, {}), u2.compute_reward(g, d, {}))
     assert same(u1.compute_reward(g[5], d[5], {}), u2.compute_reward(g[5], d[5], {}))
-    assert same(
-        u1.compute_reward(g.reshape(16, 16, k), d.reshape(16, 16, k), {}),
-        u2.compute_reward(g.reshape(16, 16, k), d.reshape(16, 16, k), {}),
-    )
+    g3, d3 = g.reshape(16, 16, k), d.reshape(16, 16, k)
+    try:
+        r3 = u1.compute_reward(g3, d3, {})
+    except AssertionError:
+        # The hand manipulation reference's quat_mul takes 1-D and 2-D goals only.
+        r3 = None
+    if r3 is not None:
+        assert same(r3, u2.compute_reward(g3, d3, {}))
 
 
 @pytest.mark.parametrize("env_id", ["FetchPickAndPlace-v4", "HandReach-v3", "HandManipulateEgg-v1"])

@@ -34,11 +34,17 @@ import robotics_patch  # noqa: E402,F401
 
 gym.register_envs(gymnasium_robotics)
 
+TOUCH = [f"HandManipulateBlock{v}_{t}TouchSensors{r}-v1" for v in ("", "RotateZ", "RotateXYZ", "RotateParallel")
+         for t in ("Continuous", "Boolean") for r in ("", "Dense")]
+TOUCH += [f"HandManipulateEgg{v}_{t}TouchSensors{r}-v1" for v in ("", "Rotate")
+          for t in ("Continuous", "Boolean") for r in ("", "Dense")]
+
 FAMILIES = {
     "fetch": [f"Fetch{t}{r}-v4" for t in ("Reach", "Push", "Slide", "PickAndPlace") for r in ("", "Dense")],
     "hand": [f"HandReach{r}-v3" for r in ("", "Dense")]
     + [f"HandManipulateBlock{v}{r}-v1" for v in ("", "Full", "RotateZ", "RotateXYZ", "RotateParallel") for r in ("", "Dense")]
-    + [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")],
+    + [f"HandManipulateEgg{v}{r}-v1" for v in ("", "Full", "Rotate") for r in ("", "Dense")]
+    + TOUCH,
 }
 
 

@@ -675,12 +675,13 @@ fn read_extra(
         Some(a) => match a.as_str() {
             Some("sin") => Some(Apply::Sin),
             Some("cos") => Some(Apply::Cos),
+            Some("positive") => Some(Apply::Positive),
             _ => {
                 d.push(err(
                     Code::E0104,
                     &a.loc,
                     "unknown function in `apply`",
-                    "expected \"sin\" or \"cos\"",
+                    "expected \"sin\", \"cos\" or \"positive\"",
                 ));
                 None
             }

@@ -32,6 +32,8 @@ def observation(plan, f: Fields):
             x = jnp.sin(x)
         elif s["apply"] == "cos":
             x = jnp.cos(x)
+        elif s["apply"] == "positive":
+            x = (x > 0.0).astype(x.dtype)
         parts.append(_clip(x, s["clip"]))
     return jnp.concatenate(parts) if parts else jnp.zeros((0,))
 
