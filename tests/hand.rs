@@ -50,3 +50,83 @@ fn hand_manipulate_touch_sensors() {
         }
     }
 }
+
+/// Mistakes in the hand manipulation tables are located, coded errors before anything runs.
+#[test]
+fn hostile_hand_tables_are_coded_errors() {
+    use envc::envspec::Code;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("specs/robotics/hand/manipulate.toml"))
+        .unwrap()
+        .replace(
+            "\"../../../assets/",
+            &format!("\"{}/assets/", root.display()),
+        );
+    let dir = std::env::temp_dir().join(format!("envc-hand-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (i, (from, to, code)) in [
+        // A rotation of three numbers.
+        (
+            "[reset.object_rotation]\ndoc = \"The block turned by a drawn rotation: about a drawn axis (xyz) or the vertical (z).\"\ntarget = \"qpos[object:joint:qw,object:joint:qx,object:joint:qy,object:joint:qz]\"",
+            "[reset.object_rotation]\ntarget = \"qpos[object:joint:qx,object:joint:qy,object:joint:qz]\"",
+            Code::E0170,
+        ),
+        ("steps = 10", "steps = 0", Code::E0170),
+        ("record = [\"object\"]", "record = [\"objekt\"]", Code::E0170),
+        ("above = 0.04", "", Code::E0170),
+        ("kind = \"ctrlrange\"", "kind = \"ctrlrange\"\nscale = 2.0", Code::E0101),
+        (
+            "norm = \"angle\", strict = true },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
+            "norm = \"angle\", strict = true, weight = 2 },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
+            Code::E0101,
+        ),
+        (
+            "achieved = \"qpos[object:joint:qw,object:joint:qx,object:joint:qy,object:joint:qz]\"\ndesired = \"goal[3:7]\"",
+            "achieved = \"qpos[object:joint:qx,object:joint:qy,object:joint:qz]\"\ndesired = \"goal[4:7]\"",
+            Code::E0801,
+        ),
+        ("axis = [0.0, 0.0, 1.0]\nwhen", "axis = [0.0, 0.0, 0.0]\nwhen", Code::E0170),
+        ("when = \"target_rotation == 'xyz'\"\n\n[reset.object_rotation_z]", "angle = [1.0, -1.0]\nwhen = \"target_rotation == 'xyz'\"\n\n[reset.object_rotation_z]", Code::E0105),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        assert!(text.contains(from), "{from}");
+        let p = dir.join(format!("case{i}.toml"));
+        std::fs::write(&p, text.replacen(from, to, 1)).unwrap();
+        let codes: Vec<Code> = match envc::envspec::load(&p, &[]) {
+            Ok(_) => vec![],
+            Err(d) => d.0.iter().map(|e| e.code).collect(),
+        };
+        assert!(codes.contains(&code), "case {i} ({to}): {codes:?}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A settle step whose check never holds starts the reset over 1,000 times, then the reset
+/// fails with E1104 naming the step (the reference would loop for ever).
+#[test]
+fn a_settle_check_that_never_holds_is_e1104() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("specs/robotics/hand/manipulate.toml"))
+        .unwrap()
+        .replace(
+            "\"../../../assets/",
+            &format!("\"{}/assets/", root.display()),
+        )
+        .replace("steps = 10", "steps = 1")
+        .replace("above = 0.04", "above = 10.0");
+    let dir = std::env::temp_dir().join(format!("envc-hand-settle-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("spec.toml");
+    std::fs::write(&p, text).unwrap();
+    let mut env = envc::Env::from_spec_file(&p, &[]).unwrap();
+    env.reset(Some(0));
+    let e = env.reset_error().expect("the reset fails");
+    assert_eq!(e.code(), envc::envspec::Code::E1104);
+    assert!(
+        e.to_string().contains("[reset.settle] ran 1000 times"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
