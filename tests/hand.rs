@@ -20,6 +20,16 @@ fn hand_manipulate_block() {
     }
 }
 
+/// The pen: not turned at reset, compared without its turn about Z (`angle_ignoring_z`).
+#[test]
+fn hand_manipulate_pen() {
+    for variant in ["", "Full", "Rotate"] {
+        for reward in ["", "Dense"] {
+            replay_family("hand", &format!("HandManipulatePen{variant}{reward}-v1"));
+        }
+    }
+}
+
 #[test]
 fn hand_manipulate_egg() {
     for variant in ["", "Full", "Rotate"] {
@@ -76,8 +86,8 @@ fn hostile_hand_tables_are_coded_errors() {
         ("above = 0.04", "", Code::E0170),
         ("kind = \"ctrlrange\"", "kind = \"ctrlrange\"\nscale = 2.0", Code::E0101),
         (
-            "norm = \"angle\", strict = true },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
-            "norm = \"angle\", strict = true, weight = 2 },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
+            "norm = \"rotation_norm\", strict = true },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
+            "norm = \"rotation_norm\", strict = true, weight = 2 },\n]\nwhen = \"reward_type == 'sparse' and target_position == 'random'\"",
             Code::E0101,
         ),
         (
@@ -86,7 +96,12 @@ fn hostile_hand_tables_are_coded_errors() {
             Code::E0801,
         ),
         ("axis = [0.0, 0.0, 1.0]\nwhen", "axis = [0.0, 0.0, 0.0]\nwhen", Code::E0170),
-        ("when = \"target_rotation == 'xyz'\"\n\n[reset.object_rotation_z]", "angle = [1.0, -1.0]\nwhen = \"target_rotation == 'xyz'\"\n\n[reset.object_rotation_z]", Code::E0105),
+        (
+            "when = \"target_rotation == 'xyz' and randomize_rotation\"\n\n[reset.object_rotation_z]",
+            "angle = [1.0, -1.0]\nwhen = \"target_rotation == 'xyz'\"\n\n[reset.object_rotation_z]",
+            Code::E0105,
+        ),
+        ("rotation_norm = { default = \"angle\"", "rotation_norm = { default = \"angel\"", Code::E0802),
     ]
     .into_iter()
     .enumerate()

@@ -289,17 +289,22 @@ pub enum GoalNorm {
     /// The angle between two quaternions (w first): `2 · arccos(clip(w(a ⊗ conj(b)), −1, 1))`,
     /// numpy's `arccos` under the numerics profile (spec `norm = "angle"`; 4 elements).
     Angle,
+    /// As `Angle`, after the achieved orientation's Z Euler angle is replaced by the desired
+    /// one's (`quat2euler`, then `euler2quat`; spec `norm = "angle_ignoring_z"`, Gymnasium-Robotics'
+    /// `ignore_z_target_rotation`, the pen's).
+    AngleIgnoringZ,
 }
 
 impl GoalNorm {
     /// The `norm` values a spec may write (for suggestions).
-    pub const NAMES: &'static [&'static str] = &["pairwise", "blas", "angle"];
+    pub const NAMES: &'static [&'static str] = &["pairwise", "blas", "angle", "angle_ignoring_z"];
     /// The norm a spec's `norm = "..."` names, if any.
     pub fn parse(s: &str) -> Option<GoalNorm> {
         match s {
             "pairwise" => Some(GoalNorm::Pairwise),
             "blas" => Some(GoalNorm::Blas),
             "angle" => Some(GoalNorm::Angle),
+            "angle_ignoring_z" => Some(GoalNorm::AngleIgnoringZ),
             _ => None,
         }
     }
@@ -309,6 +314,7 @@ impl GoalNorm {
             GoalNorm::Pairwise => "pairwise",
             GoalNorm::Blas => "blas",
             GoalNorm::Angle => "angle",
+            GoalNorm::AngleIgnoringZ => "angle_ignoring_z",
         }
     }
 }

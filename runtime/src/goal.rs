@@ -28,11 +28,17 @@ pub(crate) fn distance(kind: GoalNorm, profile: Profile, n: usize, pair: Pairs) 
         GoalNorm::Blas => norm(profile, n, &diff),
         // Gymnasium-Robotics' `_goal_distance`: w of quat_mul(a, quat_conjugate(b)), clipped,
         // then 2 · arccos.
-        GoalNorm::Angle => {
-            let (a, b) = (
+        GoalNorm::Angle | GoalNorm::AngleIgnoringZ => {
+            let (mut a, b) = (
                 [0, 1, 2, 3].map(|k| pair(k).0),
                 [0, 1, 2, 3].map(|k| pair(k).1),
             );
+            if kind == GoalNorm::AngleIgnoringZ {
+                use crate::manipulation::{euler2quat, quat2euler};
+                let mut e = quat2euler(a, profile);
+                e[2] = quat2euler(b, profile)[2];
+                a = euler2quat(e);
+            }
             let w = a[0] * b[0] - a[1] * -b[1] - a[2] * -b[2] - a[3] * -b[3];
             2.0 * acos(profile, clip(w, -1.0, 1.0))
         }

@@ -31,12 +31,17 @@ impl Ctx<'_> {
         let norm = match s.get("norm") {
             None => Some(default_norm),
             Some(v) => {
-                let n = v.as_str().and_then(GoalNorm::parse);
+                // A norm's name, or a string parameter holding one.
+                let named = |s: &str| match self.param(s).map(|p| &p.value) {
+                    Some(crate::params::ParamValue::Str(x)) => x.clone(),
+                    _ => s.to_string(),
+                };
+                let n = v.as_str().and_then(|s| GoalNorm::parse(&named(s)));
                 if n.is_none() {
                     self.d.push(
                         Diagnostic::new(Code::E0802, format!("unknown `norm` in {what}"))
                             .at(v.loc.clone())
-                            .label("expected \"pairwise\" (np.linalg.norm(a - b, axis=-1)) or \"blas\" (np.linalg.norm(a - b))")
+                            .label("expected \"pairwise\" (np.linalg.norm(a - b, axis=-1)), \"blas\" (np.linalg.norm(a - b)), \"angle\" or \"angle_ignoring_z\" (quaternions), or a string parameter naming one")
                             .help_opt(v.as_str().and_then(|x| suggest(x, GoalNorm::NAMES.iter().copied()))),
                     );
                 }
@@ -108,11 +113,11 @@ impl Ctx<'_> {
             Desired::Select(d)
         };
         let norm = norm?;
-        if norm == GoalNorm::Angle && n != 4 {
+        if matches!(norm, GoalNorm::Angle | GoalNorm::AngleIgnoringZ) && n != 4 {
             self.d.push(
                 Diagnostic::new(
                     Code::E0801,
-                    format!("{what}: norm = \"angle\" compares quaternions, and `achieved` `{}` selects {n} elements", achieved.text),
+                    format!("{what}: norm = \"{}\" compares quaternions, and `achieved` `{}` selects {n} elements", norm.name(), achieved.text),
                 )
                 .at(s.get("achieved").map_or(s.name_loc.clone(), |v| v.loc.clone()))
                 .label("expected 4 elements (w, x, y, z)"),
