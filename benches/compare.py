@@ -157,7 +157,7 @@ def main():
         "every round measures, per env and back to back, the physics ceiling, envc (single and vectorized),",
         "Gymnasium v5 and EnvPool; the tables show medians over rounds (ratios: medians of the per-round ratios).",
         "",
-        f"- Machine: {machine()}; shared with other workloads, so absolute rates drift (±15 % or more between runs).",
+        f"- Machine: {machine()}; absolute rates drift between runs (±15 % or more), so compare ratios from one interleaved run.",
         f"- Software: envc (this tree, release build), MuJoCo {mujoco.__version__} (same library for the ceiling and envc),",
         f"  Gymnasium {gym.__version__}, EnvPool {envpool_version or 'not installed'}"
         + (f" ({envpool_error})" if envpool_error else "")

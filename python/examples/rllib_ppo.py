@@ -19,7 +19,7 @@ iteration: ``episode_return_mean``, env steps sampled, and steps/s of the whole 
 
 Ray runs in-process (``ray.init(num_cpus=2, include_dashboard=False)``, a private temp dir); never
 ``ray stop``. Needs ``ray[rllib]`` and ``torch`` besides ``envc``. Ray 2.60's ``rllib`` extra pins
-``gymnasium==1.2.2``; envc pins 1.4.0, so install ``ray`` and the extra's other requirements
+``gymnasium==1.2.2``; envc needs gymnasium 1.4, so install ``ray`` and the extra's other requirements
 without it (docs/training.md). Not run in CI (too heavy: Ray, torch).
 """
 
