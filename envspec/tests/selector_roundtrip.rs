@@ -25,6 +25,12 @@ fn printed_names_paste_back_as_the_same_element() {
         let spec = envspec::load(&e.path, &[]).unwrap();
         for s in spec.sources() {
             for (name, &index) in s.names.iter().zip(&s.indices) {
+                // The goal vector is the spec's, not the model's: its names are its indices.
+                if s.field == envspec::Field::Goal {
+                    assert_eq!(name, &format!("goal[{index}]"), "{}", spec.id);
+                    checked += 1;
+                    continue;
+                }
                 let back = paste(name, &spec);
                 assert_eq!(
                     (back.field, back.indices.as_slice()),
