@@ -54,6 +54,7 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
         InfoKind::Velocity { source } => format!("velocity of `{}` over dt", source.text),
         InfoKind::Term(i) => format!("signed value of reward term `{}`", r.reward[*i].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", describe::goal_check(c)),
+        InfoKind::Condition(cs) => format!("1 if {} else 0", describe::conditions(cs)),
     };
     if it.doc.is_empty() {
         format!("`{}`: {what}.", it.key)
@@ -63,6 +64,15 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
 }
 
 fn term_formula(t: &envspec::ir::RewardTerm) -> String {
+    let f = kernel_formula(t);
+    if t.only_if.is_empty() {
+        f
+    } else {
+        format!("{f}, only if {}", describe::conditions(&t.only_if))
+    }
+}
+
+fn kernel_formula(t: &envspec::ir::RewardTerm) -> String {
     let w = t.weight;
     match &t.kind {
         TermKind::Legged(l) => format!("{w} × {}", l.formula()),
@@ -103,6 +113,12 @@ fn term_formula(t: &envspec::ir::RewardTerm) -> String {
             None => format!("{w} × `{}`", source.text),
         },
         TermKind::Constant => format!("{w}"),
+        TermKind::WeightedSquare { source, target } => {
+            format!(
+                "({w} × (x − {target})) × (x − {target}), x = `{}`",
+                source.text
+            )
+        }
         TermKind::GoalSparse(c) => format!("{w} × (1 if {} else 0)", describe::goal_check(c)),
         TermKind::GoalDense(g) => format!("{w} × exp(−{})", describe::goal_distance(g)),
         TermKind::GoalMissed(c) => format!("{w} × (1 if not {} else 0)", describe::goal_check(c)),

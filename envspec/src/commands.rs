@@ -69,6 +69,10 @@ pub struct PdActions {
     pub kd: Option<f64>,
     /// Joint damping (`dof_damping`) of every actuated joint (Playground's "Kd").
     pub damping: Option<f64>,
+    /// `kind = "normalized"`: the action is clipped to [−1, 1] and mapped onto each actuator's
+    /// control range, `ctrl = mean + a × half-width` (Adroit's `act_mean + a * act_rng`); the
+    /// pose and scale then come from the compiled model's `ctrlrange`.
+    pub normalized: bool,
 }
 
 /// `‖command‖ > threshold` (or `<` with `below`) gates a term: the kernel is multiplied by 1 or 0
@@ -474,6 +478,10 @@ impl Command {
 impl PdActions {
     /// What `envc show` prints under the action table.
     pub fn describe(&self) -> String {
+        if self.normalized {
+            return "normalized: ctrl = mean(ctrlrange) + clip(action, -1, 1) × half-width(ctrlrange)"
+                .to_string();
+        }
         let pose = match &self.default_pose {
             DefaultPose::Keyframe { name, .. } => format!("keyframe `{name}`"),
             DefaultPose::Values(v) => format!("{v:?}"),

@@ -35,6 +35,41 @@ fn named(s: &Selection) -> String {
 
 /// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
 pub fn kernel(t: &RewardTerm) -> String {
+    let k = kernel_alone(t);
+    if t.only_if.is_empty() {
+        k
+    } else {
+        format!("{k}, only if {}", conditions(&t.only_if))
+    }
+}
+
+/// Conditions joined by `and`, e.g. `qpos[door_hinge] > 0.2`.
+pub fn conditions(cs: &[crate::ir::Condition]) -> String {
+    use crate::ir::Quantity;
+    let quantity = |q: &Quantity| match q {
+        Quantity::Value { source, minus } => match minus {
+            Some(m) => format!("{} − {}", sel(source), sel(m)),
+            None => sel(source),
+        },
+        Quantity::Norm { source, minus } => match minus {
+            Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
+            None => format!("‖{}‖₂", sel(source)),
+        },
+    };
+    cs.iter()
+        .map(|c| {
+            format!(
+                "{} {} {}",
+                quantity(&c.quantity),
+                crate::conditions::op_text(c.op),
+                num(c.value)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" and ")
+}
+
+fn kernel_alone(t: &RewardTerm) -> String {
     match &t.kind {
         TermKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         TermKind::Healthy if t.paid_when_unhealthy => "1 (paid even when unhealthy)".into(),
@@ -58,6 +93,13 @@ pub fn kernel(t: &RewardTerm) -> String {
             Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
             None => format!("‖{}‖₂", sel(source)),
         },
+        TermKind::WeightedSquare { source, target } => {
+            format!(
+                "(weight × ({0} − {1})) × ({0} − {1})",
+                sel(source),
+                num(*target)
+            )
+        }
         TermKind::Quadratic {
             source,
             coefs,
@@ -289,6 +331,7 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
+        InfoKind::Condition(cs) => format!("1 if {} else 0", conditions(cs)),
     }
 }
 

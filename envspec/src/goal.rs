@@ -70,6 +70,7 @@ impl GoalTask {
                 info: None,
                 before: false,
                 paid_when_unhealthy: false,
+                only_if: vec![],
             },
             reached: GoalCheck {
                 distance: distance(GoalNorm::Blas),

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 pub use crate::commands::{Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions};
+pub use crate::conditions::{Condition, Indicator, Quantity};
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
 use crate::selector::{Field, Selection};
@@ -112,7 +113,10 @@ impl ResolvedSpec {
     /// checks, info), in spec order. Reset targets are written, not read, so they are not here.
     pub fn sources(&self) -> impl Iterator<Item = &Selection> {
         let obs = self.observation.iter().flat_map(Segment::sources);
-        let terms = self.reward.iter().flat_map(|t| t.kind.sources());
+        let terms = self.reward.iter().flat_map(|t| {
+            let gates = t.only_if.iter().flat_map(|c| c.quantity.sources());
+            t.kind.sources().chain(gates)
+        });
         let health = self.health.iter().flat_map(|h| &h.sources);
         let info = self.info.iter().flat_map(|i| i.kind.sources());
         let termination = self
@@ -159,6 +163,8 @@ pub struct Segment {
     /// `scale`: `source` and `minus` are each multiplied by it before the subtraction
     /// (Gymnasium-Robotics' velocities `× dt`).
     pub scale: Option<f64>,
+    /// Each element replaced by one of two values by a comparison (after `apply`, before `clip`).
+    pub indicator: Option<Indicator>,
     /// Start index in the observation vector.
     pub offset: usize,
 }
@@ -251,6 +257,14 @@ pub enum TermKind {
     },
     /// 1.
     Constant,
+    /// `(weight × (x − target)) × (x − target)` of one number, multiplied in that order (numpy's
+    /// `w * (x - t) * (x - t)`); spec kind `weighted_square`.
+    WeightedSquare {
+        /// The number `x`.
+        source: Selection,
+        /// What is subtracted from it.
+        target: f64,
+    },
     /// `1.0 if d ≤ threshold else 0.0` of a goal distance `d` (spec kind `goal_sparse`).
     GoalSparse(GoalCheck),
     /// `exp(−d)` of a goal distance `d` (spec kind `goal_dense`; numpy's `np.exp` under the env's
@@ -386,6 +400,9 @@ pub struct RewardTerm {
     /// `healthy` terms only: the kernel is 1 also when unhealthy (spec key `paid_when_unhealthy`;
     /// Gymnasium v4's `float(is_healthy or terminate_when_unhealthy)`).
     pub paid_when_unhealthy: bool,
+    /// `only_if`: the term counts only on steps where every condition holds; otherwise its
+    /// signed value is `−0.0`, which leaves any sum unchanged.
+    pub only_if: Vec<Condition>,
 }
 
 impl TermKind {
@@ -395,6 +412,7 @@ impl TermKind {
             TermKind::Velocity { source }
             | TermKind::SumSquares { source, .. }
             | TermKind::Quadratic { source, .. }
+            | TermKind::WeightedSquare { source, .. }
             | TermKind::Value { source, .. } => (Some(source), None),
             TermKind::Norm { source, minus } => (Some(source), minus.as_ref()),
             TermKind::GoalSparse(c) | TermKind::GoalMissed(c) => {
@@ -419,6 +437,7 @@ impl RewardTerm {
             TermKind::Quadratic { .. } => "quadratic",
             TermKind::Value { .. } => "value",
             TermKind::Constant => "constant",
+            TermKind::WeightedSquare { .. } => "weighted_square",
             TermKind::GoalSparse(_) => "goal_sparse",
             TermKind::GoalDense(_) => "goal_dense",
             TermKind::GoalMissed(_) => "goal_missed",
@@ -593,6 +612,8 @@ pub enum InfoKind {
     Term(usize),
     /// 1.0 when the goal is reached, else 0.0 (spec kind `goal_reached`; e.g. `success`).
     GoalReached(GoalCheck),
+    /// 1.0 when every condition holds, else 0.0 (spec kind `condition`).
+    Condition(Vec<Condition>),
 }
 
 impl InfoKind {}
@@ -604,6 +625,14 @@ impl InfoKind {
             InfoKind::Value { source, minus } => (Some(source), minus.as_ref()),
             InfoKind::Norm { source } | InfoKind::Velocity { source } => (Some(source), None),
             InfoKind::GoalReached(c) => return Either::Goal(c.distance.sources()),
+            InfoKind::Condition(cs) => {
+                return Either::Many(
+                    cs.iter()
+                        .flat_map(|c| c.quantity.sources())
+                        .collect::<Vec<_>>()
+                        .into_iter(),
+                );
+            }
             InfoKind::Term(_) => (None, None),
         };
         Either::Pair(a.into_iter().chain(b))
@@ -629,6 +658,9 @@ pub struct InfoItem {
     /// `dtype = "float32"`: Python reports the value as a numpy float32 (the reference's
     /// `is_success`); the value itself is the same.
     pub float32: bool,
+    /// `dtype = "bool"`: Python reports the value as a numpy bool (0.0 is `False`), as
+    /// Gymnasium-Robotics' Adroit `success`.
+    pub boolean: bool,
 }
 
 /// Changes the runtime makes to the model when it loads it, before compiling (spec sections

@@ -22,6 +22,7 @@ pub mod agents;
 pub mod bundle;
 pub mod camera;
 pub mod commands;
+pub mod conditions;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;

@@ -13,6 +13,7 @@ use crate::value::{Val, ValKind};
 
 mod added;
 mod commands;
+mod conditions;
 mod edits;
 mod events;
 mod goal;
@@ -167,6 +168,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
                     at_reset: false,
                     unweighted: false,
                     float32: false,
+                    boolean: false,
                 },
                 loc,
             ));
@@ -809,6 +811,7 @@ impl Ctx<'_> {
                     self.within(v, x, "scale", limits::MAX_MAGNITUDE)
                 }
             });
+            let indicator = s.get("indicator").and_then(|v| self.indicator(v));
             let seg = Segment {
                 name: s.name.clone(),
                 doc: s.doc(),
@@ -817,6 +820,7 @@ impl Ctx<'_> {
                 apply,
                 clip,
                 scale,
+                indicator,
                 offset,
             };
             if !enabled {
@@ -1010,6 +1014,17 @@ impl Ctx<'_> {
                     Some(TermKind::Value { source, divide_by })
                 }),
                 "constant" => Some(TermKind::Constant),
+                "weighted_square" => self.need_sel(s, "source").and_then(|source| {
+                    let loc = &s.get("source").expect("`source` was read just above").loc;
+                    if !self.scalar(&source, loc, "a weighted_square term") {
+                        return None;
+                    }
+                    let target = match s.get("target") {
+                        Some(v) => self.num(v, "target")?,
+                        None => 0.0,
+                    };
+                    Some(TermKind::WeightedSquare { source, target })
+                }),
                 "goal_sparse" => self
                     .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                     .map(TermKind::GoalSparse),
@@ -1025,6 +1040,12 @@ impl Ctx<'_> {
                 k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
                 _ => None, // reported by the syntax check
             };
+            let only_if = match s.get("only_if") {
+                Some(v) => self
+                    .conditions(v, &format!("[reward.{}] only_if", s.name))
+                    .unwrap_or_default(),
+                None => vec![],
+            };
             if let Some(kind) = kind {
                 out.push((
                     RewardTerm {
@@ -1036,6 +1057,7 @@ impl Ctx<'_> {
                         info,
                         before,
                         paid_when_unhealthy,
+                        only_if,
                     },
                     enabled,
                 ));
@@ -1630,6 +1652,17 @@ impl Ctx<'_> {
                     };
                     (InfoKind::GoalReached(c), 1, in_reset)
                 }
+                "condition" => {
+                    let what = format!("[info.{}] condition", s.name);
+                    // A missing `condition` is reported by the syntax check.
+                    let Some(v) = s.get("condition") else {
+                        continue;
+                    };
+                    let Some(cs) = self.conditions(v, &what) else {
+                        continue;
+                    };
+                    (InfoKind::Condition(cs), 1, in_reset)
+                }
                 kind => {
                     let Some(source) = self.sel_key(s, "source") else {
                         continue;
@@ -1664,20 +1697,23 @@ impl Ctx<'_> {
             if !enabled {
                 continue;
             }
-            let float32 = match s.get("dtype") {
-                None => false,
-                Some(v) => match v.as_str() {
-                    Some("float32") => true,
-                    Some("float64") => false,
-                    _ => {
-                        self.d.push(
+            let (float32, boolean) = match s.get("dtype") {
+                None => (false, false),
+                Some(v) => {
+                    match v.as_str() {
+                        Some("float32") => (true, false),
+                        Some("float64") => (false, false),
+                        Some("bool") => (false, true),
+                        _ => {
+                            self.d.push(
                             Diagnostic::new(Code::E0104, "unknown info `dtype`")
                                 .at(v.loc.clone())
-                                .label("expected \"float64\" (the default) or \"float32\""),
+                                .label("expected \"float64\" (the default), \"float32\" or \"bool\""),
                         );
-                        false
+                            (false, false)
+                        }
                     }
-                },
+                }
             };
             out.push((
                 InfoItem {
@@ -1688,6 +1724,7 @@ impl Ctx<'_> {
                     at_reset,
                     unweighted,
                     float32,
+                    boolean,
                 },
                 Some(key_loc),
             ));

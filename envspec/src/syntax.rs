@@ -281,6 +281,7 @@ const SEGMENT_KEYS: &[&str] = &[
     "noise",
     "delay",
     "scale",
+    "indicator",
     "doc",
 ];
 /// Keys of an observation segment's `noise` table.
@@ -297,6 +298,7 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("quadratic", &["source", "coefs", "targets"]),
     ("value", &["source", "divide_by"]),
     ("constant", &[]),
+    ("weighted_square", &["source", "target"]),
     ("goal_sparse", GOAL_KEYS),
     ("goal_dense", &["achieved", "desired", "norm"]),
     ("goal_missed", GOAL_KEYS),
@@ -349,7 +351,9 @@ pub const ACTION_KEYS: &[&str] = &[
 ];
 /// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
 const GOAL_KEYS: &[&str] = &["achieved", "desired", "threshold", "norm"];
-const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "when", "at", "doc"];
+const REWARD_COMMON: &[&str] = &[
+    "kind", "weight", "cost", "info", "when", "at", "only_if", "doc",
+];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
 pub const HEALTH_KINDS: &[(&str, &[&str])] = &[
@@ -444,6 +448,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("norm", &["source", "in_reset"]),
     ("velocity", &["source"]),
     ("term", &["term", "unweighted"]),
+    ("condition", &["condition", "in_reset"]),
     (
         "goal_reached",
         &[
@@ -775,6 +780,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         let needs = match s.kind("value") {
             "term" => "term",
             "goal_reached" => "achieved",
+            "condition" => "condition",
             _ => "source",
         };
         require(s, needs, &format!("[info.{}]", s.name), d);

@@ -106,6 +106,12 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
             not_exported.push(format!("the field `{}`", f.name()));
         }
     }
+    for s in spec.observation.iter().filter(|s| s.indicator.is_some()) {
+        not_exported.push(format!("[observation.{}] indicator", s.name));
+    }
+    for t in spec.reward.iter().filter(|t| !t.only_if.is_empty()) {
+        not_exported.push(format!("[reward.{}] only_if", t.name));
+    }
     let observation: Vec<Value> = spec
         .observation
         .iter()
@@ -174,6 +180,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 | TermKind::GoalDense(_)
                 | TermKind::GoalMissed(_)
                 | TermKind::GoalDistance(_)
+                | TermKind::WeightedSquare { .. }
                 | TermKind::Legged(_) => {
                     not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
                 }
@@ -281,6 +288,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                     o.insert("kind".into(), json!("goal_reached"));
                     not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
                 }
+                InfoKind::Condition(_) => {
+                    o.insert("kind".into(), json!("condition"));
+                    not_exported.push(format!("[info.{}] kind = \"condition\"", i.key));
+                }
             }
             v
         })
@@ -288,8 +299,13 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     for c in &spec.commands {
         not_exported.push(format!("[commands.{}]", c.name));
     }
-    if spec.actions.is_some() {
-        not_exported.push("[actions] kind = \"pd_position\"".into());
+    if let Some(a) = &spec.actions {
+        let kind = if a.normalized {
+            "normalized"
+        } else {
+            "pd_position"
+        };
+        not_exported.push(format!("[actions] kind = \"{kind}\""));
     }
     for s in &spec.corruption.segments {
         if s.noise.is_some() {

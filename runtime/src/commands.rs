@@ -98,6 +98,8 @@ pub(crate) struct Legged {
     /// Action scale of each actuator (`[actions] scale`).
     scale: Vec<f64>,
     pd: bool,
+    /// `[actions] kind = "normalized"`: the action is clipped to [−1, 1] first.
+    normalized: bool,
     /// nsite × 3 each: linvel, angvel, local linvel, local angvel, z axis, gravity.
     pub site: [Vec<f64>; 6],
     site_frames: bool,
@@ -122,8 +124,16 @@ impl Legged {
         };
         if let Some(a) = &spec.actions {
             l.pd = true;
+            l.normalized = a.normalized;
             l.scale.clone_from(&a.scale);
             match &a.default_pose {
+                // Adroit's act_mean = np.mean(ctrlrange, axis=1), act_rng = 0.5 * (hi - lo).
+                _ if a.normalized => {
+                    for (i, r) in model.actuator_ctrlrange().iter().enumerate() {
+                        l.default_pose[i] = (r[0] + r[1]) / 2.0;
+                        l.scale[i] = 0.5 * (r[1] - r[0]);
+                    }
+                }
                 DefaultPose::Values(v) => l.default_pose.copy_from_slice(v),
                 DefaultPose::Keyframe { name, qposadr } => {
                     let k = id(m, mjtObj::mjOBJ_KEY, name).ok_or_else(|| {
@@ -241,7 +251,11 @@ impl Legged {
 
     /// `ctrl` for an action: `default_pose + scale × action` under `[actions]`, else the action.
     pub fn write_ctrl(&self, action: &[f64], ctrl: &mut [f64]) {
-        if self.pd {
+        if self.normalized {
+            for i in 0..ctrl.len() {
+                ctrl[i] = self.default_pose[i] + action[i].clamp(-1.0, 1.0) * self.scale[i];
+            }
+        } else if self.pd {
             for i in 0..ctrl.len() {
                 ctrl[i] = self.default_pose[i] + self.scale[i] * action[i];
             }

@@ -219,6 +219,29 @@ impl Sim {
         })
     }
 
+    /// Whether `quantity op value` holds on the current state (`only_if`, `condition` info).
+    fn condition_holds(&self, c: &Condition) -> bool {
+        let x = match &c.quantity {
+            Quantity::Value { source, minus } => {
+                let x = self.get(source, 0);
+                minus.as_ref().map_or(x, |m| x - self.get(m, 0))
+            }
+            Quantity::Norm { source, minus } => {
+                let f = self.field(source.field);
+                match minus {
+                    Some(m) => {
+                        let g = self.field(m.field);
+                        norm(self.numerics, source.len(), &|k| {
+                            f[source.indices[k]] - g[m.indices[k]]
+                        })
+                    }
+                    None => norm(self.numerics, source.len(), &|k| f[source.indices[k]]),
+                }
+            }
+        };
+        c.holds_for(x)
+    }
+
     /// Expand MuJoCo's sparse `ten_J` (rownnz / rowadr / colind) into `ten_j`.
     fn update_ten_j(&mut self) {
         if self.ten_j.is_empty() {
@@ -1329,6 +1352,10 @@ impl Env {
         weight: f64,
     ) -> f64 {
         let sim = &self.sim;
+        // A gated-off term's signed value is −0.0, which leaves any sum unchanged.
+        if !t.only_if.iter().all(|c| sim.condition_holds(c)) {
+            return if t.cost { 0.0 } else { -0.0 };
+        }
         let kernel = match &t.kind {
             TermKind::Velocity { source } => {
                 let k = slot.expect("velocity terms have a slot");
@@ -1406,6 +1433,10 @@ impl Env {
                 }
             }
             TermKind::Constant => return weight,
+            TermKind::WeightedSquare { source, target } => {
+                let d = sim.get(source, 0) - target;
+                return (weight * d) * d;
+            }
             TermKind::Legged(l) => {
                 sim.legged
                     .kernel(i, l, sim.numerics, &|f| sim.field(f), &sim.action)
@@ -1513,6 +1544,7 @@ fn write_info(
         InfoKind::Term(i) if item.unweighted => out[0] = term_values[term_values.len() / 2 + *i],
         InfoKind::Term(i) => out[0] = term_values[*i],
         InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
+        InfoKind::Condition(cs) => out[0] = cs.iter().all(|c| sim.condition_holds(c)) as u8 as f64,
     }
 }
 

@@ -132,6 +132,24 @@ fn layout(env: &str, e: &Event, m: &mjModel) -> Result<Vec<Value>, EnvError> {
                     ));
                 }
             }
+            EventField::BodyPosAxis(k) => out.push(one(
+                (Arr::BodyPos, 3 * el.index + k),
+                format!("{name}.{}", xyz[k]),
+            )),
+            EventField::SitePosAxis(k) => out.push(one(
+                (Arr::SitePos, 3 * el.index + k),
+                format!("{name}.{}", xyz[k]),
+            )),
+            EventField::BodyPos | EventField::SitePos => {
+                let arr = if *field == EventField::BodyPos {
+                    Arr::BodyPos
+                } else {
+                    Arr::SitePos
+                };
+                for (k, c) in xyz.iter().enumerate() {
+                    out.push(one((arr, 3 * el.index + k), format!("{name}.{c}")));
+                }
+            }
             EventField::JointDamping | EventField::JointArmature => {
                 let arr = if *field == EventField::JointDamping {
                     Arr::DofDamping

@@ -44,6 +44,8 @@ pub(crate) struct SegmentKey {
     apply: Option<Apply>,
     clip: Option<(Bits, Bits)>,
     scale: Option<Bits>,
+    /// The indicator, compared by its whole resolved value.
+    indicator: Option<String>,
 }
 
 pub(crate) fn segment(s: &Segment) -> SegmentKey {
@@ -53,6 +55,7 @@ pub(crate) fn segment(s: &Segment) -> SegmentKey {
         apply: s.apply,
         clip: range(s.clip),
         scale: s.scale.map(bits),
+        indicator: s.indicator.map(|i| format!("{i:?}")),
     }
 }
 
@@ -65,6 +68,7 @@ enum TermKindKey {
     Quadratic(Sel, Vec<Bits>, Vec<Bits>),
     Value(Sel, Option<Divisor>),
     Constant,
+    WeightedSquare(Sel, Bits),
     GoalSparse(GoalCheckKey),
     GoalDense(GoalDistanceKey),
     GoalMissed(GoalCheckKey),
@@ -116,6 +120,8 @@ pub(crate) struct TermKey {
     cost: bool,
     before: bool,
     paid_when_unhealthy: bool,
+    /// The gating conditions, compared by their whole resolved value.
+    only_if: String,
 }
 
 pub(crate) fn term(t: &RewardTerm) -> TermKey {
@@ -135,6 +141,9 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         } => TermKindKey::Quadratic(sel(source), bits_all(coefs), bits_all(targets)),
         TermKind::Value { source, divide_by } => TermKindKey::Value(sel(source), *divide_by),
         TermKind::Constant => TermKindKey::Constant,
+        TermKind::WeightedSquare { source, target } => {
+            TermKindKey::WeightedSquare(sel(source), bits(*target))
+        }
         TermKind::GoalSparse(c) => TermKindKey::GoalSparse(goal_check(c)),
         TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
         TermKind::GoalMissed(c) => TermKindKey::GoalMissed(goal_check(c)),
@@ -147,6 +156,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         cost: t.cost,
         before: t.before,
         paid_when_unhealthy: t.paid_when_unhealthy,
+        only_if: format!("{:?}", t.only_if),
     }
 }
 
@@ -238,6 +248,8 @@ pub(crate) enum InfoKey {
     /// The reported term's value (none when the index is out of range) and `unweighted`.
     Term(Option<TermKey>, bool),
     GoalReached(GoalCheckKey),
+    /// The conditions, compared by their whole resolved value.
+    Condition(String),
 }
 
 pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
@@ -249,6 +261,7 @@ pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
         InfoKind::Velocity { source } => InfoKey::Velocity(sel(source), i.len),
         InfoKind::Term(t) => InfoKey::Term(r.reward.get(*t).map(term), i.unweighted),
         InfoKind::GoalReached(c) => InfoKey::GoalReached(goal_check(c)),
+        InfoKind::Condition(cs) => InfoKey::Condition(format!("{cs:?}")),
     }
 }
 
@@ -274,6 +287,7 @@ mod tests {
             apply: None,
             clip: None,
             scale: None,
+            indicator: None,
             offset: 0,
         }
     }
@@ -312,6 +326,7 @@ mod tests {
             info: Some("reward_forward".into()),
             before: false,
             paid_when_unhealthy: false,
+            only_if: vec![],
         };
         let u = RewardTerm {
             name: "run".into(),

@@ -172,13 +172,18 @@ impl Ctx<'_> {
                 .at(v.loc.clone())
                 .label(label.to_string())
         };
+        let normalized = s.get("kind").and_then(Val::as_str) == Some("normalized");
         if let Some(v) = s.get("kind")
-            && v.as_str() != Some("pd_position")
+            && !matches!(v.as_str(), Some("pd_position" | "normalized"))
         {
             self.d.push(
                 Diagnostic::new(Code::E0104, "unknown [actions] kind")
                     .at(v.loc.clone())
-                    .label("expected \"pd_position\""),
+                    .label("expected \"pd_position\" or \"normalized\"")
+                    .help_opt(
+                        v.as_str()
+                            .and_then(|x| suggest(x, ["pd_position", "normalized"])),
+                    ),
             );
         }
         let max = limits::MAX_MAGNITUDE;
@@ -221,6 +226,9 @@ impl Ctx<'_> {
             Some(x)
         };
         let (kp, kd, damping) = (gain("kp"), gain("kd"), gain("damping"));
+        if normalized {
+            return self.normalized_actions(s, nu, (kp, kd, damping));
+        }
         let Some(pose) = s.get("default_pose") else {
             self.d.push(
                 Diagnostic::new(Code::E0103, "missing `default_pose` in [actions]")
@@ -315,6 +323,40 @@ impl Ctx<'_> {
             kp,
             kd,
             damping,
+            normalized: false,
+        })
+    }
+
+    /// `[actions] kind = "normalized"`: the pose and scale come from the control range, so
+    /// `default_pose`, `scale` and `range` are refused (E0132); the gains still apply.
+    fn normalized_actions(
+        &mut self,
+        s: &Section,
+        nu: usize,
+        (kp, kd, damping): (Option<f64>, Option<f64>, Option<f64>),
+    ) -> Option<PdActions> {
+        for key in ["default_pose", "scale", "range"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0132,
+                        format!("[actions] `{key}` does not go with kind = \"normalized\""),
+                    )
+                    .at(v.loc.clone())
+                    .label(
+                        "remove it: normalized actions map [-1, 1] onto each actuator's ctrlrange",
+                    ),
+                );
+            }
+        }
+        Some(PdActions {
+            scale: vec![1.0; nu],
+            default_pose: DefaultPose::Values(vec![0.0; nu]),
+            range: (-1.0, 1.0),
+            kp,
+            kd,
+            damping,
+            normalized: true,
         })
     }
 

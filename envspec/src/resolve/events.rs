@@ -393,6 +393,7 @@ impl Ctx<'_> {
         let names: Vec<&str> = match kind {
             ElementKind::Geom => self.model.geoms.iter().map(String::as_str).collect(),
             ElementKind::Body => self.model.bodies.iter().map(String::as_str).collect(),
+            ElementKind::Site => self.model.sites.iter().map(String::as_str).collect(),
             ElementKind::Joint => self.model.joints.iter().map(|j| j.name.as_str()).collect(),
             ElementKind::Actuator => self
                 .model
