@@ -109,3 +109,9 @@ fn adroit_relocate() {
     replay("AdroitHandRelocate-v1");
     replay("AdroitHandRelocateSparse-v1");
 }
+
+#[test]
+fn adroit_hammer() {
+    replay("AdroitHandHammer-v1");
+    replay("AdroitHandHammerSparse-v1");
+}

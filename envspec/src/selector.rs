@@ -90,6 +90,9 @@ pub enum Field {
     SiteXmat,
     /// Site orientations as Euler angles, Gymnasium-Robotics' `rotations.mat2euler(site_xmat)`.
     SiteEuler,
+    /// Body orientations as Euler angles, Gymnasium-Robotics' `rotations.quat2euler(xquat)`
+    /// (numpy's `quat2mat`, then `mat2euler`).
+    BodyEuler,
     /// Site linear velocity `jacp @ qvel` (`mj_jacSite`, then numpy's matmul: OpenBLAS `dgemv`
     /// as the numerics profile sums it), Gymnasium-Robotics' `get_site_xvelp`.
     SiteXvelp,
@@ -162,6 +165,7 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("xquat", Field::Xquat),
     ("site_xmat", Field::SiteXmat),
     ("site_euler", Field::SiteEuler),
+    ("body_euler", Field::BodyEuler),
     ("site_xvelp", Field::SiteXvelp),
     ("site_xvelr", Field::SiteXvelr),
     ("goal", Field::Goal),
@@ -198,7 +202,8 @@ impl Field {
             | Field::Xipos
             | Field::SubtreeLinvel
             | Field::SubtreeAngmom
-            | Field::Xquat => Rows::Body,
+            | Field::Xquat
+            | Field::BodyEuler => Rows::Body,
             Field::SiteXpos | Field::SiteLinvel | Field::SiteAngvel => Rows::Site,
             Field::SiteXmat | Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => Rows::Site,
             Field::SiteLocalLinvel
@@ -220,7 +225,7 @@ impl Field {
             f if f.is_site_frame() => 3,
             Field::Xquat => 4,
             Field::SiteXmat => 9,
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => 3,
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => 3,
             _ => 1,
         }
     }
@@ -253,7 +258,9 @@ impl Field {
             Field::Xpos | Field::Xipos | Field::SiteXpos => &["x", "y", "z"],
             Field::SubtreeLinvel | Field::SubtreeAngmom => &["x", "y", "z"],
             f if f.is_site_frame() => &["x", "y", "z"],
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => &["x", "y", "z"],
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => {
+                &["x", "y", "z"]
+            }
             Field::Xquat => &["w", "x", "y", "z"],
             Field::SiteXmat => &["xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"],
             _ => &[""],

@@ -97,6 +97,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         envspec::Field::Xquat,
         envspec::Field::SiteXmat,
         envspec::Field::SiteEuler,
+        envspec::Field::BodyEuler,
         envspec::Field::SiteXvelp,
         envspec::Field::SiteXvelr,
         envspec::Field::Goal,

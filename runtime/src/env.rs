@@ -179,7 +179,7 @@ impl Sim {
             Field::SiteXmat => d.site_xmat().as_flattened(),
             Field::Goal => &self.goal,
             Field::SensorData => d.sensordata(),
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => {
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => {
                 self.manip.field(f).unwrap_or(&[])
             }
             Field::SubtreeLinvel => d.subtree_linvel().as_flattened(),
