@@ -115,3 +115,9 @@ fn adroit_hammer() {
     replay("AdroitHandHammer-v1");
     replay("AdroitHandHammerSparse-v1");
 }
+
+#[test]
+fn adroit_pen() {
+    replay("AdroitHandPen-v1");
+    replay("AdroitHandPenSparse-v1");
+}

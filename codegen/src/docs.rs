@@ -64,12 +64,14 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
 }
 
 fn term_formula(t: &envspec::ir::RewardTerm) -> String {
-    let f = kernel_formula(t);
-    if t.only_if.is_empty() {
-        f
-    } else {
-        format!("{f}, only if {}", describe::conditions(&t.only_if))
+    let mut f = kernel_formula(t);
+    if !t.only_if.is_empty() {
+        f = format!("{f}, only if {}", describe::conditions(&t.only_if));
     }
+    if !t.unless.is_empty() {
+        f = format!("{f}, unless {}", describe::conditions(&t.unless));
+    }
+    f
 }
 
 fn kernel_formula(t: &envspec::ir::RewardTerm) -> String {

@@ -35,12 +35,14 @@ fn named(s: &Selection) -> String {
 
 /// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
 pub fn kernel(t: &RewardTerm) -> String {
-    let k = kernel_alone(t);
-    if t.only_if.is_empty() {
-        k
-    } else {
-        format!("{k}, only if {}", conditions(&t.only_if))
+    let mut k = kernel_alone(t);
+    if !t.only_if.is_empty() {
+        k = format!("{k}, only if {}", conditions(&t.only_if));
     }
+    if !t.unless.is_empty() {
+        k = format!("{k}, unless {}", conditions(&t.unless));
+    }
+    k
 }
 
 /// Conditions joined by `and`, e.g. `qpos[door_hinge] > 0.2`.

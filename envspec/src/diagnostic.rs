@@ -187,6 +187,8 @@ pub enum Code {
     /// `indicator` that does not fit: an unknown comparison, a source of more than one number
     /// without `norm = true`, neither a table nor a list of tables.
     E0180,
+    /// A `derived[...]` selector naming no `[derived.*]` table above it, or an index beyond it.
+    E0181,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.

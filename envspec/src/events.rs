@@ -23,6 +23,10 @@ pub enum EventField {
     SitePos,
     /// One axis of `site_pos` (0 x, 1 y, 2 z).
     SitePosAxis(usize),
+    /// One Euler angle (0 x, 1 y, 2 z) of the body's orientation in its parent's frame: after the
+    /// reset events, `body_quat = euler2quat(angles)` (Gymnasium-Robotics' `rotations`), the
+    /// angles no event drew being 0. Reset events only, `operation = "abs"`.
+    BodyQuatEuler(usize),
     /// `dof_damping` of every dof of the joint.
     JointDamping,
     /// `dof_armature` of every dof of the joint.
@@ -99,6 +103,9 @@ pub const FIELDS: &[(&str, EventField)] = &[
     ("site_pos.x", EventField::SitePosAxis(0)),
     ("site_pos.y", EventField::SitePosAxis(1)),
     ("site_pos.z", EventField::SitePosAxis(2)),
+    ("body_quat_euler.x", EventField::BodyQuatEuler(0)),
+    ("body_quat_euler.y", EventField::BodyQuatEuler(1)),
+    ("body_quat_euler.z", EventField::BodyQuatEuler(2)),
     ("joint_damping", EventField::JointDamping),
     ("joint_armature", EventField::JointArmature),
     ("actuator_gain", EventField::ActuatorGain),
@@ -129,7 +136,8 @@ impl EventField {
             | EventField::BodyIpos
             | EventField::BodyIposAxis(_)
             | EventField::BodyPos
-            | EventField::BodyPosAxis(_) => ElementKind::Body,
+            | EventField::BodyPosAxis(_)
+            | EventField::BodyQuatEuler(_) => ElementKind::Body,
             EventField::SitePos | EventField::SitePosAxis(_) => ElementKind::Site,
             EventField::JointDamping | EventField::JointArmature => ElementKind::Joint,
             EventField::ActuatorGain | EventField::ActuatorBias | EventField::ActuatorKp => {

@@ -71,6 +71,7 @@ impl GoalTask {
                 before: false,
                 paid_when_unhealthy: false,
                 only_if: vec![],
+                unless: vec![],
             },
             reached: GoalCheck {
                 distance: distance(GoalNorm::Blas),

@@ -66,6 +66,10 @@ pub struct ResolvedSpec {
     pub commands: Vec<Command>,
     /// Total length of the command buffer.
     pub command_dim: usize,
+    /// `[derived.*]` in document order (the order they are computed in).
+    pub derived: Vec<crate::derived::Derived>,
+    /// Total length of the derived buffer (`derived[...]` reads it).
+    pub derived_dim: usize,
     /// `[actions]`: PD position targets (None: `ctrl = action`).
     pub actions: Option<PdActions>,
     /// Observation noise and delay, action latency (`envspec::noise`; empty: none declared).
@@ -114,7 +118,11 @@ impl ResolvedSpec {
     pub fn sources(&self) -> impl Iterator<Item = &Selection> {
         let obs = self.observation.iter().flat_map(Segment::sources);
         let terms = self.reward.iter().flat_map(|t| {
-            let gates = t.only_if.iter().flat_map(|c| c.quantity.sources());
+            let gates = t
+                .only_if
+                .iter()
+                .chain(&t.unless)
+                .flat_map(|c| c.quantity.sources());
             t.kind.sources().chain(gates)
         });
         let health = self.health.iter().flat_map(|h| &h.sources);
@@ -124,11 +132,13 @@ impl ResolvedSpec {
             .iter()
             .flat_map(|t| t.reached.distance.sources());
         let achieved = self.manipulation.goal.iter().map(|g| &g.achieved);
+        let derived = self.derived.iter().flat_map(|d| d.sources());
         obs.chain(terms)
             .chain(health)
             .chain(info)
             .chain(termination)
             .chain(achieved)
+            .chain(derived)
     }
     /// Whether anything the env computes reads `field`.
     pub fn reads(&self, field: Field) -> bool {
@@ -403,6 +413,9 @@ pub struct RewardTerm {
     /// `only_if`: the term counts only on steps where every condition holds; otherwise its
     /// signed value is `−0.0`, which leaves any sum unchanged.
     pub only_if: Vec<Condition>,
+    /// `unless`: the term does not count on steps where every one of these conditions holds
+    /// (the `else` of an `only_if`, NaN included); its signed value is then `−0.0`.
+    pub unless: Vec<Condition>,
 }
 
 impl TermKind {

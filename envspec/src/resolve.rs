@@ -14,6 +14,7 @@ use crate::value::{Val, ValKind};
 mod added;
 mod commands;
 mod conditions;
+mod derived;
 mod edits;
 mod events;
 mod goal;
@@ -34,6 +35,10 @@ struct Ctx<'a> {
     goal_dim: Option<(usize, Location)>,
     /// `[commands.*]`, resolved before anything that may select them (`command[...]`).
     commands: Vec<Command>,
+    /// `[derived.*]` resolved so far (`derived[...]` sees the tables above it).
+    derived: Vec<crate::derived::Derived>,
+    /// `[derived.*]` tables that failed to resolve (their readers report nothing more).
+    derived_failed: Vec<String>,
     /// `[init] record`s: name, offset in the flat record vector, length (`around`).
     records: Vec<(String, usize, usize)>,
     /// `timestep × frame_skip` (a segment's `scale = "dt"`).
@@ -59,6 +64,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d: Diagnostics::default(),
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -75,6 +82,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d,
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -89,6 +98,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d,
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -127,6 +138,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let commands = cx.commands(model.timestep * frame_skip as f64);
     cx.commands = commands.clone();
     let command_dim = commands.iter().map(Command::len).sum();
+    let derived = cx.derived();
+    let derived_dim = derived.iter().map(|d| d.len).sum();
     let actions = cx.actions();
     let manipulation = cx.manipulation();
 
@@ -205,6 +218,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         model_edits,
         commands,
         command_dim,
+        derived,
+        derived_dim,
         actions,
         corruption,
         events,
@@ -688,6 +703,9 @@ impl Ctx<'_> {
         {
             return self.goal_selection(text, &v.loc);
         }
+        if derived::is_derived(text) {
+            return self.derived_selection(text, &v.loc);
+        }
         if text.trim().starts_with("command")
             && !text.trim()["command".len()..]
                 .starts_with(|c: char| c.is_alphanumeric() || c == '_')
@@ -1046,6 +1064,12 @@ impl Ctx<'_> {
                     .unwrap_or_default(),
                 None => vec![],
             };
+            let unless = match s.get("unless") {
+                Some(v) => self
+                    .conditions(v, &format!("[reward.{}] unless", s.name))
+                    .unwrap_or_default(),
+                None => vec![],
+            };
             if let Some(kind) = kind {
                 out.push((
                     RewardTerm {
@@ -1058,6 +1082,7 @@ impl Ctx<'_> {
                         before,
                         paid_when_unhealthy,
                         only_if,
+                        unless,
                     },
                     enabled,
                 ));

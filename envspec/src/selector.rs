@@ -100,6 +100,8 @@ pub enum Field {
     SiteXvelr,
     /// The env-held goal vector (`[goal]`), written `goal` or `goal[0:2]`.
     Goal,
+    /// The `[derived.*]` values, written `derived[NAME]` or `derived[NAME][k]`.
+    Derived,
     /// `sensordata`: the model's `<sensor>` values (a name selects all of a sensor's values).
     SensorData,
 }
@@ -169,6 +171,7 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("site_xvelp", Field::SiteXvelp),
     ("site_xvelr", Field::SiteXvelr),
     ("goal", Field::Goal),
+    ("derived", Field::Derived),
     ("sensordata", Field::SensorData),
 ];
 
@@ -191,7 +194,7 @@ impl Field {
             | Field::ActuatorForce
             | Field::LastAction
             | Field::DefaultPose => Rows::Actuator,
-            Field::Command | Field::Goal => Rows::Command,
+            Field::Command | Field::Goal | Field::Derived => Rows::Command,
             Field::SensorData => Rows::Sensor,
             Field::CfrcExt
             | Field::CfrcInt

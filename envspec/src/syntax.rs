@@ -108,6 +108,8 @@ pub struct Spec {
     pub added: Vec<(AddedKind, Section)>,
     /// `[commands.<name>]`: command vectors (velocity commands, …), in declared order.
     pub commands: Vec<Section>,
+    /// `[derived.<name>]` tables, in document order.
+    pub derived: Vec<Section>,
     /// `[actions]`: PD position targets.
     pub actions: Option<Section>,
     /// `[latency]`: action latency (`envspec::noise`).
@@ -242,6 +244,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "end_effector",
     "goal",
     "hold",
+    "derived",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 
@@ -331,6 +334,13 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("soft_landing", &["feet", "floor", "gate"]),
     ("self_collisions", &["subtree", "threshold"]),
 ];
+/// Kinds of `[derived.<name>]` with the keys each accepts besides `DERIVED_COMMON`.
+pub const DERIVED_KINDS: &[(&str, &[&str])] = &[
+    ("difference", &["minus", "divide_by"]),
+    ("norm", &["minus"]),
+    ("dot", &["with"]),
+];
+const DERIVED_COMMON: &[&str] = &["kind", "source", "at", "doc"];
 /// Keys of `[commands.<name>]`.
 pub const COMMAND_KEYS: &[&str] = &[
     "components",
@@ -352,7 +362,7 @@ pub const ACTION_KEYS: &[&str] = &[
 /// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
 const GOAL_KEYS: &[&str] = &["achieved", "desired", "threshold", "norm"];
 const REWARD_COMMON: &[&str] = &[
-    "kind", "weight", "cost", "info", "when", "at", "only_if", "doc",
+    "kind", "weight", "cost", "info", "when", "at", "only_if", "unless", "doc",
 ];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
@@ -604,6 +614,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         physics: None,
         added: vec![],
         commands: vec![],
+        derived: vec![],
         actions: None,
         latency: None,
         events: vec![],
@@ -842,6 +853,18 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             check_keys(&s.entries, keys, &format!("[{table_name}.{}]", s.name), d);
             spec.added.push((kind, s));
         }
+    }
+    spec.derived = sections(get("derived"), "derived", &[], d);
+    for s in &spec.derived {
+        check_kinded(
+            s,
+            "derived",
+            Some("difference"),
+            DERIVED_KINDS,
+            DERIVED_COMMON,
+            d,
+        );
+        require(s, "source", &format!("[derived.{}]", s.name), d);
     }
     spec.commands = sections(get("commands"), "commands", &[], d);
     for s in &spec.commands {

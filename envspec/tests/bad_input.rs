@@ -203,7 +203,7 @@ fn unknown_key_suggests_the_near_miss() {
     assert_eq!(
         d.0[0].label.as_deref(),
         Some(
-            "expected one of: kind, weight, cost, info, when, at, only_if, doc, paid_when_unhealthy"
+            "expected one of: kind, weight, cost, info, when, at, only_if, unless, doc, paid_when_unhealthy"
         )
     );
 }

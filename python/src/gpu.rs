@@ -110,8 +110,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     for s in spec.observation.iter().filter(|s| s.indicator.is_some()) {
         not_exported.push(format!("[observation.{}] indicator", s.name));
     }
-    for t in spec.reward.iter().filter(|t| !t.only_if.is_empty()) {
-        not_exported.push(format!("[reward.{}] only_if", t.name));
+    for t in spec.reward.iter() {
+        if !t.only_if.is_empty() || !t.unless.is_empty() {
+            not_exported.push(format!("[reward.{}] only_if / unless", t.name));
+        }
     }
     let observation: Vec<Value> = spec
         .observation

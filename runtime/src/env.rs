@@ -129,6 +129,8 @@ struct Sim {
     numerics: Profile,
     /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
     goal: Vec<f64>,
+    /// The `[derived.*]` values (`spec.derived_dim` entries; `runtime/src/derived.rs`).
+    derived: Vec<f64>,
     /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
     legged: crate::commands::Legged,
     /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
@@ -178,6 +180,7 @@ impl Sim {
             Field::Xquat => d.xquat().as_flattened(),
             Field::SiteXmat => d.site_xmat().as_flattened(),
             Field::Goal => &self.goal,
+            Field::Derived => &self.derived,
             Field::SensorData => d.sensordata(),
             Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => {
                 self.manip.field(f).unwrap_or(&[])
@@ -431,6 +434,7 @@ impl Env {
         let mut sim = Sim {
             numerics,
             goal: vec![0.0; spec.goal_dim],
+            derived: vec![0.0; spec.derived_dim],
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -1004,6 +1008,7 @@ impl Env {
         self.sim.legged.update_sites(&self.sim.data);
         self.sim.legged.reset(&self.spec, rng);
         self.derive_after_physics();
+        self.update_derived(true);
         self.elapsed = 0;
         self.has_reset = self.reset_failure.is_none();
         if let Some(l) = &mut self.latency {
@@ -1132,6 +1137,24 @@ impl Env {
         self.sim.update_ten_j();
         let numerics = self.sim.numerics;
         self.sim.manip.update(&self.sim.data, numerics);
+        self.update_derived(false);
+    }
+
+    /// `[derived.*]` from the current state (`reset`: the `at = "reset"` ones too).
+    fn update_derived(&mut self, reset: bool) {
+        if self.spec.derived.is_empty() {
+            return;
+        }
+        let mut out = std::mem::take(&mut self.sim.derived);
+        let sim = &self.sim;
+        crate::derived::update(
+            &self.spec.derived,
+            |f| sim.field(f),
+            sim.numerics,
+            reset,
+            &mut out,
+        );
+        self.sim.derived = out;
     }
 
     /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
@@ -1353,7 +1376,8 @@ impl Env {
     ) -> f64 {
         let sim = &self.sim;
         // A gated-off term's signed value is −0.0, which leaves any sum unchanged.
-        if !t.only_if.iter().all(|c| sim.condition_holds(c)) {
+        let unless = !t.unless.is_empty() && t.unless.iter().all(|c| sim.condition_holds(c));
+        if unless || !t.only_if.iter().all(|c| sim.condition_holds(c)) {
             return if t.cost { 0.0 } else { -0.0 };
         }
         let kernel = match &t.kind {

@@ -344,7 +344,8 @@ impl Manip {
 pub(crate) fn quat2mat(q: &[f64; 4]) -> [f64; 9] {
     let [w, x, y, z] = *q;
     let nq = numerics::pairwise_sum(4, &|k| q[k] * q[k]);
-    if !(nq > f64::EPSILON) {
+    // numpy's `np.where(Nq > eps, mat, eye)`: a NaN norm gives the identity too.
+    if nq.partial_cmp(&f64::EPSILON) != Some(std::cmp::Ordering::Greater) {
         return [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     }
     let s = 2.0 / nq;

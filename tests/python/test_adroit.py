@@ -25,7 +25,7 @@ gym.register_envs(gymnasium_robotics)
 
 LIVE_SEED = int(os.environ.get("ENVC_LIVE_SEED", np.random.SeedSequence().entropy % 2**32))
 print(f"test_adroit: live seed {LIVE_SEED} (set ENVC_LIVE_SEED to replay)")
-IDS = [f"AdroitHand{t}{r}-v1" for t in ("Door", "Hammer", "Relocate") for r in ("", "Sparse")]
+IDS = [f"AdroitHand{t}{r}-v1" for t in ("Door", "Hammer", "Pen", "Relocate") for r in ("", "Sparse")]
 
 
 def same(x, y) -> bool:

@@ -156,7 +156,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         cost: t.cost,
         before: t.before,
         paid_when_unhealthy: t.paid_when_unhealthy,
-        only_if: format!("{:?}", t.only_if),
+        only_if: format!("{:?} unless {:?}", t.only_if, t.unless),
     }
 }
 
@@ -327,6 +327,7 @@ mod tests {
             before: false,
             paid_when_unhealthy: false,
             only_if: vec![],
+            unless: vec![],
         };
         let u = RewardTerm {
             name: "run".into(),
