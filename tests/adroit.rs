@@ -2,7 +2,8 @@
 //! and sparse) against the reference's own numbers, recorded by tests/reference/record_adroit.py
 //! (fixtures/adroit/): every observation, reward, `success`, termination and truncation of a
 //! 205-step rollout (float64 and float32 actions, some outside [−1, 1], through the 200-step
-//! truncation and the reset after it, whose model placements are drawn again). Each fixture
+//! truncation and the reset after it, whose model placements are drawn again), and steps from
+//! states set past the reward's thresholds (`Env::set_state`, as the reference's). Each fixture
 //! replays under the numerics profile it was recorded with. `ENVC_ADROIT_DIR=<dir>` replays a
 //! fresh recording instead (the test command's live lane records one under a new seed).
 
@@ -39,6 +40,7 @@ fn replay(id: &str) {
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut env = open(id);
     env.set_numerics(envc_tests::recorded_profile(&rec));
+    replay_forced(id, &mut env, &rec);
     let (obs, info) = env.reset(Some(rec["seed"].as_u64().unwrap()));
     assert!(info.is_empty(), "{id}: the reset info is empty");
     assert_eq!(
@@ -96,6 +98,58 @@ fn replay(id: &str) {
         rec["obs"].as_array().unwrap().len(),
         "{id}: every event replayed"
     );
+}
+
+/// The recording's states past the reward's thresholds (door open, nail driven, ball at the
+/// target, pen aligned): the same `set_state` after a reset, then the same steps.
+fn replay_forced(id: &str, env: &mut Env, rec: &Value) {
+    let segments = rec["forced"].as_array().unwrap();
+    assert!(!segments.is_empty(), "{id}: states set");
+    let mut successes = 0;
+    for (k, seg) in segments.iter().enumerate() {
+        env.reset(Some(seg["seed"].as_u64().unwrap()));
+        env.set_state(&unhex(&seg["qpos"]), &unhex(&seg["qvel"]))
+            .unwrap();
+        assert_eq!(
+            bits(env.obs()),
+            bits(&unhex(&seg["obs"][0])),
+            "{id} set state {k}: observation"
+        );
+        for (t, a) in seg["actions"].as_array().unwrap().iter().enumerate() {
+            let s = env.step(&unhex(a)).unwrap();
+            let what = format!("{id} set state {k} step {t}");
+            assert_eq!(
+                bits(s.obs),
+                bits(&unhex(&seg["obs"][t + 1])),
+                "{what}: observation"
+            );
+            let r = unhex(&seg["reward"][t])[0];
+            assert_eq!(
+                s.reward.to_bits(),
+                r.to_bits(),
+                "{what}: reward {} vs {r}",
+                s.reward
+            );
+            let success = seg["success"][t].as_bool().unwrap();
+            successes += usize::from(success);
+            assert_eq!(
+                s.info.scalar("success"),
+                Some(f64::from(u8::from(success))),
+                "{what}"
+            );
+            assert_eq!(
+                s.terminated,
+                seg["terminated"][t].as_bool().unwrap(),
+                "{what}"
+            );
+            assert_eq!(
+                s.truncated,
+                seg["truncated"][t].as_bool().unwrap(),
+                "{what}"
+            );
+        }
+    }
+    assert!(successes > 0, "{id}: the set states reach success");
 }
 
 #[test]

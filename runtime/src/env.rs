@@ -843,6 +843,41 @@ impl Env {
         })
     }
 
+    /// Gymnasium's `MujocoEnv.set_state`: `qpos` and `qvel` are written, then `mj_forward`; the
+    /// derived fields and the observation follow the new state (`[derived.*]` values measured at
+    /// reset keep their values, as the reference's attributes do). E1105 for another length
+    /// than the model's `nq` / `nv`.
+    pub fn set_state(&mut self, qpos: &[f64], qvel: &[f64]) -> Result<(), EnvError> {
+        for (what, got, expected) in [
+            ("qpos", qpos.len(), self.sim.nq),
+            ("qvel", qvel.len(), self.sim.nv),
+        ] {
+            if got != expected {
+                return Err(EnvError::StateLength {
+                    env: self.spec.id.clone(),
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        let (q, v) = mj::state::qpos_qvel_mut(&mut self.sim.data);
+        q.copy_from_slice(qpos);
+        v.copy_from_slice(qvel);
+        if let Err(message) = self.sim.call(Call::Forward) {
+            self.has_reset = false;
+            return Err(EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in set_state (reset before stepping again)",
+                message,
+            });
+        }
+        self.derive_after_physics();
+        self.sim.legged.update_sites(&self.sim.data);
+        self.write_obs();
+        Ok(())
+    }
+
     /// The MuJoCo data, read-only (checks of derived quantities against independent
     /// implementations read `cvel`, `subtree_com`, `site_xmat`, the contact list).
     pub fn data(&self) -> &mjData {
