@@ -35,14 +35,19 @@ fn named(s: &Selection) -> String {
 
 /// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
 pub fn kernel(t: &RewardTerm) -> String {
-    let mut k = kernel_alone(t);
+    format!("{}{}", kernel_alone(t), gates(t))
+}
+
+/// `, only if …`, `, unless …` of a gated term (empty for others).
+fn gates(t: &RewardTerm) -> String {
+    let mut g = String::new();
     if !t.only_if.is_empty() {
-        k = format!("{k}, only if {}", conditions(&t.only_if));
+        g = format!(", only if {}", conditions(&t.only_if));
     }
     if !t.unless.is_empty() {
-        k = format!("{k}, unless {}", conditions(&t.unless));
+        g = format!("{g}, unless {}", conditions(&t.unless));
     }
-    k
+    g
 }
 
 /// Conditions joined by `and`, e.g. `qpos[door_hinge] > 0.2`.
@@ -186,7 +191,7 @@ fn weighted(t: &RewardTerm) -> String {
         TermKind::SumSquares { clip: Some(_), .. } => {
             format!("{sign}{k}  (weight {})", num(t.weight))
         }
-        TermKind::Constant => format!("{sign}{}", num(t.weight)),
+        TermKind::Constant => format!("{sign}{}{}", num(t.weight), gates(t)),
         _ if t.weight == 1.0 => format!("{sign}{k}"),
         _ => format!("{sign}{} × {k}", num(t.weight)),
     }
@@ -481,4 +486,31 @@ pub fn manipulation(spec: &ResolvedSpec) -> Vec<String> {
         ));
     }
     out
+}
+
+/// A derived value, e.g. `(site_xpos[a] − site_xpos[b]) / derived[len]`, `(at reset)` when
+/// measured once per episode.
+pub fn derived(d: &crate::derived::Derived) -> String {
+    use crate::derived::DerivedKind;
+    let diff = |s: &crate::selector::Selection, m: &Option<crate::selector::Selection>| match m {
+        Some(m) => format!("{} − {}", sel(s), sel(m)),
+        None => sel(s),
+    };
+    let text = match &d.kind {
+        DerivedKind::Difference {
+            source,
+            minus,
+            divide_by,
+        } => match divide_by {
+            Some(v) => format!("({}) / {}", diff(source, minus), sel(v)),
+            None => diff(source, minus),
+        },
+        DerivedKind::Norm { source, minus } => format!("‖{}‖₂", diff(source, minus)),
+        DerivedKind::Dot { source, with } => format!("{} · {}", sel(source), sel(with)),
+    };
+    if d.at_reset {
+        format!("{text} (at reset)")
+    } else {
+        text
+    }
 }

@@ -102,6 +102,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         envspec::Field::SiteXvelr,
         envspec::Field::Goal,
         envspec::Field::SensorData,
+        envspec::Field::Derived,
     ] {
         if spec.reads(f) {
             not_exported.push(format!("the field `{}`", f.name()));

@@ -140,6 +140,21 @@ pub(super) fn actions(cx: &mut Ctx) {
             format!("{:?}", n.default_pose),
         ),
         ("range", format!("{:?}", o.range), format!("{:?}", n.range)),
+        (
+            "kind",
+            (if o.normalized {
+                "normalized"
+            } else {
+                "pd_position"
+            })
+            .to_string(),
+            (if n.normalized {
+                "normalized"
+            } else {
+                "pd_position"
+            })
+            .to_string(),
+        ),
     ];
     for (aspect, was, now) in mapping {
         if was != now {
