@@ -231,10 +231,10 @@ impl Events {
                 }
                 EventKind::Model {
                     field,
+                    elements,
                     dist,
                     operation,
                     shared,
-                    ..
                 } => {
                     set_const |= field.needs_set_const();
                     changes_mass |= *field == EventField::BodyMass;
@@ -246,9 +246,9 @@ impl Events {
                             neg: v.neg.map(&mut slot),
                         })
                         .collect();
-                    if let (EventField::BodyQuatEuler(axis), EventKind::Model { elements, .. }) =
-                        (field, &e.kind)
-                    {
+                    // Euler angles go to a per-body buffer, made a quaternion after the resets'
+                    // events; their slot only shows in the table.
+                    if let EventField::BodyQuatEuler(axis) = field {
                         rt.writes.clear();
                         for el in elements {
                             let k = match euler.iter().position(|&(b, _)| b == el.index) {
