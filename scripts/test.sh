@@ -209,6 +209,11 @@ lane_live() {
   "$PY" tests/reference/record_robotics.py --out "$LIVE/robotics" --seed "$SEED"
   ENVC_ROBOTICS_DIR="$LIVE/robotics" cargo test -q --workspace --test integration -- fetch:: hand::
   passed "Fetch and Shadow Hand, live seed"
+  # Adroit v1 (dense and sparse): fresh-seed rollouts of the reference through the 200-step
+  # truncation, replayed through envc's specs.
+  "$PY" tests/reference/record_adroit.py --out "$LIVE/adroit" --seed "$SEED"
+  ENVC_ADROIT_DIR="$LIVE/adroit" cargo test -q --workspace --test integration adroit::
+  passed "Adroit, live seed"
   # Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
   # by the real minari and replayed in Gymnasium-Robotics (fresh seed).
   MZ="$(mktemp -d)"

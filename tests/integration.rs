@@ -7,6 +7,7 @@
 static A: envc_tests::ThreadCounting = envc_tests::ThreadCounting;
 
 mod added_elements;
+mod adroit;
 mod error_codes;
 mod events;
 mod fetch;

@@ -55,6 +55,7 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
         InfoKind::Term(i) => format!("signed value of reward term `{}`", r.reward[*i].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", describe::goal_check(c)),
         InfoKind::GoalsReached(cs) => format!("1 if {} else 0", describe::goal_checks(cs)),
+        InfoKind::Condition(cs) => format!("1 if {} else 0", describe::conditions(cs)),
     };
     if it.doc.is_empty() {
         format!("`{}`: {what}.", it.key)
@@ -64,6 +65,17 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
 }
 
 fn term_formula(t: &envspec::ir::RewardTerm) -> String {
+    let mut f = kernel_formula(t);
+    if !t.only_if.is_empty() {
+        f = format!("{f}, only if {}", describe::conditions(&t.only_if));
+    }
+    if !t.unless.is_empty() {
+        f = format!("{f}, unless {}", describe::conditions(&t.unless));
+    }
+    f
+}
+
+fn kernel_formula(t: &envspec::ir::RewardTerm) -> String {
     let w = t.weight;
     match &t.kind {
         TermKind::Legged(l) => format!("{w} × {}", l.formula()),
@@ -104,6 +116,12 @@ fn term_formula(t: &envspec::ir::RewardTerm) -> String {
             None => format!("{w} × `{}`", source.text),
         },
         TermKind::Constant => format!("{w}"),
+        TermKind::WeightedSquare { source, target } => {
+            format!(
+                "({w} × (x − {target})) × (x − {target}), x = `{}`",
+                source.text
+            )
+        }
         TermKind::GoalSparse(c) => format!("{w} × (1 if {} else 0)", describe::goal_check(c)),
         TermKind::GoalDense(g) => format!("{w} × exp(−{})", describe::goal_distance(g)),
         TermKind::GoalMissed(c) => format!("{w} × (1 if not {} else 0)", describe::goal_check(c)),

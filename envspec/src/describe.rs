@@ -35,6 +35,48 @@ fn named(s: &Selection) -> String {
 
 /// The kernel of a reward term, without weight and sign, e.g. `Σ clip(cfrc_ext, [-1.0, 1.0])²`.
 pub fn kernel(t: &RewardTerm) -> String {
+    format!("{}{}", kernel_alone(t), gates(t))
+}
+
+/// `, only if …`, `, unless …` of a gated term (empty for others).
+fn gates(t: &RewardTerm) -> String {
+    let mut g = String::new();
+    if !t.only_if.is_empty() {
+        g = format!(", only if {}", conditions(&t.only_if));
+    }
+    if !t.unless.is_empty() {
+        g = format!("{g}, unless {}", conditions(&t.unless));
+    }
+    g
+}
+
+/// Conditions joined by `and`, e.g. `qpos[door_hinge] > 0.2`.
+pub fn conditions(cs: &[crate::ir::Condition]) -> String {
+    use crate::ir::Quantity;
+    let quantity = |q: &Quantity| match q {
+        Quantity::Value { source, minus } => match minus {
+            Some(m) => format!("{} − {}", sel(source), sel(m)),
+            None => sel(source),
+        },
+        Quantity::Norm { source, minus } => match minus {
+            Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
+            None => format!("‖{}‖₂", sel(source)),
+        },
+    };
+    cs.iter()
+        .map(|c| {
+            format!(
+                "{} {} {}",
+                quantity(&c.quantity),
+                crate::conditions::op_text(c.op),
+                num(c.value)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" and ")
+}
+
+fn kernel_alone(t: &RewardTerm) -> String {
     match &t.kind {
         TermKind::Velocity { source } => format!("({0}_after − {0}_before) / dt", sel(source)),
         TermKind::Healthy if t.paid_when_unhealthy => "1 (paid even when unhealthy)".into(),
@@ -58,6 +100,13 @@ pub fn kernel(t: &RewardTerm) -> String {
             Some(m) => format!("‖{} − {}‖₂", sel(source), sel(m)),
             None => format!("‖{}‖₂", sel(source)),
         },
+        TermKind::WeightedSquare { source, target } => {
+            format!(
+                "(weight × ({0} − {1})) × ({0} − {1})",
+                sel(source),
+                num(*target)
+            )
+        }
         TermKind::Quadratic {
             source,
             coefs,
@@ -151,7 +200,7 @@ fn weighted(t: &RewardTerm) -> String {
         TermKind::SumSquares { clip: Some(_), .. } => {
             format!("{sign}{k}  (weight {})", num(t.weight))
         }
-        TermKind::Constant => format!("{sign}{}", num(t.weight)),
+        TermKind::Constant => format!("{sign}{}{}", num(t.weight), gates(t)),
         _ if t.weight == 1.0 => format!("{sign}{k}"),
         _ => format!("{sign}{} × {k}", num(t.weight)),
     }
@@ -351,6 +400,7 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::Term(t) => format!("signed value of reward term `{}`", spec.reward[*t].name),
         InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
         InfoKind::GoalsReached(cs) => format!("1 if {} else 0", goal_checks(cs)),
+        InfoKind::Condition(cs) => format!("1 if {} else 0", conditions(cs)),
     }
 }
 
@@ -498,4 +548,31 @@ pub fn manipulation(spec: &ResolvedSpec) -> Vec<String> {
         ));
     }
     out
+}
+
+/// A derived value, e.g. `(site_xpos[a] − site_xpos[b]) / derived[len]`, `(at reset)` when
+/// measured once per episode.
+pub fn derived(d: &crate::derived::Derived) -> String {
+    use crate::derived::DerivedKind;
+    let diff = |s: &crate::selector::Selection, m: &Option<crate::selector::Selection>| match m {
+        Some(m) => format!("{} − {}", sel(s), sel(m)),
+        None => sel(s),
+    };
+    let text = match &d.kind {
+        DerivedKind::Difference {
+            source,
+            minus,
+            divide_by,
+        } => match divide_by {
+            Some(v) => format!("({}) / {}", diff(source, minus), sel(v)),
+            None => diff(source, minus),
+        },
+        DerivedKind::Norm { source, minus } => format!("‖{}‖₂", diff(source, minus)),
+        DerivedKind::Dot { source, with } => format!("{} · {}", sel(source), sel(with)),
+    };
+    if d.at_reset {
+        format!("{text} (at reset)")
+    } else {
+        text
+    }
 }

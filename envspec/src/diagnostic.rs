@@ -183,6 +183,12 @@ pub enum Code {
     /// `around` that does not fit the model or the spec: an unknown joint, site, body, actuator
     /// or record, values of another count, a goal selector beyond the goal vector.
     E0170,
+    /// A state condition (a reward term's `only_if`, a `condition` info entry) or an observation
+    /// `indicator` that does not fit: an unknown comparison, a source of more than one number
+    /// without `norm = true`, neither a table nor a list of tables.
+    E0180,
+    /// A `derived[...]` selector naming no `[derived.*]` table above it, or an index beyond it.
+    E0181,
     /// `[agents] base` leads back to a spec already on its chain of bases (a cycle).
     E0120,
     /// `[agents] base` names a multi-agent spec that has no task of its own.

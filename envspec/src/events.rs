@@ -14,6 +14,19 @@ pub enum EventField {
     BodyIpos,
     /// One axis of `body_ipos` (0 x, 1 y, 2 z): per-axis ranges, as mjlab's `body_com_offset`.
     BodyIposAxis(usize),
+    /// `body_pos` (the body's position in its parent's frame): x, y, z. A placement, as
+    /// Gymnasium-Robotics' Adroit moves its door, board or object at reset.
+    BodyPos,
+    /// One axis of `body_pos` (0 x, 1 y, 2 z).
+    BodyPosAxis(usize),
+    /// `site_pos` (the site's position in its body's frame): x, y, z.
+    SitePos,
+    /// One axis of `site_pos` (0 x, 1 y, 2 z).
+    SitePosAxis(usize),
+    /// One Euler angle (0 x, 1 y, 2 z) of the body's orientation in its parent's frame: after the
+    /// reset events, `body_quat = euler2quat(angles)` (Gymnasium-Robotics' `rotations`), the
+    /// angles no event drew being 0. Reset events only, `operation = "abs"`.
+    BodyQuatEuler(usize),
     /// `dof_damping` of every dof of the joint.
     JointDamping,
     /// `dof_armature` of every dof of the joint.
@@ -37,6 +50,8 @@ pub enum ElementKind {
     Geom,
     /// Bodies, by name.
     Body,
+    /// Sites, by name.
+    Site,
     /// Joints, by name (their dofs are written).
     Joint,
     /// Actuators, by name.
@@ -51,6 +66,7 @@ impl ElementKind {
         match self {
             ElementKind::Geom => "geoms",
             ElementKind::Body => "bodies",
+            ElementKind::Site => "sites",
             ElementKind::Joint => "joints",
             ElementKind::Actuator => "actuators",
             ElementKind::Model => "model",
@@ -61,6 +77,7 @@ impl ElementKind {
         match self {
             ElementKind::Geom => "geom",
             ElementKind::Body => "body",
+            ElementKind::Site => "site",
             ElementKind::Joint => "joint",
             ElementKind::Actuator => "actuator",
             ElementKind::Model => "model",
@@ -78,6 +95,17 @@ pub const FIELDS: &[(&str, EventField)] = &[
     ("body_ipos.x", EventField::BodyIposAxis(0)),
     ("body_ipos.y", EventField::BodyIposAxis(1)),
     ("body_ipos.z", EventField::BodyIposAxis(2)),
+    ("body_pos", EventField::BodyPos),
+    ("body_pos.x", EventField::BodyPosAxis(0)),
+    ("body_pos.y", EventField::BodyPosAxis(1)),
+    ("body_pos.z", EventField::BodyPosAxis(2)),
+    ("site_pos", EventField::SitePos),
+    ("site_pos.x", EventField::SitePosAxis(0)),
+    ("site_pos.y", EventField::SitePosAxis(1)),
+    ("site_pos.z", EventField::SitePosAxis(2)),
+    ("body_quat_euler.x", EventField::BodyQuatEuler(0)),
+    ("body_quat_euler.y", EventField::BodyQuatEuler(1)),
+    ("body_quat_euler.z", EventField::BodyQuatEuler(2)),
     ("joint_damping", EventField::JointDamping),
     ("joint_armature", EventField::JointArmature),
     ("actuator_gain", EventField::ActuatorGain),
@@ -104,9 +132,13 @@ impl EventField {
     pub fn elements(self) -> ElementKind {
         match self {
             EventField::GeomFriction(_) => ElementKind::Geom,
-            EventField::BodyMass | EventField::BodyIpos | EventField::BodyIposAxis(_) => {
-                ElementKind::Body
-            }
+            EventField::BodyMass
+            | EventField::BodyIpos
+            | EventField::BodyIposAxis(_)
+            | EventField::BodyPos
+            | EventField::BodyPosAxis(_)
+            | EventField::BodyQuatEuler(_) => ElementKind::Body,
+            EventField::SitePos | EventField::SitePosAxis(_) => ElementKind::Site,
             EventField::JointDamping | EventField::JointArmature => ElementKind::Joint,
             EventField::ActuatorGain | EventField::ActuatorBias | EventField::ActuatorKp => {
                 ElementKind::Actuator
@@ -118,7 +150,11 @@ impl EventField {
     /// gravity: 3; joint fields: the joint's dof count, see [`Event::components`]).
     pub fn width(self) -> usize {
         match self {
-            EventField::BodyIpos | EventField::ActuatorBias | EventField::Gravity => 3,
+            EventField::BodyIpos
+            | EventField::BodyPos
+            | EventField::SitePos
+            | EventField::ActuatorBias
+            | EventField::Gravity => 3,
             _ => 1,
         }
     }

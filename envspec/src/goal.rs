@@ -70,6 +70,8 @@ impl GoalTask {
                 info: None,
                 before: false,
                 paid_when_unhealthy: false,
+                only_if: vec![],
+                unless: vec![],
             },
             reached: GoalCheck {
                 distance: distance(GoalNorm::Blas),

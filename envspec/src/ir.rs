@@ -7,6 +7,7 @@ use std::path::PathBuf;
 pub use crate::commands::{
     ActionKind, Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions,
 };
+pub use crate::conditions::{Condition, Indicator, Quantity};
 use crate::mjcf::ModelInfo;
 use crate::params::{Param, ParamValue};
 use crate::selector::{Field, Selection};
@@ -67,6 +68,10 @@ pub struct ResolvedSpec {
     pub commands: Vec<Command>,
     /// Total length of the command buffer.
     pub command_dim: usize,
+    /// `[derived.*]` in document order (the order they are computed in).
+    pub derived: Vec<crate::derived::Derived>,
+    /// Total length of the derived buffer (`derived[...]` reads it).
+    pub derived_dim: usize,
     /// `[actions]`: PD position targets (None: `ctrl = action`).
     pub actions: Option<PdActions>,
     /// Observation noise and delay, action latency (`envspec::noise`; empty: none declared).
@@ -114,7 +119,14 @@ impl ResolvedSpec {
     /// checks, info), in spec order. Reset targets are written, not read, so they are not here.
     pub fn sources(&self) -> impl Iterator<Item = &Selection> {
         let obs = self.observation.iter().flat_map(Segment::sources);
-        let terms = self.reward.iter().flat_map(|t| t.kind.sources());
+        let terms = self.reward.iter().flat_map(|t| {
+            let gates = t
+                .only_if
+                .iter()
+                .chain(&t.unless)
+                .flat_map(|c| c.quantity.sources());
+            t.kind.sources().chain(gates)
+        });
         let health = self.health.iter().flat_map(|h| &h.sources);
         let info = self.info.iter().flat_map(|i| i.kind.sources());
         let termination = self
@@ -122,11 +134,13 @@ impl ResolvedSpec {
             .iter()
             .flat_map(|t| t.reached.distance.sources());
         let achieved = self.manipulation.goal.iter().map(|g| &g.achieved);
+        let derived = self.derived.iter().flat_map(|d| d.sources());
         obs.chain(terms)
             .chain(health)
             .chain(info)
             .chain(termination)
             .chain(achieved)
+            .chain(derived)
     }
     /// Whether anything the env computes reads `field`.
     pub fn reads(&self, field: Field) -> bool {
@@ -163,6 +177,8 @@ pub struct Segment {
     /// `scale`: `source` and `minus` are each multiplied by it before the subtraction
     /// (Gymnasium-Robotics' velocities `× dt`).
     pub scale: Option<f64>,
+    /// Each element replaced by one of two values by a comparison (after `apply`, before `clip`).
+    pub indicator: Option<Indicator>,
     /// Start index in the observation vector.
     pub offset: usize,
 }
@@ -256,6 +272,14 @@ pub enum TermKind {
     },
     /// 1.
     Constant,
+    /// `(weight × (x − target)) × (x − target)` of one number, multiplied in that order (numpy's
+    /// `w * (x - t) * (x - t)`); spec kind `weighted_square`.
+    WeightedSquare {
+        /// The number `x`.
+        source: Selection,
+        /// What is subtracted from it.
+        target: f64,
+    },
     /// `1.0 if d ≤ threshold else 0.0` of a goal distance `d` (spec kind `goal_sparse`).
     GoalSparse(GoalCheck),
     /// `exp(−d)` of a goal distance `d` (spec kind `goal_dense`; numpy's `np.exp` under the env's
@@ -405,6 +429,12 @@ pub struct RewardTerm {
     /// `healthy` terms only: the kernel is 1 also when unhealthy (spec key `paid_when_unhealthy`;
     /// Gymnasium v4's `float(is_healthy or terminate_when_unhealthy)`).
     pub paid_when_unhealthy: bool,
+    /// `only_if`: the term counts only on steps where every condition holds; otherwise its
+    /// signed value is `−0.0`, which leaves any sum unchanged.
+    pub only_if: Vec<Condition>,
+    /// `unless`: the term does not count on steps where every one of these conditions holds
+    /// (the `else` of an `only_if`, NaN included); its signed value is then `−0.0`.
+    pub unless: Vec<Condition>,
 }
 
 impl TermKind {
@@ -414,6 +444,7 @@ impl TermKind {
             TermKind::Velocity { source }
             | TermKind::SumSquares { source, .. }
             | TermKind::Quadratic { source, .. }
+            | TermKind::WeightedSquare { source, .. }
             | TermKind::Value { source, .. } => (Some(source), None),
             TermKind::Norm { source, minus } => (Some(source), minus.as_ref()),
             TermKind::GoalSparse(c) | TermKind::GoalMissed(c) => {
@@ -446,6 +477,7 @@ impl RewardTerm {
             TermKind::Quadratic { .. } => "quadratic",
             TermKind::Value { .. } => "value",
             TermKind::Constant => "constant",
+            TermKind::WeightedSquare { .. } => "weighted_square",
             TermKind::GoalSparse(_) => "goal_sparse",
             TermKind::GoalDense(_) => "goal_dense",
             TermKind::GoalMissed(_) => "goal_missed",
@@ -703,6 +735,8 @@ pub enum InfoKind {
     /// 1.0 when every check is reached, else 0.0 (spec kind `goals_reached`; the float32
     /// product of Gymnasium-Robotics' hand manipulation `is_success`).
     GoalsReached(Vec<GoalCheck>),
+    /// 1.0 when every condition holds, else 0.0 (spec kind `condition`).
+    Condition(Vec<Condition>),
 }
 
 impl InfoKind {}
@@ -718,6 +752,14 @@ impl InfoKind {
                 return Either::Many(
                     cs.iter()
                         .flat_map(|c| c.distance.sources())
+                        .collect::<Vec<_>>()
+                        .into_iter(),
+                );
+            }
+            InfoKind::Condition(cs) => {
+                return Either::Many(
+                    cs.iter()
+                        .flat_map(|c| c.quantity.sources())
                         .collect::<Vec<_>>()
                         .into_iter(),
                 );
@@ -747,6 +789,9 @@ pub struct InfoItem {
     /// `dtype = "float32"`: Python reports the value as a numpy float32 (the reference's
     /// `is_success`); the value itself is the same.
     pub float32: bool,
+    /// `dtype = "bool"`: Python reports the value as a numpy bool (0.0 is `False`), as
+    /// Gymnasium-Robotics' Adroit `success`.
+    pub boolean: bool,
 }
 
 /// Changes the runtime makes to the model when it loads it, before compiling (spec sections

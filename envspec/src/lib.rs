@@ -22,6 +22,8 @@ pub mod agents;
 pub mod bundle;
 pub mod camera;
 pub mod commands;
+pub mod conditions;
+pub mod derived;
 pub mod describe;
 pub mod diagnostic;
 pub mod diff;

@@ -233,9 +233,25 @@ fn parse_kind(s: &str) -> Option<JointKind> {
     }
 }
 
+/// Where an included file's elements go: the model's sections, or the content of a body that
+/// holds the `<include>` (Adroit includes its hand inside the arm's body).
+enum Dest<'b, 'c> {
+    Sections,
+    Body(&'b mut BodyNode, Option<&'c str>),
+}
+
 impl Reader {
     /// Read one file; `at` is the `<include file>` that names it (None for the model itself).
     fn read_file(&mut self, path: &Path, at: Option<Location>) -> Result<(), Diagnostic> {
+        self.read_file_into(path, at, Dest::Sections)
+    }
+
+    fn read_file_into(
+        &mut self,
+        path: &Path,
+        at: Option<Location>,
+        into: Dest<'_, '_>,
+    ) -> Result<(), Diagnostic> {
         let key = crate::path::normalize(path);
         if let Some(first) = self.including.iter().position(|p| *p == key) {
             let mut chain: Vec<&Path> = self.including[first..]
@@ -272,7 +288,9 @@ impl Reader {
         self.check_assets(path, &doc, &source)?;
         let root = doc.root_element();
         match root.tag_name().name() {
+            // MuJoCo takes an included file's root by any name; `mujocoinclude` is the old one.
             "mujoco" => {}
+            "mujocoinclude" if at.is_some() => {}
             "robot" => {
                 return Err(malformed(
                     path,
@@ -289,8 +307,13 @@ impl Reader {
         }
         let dir = path.parent().unwrap_or(Path::new("."));
         let outer = self.source.replace(source.clone());
-        for section in root.children().filter(|n| n.is_element()) {
-            self.read_section(path, dir, section)?;
+        match into {
+            Dest::Sections => {
+                for section in root.children().filter(|n| n.is_element()) {
+                    self.read_section(path, dir, section)?;
+                }
+            }
+            Dest::Body(body, childclass) => self.read_body_content(path, root, childclass, body)?,
         }
         self.source = outer;
         self.including.pop();
@@ -605,6 +628,18 @@ impl Reader {
                     .geoms
                     .push(child.attribute("name").unwrap_or("").into()),
                 "body" => body.children.push(self.read_body(path, child, childclass)?),
+                "include" => {
+                    let file = child
+                        .attribute_node("file")
+                        .ok_or_else(|| malformed(path, "<include> without file"))?;
+                    let at = self
+                        .source
+                        .as_ref()
+                        .map(|s| Location::new(s, file.range_value()));
+                    let dir = path.parent().unwrap_or(Path::new("."));
+                    let inc = dir.join(file.value());
+                    self.read_file_into(&inc, at, Dest::Body(body, childclass))?;
+                }
                 "frame" => {
                     let cc = child.attribute("childclass").or(childclass);
                     self.read_body_content(path, child, cc, body)?;

@@ -13,6 +13,8 @@ use crate::value::{Val, ValKind};
 
 mod added;
 mod commands;
+mod conditions;
+mod derived;
 mod edits;
 mod events;
 mod goal;
@@ -33,6 +35,10 @@ struct Ctx<'a> {
     goal_dim: Option<(usize, Location)>,
     /// `[commands.*]`, resolved before anything that may select them (`command[...]`).
     commands: Vec<Command>,
+    /// `[derived.*]` resolved so far (`derived[...]` sees the tables above it).
+    derived: Vec<crate::derived::Derived>,
+    /// `[derived.*]` tables that failed to resolve (their readers report nothing more).
+    derived_failed: Vec<String>,
     /// `[init] record`s: name, offset in the flat record vector, length (`around`).
     records: Vec<(String, usize, usize)>,
     /// `timestep × frame_skip` (a segment's `scale = "dt"`).
@@ -58,6 +64,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d: Diagnostics::default(),
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -74,6 +82,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d,
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -88,6 +98,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         d,
         goal_dim: None,
         commands: vec![],
+        derived: vec![],
+        derived_failed: vec![],
         records: vec![],
         dt: 0.0,
         frame_skip: 1,
@@ -126,6 +138,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let commands = cx.commands(model.timestep * frame_skip as f64);
     cx.commands = commands.clone();
     let command_dim = commands.iter().map(Command::len).sum();
+    let derived = cx.derived();
+    let derived_dim = derived.iter().map(|d| d.len).sum();
     let actions = cx.actions();
     let manipulation = cx.manipulation();
 
@@ -167,6 +181,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
                     at_reset: false,
                     unweighted: false,
                     float32: false,
+                    boolean: false,
                 },
                 loc,
             ));
@@ -203,6 +218,8 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         model_edits,
         commands,
         command_dim,
+        derived,
+        derived_dim,
         actions,
         corruption,
         events,
@@ -705,6 +722,9 @@ impl Ctx<'_> {
         {
             return self.goal_selection(text, &v.loc);
         }
+        if derived::is_derived(text) {
+            return self.derived_selection(text, &v.loc);
+        }
         if text.trim().starts_with("command")
             && !text.trim()["command".len()..]
                 .starts_with(|c: char| c.is_alphanumeric() || c == '_')
@@ -829,6 +849,7 @@ impl Ctx<'_> {
                     self.within(v, x, "scale", limits::MAX_MAGNITUDE)
                 }
             });
+            let indicator = s.get("indicator").and_then(|v| self.indicator(v));
             let seg = Segment {
                 name: s.name.clone(),
                 doc: s.doc(),
@@ -837,6 +858,7 @@ impl Ctx<'_> {
                 apply,
                 clip,
                 scale,
+                indicator,
                 offset,
             };
             if !enabled {
@@ -1030,6 +1052,17 @@ impl Ctx<'_> {
                     Some(TermKind::Value { source, divide_by })
                 }),
                 "constant" => Some(TermKind::Constant),
+                "weighted_square" => self.need_sel(s, "source").and_then(|source| {
+                    let loc = &s.get("source").expect("`source` was read just above").loc;
+                    if !self.scalar(&source, loc, "a weighted_square term") {
+                        return None;
+                    }
+                    let target = match s.get("target") {
+                        Some(v) => self.num(v, "target")?,
+                        None => 0.0,
+                    };
+                    Some(TermKind::WeightedSquare { source, target })
+                }),
                 "goal_sparse" => self
                     .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                     .map(TermKind::GoalSparse),
@@ -1048,6 +1081,18 @@ impl Ctx<'_> {
                 k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
                 _ => None, // reported by the syntax check
             };
+            let only_if = match s.get("only_if") {
+                Some(v) => self
+                    .conditions(v, &format!("[reward.{}] only_if", s.name))
+                    .unwrap_or_default(),
+                None => vec![],
+            };
+            let unless = match s.get("unless") {
+                Some(v) => self
+                    .conditions(v, &format!("[reward.{}] unless", s.name))
+                    .unwrap_or_default(),
+                None => vec![],
+            };
             if let Some(kind) = kind {
                 out.push((
                     RewardTerm {
@@ -1059,6 +1104,8 @@ impl Ctx<'_> {
                         info,
                         before,
                         paid_when_unhealthy,
+                        only_if,
+                        unless,
                     },
                     enabled,
                 ));
@@ -1679,6 +1726,17 @@ impl Ctx<'_> {
                     };
                     (InfoKind::GoalsReached(cs), 1, in_reset)
                 }
+                "condition" => {
+                    let what = format!("[info.{}] condition", s.name);
+                    // A missing `condition` is reported by the syntax check.
+                    let Some(v) = s.get("condition") else {
+                        continue;
+                    };
+                    let Some(cs) = self.conditions(v, &what) else {
+                        continue;
+                    };
+                    (InfoKind::Condition(cs), 1, in_reset)
+                }
                 kind => {
                     let Some(source) = self.sel_key(s, "source") else {
                         continue;
@@ -1713,20 +1771,23 @@ impl Ctx<'_> {
             if !enabled {
                 continue;
             }
-            let float32 = match s.get("dtype") {
-                None => false,
-                Some(v) => match v.as_str() {
-                    Some("float32") => true,
-                    Some("float64") => false,
-                    _ => {
-                        self.d.push(
+            let (float32, boolean) = match s.get("dtype") {
+                None => (false, false),
+                Some(v) => {
+                    match v.as_str() {
+                        Some("float32") => (true, false),
+                        Some("float64") => (false, false),
+                        Some("bool") => (false, true),
+                        _ => {
+                            self.d.push(
                             Diagnostic::new(Code::E0104, "unknown info `dtype`")
                                 .at(v.loc.clone())
-                                .label("expected \"float64\" (the default) or \"float32\""),
+                                .label("expected \"float64\" (the default), \"float32\" or \"bool\""),
                         );
-                        false
+                            (false, false)
+                        }
                     }
-                },
+                }
             };
             out.push((
                 InfoItem {
@@ -1737,6 +1798,7 @@ impl Ctx<'_> {
                     at_reset,
                     unweighted,
                     float32,
+                    boolean,
                 },
                 Some(key_loc),
             ));

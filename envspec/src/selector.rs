@@ -90,6 +90,9 @@ pub enum Field {
     SiteXmat,
     /// Site orientations as Euler angles, Gymnasium-Robotics' `rotations.mat2euler(site_xmat)`.
     SiteEuler,
+    /// Body orientations as Euler angles, Gymnasium-Robotics' `rotations.quat2euler(xquat)`
+    /// (numpy's `quat2mat`, then `mat2euler`).
+    BodyEuler,
     /// Site linear velocity `jacp @ qvel` (`mj_jacSite`, then numpy's matmul: OpenBLAS `dgemv`
     /// as the numerics profile sums it), Gymnasium-Robotics' `get_site_xvelp`.
     SiteXvelp,
@@ -97,6 +100,8 @@ pub enum Field {
     SiteXvelr,
     /// The env-held goal vector (`[goal]`), written `goal` or `goal[0:2]`.
     Goal,
+    /// The `[derived.*]` values, written `derived[NAME]` or `derived[NAME][k]`.
+    Derived,
     /// `sensordata`: the model's `<sensor>` values (a name selects all of a sensor's values).
     SensorData,
     /// `mocap_pos`: mocap bodies' positions, selected by body name.
@@ -168,9 +173,11 @@ pub const FIELDS: &[(&str, Field)] = &[
     ("xquat", Field::Xquat),
     ("site_xmat", Field::SiteXmat),
     ("site_euler", Field::SiteEuler),
+    ("body_euler", Field::BodyEuler),
     ("site_xvelp", Field::SiteXvelp),
     ("site_xvelr", Field::SiteXvelr),
     ("goal", Field::Goal),
+    ("derived", Field::Derived),
     ("sensordata", Field::SensorData),
     ("mocap_pos", Field::MocapPos),
     ("mocap_quat", Field::MocapQuat),
@@ -195,7 +202,7 @@ impl Field {
             | Field::ActuatorForce
             | Field::LastAction
             | Field::DefaultPose => Rows::Actuator,
-            Field::Command | Field::Goal => Rows::Command,
+            Field::Command | Field::Goal | Field::Derived => Rows::Command,
             Field::SensorData => Rows::Sensor,
             Field::MocapPos | Field::MocapQuat => Rows::Mocap,
             Field::CfrcExt
@@ -207,7 +214,8 @@ impl Field {
             | Field::Xipos
             | Field::SubtreeLinvel
             | Field::SubtreeAngmom
-            | Field::Xquat => Rows::Body,
+            | Field::Xquat
+            | Field::BodyEuler => Rows::Body,
             Field::SiteXpos | Field::SiteLinvel | Field::SiteAngvel => Rows::Site,
             Field::SiteXmat | Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => Rows::Site,
             Field::SiteLocalLinvel
@@ -229,7 +237,7 @@ impl Field {
             f if f.is_site_frame() => 3,
             Field::Xquat | Field::MocapQuat => 4,
             Field::SiteXmat => 9,
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => 3,
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => 3,
             _ => 1,
         }
     }
@@ -262,7 +270,9 @@ impl Field {
             Field::Xpos | Field::Xipos | Field::SiteXpos | Field::MocapPos => &["x", "y", "z"],
             Field::SubtreeLinvel | Field::SubtreeAngmom => &["x", "y", "z"],
             f if f.is_site_frame() => &["x", "y", "z"],
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => &["x", "y", "z"],
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => {
+                &["x", "y", "z"]
+            }
             Field::Xquat | Field::MocapQuat => &["w", "x", "y", "z"],
             Field::SiteXmat => &["xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"],
             _ => &[""],

@@ -108,6 +108,8 @@ pub struct Spec {
     pub added: Vec<(AddedKind, Section)>,
     /// `[commands.<name>]`: command vectors (velocity commands, …), in declared order.
     pub commands: Vec<Section>,
+    /// `[derived.<name>]` tables, in document order.
+    pub derived: Vec<Section>,
     /// `[actions]`: PD position targets.
     pub actions: Option<Section>,
     /// `[latency]`: action latency (`envspec::noise`).
@@ -242,6 +244,7 @@ pub(crate) const TOP_KEYS: &[&str] = &[
     "end_effector",
     "goal",
     "hold",
+    "derived",
 ];
 const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", "entry_point"];
 
@@ -281,6 +284,7 @@ const SEGMENT_KEYS: &[&str] = &[
     "noise",
     "delay",
     "scale",
+    "indicator",
     "doc",
 ];
 /// Keys of an observation segment's `noise` table.
@@ -297,6 +301,7 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("quadratic", &["source", "coefs", "targets"]),
     ("value", &["source", "divide_by"]),
     ("constant", &[]),
+    ("weighted_square", &["source", "target"]),
     ("goal_sparse", GOAL_KEYS),
     ("goal_dense", &["achieved", "desired", "norm"]),
     ("goal_missed", GOAL_KEYS),
@@ -330,6 +335,13 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("soft_landing", &["feet", "floor", "gate"]),
     ("self_collisions", &["subtree", "threshold"]),
 ];
+/// Kinds of `[derived.<name>]` with the keys each accepts besides `DERIVED_COMMON`.
+pub const DERIVED_KINDS: &[(&str, &[&str])] = &[
+    ("difference", &["minus", "divide_by"]),
+    ("norm", &["minus"]),
+    ("dot", &["with"]),
+];
+const DERIVED_COMMON: &[&str] = &["kind", "source", "at", "doc"];
 /// Keys of `[commands.<name>]`.
 pub const COMMAND_KEYS: &[&str] = &[
     "components",
@@ -350,7 +362,9 @@ pub const ACTION_KEYS: &[&str] = &[
 ];
 /// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
 const GOAL_KEYS: &[&str] = &["achieved", "desired", "threshold", "norm"];
-const REWARD_COMMON: &[&str] = &["kind", "weight", "cost", "info", "when", "at", "doc"];
+const REWARD_COMMON: &[&str] = &[
+    "kind", "weight", "cost", "info", "when", "at", "only_if", "unless", "doc",
+];
 
 /// Check kinds of `[health.*]` with the keys each accepts besides kind, source, doc.
 pub const HEALTH_KINDS: &[(&str, &[&str])] = &[
@@ -460,6 +474,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("norm", &["source", "in_reset"]),
     ("velocity", &["source"]),
     ("term", &["term", "unweighted"]),
+    ("condition", &["condition", "in_reset"]),
     (
         "goal_reached",
         &[
@@ -616,6 +631,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
         physics: None,
         added: vec![],
         commands: vec![],
+        derived: vec![],
         actions: None,
         latency: None,
         events: vec![],
@@ -793,6 +809,7 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             "term" => "term",
             "goal_reached" => "achieved",
             "goals_reached" => "checks",
+            "condition" => "condition",
             _ => "source",
         };
         require(s, needs, &format!("[info.{}]", s.name), d);
@@ -854,6 +871,18 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             check_keys(&s.entries, keys, &format!("[{table_name}.{}]", s.name), d);
             spec.added.push((kind, s));
         }
+    }
+    spec.derived = sections(get("derived"), "derived", &[], d);
+    for s in &spec.derived {
+        check_kinded(
+            s,
+            "derived",
+            Some("difference"),
+            DERIVED_KINDS,
+            DERIVED_COMMON,
+            d,
+        );
+        require(s, "source", &format!("[derived.{}]", s.name), d);
     }
     spec.commands = sections(get("commands"), "commands", &[], d);
     for s in &spec.commands {

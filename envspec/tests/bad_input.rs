@@ -202,7 +202,9 @@ fn unknown_key_suggests_the_near_miss() {
     assert_eq!(help(&d.0[0]), Some("did you mean `weight`?"));
     assert_eq!(
         d.0[0].label.as_deref(),
-        Some("expected one of: kind, weight, cost, info, when, at, doc, paid_when_unhealthy")
+        Some(
+            "expected one of: kind, weight, cost, info, when, at, only_if, unless, doc, paid_when_unhealthy"
+        )
     );
 }
 
@@ -282,7 +284,7 @@ fn unknown_reward_kind_suggests_the_near_miss() {
     assert_eq!(
         d.0[0].label.as_deref(),
         Some(
-            "expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions"
+            "expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions"
         )
     );
 }
@@ -1097,7 +1099,7 @@ error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
   --> specs/mini.toml:32:8
    |
 32 | kind = \"sum_square\"
-   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions
+   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions
    = help: did you mean `sum_squares`?
 ";
     assert_eq!(d.0[0].to_string(), expected);

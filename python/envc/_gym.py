@@ -215,11 +215,16 @@ class EnvcEnv(gym.Env):
         # info keys declared `dtype = "float32"`.
         self._f32_reward = bool(core.goal_reward_float32)
         self._f32_keys = tuple(core.float32_info_keys)
+        self._bool_keys = tuple(core.bool_info_keys)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         seed = reference_seed(seed, super().reset)
         _errors.options(options)
-        return self._core.reset(seed)
+        obs, info = self._core.reset(seed)
+        for k in self._bool_keys:
+            if k in info:
+                info[k] = np.bool_(info[k] != 0.0)
+        return obs, info
 
     def step(self, action):
         a = as_actions(action)
@@ -232,11 +237,14 @@ class EnvcEnv(gym.Env):
             out = self._core.step_f32(np.ascontiguousarray(a))
         else:
             out = self._core.step(np.ascontiguousarray(a, dtype=np.float64))
-        if self._f32_reward or self._f32_keys:
+        if self._f32_reward or self._f32_keys or self._bool_keys:
             obs, reward, terminated, truncated, info = out
             for k in self._f32_keys:
                 if k in info:
                     info[k] = np.float32(info[k])
+            for k in self._bool_keys:
+                if k in info:
+                    info[k] = np.bool_(info[k] != 0.0)
             return obs, np.float32(reward) if self._f32_reward else reward, terminated, truncated, info
         return out
 

@@ -97,15 +97,25 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
         envspec::Field::Xquat,
         envspec::Field::SiteXmat,
         envspec::Field::SiteEuler,
+        envspec::Field::BodyEuler,
         envspec::Field::SiteXvelp,
         envspec::Field::SiteXvelr,
         envspec::Field::Goal,
         envspec::Field::SensorData,
         envspec::Field::MocapPos,
         envspec::Field::MocapQuat,
+        envspec::Field::Derived,
     ] {
         if spec.reads(f) {
             not_exported.push(format!("the field `{}`", f.name()));
+        }
+    }
+    for s in spec.observation.iter().filter(|s| s.indicator.is_some()) {
+        not_exported.push(format!("[observation.{}] indicator", s.name));
+    }
+    for t in spec.reward.iter() {
+        if !t.only_if.is_empty() || !t.unless.is_empty() {
+            not_exported.push(format!("[reward.{}] only_if / unless", t.name));
         }
     }
     let observation: Vec<Value> = spec
@@ -177,6 +187,7 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 | TermKind::GoalMissed(_)
                 | TermKind::GoalDistance(_)
                 | TermKind::GoalsMissed(_)
+                | TermKind::WeightedSquare { .. }
                 | TermKind::Legged(_) => {
                     not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
                 }
@@ -301,6 +312,10 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
                 InfoKind::GoalsReached(_) => {
                     o.insert("kind".into(), json!("goals_reached"));
                     not_exported.push(format!("[info.{}] kind = \"goals_reached\"", i.key));
+                }
+                InfoKind::Condition(_) => {
+                    o.insert("kind".into(), json!("condition"));
+                    not_exported.push(format!("[info.{}] kind = \"condition\"", i.key));
                 }
             }
             v

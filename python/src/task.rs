@@ -63,6 +63,19 @@ impl TaskCore {
             .map(|i| i.key.clone())
             .collect())
     }
+    /// The info keys reported as numpy bool (`dtype = "bool"`).
+    #[getter]
+    fn bool_info_keys(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        Ok(slf
+            .as_super()
+            .task()?
+            .spec()
+            .info
+            .iter()
+            .filter(|i| i.boolean)
+            .map(|i| i.key.clone())
+            .collect())
+    }
     /// How many `[termination.*]` conditions the task has.
     #[getter]
     fn terminations(slf: PyRef<'_, Self>) -> PyResult<usize> {

@@ -129,6 +129,8 @@ struct Sim {
     numerics: Profile,
     /// The env-held goal vector (`desired = "goal"`; `spec.goal_dim` entries).
     goal: Vec<f64>,
+    /// The `[derived.*]` values (`spec.derived_dim` entries; `runtime/src/derived.rs`).
+    derived: Vec<f64>,
     /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
     legged: crate::commands::Legged,
     /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
@@ -217,10 +219,11 @@ impl Sim {
             Field::Xquat => d.xquat().as_flattened(),
             Field::SiteXmat => d.site_xmat().as_flattened(),
             Field::Goal => &self.goal,
+            Field::Derived => &self.derived,
             Field::SensorData => d.sensordata(),
             Field::MocapPos => d.mocap_pos().as_flattened(),
             Field::MocapQuat => d.mocap_quat().as_flattened(),
-            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr => {
+            Field::SiteEuler | Field::SiteXvelp | Field::SiteXvelr | Field::BodyEuler => {
                 self.manip.field(f).unwrap_or(&[])
             }
             Field::SubtreeLinvel => d.subtree_linvel().as_flattened(),
@@ -259,6 +262,29 @@ impl Sim {
         crate::goal::all_reached(cs, self.numerics, &|i, k| {
             self.goal_pair(&cs[i].distance, k)
         })
+    }
+
+    /// Whether `quantity op value` holds on the current state (`only_if`, `condition` info).
+    fn condition_holds(&self, c: &Condition) -> bool {
+        let x = match &c.quantity {
+            Quantity::Value { source, minus } => {
+                let x = self.get(source, 0);
+                minus.as_ref().map_or(x, |m| x - self.get(m, 0))
+            }
+            Quantity::Norm { source, minus } => {
+                let f = self.field(source.field);
+                match minus {
+                    Some(m) => {
+                        let g = self.field(m.field);
+                        norm(self.numerics, source.len(), &|k| {
+                            f[source.indices[k]] - g[m.indices[k]]
+                        })
+                    }
+                    None => norm(self.numerics, source.len(), &|k| f[source.indices[k]]),
+                }
+            }
+        };
+        c.holds_for(x)
     }
 
     /// Expand MuJoCo's sparse `ten_J` (rownnz / rowadr / colind) into `ten_j`.
@@ -450,6 +476,7 @@ impl Env {
         let mut sim = Sim {
             numerics,
             goal: vec![0.0; spec.goal_dim],
+            derived: vec![0.0; spec.derived_dim],
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -857,6 +884,41 @@ impl Env {
         })
     }
 
+    /// Gymnasium's `MujocoEnv.set_state`: `qpos` and `qvel` are written, then `mj_forward`; the
+    /// derived fields and the observation follow the new state (`[derived.*]` values measured at
+    /// reset keep their values, as the reference's attributes do). E1105 for another length
+    /// than the model's `nq` / `nv`.
+    pub fn set_state(&mut self, qpos: &[f64], qvel: &[f64]) -> Result<(), EnvError> {
+        for (what, got, expected) in [
+            ("qpos", qpos.len(), self.sim.nq),
+            ("qvel", qvel.len(), self.sim.nv),
+        ] {
+            if got != expected {
+                return Err(EnvError::StateLength {
+                    env: self.spec.id.clone(),
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        let (q, v) = mj::state::qpos_qvel_mut(&mut self.sim.data);
+        q.copy_from_slice(qpos);
+        v.copy_from_slice(qvel);
+        if let Err(message) = self.sim.call(Call::Forward) {
+            self.has_reset = false;
+            return Err(EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in set_state (reset before stepping again)",
+                message,
+            });
+        }
+        self.derive_after_physics();
+        self.sim.legged.update_sites(&self.sim.data);
+        self.write_obs();
+        Ok(())
+    }
+
     /// The MuJoCo data, read-only (checks of derived quantities against independent
     /// implementations read `cvel`, `subtree_com`, `site_xmat`, the contact list).
     pub fn data(&self) -> &mjData {
@@ -1067,6 +1129,7 @@ impl Env {
         self.sim.legged.update_sites(&self.sim.data);
         self.sim.legged.reset(&self.spec, rng);
         self.derive_after_physics();
+        self.update_derived(true);
         self.elapsed = 0;
         self.has_reset = self.reset_failure.is_none();
         if let Some(l) = &mut self.latency {
@@ -1195,6 +1258,24 @@ impl Env {
         self.sim.update_ten_j();
         let numerics = self.sim.numerics;
         self.sim.manip.update(&self.sim.data, numerics);
+        self.update_derived(false);
+    }
+
+    /// `[derived.*]` from the current state (`reset`: the `at = "reset"` ones too).
+    fn update_derived(&mut self, reset: bool) {
+        if self.spec.derived.is_empty() {
+            return;
+        }
+        let mut out = std::mem::take(&mut self.sim.derived);
+        let sim = &self.sim;
+        crate::derived::update(
+            &self.spec.derived,
+            |f| sim.field(f),
+            sim.numerics,
+            reset,
+            &mut out,
+        );
+        self.sim.derived = out;
     }
 
     /// What the env caches from the model: the mass sum (`mass_center`) and the timestep / dt.
@@ -1418,6 +1499,11 @@ impl Env {
         weight: f64,
     ) -> f64 {
         let sim = &self.sim;
+        // A gated-off term's signed value is −0.0, which leaves any sum unchanged.
+        let unless = !t.unless.is_empty() && t.unless.iter().all(|c| sim.condition_holds(c));
+        if unless || !t.only_if.iter().all(|c| sim.condition_holds(c)) {
+            return if t.cost { 0.0 } else { -0.0 };
+        }
         let kernel = match &t.kind {
             TermKind::Velocity { source } => {
                 let k = slot.expect("velocity terms have a slot");
@@ -1495,6 +1581,10 @@ impl Env {
                 }
             }
             TermKind::Constant => return weight,
+            TermKind::WeightedSquare { source, target } => {
+                let d = sim.get(source, 0) - target;
+                return (weight * d) * d;
+            }
             TermKind::Legged(l) => {
                 sim.legged
                     .kernel(i, l, sim.numerics, &|f| sim.field(f), &sim.action)
@@ -1608,6 +1698,7 @@ fn write_info(
         InfoKind::Term(i) => out[0] = term_values[*i],
         InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
         InfoKind::GoalsReached(cs) => out[0] = sim.goals_reached(cs) as u8 as f64,
+        InfoKind::Condition(cs) => out[0] = cs.iter().all(|c| sim.condition_holds(c)) as u8 as f64,
     }
 }
 

@@ -40,6 +40,22 @@ pub enum EnvError {
         /// The entries given.
         got: usize,
     },
+    /// `Env::set_state` given a `qpos` or `qvel` of another length than the model's (E1105).
+    #[error(
+        "error[E1105]: {} has {got} entries but {} expects {expected}",
+        what,
+        envspec::diagnostic::escape(env)
+    )]
+    StateLength {
+        /// The env's id.
+        env: String,
+        /// `qpos` or `qvel`.
+        what: &'static str,
+        /// The model's size.
+        expected: usize,
+        /// The entries given.
+        got: usize,
+    },
     /// An action entry is NaN or infinite (E1102).
     #[error("error[E1102]: action[{index}] is {value}; actions must be finite")]
     NonFiniteAction {
@@ -140,6 +156,7 @@ impl EnvError {
             EnvError::Compile { .. } => Code::E1001,
             EnvError::ModelMismatch { .. } => Code::E1002,
             EnvError::ActionLength { .. } => Code::E1101,
+            EnvError::StateLength { .. } => Code::E1105,
             EnvError::NonFiniteAction { .. } => Code::E1102,
             EnvError::NotReset => Code::E1103,
             EnvError::ResampleUnmet { .. } => Code::E1104,

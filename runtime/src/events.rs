@@ -36,6 +36,8 @@ struct Runtime {
     operation: Operation,
     shared: bool,
     writes: Vec<Write>,
+    /// `body_quat_euler.*`: per element, (its entry in `Events::euler`, the angle's axis).
+    euler: Vec<(usize, usize)>,
     push: Option<Push>,
     /// Interval events: seconds until the next firing.
     time_left: f64,
@@ -48,6 +50,9 @@ pub(crate) struct Events {
     /// Per slot: the compiled value and the value after the startup events.
     original: Vec<f64>,
     startup: Vec<f64>,
+    /// Bodies whose orientation `body_quat_euler.*` events set: the body and the angles drawn at
+    /// this reset (0 where none was).
+    euler: Vec<(usize, [f64; 3])>,
     /// Whether MuJoCo's derived constants must be recomputed after startup/reset events.
     pub set_const: bool,
     pub changes_mass: bool,
@@ -132,6 +137,28 @@ fn layout(env: &str, e: &Event, m: &mjModel) -> Result<Vec<Value>, EnvError> {
                     ));
                 }
             }
+            EventField::BodyQuatEuler(k) => out.push(one(
+                (Arr::BodyQuat, 4 * el.index),
+                format!("{name}.euler_{}", xyz[k]),
+            )),
+            EventField::BodyPosAxis(k) => out.push(one(
+                (Arr::BodyPos, 3 * el.index + k),
+                format!("{name}.{}", xyz[k]),
+            )),
+            EventField::SitePosAxis(k) => out.push(one(
+                (Arr::SitePos, 3 * el.index + k),
+                format!("{name}.{}", xyz[k]),
+            )),
+            EventField::BodyPos | EventField::SitePos => {
+                let arr = if *field == EventField::BodyPos {
+                    Arr::BodyPos
+                } else {
+                    Arr::SitePos
+                };
+                for (k, c) in xyz.iter().enumerate() {
+                    out.push(one((arr, 3 * el.index + k), format!("{name}.{c}")));
+                }
+            }
             EventField::JointDamping | EventField::JointArmature => {
                 let arr = if *field == EventField::JointDamping {
                     Arr::DofDamping
@@ -181,6 +208,7 @@ impl Events {
             }
         };
         let mut out = vec![];
+        let mut euler: Vec<(usize, [f64; 3])> = vec![];
         let (mut set_const, mut changes_mass, mut changes_timestep) = (false, false, false);
         for e in events {
             let mut rt = Runtime {
@@ -193,6 +221,7 @@ impl Events {
                 operation: Operation::Add,
                 shared: false,
                 writes: vec![],
+                euler: vec![],
                 push: None,
                 time_left: 0.0,
             };
@@ -202,10 +231,10 @@ impl Events {
                 }
                 EventKind::Model {
                     field,
+                    elements,
                     dist,
                     operation,
                     shared,
-                    ..
                 } => {
                     set_const |= field.needs_set_const();
                     changes_mass |= *field == EventField::BodyMass;
@@ -217,6 +246,21 @@ impl Events {
                             neg: v.neg.map(&mut slot),
                         })
                         .collect();
+                    // Euler angles go to a per-body buffer, made a quaternion after the resets'
+                    // events; their slot only shows in the table.
+                    if let EventField::BodyQuatEuler(axis) = field {
+                        rt.writes.clear();
+                        for el in elements {
+                            let k = match euler.iter().position(|&(b, _)| b == el.index) {
+                                Some(k) => k,
+                                None => {
+                                    euler.push((el.index, [0.0; 3]));
+                                    euler.len() - 1
+                                }
+                            };
+                            rt.euler.push((k, *axis));
+                        }
+                    }
                     rt.field = Some(*field);
                     rt.dist = *dist;
                     rt.operation = *operation;
@@ -233,6 +277,7 @@ impl Events {
             startup: original.clone(),
             original,
             slots,
+            euler,
             set_const,
             changes_mass,
             changes_timestep,
@@ -262,6 +307,13 @@ impl Events {
             if self.events[k].mode == EventMode::Reset {
                 self.apply(k, t, false);
             }
+        }
+        for (b, angles) in &mut self.euler {
+            let q = euler2quat(*angles);
+            for (j, &x) in q.iter().enumerate() {
+                t.m.set(Arr::BodyQuat, 4 * *b + j, x);
+            }
+            *angles = [0.0; 3];
         }
         for e in &mut self.events {
             if let EventMode::Interval { low, high } = e.mode {
@@ -312,8 +364,16 @@ impl Events {
 
     /// Draw and write event `k`. `current`: the base is the model's current value (startup
     /// events), else the startup value.
-    fn apply(&self, k: usize, t: &mut Target, current: bool) {
+    fn apply(&mut self, k: usize, t: &mut Target, current: bool) {
         let e = &self.events[k];
+        if !e.euler.is_empty() {
+            // `body_quat_euler.*` (abs, reset only): the angle itself, made a quaternion after
+            // every reset event has drawn.
+            for &(entry, axis) in &e.euler {
+                self.euler[entry].1[axis] = draw(e.dist, t.rng, t.profile);
+            }
+            return;
+        }
         if let Some((dofs, x, y)) = &e.push {
             for &dof in dofs {
                 let (dx, dy) = (t.rng.uniform(x.0, x.1), t.rng.uniform(y.0, y.1));
@@ -350,6 +410,22 @@ impl Events {
             }
         }
     }
+}
+
+/// Gymnasium-Robotics' `rotations.euler2quat` of angles (x, y, z): glibc's `sin` and `cos` (numpy
+/// calls them for float64), halves and products in its order; (w, x, y, z).
+fn euler2quat(e: [f64; 3]) -> [f64; 4] {
+    let (ai, aj, ak) = (e[2] / 2.0, -e[1] / 2.0, e[0] / 2.0);
+    let (si, sj, sk) = (ai.sin(), aj.sin(), ak.sin());
+    let (ci, cj, ck) = (ai.cos(), aj.cos(), ak.cos());
+    let (cc, cs) = (ci * ck, ci * sk);
+    let (sc, ss) = (si * ck, si * sk);
+    [
+        cj * cc + sj * ss,
+        cj * cs - sj * sc,
+        -(cj * ss + sj * cc),
+        cj * sc - sj * cs,
+    ]
 }
 
 /// The id of geom `name` in the compiled model (E1120 if MuJoCo has none of that name).
@@ -431,7 +507,8 @@ pub fn table(env: &crate::Env) -> Result<Vec<Row>, EnvError> {
                             dist.describe()
                         },
                         operation: operation.name(),
-                        compiled: Some(base),
+                        // An Euler angle has no compiled value (the whole quaternion is set).
+                        compiled: (!matches!(field, EventField::BodyQuatEuler(_))).then_some(base),
                         range: (clamp(*field, lo), clamp(*field, hi)),
                     });
                 }

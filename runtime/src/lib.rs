@@ -20,6 +20,7 @@ pub mod bench;
 mod commands;
 #[cfg(feature = "dataset")]
 pub mod dataset;
+mod derived;
 pub mod env;
 pub mod environment;
 pub mod error;

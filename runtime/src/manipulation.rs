@@ -39,7 +39,10 @@ pub(crate) struct Manip {
     /// those are computed after the physics.
     euler_sites: Vec<usize>,
     xvel_sites: Vec<usize>,
+    /// The bodies whose `body_euler` something reads.
+    euler_bodies: Vec<usize>,
     site_euler: Vec<f64>,
+    body_euler: Vec<f64>,
     site_xvelp: Vec<f64>,
     site_xvelr: Vec<f64>,
     jacp: Vec<f64>,
@@ -83,6 +86,7 @@ impl Manip {
         };
         let nsite = usize::try_from(model.ffi().nsite).unwrap_or(0);
         let nv = usize::try_from(model.ffi().nv).unwrap_or(0);
+        let nbody = usize::try_from(model.ffi().nbody).unwrap_or(0);
         let mut manip = Manip {
             init_time: 0.0,
             records: vec![0.0; m.record_len()],
@@ -90,7 +94,9 @@ impl Manip {
             marker,
             euler_sites: vec![],
             xvel_sites: vec![],
+            euler_bodies: vec![],
             site_euler: vec![0.0; 3 * nsite],
+            body_euler: vec![0.0; 3 * nbody],
             site_xvelp: vec![0.0; 3 * nsite],
             site_xvelr: vec![0.0; 3 * nsite],
             jacp: vec![0.0; 3 * nv],
@@ -113,6 +119,7 @@ impl Manip {
         let list = match s.field {
             Field::SiteEuler => &mut self.euler_sites,
             Field::SiteXvelp | Field::SiteXvelr => &mut self.xvel_sites,
+            Field::BodyEuler => &mut self.euler_bodies,
             _ => return,
         };
         for &i in &s.indices {
@@ -308,6 +315,11 @@ impl Manip {
         for &s in &self.euler_sites {
             self.site_euler[3 * s..3 * s + 3].copy_from_slice(&mat2euler(&xmat[s], profile));
         }
+        let xquat = data.xquat();
+        for &b in &self.euler_bodies {
+            let m = quat2mat(&xquat[b]);
+            self.body_euler[3 * b..3 * b + 3].copy_from_slice(&mat2euler(&m, profile));
+        }
         if !self.xvel_sites.is_empty() {
             let qvel = data.qvel();
             let nv = qvel.len();
@@ -333,11 +345,39 @@ impl Manip {
     pub(crate) fn field(&self, f: Field) -> Option<&[f64]> {
         Some(match f {
             Field::SiteEuler => &self.site_euler,
+            Field::BodyEuler => &self.body_euler,
             Field::SiteXvelp => &self.site_xvelp,
             Field::SiteXvelr => &self.site_xvelr,
             _ => return None,
         })
     }
+}
+
+/// Gymnasium-Robotics' `rotations.quat2mat` of one quaternion (w, x, y, z): numpy's pairwise
+/// sum of the squares, its products in its order, the identity for a (near) zero quaternion.
+pub(crate) fn quat2mat(q: &[f64; 4]) -> [f64; 9] {
+    let [w, x, y, z] = *q;
+    let nq = numerics::pairwise_sum(4, &|k| q[k] * q[k]);
+    // numpy's `np.where(Nq > eps, mat, eye)`: a NaN norm gives the identity too.
+    if nq.partial_cmp(&f64::EPSILON) != Some(std::cmp::Ordering::Greater) {
+        return [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    }
+    let s = 2.0 / nq;
+    let (xs, ys, zs) = (x * s, y * s, z * s);
+    let (wx, wy, wz) = (w * xs, w * ys, w * zs);
+    let (xx, xy, xz) = (x * xs, x * ys, x * zs);
+    let (yy, yz, zz) = (y * ys, y * zs, z * zs);
+    [
+        1.0 - (yy + zz),
+        xy - wz,
+        xz + wy,
+        xy + wz,
+        1.0 - (xx + zz),
+        yz - wx,
+        xz - wy,
+        yz + wx,
+        1.0 - (xx + yy),
+    ]
 }
 
 /// Gymnasium-Robotics' `rotations.mat2euler` of one row-major 3 × 3 matrix: numpy's `sqrt`,

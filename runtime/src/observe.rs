@@ -7,7 +7,8 @@ use envspec::ir::{Apply, Segment};
 
 use crate::numerics::clip;
 
-/// Write each segment into `out[seg.offset..]`: `source − minus`, then `apply`, then `clip`.
+/// Write each segment into `out[seg.offset..]`: `source − minus`, then `apply`, then
+/// `indicator`, then `clip`.
 /// `field` gives a field's current values. Allocation-free.
 pub(crate) fn write_segments<'a>(
     segments: &[Segment],
@@ -45,6 +46,9 @@ pub(crate) fn write_segments_with<'a>(
                 Some(Apply::Positive) => f64::from(u8::from(x > 0.0)),
                 None => x,
             };
+            if let Some(ind) = &seg.indicator {
+                x = ind.apply(x);
+            }
             x = pre_clip(i, x);
             if let Some((lo, hi)) = seg.clip {
                 x = clip(x, lo, hi);

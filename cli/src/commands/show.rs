@@ -67,6 +67,41 @@ fn model_inventory(any: &envc::AnyEnv) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
+/// The `[derived.*]` tables, in the order they are computed (nothing without them).
+fn write_derived(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
+    if spec.derived.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        o,
+        "\nderived (computed in this order after every reset and step):"
+    )?;
+    for d in &spec.derived {
+        writeln!(o, "  {:<20} {}", d.name, describe::derived(d))?;
+    }
+    Ok(())
+}
+
+/// The reward: how the terms are added, then each term.
+fn write_reward(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
+    writeln!(o, "\nreward = {}", describe::reward_sum(spec))?;
+    for t in &spec.reward {
+        let info = t
+            .info
+            .as_ref()
+            .map(|k| format!("   info `{k}`"))
+            .unwrap_or_default();
+        writeln!(
+            o,
+            "  {:<12} {:<12} {}{info}",
+            t.name,
+            t.kind_name(),
+            describe::term(t)
+        )?;
+    }
+    Ok(())
+}
+
 pub fn run(args: Args) -> Result<Outcome> {
     let any = crate::target::env(&args.spec, &args.set)?;
     if args.model {
@@ -205,21 +240,8 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
 
-    writeln!(o, "\nreward = {}", describe::reward_sum(&spec))?;
-    for t in &spec.reward {
-        let info = t
-            .info
-            .as_ref()
-            .map(|k| format!("   info `{k}`"))
-            .unwrap_or_default();
-        writeln!(
-            o,
-            "  {:<12} {:<12} {}{info}",
-            t.name,
-            t.kind_name(),
-            describe::term(t)
-        )?;
-    }
+    write_derived(&mut o, &spec)?;
+    write_reward(&mut o, &spec)?;
 
     writeln!(
         o,

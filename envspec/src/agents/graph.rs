@@ -205,6 +205,7 @@ fn build_agent(
                 apply,
                 clip,
                 scale: None,
+                indicator: None,
                 offset,
             });
             offset += len;

@@ -44,6 +44,8 @@ pub(crate) struct SegmentKey {
     apply: Option<Apply>,
     clip: Option<(Bits, Bits)>,
     scale: Option<Bits>,
+    /// The indicator, compared by its whole resolved value.
+    indicator: Option<String>,
 }
 
 pub(crate) fn segment(s: &Segment) -> SegmentKey {
@@ -53,6 +55,7 @@ pub(crate) fn segment(s: &Segment) -> SegmentKey {
         apply: s.apply,
         clip: range(s.clip),
         scale: s.scale.map(bits),
+        indicator: s.indicator.map(|i| format!("{i:?}")),
     }
 }
 
@@ -65,6 +68,7 @@ enum TermKindKey {
     Quadratic(Sel, Vec<Bits>, Vec<Bits>),
     Value(Sel, Option<Divisor>),
     Constant,
+    WeightedSquare(Sel, Bits),
     GoalSparse(GoalCheckKey),
     GoalDense(GoalDistanceKey),
     GoalMissed(GoalCheckKey),
@@ -117,6 +121,8 @@ pub(crate) struct TermKey {
     cost: bool,
     before: bool,
     paid_when_unhealthy: bool,
+    /// The gating conditions, compared by their whole resolved value.
+    only_if: String,
 }
 
 pub(crate) fn term(t: &RewardTerm) -> TermKey {
@@ -136,6 +142,9 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         } => TermKindKey::Quadratic(sel(source), bits_all(coefs), bits_all(targets)),
         TermKind::Value { source, divide_by } => TermKindKey::Value(sel(source), *divide_by),
         TermKind::Constant => TermKindKey::Constant,
+        TermKind::WeightedSquare { source, target } => {
+            TermKindKey::WeightedSquare(sel(source), bits(*target))
+        }
         TermKind::GoalSparse(c) => TermKindKey::GoalSparse(goal_check(c)),
         TermKind::GoalDense(g) => TermKindKey::GoalDense(goal_distance(g)),
         TermKind::GoalMissed(c) => TermKindKey::GoalMissed(goal_check(c)),
@@ -149,6 +158,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         cost: t.cost,
         before: t.before,
         paid_when_unhealthy: t.paid_when_unhealthy,
+        only_if: format!("{:?} unless {:?}", t.only_if, t.unless),
     }
 }
 
@@ -263,6 +273,8 @@ pub(crate) enum InfoKey {
     Term(Option<TermKey>, bool),
     GoalReached(GoalCheckKey),
     GoalsReached(Vec<GoalCheckKey>),
+    /// The conditions, compared by their whole resolved value.
+    Condition(String),
 }
 
 pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
@@ -275,6 +287,7 @@ pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
         InfoKind::Term(t) => InfoKey::Term(r.reward.get(*t).map(term), i.unweighted),
         InfoKind::GoalReached(c) => InfoKey::GoalReached(goal_check(c)),
         InfoKind::GoalsReached(cs) => InfoKey::GoalsReached(cs.iter().map(goal_check).collect()),
+        InfoKind::Condition(cs) => InfoKey::Condition(format!("{cs:?}")),
     }
 }
 
@@ -300,6 +313,7 @@ mod tests {
             apply: None,
             clip: None,
             scale: None,
+            indicator: None,
             offset: 0,
         }
     }
@@ -338,6 +352,8 @@ mod tests {
             info: Some("reward_forward".into()),
             before: false,
             paid_when_unhealthy: false,
+            only_if: vec![],
+            unless: vec![],
         };
         let u = RewardTerm {
             name: "run".into(),

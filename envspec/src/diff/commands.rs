@@ -140,6 +140,7 @@ pub(super) fn actions(cx: &mut Ctx) {
             format!("{:?}", n.default_pose),
         ),
         ("range", format!("{:?}", o.range), format!("{:?}", n.range)),
+        ("kind", o.kind.name().to_string(), n.kind.name().to_string()),
     ];
     for (aspect, was, now) in mapping {
         if was != now {

@@ -17,6 +17,7 @@ mod agents;
 mod behaviour;
 mod change;
 mod commands;
+mod derived;
 mod events;
 mod info;
 mod manipulation;
@@ -180,6 +181,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
     );
     events::events(&mut cx);
     manipulation::manipulation(&mut cx);
+    derived::derived(&mut cx);
 
     let mut report = Report::new(
         &old_r.id,

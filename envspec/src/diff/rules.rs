@@ -403,6 +403,9 @@ rules! {
         "A `[hold.*]` table was added, removed or changed: other joints are held after each step, or at another value.";
     GoalChanged = "goal-changed", Observation, true,
         "`[goal]` was added, removed or changed: the observation becomes (or stops being) a goal dict, or `achieved_goal` reads something else.";
+    // Derived values (`[derived.*]`).
+    DerivedChanged = "derived-changed", Observation, true,
+        "A `[derived.*]` table was added, removed or changed: every observation segment, reward term, condition or info entry that reads it sees other values.";
     // Model edits a spec makes (`[actuators.*]`, `[joint_properties]`, `[keyframes.*]`).
     ActuatorsAdded = "actuators-added", Action, true,
         "An `[actuators.*]` table was added: the action gains entries (and the physics a drive).";

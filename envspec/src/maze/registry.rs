@@ -19,7 +19,9 @@ pub struct Registered {
     pub overrides: Vec<Override>,
 }
 
-const FAMILY_KEYS: &[&str] = &["spec", "id", "maps"];
+const FAMILY_KEYS: &[&str] = &["spec", "id", "maps", "rewards"];
+/// Gymnasium-Robotics' Fetch and maze suffixes: `""` sparse, `"Dense"` dense.
+const DEFAULT_REWARDS: [(&str, &str); 2] = [("", "sparse"), ("Dense", "dense")];
 
 /// Read a maze registry file: `[[family]] spec = "...", id = "PointMaze_{map}{reward}-v3"` with
 /// `[family.maps] UMaze = { map = "maps/u_maze.toml", max_episode_steps = 300 }`. `{reward}` is
@@ -110,6 +112,31 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
             },
         }];
         let maps = if mapless { Some(&one[..]) } else { maps };
+        // `rewards = { "" = "dense", Sparse = "sparse" }`: each `{reward}` suffix with the
+        // `reward_type` it sets (Adroit registers its dense reward without a suffix).
+        let rewards: Vec<(String, String)> = match get("rewards") {
+            None => DEFAULT_REWARDS
+                .iter()
+                .map(|(a, b)| (a.to_string(), b.to_string()))
+                .collect(),
+            Some(v) => {
+                let pairs: Option<Vec<(String, String)>> = v.as_table().and_then(|t| {
+                    t.iter()
+                        .map(|e| Some((e.key.clone(), e.value.as_str()?.to_string())))
+                        .collect()
+                });
+                match pairs {
+                    Some(p) if !p.is_empty() => p,
+                    _ => {
+                        d.push(v.type_error(
+                            "`rewards`",
+                            "a table of id suffix = reward_type, e.g. { \"\" = \"dense\", Sparse = \"sparse\" }",
+                        ));
+                        continue;
+                    }
+                }
+            }
+        };
         let (Some(spec), Some(id), Some(maps), [true, true, true]) = (spec, id, maps, ok) else {
             continue;
         };
@@ -121,7 +148,7 @@ pub fn registry(path: &Path) -> Result<Vec<Registered>, Diagnostics> {
                 );
                 continue;
             };
-            for (suffix, rt) in [("", "sparse"), ("Dense", "dense")] {
+            for (suffix, rt) in &rewards {
                 let mut overrides = vec![Override::text("reward_type", &format!("\"{rt}\""))];
                 for e in entry {
                     let text = match (e.key.as_str(), e.value.as_str()) {

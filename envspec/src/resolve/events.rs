@@ -154,6 +154,23 @@ impl Ctx<'_> {
                 );
                 return None;
             }
+            if matches!(field, EventField::BodyQuatEuler(_))
+                && (mode != EventMode::Reset || operation != Operation::Abs)
+            {
+                // The angles make a whole new orientation at each reset; there is no base.
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0152,
+                        format!(
+                            "{ctx}: `{fname}` sets the orientation anew at every reset: it needs \
+                             mode = \"reset\" and operation = \"abs\""
+                        ),
+                    )
+                    .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                    .label("expected mode = \"reset\", operation = \"abs\" (the default)"),
+                );
+                return None;
+            }
             self.check_limits(s, &ctx, field, dist, operation)?;
             EventKind::Model {
                 field,
@@ -393,6 +410,7 @@ impl Ctx<'_> {
         let names: Vec<&str> = match kind {
             ElementKind::Geom => self.model.geoms.iter().map(String::as_str).collect(),
             ElementKind::Body => self.model.bodies.iter().map(String::as_str).collect(),
+            ElementKind::Site => self.model.sites.iter().map(String::as_str).collect(),
             ElementKind::Joint => self.model.joints.iter().map(|j| j.name.as_str()).collect(),
             ElementKind::Actuator => self
                 .model

@@ -1,0 +1,79 @@
+//! Derived values (`[derived.<name>]`): quantities computed from the state, in document order,
+//! after every reset and after every step's physics (or once per episode with `at = "reset"`),
+//! read anywhere a selector is read as `derived[name]`. Gymnasium-Robotics' Adroit pen divides
+//! its orientation vectors by lengths measured at reset and compares them with a dot product.
+//! Resolved in `resolve/derived.rs`, computed in `runtime/src/derived.rs`;
+//! docs/spec-reference.md §23.
+
+use crate::selector::Selection;
+
+/// What a derived value computes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DerivedKind {
+    /// `(source − minus) / divide_by`, elementwise (numpy's `(a - b) / d`).
+    Difference {
+        /// The elements.
+        source: Selection,
+        /// Subtracted, if given.
+        minus: Option<Selection>,
+        /// One number every element is divided by, if given.
+        divide_by: Option<Selection>,
+    },
+    /// `‖source − minus‖₂`, as `np.linalg.norm` (OpenBLAS `ddot` of the numerics profile).
+    Norm {
+        /// The elements.
+        source: Selection,
+        /// Subtracted, if given.
+        minus: Option<Selection>,
+    },
+    /// `Σ sourceₖ · withₖ`, as `np.dot` of two float64 vectors (OpenBLAS `ddot`).
+    Dot {
+        /// The first vector.
+        source: Selection,
+        /// The second, of the same length.
+        with: Selection,
+    },
+}
+
+/// One `[derived.<name>]` table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Derived {
+    /// The table's name: `derived[name]` reads it.
+    pub name: String,
+    /// The `doc` text.
+    pub doc: String,
+    /// What it computes.
+    pub kind: DerivedKind,
+    /// `at = "reset"`: computed after each reset only, and held through the episode.
+    pub at_reset: bool,
+    /// Its first index in the derived buffer.
+    pub offset: usize,
+    /// Its number of values.
+    pub len: usize,
+}
+
+impl Derived {
+    /// The selections it reads.
+    pub fn sources(&self) -> Vec<&Selection> {
+        match &self.kind {
+            DerivedKind::Difference {
+                source,
+                minus,
+                divide_by,
+            } => std::iter::once(source)
+                .chain(minus)
+                .chain(divide_by)
+                .collect(),
+            DerivedKind::Norm { source, minus } => std::iter::once(source).chain(minus).collect(),
+            DerivedKind::Dot { source, with } => vec![source, with],
+        }
+    }
+    /// The `kind` a spec writes for it.
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            DerivedKind::Difference { .. } => "difference",
+            DerivedKind::Norm { .. } => "norm",
+            DerivedKind::Dot { .. } => "dot",
+        }
+    }
+}
