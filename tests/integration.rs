@@ -23,6 +23,7 @@ mod no_alloc;
 mod numerics;
 mod obs_noise;
 mod parity;
+mod provenance;
 mod readme;
 mod render;
 mod rng_numpy;

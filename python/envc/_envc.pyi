@@ -57,6 +57,14 @@ def registry(
 def spec_path_problems() -> list[str]:
     """The problems of `ENVC_SPEC_PATH`: the entries left out of the registry."""
 
+def recover_spec(
+    dataset_id: str,
+    provenance: str,
+    accept_changed_spec: bool = ...,
+    refuse_other_mujoco: bool = ...,
+) -> tuple[str, list[str]]:
+    """The spec to open for a dataset's `envc_provenance` (JSON text): `(id or path, warnings)`."""
+
 def describe(
     id_or_path: str, overrides: list[tuple[str, str]] = ...
 ) -> tuple[str, str, int | None]:
