@@ -18,6 +18,7 @@ __all__ = [
     "spec_path_problems",
     "set_bundle_root",
     "bundle_root",
+    "recover_spec",
     "collect",
     "collect_shard",
     "build_dataset",
