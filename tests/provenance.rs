@@ -145,6 +145,14 @@ fn a_dataset_recovers_its_spec_moved_refuses_it_edited_and_warns_on_another_mujo
     let (_, warnings) = ds.recover(accept).unwrap();
     assert_eq!(warnings.len(), 1);
     assert!(warnings[0].starts_with("warning[W1212]"), "{warnings:?}");
+    // Or the dataset's own copy, wherever a spec is found: the recorded episodes again.
+    let recorded = RecoverOptions {
+        use_recorded_spec: true,
+        ..Default::default()
+    };
+    let (mut env, warnings) = ds.recover(recorded).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    replays_bit_for_bit(&ds, &mut env);
     std::fs::write(&model, xml).unwrap();
 
     // Made under another MuJoCo (the recorded version edited): W1214, or E1214 when refused.

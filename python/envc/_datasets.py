@@ -112,6 +112,7 @@ def recover_environment(
     *,
     accept_changed_spec: bool = False,
     refuse_other_mujoco: bool = False,
+    use_recorded_spec: bool = False,
     **kwargs: Any,
 ):
     """The envc env that made a dataset, from what the dataset carries (``envc_provenance``).
@@ -120,7 +121,8 @@ def recover_environment(
     ``$MINARI_DATASETS_PATH`` (else ``~/.minari/datasets``). The spec is the one recorded: found
     at its recorded id or path and unchanged, or rebuilt from the dataset's copy when it is no
     longer there. A spec found there but changed is ``envc.DatasetError`` E1212, unless
-    ``accept_changed_spec`` (then ``envc.DatasetWarning`` W1212); another MuJoCo version than the
+    ``accept_changed_spec`` (then ``envc.DatasetWarning`` W1212) or ``use_recorded_spec`` (the
+    dataset's own copy, wherever a spec is found); another MuJoCo version than the
     dataset's warns W1214, or is E1214 with ``refuse_other_mujoco``. The stored parameters and
     time limit apply; ``kwargs`` (parameters, ``render_mode``) are added. Unlike Minari's
     ``recover_environment``, this gives envc's env also for datasets naming the reference class.
@@ -163,6 +165,7 @@ def recover_environment(
         env_spec,
         accept_changed_spec=accept_changed_spec,
         refuse_other_mujoco=refuse_other_mujoco,
+        use_recorded_spec=use_recorded_spec,
         **kwargs,
     )
 

@@ -63,6 +63,7 @@ def recover_spec(
     provenance: str,
     accept_changed_spec: bool = ...,
     refuse_other_mujoco: bool = ...,
+    use_recorded_spec: bool = ...,
 ) -> tuple[str, list[str]]:
     """The spec to open for a dataset's `envc_provenance` (JSON text): `(id or path, warnings)`."""
 

@@ -172,6 +172,7 @@ def recovered_spec(
     provenance: dict | None,
     accept_changed_spec: bool = False,
     refuse_other_mujoco: bool = False,
+    use_recorded_spec: bool = False,
 ) -> str:
     """The spec a dataset's env creator opens: ``spec_id`` when the dataset carries no
     ``envc_provenance`` (an older dataset), else what the record says (docs/datasets.md,
@@ -185,6 +186,7 @@ def recovered_spec(
         json.dumps(provenance),
         bool(accept_changed_spec),
         bool(refuse_other_mujoco),
+        bool(use_recorded_spec),
     )
     for note in notes:
         code = note[note.find("[") + 1 : note.find("]")] if note.startswith("warning[") else None
@@ -218,12 +220,13 @@ class EnvcEnv(gym.Env):
         envc_provenance: dict | None = None,
         accept_changed_spec: bool = False,
         refuse_other_mujoco: bool = False,
+        use_recorded_spec: bool = False,
         **overrides: Any,
     ):
         # A dataset's env spec carries what made it; `recover_environment(accept_changed_spec=...)`
         # passes the options through.
         spec_id = recovered_spec(
-            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco
+            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco, use_recorded_spec
         )
         check_render_mode(render_mode)
         overrides = render_overrides(overrides)

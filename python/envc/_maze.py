@@ -90,10 +90,11 @@ class EnvcMazeEnv(_Base):
         envc_provenance: dict | None = None,
         accept_changed_spec: bool = False,
         refuse_other_mujoco: bool = False,
+        use_recorded_spec: bool = False,
         **overrides: Any,
     ):
         spec_id = recovered_spec(
-            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco
+            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco, use_recorded_spec
         )
         check_render_mode(render_mode)
         overrides = render_overrides(overrides)

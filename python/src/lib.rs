@@ -135,15 +135,17 @@ fn spec_path_problems() -> Vec<String> {
 
 /// The spec to open for a dataset's `envc_provenance` (JSON text): `(id or path, warnings)`.
 /// The spec at the recorded place when it is unchanged (E1212 when it changed, unless
-/// `accept_changed_spec`: W1212), else a copy written from the record (E1213 when it cannot be);
+/// `accept_changed_spec`: W1212), else (or with `use_recorded_spec`) a copy written from the
+/// record (E1213 when it cannot be);
 /// another MuJoCo version warns (W1214) or, with `refuse_other_mujoco`, is E1214.
 #[pyfunction]
-#[pyo3(signature = (dataset_id, provenance, accept_changed_spec = false, refuse_other_mujoco = false))]
+#[pyo3(signature = (dataset_id, provenance, accept_changed_spec = false, refuse_other_mujoco = false, use_recorded_spec = false))]
 fn recover_spec(
     dataset_id: &str,
     provenance: &str,
     accept_changed_spec: bool,
     refuse_other_mujoco: bool,
+    use_recorded_spec: bool,
 ) -> PyResult<(String, Vec<String>)> {
     let record: serde_json::Value = serde_json::from_str(provenance).map_err(|e| {
         errors::dataset_error(envc::dataset::DatasetError::Provenance {
@@ -153,6 +155,7 @@ fn recover_spec(
     let opts = envc::dataset::RecoverOptions {
         accept_changed_spec,
         refuse_other_mujoco,
+        use_recorded_spec,
     };
     let r = envc::dataset::recover(dataset_id, &record, opts).map_err(errors::dataset_error)?;
     Ok((r.target, r.warnings))

@@ -85,6 +85,8 @@ def test_a_dataset_recovers_after_its_spec_moved_and_refuses_an_edited_one(tmp_p
         # The current spec is the one that runs: its healthy reward is 2.
         _, r, *_ = env.step(np.zeros(3, dtype=np.float32))
         assert r > 1.5
+        # Or the dataset's own copy, though a spec is found there: the stored episodes again.
+        _replays(ds, recover(use_recorded_spec=True))
 
 
 def test_another_mujoco_version_warns_and_can_be_refused(tmp_path, monkeypatch):

@@ -151,7 +151,7 @@ pub enum DatasetError {
     },
     /// The spec found at the recorded id or path is not the one that made the dataset (E1212).
     #[error(
-        "error[E1212]: the spec `{spec}` differs from the one dataset `{dataset}` was recorded with: {changes}; recover with the recorded spec (move the current one away), or accept the current one (`accept_changed_spec`)"
+        "error[E1212]: the spec `{spec}` differs from the one dataset `{dataset}` was recorded with: {changes}; recover with the dataset's own copy (`use_recorded_spec`), or accept the current one (`accept_changed_spec`)"
     )]
     SpecChanged {
         /// The dataset's id.

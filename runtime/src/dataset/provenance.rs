@@ -116,6 +116,9 @@ pub struct RecoverOptions {
     pub accept_changed_spec: bool,
     /// Refuse (E1214) a dataset made with another MuJoCo version, instead of W1214.
     pub refuse_other_mujoco: bool,
+    /// Open the dataset's own copy of the spec even where a spec is found at the recorded id or
+    /// path (a bundled spec an envc upgrade changed, an edited file one keeps).
+    pub use_recorded_spec: bool,
 }
 
 /// The spec to open for a dataset, and the coded warnings met on the way.
@@ -230,7 +233,7 @@ pub fn recover(
         .and_then(Value::as_str)
         .ok_or_else(|| fail("envc_provenance names no spec"))?;
     let files = entries(record)?;
-    if let Some(path) = locate(spec) {
+    if let Some(path) = locate(spec).filter(|_| !opts.use_recorded_spec) {
         let dir = absolute(&path);
         let dir = dir.parent().unwrap_or(Path::new("/"));
         let changed = changes(dir, &files);
@@ -313,7 +316,12 @@ fn materialize(spec: &str, files: &[Entry]) -> Result<PathBuf, DatasetError> {
     if intact(&root, &place, files) {
         return Ok(root.join(place));
     }
-    let old_dir = Path::new(spec).parent().map(Path::to_path_buf);
+    // Where a file carried by hash only may still be: beside the recorded spec file (a bundled
+    // id names no place).
+    let old_dir = Some(Path::new(spec))
+        .filter(|p| p.is_absolute())
+        .and_then(Path::parent)
+        .map(Path::to_path_buf);
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos());
