@@ -26,6 +26,7 @@ mod numerics;
 mod obs_noise;
 mod parity;
 mod pd_actions;
+mod provenance;
 mod readme;
 mod render;
 mod rng_numpy;

@@ -204,6 +204,13 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
                 return Some(format!("{what}: ffprobe says {got:?}, expected 64,48,4"));
             }
         }
+        // A dataset says what made it: the MuJoCo and envc versions and the spec it recorded.
+        if cmd == "dataset show"
+            && !(stdout.contains("made with         MuJoCo 3.17.0, envc ")
+                && stdout.contains("files recorded)"))
+        {
+            return Some(format!("{what}: no versions or spec record in\n{stdout}"));
+        }
         if cmd == "rollout" && !out.is_file() {
             return Some(format!("{what}: no {}", out.display()));
         }

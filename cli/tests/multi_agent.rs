@@ -99,6 +99,8 @@ fn rollout_writes_per_agent_arrays() {
     assert_eq!(
         names,
         [
+            "envc_version",
+            "mujoco_version",
             "obs.agent_0",
             "obs.agent_1",
             "obs.agent_2",
@@ -111,6 +113,9 @@ fn rollout_writes_per_agent_arrays() {
             "truncated"
         ]
     );
+    // What made the file: the loaded MuJoCo's version string, as UTF-8 bytes.
+    let made: ndarray::Array1<u8> = npz.by_name("mujoco_version").unwrap();
+    assert_eq!(made.to_vec(), b"3.17.0");
     let state: ndarray::Array2<f64> = npz.by_name("state").unwrap();
     assert_eq!(state.dim(), (8, 17));
     let o0: ndarray::Array2<f64> = npz.by_name("obs.agent_0").unwrap();

@@ -22,6 +22,10 @@ pub struct ResolvedSpec {
     pub description: String,
     /// The spec file it was read from.
     pub spec_path: PathBuf,
+    /// Every file read to make it (the spec first, then its model, includes, meshes), with the
+    /// hash of the bytes read: what a dataset records of the spec that made it. Empty for a spec
+    /// not opened from files (a typed env's embedded spec).
+    pub inputs: Vec<crate::source::FileRead>,
     /// `[env] reward_threshold` (Gymnasium's `EnvSpec.reward_threshold`).
     pub reward_threshold: Option<f64>,
     /// The Python class that builds the same env (`[env] entry_point`, `module.path:Class`);

@@ -136,6 +136,21 @@ fn open_as(
     kind: Option<Kind>,
     overrides: &[Override],
 ) -> Result<AnySpec, Diagnostics> {
+    let (spec, inputs) = crate::source::recorded(|| read_as(path, kind, overrides));
+    let mut spec = spec?;
+    match &mut spec {
+        AnySpec::Task(s) => s.inputs = inputs,
+        AnySpec::Maze(m) => m.inputs = inputs,
+        AnySpec::Agents(_) => {}
+    }
+    Ok(spec)
+}
+
+fn read_as(
+    path: &Path,
+    kind: Option<Kind>,
+    overrides: &[Override],
+) -> Result<AnySpec, Diagnostics> {
     let doc = Document::read(path)?;
     Ok(match kind.unwrap_or(doc.kind) {
         Kind::Task => {

@@ -197,6 +197,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         id: spec.id.clone(),
         description: spec.description.clone(),
         spec_path: spec.path().to_path_buf(),
+        inputs: vec![],
         reward_threshold: spec.reward_threshold,
         entry_point: spec.entry_point.clone(),
         params: params.clone(),
@@ -458,8 +459,10 @@ fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>
 
 /// Load, check and resolve a spec file in one call.
 pub fn load(path: &Path, overrides: &[Override]) -> Result<ResolvedSpec, Diagnostics> {
-    let spec = Spec::load(path)?;
-    resolve(&spec, overrides)
+    let (spec, inputs) = crate::source::recorded(|| resolve(&Spec::load(path)?, overrides));
+    let mut spec = spec?;
+    spec.inputs = inputs;
+    Ok(spec)
 }
 
 impl Ctx<'_> {

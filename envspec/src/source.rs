@@ -114,8 +114,36 @@ impl Reader {
     }
 }
 
+/// Run `f` recording every file it reads, under the installed reader's mounts, and return them
+/// with its result (also recorded by the installed reader, as if read directly). What a spec
+/// records about its inputs (`ResolvedSpec::inputs`) comes from here.
+pub fn recorded<T>(f: impl FnOnce() -> T) -> (T, Vec<FileRead>) {
+    let mounts = CURRENT.with(|c| {
+        c.borrow()
+            .as_ref()
+            .map(|r| r.mounts.clone())
+            .unwrap_or_default()
+    });
+    let mut inner = Reader {
+        mounts,
+        record: vec![],
+    };
+    let out = inner.run(f);
+    CURRENT.with(|c| {
+        if let Some(outer) = c.borrow_mut().as_mut() {
+            for r in &inner.record {
+                match outer.record.iter_mut().find(|o| o.path == r.path) {
+                    Some(o) => o.hash = r.hash.or(o.hash),
+                    None => outer.record.push(r.clone()),
+                }
+            }
+        }
+    });
+    (out, inner.record)
+}
+
 /// FNV-1a, 64 bits: a stable fingerprint of a file's bytes (not a security hash).
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
         (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
     })

@@ -30,7 +30,7 @@ def _bundle_root() -> str | None:
 
 if (_root := _bundle_root()) is not None:
     _envc.set_bundle_root(_root)
-from ._datasets import collect
+from ._datasets import collect, recover_environment
 from ._errors import (
     ActionError,
     ArgumentError,
@@ -44,7 +44,7 @@ from ._errors import (
     SpecError,
     UnknownParameterError,
 )
-from ._gym import EnvcEnv, make, overrides_to_toml
+from ._gym import DatasetWarning, EnvcEnv, make, overrides_to_toml
 from ._registry import bundled_ids, register, register_all
 from ._vector import EnvcVectorEnv, make_vec
 
@@ -52,6 +52,7 @@ __all__ = [
     "ActionError",
     "ArgumentError",
     "DatasetError",
+    "DatasetWarning",
     "Error",
     "InternalError",
     "KindError",
@@ -70,6 +71,7 @@ __all__ = [
     "make_vec",
     "overrides_to_toml",
     "parallel_env",
+    "recover_environment",
     "register",
 ]
 __version__: str = _envc.__version__

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import json
 import os
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -100,3 +102,107 @@ def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:
     max_steps = rest.pop("max_episode_steps", base.max_episode_steps)
     kwargs = {**base.kwargs, **rest}
     return dataclasses.replace(base, kwargs=kwargs, max_episode_steps=max_steps).to_json()
+
+
+_ENTRY = {"task": "envc._gym:EnvcEnv", "maze": "envc._maze:EnvcMazeEnv"}
+
+
+def recover_environment(
+    dataset: Any,
+    *,
+    accept_changed_spec: bool = False,
+    refuse_other_mujoco: bool = False,
+    use_recorded_spec: bool = False,
+    **kwargs: Any,
+):
+    """The envc env that made a dataset, from what the dataset carries (``envc_provenance``).
+
+    ``dataset`` is a ``minari.MinariDataset``, a dataset directory, or a dataset id under
+    ``$MINARI_DATASETS_PATH`` (else ``~/.minari/datasets``). The spec is the one recorded: found
+    at its recorded id or path and unchanged, or rebuilt from the dataset's copy when it is no
+    longer there. A spec found there but changed is ``envc.DatasetError`` E1212, unless
+    ``accept_changed_spec`` (then ``envc.DatasetWarning`` W1212) or ``use_recorded_spec`` (the
+    dataset's own copy, wherever a spec is found); another MuJoCo version than the
+    dataset's warns W1214, or is E1214 with ``refuse_other_mujoco``. The stored parameters and
+    time limit apply; ``kwargs`` (parameters, ``render_mode``) are added. Unlike Minari's
+    ``recover_environment``, this gives envc's env also for datasets naming the reference class.
+    Datasets without a record (older ones) open the spec their env spec names.
+    """
+    import gymnasium as gym
+
+    meta = _metadata(dataset)
+    text = meta.get("env_spec")
+    stored = json.loads(text) if isinstance(text, str) else {}
+    prov = meta.get("envc_provenance")
+    params = {
+        k: v
+        for k, v in stored.get("kwargs", {}).items()
+        if k not in ("spec_id", "envc_provenance")
+    }
+    entry = stored.get("entry_point", "")
+    if prov is not None:
+        spec_id, entry = prov.get("spec"), _ENTRY.get(prov.get("kind"), "envc._gym:EnvcEnv")
+    else:
+        # An older dataset: the spec its env spec names, checked against nothing.
+        spec_id = stored.get("kwargs", {}).get("spec_id") or str(stored.get("id", ""))
+        spec_id = spec_id.removeprefix("envc/")
+        if not entry.startswith("envc."):
+            entry = "envc._gym:EnvcEnv"
+        _warn_other_mujoco(meta, refuse_other_mujoco)
+    if not spec_id:
+        raise _errors.coded(
+            "error[E1213]: the dataset stores neither envc_provenance nor an env spec; "
+            "nothing names the env that made it",
+            "E1213",
+        )
+    env_spec = gym.envs.registration.EnvSpec(
+        id=f"envc/{str(stored.get('id', spec_id)).removeprefix('envc/')}",
+        entry_point=entry,
+        max_episode_steps=stored.get("max_episode_steps"),
+        kwargs={"spec_id": spec_id, "envc_provenance": prov, **params},
+    )
+    return gym.make(
+        env_spec,
+        accept_changed_spec=accept_changed_spec,
+        refuse_other_mujoco=refuse_other_mujoco,
+        use_recorded_spec=use_recorded_spec,
+        **kwargs,
+    )
+
+
+def _warn_other_mujoco(meta: dict, refuse: bool) -> None:
+    recorded = meta.get("mujoco_version")
+    running = _envc.__mujoco_version__
+    if recorded is None or recorded == running:
+        return
+    msg = (
+        f"dataset `{meta.get('dataset_id')}` was made with MuJoCo {recorded}; this process runs "
+        f"MuJoCo {running}"
+    )
+    if refuse:
+        raise _errors.coded(f"error[E1214]: {msg} (refused: `refuse_other_mujoco`)", "E1214")
+    import warnings
+
+    from ._gym import DatasetWarning
+
+    warnings.warn(
+        DatasetWarning(f"warning[W1214]: {msg}, so replayed episodes may differ", "W1214"),
+        stacklevel=3,
+    )
+
+
+def _metadata(dataset: Any) -> dict:
+    """A dataset's ``metadata.json``: of a ``MinariDataset``, a directory or an id."""
+    storage = getattr(dataset, "storage", None)
+    if storage is not None:
+        return dict(storage.metadata)
+    p = Path(os.fspath(dataset))
+    if not p.is_dir():
+        root = os.environ.get("MINARI_DATASETS_PATH") or Path.home() / ".minari" / "datasets"
+        p = Path(root) / p
+    for f in (p / "data" / "metadata.json", p / "metadata.json"):
+        if f.is_file():
+            return json.loads(f.read_text())
+    raise _errors.coded(
+        f"error[E1204]: {p}: not a readable Minari dataset: no metadata.json", "E1204"
+    )

@@ -18,6 +18,7 @@ __all__ = [
     "spec_path_problems",
     "set_bundle_root",
     "bundle_root",
+    "recover_spec",
     "collect",
     "collect_shard",
     "build_dataset",
@@ -56,6 +57,15 @@ def registry(
 
 def spec_path_problems() -> list[str]:
     """The problems of `ENVC_SPEC_PATH`: the entries left out of the registry."""
+
+def recover_spec(
+    dataset_id: str,
+    provenance: str,
+    accept_changed_spec: bool = ...,
+    refuse_other_mujoco: bool = ...,
+    use_recorded_spec: bool = ...,
+) -> tuple[str, list[str]]:
+    """The spec to open for a dataset's `envc_provenance` (JSON text): `(id or path, warnings)`."""
 
 def describe(
     id_or_path: str, overrides: list[tuple[str, str]] = ...

@@ -159,6 +159,41 @@ def goal_batches(
     return ra, rd, a.shape[:-1]
 
 
+class DatasetWarning(UserWarning):
+    """A coded warning about a dataset's provenance (W1212, W1214; docs/errors.md): ``.code``."""
+
+    def __init__(self, message: str, code: str | None = None):
+        super().__init__(message)
+        self.code = code
+
+
+def recovered_spec(
+    spec_id: str,
+    provenance: dict | None,
+    accept_changed_spec: bool = False,
+    refuse_other_mujoco: bool = False,
+    use_recorded_spec: bool = False,
+) -> str:
+    """The spec a dataset's env creator opens: ``spec_id`` when the dataset carries no
+    ``envc_provenance`` (an older dataset), else what the record says (docs/datasets.md,
+    "What made a dataset"), warning with a code where it had to compromise."""
+    if provenance is None:
+        return spec_id
+    import warnings
+
+    target, notes = _envc.recover_spec(
+        str(provenance.get("dataset_id", "")),
+        json.dumps(provenance),
+        bool(accept_changed_spec),
+        bool(refuse_other_mujoco),
+        bool(use_recorded_spec),
+    )
+    for note in notes:
+        code = note[note.find("[") + 1 : note.find("]")] if note.startswith("warning[") else None
+        warnings.warn(DatasetWarning(note, code), stacklevel=3)
+    return target
+
+
 def _fps(dt: float) -> int:
     return int(np.round(1.0 / dt))
 
@@ -178,7 +213,21 @@ class EnvcEnv(gym.Env):
     # Class-level, for gymnasium.make's render-mode check; instances add their render_fps.
     metadata = {"render_modes": list(RENDER_MODES)}
 
-    def __init__(self, spec_id: str, render_mode: str | None = None, **overrides: Any):
+    def __init__(
+        self,
+        spec_id: str,
+        render_mode: str | None = None,
+        envc_provenance: dict | None = None,
+        accept_changed_spec: bool = False,
+        refuse_other_mujoco: bool = False,
+        use_recorded_spec: bool = False,
+        **overrides: Any,
+    ):
+        # A dataset's env spec carries what made it; `recover_environment(accept_changed_spec=...)`
+        # passes the options through.
+        spec_id = recovered_spec(
+            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco, use_recorded_spec
+        )
         check_render_mode(render_mode)
         overrides = render_overrides(overrides)
         pairs = overrides_to_toml(overrides)

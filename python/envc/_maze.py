@@ -21,6 +21,7 @@ from ._gym import (
     goal_batches,
     reference_seed,
     overrides_to_toml,
+    recovered_spec,
     render_overrides,
 )
 
@@ -86,8 +87,15 @@ class EnvcMazeEnv(_Base):
         spec_id: str,
         render_mode: str | None = None,
         maze_map: list | None = None,
+        envc_provenance: dict | None = None,
+        accept_changed_spec: bool = False,
+        refuse_other_mujoco: bool = False,
+        use_recorded_spec: bool = False,
         **overrides: Any,
     ):
+        spec_id = recovered_spec(
+            spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco, use_recorded_spec
+        )
         check_render_mode(render_mode)
         overrides = render_overrides(overrides)
         if maze_map is not None:

@@ -133,6 +133,34 @@ fn spec_path_problems() -> Vec<String> {
         .collect()
 }
 
+/// The spec to open for a dataset's `envc_provenance` (JSON text): `(id or path, warnings)`.
+/// The spec at the recorded place when it is unchanged (E1212 when it changed, unless
+/// `accept_changed_spec`: W1212), else (or with `use_recorded_spec`) a copy written from the
+/// record (E1213 when it cannot be);
+/// another MuJoCo version warns (W1214) or, with `refuse_other_mujoco`, is E1214.
+#[pyfunction]
+#[pyo3(signature = (dataset_id, provenance, accept_changed_spec = false, refuse_other_mujoco = false, use_recorded_spec = false))]
+fn recover_spec(
+    dataset_id: &str,
+    provenance: &str,
+    accept_changed_spec: bool,
+    refuse_other_mujoco: bool,
+    use_recorded_spec: bool,
+) -> PyResult<(String, Vec<String>)> {
+    let record: serde_json::Value = serde_json::from_str(provenance).map_err(|e| {
+        errors::dataset_error(envc::dataset::DatasetError::Provenance {
+            why: format!("envc_provenance is not JSON: {e}"),
+        })
+    })?;
+    let opts = envc::dataset::RecoverOptions {
+        accept_changed_spec,
+        refuse_other_mujoco,
+        use_recorded_spec,
+    };
+    let r = envc::dataset::recover(dataset_id, &record, opts).map_err(errors::dataset_error)?;
+    Ok((r.target, r.warnings))
+}
+
 /// Names the directory holding the bundled `specs/` and `assets/` (the package's data). Only
 /// before the first lookup; returns whether it took effect.
 #[pyfunction]
@@ -164,6 +192,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(register, m)?)?;
     m.add_function(wrap_pyfunction!(spec_path_problems, m)?)?;
     m.add_function(wrap_pyfunction!(set_bundle_root, m)?)?;
+    m.add_function(wrap_pyfunction!(recover_spec, m)?)?;
     m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;

@@ -60,6 +60,19 @@ pub(crate) fn parse(path: &Path) -> Result<MjSpec, String> {
 /// Compile an mjSpec; MuJoCo's message on failure. The model is byte for byte what
 /// `MjSpec::compile` makes (the shim moves mj_compile's result into a model mujoco-rs owns).
 pub(crate) fn compile(spec: &mut MjSpec) -> Result<MjModel, String> {
+    // `<compiler settotalmass>` is deprecated in MuJoCo: envc applies it (`total_mass`).
+    let Some(taken) = crate::total_mass::take(spec) else {
+        return compile_as_is(spec);
+    };
+    let compiled = compile_as_is(spec);
+    crate::total_mass::restore(spec, &taken);
+    let mut model = compiled?;
+    crate::total_mass::apply(spec, &mut model, &taken)?;
+    Ok(model)
+}
+
+/// [`compile`] of the spec exactly as it is.
+fn compile_as_is(spec: &mut MjSpec) -> Result<MjModel, String> {
     crate::mujoco_log::install();
     // An empty model owned by mujoco-rs, whose contents the shim replaces.
     let mut model = MjSpec::new().compile().map_err(|e| e.to_string())?;

@@ -16,6 +16,7 @@ import subprocess
 import sys
 import tempfile
 
+import mujoco
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -112,6 +113,12 @@ def main():
             failures += 1
             continue
         ours = dict(np.load(t_path))
+        # What made the file, not part of the trajectory: the MuJoCo it ran on is the reference's.
+        made_with = bytes(ours.pop("mujoco_version")).decode()
+        ours.pop("envc_version")
+        if made_with != mujoco.__version__:
+            print(f"FAIL {env_id}: the file records MuJoCo {made_with}, the reference runs {mujoco.__version__}")
+            failures += 1
         ref = reference(gym, env_id, {k: v for k, (_, v) in overrides.items()}, seed, actions, auto_reset)
         problems = []
         if sorted(ours) != sorted(ref):

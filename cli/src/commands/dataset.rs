@@ -218,6 +218,19 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
             |p| format!("{p} (replay with --numerics {p})")
         )
     );
+    println!(
+        "  made with         MuJoCo {}, envc {}",
+        ds.mujoco_version().unwrap_or("(not recorded)"),
+        text("envc_version").unwrap_or_else(|| "(not recorded)".into())
+    );
+    if let Some(p) = ds.provenance() {
+        let files = p
+            .get("files")
+            .and_then(|f| f.as_array())
+            .map_or(0, Vec::len);
+        let spec = p.get("spec").and_then(|s| s.as_str()).unwrap_or("?");
+        println!("  spec              {spec} ({files} files recorded)");
+    }
     for (label, key) in [
         ("size (MB)", "dataset_size"),
         ("author", "author"),

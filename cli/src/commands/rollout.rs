@@ -221,6 +221,11 @@ pub(crate) fn roll<T: Trajectory>(
     npz.add_array("reward", &Array1::from(reward))?;
     npz.add_array("terminated", &Array1::from(terminated))?;
     npz.add_array("truncated", &Array1::from(truncated))?;
+    // What made the file, as UTF-8 bytes (`bytes(z["mujoco_version"]).decode()`): the loaded
+    // MuJoCo library's `mj_versionString` and envc's version.
+    let text = |s: &str| Array1::from(s.as_bytes().to_vec());
+    npz.add_array("mujoco_version", &text(&envc::mujoco_version()))?;
+    npz.add_array("envc_version", &text(env!("CARGO_PKG_VERSION")))?;
     let name = rec.describe(env);
     rec.write_rest(&mut npz, env, auto_reset)?;
     dest.commit(npz.finish()?)?;

@@ -68,6 +68,9 @@ pub struct MazeSpec {
     pub id: String,
     /// The maze file.
     pub path: PathBuf,
+    /// Every file read to make it (the maze, its map, the robot's spec and model), with hashes:
+    /// as [`crate::ResolvedSpec::inputs`].
+    pub inputs: Vec<crate::source::FileRead>,
     /// The robot task spec (resolved path).
     pub robot: PathBuf,
     /// Overrides for the robot spec (`robot_params`, then robot parameters given to the maze).

@@ -165,6 +165,7 @@ pub fn from_document(
     r.d.into_result(MazeSpec {
         id,
         path: file.path.clone(),
+        inputs: vec![],
         robot,
         robot_overrides: base_overrides,
         grid,

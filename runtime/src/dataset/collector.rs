@@ -162,6 +162,16 @@ impl<E: Recordable> Collector<E> {
         if options.info.env_spec.is_none() {
             options.info.env_spec = env.env_spec();
         }
+        if options.info.provenance.is_none() {
+            options.info.provenance = env.provenance().transpose()?;
+            if let Some(serde_json::Value::Object(p)) = &mut options.info.provenance {
+                p.insert("dataset_id".into(), options.dataset_id.clone().into());
+            }
+        }
+        // envc's own env creator checks the record when Minari's `recover_environment` calls it.
+        if let (Some(spec), Some(p)) = (&options.info.env_spec, &options.info.provenance) {
+            options.info.env_spec = Some(super::gym_spec::with_provenance(spec, p));
+        }
         if options.info.env_spec.is_some() && options.info.requirements.is_empty() {
             options.info.requirements =
                 vec!["gymnasium[mujoco]==1.4.0".into(), "mujoco==3.17.0".into()];

@@ -149,6 +149,36 @@ pub enum DatasetError {
         /// What is wrong.
         why: String,
     },
+    /// The spec found at the recorded id or path is not the one that made the dataset (E1212).
+    #[error(
+        "error[E1212]: the spec `{spec}` differs from the one dataset `{dataset}` was recorded with: {changes}; recover with the dataset's own copy (`use_recorded_spec`), or accept the current one (`accept_changed_spec`)"
+    )]
+    SpecChanged {
+        /// The dataset's id.
+        dataset: String,
+        /// The recorded id or path.
+        spec: String,
+        /// Each file that changed or is gone, with how.
+        changes: String,
+    },
+    /// The spec recorded in the dataset cannot be recorded or rebuilt (E1213).
+    #[error("error[E1213]: {why}")]
+    Provenance {
+        /// What is missing or wrong.
+        why: String,
+    },
+    /// Refused: the dataset was made with another MuJoCo version (E1214).
+    #[error(
+        "error[E1214]: dataset `{dataset}` was made with MuJoCo {recorded}; this process runs MuJoCo {running}, so its physics may differ (refused: `refuse_other_mujoco`)"
+    )]
+    OtherMujoco {
+        /// The dataset's id.
+        dataset: String,
+        /// The version recorded.
+        recorded: String,
+        /// The loaded library's.
+        running: String,
+    },
     /// The env failed during collection (its own code, e.g. E1102 for a NaN action).
     #[error("{0}")]
     Env(#[from] EnvError),
@@ -169,6 +199,9 @@ impl DatasetError {
             DatasetError::StagingLost { .. } => "E1209".into(),
             DatasetError::Unverified { .. } => "E1210".into(),
             DatasetError::DiskTooSmall { .. } => "E1211".into(),
+            DatasetError::SpecChanged { .. } => "E1212".into(),
+            DatasetError::Provenance { .. } => "E1213".into(),
+            DatasetError::OtherMujoco { .. } => "E1214".into(),
             DatasetError::EpisodeTooLong { .. } => "E1402".into(),
             DatasetError::ShardMissing { .. } => "E1600".into(),
             DatasetError::PolicyFailed { .. } => "E1601".into(),

@@ -69,6 +69,28 @@ pub fn envc_spec_arg(id: &str, path: &std::path::Path) -> String {
     }
 }
 
+/// `env_spec` with `envc_provenance` added to its kwargs when it names one of envc's own env
+/// classes (which check it); a reference class (Gymnasium's) would refuse the keyword, so its
+/// spec is left as it is. The text is Gymnasium's `to_json()` or ours: its first `"kwargs": {` is
+/// the top-level key (string values escape their quotes, and no earlier value is an object).
+pub(crate) fn with_provenance(env_spec: &str, provenance: &serde_json::Value) -> String {
+    const KWARGS: &str = "\"kwargs\": {";
+    let envc = env_spec.contains("\"entry_point\": \"envc.");
+    match (envc, env_spec.find(KWARGS)) {
+        (true, Some(at)) => {
+            let at = at + KWARGS.len();
+            let empty = env_spec[at..].starts_with('}');
+            let sep = if empty { "" } else { ", " };
+            format!(
+                "{}\"envc_provenance\": {provenance}{sep}{}",
+                &env_spec[..at],
+                &env_spec[at..]
+            )
+        }
+        _ => env_spec.to_string(),
+    }
+}
+
 /// The envc registration of a task spec without `[env] entry_point`.
 pub fn envc_task_env_spec_json(spec: &ResolvedSpec) -> Result<String, String> {
     let mut kwargs = vec![];

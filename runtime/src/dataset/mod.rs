@@ -35,6 +35,7 @@ mod id;
 mod json;
 mod mlp;
 mod plan;
+mod provenance;
 mod reader;
 mod recordable;
 mod shard;
@@ -55,6 +56,7 @@ pub use plan::{
     EpisodePolicy, Plan, PlanActor, PlanPolicy, Recording, default_description, episode_rng,
     episode_seed, record, record_shard, record_with,
 };
+pub use provenance::{RecoverOptions, RecoveredSpec, recover};
 pub use reader::Dataset;
 pub use recordable::Recordable;
 pub use shard::ShardEpisode;

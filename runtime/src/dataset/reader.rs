@@ -170,6 +170,80 @@ impl Dataset {
         crate::numerics::Profile::parse(self.metadata.get("envc_numerics")?.as_str()?)
     }
 
+    /// The MuJoCo version the dataset was made with (`mujoco_version`; absent in datasets of an
+    /// older envc and in Python `DataCollector`'s).
+    pub fn mujoco_version(&self) -> Option<&str> {
+        self.metadata.get("mujoco_version")?.as_str()
+    }
+
+    /// What made the dataset (`envc_provenance`: the spec's files, their hashes, the versions);
+    /// absent in datasets of an older envc and in Python `DataCollector`'s.
+    pub fn provenance(&self) -> Option<&Value> {
+        self.metadata.get("envc_provenance")
+    }
+
+    /// The env that made the dataset, as [`super::recover`] finds its spec (E1212 when the spec at
+    /// the recorded id or path changed, E1213 when the record cannot be rebuilt), with the stored
+    /// parameters and time limit, and the coded warnings (W1212, W1214). A dataset without a
+    /// record opens the spec its env spec names (`spec_id`, else its id), as it did before.
+    pub fn recover(
+        &self,
+        opts: super::RecoverOptions,
+    ) -> Result<(crate::AnyEnv, Vec<String>), DatasetError> {
+        let (target, warnings) = match self.provenance() {
+            Some(p) => {
+                let r = super::recover(&self.dataset_id, p, opts)?;
+                (r.target, r.warnings)
+            }
+            None => {
+                let mut w = vec![];
+                super::provenance::check_mujoco(
+                    &self.dataset_id,
+                    self.mujoco_version(),
+                    opts,
+                    &mut w,
+                )?;
+                (self.stored_spec_arg()?, w)
+            }
+        };
+        let overrides = self.stored_overrides();
+        Ok((crate::open(&target, &overrides)?, warnings))
+    }
+
+    /// What an env spec without a record names: envc's `spec_id`, else the reference id.
+    fn stored_spec_arg(&self) -> Result<String, DatasetError> {
+        let spec = self.env_spec.as_ref();
+        let arg = spec
+            .and_then(|s| s.get("kwargs")?.get("spec_id")?.as_str())
+            .or_else(|| spec?.get("id")?.as_str())
+            .ok_or_else(|| DatasetError::Provenance {
+                why: format!(
+                    "dataset `{}` stores neither envc_provenance nor an env spec; nothing names the env that made it",
+                    self.dataset_id
+                ),
+            })?;
+        Ok(arg.strip_prefix("envc/").unwrap_or(arg).to_string())
+    }
+
+    /// The env spec's kwargs and time limit as overrides.
+    fn stored_overrides(&self) -> Vec<envspec::Override> {
+        let Some(spec) = self.env_spec.as_ref() else {
+            return vec![];
+        };
+        let mut out: Vec<envspec::Override> = spec
+            .get("kwargs")
+            .and_then(Value::as_object)
+            .into_iter()
+            .flatten()
+            .filter(|(k, _)| !matches!(k.as_str(), "spec_id" | "envc_provenance"))
+            .filter_map(|(k, v)| Some(envspec::Override::text(k, &toml_text(v)?)))
+            .collect();
+        if let Some(n) = spec.get("max_episode_steps").and_then(Value::as_u64) {
+            out.push(envspec::Override::text("max_episode_steps", &n.to_string()));
+        }
+        out
+    }
+
     /// The env id in the stored env spec.
     pub fn env_id(&self) -> Option<&str> {
         self.env_spec.as_ref()?.get("id")?.as_str()
@@ -343,5 +417,32 @@ impl Dataset {
     /// Every episode in order, read lazily.
     pub fn episodes(&self) -> impl Iterator<Item = Result<Episode, DatasetError>> + '_ {
         (0..self.total_episodes).map(|i| self.episode(i))
+    }
+}
+
+/// A stored kwarg as TOML text (Python's `Infinity` markers included); tables are not stored.
+fn toml_text(v: &Value) -> Option<String> {
+    Some(match v {
+        Value::Bool(b) => b.to_string(),
+        Value::Number(n) if n.is_i64() || n.is_u64() => n.to_string(),
+        Value::Array(a) => {
+            let items: Option<Vec<String>> = a.iter().map(toml_text).collect();
+            format!("[{}]", items?.join(", "))
+        }
+        Value::String(s) => match super::json::number(v) {
+            Some(x) => float_text(x),
+            None => Value::String(s.clone()).to_string(),
+        },
+        _ => float_text(super::json::number(v)?),
+    })
+}
+
+fn float_text(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf".into() } else { "-inf".into() }
+    } else {
+        format!("{x:?}")
     }
 }

@@ -4,7 +4,9 @@
 //! does not, as Minari datasets are single-agent.
 
 use super::episode::InfoColumn;
+use super::error::DatasetError;
 use super::gym_spec::{env_spec_json, envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json};
+use super::provenance;
 use super::space::{Dtype, Space};
 use crate::environment::Environment;
 use crate::error::EnvError;
@@ -22,6 +24,9 @@ pub trait Recordable: JointEnv {
     fn info_columns(&self) -> Vec<InfoColumn>;
     /// Gymnasium `EnvSpec` JSON, when the env has a Gymnasium counterpart.
     fn env_spec(&self) -> Option<String>;
+    /// What made the env (`envc_provenance`), when it was opened from files; an error when they
+    /// cannot be recorded as they were read.
+    fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>>;
     /// The observation the policy acts on.
     fn policy_obs(&self) -> &Self::Obs;
     /// `reset(seed)`; appends the observation row to `obs` and one value per info column.
@@ -90,6 +95,13 @@ impl<E: Environment> Recordable for E {
             Some(_) => env_spec_json(spec).ok(),
             None => envc_task_env_spec_json(spec).ok(),
         }
+    }
+    fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>> {
+        let spec = self.spec();
+        (!spec.inputs.is_empty()).then(|| {
+            let arg = envc_spec_arg(&spec.id, &spec.spec_path);
+            provenance::record("task", &arg, &spec.spec_path, &spec.inputs)
+        })
     }
     fn policy_obs(&self) -> &[f64] {
         Environment::obs(self)
@@ -174,6 +186,21 @@ impl Recordable for MazeEnv {
             m.max_episode_steps,
             vec![],
         ))
+    }
+    /// The maze's files, then its robot's.
+    fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>> {
+        let m = self.spec();
+        if m.inputs.is_empty() {
+            return None;
+        }
+        let mut inputs = m.inputs.clone();
+        for f in &self.robot().spec().inputs {
+            if !inputs.iter().any(|i| i.path == f.path) {
+                inputs.push(f.clone());
+            }
+        }
+        let arg = envc_spec_arg(&m.id, &m.path);
+        Some(provenance::record("maze", &arg, &m.path, &inputs))
     }
     fn policy_obs(&self) -> &MazeObs {
         self.obs()

@@ -45,6 +45,9 @@ pub struct DatasetInfo {
     pub eval_env_spec: Option<String>,
     /// Minari's `ref_min_score`, `ref_max_score`, `num_episodes_average_score`.
     pub reference_scores: Option<super::RefScores>,
+    /// What made the dataset (`envc_provenance`: the spec's files and hashes, the versions);
+    /// see `dataset::provenance`.
+    pub provenance: Option<Value>,
 }
 
 enum Backend {
@@ -458,8 +461,12 @@ impl DatasetWriter {
         if let Some(p) = &self.info.numerics {
             m.insert("envc_numerics".into(), json!(p));
         }
+        if let Some(p) = &self.info.provenance {
+            m.insert("envc_provenance".into(), p.clone());
+        }
         m.insert("minari_version".into(), json!(MINARI_VERSION));
         m.insert("envc_version".into(), json!(env!("CARGO_PKG_VERSION")));
+        m.insert("mujoco_version".into(), json!(crate::mujoco_version()));
         m.retain(|_, v| !v.is_null());
         let meta_path = self.data.join("metadata.json");
         let text = serde_json::to_string(&Value::Object(m)).map_err(|e| DatasetError::Write {
