@@ -1,8 +1,8 @@
-//! docs/tutorial.md runs as written: its `LANG file=NAME` blocks (TOML, MJCF) are written (or, with `append`,
-//! appended) into a fresh directory and its `sh` blocks run there, in page order, with `envc` on
-//! the PATH and `ENVC_REPO` set (no block needs it: the page is followable from the wheel). Blocks marked `no-test` (a cargo build, Python) are checked
-//! elsewhere (scripts/test.sh, tests/python).
-
+//! docs/tutorial.md runs as written: its `LANG file=NAME` blocks (TOML, MJCF, URDF) are written (or,
+//! with `append`, appended) into a fresh directory and its `sh` blocks run there, in page order,
+//! with `envc` on the PATH and `ENVC_REPO` set (no block needs it: a wheel user follows the page
+//! as is). Blocks marked `no-test` (a cargo build, Python) are checked elsewhere (scripts/test.sh,
+//! tests/python).
 use std::path::Path;
 use std::process::Command;
 
