@@ -3,6 +3,7 @@
 //! with `envc` on the PATH and `ENVC_REPO` set (no block needs it: a wheel user follows the page
 //! as is). Blocks marked `no-test` (a cargo build, Python) are checked elsewhere (scripts/test.sh,
 //! tests/python).
+
 use std::path::Path;
 use std::process::Command;
 
