@@ -61,6 +61,7 @@ fn check_reports_problems_with_status_1() {
         envc(&["check", "Ant-v5", "Hopper-v5"]).status.code(),
         Some(0)
     );
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -112,4 +113,5 @@ fn rollout_rejects_actions_of_the_wrong_width() {
         "{}",
         stderr(&o)
     );
+    std::fs::remove_dir_all(&dir).ok();
 }
