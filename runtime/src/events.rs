@@ -309,7 +309,7 @@ impl Events {
             }
         }
         for (b, angles) in &mut self.euler {
-            let q = euler2quat(*angles);
+            let q = crate::manipulation::euler2quat(*angles);
             for (j, &x) in q.iter().enumerate() {
                 t.m.set(Arr::BodyQuat, 4 * *b + j, x);
             }
@@ -410,22 +410,6 @@ impl Events {
             }
         }
     }
-}
-
-/// Gymnasium-Robotics' `rotations.euler2quat` of angles (x, y, z): glibc's `sin` and `cos` (numpy
-/// calls them for float64), halves and products in its order; (w, x, y, z).
-fn euler2quat(e: [f64; 3]) -> [f64; 4] {
-    let (ai, aj, ak) = (e[2] / 2.0, -e[1] / 2.0, e[0] / 2.0);
-    let (si, sj, sk) = (ai.sin(), aj.sin(), ak.sin());
-    let (ci, cj, ck) = (ai.cos(), aj.cos(), ak.cos());
-    let (cc, cs) = (ci * ck, ci * sk);
-    let (sc, ss) = (si * ck, si * sk);
-    [
-        cj * cc + sj * ss,
-        cj * cs - sj * sc,
-        -(cj * ss + sj * cc),
-        cj * sc - sj * cs,
-    ]
 }
 
 /// The id of geom `name` in the compiled model (E1120 if MuJoCo has none of that name).

@@ -403,30 +403,7 @@ pub(crate) fn mat2euler(m: &[f64; 9], profile: Profile) -> [f64; 3] {
 
 /// Gymnasium-Robotics' `rotations.quat2euler`: `mat2euler(quat2mat(q))`.
 pub(crate) fn quat2euler(q: [f64; 4], profile: Profile) -> [f64; 3] {
-    let [w, x, y, z] = q;
-    // np.sum(quat * quat, axis=-1): numpy's pairwise sum of the squares.
-    let nq = numerics::pairwise_sum(4, &|k| q[k] * q[k]);
-    let m = if nq > f64::EPSILON {
-        let s = 2.0 / nq;
-        let (xs, ys, zs) = (x * s, y * s, z * s);
-        let (wx, wy, wz) = (w * xs, w * ys, w * zs);
-        let (xx, xy, xz) = (x * xs, x * ys, x * zs);
-        let (yy, yz, zz) = (y * ys, y * zs, z * zs);
-        [
-            1.0 - (yy + zz),
-            xy - wz,
-            xz + wy,
-            xy + wz,
-            1.0 - (xx + zz),
-            yz - wx,
-            xz - wy,
-            yz + wx,
-            1.0 - (xx + yy),
-        ]
-    } else {
-        [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-    };
-    mat2euler(&m, profile)
+    mat2euler(&quat2mat(&q), profile)
 }
 
 /// Gymnasium-Robotics' `rotations.euler2quat` (glibc's `sin` and `cos`, as numpy's float64).
