@@ -7,29 +7,12 @@
 //! replays under the numerics profile it was recorded with. `ENVC_ADROIT_DIR=<dir>` replays a
 //! fresh recording instead (the test command's live lane records one under a new seed).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use envc::{AnyEnv, Env};
+use envc::Env;
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn unhex(v: &Value) -> Vec<f64> {
-    envc_tests::unhex(v.as_str().unwrap())
-}
-
-fn bits(a: &[f64]) -> Vec<u64> {
-    a.iter().map(|x| x.to_bits()).collect()
-}
-
-fn open(id: &str) -> Env {
-    match envc::open(id, &[]).unwrap() {
-        AnyEnv::Task(e) => e,
-        _ => panic!("{id} is not a task"),
-    }
-}
+use crate::fetch::{bits, open, root, unhex};
 
 fn replay(id: &str) {
     let dir = std::env::var_os("ENVC_ADROIT_DIR").map_or_else(

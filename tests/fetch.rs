@@ -13,15 +13,15 @@ use std::path::{Path, PathBuf};
 use envc::{AnyEnv, Env};
 use serde_json::Value;
 
-fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn unhex(v: &Value) -> Vec<f64> {
+pub(crate) fn unhex(v: &Value) -> Vec<f64> {
     envc_tests::unhex(v.as_str().unwrap())
 }
 
-fn bits(a: &[f64]) -> Vec<u64> {
+pub(crate) fn bits(a: &[f64]) -> Vec<u64> {
     a.iter().map(|x| x.to_bits()).collect()
 }
 
@@ -36,7 +36,7 @@ const IDS: [&str; 8] = [
     "FetchPickAndPlaceDense-v4",
 ];
 
-fn open(id: &str) -> Env {
+pub(crate) fn open(id: &str) -> Env {
     match envc::open(id, &[]).unwrap() {
         AnyEnv::Task(e) => e,
         _ => panic!("{id} is not a task"),

@@ -61,17 +61,22 @@ fn hand_manipulate_touch_sensors() {
     }
 }
 
-/// Mistakes in the hand manipulation tables are located, coded errors before anything runs.
-#[test]
-fn hostile_hand_tables_are_coded_errors() {
-    use envc::envspec::Code;
+/// `manipulate.toml` with its model paths made absolute (to be written elsewhere).
+fn manipulate_spec() -> String {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let text = std::fs::read_to_string(root.join("specs/robotics/hand/manipulate.toml"))
+    std::fs::read_to_string(root.join("specs/robotics/hand/manipulate.toml"))
         .unwrap()
         .replace(
             "\"../../../assets/",
             &format!("\"{}/assets/", root.display()),
-        );
+        )
+}
+
+/// Mistakes in the hand manipulation tables are located, coded errors before anything runs.
+#[test]
+fn hostile_hand_tables_are_coded_errors() {
+    use envc::envspec::Code;
+    let text = manipulate_spec();
     let dir = std::env::temp_dir().join(format!("envc-hand-hostile-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for (i, (from, to, code)) in [
@@ -122,13 +127,7 @@ fn hostile_hand_tables_are_coded_errors() {
 /// fails with E1104 naming the step (the reference would loop for ever).
 #[test]
 fn a_settle_check_that_never_holds_is_e1104() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let text = std::fs::read_to_string(root.join("specs/robotics/hand/manipulate.toml"))
-        .unwrap()
-        .replace(
-            "\"../../../assets/",
-            &format!("\"{}/assets/", root.display()),
-        )
+    let text = manipulate_spec()
         .replace("steps = 10", "steps = 1")
         .replace("above = 0.04", "above = 10.0");
     let dir = std::env::temp_dir().join(format!("envc-hand-settle-{}", std::process::id()));
