@@ -108,7 +108,10 @@ fi
 if [ "$(id -u)" = 0 ]; then
   PYTHON="$PY" bash "$ROOT/scripts/install-mujoco.sh" /usr/local >/dev/null
 fi
-[ "$ONLY_MUJOCO" = 1 ] && { echo "envc setup: MuJoCo $MJ_VERSION in $DEST"; exit 0; }
+# MuJoCo 4.0.1 and its bindings beside it (envc's feature `mujoco-4.0.1`): cargo resolves the
+# workspace only when that bindings crate exists, whichever version a build is for.
+bash "$ROOT/scripts/mujoco.sh" 4.0.1 >/dev/null
+[ "$ONLY_MUJOCO" = 1 ] && { echo "envc setup: MuJoCo $MJ_VERSION in $DEST, 4.0.1 in $DEST-4.0.1"; exit 0; }
 
 if ! cmp -s "$REQ" "$STAMP" 2>/dev/null; then
   "$PY" -m pip install -q --disable-pip-version-check -r "$REQ" &

@@ -233,6 +233,40 @@ lane_live() {
 
 }
 
+# MuJoCo 4.0.1 (envc's feature `mujoco-4.0.1`, docs/mujoco-versions.md): the suites recorded per
+# version replayed from their committed 4.0.1 fixtures, then the live cross-checks against
+# Gymnasium, Gymnasium-Robotics and MaMuJoCo running on 4.0.1 under the run's fresh seed.
+lane_mujoco4() {
+  local venv="$ROOT/.venv-mujoco-4.0.1" req="$ROOT/tests/reference/requirements-mujoco-4.0.1.txt"
+  if ! cmp -s "$req" "$venv/.envc-requirements" 2>/dev/null; then
+    [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    cp "$req" "$venv/.envc-requirements"
+  fi
+  local py="$venv/bin/python" out="$LIVE/mujoco-4.0.1"
+  local run=(cargo test -q -p envc-tests --features mujoco-4.0.1 --test integration --)
+  "${run[@]}" --exact parity::every_recorded_case_is_bit_identical \
+    vector::replays_gymnasium_sync_vector_env_bit_for_bit maze::maze_parity \
+    mamujoco::mamujoco_parity adroit::adroit_door adroit::adroit_hammer adroit::adroit_pen \
+    adroit::adroit_relocate
+  passed "MuJoCo 4.0.1: the recorded suites"
+  "$py" tests/reference/record.py --out "$out/parity" --seed "$SEED" --quick --skip-golden >/dev/null
+  "$py" tests/reference/record_vector.py --out "$out/vector" --seed "$SEED" >/dev/null
+  "$py" tests/reference/record_maze.py --out "$out/maze" --seed "$SEED" >/dev/null
+  "$py" tests/reference/record_mamujoco.py --out "$out/mamujoco" --seed "$SEED" --quick >/dev/null
+  "$py" tests/reference/record_robotics.py --out "$out/robotics" --seed "$SEED" >/dev/null
+  "$py" tests/reference/record_adroit.py --out "$out/adroit" --seed "$SEED" >/dev/null
+  ENVC_PARITY_DIR="$out/parity" ENVC_VECTOR_DIR="$out/vector" ENVC_MAZE_DIR="$out/maze" \
+    ENVC_MAMUJOCO_DIR="$out/mamujoco" ENVC_ROBOTICS_DIR="$out/robotics" ENVC_ADROIT_DIR="$out/adroit" \
+    "${run[@]}" --exact parity::every_recorded_case_is_bit_identical \
+    vector::replays_gymnasium_sync_vector_env_bit_for_bit maze::maze_parity mamujoco::mamujoco_parity \
+    adroit::adroit_door adroit::adroit_hammer adroit::adroit_pen adroit::adroit_relocate \
+    fetch::fetch_reach fetch::fetch_push fetch::fetch_slide fetch::fetch_pick_and_place \
+    hand::hand_reach hand::hand_manipulate_block hand::hand_manipulate_egg \
+    hand::hand_manipulate_pen hand::hand_manipulate_touch_sensors
+  passed "MuJoCo 4.0.1: live seed"
+}
+
 # Each lane is a process group (`set -m` above), so a failing lane stops the others at once.
 # The Python lane and the outside crates' lane start now; the Rust tests run beside them, and the
 # two other lanes after them (they read target/debug/envc and the test binaries the Rust tests build). More lanes than
@@ -256,7 +290,9 @@ passed "Rust tests"
 LANES+=("$!")
 ( lane_live 2>&1 | sed -u 's/^/[live] /' ) &
 LANES+=("$!")
-JOBS+=("${LANES[@]: -2}")
+( lane_mujoco4 2>&1 | sed -u 's/^/[mujoco-4.0.1] /' ) &
+LANES+=("$!")
+JOBS+=("${LANES[@]: -3}")
 while [ "${#LANES[@]}" -gt 0 ]; do
   status=0
   wait -n -p done_pid "${LANES[@]}" || status=$?

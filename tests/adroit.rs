@@ -12,13 +12,11 @@ use std::path::PathBuf;
 use envc::Env;
 use serde_json::Value;
 
-use crate::fetch::{bits, open, root, unhex};
+use crate::fetch::{bits, open, unhex};
 
 fn replay(id: &str) {
-    let dir = std::env::var_os("ENVC_ADROIT_DIR").map_or_else(
-        || root().join("tests/reference/fixtures/adroit"),
-        PathBuf::from,
-    );
+    let dir = std::env::var_os("ENVC_ADROIT_DIR")
+        .map_or_else(|| envc_tests::fixtures_of("adroit"), PathBuf::from);
     let path = dir.join(format!("{id}.json"));
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut env = open(id);

@@ -13,7 +13,7 @@ const SPEC: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/reference/events_go1.to
 const STEPS: usize = 150;
 
 /// The model arrays events write, by the names check_events.py prints.
-fn model_values(m: &mujoco_rs::mujoco_c::mjModel) -> Vec<(&'static str, Vec<f64>)> {
+fn model_values(m: &envc::mujoco_rs::mujoco_c::mjModel) -> Vec<(&'static str, Vec<f64>)> {
     // SAFETY: each call below passes a model array with its length from the model's sizes.
     let v = |p: *const f64, n: i64| unsafe { std::slice::from_raw_parts(p, n as usize) }.to_vec();
     vec![

@@ -40,7 +40,7 @@ fn root() -> PathBuf {
 fn fixtures() -> PathBuf {
     match std::env::var_os("ENVC_MAMUJOCO_DIR") {
         Some(d) => PathBuf::from(d),
-        None => root().join("tests/reference/fixtures/mamujoco"),
+        None => envc_tests::fixtures_of("mamujoco"),
     }
 }
 

@@ -17,7 +17,7 @@ const SHARED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared");
 fn dir() -> PathBuf {
     match std::env::var_os("ENVC_MAZE_DIR") {
         Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/maze"),
+        None => envc_tests::fixtures_of("maze"),
     }
 }
 

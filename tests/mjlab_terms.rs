@@ -107,7 +107,7 @@ fn check(robot: &str) {
         } else {
             Default::default()
         };
-        let derived = |d: &mujoco_rs::mujoco_c::mjData| {
+        let derived = |d: &envc::mujoco_rs::mujoco_c::mjData| {
             serde_json::json!({
                 "qpos": arr(d.qpos, nq), "qvel": arr(d.qvel, nv),
                 "cvel": arr(d.cvel, nbody * 6), "subtree_com": arr(d.subtree_com, nbody * 3),

@@ -1,6 +1,6 @@
 //! Replays the reference's recorded trajectories (tests/reference/fixtures, or a live recording in
 //! $ENVC_PARITY_DIR) and requires every observation, reward, flag and info value to be
-//! bit-identical to Gymnasium 1.4.0 on MuJoCo 3.17.0.
+//! bit-identical to Gymnasium 1.4.0 on the MuJoCo envc is built for (`envc::MUJOCO_VERSION`).
 
 use envc_tests::{fixtures_dir, manifest, replay};
 
@@ -23,7 +23,9 @@ fn replay_all(dir: &std::path::Path) {
     let m = manifest(&dir);
     assert_eq!(
         (m.gymnasium.as_str(), m.mujoco.as_str()),
-        ("1.4.0", "3.17.0")
+        ("1.4.0", envc::MUJOCO_VERSION),
+        "{} was recorded under another MuJoCo than this build's",
+        dir.display()
     );
     assert!(
         m.cases.len() >= 33,

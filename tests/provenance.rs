@@ -94,7 +94,7 @@ fn a_dataset_recovers_its_spec_moved_refuses_it_edited_and_warns_on_another_mujo
 
     // What it records: the versions, the spec and its model by hash and text.
     assert_eq!(ds.mujoco_version(), Some(envc::mujoco_version().as_str()));
-    assert_eq!(envc::mujoco_version(), "3.17.0");
+    assert_eq!(envc::mujoco_version(), envc::MUJOCO_VERSION);
     let p = ds.provenance().unwrap().clone();
     let files = p["files"].as_array().unwrap();
     let paths: Vec<&str> = files.iter().map(|f| f["path"].as_str().unwrap()).collect();

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use envc::{Autoreset, Override, VecEnv};
 use ndarray::{ArrayD, Axis};
@@ -33,7 +33,7 @@ struct Case {
 fn dir() -> PathBuf {
     match std::env::var_os("ENVC_VECTOR_DIR") {
         Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures/vector"),
+        None => envc_tests::fixtures_of("vector"),
     }
 }
 
@@ -56,7 +56,7 @@ fn replays_gymnasium_sync_vector_env_bit_for_bit() {
     let m: Manifest = serde_json::from_str(&text).expect("manifest format");
     assert_eq!(
         (m.gymnasium.as_str(), m.mujoco.as_str()),
-        ("1.4.0", "3.17.0")
+        ("1.4.0", envc::MUJOCO_VERSION)
     );
     assert!(m.cases.iter().any(|c| c.mode == "same_step"));
     let mut total_ends = 0;

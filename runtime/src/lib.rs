@@ -1,4 +1,6 @@
-//! envc runtime: executes resolved envc specs over MuJoCo 3.17.0 with Gymnasium semantics.
+//! envc runtime: executes resolved envc specs over MuJoCo with Gymnasium semantics.
+//!
+//! MuJoCo 3.17.0 by default; feature `mujoco-4.0.1` builds against 4.0.1 (docs/mujoco-versions.md).
 //!
 //! ```no_run
 //! use envc::Env;
@@ -14,6 +16,20 @@
 
 // Generated code names `::envc::…`; this makes those paths work inside envc itself.
 extern crate self as envc;
+
+// The bindings of the MuJoCo this build is for, under one name (`mujoco_rs`) for every module;
+// re-exported as `envc::mujoco_rs` for code that reads MuJoCo's structs beside envc.
+#[cfg(not(feature = "mujoco-4.0.1"))]
+pub extern crate mujoco_rs_3_17_0 as mujoco_rs;
+#[cfg(feature = "mujoco-4.0.1")]
+pub extern crate mujoco_rs_4_0_1 as mujoco_rs;
+
+/// The MuJoCo version this build of envc is for (its bindings; the library it loads must match).
+#[cfg(not(feature = "mujoco-4.0.1"))]
+pub const MUJOCO_VERSION: &str = "3.17.0";
+/// The MuJoCo version this build of envc is for (its bindings; the library it loads must match).
+#[cfg(feature = "mujoco-4.0.1")]
+pub const MUJOCO_VERSION: &str = "4.0.1";
 
 mod any_env;
 pub mod bench;

@@ -10,13 +10,24 @@ use ndarray::{ArrayD, IxDyn};
 use ndarray_npy::NpzReader;
 use serde::Deserialize;
 
-/// `tests/reference/fixtures`, or `$ENVC_PARITY_DIR` (a live recording made by CI).
+/// The v5/v4 suite's recordings for the MuJoCo this build is for (`fixtures_of("parity")`), or
+/// `$ENVC_PARITY_DIR` (a live recording made by CI).
 pub fn fixtures_dir() -> PathBuf {
     match std::env::var_os("ENVC_PARITY_DIR") {
         Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("reference")
-            .join("fixtures"),
+        None => fixtures_of("parity"),
+    }
+}
+
+/// The committed recordings of one suite (`parity`, `vector`, `maze`, `mamujoco`, `adroit`) made
+/// on the MuJoCo this build of envc is for: `tests/reference/fixtures/<suite>` for 3.17.0 (the v5
+/// suite at the top level), `tests/reference/fixtures/mujoco-<version>/<suite>` for the others.
+pub fn fixtures_of(suite: &str) -> PathBuf {
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/fixtures");
+    match (envc::MUJOCO_VERSION, suite) {
+        ("3.17.0", "parity") => fixtures,
+        ("3.17.0", _) => fixtures.join(suite),
+        (version, _) => fixtures.join(format!("mujoco-{version}")).join(suite),
     }
 }
 
