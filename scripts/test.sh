@@ -41,11 +41,12 @@ fail() {
 
 # What cargo needs (the toolchain, system packages, MuJoCo); the rest of the set-up (the reference's
 # venv, the Python package's release build) runs beside the hygiene checks below, and then the
-# wheel (scripts/build-wheel.sh: the release CLI, the build it ships and pytest's `envc`, and the
-# extension again). With workspace-hack's unified features the CLI compiles only its own crates
-# on top of the extension's build.
+# wheel (scripts/build-wheel.sh: the extension again, and built for MuJoCo 4.0.1) and the release
+# CLI (pytest's and the checks' `envc`). With workspace-hack's unified features the CLI compiles
+# only its own crates on top of the extension's build.
 bash scripts/setup.sh --mujoco
-( { bash scripts/setup.sh && scripts/build-wheel.sh "$LIVE/dist" | tail -1; } 2>&1 | sed -u 's/^/[setup] /' ) &
+( { bash scripts/setup.sh && scripts/build-wheel.sh "$LIVE/dist" | tail -1 &&
+    cargo build -q --release --locked -p envc-cli --features hdf5-static; } 2>&1 | sed -u 's/^/[setup] /' ) &
 SETUP="$!"
 JOBS+=("$SETUP")
 
@@ -265,6 +266,8 @@ lane_mujoco4() {
     hand::hand_reach hand::hand_manipulate_block hand::hand_manipulate_egg \
     hand::hand_manipulate_pen hand::hand_manipulate_touch_sensors
   passed "MuJoCo 4.0.1: live seed"
+  tests/wheel/mujoco4.sh "$LIVE/dist" "$LIVE/wheel-mujoco-4.0.1"
+  passed "MuJoCo 4.0.1: the wheel beside it"
 }
 
 # Each lane is a process group (`set -m` above), so a failing lane stops the others at once.

@@ -15,7 +15,11 @@ from __future__ import annotations
 
 import os as _os
 
-from . import _envc
+from ._mujoco import load_core as _load_core
+
+# The native core built for the installed MuJoCo (envc/_mujoco.py): every module below imports it
+# as `envc._envc`.
+_envc = _load_core()
 
 
 def _bundle_root() -> str | None:

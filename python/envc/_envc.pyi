@@ -18,6 +18,7 @@ __all__ = [
     "spec_path_problems",
     "set_bundle_root",
     "bundle_root",
+    "cli_main",
     "recover_spec",
     "collect",
     "collect_shard",
@@ -77,6 +78,9 @@ def register(path: str | os.PathLike[str]) -> list[str]:
 
 def set_bundle_root(path: str | os.PathLike[str]) -> bool:
     """Name the directory holding the bundled specs/ and assets/ (before first use)."""
+
+def cli_main(argv: list[str]) -> int:
+    """Run the ``envc`` command line ``argv`` (program name first); return its exit status."""
 
 def bundle_root() -> tuple[str | None, str]:
     """(the bundle root or None, where it comes from or why there is none)."""

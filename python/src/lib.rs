@@ -168,6 +168,14 @@ fn set_bundle_root(path: std::path::PathBuf) -> bool {
     envspec::bundle::set_root(&path)
 }
 
+/// Runs the `envc` command line `argv` (the program name first) in this process and returns its
+/// exit status: the wheel's `envc` console script (`envc/_cli.py`), so the wheel carries one
+/// native build per MuJoCo version rather than an extension and a binary each.
+#[pyfunction]
+fn cli_main(py: Python<'_>, argv: Vec<std::ffi::OsString>) -> u8 {
+    py.detach(|| envc_cli::main_with(argv))
+}
+
 /// Where the bundled specs and models come from: `(root or None, origin or error)`.
 #[pyfunction]
 fn bundle_root() -> (Option<String>, String) {
@@ -194,6 +202,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_bundle_root, m)?)?;
     m.add_function(wrap_pyfunction!(recover_spec, m)?)?;
     m.add_function(wrap_pyfunction!(bundle_root, m)?)?;
+    m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect, m)?)?;
     m.add_function(wrap_pyfunction!(collect::collect_shard, m)?)?;
     m.add_function(wrap_pyfunction!(build::build_dataset, m)?)?;

@@ -60,6 +60,8 @@ pub fn run(args: Args) -> Result<Outcome> {
                 "installation": install.json(),
                 "reference": numerics::REFERENCE,
                 "mujoco_linked": mujoco,
+                "mujoco_built_for": envc::MUJOCO_VERSION,
+                "mujoco_reason": mujoco_reason(),
                 "cpu": {
                     "brand": cpu.brand(),
                     "vendor": format!("{:?}", cpu.vendor),
@@ -91,6 +93,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             install.print();
             println!("matches:   {}", numerics::REFERENCE);
             println!("linked:    MuJoCo {mujoco}");
+            println!("  why:     {}", mujoco_reason());
             println!(
                 "cpu:       {} ({:?}, family {:#x}, model {:#x})",
                 cpu.brand(),
@@ -147,7 +150,10 @@ struct Install {
 impl Install {
     fn here() -> Install {
         Install {
-            exe: std::env::current_exe().ok(),
+            // The wheel's console script runs the command inside Python: it names itself.
+            exe: std::env::var_os("ENVC_EXECUTABLE")
+                .map(std::path::PathBuf::from)
+                .or_else(|| std::env::current_exe().ok()),
             bundle: envspec::bundle::root()
                 .map(|(p, o)| (p.to_path_buf(), o))
                 .map_err(str::to_string),
@@ -192,5 +198,24 @@ impl Install {
             "ENVC_SPEC_PATH           {}",
             self.spec_path.as_deref().unwrap_or("(unset)")
         );
+    }
+}
+
+/// Why this MuJoCo: the wheel's console script says which installed package chose this build
+/// (ENVC_MUJOCO_REASON, envc/_mujoco.py); otherwise it is the version this build is for.
+fn mujoco_reason() -> String {
+    let built = match envc::MUJOCO_VERSION {
+        "3.17.0" => "the default build",
+        _ => "built with cargo feature `mujoco-4.0.1`",
+    };
+    match std::env::var("ENVC_MUJOCO_REASON") {
+        Ok(r) if !r.is_empty() => format!(
+            "{r}; this build is MuJoCo {}'s ({built})",
+            envc::MUJOCO_VERSION
+        ),
+        _ => format!(
+            "this build is for MuJoCo {} ({built})",
+            envc::MUJOCO_VERSION
+        ),
     }
 }

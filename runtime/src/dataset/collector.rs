@@ -173,8 +173,10 @@ impl<E: Recordable> Collector<E> {
             options.info.env_spec = Some(super::gym_spec::with_provenance(spec, p));
         }
         if options.info.env_spec.is_some() && options.info.requirements.is_empty() {
-            options.info.requirements =
-                vec!["gymnasium[mujoco]==1.4.0".into(), "mujoco==3.17.0".into()];
+            options.info.requirements = vec![
+                "gymnasium[mujoco]==1.4.0".into(),
+                format!("mujoco=={}", crate::MUJOCO_VERSION),
+            ];
         }
         let a = env.action_space();
         let act_space = Space::box1(Dtype::F32, &a.low, &a.high);

@@ -19,8 +19,12 @@ mod svml_exp;
 
 pub use openblas::Kernel;
 
-/// The reference envc reproduces, by version.
+/// The reference envc reproduces, by version: on the MuJoCo this build is for.
+#[cfg(not(feature = "mujoco-4.0.1"))]
 pub const REFERENCE: &str = "Gymnasium 1.4.0, Gymnasium-Robotics 1.4.2, Minari 0.5.4, numpy 2.4.6 with OpenBLAS 0.3.31 (scipy-openblas, DYNAMIC_ARCH), MuJoCo 3.17.0";
+/// The reference envc reproduces, by version: on the MuJoCo this build is for.
+#[cfg(feature = "mujoco-4.0.1")]
+pub const REFERENCE: &str = "Gymnasium 1.4.0, Gymnasium-Robotics 1.4.2, Minari 0.5.4, numpy 2.4.6 with OpenBLAS 0.3.31 (scipy-openblas, DYNAMIC_ARCH), MuJoCo 4.0.1";
 pub use profile::{
     Auto, NpyOverrides, NumericsError, Profile, auto, auto_for, default_profile,
     set_default_profile,

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The wheel beside MuJoCo 4.0.1 (scripts/test.sh's MuJoCo 4.0.1 lane): a fresh venv with Gymnasium
+# 1.4.0 on MuJoCo 4.0.1, the wheel installed into it, the checkout hidden. MuJoCo must still be
+# 4.0.1 afterwards, and envc must compute what Gymnasium computes on it (tests/wheel/mujoco4.py,
+# fresh seed), from Python and from the `envc` command.
+# Usage: tests/wheel/mujoco4.sh DIST WORKDIR
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+DIST="${1:?usage: tests/wheel/mujoco4.sh DIST WORKDIR}"
+WORK="${2:?usage: tests/wheel/mujoco4.sh DIST WORKDIR}"
+mkdir -p "$WORK"
+WORK="$(cd "$WORK" && pwd)"
+case "$WORK" in "$ROOT"/*) echo "wheel test: WORKDIR must be outside the checkout" >&2; exit 1 ;; esac
+WHEEL="$(ls "$DIST"/envc-*.whl)"
+# shellcheck source=tests/wheel/hidden.sh
+source "$ROOT/tests/wheel/hidden.sh"
+REQ="$ROOT/tests/reference/requirements-mujoco-4.0.1.txt"
+python3 -m venv "$WORK/venv"
+"$WORK/venv/bin/pip" install -q --disable-pip-version-check -r "$REQ"
+"$WORK/venv/bin/pip" install -q --disable-pip-version-check "$WHEEL"
+cp "$ROOT/tests/wheel/mujoco4.py" "$WORK/mujoco4.py"
+hidden "'$WORK/venv/bin/python' '$WORK/mujoco4.py'"
+hidden "'$WORK/venv/bin/envc' info | grep -q 'linked:    MuJoCo 4.0.1'"
+echo "wheel beside MuJoCo 4.0.1: kept, and bit-identical to Gymnasium on it"
