@@ -18,8 +18,6 @@ extern crate self as envc;
 mod any_env;
 pub mod bench;
 mod commands;
-#[cfg(feature = "dataset")]
-pub mod dataset;
 mod derived;
 pub mod env;
 pub mod environment;

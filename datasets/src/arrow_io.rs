@@ -16,10 +16,10 @@ use arrow_schema::{DataType, Field, Fields, Schema};
 use ndarray::{ArrayD, IxDyn};
 use serde_json::{Map, Value, json};
 
-use super::episode::EpisodeRecord;
-use super::error::{DatasetError, io, malformed};
-use super::space::Space;
-use super::tensor::{Data, Tensor};
+use crate::episode::EpisodeRecord;
+use crate::error::{DatasetError, io, malformed};
+use crate::space::Space;
+use crate::tensor::{Data, Tensor};
 
 /// pyarrow's scanner re-chunks batches above this many rows, which misaligns Minari's reader.
 pub const MAX_ARROW_STEPS: usize = 131_071;
@@ -196,7 +196,7 @@ pub fn read_episode(
 ) -> Result<(RecordBatch, Map<String, Value>), DatasetError> {
     let dir = data.join(index.to_string());
     let path = data_file(&dir, "arrow")?;
-    super::error::regular_file(&path)?;
+    crate::error::regular_file(&path)?;
     let file = File::open(&path).map_err(io(&path))?;
     let bad = |e: arrow_schema::ArrowError| malformed(&path, e.to_string());
     let reader =
@@ -206,7 +206,7 @@ pub fn read_episode(
     let batch = arrow_select_concat(&schema, &batches).map_err(bad)?;
     let meta_path = dir.join("metadata.json");
     if meta_path.exists() {
-        super::error::regular_file(&meta_path)?;
+        crate::error::regular_file(&meta_path)?;
     }
     let meta = match fs::read_to_string(&meta_path) {
         Ok(text) => match serde_json::from_str(&text) {

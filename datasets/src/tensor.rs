@@ -2,7 +2,7 @@
 
 use ndarray::ArrayD;
 
-use super::space::Dtype;
+use crate::space::Dtype;
 
 /// One stored array with its own element type (Minari never casts: rewards are int64 when the env
 /// returned Python ints, float64 otherwise).
