@@ -5,8 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use envc::dataset::{CollectOptions, Collector, Data, Dataset, DatasetError, DatasetInfo, Format};
 use envc::{Env, Environment, JointEnv};
+use envc_datasets::{CollectOptions, Collector, Data, Dataset, DatasetError, DatasetInfo, Format};
 use ndarray::ArrayD;
 use ndarray_npy::NpzReader;
 
@@ -88,7 +88,7 @@ fn round_trip<E: Environment>(mut make: impl FnMut() -> E, format: Format, tag: 
     let dir = c.finish().unwrap();
     assert_eq!(dir, root.join(&id));
     assert!(
-        !root.join(envc::dataset::STAGING_DIR).exists(),
+        !root.join(envc_datasets::STAGING_DIR).exists(),
         "staging left behind"
     );
     let ds = Dataset::open(dir.to_str().unwrap()).unwrap();
@@ -193,7 +193,7 @@ fn failed_collection_leaves_nothing() {
     assert!(err.to_string().contains("E1102"), "{err}");
     drop(c);
     assert!(!root.join("test/fail/x-v0").exists());
-    assert!(!root.join(envc::dataset::STAGING_DIR).exists());
+    assert!(!root.join(envc_datasets::STAGING_DIR).exists());
     assert!(Dataset::open(root.join("test/fail/x-v0").to_str().unwrap()).is_err());
     // Bad ids are refused before anything is written.
     for bad in ["a/x-v0", "noversion", "ns/a.b-v0"] {

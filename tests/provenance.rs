@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use envc::dataset::{CollectOptions, Collector, Dataset, DatasetInfo, Format, RecoverOptions};
 use envc::{AnyEnv, Env, JointAction, JointEnv};
+use envc_datasets::{CollectOptions, Collector, Dataset, DatasetInfo, Format, RecoverOptions};
 
 fn policy(obs: &[f64], a: &mut [f32]) {
     for (i, x) in a.iter_mut().enumerate() {
@@ -117,7 +117,7 @@ fn a_dataset_recovers_its_spec_moved_refuses_it_edited_and_warns_on_another_mujo
     // Moved away (spec and model): rebuilt from the dataset's copy, the same episodes.
     let moved = tmp.join("moved");
     std::fs::rename(&home, &moved).unwrap();
-    let r = envc::dataset::recover("x", &p, RecoverOptions::default()).unwrap();
+    let r = envc_datasets::recover("x", &p, RecoverOptions::default()).unwrap();
     assert!(
         r.target.starts_with(tmp.join("cache").to_str().unwrap()),
         "{}",

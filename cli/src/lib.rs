@@ -79,7 +79,7 @@ pub enum Outcome {
 /// A second signal has the default action: the process ends at once.
 pub(crate) fn stop_collections_on_signals() {
     extern "C" fn stop(sig: libc::c_int) {
-        envc::dataset::STOP.store(true, std::sync::atomic::Ordering::Relaxed);
+        envc_datasets::STOP.store(true, std::sync::atomic::Ordering::Relaxed);
         // SAFETY: `signal` is async-signal-safe; the next signal of this kind takes its default.
         unsafe {
             libc::signal(sig, libc::SIG_DFL);

@@ -1,10 +1,10 @@
 //! `envc.datasets`: datasets built from their dataset specs by the runner `envc dataset build`
-//! uses (`envc::dataset::Build`), in one process or as a Ray driver and its workers, and the
+//! uses (`envc_datasets::Build`), in one process or as a Ray driver and its workers, and the
 //! spec's policy as a Python callable (for reference scores).
 
 use std::path::PathBuf;
 
-use envc::dataset::{Budget, Build, BuildOptions, DatasetSpec, Format, MlpPolicy, PolicyMode};
+use envc_datasets::{Budget, Build, BuildOptions, DatasetSpec, Format, MlpPolicy, PolicyMode};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
@@ -164,5 +164,5 @@ impl SpecPolicy {
 /// The bundled dataset specs' directory (`specs/datasets` of the bundle).
 #[pyfunction]
 pub fn datasets_dir() -> String {
-    envc::dataset::datasets_dir().display().to_string()
+    envc_datasets::datasets_dir().display().to_string()
 }

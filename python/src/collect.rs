@@ -1,13 +1,13 @@
 //! `envc.collect` and the sharded collection under `envc.ray`: Minari datasets written by the same
 //! code as `envc collect`. A sharded collection is a driver (`ShardedCollection`: claims the
 //! staging directory, holds its lock, publishes) and workers (`collect_shard`: record episode
-//! ranges straight into that directory); see runtime/src/dataset/shard.rs.
+//! ranges straight into that directory); see datasets/src/shard.rs.
 
 use std::path::PathBuf;
 
-use envc::dataset::{
-    CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, Plan, PlanActor,
-    PlanPolicy, ShardEpisode,
+use envc_datasets::{
+    CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, MazeKind, Plan,
+    PlanActor, PlanPolicy, ShardEpisode,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -285,7 +285,7 @@ pub fn collect(
             Ok(py.detach(|| match (env, py_policy.as_mut()) {
         (envc::AnyEnv::Task(e), Some(p)) => {
             let mut p = Interruptible::new(p);
-            let r = envc::dataset::record_with(e, &plan, opts, &mut p, |_, _| {});
+            let r = envc_datasets::record_with(e, &plan, opts, &mut p, |_, _| {});
             signal = p.signal.take();
             r
         }
@@ -294,13 +294,13 @@ pub fn collect(
         )),
         (envc::AnyEnv::Task(e), None) => {
             let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
-            let r = envc::dataset::record_with(e, &plan, opts, &mut p, |_, _| {});
+            let r = envc_datasets::record_with(e, &plan, opts, &mut p, |_, _| {});
             signal = p.signal.take();
             r
         }
         (envc::AnyEnv::Maze(e), None) => {
             let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
-            let r = envc::dataset::record_with(*e, &plan, opts, &mut p, |_, _| {});
+            let r = envc_datasets::record_with(*e, &plan, opts, &mut p, |_, _| {});
             signal = p.signal.take();
             r
         }
@@ -327,7 +327,7 @@ fn options(
     let info = DatasetInfo {
         author: vec![author.unwrap_or_else(|| "envc".into())],
         description: Some(
-            description.unwrap_or_else(|| envc::dataset::default_description(plan, id)),
+            description.unwrap_or_else(|| envc_datasets::default_description(plan, id)),
         ),
         algorithm_name: Some(plan.policy.name().to_string()),
         env_spec,
@@ -345,7 +345,7 @@ fn options(
 #[allow(clippy::large_enum_variant)]
 enum DriverCollector {
     Task(Collector<envc::Env>),
-    Maze(Collector<envc::maze::MazeEnv>),
+    Maze(Collector<envc::maze::MazeEnv, MazeKind>),
 }
 
 /// The driver of a sharded collection: claims the dataset's staging directory (and holds its
@@ -518,7 +518,7 @@ pub fn collect_shard(
             Ok(py.detach(|| match (env, py_policy.as_mut()) {
                 (envc::AnyEnv::Task(e), Some(p)) => {
                     let mut p = Interruptible::new(p);
-                    let r = envc::dataset::record_shard(e, seed, range, &staging, format, &mut p);
+                    let r = envc_datasets::record_shard(e, seed, range, &staging, format, &mut p);
                     signal = p.signal.take();
                     r
                 }
@@ -527,13 +527,13 @@ pub fn collect_shard(
                 )),
                 (envc::AnyEnv::Task(e), None) => {
                     let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
-                    let r = envc::dataset::record_shard(e, seed, range, &staging, format, &mut p);
+                    let r = envc_datasets::record_shard(e, seed, range, &staging, format, &mut p);
                     signal = p.signal.take();
                     r
                 }
                 (envc::AnyEnv::Maze(e), None) => {
                     let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
-                    let r = envc::dataset::record_shard(*e, seed, range, &staging, format, &mut p);
+                    let r = envc_datasets::record_shard(*e, seed, range, &staging, format, &mut p);
                     signal = p.signal.take();
                     r
                 }

@@ -33,7 +33,7 @@ pub fn diagnostics(d: envspec::Diagnostics) -> PyErr {
 }
 
 /// A dataset or collection error (E12xx, E1402, E1600, E1601, or the env's own code).
-pub fn dataset_error(e: envc::dataset::DatasetError) -> PyErr {
+pub fn dataset_error(e: envc_datasets::DatasetError) -> PyErr {
     coded(&e.code(), e.to_string())
 }
 

@@ -148,16 +148,16 @@ fn recover_spec(
     use_recorded_spec: bool,
 ) -> PyResult<(String, Vec<String>)> {
     let record: serde_json::Value = serde_json::from_str(provenance).map_err(|e| {
-        errors::dataset_error(envc::dataset::DatasetError::Provenance {
+        errors::dataset_error(envc_datasets::DatasetError::Provenance {
             why: format!("envc_provenance is not JSON: {e}"),
         })
     })?;
-    let opts = envc::dataset::RecoverOptions {
+    let opts = envc_datasets::RecoverOptions {
         accept_changed_spec,
         refuse_other_mujoco,
         use_recorded_spec,
     };
-    let r = envc::dataset::recover(dataset_id, &record, opts).map_err(errors::dataset_error)?;
+    let r = envc_datasets::recover(dataset_id, &record, opts).map_err(errors::dataset_error)?;
     Ok((r.target, r.warnings))
 }
 

@@ -3,8 +3,8 @@
 //!
 //! Everything that drives envs without caring for their kind is written against this trait:
 //! [`AnyEnv`](crate::AnyEnv) (the one door's env), the vector env's workers, the dataset
-//! collector (`dataset::Recordable` adds what Minari stores), the CLI's one rollout loop and the
-//! Python binding's base class. Kind-specific views (a maze's dict observation, each agent's
+//! collector (`envc_datasets::Recordable` adds what Minari stores), the CLI's one rollout loop
+//! and the Python binding's base class. Kind-specific views (a maze's dict observation, each agent's
 //! observation) stay on the concrete types.
 //!
 //! ```no_run

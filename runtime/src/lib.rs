@@ -34,8 +34,6 @@ pub const MUJOCO_VERSION: &str = "4.0.1";
 mod any_env;
 pub mod bench;
 mod commands;
-#[cfg(feature = "dataset")]
-pub mod dataset;
 mod derived;
 pub mod env;
 pub mod environment;

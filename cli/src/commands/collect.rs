@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use envc::dataset::{
+use envc_datasets::{
     CollectOptions, DatasetInfo, Format, Plan, PlanPolicy, Recordable, default_description,
 };
 use indicatif::{ProgressBar, ProgressStyle};
@@ -167,7 +167,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
 }
 
-fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
+fn record<E: Recordable<K>, K>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
     let act_dim = env.action_space().dim();
     let policy = match (args.policy, &args.actions) {
         (PolicyKind::Replay, Some(p)) => PlanPolicy::Replay(read_actions(p, &args.spec, act_dim)?),
@@ -209,7 +209,7 @@ fn record<E: Recordable>(env: E, id: &str, args: &Args, format: Format) -> Resul
     bar.set_message(format!("{id} → {}", args.dataset_id));
     let start = Instant::now();
     crate::stop_collections_on_signals();
-    let r = envc::dataset::record(env, &plan, opts, |episodes, steps| {
+    let r = envc_datasets::record(env, &plan, opts, |episodes, steps| {
         bar.set_prefix(steps.to_string());
         bar.set_position(episodes);
     })

@@ -2,7 +2,7 @@
 //! `envc dataset build SPEC [--steps N]`: build a dataset from its dataset spec (docs/datasets.md).
 
 use anyhow::{Result, bail};
-use envc::dataset::Dataset;
+use envc_datasets::Dataset;
 
 use crate::Outcome;
 
@@ -117,8 +117,8 @@ fn build(
     dataset_id: Option<String>,
     format: Option<&str>,
 ) -> Result<Outcome> {
-    use envc::dataset::{Build, BuildOptions, DatasetSpec, Format};
-    let err = |e: envc::dataset::DatasetError| anyhow::anyhow!("{e}");
+    use envc_datasets::{Build, BuildOptions, DatasetSpec, Format};
+    let err = |e: envc_datasets::DatasetError| anyhow::anyhow!("{e}");
     let spec = DatasetSpec::open(spec).map_err(err)?;
     let id = dataset_id
         .clone()
@@ -255,7 +255,7 @@ fn episode_summary(ds: &Dataset) -> Result<Vec<String>> {
     if stored != ds.total_episodes {
         bail!(
             "{}",
-            envc::dataset::DatasetError::Malformed {
+            envc_datasets::DatasetError::Malformed {
                 path: ds.data_path.clone(),
                 why: format!(
                     "{stored} episodes are stored but total_episodes is {}",
@@ -287,7 +287,7 @@ fn episode_summary(ds: &Dataset) -> Result<Vec<String>> {
     if steps as u64 != ds.total_steps {
         bail!(
             "{}",
-            envc::dataset::DatasetError::Malformed {
+            envc_datasets::DatasetError::Malformed {
                 path: ds.data_path.clone(),
                 why: format!(
                     "the episodes hold {steps} steps but total_steps is {}",

@@ -2,20 +2,37 @@
 //! them, its info columns, and reset/step that append the stored observation row. Every task env
 //! (typed or dynamic, through [`Environment`]) and the maze env implement it; a multi-agent env
 //! does not, as Minari datasets are single-agent.
+//!
+//! The impls live here, not beside the kinds in the runtime: the runtime does not depend on this
+//! crate. That leaves one knot. The task impl is a blanket one over every [`Environment`] (typed
+//! envs are types of the user's crate), and beside it an impl for [`MazeEnv`] would be refused:
+//! both are `envc`'s, so `envc` could one day make a maze an `Environment` and the two impls
+//! would overlap (coherence reasons only about impls the current crate alone could add). So the
+//! trait takes the kind as a marker type, [`TaskKind`] or [`MazeKind`]: the two impls are of
+//! different traits and never overlap, and callers never name the marker, as it is inferred from
+//! the env (`Collector::new(maze, ..)` is a `Collector<MazeEnv, MazeKind>`).
 
-use super::episode::InfoColumn;
-use super::error::DatasetError;
-use super::gym_spec::{env_spec_json, envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json};
-use super::provenance;
-use super::space::{Dtype, Space};
-use crate::environment::Environment;
-use crate::error::EnvError;
-use crate::maze::{MazeEnv, MazeObs};
-use crate::{Info, JointAction, JointEnv, JointStep};
+use crate::episode::InfoColumn;
+use crate::error::DatasetError;
+use crate::gym_spec::{env_spec_json, envc_env_spec_json, envc_spec_arg, envc_task_env_spec_json};
+use crate::provenance;
+use crate::space::{Dtype, Space};
+use envc::environment::Environment;
+use envc::error::EnvError;
+use envc::maze::{MazeEnv, MazeObs};
+use envc::{Info, JointAction, JointEnv, JointStep};
+
+/// The [`Recordable`] impl of task envs, typed or dynamic (a marker, never a value).
+#[derive(Debug)]
+pub enum TaskKind {}
+
+/// The [`Recordable`] impl of maze envs (a marker, never a value).
+#[derive(Debug)]
+pub enum MazeKind {}
 
 /// An env the collector can record (its action space, numerics and warnings are the
-/// [`JointEnv`]'s).
-pub trait Recordable: JointEnv {
+/// [`JointEnv`]'s); `K` says which kind's impl (see the module doc), inferred from the env.
+pub trait Recordable<K = TaskKind>: JointEnv {
     /// What the policy sees: the flat observation, or a maze's dict observation.
     type Obs: ?Sized;
     /// The stored observation space (a `Box`, or a `Dict` flattened key by key, keys sorted).
@@ -68,7 +85,7 @@ fn columns(spec: &envspec::ResolvedSpec) -> impl Iterator<Item = InfoColumn> + '
     })
 }
 
-impl<E: Environment> Recordable for E {
+impl<E: Environment> Recordable<TaskKind> for E {
     type Obs = [f64];
     /// A `[goal]` task's is the reference's dict (keys sorted), as a maze's.
     fn observation_space(&self) -> Space {
@@ -131,7 +148,7 @@ impl<E: Environment> Recordable for E {
 }
 
 /// A task's row: the flat observation, or a `[goal]` task's dict in sorted key order.
-fn push_task_obs(buf: &mut Vec<f64>, env: &crate::Env) {
+fn push_task_obs(buf: &mut Vec<f64>, env: &envc::Env) {
     if env.spec().manipulation.goal.is_some() {
         let mut achieved = vec![];
         env.achieved_goal(&mut achieved);
@@ -156,7 +173,7 @@ fn push_maze_obs(buf: &mut Vec<f64>, o: &MazeObs) {
     buf.extend_from_slice(&o.observation);
 }
 
-impl Recordable for MazeEnv {
+impl Recordable<MazeKind> for MazeEnv {
     type Obs = MazeObs;
     fn observation_space(&self) -> Space {
         Space::Dict(vec![

@@ -5,17 +5,17 @@
 
 use std::path::{Path, PathBuf};
 
-use super::build_spec::{Budget, DatasetSpec, PolicyMode};
-use super::collector::{CollectOptions, Collector};
-use super::error::DatasetError;
-use super::mlp::MlpPolicy;
-use super::plan::{EpisodePolicy, episode_rng, episode_seed};
-use super::recordable::Recordable;
-use super::shard::ShardEpisode;
-use super::writer::DatasetInfo;
-use super::{Format, Recording};
-use crate::rng::NumpyRng;
-use crate::{Env, JointEnv, Override};
+use crate::build_spec::{Budget, DatasetSpec, PolicyMode};
+use crate::collector::{CollectOptions, Collector};
+use crate::error::DatasetError;
+use crate::mlp::MlpPolicy;
+use crate::plan::{EpisodePolicy, episode_rng, episode_seed};
+use crate::recordable::Recordable;
+use crate::shard::ShardEpisode;
+use crate::writer::DatasetInfo;
+use crate::{Format, Recording};
+use envc::rng::NumpyRng;
+use envc::{Env, JointEnv, Override};
 
 /// What a build may change from its spec.
 #[derive(Clone, Debug, Default)]
@@ -56,8 +56,8 @@ fn overrides(params: &[(String, String)]) -> Vec<Override> {
 }
 
 fn open_task(what: &str, params: &[(String, String)]) -> Result<Env, DatasetError> {
-    match crate::open(what, &overrides(params))? {
-        crate::AnyEnv::Task(e) => Ok(e),
+    match envc::open(what, &overrides(params))? {
+        envc::AnyEnv::Task(e) => Ok(e),
         other => Err(DatasetError::Unsupported(format!(
             "`{}`: dataset specs build task envs (flat observations), not {:?} specs",
             other.id(),
@@ -180,13 +180,13 @@ impl Build {
             steps += s.steps as u64;
             ep += 1;
             progress(ep, steps);
-            if ep == super::plan::DISK_SAMPLE {
+            if ep == crate::plan::DISK_SAMPLE {
                 // Episodes the budget will take, at the length of these.
                 let total = match self.budget {
                     Budget::Episodes(n) => n,
                     Budget::Steps(b) => b.div_ceil(steps.div_ceil(ep).max(1)),
                 };
-                super::plan::disk_fits(collector.staging(), ep, total)?;
+                crate::plan::disk_fits(collector.staging(), ep, total)?;
             }
         }
         collector.finish_recording(steps, seed)
@@ -202,7 +202,7 @@ impl Build {
     ) -> Result<Vec<ShardEpisode>, DatasetError> {
         let env = self.env()?;
         let actor = self.actor(&env)?;
-        super::plan::record_shard(env, self.spec.seed, start..end, staging, format, actor)
+        crate::plan::record_shard(env, self.spec.seed, start..end, staging, format, actor)
     }
 
     /// The driver's collector of a sharded build (claims the staging directory).

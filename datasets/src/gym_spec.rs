@@ -11,7 +11,7 @@
 use envspec::params::Origin;
 use envspec::{ParamValue, ResolvedSpec};
 
-use super::json::PyJson;
+use crate::json::PyJson;
 
 fn param_json(v: &ParamValue) -> Option<PyJson> {
     Some(match v {

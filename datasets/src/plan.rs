@@ -8,13 +8,13 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use super::Format;
-use super::collector::{CollectOptions, Collector, Policy};
-use super::error::DatasetError;
-use super::recordable::Recordable;
-use super::shard::{ShardCollector, ShardEpisode};
-use crate::BoxSpace;
-use crate::rng::{NumpyRng, SeedSequence};
+use crate::Format;
+use crate::collector::{CollectOptions, Collector, Policy};
+use crate::error::DatasetError;
+use crate::recordable::Recordable;
+use crate::shard::{ShardCollector, ShardEpisode};
+use envc::BoxSpace;
+use envc::rng::{NumpyRng, SeedSequence};
 
 /// Which actions the recording takes.
 #[derive(Clone, Debug)]
@@ -138,7 +138,7 @@ impl PlanActor {
         match policy {
             PlanPolicy::Replay(rows) if rows.is_empty() || rows.len() % act_dim.max(1) != 0 => {
                 // Not whole rows of the action: the action-length error (E1101).
-                return Err(DatasetError::Env(crate::EnvError::ActionLength {
+                return Err(DatasetError::Env(envc::EnvError::ActionLength {
                     env: "the replayed actions".into(),
                     expected: act_dim,
                     got: rows.len() % act_dim.max(1),
@@ -216,7 +216,7 @@ pub fn default_description(plan: &Plan, env_id: &str) -> String {
 /// Record `plan` from `env` into the dataset `options` names with the built-in policy;
 /// `progress(episodes, steps)` is called after every episode. The dataset appears only when
 /// every episode is written.
-pub fn record<E: Recordable>(
+pub fn record<E: Recordable<K>, K>(
     env: E,
     plan: &Plan,
     options: CollectOptions,
@@ -227,7 +227,7 @@ pub fn record<E: Recordable>(
 }
 
 /// [`record`] with the caller's policy.
-pub fn record_with<E: Recordable, P: EpisodePolicy<E::Obs>>(
+pub fn record_with<E: Recordable<K>, K, P: EpisodePolicy<E::Obs>>(
     env: E,
     plan: &Plan,
     mut options: CollectOptions,
@@ -302,11 +302,11 @@ fn disk_usage(dir: &Path) -> std::io::Result<u64> {
 }
 
 /// Record episodes `range` of a plan (with its resolved `seed`) into the staging directory of a
-/// sharded collection ([`super::Collector::staging`] of the driver's collector, on storage every
+/// sharded collection ([`crate::Collector::staging`] of the driver's collector, on storage every
 /// worker shares); returns each episode's steps and bytes, in order. Episodes already there (from an
 /// attempt that died after writing them) are recorded again and left as they were: they are the
 /// same bytes.
-pub fn record_shard<E: Recordable, P: EpisodePolicy<E::Obs>>(
+pub fn record_shard<E: Recordable<K>, K, P: EpisodePolicy<E::Obs>>(
     env: E,
     seed: u64,
     range: Range<u64>,

@@ -16,7 +16,7 @@ use std::path::{Component, Path, PathBuf};
 use envspec::source::{FileRead, fnv1a};
 use serde_json::{Map, Value, json};
 
-use super::error::DatasetError;
+use crate::error::DatasetError;
 
 /// The layout of the record; a newer one is refused rather than misread.
 const FORMAT: u64 = 1;
@@ -104,7 +104,7 @@ pub(crate) fn record(
         "kind": kind,
         "spec": spec_arg,
         "files": files,
-        "mujoco_version": crate::mujoco_version(),
+        "mujoco_version": envc::mujoco_version(),
         "envc_version": env!("CARGO_PKG_VERSION"),
     }))
 }
@@ -137,7 +137,7 @@ pub(crate) fn check_mujoco(
     opts: RecoverOptions,
     warnings: &mut Vec<String>,
 ) -> Result<(), DatasetError> {
-    let running = crate::mujoco_version();
+    let running = envc::mujoco_version();
     match recorded {
         Some(r) if r != running => {
             if opts.refuse_other_mujoco {

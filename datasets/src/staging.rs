@@ -10,7 +10,7 @@ use std::fs::{self, File, OpenOptions};
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use super::error::{DatasetError, io};
+use crate::error::{DatasetError, io};
 
 const LOCK_EXT: &str = "lock";
 

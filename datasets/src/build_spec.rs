@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::Format;
-use super::error::DatasetError;
+use crate::Format;
+use crate::error::DatasetError;
 
 /// How the policy's actions are taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
@@ -163,7 +163,7 @@ fn literal(params: &toml::Table) -> Vec<(String, String)> {
 
 /// The bundled dataset specs' directory (`specs/datasets`).
 pub fn datasets_dir() -> PathBuf {
-    crate::registry::specs_dir().join("datasets")
+    envc::registry::specs_dir().join("datasets")
 }
 
 use envspec::limits::{MAX_DATASET_STEPS, MAX_EPISODES};
@@ -251,7 +251,7 @@ impl DatasetSpec {
                 ));
             }
         };
-        super::DatasetId::parse(&d.id)
+        crate::DatasetId::parse(&d.id)
             .map_err(|e| err(key_at(text, "id"), format!("id = {:?}: {e}", d.id)))?;
         let dir = path.parent().unwrap_or(Path::new("."));
         // An env named by a path is relative to this file; otherwise it is a bundled id.

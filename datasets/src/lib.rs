@@ -1,10 +1,15 @@
-//! Minari datasets (feature `dataset`): collect episodes from any envc env and write them in
-//! Minari 0.5.4's on-disk format, so `minari.load_dataset` loads them as its own; read Minari
-//! datasets back (envc's or Python `DataCollector`'s) as typed arrays.
+//! envc's Minari datasets: collect episodes from any envc env and write them in Minari 0.5.4's
+//! on-disk format, so `minari.load_dataset` loads them as its own; read Minari datasets back
+//! (envc's or Python `DataCollector`'s) as typed arrays. Also the sharded collection's Rust side
+//! (`envc.ray`), dataset specs (`specs/datasets/**.toml`) and the MLP policies they name. The
+//! runtime (`envc`) runs envs; this crate records them and never the reverse.
+//!
+//! The Arrow backend (pure Rust) is always built; feature `hdf5` adds the HDF5 backend (links
+//! libhdf5), `hdf5-static` builds HDF5 from source and links it in (the wheel's build).
 //!
 //! ```no_run
 //! use envc::Env;
-//! use envc::dataset::{Collector, CollectOptions, Dataset, Format, DatasetInfo};
+//! use envc_datasets::{Collector, CollectOptions, Dataset, Format, DatasetInfo};
 //! let env = Env::make("Hopper-v5", &[])?;
 //! let opts = CollectOptions { root: None, dataset_id: "envc/hopper/zero-v0".into(), format: Format::Arrow, info: DatasetInfo::default() };
 //! let mut c = Collector::new(env, opts)?;
@@ -22,6 +27,8 @@
 //!
 //! Format details and the choices made are in `docs/datasets.md`.
 
+#![warn(missing_docs)]
+
 mod arrow_io;
 mod build;
 mod build_spec;
@@ -34,6 +41,7 @@ mod hdf5_io;
 mod id;
 mod json;
 mod mlp;
+mod os;
 mod plan;
 mod provenance;
 mod reader;
@@ -58,7 +66,7 @@ pub use plan::{
 };
 pub use provenance::{RecoverOptions, RecoveredSpec, recover};
 pub use reader::Dataset;
-pub use recordable::Recordable;
+pub use recordable::{MazeKind, Recordable, TaskKind};
 pub use shard::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};

@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use ndarray::Array1;
 use serde_json::{Map, Value};
 
-use super::error::{DatasetError, io, malformed};
-use super::json::parse_lenient;
-use super::space::Space;
-use super::tensor::{Data, Episode, Tensor};
-use super::writer::default_root;
-use super::{Format, arrow_io};
+use crate::error::{DatasetError, io, malformed};
+use crate::json::parse_lenient;
+use crate::space::Space;
+use crate::tensor::{Data, Episode, Tensor};
+use crate::writer::default_root;
+use crate::{Format, arrow_io};
 
 /// An opened dataset: its metadata, ready to read episodes one at a time.
 pub struct Dataset {
@@ -35,7 +35,7 @@ pub struct Dataset {
     /// Every key of `metadata.json`.
     pub metadata: Map<String, Value>,
     #[cfg(feature = "hdf5")]
-    hdf5: Option<super::hdf5_io::Hdf5Reader>,
+    hdf5: Option<crate::hdf5_io::Hdf5Reader>,
 }
 
 /// An episode's own record of its length (`total_steps` attribute / per-episode metadata),
@@ -93,7 +93,7 @@ impl Dataset {
     /// Open the `data/` directory of a dataset.
     pub fn open_data(data: &Path) -> Result<Dataset, DatasetError> {
         let meta_path = data.join("metadata.json");
-        super::error::regular_file(&meta_path)?;
+        crate::error::regular_file(&meta_path)?;
         let text = std::fs::read_to_string(&meta_path).map_err(io(&meta_path))?;
         let metadata = match parse_lenient(&text) {
             Ok(Value::Object(m)) => m,
@@ -140,7 +140,7 @@ impl Dataset {
             .and_then(|s| parse_lenient(s).ok());
         #[cfg(feature = "hdf5")]
         let hdf5 = if format == Format::Hdf5 {
-            Some(super::hdf5_io::Hdf5Reader::open(data)?)
+            Some(crate::hdf5_io::Hdf5Reader::open(data)?)
         } else {
             None
         };
@@ -166,8 +166,8 @@ impl Dataset {
 
     /// The numerics profile envc recorded the data under (`envc_numerics`; absent in datasets
     /// written by Python). Replaying under it reproduces the data on any machine.
-    pub fn numerics(&self) -> Option<crate::numerics::Profile> {
-        crate::numerics::Profile::parse(self.metadata.get("envc_numerics")?.as_str()?)
+    pub fn numerics(&self) -> Option<envc::numerics::Profile> {
+        envc::numerics::Profile::parse(self.metadata.get("envc_numerics")?.as_str()?)
     }
 
     /// The MuJoCo version the dataset was made with (`mujoco_version`; absent in datasets of an
@@ -182,22 +182,22 @@ impl Dataset {
         self.metadata.get("envc_provenance")
     }
 
-    /// The env that made the dataset, as [`super::recover`] finds its spec (E1212 when the spec at
+    /// The env that made the dataset, as [`crate::recover`] finds its spec (E1212 when the spec at
     /// the recorded id or path changed, E1213 when the record cannot be rebuilt), with the stored
     /// parameters and time limit, and the coded warnings (W1212, W1214). A dataset without a
     /// record opens the spec its env spec names (`spec_id`, else its id), as it did before.
     pub fn recover(
         &self,
-        opts: super::RecoverOptions,
-    ) -> Result<(crate::AnyEnv, Vec<String>), DatasetError> {
+        opts: crate::RecoverOptions,
+    ) -> Result<(envc::AnyEnv, Vec<String>), DatasetError> {
         let (target, warnings) = match self.provenance() {
             Some(p) => {
-                let r = super::recover(&self.dataset_id, p, opts)?;
+                let r = crate::recover(&self.dataset_id, p, opts)?;
                 (r.target, r.warnings)
             }
             None => {
                 let mut w = vec![];
-                super::provenance::check_mujoco(
+                crate::provenance::check_mujoco(
                     &self.dataset_id,
                     self.mujoco_version(),
                     opts,
@@ -207,7 +207,7 @@ impl Dataset {
             }
         };
         let overrides = self.stored_overrides();
-        Ok((crate::open(&target, &overrides)?, warnings))
+        Ok((envc::open(&target, &overrides)?, warnings))
     }
 
     /// What an env spec without a record names: envc's `spec_id`, else the reference id.
@@ -429,11 +429,11 @@ fn toml_text(v: &Value) -> Option<String> {
             let items: Option<Vec<String>> = a.iter().map(toml_text).collect();
             format!("[{}]", items?.join(", "))
         }
-        Value::String(s) => match super::json::number(v) {
+        Value::String(s) => match crate::json::number(v) {
             Some(x) => float_text(x),
             None => Value::String(s.clone()).to_string(),
         },
-        _ => float_text(super::json::number(v)?),
+        _ => float_text(crate::json::number(v)?),
     })
 }
 

@@ -11,15 +11,16 @@
 //! episode that is already there keeps the first copy (same bytes).
 
 use std::fs;
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 
-use super::Format;
-use super::arrow_io;
-use super::collector::{Buffers, Policy};
-use super::episode::{EpisodeRecord, InfoColumn};
-use super::error::{DatasetError, io};
-use super::recordable::Recordable;
-use super::space::Space;
+use crate::Format;
+use crate::arrow_io;
+use crate::collector::{Buffers, Policy};
+use crate::episode::{EpisodeRecord, InfoColumn};
+use crate::error::{DatasetError, io};
+use crate::recordable::Recordable;
+use crate::space::Space;
 
 /// What a worker reports of each episode it recorded: all the driver needs to merge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,8 +36,9 @@ pub struct ShardEpisode {
 pub(crate) const SHARDS_DIR: &str = "shards";
 
 /// Records episodes of one env into a sharded collection's staging directory.
-pub(crate) struct ShardCollector<E: Recordable> {
+pub(crate) struct ShardCollector<E, K> {
     env: E,
+    kind: PhantomData<fn() -> K>,
     buffers: Buffers,
     staging: PathBuf,
     format: Format,
@@ -84,12 +86,12 @@ fn publish(from: &Path, to: &Path) -> Result<(), DatasetError> {
     }
 }
 
-impl<E: Recordable> ShardCollector<E> {
+impl<E: Recordable<K>, K> ShardCollector<E, K> {
     pub(crate) fn new(
         env: E,
         staging: &Path,
         format: Format,
-    ) -> Result<ShardCollector<E>, DatasetError> {
+    ) -> Result<ShardCollector<E, K>, DatasetError> {
         if format == Format::Hdf5 && !format.available() {
             return Err(DatasetError::BackendMissing("hdf5"));
         }
@@ -103,6 +105,7 @@ impl<E: Recordable> ShardCollector<E> {
             obs_space: env.observation_space(),
             act_dim: env.action_space().dim(),
             env,
+            kind: PhantomData,
             staging: staging.to_path_buf(),
             format,
             seed: 0,
@@ -143,7 +146,7 @@ impl<E: Recordable> ShardCollector<E> {
                 let from = tmp.join(index.to_string());
                 let target = self.staging.join("ds").join("data").join(index.to_string());
                 let published = written
-                    .and_then(|()| super::writer::dir_size(&from).map_err(io(&from)))
+                    .and_then(|()| crate::writer::dir_size(&from).map_err(io(&from)))
                     .and_then(|bytes| publish(&from, &target).map(|()| bytes));
                 if published.is_err() {
                     let _ = fs::remove_dir_all(&from);
@@ -167,7 +170,7 @@ impl<E: Recordable> ShardCollector<E> {
     }
 }
 
-impl<E: Recordable> Drop for ShardCollector<E> {
+impl<E, K> Drop for ShardCollector<E, K> {
     fn drop(&mut self) {
         if let Some(t) = &self.tmp {
             let _ = fs::remove_dir_all(t);

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use ndarray::{Array1, Array2};
 use ndarray_npy::NpzReader;
 
-use super::error::DatasetError;
-use crate::rng::NumpyRng;
+use crate::error::DatasetError;
+use envc::rng::NumpyRng;
 
 /// Bounds SB3 clamps a SAC actor's `log_std` to.
 const LOG_STD_MIN: f64 = -20.0;

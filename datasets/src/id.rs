@@ -4,7 +4,7 @@
 //! namespace levels and no leading zeros in the version (Minari would regenerate `-v1` from `-v01`
 //! and the directory would no longer match the id).
 
-use super::error::DatasetError;
+use crate::error::DatasetError;
 
 /// A parsed dataset id.
 #[derive(Clone, Debug, PartialEq, Eq)]

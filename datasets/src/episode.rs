@@ -54,3 +54,35 @@ impl EpisodeRecord<'_> {
         ]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reward_stats_are_numpys_with_the_population_std() {
+        let rewards = [1.0, 2.0, 3.0, 4.0];
+        let r = EpisodeRecord {
+            seed: None,
+            observations: &[],
+            actions: &[],
+            rewards: &rewards,
+            terminations: &[false; 4],
+            truncations: &[false; 4],
+            infos: &[],
+        };
+        assert_eq!(r.steps(), 4);
+        // numpy: sum, mean, std (ddof=0), max, min of [1, 2, 3, 4].
+        let want = [10.0, 2.5, 1.25f64.sqrt(), 4.0, 1.0];
+        let names = [
+            "rewards_sum",
+            "rewards_mean",
+            "rewards_std",
+            "rewards_max",
+            "rewards_min",
+        ];
+        for ((name, got), (n, w)) in r.reward_stats().into_iter().zip(names.iter().zip(want)) {
+            assert_eq!((name, got), (*n, w));
+        }
+    }
+}

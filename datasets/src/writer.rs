@@ -10,13 +10,13 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value, json};
 
-use super::episode::EpisodeRecord;
-use super::error::{DatasetError, io};
-use super::id::DatasetId;
-use super::reader::Dataset;
-use super::space::Space;
-use super::staging::{self, Staging};
-use super::{Format, MINARI_VERSION, arrow_io};
+use crate::episode::EpisodeRecord;
+use crate::error::{DatasetError, io};
+use crate::id::DatasetId;
+use crate::reader::Dataset;
+use crate::space::Space;
+use crate::staging::{self, Staging};
+use crate::{Format, MINARI_VERSION, arrow_io};
 
 /// Name of the staging directory inside the datasets root (hidden: Minari skips it).
 pub const STAGING_DIR: &str = ".envc-staging";
@@ -34,7 +34,7 @@ pub struct DatasetInfo {
     pub code_permalink: Option<String>,
     /// Free text about the dataset.
     pub description: Option<String>,
-    /// Gymnasium `EnvSpec.to_json()` text (see [`super::env_spec_json`]).
+    /// Gymnasium `EnvSpec.to_json()` text (see [`crate::env_spec_json`]).
     pub env_spec: Option<String>,
     /// pip requirements that `recover_environment` checks (warnings only).
     pub requirements: Vec<String>,
@@ -44,7 +44,7 @@ pub struct DatasetInfo {
     /// Gymnasium `EnvSpec` JSON of the evaluation env (`eval_env_spec`).
     pub eval_env_spec: Option<String>,
     /// Minari's `ref_min_score`, `ref_max_score`, `num_episodes_average_score`.
-    pub reference_scores: Option<super::RefScores>,
+    pub reference_scores: Option<crate::RefScores>,
     /// What made the dataset (`envc_provenance`: the spec's files and hashes, the versions);
     /// see `dataset::provenance`.
     pub provenance: Option<Value>,
@@ -53,7 +53,7 @@ pub struct DatasetInfo {
 enum Backend {
     Arrow,
     #[cfg(feature = "hdf5")]
-    Hdf5(super::hdf5_io::Hdf5Writer),
+    Hdf5(crate::hdf5_io::Hdf5Writer),
 }
 
 /// Streams episodes to disk; nothing is visible as a dataset until [`DatasetWriter::finish`].
@@ -204,7 +204,7 @@ impl DatasetWriter {
         let backend = match format {
             Format::Arrow => Backend::Arrow,
             #[cfg(feature = "hdf5")]
-            Format::Hdf5 => Backend::Hdf5(super::hdf5_io::Hdf5Writer::create(
+            Format::Hdf5 => Backend::Hdf5(crate::hdf5_io::Hdf5Writer::create(
                 &data.join("main_data.hdf5"),
             )?),
             #[cfg(not(feature = "hdf5"))]
@@ -324,7 +324,7 @@ impl DatasetWriter {
         let dirs = [
             (self.staging.dir().join("ds").join("data"), ""),
             (
-                self.staging.dir().join(super::shard::SHARDS_DIR),
+                self.staging.dir().join(crate::shard::SHARDS_DIR),
                 ".episode",
             ),
         ];
@@ -351,7 +351,7 @@ impl DatasetWriter {
 
     /// Takes the episodes workers staged as this dataset's, in order (the driver of a sharded
     /// build).
-    pub fn adopt_shards(&mut self, episodes: &[super::ShardEpisode]) -> Result<(), DatasetError> {
+    pub fn adopt_shards(&mut self, episodes: &[crate::ShardEpisode]) -> Result<(), DatasetError> {
         if self.episodes != 0 {
             return Err(DatasetError::Write {
                 path: self.data.clone(),
@@ -368,7 +368,7 @@ impl DatasetWriter {
             }
             Format::Hdf5 => {
                 for (i, e) in episodes.iter().enumerate() {
-                    let ep = super::shard::read_shard_episode(self.staging.dir(), i as u64)?;
+                    let ep = crate::shard::read_shard_episode(self.staging.dir(), i as u64)?;
                     if ep.rewards.len() as u64 != e.steps {
                         return Err(DatasetError::Unverified {
                             path: self.staging.dir().to_path_buf(),
@@ -384,7 +384,7 @@ impl DatasetWriter {
                     let _ = fs::remove_file(
                         self.staging
                             .dir()
-                            .join(super::shard::SHARDS_DIR)
+                            .join(crate::shard::SHARDS_DIR)
                             .join(format!("{i}.episode")),
                     );
                 }
@@ -466,7 +466,7 @@ impl DatasetWriter {
         }
         m.insert("minari_version".into(), json!(MINARI_VERSION));
         m.insert("envc_version".into(), json!(env!("CARGO_PKG_VERSION")));
-        m.insert("mujoco_version".into(), json!(crate::mujoco_version()));
+        m.insert("mujoco_version".into(), json!(envc::mujoco_version()));
         m.retain(|_, v| !v.is_null());
         let meta_path = self.data.join("metadata.json");
         let text = serde_json::to_string(&Value::Object(m)).map_err(|e| DatasetError::Write {
@@ -627,8 +627,8 @@ pub fn dir_size(dir: &Path) -> std::io::Result<u64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::space::Dtype;
     use super::*;
+    use crate::space::Dtype;
 
     fn writer(tag: &str) -> (PathBuf, DatasetWriter) {
         let root = std::env::temp_dir().join(format!("envc-writer-{tag}-{}", std::process::id()));

@@ -2,7 +2,7 @@
 
 use ndarray::ArrayD;
 
-use super::space::Dtype;
+use crate::space::Dtype;
 
 /// One stored array with its own element type (Minari never casts: rewards are int64 when the env
 /// returned Python ints, float64 otherwise).
@@ -210,5 +210,73 @@ impl Episode {
     /// Sum of rewards.
     pub fn episode_return(&self) -> f64 {
         self.rewards.to_f64().sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ndarray::{Array2, IxDyn, arr1};
+
+    fn rows(n: usize) -> ArrayD<f32> {
+        Array2::from_shape_fn((n, 2), |(i, j)| (i * 2 + j) as f32).into_dyn()
+    }
+
+    #[test]
+    fn head_keeps_the_first_rows_and_the_element_type_in_arrays_and_dicts() {
+        let t = Tensor::F32(rows(4));
+        let h = t.head(2);
+        assert_eq!(h.shape(), &[2, 2]);
+        assert_eq!(h.dtype(), Some(Dtype::F32));
+        assert_eq!(
+            h.as_f32().unwrap().as_slice().unwrap(),
+            &[0.0, 1.0, 2.0, 3.0]
+        );
+        let d = Data::Dict(vec![
+            ("a".into(), Data::Tensor(t.clone())),
+            (
+                "b".into(),
+                Data::Tensor(Tensor::Bool(arr1(&[true, false, true, true]).into_dyn())),
+            ),
+        ]);
+        assert_eq!(d.rows(), 4);
+        let dh = d.head(3);
+        assert_eq!(dh.rows(), 3);
+        assert_eq!(
+            dh.get("b").and_then(Data::tensor).map(Tensor::rows),
+            Some(3)
+        );
+        assert!(dh.get("c").is_none() && dh.tensor().is_none());
+    }
+
+    #[test]
+    fn uint64_has_no_dtype_and_bools_widen_to_zero_and_one() {
+        let u = Tensor::U64(ArrayD::from_elem(IxDyn(&[3]), 7u64));
+        assert_eq!((u.dtype(), u.dtype_name()), (None, "uint64"));
+        let b = Tensor::Bool(arr1(&[true, false]).into_dyn());
+        assert_eq!(b.to_f64().as_slice().unwrap(), &[1.0, 0.0]);
+        assert_eq!(b.dtype_name(), "bool");
+        assert!(b.as_f64().is_none() && b.as_bool().is_some());
+        assert_eq!(Tensor::F64(ArrayD::zeros(IxDyn(&[0]))).rows(), 0);
+    }
+
+    #[test]
+    fn an_episode_is_as_long_as_its_flags_and_returns_its_rewards_in_any_type() {
+        let ep = Episode {
+            id: 0,
+            seed: Some(1),
+            observations: Data::Tensor(Tensor::F64(ArrayD::zeros(IxDyn(&[4, 1])))),
+            actions: Data::Tensor(Tensor::F32(rows(3))),
+            rewards: Tensor::I64(arr1(&[1i64, -2, 5]).into_dyn()),
+            terminations: arr1(&[false, false, true]),
+            truncations: arr1(&[false, false, false]),
+            infos: vec![(
+                "success".into(),
+                Data::Tensor(Tensor::F64(ArrayD::zeros(IxDyn(&[4])))),
+            )],
+        };
+        assert_eq!((ep.len(), ep.is_empty()), (3, false));
+        assert_eq!(ep.episode_return(), 4.0);
+        assert!(ep.info("success").is_some() && ep.info("missing").is_none());
     }
 }

@@ -11,10 +11,10 @@ use hdf5_metno as h5;
 use ndarray::{ArrayView1, ArrayView2};
 use serde_json::{Map, Value, json};
 
-use super::episode::EpisodeRecord;
-use super::error::{DatasetError, malformed};
-use super::space::Space;
-use super::tensor::{Data, Tensor};
+use crate::episode::EpisodeRecord;
+use crate::error::{DatasetError, malformed};
+use crate::space::Space;
+use crate::tensor::{Data, Tensor};
 
 pub struct Hdf5Writer {
     path: PathBuf,

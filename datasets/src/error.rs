@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::error::EnvError;
+use envc::EnvError;
 
 /// Why writing, reading or collecting a Minari dataset failed; every variant has a stable code.
 #[derive(Debug, thiserror::Error)]

@@ -16,10 +16,10 @@ use arrow_schema::{DataType, Field, Fields, Schema};
 use ndarray::{ArrayD, IxDyn};
 use serde_json::{Map, Value, json};
 
-use super::episode::EpisodeRecord;
-use super::error::{DatasetError, io, malformed};
-use super::space::Space;
-use super::tensor::{Data, Tensor};
+use crate::episode::{EpisodeRecord, InfoColumn};
+use crate::error::{DatasetError, io, malformed};
+use crate::space::Space;
+use crate::tensor::{Data, Tensor};
 
 /// pyarrow's scanner re-chunks batches above this many rows, which misaligns Minari's reader.
 pub const MAX_ARROW_STEPS: usize = 131_071;
@@ -34,6 +34,60 @@ fn fixed_list(
     width: usize,
 ) -> Result<FixedSizeListArray, arrow_schema::ArrowError> {
     FixedSizeListArray::try_new(list_field(dt), width as i32, values, None)
+}
+
+/// The observation column: fixed-size lists of float64 rows, or for Dict observations a struct
+/// with one fixed-size-list field per key, cut from the concatenated rows (Minari decodes struct
+/// fields by name).
+fn obs_column(
+    observations: &[f64],
+    obs_space: &Space,
+    obs_dim: usize,
+) -> Result<ArrayRef, arrow_schema::ArrowError> {
+    let Space::Dict(items) = obs_space else {
+        let values = Arc::new(Float64Array::from(observations.to_vec()));
+        return Ok(Arc::new(fixed_list(DataType::Float64, values, obs_dim)?));
+    };
+    let (mut fields, mut cols, mut off) = (vec![], vec![], 0);
+    for (key, sub) in items {
+        let w = sub.flat_len().unwrap_or(0);
+        let values: Vec<f64> = observations
+            .chunks(obs_dim.max(1))
+            .flat_map(|row| row[off..off + w].iter().copied())
+            .collect();
+        let col = fixed_list(DataType::Float64, Arc::new(Float64Array::from(values)), w)?;
+        fields.push(Field::new(key, col.data_type().clone(), true));
+        cols.push(Arc::new(col) as ArrayRef);
+        off += w;
+    }
+    Ok(Arc::new(StructArray::try_new(
+        Fields::from(fields),
+        cols,
+        None,
+    )?))
+}
+
+/// The `infos` struct column (None without info keys): float64 for one value per row, else a
+/// fixed-size list with its width as the field's `shape` metadata.
+fn info_column(infos: &[InfoColumn]) -> Result<Option<StructArray>, arrow_schema::ArrowError> {
+    if infos.is_empty() {
+        return Ok(None);
+    }
+    let mut info_fields = vec![];
+    let mut info_cols: Vec<ArrayRef> = vec![];
+    for c in infos {
+        let values = Arc::new(Float64Array::from(c.values.clone()));
+        if c.width == 1 {
+            info_fields.push(Field::new(&c.key, DataType::Float64, true));
+            info_cols.push(values);
+        } else {
+            let col = fixed_list(DataType::Float64, values, c.width)?;
+            let meta = HashMap::from([("shape".to_string(), c.width.to_string())]);
+            info_fields.push(Field::new(&c.key, col.data_type().clone(), true).with_metadata(meta));
+            info_cols.push(Arc::new(col));
+        }
+    }
+    StructArray::try_new(Fields::from(info_fields), info_cols, None).map(Some)
 }
 
 pub fn write_episode(
@@ -67,35 +121,7 @@ pub fn write_episode(
     // Not `create_dir_all`: a removed staging directory must not be silently recreated.
     fs::create_dir(&dir).map_err(io(&dir))?;
 
-    let obs: ArrayRef = match obs_space {
-        // Dict observations: a struct with one fixed-size-list field per key, cut from the
-        // concatenated rows (Minari decodes struct fields by name).
-        Space::Dict(items) => {
-            let (mut fields, mut cols, mut off) = (vec![], vec![], 0);
-            for (key, sub) in items {
-                let w = sub.flat_len().unwrap_or(0);
-                let values: Vec<f64> = ep
-                    .observations
-                    .chunks(obs_dim.max(1))
-                    .flat_map(|row| row[off..off + w].iter().copied())
-                    .collect();
-                let col = fixed_list(DataType::Float64, Arc::new(Float64Array::from(values)), w)
-                    .map_err(werr)?;
-                fields.push(Field::new(key, col.data_type().clone(), true));
-                cols.push(Arc::new(col) as ArrayRef);
-                off += w;
-            }
-            Arc::new(StructArray::try_new(Fields::from(fields), cols, None).map_err(werr)?)
-        }
-        _ => Arc::new(
-            fixed_list(
-                DataType::Float64,
-                Arc::new(Float64Array::from(ep.observations.to_vec())),
-                obs_dim,
-            )
-            .map_err(werr)?,
-        ),
-    };
+    let obs = obs_column(ep.observations, obs_space, obs_dim).map_err(werr)?;
     let mut act = Vec::with_capacity((t + 1) * act_dim);
     act.extend_from_slice(ep.actions);
     act.resize((t + 1) * act_dim, 0.0);
@@ -123,24 +149,7 @@ pub fn write_episode(
         Arc::new(pad_b(ep.terminations)),
         Arc::new(pad_b(ep.truncations)),
     ];
-    if !ep.infos.is_empty() {
-        let mut info_fields = vec![];
-        let mut info_cols: Vec<ArrayRef> = vec![];
-        for c in ep.infos {
-            let values = Arc::new(Float64Array::from(c.values.clone()));
-            if c.width == 1 {
-                info_fields.push(Field::new(&c.key, DataType::Float64, true));
-                info_cols.push(values);
-            } else {
-                let col = fixed_list(DataType::Float64, values, c.width).map_err(werr)?;
-                let meta = HashMap::from([("shape".to_string(), c.width.to_string())]);
-                info_fields
-                    .push(Field::new(&c.key, col.data_type().clone(), true).with_metadata(meta));
-                info_cols.push(Arc::new(col));
-            }
-        }
-        let infos =
-            StructArray::try_new(Fields::from(info_fields), info_cols, None).map_err(werr)?;
+    if let Some(infos) = info_column(ep.infos).map_err(werr)? {
         fields.push(Field::new("infos", infos.data_type().clone(), true));
         columns.push(Arc::new(infos));
     }
@@ -196,7 +205,7 @@ pub fn read_episode(
 ) -> Result<(RecordBatch, Map<String, Value>), DatasetError> {
     let dir = data.join(index.to_string());
     let path = data_file(&dir, "arrow")?;
-    super::error::regular_file(&path)?;
+    crate::error::regular_file(&path)?;
     let file = File::open(&path).map_err(io(&path))?;
     let bad = |e: arrow_schema::ArrowError| malformed(&path, e.to_string());
     let reader =
@@ -206,7 +215,7 @@ pub fn read_episode(
     let batch = arrow_select_concat(&schema, &batches).map_err(bad)?;
     let meta_path = dir.join("metadata.json");
     if meta_path.exists() {
-        super::error::regular_file(&meta_path)?;
+        crate::error::regular_file(&meta_path)?;
     }
     let meta = match fs::read_to_string(&meta_path) {
         Ok(text) => match serde_json::from_str(&text) {

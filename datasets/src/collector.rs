@@ -1,14 +1,15 @@
 //! Recording whole episodes of any envc env that has a Minari form (tasks, typed or dynamic, and
 //! mazes: see [`Recordable`]) under any policy. One collector for every kind.
 
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 
-use super::Format;
-use super::episode::{EpisodeRecord, InfoColumn};
-use super::error::DatasetError;
-use super::recordable::Recordable;
-use super::space::{Dtype, Space};
-use super::writer::{DatasetInfo, DatasetWriter};
+use crate::Format;
+use crate::episode::{EpisodeRecord, InfoColumn};
+use crate::error::DatasetError;
+use crate::recordable::{Recordable, TaskKind};
+use crate::space::{Dtype, Space};
+use crate::writer::{DatasetInfo, DatasetWriter};
 
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
@@ -59,11 +60,13 @@ pub struct EpisodeSummary {
 
 /// Wraps an env and records episodes into a dataset. Buffers hold one episode and are reused, so
 /// memory stays flat however many episodes are collected; each episode is on disk when
-/// [`Collector::episode`] returns.
-pub struct Collector<E: Recordable> {
+/// [`Collector::episode`] returns. `K` is the env's kind ([`Recordable`]), inferred from the env:
+/// a `Collector<Env>` records a task, a `Collector<MazeEnv, MazeKind>` a maze.
+pub struct Collector<E, K = TaskKind> {
     env: E,
     writer: DatasetWriter,
     buffers: Buffers,
+    kind: PhantomData<fn() -> K>,
 }
 
 /// One episode's arrays, reused from episode to episode.
@@ -82,9 +85,9 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
-    pub(crate) fn new<E: Recordable>(env: &E) -> Buffers {
+    pub(crate) fn new<E: Recordable<K>, K>(env: &E) -> Buffers {
         Buffers {
-            budget: crate::memory::available().map_or(u64::MAX, |b| b / 4),
+            budget: envc::memory::available().map_or(u64::MAX, |b| b / 4),
             obs: vec![],
             actions: vec![],
             action: vec![0.0; env.action_space().dim()],
@@ -96,7 +99,7 @@ impl Buffers {
     }
 
     /// Run one whole episode of `env` from `reset(seed)`; returns whether it terminated.
-    pub(crate) fn run<E: Recordable>(
+    pub(crate) fn run<E: Recordable<K>, K>(
         &mut self,
         env: &mut E,
         seed: u64,
@@ -153,11 +156,11 @@ impl Buffers {
     }
 }
 
-impl<E: Recordable> Collector<E> {
+impl<E: Recordable<K>, K> Collector<E, K> {
     /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
     /// stored when its spec names an `[env] entry_point`; `options.info.env_spec` set by the caller
     /// wins.
-    pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
+    pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E, K>, DatasetError> {
         options.info.numerics = Some(env.numerics().to_string());
         if options.info.env_spec.is_none() {
             options.info.env_spec = env.env_spec();
@@ -170,12 +173,12 @@ impl<E: Recordable> Collector<E> {
         }
         // envc's own env creator checks the record when Minari's `recover_environment` calls it.
         if let (Some(spec), Some(p)) = (&options.info.env_spec, &options.info.provenance) {
-            options.info.env_spec = Some(super::gym_spec::with_provenance(spec, p));
+            options.info.env_spec = Some(crate::gym_spec::with_provenance(spec, p));
         }
         if options.info.env_spec.is_some() && options.info.requirements.is_empty() {
             options.info.requirements = vec![
                 "gymnasium[mujoco]==1.4.0".into(),
-                format!("mujoco=={}", crate::MUJOCO_VERSION),
+                format!("mujoco=={}", envc::MUJOCO_VERSION),
             ];
         }
         let a = env.action_space();
@@ -193,6 +196,7 @@ impl<E: Recordable> Collector<E> {
             env,
             writer,
             buffers,
+            kind: PhantomData,
         })
     }
 
@@ -222,11 +226,11 @@ impl<E: Recordable> Collector<E> {
     }
 
     /// Publish the episodes workers wrote into this collector's staging directory
-    /// ([`super::record_shard`]): `episodes[i]` is what episode i's worker reported. They are
+    /// ([`crate::record_shard`]): `episodes[i]` is what episode i's worker reported. They are
     /// checked against the disk (E1210) before the rename, as [`Collector::finish`].
     pub fn finish_shards(
         mut self,
-        episodes: &[super::ShardEpisode],
+        episodes: &[crate::ShardEpisode],
     ) -> Result<PathBuf, DatasetError> {
         self.writer.adopt_shards(episodes)?;
         self.writer.finish()
@@ -236,7 +240,7 @@ impl<E: Recordable> Collector<E> {
     /// ahead of a step budget that ended before them).
     pub fn finish_shards_trimmed(
         mut self,
-        episodes: &[super::ShardEpisode],
+        episodes: &[crate::ShardEpisode],
     ) -> Result<PathBuf, DatasetError> {
         self.writer.discard_shards_from(episodes.len() as u64)?;
         self.finish_shards(episodes)
@@ -244,12 +248,12 @@ impl<E: Recordable> Collector<E> {
 
     /// [`Collector::finish`], with what the caller reports of the recording: its steps and seed,
     /// the env's warnings and the writer's clean-up notes.
-    pub fn finish_recording(self, steps: u64, seed: u64) -> Result<super::Recording, DatasetError> {
+    pub fn finish_recording(self, steps: u64, seed: u64) -> Result<crate::Recording, DatasetError> {
         let warnings = self.env().warnings().to_vec();
         let cleaned = self.writer().cleaned().to_vec();
         let unlocked = self.writer().unlocked().to_vec();
         let dir = self.finish()?;
-        Ok(super::Recording {
+        Ok(crate::Recording {
             dir,
             steps,
             seed,

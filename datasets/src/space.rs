@@ -2,7 +2,7 @@
 
 use serde_json::Value;
 
-use super::json::{PyJson, number, parse_lenient};
+use crate::json::{PyJson, number, parse_lenient};
 
 /// Element types of stored arrays (numpy names).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
