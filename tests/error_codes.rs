@@ -43,6 +43,7 @@ fn every_code_is_documented_and_every_documented_code_exists() {
     for krate in [
         "envspec/src",
         "runtime/src",
+        "datasets/src",
         "cli/src",
         "codegen/src",
         "python/src",

@@ -78,31 +78,13 @@ pub enum Outcome {
 /// removes its staging directory (the default action would end the process with it in place).
 /// A second signal has the default action: the process ends at once.
 pub(crate) fn stop_collections_on_signals() {
-    extern "C" fn stop(sig: libc::c_int) {
-        envc_datasets::STOP.store(true, std::sync::atomic::Ordering::Relaxed);
-        // SAFETY: `signal` is async-signal-safe; the next signal of this kind takes its default.
-        unsafe {
-            libc::signal(sig, libc::SIG_DFL);
-        }
-    }
-    for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
-        // SAFETY: the handler only stores to an atomic and resets its own disposition, both
-        // async-signal-safe.
-        unsafe {
-            libc::signal(sig, stop as *const () as libc::sighandler_t);
-        }
-    }
+    envc::os::stop_on_signals(&envc_datasets::STOP);
 }
 
 /// Run the `envc` command line `args` (the program name first) and return its exit status.
 /// Help, `--version` and malformed arguments end the process as clap does.
 pub fn main_with(args: Vec<OsString>) -> u8 {
-    // Die quietly when the reader of stdout goes away (`envc list | head`), as Unix tools do,
-    // instead of panicking in println!.
-    // SAFETY: setting a signal disposition before any thread is started.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    envc::os::default_sigpipe();
     let cli = Cli::parse_from(args);
     if let Some(p) = &cli.numerics {
         match envc::numerics::Profile::resolve(p, "--numerics") {

@@ -41,7 +41,6 @@ mod hdf5_io;
 mod id;
 mod json;
 mod mlp;
-mod os;
 mod plan;
 mod provenance;
 mod reader;

@@ -263,7 +263,7 @@ pub(crate) fn disk_fits(staging: &Path, done: u64, episodes: u64) -> Result<(), 
     if done >= episodes {
         return Ok(());
     }
-    let (Ok(used), Some(free)) = (disk_usage(staging), crate::os::free_bytes(staging)) else {
+    let (Ok(used), Some(free)) = (disk_usage(staging), envc::os::free_bytes(staging)) else {
         return Ok(());
     };
     let need = (used as f64 / done as f64) * (episodes - done) as f64 * 1.1;

@@ -176,7 +176,7 @@ fn write_new(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
 /// Flush everything under `dir`'s file system to stable storage (one `syncfs`, not one fsync per
 /// episode file), so the rename that publishes the dataset never reaches the disk before its data.
 fn sync_fs(dir: &Path) -> Result<(), DatasetError> {
-    crate::os::sync_fs(dir).map_err(io(dir))
+    envc::os::sync_fs(dir).map_err(io(dir))
 }
 
 impl DatasetWriter {

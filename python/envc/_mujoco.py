@@ -33,20 +33,27 @@ def _build_dir(version: str) -> str | None:
 
 
 def load_core() -> ModuleType:
-    """The native core built for the installed MuJoCo, registered as ``envc._envc``."""
+    """The native core built for the installed MuJoCo, registered as ``envc._envc``. Another
+    installed version is an ``ImportError`` naming the supported ones, never a silent mix."""
     version = installed()
-    build = _build_dir(version) if version is not None else None
-    if build is not None and version in SUPPORTED:
-        core = importlib.import_module(f"envc.{os.path.basename(build)}._envc")
-        sys.modules["envc._envc"] = core
-        return core
-    try:
-        from . import _envc
-    except ImportError as e:
+    supported = " and ".join(SUPPORTED)
+    if version is not None and version not in SUPPORTED:
         raise ImportError(
-            f"envc: this installation has no build for MuJoCo {version or '(not installed)'}; "
-            f"envc supports MuJoCo {' and '.join(SUPPORTED)} (pip install 'mujoco==4.0.1' or "
-            f"'mujoco==3.17.0'): {e}"
-        ) from e
-    return _envc
-
+            f"envc: the installed MuJoCo is {version}; envc supports MuJoCo {supported} "
+            f"(pip install 'mujoco=={SUPPORTED[-1]}' or 'mujoco=={SUPPORTED[0]}')"
+        )
+    if version is None or version == SUPPORTED[0]:
+        try:
+            from . import _envc
+        except ImportError as e:
+            raise ImportError(f"envc: MuJoCo {SUPPORTED[0]}'s library was not found: {e}") from e
+        return _envc
+    build = _build_dir(version)
+    if build is None:
+        raise ImportError(
+            f"envc: this installation has no build for MuJoCo {version} (a wheel has one for "
+            f"each of {supported}; a build from source is {SUPPORTED[0]}'s only)"
+        )
+    core = importlib.import_module(f"envc.{os.path.basename(build)}._envc")
+    sys.modules["envc._envc"] = core
+    return core

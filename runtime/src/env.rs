@@ -19,8 +19,8 @@ use mujoco_rs::mujoco_c::mjData;
 use mujoco_rs::prelude::{MjData, MjModel};
 
 use crate::error::EnvError;
+use crate::mj::log as mujoco_log;
 use crate::mj::{self, Call};
-use crate::mujoco_log;
 use crate::numerics::{Profile, clip, default_profile, norm, pairwise_sum, square_pow};
 use crate::rng::NumpyRng;
 
@@ -462,7 +462,7 @@ impl Env {
             )?)
         };
         // mj_makeData raises mju_error when the allocation fails: guarded, it is an error too.
-        let data = crate::mujoco_log::guard(|| MjData::try_new(Arc::clone(&model)))
+        let data = crate::mj::log::guard(|| MjData::try_new(Arc::clone(&model)))
             .map_err(|e| e.to_string())
             .and_then(|d| d.map_err(|e| e.to_string()))
             .map_err(|e| EnvError::Compile {

@@ -53,14 +53,12 @@ mod mj;
 mod model_build;
 pub mod model_diff;
 mod model_values;
-mod mujoco_catch;
-mod mujoco_log;
 pub mod multi_agent;
 pub mod npy;
 pub mod numerics;
 mod obs_noise;
 mod observe;
-mod os;
+pub mod os;
 pub mod registry;
 pub mod render;
 pub mod rng;
@@ -80,7 +78,8 @@ pub use envspec;
 pub use envspec::{AnySpec, Kind, Override, ParamValue, ResolvedSpec};
 pub use error::EnvError;
 pub use joint_env::{JointAction, JointEnv, JointStep};
-pub use mujoco_log::mujoco_error_message;
+pub use mj::log::mujoco_error_message;
+pub use mj::without_mujoco_timer;
 pub use vector::{Autoreset, Stepped, VecEnv};
 
 /// The file of the MuJoCo library this process loaded, from the process's memory map (Linux).

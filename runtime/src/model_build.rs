@@ -90,7 +90,7 @@ pub(crate) fn compile_edited(
     path: &std::path::Path,
     edits: &ModelEdits,
 ) -> Result<MjModel, String> {
-    let mut model = crate::mujoco_catch::compile(&mut load_edited(path, edits)?)?;
+    let mut model = crate::mj::catch::compile(&mut load_edited(path, edits)?)?;
     fill_keyframes(edits, &mut model);
     Ok(model)
 }
@@ -119,7 +119,7 @@ pub(crate) fn fill_keyframes(edits: &ModelEdits, model: &mut MjModel) {
 
 /// Load the model file into an mjSpec and apply the edits (a maze then adds its world).
 pub(crate) fn load_edited(path: &std::path::Path, edits: &ModelEdits) -> Result<MjSpec, String> {
-    let mut spec = crate::mujoco_catch::parse(path)?;
+    let mut spec = crate::mj::catch::parse(path)?;
     if let Some(ts) = edits.timestep {
         spec.option_mut().timestep = ts;
     }

@@ -45,8 +45,7 @@ pub(crate) fn take(spec: &mut MjSpec) -> Option<Taken> {
 /// The spec as it was parsed (a spec may be compiled again).
 pub(crate) fn restore(spec: &mut MjSpec, taken: &Taken) {
     spec.compiler_mut().set_settotalmass(taken.total);
-    // SAFETY: plain fields of the spec, which nothing else uses meanwhile.
-    let s = unsafe { &mut spec.ffi_mut().stat };
+    let s = crate::mj::stat::of_spec(spec);
     let v = taken.stat;
     (s.extent, s.meaninertia, s.meanmass, s.meansize) = (v[0], v[1], v[2], v[3]);
     s.center = [v[4], v[5], v[6]];
@@ -97,15 +96,13 @@ pub(crate) fn apply(spec: &MjSpec, model: &mut MjModel, taken: &Taken) -> Result
         (mean_mass, mean_inertia)
     };
     {
-        // SAFETY: plain fields of the model, which nothing else uses during the call.
-        let m = unsafe { &mut model.ffi_mut().stat };
+        let m = crate::mj::stat::of_model(model);
         m.meanmass = mean_mass.unwrap_or(m.meanmass);
         m.meaninertia = mean_inertia.unwrap_or(m.meaninertia);
     }
     // The spec's own `<statistic>` values win, as in the compiler.
     let v = taken.stat;
-    // SAFETY: as above.
-    let m = unsafe { &mut model.ffi_mut().stat };
+    let m = crate::mj::stat::of_model(model);
     for (mine, user) in [
         (&mut m.extent, v[0]),
         (&mut m.meaninertia, v[1]),
@@ -128,7 +125,7 @@ mod tests {
 
     use mujoco_rs::prelude::*;
 
-    use crate::mujoco_catch::{compile, parse};
+    use crate::mj::catch::{compile, parse};
 
     /// Every bundled model that declares `settotalmass`.
     fn models() -> Vec<PathBuf> {

@@ -33,3 +33,17 @@ for env_id in ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Humanoid-v5", "Humanoid
             o_ours, _ = ours.reset(seed=SEED + t)
             assert o_ref.tobytes() == o_ours.tobytes(), f"{env_id}: reset after step {t} differs"
     print(f"mujoco4: {env_id} bit-identical over 200 steps")
+
+# Rendering: the frames Gymnasium's renderer draws on 4.0.1 (MUJOCO_GL=egl).
+for env_id in ("Hopper-v5", "Ant-v5"):
+    ref = gym.make(env_id, render_mode="rgb_array", width=160, height=120)
+    ours = gym.make(f"envc/{env_id}", render_mode="rgb_array", width=160, height=120)
+    ref.reset(seed=SEED)
+    ours.reset(seed=SEED)
+    rng = np.random.default_rng(SEED)
+    for t in range(5):
+        a = rng.uniform(-1, 1, ref.action_space.shape).astype(ref.action_space.dtype)
+        ref.step(a)
+        ours.step(a)
+        assert np.array_equal(ref.render(), ours.render()), f"{env_id}: frame {t} differs"
+    print(f"mujoco4: {env_id} frames identical")

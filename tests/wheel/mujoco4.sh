@@ -2,7 +2,8 @@
 # The wheel beside MuJoCo 4.0.1 (scripts/test.sh's MuJoCo 4.0.1 lane): a fresh venv with Gymnasium
 # 1.4.0 on MuJoCo 4.0.1, the wheel installed into it, the checkout hidden. MuJoCo must still be
 # 4.0.1 afterwards, and envc must compute what Gymnasium computes on it (tests/wheel/mujoco4.py,
-# fresh seed), from Python and from the `envc` command.
+# fresh seed, frames included), from Python and from the `envc` command; and beside 4.0.0, which
+# envc does not support, `import envc` must say so.
 # Usage: tests/wheel/mujoco4.sh DIST WORKDIR
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -19,6 +20,12 @@ python3 -m venv "$WORK/venv"
 "$WORK/venv/bin/pip" install -q --disable-pip-version-check -r "$REQ"
 "$WORK/venv/bin/pip" install -q --disable-pip-version-check "$WHEEL"
 cp "$ROOT/tests/wheel/mujoco4.py" "$WORK/mujoco4.py"
-hidden "'$WORK/venv/bin/python' '$WORK/mujoco4.py'"
+hidden "MUJOCO_GL=egl '$WORK/venv/bin/python' '$WORK/mujoco4.py'"
 hidden "'$WORK/venv/bin/envc' info | grep -q 'linked:    MuJoCo 4.0.1'"
-echo "wheel beside MuJoCo 4.0.1: kept, and bit-identical to Gymnasium on it"
+# A MuJoCo envc does not support (4.0.0, whose sparse Cholesky 4.0.1 fixed): `import envc` names
+# the supported versions rather than loading a build for another library.
+"$WORK/venv/bin/pip" install -q --disable-pip-version-check --no-deps mujoco-core==4.0.0
+err="$(hidden "'$WORK/venv/bin/python' -c 'import envc'" 2>&1)" && { echo "import envc worked beside MuJoCo 4.0.0" >&2; exit 1; }
+grep -q "the installed MuJoCo is 4.0.0; envc supports MuJoCo 3.17.0 and 4.0.1" <<< "$err" ||
+  { echo "$err" >&2; echo "import envc beside MuJoCo 4.0.0: not the coded refusal" >&2; exit 1; }
+echo "wheel beside MuJoCo 4.0.1: kept, and bit-identical to Gymnasium on it; 4.0.0 refused"

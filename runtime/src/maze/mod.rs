@@ -603,7 +603,7 @@ impl MazeEnv {
 /// The robot's model with the maze added to its world body: one box per wall cell (named
 /// `block_i_j`, row-major) and the `target` site, as `Maze.make_maze` writes them.
 pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, EnvError> {
-    crate::mujoco_log::install();
+    crate::mj::log::install();
     let bad = |message: String| EnvError::Compile {
         path: robot.model_path.clone(),
         message,
@@ -648,7 +648,7 @@ pub fn build_world(maze: &MazeSpec, robot: &ResolvedSpec) -> Result<MjModel, Env
     *t.pos_mut() = [0.0, 0.0, z];
     t.size_mut()[0] = 0.2 * s;
     *t.rgba_mut() = [1.0, 0.0, 0.0, 0.7];
-    let mut model = crate::mujoco_catch::compile(&mut spec).map_err(bad)?;
+    let mut model = crate::mj::catch::compile(&mut spec).map_err(bad)?;
     crate::model_build::fill_keyframes(&robot.model_edits, &mut model);
     Ok(model)
 }

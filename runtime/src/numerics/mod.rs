@@ -145,17 +145,10 @@ pub fn matvec(profile: Profile, rows: usize, n: usize, a: &[f64], x: &[f64], y: 
     openblas_gemv::dgemv_t(profile.blas, rows, n, a, x, y);
 }
 
-unsafe extern "C" {
-    /// glibc's `pow`. Called directly because the compiler rewrites `powf(x, 2.0)` into `x * x`,
-    /// which differs from `pow` in the last bit (reference trap T5: numpy's `x**2` on a float64
-    /// scalar is libm `pow`).
-    fn pow(x: f64, y: f64) -> f64;
-}
-
-/// `x**2` as numpy computes it for a float64 scalar.
+/// `x**2` as numpy computes it for a float64 scalar: libm `pow` (the compiler would make
+/// `x.powf(2.0)` into `x * x`, which differs in the last bit).
 pub fn square_pow(x: f64) -> f64 {
-    // SAFETY: `pow` is a pure libm function.
-    unsafe { pow(x, std::hint::black_box(2.0)) }
+    crate::os::pow(x, std::hint::black_box(2.0))
 }
 
 /// `np.clip`: NaN stays NaN (unlike `f64::clamp`, which also panics on bad bounds).

@@ -276,7 +276,7 @@ impl Context {
         }
         // MuJoCo's renderer raises mju_error (an offscreen buffer it cannot allocate, say):
         // guarded, it is an error after the context is given back, not a silent exit.
-        let out = crate::mujoco_log::guard(f);
+        let out = crate::mj::log::guard(f);
         // SAFETY: restore the thread's previous context (valid: it was current until now), or
         // release ours so that another thread may make it current.
         unsafe {

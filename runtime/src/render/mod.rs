@@ -18,7 +18,7 @@ pub mod egl;
 
 use std::sync::Arc;
 
-use crate::mujoco_log::ffi;
+use crate::mj::log::ffi;
 use envspec::camera::{CameraKey, Located, ObjRef, RenderSettings};
 use envspec::{Code, Diagnostic, Diagnostics};
 use mujoco_rs::mujoco_c as c;
@@ -334,7 +334,7 @@ impl Renderer {
             }
             // SAFETY: `copy` is a live model copy (checked non-null), `m` the env's model; `scn`
             // and `con` were set to defaults, and this thread's GL context is current.
-            let made = crate::mujoco_log::guard(|| unsafe {
+            let made = crate::mj::log::guard(|| unsafe {
                 let g = &mut (*copy).vis.global;
                 g.offwidth = g.offwidth.max(w);
                 g.offheight = g.offheight.max(h);

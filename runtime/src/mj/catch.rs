@@ -43,7 +43,7 @@ fn message(status: c_int, buf: &[c_char]) -> String {
 
 /// Parse a model file (MJCF or URDF) into an mjSpec; MuJoCo's message on failure.
 pub(crate) fn parse(path: &Path) -> Result<MjSpec, String> {
-    crate::mujoco_log::install();
+    crate::mj::log::install();
     let s = path.to_str().ok_or("the path is not valid UTF-8")?;
     let c = CString::new(s).map_err(|_| "the path contains a NUL byte".to_string())?;
     let mut buf = [0 as c_char; 1024];
@@ -73,7 +73,7 @@ pub(crate) fn compile(spec: &mut MjSpec) -> Result<MjModel, String> {
 
 /// [`compile`] of the spec exactly as it is.
 fn compile_as_is(spec: &mut MjSpec) -> Result<MjModel, String> {
-    crate::mujoco_log::install();
+    crate::mj::log::install();
     // An empty model owned by mujoco-rs, whose contents the shim replaces.
     let mut model = MjSpec::new().compile().map_err(|e| e.to_string())?;
     let mut buf = [0 as c_char; 1024];
@@ -155,7 +155,7 @@ mod tests {
     /// entering envc's Rust handler; MuJoCo works as before afterwards, on the same thread.
     #[test]
     fn an_mju_error_beneath_the_shim_is_returned() {
-        crate::mujoco_log::install();
+        crate::mj::log::install();
         for _ in 0..3 {
             let mut buf = [0 as c_char; 1024];
             let msg = CString::new("a test error").unwrap();

@@ -5,12 +5,17 @@
 //! through it where they are used; this module holds what mujoco-rs leaves `unsafe` or does not
 //! wrap the way envc needs:
 //! - [`calls`]: the MuJoCo calls that may raise `mju_error` (`mj_forward`, `mj_step`, ...),
-//!   through envc's `C-unwind` declarations and [`crate::mujoco_log::guard`];
+//!   through envc's `C-unwind` declarations and [`crate::mj::log::guard`];
 //! - [`names`]: names and ids (no panic on a name MuJoCo cannot hold);
 //! - [`model_edit`]: the model values `[actions]` gains and `[events]` write;
 //! - [`state`]: borrows mujoco-rs cannot split (qpos and qvel at once);
 //! - [`manip`]: what manipulation tasks read and write (site Jacobians, mocap poses, the
-//!   simulation time, weld poses).
+//!   simulation time, weld poses);
+//! - [`stat`]: the `mjStatistic` of a spec and of a compiled model (`settotalmass`, `total_mass.rs`);
+//! - [`without_mujoco_timer`]: MuJoCo's process-wide profiling clock, cleared while envc steps.
+
+pub(crate) mod catch;
+pub(crate) mod log;
 
 pub(crate) use calls::{Call, call};
 
@@ -24,14 +29,14 @@ pub(crate) fn version() -> String {
 
 pub(crate) mod calls {
     //! The MuJoCo calls that may raise `mju_error`, made through envc's `C-unwind` declarations
-    //! inside [`crate::mujoco_log::guard`], so an error comes back as `Err(message)` instead of
+    //! inside [`crate::mj::log::guard`], so an error comes back as `Err(message)` instead of
     //! ending the process.
 
     use mujoco_rs::mujoco_c::{mjData, mjModel};
     use mujoco_rs::prelude::MjData;
     use mujoco_rs::wrappers::mj_model::traits::ModelType;
 
-    use crate::mujoco_log::{self, ffi};
+    use crate::mj::log::{self as mujoco_log, ffi};
 
     /// One MuJoCo computation on a model and its data.
     #[derive(Clone, Copy, Debug)]
@@ -379,4 +384,70 @@ pub(crate) mod manip {
             }
         }
     }
+}
+
+pub(crate) mod stat {
+    use mujoco_rs::mujoco_c::mjStatistic;
+    use mujoco_rs::prelude::{MjModel, MjSpec};
+
+    /// The spec's `<statistic>` values, to edit.
+    pub(crate) fn of_spec(spec: &mut MjSpec) -> &mut mjStatistic {
+        // SAFETY: plain fields of the spec, borrowed mutably with it.
+        unsafe { &mut spec.ffi_mut().stat }
+    }
+
+    /// The compiled model's statistics, to edit.
+    pub(crate) fn of_model(model: &mut MjModel) -> &mut mjStatistic {
+        // SAFETY: plain fields of the model, borrowed mutably with it.
+        unsafe { &mut model.ffi_mut().stat }
+    }
+}
+
+/// Run `f` with MuJoCo's process-wide timer callback `mjcb_time` cleared, and put it back after.
+///
+/// `import mujoco` (MuJoCo's Python bindings, which Gymnasium's MuJoCo envs import) installs a
+/// clock there, and every `mj_step` then reads it for each of its profiling timers (`mjData.timer`):
+/// about 2.5 µs per `mj_step` on the benchmark machine, +60 % on InvertedPendulum's physics
+/// (docs/PERFORMANCE.md). envc never reads `mjData.timer`, and timers do not change the physics.
+/// Safe to nest and to call from threads that released the GIL: the first caller in clears the
+/// callback, the last one out puts it back. Meanwhile a `mujoco.mj_step` on another thread runs
+/// without the clock (its timer statistics miss those steps, nothing else).
+pub fn without_mujoco_timer<T>(f: impl FnOnce() -> T) -> T {
+    use std::sync::{Mutex, MutexGuard};
+    type Clock = Option<unsafe extern "C" fn() -> f64>;
+    unsafe extern "C" {
+        /// `mjfTime mjcb_time` (mujoco.h): the clock MuJoCo's profiling timers read, or null.
+        static mut mjcb_time: Option<unsafe extern "C" fn() -> f64>;
+    }
+    // Callers inside, and the callback they found.
+    static INSIDE: Mutex<(usize, Clock)> = Mutex::new((0, None));
+    fn lock() -> MutexGuard<'static, (usize, Clock)> {
+        INSIDE.lock().unwrap_or_else(|e| e.into_inner())
+    }
+    struct Leave;
+    impl Drop for Leave {
+        fn drop(&mut self) {
+            let mut inside = lock();
+            inside.0 -= 1;
+            if inside.0 == 0 {
+                // SAFETY: a pointer-sized global of libmujoco, written back as the first caller
+                // found it; every writer from envc holds the lock.
+                unsafe { mjcb_time = inside.1 };
+            }
+        }
+    }
+    {
+        let mut inside = lock();
+        if inside.0 == 0 {
+            // SAFETY: as above; MuJoCo calls the callback only when it is non-null.
+            inside.1 = unsafe {
+                let found = mjcb_time;
+                mjcb_time = None;
+                found
+            };
+        }
+        inside.0 += 1;
+    }
+    let _leave = Leave;
+    f()
 }

@@ -178,7 +178,7 @@ mod tests {
     #[test]
     fn every_direct_mujoco_call_can_unwind() {
         let src = concat!(env!("CARGO_MANIFEST_DIR"), "/src");
-        let this = std::fs::read_to_string(format!("{src}/mujoco_log.rs")).unwrap();
+        let this = std::fs::read_to_string(format!("{src}/mj/log.rs")).unwrap();
         let ffi_block = this
             .split("unsafe extern \"C-unwind\" {")
             .nth(1)
@@ -242,7 +242,7 @@ mod tests {
         assert!(
             unlisted.is_empty(),
             "MuJoCo functions called through a `C` declaration that may raise mju_error; declare \
-             them `C-unwind` in mujoco_log::ffi and call them inside `guard`, or list them in \
+             them `C-unwind` in mj::log::ffi and call them inside `guard`, or list them in \
              NO_MJU_ERROR with a reason: {unlisted:?}"
         );
     }
