@@ -653,14 +653,16 @@ impl VecEnv {
     /// batch buffers hold the results. The rows are read in place, not copied.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F64(actions))?;
-        self.run(JointAction::F64(actions), None).map(|_| ())
+        self.run(JointAction::F64(actions), None, &mut || {})
+            .map(|_| ())
     }
 
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
     /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
     pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F32(actions))?;
-        self.run(JointAction::F32(actions), None).map(|_| ())
+        self.run(JointAction::F32(actions), None, &mut || {})
+            .map(|_| ())
     }
 
     /// [`VecEnv::step`] or [`VecEnv::step_f32`] that asks `interrupted` about every 50 ms,
@@ -671,8 +673,21 @@ impl VecEnv {
         actions: JointAction<'_>,
         interrupted: &mut dyn FnMut() -> bool,
     ) -> Result<Stepped, EnvError> {
+        self.step_overlapped(actions, interrupted, &mut || {})
+    }
+
+    /// [`VecEnv::step_interruptible`] that runs `meanwhile` on the calling thread once the
+    /// workers have started on the batch and before the caller joins them: work that does not
+    /// need the results (a binding allocating the arrays it will hand out) overlaps the
+    /// workers' envs instead of adding to the step. With one thread it runs before the envs.
+    pub fn step_overlapped(
+        &mut self,
+        actions: JointAction<'_>,
+        interrupted: &mut dyn FnMut() -> bool,
+        meanwhile: &mut dyn FnMut(),
+    ) -> Result<Stepped, EnvError> {
         self.check_actions(actions)?;
-        let stepped = self.run(actions, Some(interrupted))?;
+        let stepped = self.run(actions, Some(interrupted), meanwhile)?;
         if stepped == Stepped::Interrupted {
             self.has_reset = false;
         }
@@ -688,11 +703,13 @@ impl VecEnv {
         })
     }
 
-    /// Run one step of every env over `actions` (checked), borrowed until every env is done.
+    /// Run one step of every env over `actions` (checked), borrowed until every env is done;
+    /// `meanwhile` runs on the caller once the workers are woken, before it claims envs.
     fn run(
         &mut self,
         actions: JointAction<'_>,
         mut poll: Option<&mut dyn FnMut() -> bool>,
+        meanwhile: &mut dyn FnMut(),
     ) -> Result<Stepped, EnvError> {
         let s = &*self.shared;
         // Published by the `next` store below; the threads only read through these pointers.
@@ -712,11 +729,17 @@ impl VecEnv {
                 s.work.notify_all();
             }
         }
+        // The workers read the borrowed batch until every env is done: a panic here waits
+        // for them before it goes on.
+        let early = std::panic::catch_unwind(std::panic::AssertUnwindSafe(meanwhile)).err();
         s.work(poll.as_mut().map(|p| &mut **p as &mut dyn FnMut() -> bool));
         self.wait_done(poll);
         // Every env is done (or skipped): nothing reads the borrowed batch any more.
         s.job.actions.store(std::ptr::null_mut(), SeqCst);
         s.job.actions_f32.store(std::ptr::null_mut(), SeqCst);
+        if let Some(p) = early {
+            std::panic::resume_unwind(p);
+        }
         let failure = s.failure.lock().ok().and_then(|mut f| f.take());
         match failure {
             None if s.cancel.load(SeqCst) => Ok(Stepped::Interrupted),
