@@ -34,9 +34,9 @@ pub struct VecCore {
     f32_scratch: Vec<f32>,
     /// By `Slot`: `[0]` `copy=False`'s arrays (handed out every call); `[1]` `copy=True`'s
     /// next ones, made while the workers step (`prepare`) and each handed out once.
-    f64_slots: [Vec<Option<Py<PyArrayDyn<f64>>>>; 2],
-    f32_slots: [Vec<Option<Py<PyArrayDyn<f32>>>>; 2],
-    bool_slots: [Vec<Option<Py<PyArrayDyn<bool>>>>; 2],
+    f64_slots: [Vec<Kept<f64>>; 2],
+    f32_slots: [Vec<Kept<f32>>; 2],
+    bool_slots: [Vec<Kept<bool>>; 2],
     final_obs_key: Py<PyString>,
     final_obs_mask_key: Py<PyString>,
     final_info_key: Py<PyString>,
@@ -44,6 +44,9 @@ pub struct VecCore {
     /// Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted.
     env_steps: u64,
 }
+
+/// An array the core keeps in a slot (see `Slot`).
+type Kept<T> = Option<Py<PyArrayDyn<T>>>;
 
 struct InfoKey {
     name: Py<PyString>,
@@ -164,7 +167,7 @@ fn step_interruptible(
     let overlap = copy && env.threads() > 1;
     let mut meanwhile = || {
         if overlap {
-            Python::attach(|py| prepare(py, keys, (f64s, f32s, bools), (n, od), f32));
+            Python::attach(|py| prepare(py, keys, f64s, f32s, bools, (n, od), f32));
         }
     };
     detached(py, env, |env, check| {
@@ -174,15 +177,13 @@ fn step_interruptible(
 
 /// `copy=True`'s arrays for the coming step, made while the workers step it: observations,
 /// rewards, flags, each key's values and mask (a key no env reports keeps its arrays for the
-/// next step). `[f64, f32, bool]` slots by `Slot`.
+/// next step), in `copy=True`'s slots by `Slot`.
 fn prepare(
     py: Python<'_>,
     keys: &[InfoKey],
-    (f64s, f32s, bools): (
-        &mut [Option<Py<PyArrayDyn<f64>>>],
-        &mut [Option<Py<PyArrayDyn<f32>>>],
-        &mut [Option<Py<PyArrayDyn<bool>>>],
-    ),
+    f64s: &mut [Kept<f64>],
+    f32s: &mut [Kept<f32>],
+    bools: &mut [Kept<bool>],
     (n, od): (usize, usize),
     f32: bool,
 ) {
