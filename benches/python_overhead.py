@@ -304,7 +304,8 @@ def measure_envc_pair(env, n, seconds, block_ms=20.0):
     run(seconds * 0.25e9, [])
     pairs = []
     py, rust = run(seconds * 1e9, pairs)
-    return {"py": py[0] / py[1] * 1e9, "rust": rust[0] / rust[1] * 1e9, "ratio": med(pairs)}
+    return {"py": py[0] / py[1] * 1e9, "rust": rust[0] / rust[1] * 1e9, "ratio": med(pairs),
+            "pairs": pairs}
 
 
 def envc_bench(binary, env_id, seconds, envs=8, threads=2):
@@ -479,6 +480,7 @@ def main():
                             row.setdefault(f"{c}{n}", []).append(got["py"])
                             row.setdefault(f"{c}_rust{n}", []).append(got["rust"])
                             row.setdefault(f"{c}_ratio{n}", []).append(got["ratio"])
+                            row.setdefault(f"{c}_pairs{n}", []).extend(got["pairs"])
                         else:
                             row.setdefault(f"{c}{n}", []).append(
                                 measure_vec(env, n, args.seconds, envpool=c == "envpool_vec"))
@@ -520,6 +522,7 @@ def sweep_round(args, r, sweep):
         got = sweep_child(env_id, n, t, args.seconds, args.pair_ms, args.sweep_as_limit)
         b = envc_bench(args.envc, env_id, args.seconds, envs=min(n, 64), threads=t)
         row = sweep.setdefault((kind, name, n if kind == "size" else t), {})
+        row.setdefault("pairs", []).extend(got["pairs"])
         for k, v in (("py", got["py"]), ("rust", got["rust"]), ("ratio", got["ratio"]),
                      ("rss", got["rss_per_env"]), ("estimate", got["estimate_per_env"]),
                      ("mapped", got["mapped_estimate_per_env"]),
@@ -554,7 +557,7 @@ def sweep_tables(args, sweep):
                 r = sweep.get(("size", name, n), {})
                 out.append(
                     f"| {name} | {n} | {f0(med(r.get('py', [])))} | {f0(med(r.get('rust', [])))} | "
-                    f"{f2(med(r.get('ratio', [])))} | "
+                    f"{f2(med(r.get('pairs', [])))} | "
                     f"{f2(paired(r, lambda a, c: a / (2 * c), 'py', 'ceiling'))} | "
                     f"{f0(med(r.get('rss', [])) / 1024)} | {f0(med(r.get('estimate', [])) / 1024)} | "
                     f"{f2(med(r.get('mapped', [])) / (1 << 20))} |")
@@ -576,7 +579,7 @@ def sweep_tables(args, sweep):
                 tc = lambda a, c, t=t: a / (t * c)  # noqa: E731
                 out.append(
                     f"| {name} | {t} | {16 * t} | {f0(med(r.get('py', [])))} | "
-                    f"{f0(med(r.get('rust', [])))} | {f2(med(r.get('ratio', [])))} | "
+                    f"{f0(med(r.get('rust', [])))} | {f2(med(r.get('pairs', [])))} | "
                     f"{f2(paired(r, tc, 'py', 'ceiling'))} | {f2(paired(r, tc, 'rust', 'ceiling'))} | "
                     f"{f2(paired(r, tc, 'parallel', 'ceiling'))} |")
     return "\n".join(out) + ("\n" if out else "")
@@ -619,7 +622,7 @@ def vector_tables(args, s, has_vec):
         "`make_vec` against the Rust `VecEnv` under it, steps/s, wall time, 2 threads (autoreset "
         "calls not counted). Alternating blocks of "
         f"{args.pair_ms:g} ms of `make_vec` calls and as many Rust steps of the same envs; the ratio "
-        "is the median of those pairs (per round, then over rounds)"
+        "is the median of those pairs, over every pair of every round"
         + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
         "",
         "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust `VecEnv` | "
@@ -632,7 +635,7 @@ def vector_tables(args, s, has_vec):
             cells = []
             for c in ("envc_vec", "envc_views"):
                 cells += [f0(med(r.get(f"{c}{n}", []))), f0(med(r.get(f"{c}_rust{n}", []))),
-                          f2(med(r.get(f"{c}_ratio{n}", [])))]
+                          f2(med(r.get(f"{c}_pairs{n}", [])))]
             out.append(f"| {name} | {n} | " + " | ".join(cells) + " |")
     ep_head = "EnvPool" if live_ep else f"EnvPool (recorded {ENVPOOL_RECORDED['when']})"
     out += [
