@@ -548,16 +548,17 @@ def sweep_tables(args, sweep):
             f"interpreter{cap}; resident memory per env (the interpreter's RSS growth over making "
             "and stepping the batch, ÷ n) beside E1403's estimates per env (resident, mapped):",
             "",
-            "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | `make_vec` ÷ 2 × ceiling | "
-            "resident KiB/env | E1403 estimate KiB/env | mapped estimate MiB/env |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+            "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | pairs p25–p75 | "
+            "`make_vec` ÷ 2 × ceiling | resident KiB/env | E1403 estimate KiB/env | "
+            "mapped estimate MiB/env |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for name in args.sweep:
             for n in args.sweep_sizes:
                 r = sweep.get(("size", name, n), {})
                 out.append(
                     f"| {name} | {n} | {f0(med(r.get('py', [])))} | {f0(med(r.get('rust', [])))} | "
-                    f"{f2(med(r.get('pairs', [])))} | "
+                    f"{f2(med(r.get('pairs', [])))} | {quartiles(r.get('pairs', []))} | "
                     f"{f2(paired(r, lambda a, c: a / (2 * c), 'py', 'ceiling'))} | "
                     f"{f0(med(r.get('rss', [])) / 1024)} | {f0(med(r.get('estimate', [])) / 1024)} | "
                     f"{f2(med(r.get('mapped', [])) / (1 << 20))} |")
@@ -569,9 +570,9 @@ def sweep_tables(args, sweep):
             "CPU time, the same round) and against t raw physics loops on t threads at once (wall, "
             "the same round):",
             "",
-            "| env | threads | envs | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | "
+            "| env | threads | envs | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | pairs p25–p75 | "
             "`make_vec` ÷ (t × ceiling) | Rust ÷ (t × ceiling) | t raw loops ÷ (t × ceiling) |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for name in args.threads_sweep:
             for t in range(1, cpus() + 1):
@@ -580,9 +581,18 @@ def sweep_tables(args, sweep):
                 out.append(
                     f"| {name} | {t} | {16 * t} | {f0(med(r.get('py', [])))} | "
                     f"{f0(med(r.get('rust', [])))} | {f2(med(r.get('pairs', [])))} | "
-                    f"{f2(paired(r, tc, 'py', 'ceiling'))} | {f2(paired(r, tc, 'rust', 'ceiling'))} | "
+                    f"{quartiles(r.get('pairs', []))} | {f2(paired(r, tc, 'py', 'ceiling'))} | {f2(paired(r, tc, 'rust', 'ceiling'))} | "
                     f"{f2(paired(r, tc, 'parallel', 'ceiling'))} |")
     return "\n".join(out) + ("\n" if out else "")
+
+
+def quartiles(v):
+    """The 25th and 75th percentiles of ``v``, as a table cell."""
+    v = [x for x in v if x == x]
+    if len(v) < 4:
+        return "–"
+    q = statistics.quantiles(v, n=4)
+    return f"{q[0]:.2f}–{q[2]:.2f}"
 
 
 def med(v):
@@ -625,9 +635,9 @@ def vector_tables(args, s, has_vec):
         "is the median of those pairs, over every pair of every round"
         + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
         "",
-        "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust `VecEnv` | "
-        "`make_vec(copy=False)` | Rust `VecEnv` | `copy=False` ÷ Rust `VecEnv` |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust `VecEnv` | pairs p25–p75 | "
+        "`make_vec(copy=False)` | Rust `VecEnv` | `copy=False` ÷ Rust `VecEnv` | pairs p25–p75 |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for name in args.envs:
         r = s[name]
@@ -635,7 +645,7 @@ def vector_tables(args, s, has_vec):
             cells = []
             for c in ("envc_vec", "envc_views"):
                 cells += [f0(med(r.get(f"{c}{n}", []))), f0(med(r.get(f"{c}_rust{n}", []))),
-                          f2(med(r.get(f"{c}_pairs{n}", [])))]
+                          f2(med(r.get(f"{c}_pairs{n}", []))), quartiles(r.get(f"{c}_pairs{n}", []))]
             out.append(f"| {name} | {n} | " + " | ".join(cells) + " |")
     ep_head = "EnvPool" if live_ep else f"EnvPool (recorded {ENVPOOL_RECORDED['when']})"
     out += [
