@@ -44,8 +44,9 @@ pub enum Autoreset {
 const SPIN: Duration = Duration::from_micros(50);
 
 /// Observation rows per env a caller may hold beyond the vector's own two (see `VecEnv::per_env`):
-/// the Python binding returns fresh arrays (the last two alive at once), and Gymnasium's batched
-/// observation space holds low and high bounds and two masks over the whole batch.
+/// the Python binding returns fresh arrays (the last two alive at once, and the next step's made
+/// ahead while the workers step), and Gymnasium's batched observation space holds low and high
+/// bounds and two masks over the whole batch.
 const CALLER_OBS_ROWS: usize = 6;
 
 /// Address space a worker thread maps (its stack, guard page and thread-local data).
@@ -855,5 +856,61 @@ impl Drop for VecEnv {
         for w in self.workers.drain(..) {
             let _ = w.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(x: &[f64]) -> Vec<u64> {
+        x.iter().map(|v| v.to_bits()).collect()
+    }
+
+    fn pair(n: usize) -> (VecEnv, VecEnv) {
+        let make = || VecEnv::make("Hopper-v5", &[], n, 2, Autoreset::NextStep).unwrap();
+        let (mut a, mut b) = (make(), make());
+        a.reset(Some(3));
+        b.reset(Some(3));
+        (a, b)
+    }
+
+    #[test]
+    fn step_overlapped_runs_meanwhile_once_and_steps_as_step_does() {
+        let (mut a, mut b) = pair(6);
+        let mut seed = 0x1234_u64;
+        for t in 0..60 {
+            let act: Vec<f64> = (0..6 * 3)
+                .map(|_| {
+                    seed = splitmix(seed);
+                    (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+                })
+                .collect();
+            let mut calls = 0;
+            let stepped = a
+                .step_overlapped(JointAction::F64(&act), &mut || false, &mut || calls += 1)
+                .unwrap();
+            assert_eq!((stepped, calls), (Stepped::Done, 1), "step {t}");
+            b.step(&act).unwrap();
+            assert_eq!(bits(a.obs()), bits(b.obs()), "step {t}");
+            assert_eq!(bits(a.rewards()), bits(b.rewards()), "step {t}");
+            assert_eq!(a.terminated(), b.terminated(), "step {t}");
+            assert_eq!(a.truncated(), b.truncated(), "step {t}");
+        }
+    }
+
+    #[test]
+    fn a_panic_in_meanwhile_surfaces_once_every_env_has_stepped() {
+        let (mut a, mut b) = pair(8);
+        let act = vec![0.25; 8 * 3];
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            a.step_overlapped(JointAction::F64(&act), &mut || false, &mut || {
+                panic!("meanwhile")
+            })
+        }));
+        assert!(r.is_err());
+        b.step(&act).unwrap();
+        assert_eq!(bits(a.obs()), bits(b.obs()));
+        a.step(&act).unwrap();
     }
 }
