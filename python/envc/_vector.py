@@ -104,6 +104,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         self._busy = threading.Lock()
         self._core = core
         self.copy = copy
+        self._core_step = core.step
         self.num_envs = int(num_envs)
         self.autoreset_mode = mode
         self.render_mode = render_mode
@@ -137,6 +138,16 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     @numerics.setter
     def numerics(self, name: str) -> None:
         self._core.numerics = name
+
+    @property
+    def copy(self) -> bool:
+        """Fresh arrays every call (``True``, Gymnasium's default), or the env's own arrays,
+        overwritten by the next ``reset`` or ``step`` (``False``)."""
+        return self._copy
+
+    @copy.setter
+    def copy(self, value: bool) -> None:
+        self._copy = bool(value)
 
     @staticmethod
     def _busy_error(what: str) -> Exception:
@@ -188,7 +199,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         else:
             first = _errors.integer(seed, "seed", 0, 2**64 - self.num_envs + 1)
             seeds = [first + i for i in range(self.num_envs)]
-        return self._core.reset(seeds, None if mask is None else mask.tolist(), bool(self.copy))
+        return self._core.reset(seeds, None if mask is None else mask.tolist(), self._copy)
 
     def _check_mask(self, mask) -> np.ndarray:
         """A ``reset_mask`` as Gymnasium's vector envs check it."""
@@ -221,7 +232,8 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
         # `_one_at_a_time` spelled out, and a float array goes straight to the core (which
         # checks its shape and values): this method's own cost is part of every batch step.
-        if not self._busy.acquire(blocking=False):
+        busy = self._busy
+        if not busy.acquire(False):
             raise self._busy_error("step")
         try:
             if type(actions) is not np.ndarray or (
@@ -234,9 +246,9 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
                     f"expected {self.action_space.shape}",
                     "E1101",
                 )
-            return self._core.step(actions, bool(self.copy))
+            return self._core_step(actions, self._copy)
         finally:
-            self._busy.release()
+            busy.release()
 
     def render(self):
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
