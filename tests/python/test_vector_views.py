@@ -1,8 +1,8 @@
 """envc vector envs' results as views of buffers the env owns: with ``copy=False`` every step and
 reset writes into the same memory (same ``ctypes.data``, same base), nothing proportional to the
 batch is allocated in Python per step (tracemalloc, which sees numpy's arrays), float32 and
-float64 action batches reach the envs without a copy, and the results equal the copying path (``copy=True``)
-bit for bit. ``_core.rust_steps`` (the Rust ``VecEnv`` alone, which the benchmark times under
+float64 action batches reach the envs without a copy, and the results equal the copying path
+(``copy=True``) bit for bit. ``_core.rust_steps`` (the Rust ``VecEnv`` alone, which the benchmark times under
 ``make_vec``) steps the same envs as ``step``."""
 
 from __future__ import annotations
@@ -52,23 +52,15 @@ def same_bits(a, b, what):
         assert a.tobytes() == b.tobytes(), what
 
 
-def deep_copy(x):
-    if isinstance(x, dict):
-        return {k: deep_copy(v) for k, v in x.items()}
-    if isinstance(x, tuple):
-        return tuple(deep_copy(v) for v in x)
-    if isinstance(x, np.ndarray) and x.dtype == object:
-        return np.array([None if v is None else v.copy() for v in x] + [None], dtype=object)[:-1]
-    return x.copy() if isinstance(x, np.ndarray) else x
-
-
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
-@pytest.mark.parametrize("mode", [AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP], ids=lambda m: m.value)
+@pytest.mark.parametrize(
+    "mode", [AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP], ids=lambda m: m.value
+)
 def test_views_keep_their_memory_and_equal_the_copies(mode, dtype):
     n = 6
-    views = envc.make_vec("Hopper-v5", n, num_threads=2, autoreset_mode=mode, max_episode_steps=25,
-                          copy=False)
-    copies = envc.make_vec("Hopper-v5", n, num_threads=2, autoreset_mode=mode, max_episode_steps=25)
+    kw = dict(num_threads=2, autoreset_mode=mode, max_episode_steps=25)
+    views = envc.make_vec("Hopper-v5", n, copy=False, **kw)
+    copies = envc.make_vec("Hopper-v5", n, **kw)
     rng = np.random.default_rng(3)
     low, high = copies.single_action_space.low, copies.single_action_space.high
     r_v, r_c = views.reset(seed=4), copies.reset(seed=4)
