@@ -2,8 +2,8 @@
 reset writes into the same memory (same ``ctypes.data``, same base), nothing proportional to the
 batch is allocated in Python per step (tracemalloc, which sees numpy's arrays), float32 and
 float64 action batches reach the envs without a copy, and the results equal the copying path
-(``copy=True``) bit for bit. ``_core.rust_steps`` (the Rust ``VecEnv`` alone, which the benchmark times under
-``make_vec``) steps the same envs as ``step``."""
+(``copy=True``) bit for bit. ``_core.rust_steps`` (the Rust ``VecEnv`` alone, which the
+benchmark times under ``make_vec``) steps the same envs as ``step``."""
 
 from __future__ import annotations
 
