@@ -19,31 +19,38 @@ single env, µs per step (thread CPU time and wall time, reset calls not counted
     worker thread; autoreset calls not counted);
   - a no-op ``step`` in the same loop: the harness's own cost.
 
-vector, steps/s (wall time, autoreset calls not counted), 8 and 16 envs: ``envc.make_vec(X, n,
-num_threads=2)`` if this ``envc`` has it (else skipped, with a message) and, right after it,
-envc's Rust ``VecEnv`` of the same size (``envc bench --envs n --threads 2``: the ratio
-``make_vec`` ÷ Rust ``VecEnv``, and each against twice the physics ceiling of that run),
-Gymnasium's ``SyncVectorEnv`` and ``AsyncVectorEnv`` (``gymnasium.make_vec``), EnvPool
-(``num_threads=2``).
+vector, steps/s (wall time, autoreset calls not counted), 8 and 16 envs on 2 threads:
+  - ``envc.make_vec(X, n, num_threads=2)`` (Gymnasium's default ``copy=True``) paired with the
+    Rust ``VecEnv`` under it: the same envs stepped by ``_core.rust_steps`` (Rust stepping the
+    batch over and over, no Python between steps, results left in the Rust buffers), in
+    alternating blocks of ``--pair-ms`` of ``make_vec`` calls and as many Rust steps; the ratio
+    ``make_vec`` ÷ Rust ``VecEnv`` is the median of those pairs. ``make_vec(..., copy=False)``
+    (the env's own arrays every call) the same way;
+  - Gymnasium's ``SyncVectorEnv`` and ``AsyncVectorEnv`` (``gymnasium.make_vec``), EnvPool
+    (``num_threads=2``) if it is installed (else its columns come from ``ENVPOOL_RECORDED``, an
+    earlier run of this script, said so in the table);
+  - every figure against twice the single-thread physics ceiling (``envc bench``'s, thread CPU
+    time, the same round) and against "2 raw loops at once" (``envc bench``'s parallel ceiling:
+    two raw ``mj_step`` loops on two threads, wall time, what two cores gave at that moment).
 
-``--sweep Hopper``: batch sizes 8 … 4096 on 2 threads, each ``make_vec`` in a fresh interpreter
-(steps/s, and resident memory per env: RSS growth over making and stepping the batch ÷ n, beside
-E1403's estimate), then the Rust ``VecEnv`` of that size. ``--threads-sweep Hopper``: 1 … (CPUs)
-threads with 16 envs per thread, against t × the single-thread physics ceiling. Both run inside
-the same rounds (rotated order). ``--no-single`` skips the single-env measurements.
+``--sweep Hopper``: batch sizes 8 … 4096 on 2 threads, each in a fresh interpreter (optionally
+under an address-space cap, ``--sweep-as-limit GIB``, as ``ulimit -v``): steps/s of ``make_vec``
+and of the Rust ``VecEnv`` under it (paired as above), resident memory per env (RSS growth over
+making and stepping the batch ÷ n) beside E1403's estimate. ``--threads-sweep Hopper``: 1 … CPUs
+threads with 16 envs per thread, each against t × the single-thread physics ceiling. Both run
+inside the same rounds (rotated order). ``--no-single`` skips the single-env measurements.
 
 Tables of medians over rounds go to stdout (Markdown) and, with ``--markdown``, to a file; the
 per-round samples to ``--json``. Actions: uniform random float32 in the action space (what
 ``action_space.sample()`` and Stable-Baselines3 give), the same stream for every contender.
 
-    PYTHONPATH=python /work/venv-bench/bin/python benches/python_overhead.py \\
-        --envc target/release/envc --rounds 5 --seconds 0.5
+    bash scripts/setup.sh && cargo build --release -p envc-cli
+    .venv/bin/python benches/python_overhead.py --rounds 5 --seconds 0.5 --no-single \\
+        --sweep Hopper --sweep-as-limit 64 --threads-sweep Hopper InvertedPendulum
 
-Needs a venv with gymnasium and mujoco at the reference pins (tests/reference/requirements.txt),
-the ``envc`` package (built extension in ``python/envc/``) and, optionally, ``envpool``. On a
-machine where others rebuild envc or re-run scripts/setup.sh meanwhile, run copies (the CLI
-binary, ``python/envc``, and ``LD_LIBRARY_PATH`` at the ``mujoco`` wheel's identical
-``libmujoco``): a library rewritten under a running process kills it (SIGBUS).
+Needs a venv with gymnasium and mujoco at the reference pins (tests/reference/requirements.txt;
+scripts/setup.sh makes one), the ``envc`` package in it and, optionally, ``envpool``. Rebuild
+envc only between runs: a library rewritten under a running process kills it (SIGBUS).
 """
 
 from __future__ import annotations
@@ -71,7 +78,7 @@ SINGLE = [
 ]
 VEC_SIZES = (8, 16)
 SWEEP_SIZES = (8, 16, 64, 256, 1024, 4096)
-VECTOR = ["envc_vec", "sync", "async", "envpool_vec"]
+VECTOR = ["envc_vec", "envc_views", "sync", "async", "envpool_vec"]
 BLOCK = 64  # steps timed as one block (a block also ends at the end of an episode)
 NACT = 4096
 
@@ -248,6 +255,59 @@ def measure_vec(env, n, seconds, envpool=False):
     return run(seconds * 1e9)
 
 
+def measure_envc_pair(env, n, seconds, block_ms=20.0):
+    """``make_vec``'s ``step`` against the Rust ``VecEnv`` under it, on the same envs: blocks of
+    ``make_vec`` calls (``block_ms`` of wall time) alternate with as many Rust steps
+    (``_core.rust_steps``), which of the two goes first alternating too. Steps/s of each (wall;
+    the env's own count, ``_core.env_steps``, leaves out autoreset steps) and the median over
+    pairs of their ratio."""
+    space = env.single_action_space
+    acts = np.random.default_rng(2).uniform(space.low, space.high,
+                                            size=(256, n) + space.shape).astype(np.float32)
+    rows = list(acts)  # the batches as arrays, made before the clock starts
+    core = env.unwrapped._core
+    env.reset(seed=0)
+    state = {"k": 0}  # the next action row
+
+    def py_block(budget):
+        k, before, start = state["k"], core.env_steps, wall_ns()
+        while True:
+            env.step(rows[k % 256])
+            k += 1
+            t = wall_ns() - start
+            if t >= budget:
+                calls, state["k"] = k - state["k"], k
+                return core.env_steps - before, calls, t
+
+    def rust_block(calls):
+        before, start = core.env_steps, wall_ns()
+        core.rust_steps(acts, state["k"] % 256, calls)
+        t = wall_ns() - start
+        state["k"] += calls
+        return core.env_steps - before, t
+
+    def run(budget, pairs):
+        py, rust, calls = [0, 0], [0, 0], 0
+        start = wall_ns()
+        while wall_ns() - start < budget:
+            if calls == 0 or len(pairs) % 2 == 0:
+                s_p, calls, t_p = py_block(block_ms * 1e6)
+                s_r, t_r = rust_block(calls)
+            else:  # as many steps as the last block of make_vec calls, Rust first
+                s_r, t_r = rust_block(calls)
+                s_p, calls, t_p = py_block(block_ms * 1e6)
+            py = [py[0] + s_p, py[1] + t_p]
+            rust = [rust[0] + s_r, rust[1] + t_r]
+            pairs.append((s_p / t_p) / (s_r / t_r))
+        return py, rust
+
+    run(seconds * 0.25e9, [])
+    pairs = []
+    py, rust = run(seconds * 1e9, pairs)
+    return {"py": py[0] / py[1] * 1e9, "rust": rust[0] / rust[1] * 1e9, "ratio": med(pairs),
+            "pairs": pairs}
+
+
 def envc_bench(binary, env_id, seconds, envs=8, threads=2):
     out = subprocess.run([binary, "bench", env_id, "--rounds", "1", "--seconds", str(4 * seconds),
                           "--envs", str(envs), "--threads", str(threads), "--format", "json"],
@@ -256,9 +316,11 @@ def envc_bench(binary, env_id, seconds, envs=8, threads=2):
 
 
 SWEEP_CHILD = """
-import json, sys, time
+import json, sys
 import numpy as np
+sys.path.insert(0, sys.argv[5])
 import envc
+from python_overhead import measure_envc_pair
 env_id, n, threads, seconds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
 def rss():
     with open("/proc/self/status") as f:
@@ -269,42 +331,29 @@ warm.step(np.zeros((1,) + warm.single_action_space.shape, dtype=np.float32))
 warm.close()
 before = rss()
 env = envc.make_vec(env_id, n, num_threads=threads)
-space = env.single_action_space
-acts = np.random.default_rng(2).uniform(space.low, space.high,
-                                        size=(8, n) + space.shape).astype(np.float32)
-env.reset(seed=0)
-prev = np.zeros(n, dtype=bool)
-def run(budget):
-    global prev
-    steps, k, start = 0, 0, time.perf_counter()
-    while time.perf_counter() - start < budget:
-        _, _, term, trunc, _ = env.step(acts[k % 8])
-        k += 1
-        steps += n - int(np.count_nonzero(prev))
-        prev = term | trunc
-    return steps / (time.perf_counter() - start)
-run(seconds / 4)
-rate = run(seconds)
-print(json.dumps({"steps_per_s": rate, "rss_per_env": (rss() - before) / n,
-                  "estimate_per_env": env._core.bytes_per_env[0]}))
+got = measure_envc_pair(env, n, seconds, float(sys.argv[6]))
+got.update(rss_per_env=(rss() - before) / n, estimate_per_env=env._core.bytes_per_env[0],
+           mapped_estimate_per_env=env._core.bytes_per_env[1])
+print(json.dumps(got))
 """
 
 
-def sweep_child(env_id, n, threads, seconds):
-    """``make_vec(env_id, n, num_threads=threads)`` in a fresh interpreter: steps/s (wall,
-    autoreset calls not counted) and resident memory per env (RSS growth over making and
+def sweep_child(env_id, n, threads, seconds, block_ms, as_limit_gib=None):
+    """``make_vec(env_id, n, num_threads=threads)`` in a fresh interpreter (its address space
+    capped at ``as_limit_gib`` GiB, as ``ulimit -v``): steps/s of it and of the Rust ``VecEnv``
+    under it (``measure_envc_pair``) and resident memory per env (RSS growth over making and
     stepping it, divided by n)."""
+    def cap():
+        if as_limit_gib:
+            import resource
+            b = int(as_limit_gib * (1 << 30))
+            resource.setrlimit(resource.RLIMIT_AS, (b, b))
     out = subprocess.run([sys.executable, "-c", SWEEP_CHILD, env_id, str(n), str(threads),
-                          str(max(seconds, 0.2))],
-                         check=True, capture_output=True, text=True, env=dict(os.environ)).stdout
+                          str(max(seconds, 0.2)), os.path.dirname(os.path.abspath(__file__)),
+                          str(block_ms)],
+                         check=True, capture_output=True, text=True, env=dict(os.environ),
+                         preexec_fn=cap).stdout
     return json.loads(out.strip().splitlines()[-1])
-
-
-def make_envc_vec(envc, env_id, n):
-    try:
-        return envc.make_vec(env_id, n, num_threads=2)
-    except TypeError:
-        return envc.make_vec(env_id, n)
 
 
 def machine():
@@ -332,6 +381,10 @@ def main():
     ap.add_argument("--sweep-sizes", nargs="*", type=int, default=list(SWEEP_SIZES))
     ap.add_argument("--threads-sweep", nargs="*", default=[], metavar="ENV",
                     help="threads sweep (1 … CPUs) of these envs")
+    ap.add_argument("--sweep-as-limit", type=float, metavar="GIB",
+                    help="cap each sweep interpreter's address space (as ulimit -v), in GiB")
+    ap.add_argument("--pair-ms", type=float, default=20.0,
+                    help="ms of make_vec calls per block paired with the Rust VecEnv")
     ap.add_argument("--markdown", help="also write the tables to this file")
     ap.add_argument("--json", help="write the per-round samples to this file")
     args = ap.parse_args()
@@ -386,6 +439,8 @@ def main():
             row.setdefault("rust_ceiling", []).append(1e6 / b["ceiling_steps_per_s"])
             row.setdefault("rust_single", []).append(1e6 / b["single_steps_per_s"])
             row.setdefault("rust_vec8", []).append(b["vector_steps_per_s"])
+            row.setdefault("ceiling_sps", []).append(b["ceiling_steps_per_s"])
+            row.setdefault("parallel_sps", []).append(b["parallel_ceiling_steps_per_s"])
             o.setdefault("rne", b["rne_post_constraint"])
             o.setdefault("ep_len", max(1, round(b["mean_episode_len"])))
             order = SINGLE[r % len(SINGLE):] + SINGLE[:r % len(SINGLE)]
@@ -407,27 +462,30 @@ def main():
                 vorder = [(c, n) for n in VEC_SIZES for c in VECTOR]
                 vorder = vorder[r % len(vorder):] + vorder[:r % len(vorder)]
                 for c, n in vorder:
-                    if c == "envc_vec" and not has_vec:
+                    if c in ("envc_vec", "envc_views") and not has_vec:
                         continue
                     if c == "envpool_vec" and envpool is None:
                         continue
                     gc.collect()
-                    if c == "envc_vec":
-                        env = make_envc_vec(envc, env_id, n)
+                    if c in ("envc_vec", "envc_views"):
+                        env = envc.make_vec(env_id, n, num_threads=2, copy=c == "envc_vec")
                     elif c == "envpool_vec":
                         env = envpool.make_gymnasium(env_id, num_envs=n, batch_size=n,
                                                      num_threads=2, seed=0)
                     else:
                         env = gym.make_vec(env_id, num_envs=n, vectorization_mode=c)
                     try:
-                        row.setdefault(f"{c}{n}", []).append(
-                            measure_vec(env, n, args.seconds, envpool=c == "envpool_vec"))
+                        if c in ("envc_vec", "envc_views"):
+                            got = measure_envc_pair(env, n, args.seconds, args.pair_ms)
+                            row.setdefault(f"{c}{n}", []).append(got["py"])
+                            row.setdefault(f"{c}_rust{n}", []).append(got["rust"])
+                            row.setdefault(f"{c}_ratio{n}", []).append(got["ratio"])
+                            row.setdefault(f"{c}_pairs{n}", []).extend(got["pairs"])
+                        else:
+                            row.setdefault(f"{c}{n}", []).append(
+                                measure_vec(env, n, args.seconds, envpool=c == "envpool_vec"))
                     finally:
                         env.close()
-                    if c == "envc_vec":  # the Rust VecEnv of the same size, right after
-                        rb = envc_bench(args.envc, env_id, args.seconds, envs=n)
-                        row.setdefault(f"rust_vec{n}", []).append(rb["vector_steps_per_s"])
-                        row.setdefault(f"rust_ceiling_n{n}", []).append(rb["ceiling_steps_per_s"])
             print(f"round {r + 1}/{args.rounds} {env_id}: "
                   + ", ".join(f"{k} {v[-1]:.2f}" for k, v in row.items()), flush=True)
         sweep_round(args, r, sweep)
@@ -461,64 +519,80 @@ def sweep_round(args, r, sweep):
     points = points[r % max(len(points), 1):] + points[:r % max(len(points), 1)]
     for kind, name, n, t in points:
         env_id = f"{name}-v5"
-        got = sweep_child(env_id, n, t, args.seconds)
-        b = envc_bench(args.envc, env_id, args.seconds, envs=n, threads=t)
+        got = sweep_child(env_id, n, t, args.seconds, args.pair_ms, args.sweep_as_limit)
+        b = envc_bench(args.envc, env_id, args.seconds, envs=min(n, 64), threads=t)
         row = sweep.setdefault((kind, name, n if kind == "size" else t), {})
-        row.setdefault("py", []).append(got["steps_per_s"])
-        row.setdefault("rss", []).append(got["rss_per_env"])
-        row.setdefault("estimate", []).append(got["estimate_per_env"])
-        row.setdefault("rust", []).append(b["vector_steps_per_s"])
-        row.setdefault("ceiling", []).append(b["ceiling_steps_per_s"])
-        print(f"round {r + 1} {kind} {env_id} n={n} threads={t}: make_vec {got['steps_per_s']:,.0f}/s, "
-              f"Rust VecEnv {b['vector_steps_per_s']:,.0f}/s, {got['rss_per_env'] / 1024:.0f} KiB/env",
-              flush=True)
+        row.setdefault("pairs", []).extend(got["pairs"])
+        for k, v in (("py", got["py"]), ("rust", got["rust"]), ("ratio", got["ratio"]),
+                     ("rss", got["rss_per_env"]), ("estimate", got["estimate_per_env"]),
+                     ("mapped", got["mapped_estimate_per_env"]),
+                     ("ceiling", b["ceiling_steps_per_s"]),
+                     ("parallel", b["parallel_ceiling_steps_per_s"])):
+            row.setdefault(k, []).append(v)
+        print(f"round {r + 1} {kind} {env_id} n={n} threads={t}: make_vec {got['py']:,.0f}/s, "
+              f"Rust VecEnv {got['rust']:,.0f}/s (pairs {got['ratio']:.3f}), "
+              f"{got['rss_per_env'] / 1024:.0f} KiB/env", flush=True)
 
 
 def sweep_tables(args, sweep):
     f0 = lambda x: "–" if x != x else f"{x:,.0f}"  # noqa: E731
     f2 = lambda x: "–" if x != x else f"{x:.2f}"  # noqa: E731
     out = []
-    q = lambda a, b: a / b  # noqa: E731
+    cap = (f", each interpreter's address space capped at {args.sweep_as_limit:g} GiB (as `ulimit -v`)"
+           if args.sweep_as_limit else "")
     if args.sweep:
         out += [
             "",
-            "Batch sizes, 2 threads: steps/s (wall, autoreset calls not counted), `make_vec` in a "
-            "fresh interpreter and the Rust `VecEnv` (`envc bench`) right after it; resident memory "
-            "per env (the interpreter's RSS growth over making and stepping the batch, ÷ n) and "
-            "E1403's estimate per env:",
+            "Batch sizes, 2 threads: steps/s (wall, autoreset calls not counted) of `make_vec` and "
+            "of the Rust `VecEnv` under it (paired blocks, as above), each batch in a fresh "
+            f"interpreter{cap}; resident memory per env (the interpreter's RSS growth over making "
+            "and stepping the batch, ÷ n) beside E1403's estimates per env (resident, mapped):",
             "",
-            "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | ÷ 2 × ceiling | "
-            "resident KiB/env | E1403 estimate KiB/env |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|",
+            "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | pairs p25–p75 | "
+            "`make_vec` ÷ 2 × ceiling | resident KiB/env | E1403 estimate KiB/env | "
+            "mapped estimate MiB/env |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for name in args.sweep:
             for n in args.sweep_sizes:
                 r = sweep.get(("size", name, n), {})
                 out.append(
                     f"| {name} | {n} | {f0(med(r.get('py', [])))} | {f0(med(r.get('rust', [])))} | "
-                    f"{f2(paired(r, q, 'py', 'rust'))} | "
+                    f"{f2(med(r.get('pairs', [])))} | {quartiles(r.get('pairs', []))} | "
                     f"{f2(paired(r, lambda a, c: a / (2 * c), 'py', 'ceiling'))} | "
-                    f"{f0(med(r.get('rss', [])) / 1024)} | {f0(med(r.get('estimate', [])) / 1024)} |")
+                    f"{f0(med(r.get('rss', [])) / 1024)} | {f0(med(r.get('estimate', [])) / 1024)} | "
+                    f"{f2(med(r.get('mapped', [])) / (1 << 20))} |")
     if args.threads_sweep:
         out += [
             "",
-            "Threads, 16 envs per thread: steps/s (wall), `make_vec` and the Rust `VecEnv` of the same "
-            "size and threads, against t × the single-thread physics ceiling (`envc bench`'s, thread "
-            "CPU time, the same round):",
+            "Threads, 16 envs per thread: steps/s (wall), `make_vec` and the Rust `VecEnv` under it "
+            "(paired blocks), against t × the single-thread physics ceiling (`envc bench`'s, thread "
+            "CPU time, the same round) and against t raw physics loops on t threads at once (wall, "
+            "the same round):",
             "",
-            "| env | threads | envs | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | "
-            "`make_vec` ÷ (t × ceiling) | Rust ÷ (t × ceiling) |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|",
+            "| env | threads | envs | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust | pairs p25–p75 | "
+            "`make_vec` ÷ (t × ceiling) | Rust ÷ (t × ceiling) | t raw loops ÷ (t × ceiling) |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for name in args.threads_sweep:
             for t in range(1, cpus() + 1):
                 r = sweep.get(("threads", name, t), {})
+                tc = lambda a, c, t=t: a / (t * c)  # noqa: E731
                 out.append(
                     f"| {name} | {t} | {16 * t} | {f0(med(r.get('py', [])))} | "
-                    f"{f0(med(r.get('rust', [])))} | {f2(paired(r, q, 'py', 'rust'))} | "
-                    f"{f2(paired(r, lambda a, c: a / (t * c), 'py', 'ceiling'))} | "
-                    f"{f2(paired(r, lambda a, c: a / (t * c), 'rust', 'ceiling'))} |")
+                    f"{f0(med(r.get('rust', [])))} | {f2(med(r.get('pairs', [])))} | "
+                    f"{quartiles(r.get('pairs', []))} | {f2(paired(r, tc, 'py', 'ceiling'))} | {f2(paired(r, tc, 'rust', 'ceiling'))} | "
+                    f"{f2(paired(r, tc, 'parallel', 'ceiling'))} |")
     return "\n".join(out) + ("\n" if out else "")
+
+
+def quartiles(v):
+    """The 25th and 75th percentiles of ``v``, as a table cell."""
+    v = [x for x in v if x == x]
+    if len(v) < 4:
+        return "–"
+    q = statistics.quantiles(v, n=4)
+    return f"{q[0]:.2f}–{q[2]:.2f}"
 
 
 def med(v):
@@ -531,6 +605,78 @@ def paired(row, f, *keys):
     if not all(k in row for k in keys):
         return float("nan")
     return med([f(*xs) for xs in zip(*(row[k] for k in keys))])
+
+
+# EnvPool 1.2.5's vector rates (steps/s, wall, 2 threads) and that run's single-thread Rust
+# physics ceiling (µs per step, thread CPU time), from this script's run of 2026-11-25 08:18 UTC
+# (docs/PERFORMANCE.md): the EnvPool columns where EnvPool is not installed.
+ENVPOOL_RECORDED = {
+    "when": "2026-11-25 08:18 UTC",
+    "Ant": (118.98, {8: 6702, 16: 7447}),
+    "Humanoid": (124.13, {8: 6223, 16: 7356}),
+    "Walker2d": (57.67, {8: 16088, 16: 14717}),
+    "Hopper": (40.41, {8: 19606, 16: 20699}),
+    "InvertedPendulum": (7.47, {8: 71016, 16: 85608}),
+}
+
+
+def vector_tables(args, s, has_vec):
+    """The vector tables: ``make_vec`` against the Rust ``VecEnv`` under it, and every vector
+    env side by side against the physics ceiling."""
+    f2 = lambda x: "–" if x != x else f"{x:.2f}"  # noqa: E731
+    f0 = lambda x: "–" if x != x else f"{x:,.0f}"  # noqa: E731
+    two = lambda a, c: a / (2 * c)  # noqa: E731
+    live_ep = any(f"envpool_vec{n}" in s[name] for name in args.envs for n in VEC_SIZES)
+    out = [
+        "",
+        "`make_vec` against the Rust `VecEnv` under it, steps/s, wall time, 2 threads (autoreset "
+        "calls not counted). Alternating blocks of "
+        f"{args.pair_ms:g} ms of `make_vec` calls and as many Rust steps of the same envs; the ratio "
+        "is the median of those pairs, over every pair of every round"
+        + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
+        "",
+        "| env | n | `make_vec` | Rust `VecEnv` | `make_vec` ÷ Rust `VecEnv` | pairs p25–p75 | "
+        "`make_vec(copy=False)` | Rust `VecEnv` | `copy=False` ÷ Rust `VecEnv` | pairs p25–p75 |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in args.envs:
+        r = s[name]
+        for n in VEC_SIZES:
+            cells = []
+            for c in ("envc_vec", "envc_views"):
+                cells += [f0(med(r.get(f"{c}{n}", []))), f0(med(r.get(f"{c}_rust{n}", []))),
+                          f2(med(r.get(f"{c}_pairs{n}", []))), quartiles(r.get(f"{c}_pairs{n}", []))]
+            out.append(f"| {name} | {n} | " + " | ".join(cells) + " |")
+    ep_head = "EnvPool" if live_ep else f"EnvPool (recorded {ENVPOOL_RECORDED['when']})"
+    out += [
+        "",
+        "Side by side, steps/s, wall time, 2 threads where the API takes a thread count (Gymnasium's "
+        "`SyncVectorEnv` is one thread, `AsyncVectorEnv` one process per env), each ÷ twice the "
+        "single-thread physics ceiling (thread CPU time, the same round"
+        + ("" if live_ep else "; EnvPool's ÷ its own run's ceiling") + "); \"2 raw loops at "
+        "once\": two raw physics loops on two threads, wall time, in the same round:",
+        "",
+        f"| env | n | 2 × ceiling | 2 raw loops at once | envc `make_vec` | ÷ 2 × ceiling | {ep_head} "
+        "| ÷ 2 × ceiling | Gym Sync | ÷ 2 × ceiling | Gym Async | ÷ 2 × ceiling |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in args.envs:
+        r = s[name]
+        for n in VEC_SIZES:
+            if live_ep or name not in ENVPOOL_RECORDED:
+                ep = med(r.get(f"envpool_vec{n}", []))
+                ep_ratio = paired(r, two, f"envpool_vec{n}", "ceiling_sps")
+            else:
+                us, rates = ENVPOOL_RECORDED[name]
+                ep = rates.get(n, float("nan"))
+                ep_ratio = ep / (2 * 1e6 / us)
+            cells = [f0(2 * med(r.get("ceiling_sps", []))), f0(med(r.get("parallel_sps", []))),
+                     f0(med(r.get(f"envc_vec{n}", []))),
+                     f2(paired(r, two, f"envc_vec{n}", "ceiling_sps")), f0(ep), f2(ep_ratio)]
+            for c in ("sync", "async"):
+                cells += [f0(med(r.get(f"{c}{n}", []))), f2(paired(r, two, f"{c}{n}", "ceiling_sps"))]
+            out.append(f"| {name} | {n} | " + " | ".join(cells) + " |")
+    return out
 
 
 def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
@@ -604,30 +750,7 @@ def tables(args, s, harness, head, started, ep_note, has_vec, gym, mujoco):
                    f"{f2(paired(r, q, 'envc_gym_wall', 'gym_gym_wall'))} |")
     out = head_lines + ([] if args.no_single else out)
     if not args.no_vector:
-        out += [
-            "",
-            "Vector envs, steps/s, wall time, 2 threads where the API takes a thread count "
-            "(autoreset calls not counted)"
-            + ("" if has_vec else "; `envc.make_vec` absent in this build: its columns are –") + ":",
-            "",
-            "| env | n | envc `make_vec` | envc `VecEnv` (Rust, n) | `make_vec` ÷ Rust `VecEnv` | "
-            "`make_vec` ÷ 2 × ceiling | Rust `VecEnv` ÷ 2 × ceiling | Gym Sync | Gym Async | EnvPool "
-            "| EnvPool ÷ 2 × ceiling | envc ÷ EnvPool | envc ÷ best Gym |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
-        ]
-        two = lambda a, c: a / (2 * c)  # noqa: E731
-        for name in args.envs:
-            r = s[name]
-            for n in VEC_SIZES:
-                ev, ep, rv, rc = f"envc_vec{n}", f"envpool_vec{n}", f"rust_vec{n}", f"rust_ceiling_n{n}"
-                out.append(
-                    f"| {name} | {n} | {f0(med(r.get(ev, [])))} | {f0(med(r.get(rv, [])))} | "
-                    f"{f2(paired(r, lambda a, b: a / b, ev, rv))} | {f2(paired(r, two, ev, rc))} | "
-                    f"{f2(paired(r, two, rv, rc))} | "
-                    f"{f0(med(r.get(f'sync{n}', [])))} | {f0(med(r.get(f'async{n}', [])))} | "
-                    f"{f0(med(r.get(ep, [])))} | {f2(paired(r, two, ep, rc))} | "
-                    f"{f2(paired(r, lambda a, b: a / b, ev, ep))} | "
-                    f"{f2(paired(r, lambda a, b, c: a / max(b, c), ev, f'sync{n}', f'async{n}'))} |")
+        out += vector_tables(args, s, has_vec)
     return "\n".join(out) + "\n"
 
 

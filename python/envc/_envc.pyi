@@ -371,6 +371,18 @@ class VecCore:
     def step(
         self, actions: npt.NDArray[np.float32] | npt.NDArray[np.float64], copy: bool = True
     ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]: ...
+    def rust_steps(
+        self,
+        actions: npt.NDArray[np.float32] | npt.NDArray[np.float64],
+        first: int,
+        count: int,
+    ) -> None:
+        """The Rust `VecEnv` alone, for benchmarks: `count` steps over the `(k, num_envs,
+        act_dim)` batches of `actions` (step t takes batch `(first + t) % k`), nothing built for
+        Python in between; the steps count in `env_steps`."""
+    @property
+    def env_steps(self) -> int:
+        """Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted."""
     def render(self, index: int, mode: str) -> Any:
         """A frame of env `index` in Gymnasium's `render_mode` (as `EnvCore.render`)."""
     def close(self) -> None: ...

@@ -24,6 +24,8 @@ from ._gym import (
 )
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+# numpy's own float32 and float64 dtypes: native arrays of those types carry these objects.
+_F32, _F64 = np.dtype(np.float32), np.dtype(np.float64)
 
 
 def _default_threads(num_envs: int) -> int:
@@ -102,6 +104,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         self._busy = threading.Lock()
         self._core = core
         self.copy = copy
+        self._core_step = core.step
         self.num_envs = int(num_envs)
         self.autoreset_mode = mode
         self.render_mode = render_mode
@@ -136,14 +139,28 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     def numerics(self, name: str) -> None:
         self._core.numerics = name
 
+    @property
+    def copy(self) -> bool:
+        """Fresh arrays every call (``True``, Gymnasium's default), or the env's own arrays,
+        overwritten by the next ``reset`` or ``step`` (``False``)."""
+        return self._copy
+
+    @copy.setter
+    def copy(self, value: bool) -> None:
+        self._copy = bool(value)
+
+    @staticmethod
+    def _busy_error(what: str) -> Exception:
+        return _errors.coded(
+            f"error[E1106]: `{what}` while another thread is in a call of this vector env; "
+            "use one vector env per thread, or a lock around its calls",
+            "E1106",
+        )
+
     @contextlib.contextmanager
     def _one_at_a_time(self, what: str):
         if not self._busy.acquire(blocking=False):
-            raise _errors.coded(
-                f"error[E1106]: `{what}` while another thread is in a call of this vector env; "
-                "use one vector env per thread, or a lock around its calls",
-                "E1106",
-            )
+            raise self._busy_error(what)
         try:
             yield
         finally:
@@ -182,7 +199,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         else:
             first = _errors.integer(seed, "seed", 0, 2**64 - self.num_envs + 1)
             seeds = [first + i for i in range(self.num_envs)]
-        return self._core.reset(seeds, None if mask is None else mask.tolist(), bool(self.copy))
+        return self._core.reset(seeds, None if mask is None else mask.tolist(), self._copy)
 
     def _check_mask(self, mask) -> np.ndarray:
         """A ``reset_mask`` as Gymnasium's vector envs check it."""
@@ -213,17 +230,25 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
 
     def step(self, actions):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
-        with self._one_at_a_time("step"):
-            return self._step(actions)
-
-    def _step(self, actions):
-        a = as_actions(actions)
-        if a.ndim != 2:
-            raise _errors.coded(
-                f"error[E1101]: actions have shape {a.shape}; expected {self.action_space.shape}",
-                "E1101",
-            )
-        return self._core.step(a, bool(self.copy))
+        # `_one_at_a_time` spelled out, and a float array goes straight to the core (which
+        # checks its shape and values): this method's own cost is part of every batch step.
+        busy = self._busy
+        if not busy.acquire(False):
+            raise self._busy_error("step")
+        try:
+            if type(actions) is not np.ndarray or (
+                actions.dtype is not _F32 and actions.dtype is not _F64
+            ):
+                actions = as_actions(actions)
+            if actions.ndim != 2:
+                raise _errors.coded(
+                    f"error[E1101]: actions have shape {actions.shape}; "
+                    f"expected {self.action_space.shape}",
+                    "E1101",
+                )
+            return self._core_step(actions, self._copy)
+        finally:
+            busy.release()
 
     def render(self):
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""

@@ -32,15 +32,21 @@ pub struct VecCore {
     final_values: Vec<f64>,
     /// A float32 key's values, converted for the call.
     f32_scratch: Vec<f32>,
-    /// `copy=False`'s arrays, by `Slot`.
-    f64_slots: Vec<Option<Py<PyArrayDyn<f64>>>>,
-    f32_slots: Vec<Option<Py<PyArrayDyn<f32>>>>,
-    bool_slots: Vec<Option<Py<PyArrayDyn<bool>>>>,
+    /// By `Slot`: `[0]` `copy=False`'s arrays (handed out every call); `[1]` `copy=True`'s
+    /// next ones, made while the workers step (`prepare`) and each handed out once.
+    f64_slots: [Vec<Kept<f64>>; 2],
+    f32_slots: [Vec<Kept<f32>>; 2],
+    bool_slots: [Vec<Kept<bool>>; 2],
     final_obs_key: Py<PyString>,
     final_obs_mask_key: Py<PyString>,
     final_info_key: Py<PyString>,
     final_info_mask_key: Py<PyString>,
+    /// Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted.
+    env_steps: u64,
 }
+
+/// An array the core keeps in a slot (see `Slot`).
+type Kept<T> = Option<Py<PyArrayDyn<T>>>;
 
 struct InfoKey {
     name: Py<PyString>,
@@ -79,8 +85,9 @@ impl Slot {
     }
 }
 
-/// `data` as a numpy array of `shape`: fresh (`copy`), or written into the array kept in `slot`
-/// (made, or remade when the user left it unusable) and that array itself.
+/// `data` as a numpy array of `shape`. `copy`: a fresh array, the one `prepare` made in `slot`
+/// (taken out) or a new one. Else written into the array kept in `slot` (made, or remade when
+/// the user left it unusable) and that array itself.
 fn out_array<'py, T: Element + Copy>(
     py: Python<'py>,
     slot: &mut Option<Py<PyArrayDyn<T>>>,
@@ -88,6 +95,15 @@ fn out_array<'py, T: Element + Copy>(
     data: &[T],
     copy: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
+    if copy && let Some(a) = slot.take() {
+        let a = a.into_bound(py);
+        if a.shape() == shape {
+            // SAFETY: made by `prepare` (C-contiguous, of this shape) and never handed out: the
+            // core holds its only reference, and the GIL is held.
+            unsafe { a.as_slice_mut() }?.copy_from_slice(data);
+            return Ok(a.into_any());
+        }
+    }
     if !copy && let Some(a) = slot.as_ref() {
         let a = a.bind(py);
         if a.shape() == shape
@@ -108,6 +124,15 @@ fn out_array<'py, T: Element + Copy>(
     Ok(a.into_any())
 }
 
+/// An uninitialized array of `shape` in `slot` for `out_array` to fill, unless one is there.
+fn fresh<T: Element>(py: Python<'_>, slot: &mut Option<Py<PyArrayDyn<T>>>, shape: &[usize]) {
+    if slot.is_none() {
+        // SAFETY: uninitialized, but `out_array` writes it whole before it is handed out, and
+        // nothing reads it before.
+        *slot = Some(unsafe { PyArrayDyn::<T>::new(py, IxDyn(shape), false) }.unbind());
+    }
+}
+
 /// Whether info item `item` is a float32 action cost under float32 actions (see `Env::step_f32`).
 fn f32_cost(spec: &envspec::ResolvedSpec, item: &envspec::ir::InfoItem) -> bool {
     use envspec::ir::{InfoKind, TermKind};
@@ -120,15 +145,78 @@ fn f32_cost(spec: &envspec::ResolvedSpec, item: &envspec::ir::InfoItem) -> bool 
     }
 }
 
-/// One vector step with the GIL released, checking for Ctrl-C about every 50 ms between envs: a
-/// signal stops the step part-way (the envs not started are skipped), the env needs a reset, and
-/// the signal's exception (KeyboardInterrupt) is raised.
+/// One vector step with the GIL released (see `detached`). With `copy` and worker threads, the
+/// arrays the step will return are made meanwhile (`prepare`), while the workers step envs.
 fn step_interruptible(
     py: Python<'_>,
     core: &mut VecCore,
     actions: envc::JointAction<'_>,
+    copy: bool,
 ) -> PyResult<()> {
-    let env = core.env.as_mut().ok_or_else(closed)?;
+    let f32 = matches!(actions, envc::JointAction::F32(_));
+    let VecCore {
+        env,
+        keys,
+        f64_slots: [_, f64s],
+        f32_slots: [_, f32s],
+        bool_slots: [_, bools],
+        ..
+    } = core;
+    let env = env.as_mut().ok_or_else(closed)?;
+    let (n, od) = (env.num_envs(), env.obs_dim());
+    let overlap = copy && env.threads() > 1;
+    let mut meanwhile = || {
+        if overlap {
+            Python::attach(|py| prepare(py, keys, f64s, f32s, bools, (n, od), f32));
+        }
+    };
+    detached(py, env, |env, check| {
+        env.step_overlapped(actions, check, &mut meanwhile)
+    })
+}
+
+/// `copy=True`'s arrays for the coming step, made while the workers step it: observations,
+/// rewards, flags, each key's values and mask (a key no env reports keeps its arrays for the
+/// next step), in `copy=True`'s slots by `Slot`.
+fn prepare(
+    py: Python<'_>,
+    keys: &[InfoKey],
+    f64s: &mut [Kept<f64>],
+    f32s: &mut [Kept<f32>],
+    bools: &mut [Kept<bool>],
+    (n, od): (usize, usize),
+    f32: bool,
+) {
+    let nk = keys.len();
+    fresh(py, &mut f64s[Slot::Obs.index(nk)], &[n, od]);
+    fresh(py, &mut f64s[Slot::Rewards.index(nk)], &[n]);
+    fresh(py, &mut bools[Slot::Terminated.index(nk)], &[n]);
+    fresh(py, &mut bools[Slot::Truncated.index(nk)], &[n]);
+    for (k, key) in keys.iter().enumerate() {
+        let shape: &[usize] = if key.len == 1 { &[n] } else { &[n, key.len] };
+        let v = Slot::Value {
+            key: k,
+            last: false,
+        }
+        .index(nk);
+        if f32 && key.f32_with_f32_actions {
+            fresh(py, &mut f32s[v], shape);
+        } else {
+            fresh(py, &mut f64s[v], shape);
+        }
+        fresh(py, &mut bools[Slot::Mask(k).index(nk)], &[n]);
+    }
+}
+
+/// `steps` run on the env with the GIL released, checking for Ctrl-C about every 50 ms between
+/// envs (`steps` hands the check to `VecEnv::step_interruptible`): a signal stops the step
+/// part-way (the envs not started are skipped), the env needs a reset, and the signal's
+/// exception (KeyboardInterrupt) is raised.
+fn detached<F>(py: Python<'_>, env: &mut envc::VecEnv, steps: F) -> PyResult<()>
+where
+    F: FnOnce(&mut envc::VecEnv, &mut dyn FnMut() -> bool) -> Result<envc::Stepped, envc::EnvError>
+        + Send,
+{
     let mut signal = None;
     let stepped = py.detach(|| {
         let mut check = || match Python::attach(|py| py.check_signals()) {
@@ -138,21 +226,54 @@ fn step_interruptible(
                 true
             }
         };
-        crate::mujoco_timer::without_mujoco_timer(|| env.step_interruptible(actions, &mut check))
+        crate::mujoco_timer::without_mujoco_timer(|| steps(&mut *env, &mut check))
     });
     match (stepped.map_err(errors::env_error)?, signal) {
         (envc::Stepped::Done, _) => Ok(()),
         (envc::Stepped::Interrupted, Some(e)) => {
-            core.require_reset();
+            env.require_reset();
             Err(e)
         }
         (envc::Stepped::Interrupted, None) => {
-            core.require_reset();
+            env.require_reset();
             Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
                 "the vector step was interrupted",
             ))
         }
     }
+}
+
+/// The env steps of the last step: every env's, but for NextStep's autoreset steps (an
+/// autoreset leaves an env at 0 elapsed steps; a step never does, SameStep's reset aside).
+fn real_steps(env: &envc::VecEnv) -> u64 {
+    if env.autoreset() == envc::Autoreset::SameStep {
+        return env.num_envs() as u64;
+    }
+    env.envs().iter().filter(|e| e.elapsed_steps() > 0).count() as u64
+}
+
+/// `count` steps of `env` in Rust, step t over batch `(first + t) % batches` of `rows`
+/// (`batches` batches of `num_envs × act_dim`, C order; see `VecCore::rust_steps`), adding the
+/// env steps taken to `taken`.
+fn rust_loop<'a, T>(
+    env: &mut envc::VecEnv,
+    check: &mut dyn FnMut() -> bool,
+    rows: &'a [T],
+    (first, count): (usize, usize),
+    action: impl Fn(&'a [T]) -> envc::JointAction<'a>,
+    taken: &mut u64,
+) -> Result<envc::Stepped, envc::EnvError> {
+    let batch = env.num_envs() * env.act_dim();
+    let batches = rows.len() / batch.max(1);
+    for t in 0..count {
+        let at = (first + t) % batches.max(1) * batch;
+        let stepped = env.step_interruptible(action(&rows[at..at + batch]), check)?;
+        if stepped == envc::Stepped::Interrupted {
+            return Ok(stepped);
+        }
+        *taken += real_steps(env);
+    }
+    Ok(envc::Stepped::Done)
 }
 
 fn closed() -> PyErr {
@@ -235,13 +356,19 @@ impl VecCore {
             self.f32_scratch.extend(src.iter().map(|&x| x as f32));
             out_array(
                 py,
-                &mut self.f32_slots[slot],
+                &mut self.f32_slots[usize::from(copy)][slot],
                 shape,
                 &self.f32_scratch,
                 copy,
             )
         } else {
-            out_array(py, &mut self.f64_slots[slot], shape, src, copy)
+            out_array(
+                py,
+                &mut self.f64_slots[usize::from(copy)][slot],
+                shape,
+                src,
+                copy,
+            )
         }
     }
 
@@ -264,7 +391,7 @@ impl VecCore {
             }
             let v = self.value_array(py, k, false, f32, copy)?;
             info.set_item(self.keys[k].name.bind(py), v)?;
-            let slot = &mut self.bool_slots[Slot::Mask(k).index(nkeys)];
+            let slot = &mut self.bool_slots[usize::from(copy)][Slot::Mask(k).index(nkeys)];
             let m = out_array(py, slot, &[n], &self.mask[k * n..(k + 1) * n], copy)?;
             info.set_item(self.keys[k].mask_name.bind(py), m)?;
         }
@@ -292,8 +419,15 @@ impl VecCore {
         let ended = has_final.to_vec();
         let final_obs = PyArray1::from_vec(py, rows);
         let slot = Slot::HasFinal.index(nkeys);
-        let ended_array =
-            |core: &mut VecCore| out_array(py, &mut core.bool_slots[slot], &[n], &ended, copy);
+        let ended_array = |core: &mut VecCore| {
+            out_array(
+                py,
+                &mut core.bool_slots[usize::from(copy)][slot],
+                &[n],
+                &ended,
+                copy,
+            )
+        };
         let final_info = PyDict::new(py);
         for k in 0..nkeys {
             let v = self.value_array(py, k, true, f32, copy)?;
@@ -317,7 +451,7 @@ impl VecCore {
     fn obs<'py>(&mut self, py: Python<'py>, copy: bool) -> PyResult<Bound<'py, PyAny>> {
         let env = self.env.as_ref().ok_or_else(closed)?;
         let shape = [env.num_envs(), env.obs_dim()];
-        let slot = &mut self.f64_slots[Slot::Obs.index(self.keys.len())];
+        let slot = &mut self.f64_slots[usize::from(copy)][Slot::Obs.index(self.keys.len())];
         out_array(py, slot, &shape, env.obs(), copy)
     }
 
@@ -329,27 +463,28 @@ impl VecCore {
         copy: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
         self.gather()?;
+        self.env_steps += real_steps(self.env()?);
         let nkeys = self.keys.len();
         let obs = self.obs(py, copy)?;
         let env = self.env.as_ref().ok_or_else(closed)?;
         let n = env.num_envs();
         let rewards = out_array(
             py,
-            &mut self.f64_slots[Slot::Rewards.index(nkeys)],
+            &mut self.f64_slots[usize::from(copy)][Slot::Rewards.index(nkeys)],
             &[n],
             env.rewards(),
             copy,
         )?;
         let terminated = out_array(
             py,
-            &mut self.bool_slots[Slot::Terminated.index(nkeys)],
+            &mut self.bool_slots[usize::from(copy)][Slot::Terminated.index(nkeys)],
             &[n],
             env.terminated(),
             copy,
         )?;
         let truncated = out_array(
             py,
-            &mut self.bool_slots[Slot::Truncated.index(nkeys)],
+            &mut self.bool_slots[usize::from(copy)][Slot::Truncated.index(nkeys)],
             &[n],
             env.truncated(),
             copy,
@@ -391,7 +526,7 @@ impl VecCore {
         errors::no_panic(
             self,
             |core| {
-                step_interruptible(py, core, actions)?;
+                step_interruptible(py, core, actions, copy)?;
                 core.step_result(py, f32, copy)
             },
             VecCore::require_reset,
@@ -489,14 +624,15 @@ impl VecCore {
             mask: vec![false; nkeys * n],
             final_values: vec![0.0; offset * n],
             f32_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
-            f64_slots: (0..2 + 2 * nkeys).map(|_| None).collect(),
-            f32_slots: (0..2 + 2 * nkeys).map(|_| None).collect(),
-            bool_slots: (0..3 + nkeys).map(|_| None).collect(),
+            f64_slots: [0, 1].map(|_| (0..2 + 2 * nkeys).map(|_| None).collect()),
+            f32_slots: [0, 1].map(|_| (0..2 + 2 * nkeys).map(|_| None).collect()),
+            bool_slots: [0, 1].map(|_| (0..3 + nkeys).map(|_| None).collect()),
             keys,
             final_obs_key: PyString::intern(py, "final_obs").unbind(),
             final_obs_mask_key: PyString::intern(py, "_final_obs").unbind(),
             final_info_key: PyString::intern(py, "final_info").unbind(),
             final_info_mask_key: PyString::intern(py, "_final_info").unbind(),
+            env_steps: 0,
         })
     }
 
@@ -584,6 +720,68 @@ impl VecCore {
             "E1101",
             "error[E1101]: actions must be a 2-D float32 or float64 numpy array".into(),
         ))
+    }
+
+    /// The Rust `VecEnv` alone, for benchmarks (`benches/python_overhead.py` pairs it with
+    /// `step` on the same envs): `count` steps over the batches of `actions` (`(k, num_envs,
+    /// act_dim)`, float32 or float64, C-contiguous; step t takes batch `(first + t) % k`) with
+    /// the GIL released throughout and nothing built for Python in between; the results stay in
+    /// the env (the next `step` or `reset` returns its own). The steps count in `env_steps`.
+    fn rust_steps(
+        &mut self,
+        py: Python<'_>,
+        actions: &Bound<'_, PyAny>,
+        first: usize,
+        count: usize,
+    ) -> PyResult<()> {
+        fn rows<'a, T: Element>(
+            core: &VecCore,
+            a: &'a numpy::PyReadonlyArray3<'_, T>,
+        ) -> PyResult<&'a [T]> {
+            let shape = a.shape();
+            core.check_batch(&shape[1..])?;
+            match a.as_slice() {
+                Ok(s) if a.is_c_contiguous() && shape[0] > 0 => Ok(s),
+                _ => Err(errors::argument(
+                    "actions must be a C-contiguous (k, num_envs, act_dim) array with k >= 1",
+                )),
+            }
+        }
+        let run = |core: &mut VecCore| -> PyResult<()> {
+            let mut taken = 0;
+            let done = if let Ok(a) = actions.cast::<numpy::PyArray3<f32>>() {
+                let a = a.try_readonly().map_err(errors::argument)?;
+                let r = rows(core, &a)?;
+                let env = core.env.as_mut().ok_or_else(closed)?;
+                detached(py, env, |env, check| {
+                    let f32 = |s| envc::JointAction::F32(s);
+                    rust_loop(env, check, r, (first, count), f32, &mut taken)
+                })
+            } else if let Ok(a) = actions.cast::<numpy::PyArray3<f64>>() {
+                let a = a.try_readonly().map_err(errors::argument)?;
+                let r = rows(core, &a)?;
+                let env = core.env.as_mut().ok_or_else(closed)?;
+                detached(py, env, |env, check| {
+                    let f64 = |s| envc::JointAction::F64(s);
+                    rust_loop(env, check, r, (first, count), f64, &mut taken)
+                })
+            } else {
+                Err(errors::coded(
+                    "E1101",
+                    "error[E1101]: actions must be a 3-D float32 or float64 numpy array".into(),
+                ))
+            };
+            core.env_steps += taken;
+            done
+        };
+        errors::no_panic(self, run, VecCore::require_reset)
+    }
+
+    /// Env steps taken by `step` and `rust_steps` since the env was made, NextStep's autoreset
+    /// steps (reward 0, both flags false) not counted.
+    #[getter]
+    fn env_steps(&self) -> u64 {
+        self.env_steps
     }
 
     /// A frame of env `index` in Gymnasium's `render_mode` (each env has its own renderer).

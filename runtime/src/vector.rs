@@ -44,8 +44,9 @@ pub enum Autoreset {
 const SPIN: Duration = Duration::from_micros(50);
 
 /// Observation rows per env a caller may hold beyond the vector's own two (see `VecEnv::per_env`):
-/// the Python binding returns fresh arrays (the last two alive at once), and Gymnasium's batched
-/// observation space holds low and high bounds and two masks over the whole batch.
+/// the Python binding returns fresh arrays (the last two alive at once, and the next step's made
+/// ahead while the workers step), and Gymnasium's batched observation space holds low and high
+/// bounds and two masks over the whole batch.
 const CALLER_OBS_ROWS: usize = 6;
 
 /// Address space a worker thread maps (its stack, guard page and thread-local data).
@@ -653,14 +654,16 @@ impl VecEnv {
     /// batch buffers hold the results. The rows are read in place, not copied.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F64(actions))?;
-        self.run(JointAction::F64(actions), None).map(|_| ())
+        self.run(JointAction::F64(actions), None, &mut || {})
+            .map(|_| ())
     }
 
     /// [`VecEnv::step`] with float32 actions, as a float32 policy steps the reference: each env
     /// steps with `Env::step_f32` (float32 action costs, as numpy computes them).
     pub fn step_f32(&mut self, actions: &[f32]) -> Result<(), EnvError> {
         self.check_actions(JointAction::F32(actions))?;
-        self.run(JointAction::F32(actions), None).map(|_| ())
+        self.run(JointAction::F32(actions), None, &mut || {})
+            .map(|_| ())
     }
 
     /// [`VecEnv::step`] or [`VecEnv::step_f32`] that asks `interrupted` about every 50 ms,
@@ -671,8 +674,21 @@ impl VecEnv {
         actions: JointAction<'_>,
         interrupted: &mut dyn FnMut() -> bool,
     ) -> Result<Stepped, EnvError> {
+        self.step_overlapped(actions, interrupted, &mut || {})
+    }
+
+    /// [`VecEnv::step_interruptible`] that runs `meanwhile` on the calling thread once the
+    /// workers have started on the batch and before the caller joins them: work that does not
+    /// need the results (a binding allocating the arrays it will hand out) overlaps the
+    /// workers' envs instead of adding to the step. With one thread it runs before the envs.
+    pub fn step_overlapped(
+        &mut self,
+        actions: JointAction<'_>,
+        interrupted: &mut dyn FnMut() -> bool,
+        meanwhile: &mut dyn FnMut(),
+    ) -> Result<Stepped, EnvError> {
         self.check_actions(actions)?;
-        let stepped = self.run(actions, Some(interrupted))?;
+        let stepped = self.run(actions, Some(interrupted), meanwhile)?;
         if stepped == Stepped::Interrupted {
             self.has_reset = false;
         }
@@ -688,11 +704,13 @@ impl VecEnv {
         })
     }
 
-    /// Run one step of every env over `actions` (checked), borrowed until every env is done.
+    /// Run one step of every env over `actions` (checked), borrowed until every env is done;
+    /// `meanwhile` runs on the caller once the workers are woken, before it claims envs.
     fn run(
         &mut self,
         actions: JointAction<'_>,
         mut poll: Option<&mut dyn FnMut() -> bool>,
+        meanwhile: &mut dyn FnMut(),
     ) -> Result<Stepped, EnvError> {
         let s = &*self.shared;
         // Published by the `next` store below; the threads only read through these pointers.
@@ -712,11 +730,17 @@ impl VecEnv {
                 s.work.notify_all();
             }
         }
+        // The workers read the borrowed batch until every env is done: a panic here waits
+        // for them before it goes on.
+        let early = std::panic::catch_unwind(std::panic::AssertUnwindSafe(meanwhile)).err();
         s.work(poll.as_mut().map(|p| &mut **p as &mut dyn FnMut() -> bool));
         self.wait_done(poll);
         // Every env is done (or skipped): nothing reads the borrowed batch any more.
         s.job.actions.store(std::ptr::null_mut(), SeqCst);
         s.job.actions_f32.store(std::ptr::null_mut(), SeqCst);
+        if let Some(p) = early {
+            std::panic::resume_unwind(p);
+        }
         let failure = s.failure.lock().ok().and_then(|mut f| f.take());
         match failure {
             None if s.cancel.load(SeqCst) => Ok(Stepped::Interrupted),
@@ -832,5 +856,61 @@ impl Drop for VecEnv {
         for w in self.workers.drain(..) {
             let _ = w.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(x: &[f64]) -> Vec<u64> {
+        x.iter().map(|v| v.to_bits()).collect()
+    }
+
+    fn pair(n: usize) -> (VecEnv, VecEnv) {
+        let make = || VecEnv::make("Hopper-v5", &[], n, 2, Autoreset::NextStep).unwrap();
+        let (mut a, mut b) = (make(), make());
+        a.reset(Some(3));
+        b.reset(Some(3));
+        (a, b)
+    }
+
+    #[test]
+    fn step_overlapped_runs_meanwhile_once_and_steps_as_step_does() {
+        let (mut a, mut b) = pair(6);
+        let mut seed = 0x1234_u64;
+        for t in 0..60 {
+            let act: Vec<f64> = (0..6 * 3)
+                .map(|_| {
+                    seed = splitmix(seed);
+                    (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+                })
+                .collect();
+            let mut calls = 0;
+            let stepped = a
+                .step_overlapped(JointAction::F64(&act), &mut || false, &mut || calls += 1)
+                .unwrap();
+            assert_eq!((stepped, calls), (Stepped::Done, 1), "step {t}");
+            b.step(&act).unwrap();
+            assert_eq!(bits(a.obs()), bits(b.obs()), "step {t}");
+            assert_eq!(bits(a.rewards()), bits(b.rewards()), "step {t}");
+            assert_eq!(a.terminated(), b.terminated(), "step {t}");
+            assert_eq!(a.truncated(), b.truncated(), "step {t}");
+        }
+    }
+
+    #[test]
+    fn a_panic_in_meanwhile_surfaces_once_every_env_has_stepped() {
+        let (mut a, mut b) = pair(8);
+        let act = vec![0.25; 8 * 3];
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            a.step_overlapped(JointAction::F64(&act), &mut || false, &mut || {
+                panic!("meanwhile")
+            })
+        }));
+        assert!(r.is_err());
+        b.step(&act).unwrap();
+        assert_eq!(bits(a.obs()), bits(b.obs()));
+        a.step(&act).unwrap();
     }
 }
