@@ -369,8 +369,14 @@ class VecCore:
         copy: bool = True,
     ) -> tuple[_F64, dict[str, Any]]: ...
     def step(
-        self, actions: npt.NDArray[np.float32] | npt.NDArray[np.float64], copy: bool = True
-    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]: ...
+        self, actions: npt.ArrayLike, copy: bool | None = None
+    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]:
+        """One batch step; the core refuses a call while another thread's runs (E1106).
+        `copy=None` takes `self.copy`."""
+    @property
+    def copy(self) -> bool: ...
+    @copy.setter
+    def copy(self, copy: bool) -> None: ...
     def rust_steps(
         self,
         actions: npt.NDArray[np.float32] | npt.NDArray[np.float64],

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
-import threading
 from typing import Any
 
 import gymnasium as gym
@@ -17,15 +15,12 @@ from ._gym import (
     RENDER_MODES,
     _fps,
     _id,
-    as_actions,
     check_render_mode,
     overrides_to_toml,
     render_overrides,
 )
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
-# numpy's own float32 and float64 dtypes: native arrays of those types carry these objects.
-_F32, _F64 = np.dtype(np.float32), np.dtype(np.float64)
 
 
 def _default_threads(num_envs: int) -> int:
@@ -99,12 +94,14 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             steps = _errors.integer(max_episode_steps, "max_episode_steps", 0, 2**63)
             pairs.append(("max_episode_steps", str(steps)))
         core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, mode.value)
-        # One call at a time: the core is stepped with the GIL released, so a second thread's
-        # call would meet it mid-step.
-        self._busy = threading.Lock()
+        # One call at a time: the core steps with the GIL released, and refuses a second
+        # thread's call while one runs (E1106).
         self._core = core
         self.copy = copy
-        self._core_step = core.step
+        if type(self).step is EnvcVectorEnv.step:
+            # The core's own method: every check `step` makes is the core's, so a batch step
+            # costs one call from Python (a subclass's own `step` is left in place).
+            self.step = core.step  # type: ignore[method-assign]
         self.num_envs = int(num_envs)
         self.autoreset_mode = mode
         self.render_mode = render_mode
@@ -148,23 +145,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     @copy.setter
     def copy(self, value: bool) -> None:
         self._copy = bool(value)
-
-    @staticmethod
-    def _busy_error(what: str) -> Exception:
-        return _errors.coded(
-            f"error[E1106]: `{what}` while another thread is in a call of this vector env; "
-            "use one vector env per thread, or a lock around its calls",
-            "E1106",
-        )
-
-    @contextlib.contextmanager
-    def _one_at_a_time(self, what: str):
-        if not self._busy.acquire(blocking=False):
-            raise self._busy_error(what)
-        try:
-            yield
-        finally:
-            self._busy.release()
+        self._core.copy = self._copy
 
     def reset(
         self,
@@ -172,10 +153,6 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         seed: int | list[int | None] | None = None,
         options: dict[str, Any] | None = None,
     ):
-        with self._one_at_a_time("reset"):
-            return self._reset(seed, options)
-
-    def _reset(self, seed, options):
         """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
 
         ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
@@ -230,40 +207,19 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
 
     def step(self, actions):
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
-        # `_one_at_a_time` spelled out, and a float array goes straight to the core (which
-        # checks its shape and values): this method's own cost is part of every batch step.
-        busy = self._busy
-        if not busy.acquire(False):
-            raise self._busy_error("step")
-        try:
-            if type(actions) is not np.ndarray or (
-                actions.dtype is not _F32 and actions.dtype is not _F64
-            ):
-                actions = as_actions(actions)
-            if actions.ndim != 2:
-                raise _errors.coded(
-                    f"error[E1101]: actions have shape {actions.shape}; "
-                    f"expected {self.action_space.shape}",
-                    "E1101",
-                )
-            return self._core_step(actions, self._copy)
-        finally:
-            busy.release()
+        return self._core.step(actions)
 
     def render(self):
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
         if self.render_mode is None:
             return None
-        with self._one_at_a_time("render"):
-            return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
+        return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
 
     def close_extras(self, **kwargs: Any) -> None:
         """Stop the threads and free the envs."""
         core = getattr(self, "_core", None)  # None when __init__ failed
         if core is not None:
-            # Waits for a call running in another thread, then closes.
-            with self._busy:
-                core.close()
+            core.close()  # waits for a call running in another thread
 
 
 def make_vec(

@@ -11,6 +11,7 @@
 use numpy::ndarray::IxDyn;
 use numpy::{Element, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyString, PyTuple};
 
 use crate::convert;
@@ -43,6 +44,8 @@ pub struct VecCore {
     final_info_mask_key: Py<PyString>,
     /// Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted.
     env_steps: u64,
+    /// `step`'s `copy` when the call names none (`EnvcVectorEnv.copy`).
+    copy: bool,
 }
 
 /// An array the core keeps in a slot (see `Slot`).
@@ -280,6 +283,23 @@ fn closed() -> PyErr {
     errors::coded("E1103", "error[E1103]: the vector env is closed".into())
 }
 
+/// `envc._gym.as_actions`, for batches that are not float32 or float64 arrays.
+static AS_ACTIONS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+
+/// The call's hold on the core. The core steps with the GIL released, so a second thread may
+/// call while one runs: that call is E1106, not PyO3's borrow error.
+fn hold<'py>(slf: &Bound<'py, VecCore>, what: &str) -> PyResult<PyRefMut<'py, VecCore>> {
+    slf.try_borrow_mut().map_err(|_| {
+        errors::coded(
+            "E1106",
+            format!(
+                "error[E1106]: `{what}` while another thread is in a call of this vector env; \
+                 use one vector env per thread, or a lock around its calls"
+            ),
+        )
+    })
+}
+
 impl VecCore {
     fn env(&self) -> PyResult<&envc::VecEnv> {
         self.env.as_ref().ok_or_else(closed)
@@ -500,6 +520,41 @@ impl VecCore {
         }
     }
 
+    /// `step` over a 2-D float32 or float64 array; `None` for anything else.
+    fn step_array<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: &Bound<'py, PyAny>,
+        copy: bool,
+    ) -> Option<PyResult<Bound<'py, PyTuple>>> {
+        if let Ok(a) = actions.cast::<PyArray2<f32>>() {
+            return Some(self.step_rows(py, a, envc::JointAction::F32, copy));
+        }
+        if let Ok(a) = actions.cast::<PyArray2<f64>>() {
+            return Some(self.step_rows(py, a, envc::JointAction::F64, copy));
+        }
+        None
+    }
+
+    fn step_rows<'py, T: Element + Copy>(
+        &mut self,
+        py: Python<'py>,
+        a: &Bound<'py, PyArray2<T>>,
+        joint: for<'a> fn(&'a [T]) -> envc::JointAction<'a>,
+        copy: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let a = a.try_readonly().map_err(errors::argument)?;
+        self.check_batch(a.shape())?;
+        // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
+        match a.as_slice() {
+            Ok(s) if a.is_c_contiguous() => self.step_batch(py, joint(s), copy),
+            _ => {
+                let rows = a.as_array().iter().copied().collect::<Vec<T>>();
+                self.step_batch(py, joint(&rows), copy)
+            }
+        }
+    }
+
     fn check_batch(&self, shape: &[usize]) -> PyResult<()> {
         let env = self.env()?;
         let want = [env.num_envs(), env.act_dim()];
@@ -633,6 +688,7 @@ impl VecCore {
             final_info_key: PyString::intern(py, "final_info").unbind(),
             final_info_mask_key: PyString::intern(py, "_final_info").unbind(),
             env_steps: 0,
+            copy: true,
         })
     }
 
@@ -641,13 +697,14 @@ impl VecCore {
     /// returns the core's own arrays, overwritten by the next call.
     #[pyo3(signature = (seeds = None, mask = None, copy = true))]
     fn reset<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         seeds: Option<Vec<Option<u64>>>,
         mask: Option<Vec<bool>>,
         copy: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let n = self.env()?.num_envs();
+        let py = slf.py();
+        let mut this = hold(slf, "reset")?;
+        let n = this.env()?.num_envs();
         let seeds = seeds.unwrap_or_else(|| vec![None; n]);
         if seeds.len() != n || mask.as_ref().is_some_and(|m| m.len() != n) {
             return Err(errors::argument(format!(
@@ -657,7 +714,7 @@ impl VecCore {
             )));
         }
         errors::no_panic(
-            self,
+            &mut *this,
             |core| {
                 let env = core.env.as_mut().ok_or_else(closed)?;
                 match &mask {
@@ -678,48 +735,48 @@ impl VecCore {
         )
     }
 
-    /// Step with a `(num_envs, act_dim)` float32 or float64 batch: `(obs, rewards, terminated,
-    /// truncated, info)`. A C-contiguous batch is read in place; float32 steps with float32
-    /// action costs, as numpy computes them. `copy` as for `reset`.
-    #[pyo3(signature = (actions, copy = true))]
+    /// Step with a `(num_envs, act_dim)` batch: `(obs, rewards, terminated, truncated, info)`.
+    /// A C-contiguous float32 or float64 batch is read in place; float32 steps with float32
+    /// action costs, as numpy computes them. Anything else is converted as `envc.make`'s
+    /// actions are (`envc._gym.as_actions`). `copy` as for `reset`; `None` takes `self.copy`.
+    /// `EnvcVectorEnv.step` is this method itself: its checks are all here.
+    #[pyo3(signature = (actions, copy = None))]
     fn step<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         actions: &Bound<'py, PyAny>,
-        copy: bool,
+        copy: Option<bool>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        if let Ok(a) = actions.cast::<PyArray2<f32>>() {
-            let a = a.try_readonly().map_err(errors::argument)?;
-            self.check_batch(a.shape())?;
-            // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
-            return match a.as_slice() {
-                Ok(s) if a.is_c_contiguous() => {
-                    self.step_batch(py, envc::JointAction::F32(s), copy)
-                }
-                _ => {
-                    let rows = a.as_array().iter().copied().collect::<Vec<f32>>();
-                    self.step_batch(py, envc::JointAction::F32(&rows), copy)
-                }
-            };
+        let py = slf.py();
+        let mut this = hold(slf, "step")?;
+        let copy = copy.unwrap_or(this.copy);
+        if let Some(result) = this.step_array(py, actions, copy) {
+            return result;
         }
-        if let Ok(a) = actions.cast::<PyArray2<f64>>() {
-            let a = a.try_readonly().map_err(errors::argument)?;
-            self.check_batch(a.shape())?;
-            // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
-            return match a.as_slice() {
-                Ok(s) if a.is_c_contiguous() => {
-                    self.step_batch(py, envc::JointAction::F64(s), copy)
-                }
-                _ => {
-                    let rows = a.as_array().iter().copied().collect::<Vec<f64>>();
-                    self.step_batch(py, envc::JointAction::F64(&rows), copy)
-                }
-            };
+        let converted = AS_ACTIONS
+            .import(py, "envc._gym", "as_actions")?
+            .call1((actions,))?;
+        match this.step_array(py, &converted, copy) {
+            Some(result) => result,
+            None => Err(errors::coded(
+                "E1101",
+                format!(
+                    "error[E1101]: actions have shape {:?}; expected (num_envs, act_dim) = ({}, {})",
+                    converted.getattr("shape")?,
+                    this.env()?.num_envs(),
+                    this.env()?.act_dim()
+                ),
+            )),
         }
-        Err(errors::coded(
-            "E1101",
-            "error[E1101]: actions must be a 2-D float32 or float64 numpy array".into(),
-        ))
+    }
+
+    /// `step`'s `copy` when the call names none.
+    #[getter]
+    fn copy(&self) -> bool {
+        self.copy
+    }
+    #[setter]
+    fn set_copy(&mut self, copy: bool) {
+        self.copy = copy;
     }
 
     /// The Rust `VecEnv` alone, for benchmarks (`benches/python_overhead.py` pairs it with
@@ -785,8 +842,10 @@ impl VecCore {
     }
 
     /// A frame of env `index` in Gymnasium's `render_mode` (each env has its own renderer).
-    fn render(&mut self, py: Python<'_>, index: usize, mode: &str) -> PyResult<Py<PyAny>> {
-        let env = self.env.as_mut().ok_or_else(closed)?;
+    fn render(slf: &Bound<'_, Self>, index: usize, mode: &str) -> PyResult<Py<PyAny>> {
+        let py = slf.py();
+        let mut this = hold(slf, "render")?;
+        let env = this.env.as_mut().ok_or_else(closed)?;
         if index >= env.num_envs() {
             return Err(errors::argument(format!(
                 "env index {index} out of range for {} envs",
@@ -796,9 +855,17 @@ impl VecCore {
         crate::render::render(py, mode, |m| env.render(index, m))
     }
 
-    /// Stop the threads and drop the envs; later calls raise `RuntimeError`.
-    fn close(&mut self) {
-        self.env = None;
+    /// Stop the threads and drop the envs; later calls raise `RuntimeError`. A call running in
+    /// another thread is waited for.
+    fn close(slf: &Bound<'_, Self>) {
+        loop {
+            if let Ok(mut this) = slf.try_borrow_mut() {
+                this.env = None;
+                return;
+            }
+            slf.py()
+                .detach(|| std::thread::sleep(std::time::Duration::from_millis(1)));
+        }
     }
 
     /// What each env costs in memory as envc estimated it before making them (error E1403):
