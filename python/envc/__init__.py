@@ -27,7 +27,9 @@ def _bundle_root() -> str | None:
     editable install lives in. ``None`` leaves it to the extension (its embedded copy)."""
     here = _os.path.dirname(_os.path.abspath(__file__))
     for root in (_os.path.join(here, "_bundle"), _os.path.dirname(_os.path.dirname(here))):
-        if _os.path.isdir(_os.path.join(root, "specs")) and _os.path.isdir(_os.path.join(root, "assets")):
+        if _os.path.isdir(_os.path.join(root, "specs")) and _os.path.isdir(
+            _os.path.join(root, "assets")
+        ):
             return root
     return None
 
@@ -57,18 +59,18 @@ __all__ = [
     "ArgumentError",
     "DatasetError",
     "DatasetWarning",
+    "EnvcEnv",
+    "EnvcMazeEnv",
+    "EnvcParallelEnv",
+    "EnvcVectorEnv",
     "Error",
     "InternalError",
     "KindError",
     "ModelError",
     "NotResetError",
     "SimulationError",
-    "UnknownParameterError",
-    "EnvcEnv",
-    "EnvcMazeEnv",
-    "EnvcVectorEnv",
-    "EnvcParallelEnv",
     "SpecError",
+    "UnknownParameterError",
     "bundled_ids",
     "collect",
     "make",

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -91,11 +92,10 @@ def _replay_rows(actions: Any) -> list[float] | None:
 
 def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:
     """Gymnasium's ``EnvSpec.to_json()`` of the envc registration, with the overrides as kwargs."""
-    import gymnasium as gym
-
-    from ._registry import env_id_for, spec_of
 
     import dataclasses
+
+    from ._registry import env_id_for, spec_of
 
     base = spec_of(env_id_for(os.fspath(id_or_path)))
     rest = dict(overrides)

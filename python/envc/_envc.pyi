@@ -1,43 +1,44 @@
 """Type stubs of envc's native core (the `envc-python` crate). The public API is `envc`'s Python
 classes; these are the objects they wrap."""
 
-from os import PathLike
 import os
-from typing import Any, Callable, final
+from collections.abc import Callable
+from os import PathLike
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
 from typing_extensions import Self, disjoint_base
 
 __all__ = [
-    "open",
-    "registry",
-    "parameters",
-    "describe",
-    "register",
-    "spec_path_problems",
-    "set_bundle_root",
-    "bundle_root",
-    "cli_main",
-    "recover_spec",
-    "collect",
-    "collect_shard",
-    "build_dataset",
-    "dataset_build_plan",
-    "build_shard",
-    "build_driver",
-    "datasets_dir",
-    "SpecPolicy",
-    "gpu_plan",
-    "ShardedCollection",
-    "EnvCore",
-    "TaskCore",
-    "MazeCore",
     "AgentsCore",
-    "VecCore",
+    "EnvCore",
+    "MazeCore",
+    "ShardedCollection",
     "SpecError",
+    "SpecPolicy",
+    "TaskCore",
+    "VecCore",
     "__mujoco_version__",
     "__version__",
+    "build_dataset",
+    "build_driver",
+    "build_shard",
+    "bundle_root",
+    "cli_main",
+    "collect",
+    "collect_shard",
+    "dataset_build_plan",
+    "datasets_dir",
+    "describe",
+    "gpu_plan",
+    "open",
+    "parameters",
+    "recover_spec",
+    "register",
+    "registry",
+    "set_bundle_root",
+    "spec_path_problems",
 ]
 
 __mujoco_version__: str
@@ -54,7 +55,8 @@ def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[s
 def registry(
     only: list[str] | None = None,
 ) -> list[tuple[str, str, int | None, bool, float | None]]:
-    """Every known id (or those of `only`): `(id, kind, max_episode_steps, example, reward_threshold)`."""
+    """Every known id (or those of `only`): `(id, kind, max_episode_steps, example,
+    reward_threshold)`."""
 
 def spec_path_problems() -> list[str]:
     """The problems of `ENVC_SPEC_PATH`: the entries left out of the registry."""

@@ -29,7 +29,8 @@ class Error(Exception):
 
 
 class SpecError(Error, ValueError):
-    """A spec, parameter, override or setting that does not check out (E0xxx, E13xx, E1503–E1505)."""
+    """A spec, parameter, override or setting that does not check out (E0xxx, E13xx,
+    E1503–E1505)."""
 
 
 class UnknownParameterError(SpecError, TypeError):

@@ -17,7 +17,7 @@ def _toml(value: Any, name: str) -> str:
     """A Python value as the TOML literal an envc override takes."""
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value.item()
-    if isinstance(value, bool) or isinstance(value, np.bool_):
+    if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, (int, np.integer)):
         return str(int(value))
@@ -294,7 +294,8 @@ class EnvcEnv(gym.Env):
             for k in self._bool_keys:
                 if k in info:
                     info[k] = np.bool_(info[k] != 0.0)
-            return obs, np.float32(reward) if self._f32_reward else reward, terminated, truncated, info
+            reward = np.float32(reward) if self._f32_reward else reward
+            return obs, reward, terminated, truncated, info
         return out
 
     def render(self):

@@ -19,9 +19,9 @@ from ._gym import (
     as_actions,
     check_render_mode,
     goal_batches,
-    reference_seed,
     overrides_to_toml,
     recovered_spec,
+    reference_seed,
     render_overrides,
 )
 
@@ -161,14 +161,16 @@ class EnvcMazeEnv(_Base):
 
     def compute_reward(self, achieved_goal, desired_goal, info=None):
         """The goal reward of ``achieved_goal`` against ``desired_goal`` (``info`` is unused):
-        a float64 scalar for ``[2]`` goals, a float64 array of the leading shape for ``[..., 2]``."""
+        a float64 scalar for ``[2]`` goals, a float64 array of the leading shape for
+        ``[..., 2]``."""
         a, d, lead = _goal_batches(achieved_goal, desired_goal)
         r = self._core.compute_reward(a, d)
         return r.reshape(lead) if lead else r[0]
 
     def compute_terminated(self, achieved_goal, desired_goal, info=None):
         """Whether the episode ends for these goals (reaching the goal, unless the task is
-        continuing): a bool for ``[2]`` goals, a bool array of the leading shape for ``[..., 2]``."""
+        continuing): a bool for ``[2]`` goals, a bool array of the leading shape for
+        ``[..., 2]``."""
         a, d, lead = _goal_batches(achieved_goal, desired_goal)
         t = self._core.compute_terminated(a, d)
         return t.reshape(lead) if lead else bool(t[0])

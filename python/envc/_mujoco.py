@@ -27,7 +27,8 @@ def installed() -> str | None:
 
 
 def _build_dir(version: str) -> str | None:
-    """The folder of the build for ``version`` other than the package's own, if this wheel has it."""
+    """The folder of the build for ``version`` other than the package's own, if this wheel has
+    it."""
     d = os.path.join(_HERE, "_mujoco_" + version.replace(".", "_"))
     return d if os.path.isdir(d) else None
 

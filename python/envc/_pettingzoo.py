@@ -58,7 +58,7 @@ def _segments(scenario: str, agent_conf: str | None) -> int:
     try:
         n, m = agent_conf.split("x")  # type: ignore[union-attr]
         return int(n) * int(m)
-    except Exception:
+    except Exception:  # noqa: BLE001 - whatever it is, the conf is not "NxM"
         raise ValueError(
             f"{scenario}: agent_conf must be 'NxM' (N agents of M segments), got {agent_conf!r}"
         ) from None
@@ -147,7 +147,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         self.agents = list(self.possible_agents)
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
         self.observation_spaces = {
-            a: gymnasium.spaces.Box(low=core.agent_obs_low(i), high=core.agent_obs_high(i), dtype=np.float64)
+            a: gymnasium.spaces.Box(
+                low=core.agent_obs_low(i), high=core.agent_obs_high(i), dtype=np.float64
+            )
             for a, i in self._index.items()
         }
         self.action_spaces = {
@@ -251,14 +253,19 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         a = np.asarray(action)
         dtype = a.dtype if np.issubdtype(a.dtype, np.floating) else np.float64
         local = self._core.global_action_to_local(self._vector(a, "action"))
-        return {ag: x.astype(dtype, copy=False) for ag, x in zip(self.possible_agents, local)}
+        return {
+            ag: x.astype(dtype, copy=False)
+            for ag, x in zip(self.possible_agents, local, strict=False)
+        }
 
     def map_global_state_to_local_observations(self, global_state: Any) -> dict[str, np.ndarray]:
         """``{agent: the observation it would get in this global state}`` (float64)."""
         local = self._core.global_state_to_local(self._vector(global_state, "global_state"))
         return self._per_agent(local)
 
-    def map_local_observations_to_global_state(self, local_observation: dict[str, Any]) -> np.ndarray:
+    def map_local_observations_to_global_state(
+        self, local_observation: dict[str, Any]
+    ) -> np.ndarray:
         """The global state rebuilt from ``{agent: observation}``; raises ``ValueError`` when a
         state entry is observed by no agent or two observations disagree about it."""
         return self._core.local_observations_to_global(
@@ -287,7 +294,7 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
     # -- helpers ------------------------------------------------------------------------------
 
     def _per_agent(self, arrays: list[np.ndarray]) -> dict[str, np.ndarray]:
-        return dict(zip(self.possible_agents, arrays))
+        return dict(zip(self.possible_agents, arrays, strict=False))
 
     @staticmethod
     def _vector(x: Any, what: str) -> np.ndarray:
@@ -307,7 +314,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
             raise ValueError(f"expected a dict {{agent: {what}}}, got {type(d).__name__}")
         unknown = set(d) - set(self._index)
         if unknown:
-            raise ValueError(f"unknown agents {sorted(map(str, unknown))}; agents are {self.possible_agents}")
+            raise ValueError(
+                f"unknown agents {sorted(map(str, unknown))}; agents are {self.possible_agents}"
+            )
         missing = [a for a in self.possible_agents if a not in d]
         if missing:
             raise ValueError(f"no {what} for {missing}")

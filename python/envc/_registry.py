@@ -79,16 +79,23 @@ def register(path: str | os.PathLike) -> list[str]:
     return ids
 
 
-def spec_of(env_id) -> "gym.envs.registration.EnvSpec":
+def spec_of(env_id) -> gym.envs.registration.EnvSpec:
     """The ``EnvSpec`` of what :func:`env_id_for` returned."""
     return env_id if isinstance(env_id, gym.envs.registration.EnvSpec) else gym.spec(env_id)
 
 
 # Keyword arguments `gym.make` takes for itself; the rest are the spec's parameters.
-_GYM_MAKE_KEYS = ("max_episode_steps", "disable_env_checker", "autoreset", "apply_api_compatibility")
+_GYM_MAKE_KEYS = (
+    "max_episode_steps",
+    "disable_env_checker",
+    "autoreset",
+    "apply_api_compatibility",
+)
 
 
-def env_id_for(id_or_path: str, overrides: dict | None = None) -> "str | gym.envs.registration.EnvSpec":
+def env_id_for(
+    id_or_path: str, overrides: dict | None = None
+) -> str | gym.envs.registration.EnvSpec:
     """The Gymnasium id of a bundled id or a spec file (registered as ``envc/<its id>``), or, for
     a file whose id belongs to another spec, an unregistered ``EnvSpec`` of that name.
     ``overrides`` are the keyword arguments the env will be made with: a spec file whose default

@@ -9,15 +9,14 @@ the seed (episode k is reset with ``seed + k``), the metadata and the reference 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import time
 from typing import Any
 
-import numpy as np
-
 from . import _envc
 
-__all__ = ["build", "bundled", "policy", "reference_scores", "main"]
+__all__ = ["build", "bundled", "main", "policy", "reference_scores"]
 
 # Per-chunk attempts before a sharded build gives up (as envc.ray).
 MAX_ATTEMPTS = 4
@@ -120,15 +119,15 @@ def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> st
             for chunk in sorted(got):
                 lengths.extend(tuple(x) for x in got[chunk])
         if n_eps == 0:
-            raise ValueError(f"a budget of {budget} {kind} holds no episode of up to {max_steps} steps")
+            raise ValueError(
+                f"a budget of {budget} {kind} holds no episode of up to {max_steps} steps"
+            )
         return driver.finish(lengths[:n_eps], trim=True)
     finally:
         driver.abort()
         for a in actors:
-            try:
+            with contextlib.suppress(Exception):  # an actor already gone
                 ray.kill(a)
-            except Exception:  # noqa: BLE001 - an actor already gone
-                pass
 
 
 def _run_round(ray, actors, spec, staging, fmt, pending):
@@ -151,7 +150,8 @@ def _run_round(ray, actors, spec, staging, fmt, pending):
                 attempts[chunk] = attempts.get(chunk, 0) + 1
                 if attempts[chunk] >= MAX_ATTEMPTS:
                     raise RuntimeError(
-                        f"episodes {chunk[0]}..{chunk[1]} failed {MAX_ATTEMPTS} times: their worker died each time ({e})"
+                        f"episodes {chunk[0]}..{chunk[1]} failed {MAX_ATTEMPTS} times: "
+                        f"their worker died each time ({e})"
                     ) from e
                 pending.append(chunk)
                 time.sleep(0.1)
@@ -165,7 +165,9 @@ def policy(spec: str | os.PathLike, *, seed: int = 123, deterministic: bool | No
     """The spec's policy as ``policy(obs) -> action`` (float32), run in Rust without torch:
     the spec's mode unless ``deterministic`` is given; noise from ``default_rng(seed)``."""
     spec = os.fspath(spec)
-    return _envc.SpecPolicy(os.path.abspath(spec) if os.path.exists(spec) else spec, seed, deterministic)
+    return _envc.SpecPolicy(
+        os.path.abspath(spec) if os.path.exists(spec) else spec, seed, deterministic
+    )
 
 
 def reference_scores(
@@ -176,14 +178,16 @@ def reference_scores(
     Minari's seeded random policy, ``ref_max_score`` from the expert tier's policy (``expert``,
     default the spec's ``expert-v0`` sibling), each the mean over ``episodes`` episodes, the
     first reset with seed 123 (as Minari). Needs gymnasium and minari."""
-    import json
-    import tomllib
-
     import gymnasium as gym
+    import tomllib
     from minari.utils import RandomPolicy, get_average_reference_score
 
     path = _spec_path(spec)
-    expert = _spec_path(expert) if expert is not None else os.path.join(os.path.dirname(path), "expert-v0.toml")
+    expert = (
+        _spec_path(expert)
+        if expert is not None
+        else os.path.join(os.path.dirname(path), "expert-v0.toml")
+    )
     with open(path, "rb") as f:
         d = tomllib.load(f)
     eval_id = d["metadata"].get("eval_env", d["dataset"]["env"])
@@ -228,7 +232,9 @@ def main(argv: list[str] | None = None) -> int:
     s = sub.add_parser("scores", help="Minari's reference scores of a spec's eval env")
     s.add_argument("spec")
     s.add_argument("--episodes", type=int, default=100)
-    s.add_argument("--write", action="store_true", help="store them in every tier's spec of this env")
+    s.add_argument(
+        "--write", action="store_true", help="store them in every tier's spec of this env"
+    )
     a = p.parse_args(argv)
     if a.command == "build":
         t0 = time.perf_counter()
@@ -250,7 +256,8 @@ def write_reference_scores(spec: str | os.PathLike, scores: dict) -> list[str]:
     import re
 
     table = "[reference_scores]\n" + "".join(
-        f"{k} = {scores[k]!r}\n" for k in ("ref_min_score", "ref_max_score", "num_episodes_average_score")
+        f"{k} = {scores[k]!r}\n"
+        for k in ("ref_min_score", "ref_max_score", "num_episodes_average_score")
     )
     d = os.path.dirname(_spec_path(spec))
     written = []
@@ -258,7 +265,8 @@ def write_reference_scores(spec: str | os.PathLike, scores: dict) -> list[str]:
         if not f.endswith(".toml"):
             continue
         p = os.path.join(d, f)
-        text = open(p).read()
+        with open(p) as fh:
+            text = fh.read()
         text = re.sub(r"\n\[reference_scores\]\n(?:[^\[\n][^\n]*\n)*", "\n", text)
         text = text.replace("\n[train]\n", "\n" + table + "\n[train]\n", 1)
         with open(p, "w") as fh:

@@ -22,10 +22,12 @@ Command line: ``python -m envc.ray collect Hopper-v5 --dataset-id ns/name-v0 --e
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import time
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -203,7 +205,8 @@ def collect(
                 attempts[chunk] = attempts.get(chunk, 0) + 1
                 if attempts[chunk] >= MAX_ATTEMPTS:
                     raise RuntimeError(
-                        f"episodes {chunk[0]}..{chunk[1]} failed {MAX_ATTEMPTS} times: their worker died each time ({e})"
+                        f"episodes {chunk[0]}..{chunk[1]} failed {MAX_ATTEMPTS} times: "
+                        f"their worker died each time ({e})"
                     ) from e
                 tally["retries"] += 1
                 pending.append(chunk)
@@ -233,16 +236,24 @@ def collect(
             if not ready:
                 # Waits of at most half a second: Python sees Ctrl-C between them (a signal does
                 # not interrupt Ray's wait), and the stall deadline is checked.
-                left = None if stall_timeout is None else tally["progress"] + stall_timeout - time.monotonic()
+                left = (
+                    None
+                    if stall_timeout is None
+                    else tally["progress"] + stall_timeout - time.monotonic()
+                )
                 wait = POLL_S if left is None else min(max(left, 0.0), POLL_S)
                 ready, _ = ray.wait(refs, num_returns=1, timeout=wait)
             for ref in ready:
                 handle(ref)
-            stalled = stall_timeout is not None and time.monotonic() - tally["progress"] > stall_timeout
+            stalled = (
+                stall_timeout is not None
+                and time.monotonic() - tally["progress"] > stall_timeout
+            )
             if stalled and (pending or running):
                 raise coded(
                     f"error[E1602]: the sharded collection of {dataset_id} made no progress for "
-                    f"{stall_timeout:g} s: {len(running)} chunk(s) running, {len(pending)} waiting, "
+                    f"{stall_timeout:g} s: {len(running)} chunk(s) running, "
+                    f"{len(pending)} waiting, "
                     f"{len(pings)} worker(s) not (re)started; the cluster may lack the CPUs its "
                     f"actors need ({num_workers} actors of 1 CPU each), or a policy call never "
                     "returns; nothing was published",
@@ -266,10 +277,8 @@ def collect(
         # `abort` removes it, and leave part of it behind. `ray.kill` only asks; a chunk in flight
         # resolves (with the actor's death) once its process is gone, so those are waited for.
         for w in workers:
-            try:
+            with contextlib.suppress(Exception):  # an actor already gone
                 ray.kill(w)
-            except Exception:  # noqa: BLE001 - an actor already gone
-                pass
         if running:
             ray.wait(list(running), num_returns=len(running), timeout=KILL_WAIT_S)
         driver.abort()  # after finish: nothing left to abort
@@ -289,13 +298,23 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("--actions", help="with --policy replay: a .npy array [T, act_dim]")
     c.add_argument("--seed", type=int)
     c.add_argument("--format", choices=["arrow", "hdf5"], default="arrow")
-    c.add_argument("--root", help="datasets root, shared by every node (default $MINARI_DATASETS_PATH)")
-    c.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="parameter override (TOML literal)")
+    c.add_argument(
+        "--root", help="datasets root, shared by every node (default $MINARI_DATASETS_PATH)"
+    )
+    c.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="parameter override (TOML literal)",
+    )
     c.add_argument("--workers", type=int, default=2)
     c.add_argument("--chunk-size", type=int)
     c.add_argument("--stall-timeout", type=float, default=STALL_TIMEOUT_S,
                    help="seconds with no progress before giving up (E1602); 0 waits forever")
-    c.add_argument("--address", help="Ray cluster address (HOST:PORT or 'auto'); default: a local Ray")
+    c.add_argument(
+        "--address", help="Ray cluster address (HOST:PORT or 'auto'); default: a local Ray"
+    )
     c.add_argument("--author")
     c.add_argument("--description")
     a = p.parse_args(argv)
@@ -318,7 +337,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     secs = time.perf_counter() - t0
     print(
-        f"{a.dataset_id}: {a.episodes} episodes, {stats['steps']} steps ({stats['steps'] / secs:.0f} steps/s on {a.workers} workers, {stats['retries']} chunks re-run) written to {d}"
+        f"{a.dataset_id}: {a.episodes} episodes, {stats['steps']} steps "
+        f"({stats['steps'] / secs:.0f} steps/s on {a.workers} workers, "
+        f"{stats['retries']} chunks re-run) written to {d}"
     )
     return 0
 

@@ -140,8 +140,8 @@ class Executor:
         h = _terms.healthy(self.plan, f)
         vals, unw = _terms.terms(self.plan, f, before, h, self.dt, self.timestep, False)
         if pre_vals is not None:
-            vals = [p if v is None else v for v, p in zip(vals, pre_vals)]
-            unw = [p if v is None else v for v, p in zip(unw, pre_unweighted)]
+            vals = [p if v is None else v for v, p in zip(vals, pre_vals, strict=False)]
+            unw = [p if v is None else v for v, p in zip(unw, pre_unweighted, strict=False)]
         reward = _terms.reward_sum(self.plan["reward_sum"], vals)
         terminated = jnp.logical_and(~h, self.plan["terminate_when_unhealthy"])
         info = _terms.info(self.plan, f, before, vals, unw, self.dt, at_reset=False)
@@ -195,10 +195,7 @@ class Executor:
     def _step(self, state: State, action):
         data, obs, reward, terminated, info = jax.vmap(self._step_world)(state.data, action)
         elapsed = state.elapsed + 1
-        if self.max_steps:
-            truncated = elapsed >= self.max_steps
-        else:
-            truncated = jnp.zeros_like(terminated)
+        truncated = elapsed >= self.max_steps if self.max_steps else jnp.zeros_like(terminated)
         done = terminated | truncated
         after = self._reset_where(State(data, obs, elapsed, state.key, state.failed), done)
         info = dict(info)

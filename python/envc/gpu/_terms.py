@@ -7,7 +7,8 @@ sums are not bit-identical (float32, XLA's reduction order): docs/gpu.md states 
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import jax.numpy as jnp
 
