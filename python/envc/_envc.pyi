@@ -4,7 +4,7 @@ classes; these are the objects they wrap."""
 import os
 from collections.abc import Callable
 from os import PathLike
-from typing import Any, final
+from typing import Any, Literal, final
 
 import numpy as np
 import numpy.typing as npt
@@ -46,7 +46,28 @@ __version__: str
 
 from ._errors import SpecError as SpecError
 
-def open(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, Any]:
+# The strings the core takes and gives (it refuses any other with a coded error).
+_Kind = Literal["task", "maze", "agents"]
+_RenderMode = Literal["rgb_array", "depth_array", "rgbd_tuple"]
+_Format = Literal["arrow", "hdf5"]
+_Policy = Literal["zero", "random", "replay", "callable"]
+_Autoreset = Literal["NextStep", "SameStep"]
+_F64 = npt.NDArray[np.float64]
+# `rgb_array`: (h, w, 3) uint8; `depth_array`: (h, w) float32; `rgbd_tuple`: the pair.
+_Frame = (
+    npt.NDArray[np.uint8]
+    | npt.NDArray[np.float32]
+    | tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]
+)
+# What an env's observation is: a task's vector (a `[goal]` task's or a maze's dict of them),
+# a multi-agent spec's one per agent.
+_Obs = _F64 | dict[str, _F64] | list[_F64]
+# A `policy_fn`'s action: anything `numpy.asarray(action, "float32")` reads.
+_PolicyFn = Callable[[_F64, np.random.Generator], npt.ArrayLike]
+
+def open(
+    id_or_path: str, overrides: list[tuple[str, str]] = ...
+) -> tuple[_Kind, TaskCore | MazeCore | AgentsCore]:
     """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
 
 def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, bytes]:
@@ -54,7 +75,7 @@ def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[s
 
 def registry(
     only: list[str] | None = None,
-) -> list[tuple[str, str, int | None, bool, float | None]]:
+) -> list[tuple[str, _Kind, int | None, bool, float | None]]:
     """Every known id (or those of `only`): `(id, kind, max_episode_steps, example,
     reward_threshold)`."""
 
@@ -72,7 +93,7 @@ def recover_spec(
 
 def describe(
     id_or_path: str, overrides: list[tuple[str, str]] = ...
-) -> tuple[str, str, int | None]:
+) -> tuple[_Kind, str, int | None]:
     """`(kind, id, max_episode_steps)` without building the env, under the overrides."""
 
 def register(path: str | os.PathLike[str]) -> list[str]:
@@ -94,16 +115,16 @@ def collect(
     id_or_path: str,
     dataset_id: str,
     episodes: int,
-    policy: str = ...,
+    policy: _Policy = ...,
     seed: int | None = ...,
-    format: str = ...,
+    format: _Format = ...,
     root: str | PathLike[str] | None = ...,
     overrides: list[tuple[str, str]] = ...,
     actions: list[float] | None = ...,
     author: str | None = ...,
     description: str | None = ...,
     env_spec: str | None = ...,
-    policy_fn: Callable[[npt.NDArray[np.float64], np.random.Generator], Any] | None = ...,
+    policy_fn: _PolicyFn | None = ...,
 ) -> tuple[str, int, int]:
     """`(dataset directory, steps, seed)`."""
 
@@ -113,11 +134,11 @@ def collect_shard(
     start: int,
     end: int,
     seed: int,
-    policy: str = ...,
-    format: str = ...,
+    policy: _Policy = ...,
+    format: _Format = ...,
     overrides: list[tuple[str, str]] = ...,
     actions: list[float] | None = ...,
-    policy_fn: Callable[[npt.NDArray[np.float64], np.random.Generator], Any] | None = ...,
+    policy_fn: _PolicyFn | None = ...,
 ) -> list[tuple[int, int]]:
     """A worker's episodes `start..end` into a sharded collection's staging directory:
     `(steps, bytes)` of each."""
@@ -126,18 +147,18 @@ def build_dataset(
     spec: str,
     steps: int | None = ...,
     root: str | PathLike[str] | None = ...,
-    format: str | None = ...,
+    format: _Format | None = ...,
     dataset_id: str | None = ...,
 ) -> tuple[str, int, int]:
     """Build a dataset spec's dataset in this process: `(directory, steps, episodes)`."""
 
 def dataset_build_plan(
-    spec: str, steps: int | None = ..., format: str | None = ...
-) -> tuple[int, str, int, int, str]:
+    spec: str, steps: int | None = ..., format: _Format | None = ...
+) -> tuple[int, Literal["steps", "episodes"], int, int, _Format]:
     """`(seed, "steps" | "episodes", budget, max_episode_steps, format)` of a dataset spec."""
 
 def build_shard(
-    spec: str, staging: str | PathLike[str], start: int, end: int, format: str
+    spec: str, staging: str | PathLike[str], start: int, end: int, format: _Format
 ) -> list[tuple[int, int]]:
     """A worker's episodes `start..end` of a sharded build: `(steps, bytes)` of each."""
 
@@ -145,7 +166,7 @@ def build_driver(
     spec: str,
     steps: int | None = ...,
     root: str | PathLike[str] | None = ...,
-    format: str | None = ...,
+    format: _Format | None = ...,
     dataset_id: str | None = ...,
 ) -> ShardedCollection:
     """The driver of a sharded build (holds the staging directory's lock)."""
@@ -173,9 +194,9 @@ class ShardedCollection:
         id_or_path: str,
         dataset_id: str,
         episodes: int,
-        policy: str = ...,
+        policy: _Policy = ...,
         seed: int | None = ...,
-        format: str = ...,
+        format: _Format = ...,
         root: str | PathLike[str] | None = ...,
         overrides: list[tuple[str, str]] = ...,
         actions: list[float] | None = ...,
@@ -187,8 +208,6 @@ class ShardedCollection:
     def finish(self, episodes: list[tuple[int, int]], trim: bool = ...) -> str: ...
     def abort(self) -> None: ...
 
-_F64 = npt.NDArray[np.float64]
-
 @disjoint_base
 class EnvCore:
     """What every kind's core shares (`open` returns the kind's subclass): reset, step with a
@@ -196,7 +215,7 @@ class EnvCore:
     numerics, warnings, render and close."""
 
     @property
-    def kind(self) -> str: ...
+    def kind(self) -> _Kind: ...
     @property
     def id(self) -> str: ...
     @property
@@ -213,12 +232,12 @@ class EnvCore:
     def numerics(self, name: str) -> None: ...
     @property
     def warnings(self) -> list[str]: ...
-    def reset(self, seed: int | None = None) -> tuple[Any, dict[str, Any]]: ...
-    def step(self, action: _F64) -> tuple[Any, float, bool, bool, dict[str, Any]]: ...
+    def reset(self, seed: int | None = None) -> tuple[_Obs, dict[str, Any]]: ...
+    def step(self, action: _F64) -> tuple[_Obs, float, bool, bool, dict[str, Any]]: ...
     def step_f32(
         self, action: npt.NDArray[np.float32]
-    ) -> tuple[Any, float, bool, bool, dict[str, Any]]: ...
-    def render(self, mode: str) -> Any:
+    ) -> tuple[_Obs, float, bool, bool, dict[str, Any]]: ...
+    def render(self, mode: _RenderMode) -> _Frame:
         """A frame in Gymnasium's `render_mode`: an `(h, w, 3)` uint8 array, an `(h, w)` float32
         depth array, or the pair."""
     def close(self) -> None:
@@ -308,7 +327,7 @@ class MazeCore(EnvCore):
     @property
     def reset_target(self) -> bool: ...
     @property
-    def reward_type(self) -> str: ...
+    def reward_type(self) -> Literal["sparse", "dense"]: ...
     def reset(
         self,
         seed: int | None = None,
@@ -334,14 +353,14 @@ class VecCore:
         overrides: list[tuple[str, str]],
         num_envs: int,
         threads: int,
-        autoreset: str,
+        autoreset: _Autoreset,
     ) -> Self: ...
     @property
     def num_envs(self) -> int: ...
     @property
     def threads(self) -> int: ...
     @property
-    def autoreset(self) -> str: ...
+    def autoreset(self) -> _Autoreset: ...
     @property
     def id(self) -> str: ...
     @property
@@ -391,6 +410,6 @@ class VecCore:
     @property
     def env_steps(self) -> int:
         """Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted."""
-    def render(self, index: int, mode: str) -> Any:
+    def render(self, index: int, mode: _RenderMode) -> _Frame:
         """A frame of env `index` in Gymnasium's `render_mode` (as `EnvCore.render`)."""
     def close(self) -> None: ...
