@@ -14,12 +14,16 @@ vector envs, ``envc.parallel_env`` for multi-agent specs.
 from __future__ import annotations
 
 import os as _os
+from typing import TYPE_CHECKING, Any
 
 from ._mujoco import load_core as _load_core
 
 # The native core built for the installed MuJoCo (envc/_mujoco.py): every module below imports it
 # as `envc._envc`.
-_envc = _load_core()
+if TYPE_CHECKING:
+    from . import _envc  # the checker reads its stub, _envc.pyi
+else:
+    _envc = _load_core()
 
 
 def _bundle_root() -> str | None:
@@ -94,7 +98,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> Any:
     if name == "gpu":
         # The batched executor needs JAX: imported on first use, as an attribute too.
         import importlib

@@ -6,12 +6,17 @@ import json
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal
 
+import gymnasium as gym
 import numpy as np
+import numpy.typing as npt
 
 from . import _envc, _errors
 from ._gym import _id, overrides_to_toml
+
+if TYPE_CHECKING:
+    from ._envc import _Policy, _PolicyFn
 
 
 def collect(
@@ -19,10 +24,11 @@ def collect(
     dataset_id: str,
     episodes: int = 10,
     *,
-    policy: str | Callable[[np.ndarray, np.random.Generator], Any] = "random",
+    policy: Literal["zero", "random", "replay"]
+    | Callable[[npt.NDArray[np.float64], np.random.Generator], npt.ArrayLike] = "random",
     seed: int | None = None,
-    format: str = "arrow",
-    root: str | os.PathLike | None = None,
+    format: Literal["arrow", "hdf5"] = "arrow",
+    root: str | os.PathLike[str] | None = None,
     actions: Any = None,
     author: str | None = None,
     description: str | None = None,
@@ -47,9 +53,12 @@ def collect(
     own registration (``envc/<id>``), so that recovering needs only ``import envc``.
     """
     rows = _replay_rows(actions)
-    policy_fn = None
+    policy_fn: _PolicyFn | None = None
+    policy_name: _Policy
     if callable(policy):
-        policy_fn, policy = policy, "callable"
+        policy_fn, policy_name = policy, "callable"
+    else:
+        policy_name = policy
     if env_spec not in ("reference", "envc"):
         raise _errors.coded(
             f"error[E1105]: env_spec={env_spec!r}: expected 'reference' or 'envc'", "E1105"
@@ -61,7 +70,7 @@ def collect(
         _id(id_or_path),
         dataset_id,
         episodes,
-        policy,
+        policy_name,
         seed,
         format,
         None if root is None else os.fspath(root),
@@ -87,7 +96,8 @@ def _replay_rows(actions: Any) -> list[float] | None:
             f"error[E1105]: actions must be a 2-D array [T, act_dim], got shape {a.shape}",
             "E1105",
         )
-    return a.ravel().tolist()
+    rows: list[float] = a.ravel().tolist()
+    return rows
 
 
 def _envc_spec_json(id_or_path: str, overrides: dict[str, Any]) -> str:
@@ -114,7 +124,7 @@ def recover_environment(
     refuse_other_mujoco: bool = False,
     use_recorded_spec: bool = False,
     **kwargs: Any,
-):
+) -> gym.Env[Any, Any]:
     """The envc env that made a dataset, from what the dataset carries (``envc_provenance``).
 
     ``dataset`` is a ``minari.MinariDataset``, a dataset directory, or a dataset id under
@@ -128,8 +138,6 @@ def recover_environment(
     ``recover_environment``, this gives envc's env also for datasets naming the reference class.
     Datasets without a record (older ones) open the spec their env spec names.
     """
-    import gymnasium as gym
-
     meta = _metadata(dataset)
     text = meta.get("env_spec")
     stored = json.loads(text) if isinstance(text, str) else {}
@@ -170,7 +178,7 @@ def recover_environment(
     )
 
 
-def _warn_other_mujoco(meta: dict, refuse: bool) -> None:
+def _warn_other_mujoco(meta: dict[str, Any], refuse: bool) -> None:
     recorded = meta.get("mujoco_version")
     running = _envc.__mujoco_version__
     if recorded is None or recorded == running:
@@ -191,7 +199,7 @@ def _warn_other_mujoco(meta: dict, refuse: bool) -> None:
     )
 
 
-def _metadata(dataset: Any) -> dict:
+def _metadata(dataset: Any) -> dict[str, Any]:
     """A dataset's ``metadata.json``: of a ``MinariDataset``, a directory or an id."""
     storage = getattr(dataset, "storage", None)
     if storage is not None:
@@ -202,7 +210,8 @@ def _metadata(dataset: Any) -> dict:
         p = Path(root) / p
     for f in (p / "data" / "metadata.json", p / "metadata.json"):
         if f.is_file():
-            return json.loads(f.read_text())
+            meta: dict[str, Any] = json.loads(f.read_text())
+            return meta
     raise _errors.coded(
         f"error[E1204]: {p}: not a readable Minari dataset: no metadata.json", "E1204"
     )

@@ -9,6 +9,8 @@ Each class also derives from the builtin exception envc raised before the hierar
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class Error(Exception):
     """Every error envc raises; ``code`` is its stable code (docs/errors.md)."""
@@ -23,7 +25,7 @@ class Error(Exception):
             code = m.group(1) if m else None
         self.code = code
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type[Error], tuple[Any, str | None], dict[str, Any]]:
         message = self.args[0] if self.args else ""
         return (type(self), (message, self.code), self.__dict__)
 
@@ -120,7 +122,7 @@ def coded(message: str, code: str) -> Error:
     return class_for(code)(message, code)
 
 
-def integer(value, name: str, low: int = 0, high: int | None = None) -> int:
+def integer(value: object, name: str, low: int = 0, high: int | None = None) -> int:
     """``value`` as an int in ``[low, high)`` (``high`` None: no upper bound), or
     ``ArgumentError`` (E1105). Only integers count: a float, a string or a bool is refused, not
     truncated or parsed (``seed=1.5`` must not become 1)."""
@@ -140,12 +142,12 @@ def integer(value, name: str, low: int = 0, high: int | None = None) -> int:
     return v
 
 
-def seed(value) -> int | None:
+def seed(value: object) -> int | None:
     """A reset seed: None, or an integer in [0, 2**64)."""
     return None if value is None else integer(value, "seed", 0, 2**64)
 
 
-def options(value) -> dict:
+def options(value: object) -> dict[str, Any]:
     """Reset options: None or a dict."""
     if value is None:
         return {}

@@ -5,12 +5,16 @@ from __future__ import annotations
 import json
 import math
 import os
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, NoReturn, cast
 
 import gymnasium as gym
 import numpy as np
 
 from . import _envc, _errors
+
+if TYPE_CHECKING:
+    from ._envc import _F64, _Frame, _RenderMode
 
 
 def _toml(value: Any, name: str) -> str:
@@ -46,7 +50,7 @@ def overrides_to_toml(overrides: dict[str, Any]) -> list[tuple[str, str]]:
     return [(k, _toml(v, k)) for k, v in overrides.items()]
 
 
-RENDER_MODES = ("rgb_array", "depth_array", "rgbd_tuple")
+RENDER_MODES: tuple[_RenderMode, ...] = ("rgb_array", "depth_array", "rgbd_tuple")
 
 
 def check_render_mode(render_mode: str | None) -> None:
@@ -83,7 +87,7 @@ class SeedError(_errors.ArgumentError, gym.error.Error):
 
 
 
-def reference_seed(seed: Any, gym_reset) -> int | None:
+def reference_seed(seed: object, gym_reset: Callable[..., object]) -> int | None:
     """A reset seed checked as the reference checks it: an integer goes to Gymnasium's own
     ``Env.reset`` first (a negative seed is its error, as for the reference's envs); then
     anything but an integer in [0, 2**64) is ``ArgumentError`` (E1105), never converted."""
@@ -102,7 +106,7 @@ def reference_seed(seed: Any, gym_reset) -> int | None:
     return seed
 
 
-def as_actions(actions) -> np.ndarray:
+def as_actions(actions: object) -> np.ndarray:
     """An action (or batch) as a float array; what numpy cannot read as numbers is E1101."""
     try:
         a = np.asarray(actions)
@@ -162,14 +166,14 @@ def goal_batches(
 class DatasetWarning(UserWarning):
     """A coded warning about a dataset's provenance (W1212, W1214; docs/errors.md): ``.code``."""
 
-    def __init__(self, message: str, code: str | None = None):
+    def __init__(self, message: str, code: str | None = None) -> None:
         super().__init__(message)
         self.code = code
 
 
 def recovered_spec(
     spec_id: str,
-    provenance: dict | None,
+    provenance: dict[str, Any] | None,
     accept_changed_spec: bool = False,
     refuse_other_mujoco: bool = False,
     use_recorded_spec: bool = False,
@@ -217,12 +221,12 @@ class EnvcEnv(gym.Env):
         self,
         spec_id: str,
         render_mode: str | None = None,
-        envc_provenance: dict | None = None,
+        envc_provenance: dict[str, Any] | None = None,
         accept_changed_spec: bool = False,
         refuse_other_mujoco: bool = False,
         use_recorded_spec: bool = False,
         **overrides: Any,
-    ):
+    ) -> None:
         # A dataset's env spec carries what made it; `recover_environment(accept_changed_spec=...)`
         # passes the options through.
         spec_id = recovered_spec(
@@ -233,22 +237,23 @@ class EnvcEnv(gym.Env):
         pairs = overrides_to_toml(overrides)
         if "max_episode_steps" not in overrides:
             pairs.append(("max_episode_steps", "0"))
-        kind, core = _envc.open(_id(spec_id), pairs)
+        kind, opened = _envc.open(_id(spec_id), pairs)
         if kind != "task":
             raise _errors.coded(
                 f"error[E0602]: `{spec_id}` is a {kind} spec; open it with envc.make (mazes) or "
                 "envc.parallel_env (multi-agent specs)",
                 "E0602",
             )
-        self._core = core
+        core = cast("_envc.TaskCore", opened)  # a "task" spec opens as a TaskCore
+        self._core: _envc.TaskCore | _Closed = core
         self.render_mode = render_mode
         self.metadata = {"render_modes": list(RENDER_MODES), "render_fps": _fps(core.dt)}
         obs_space = gym.spaces.Box(low=core.obs_low, high=core.obs_high, dtype=np.float64)
         self._goal_dim = core.goal_dim
         if self._goal_dim:
             # A `[goal]` task: Gymnasium-Robotics' dict observation (its Dict sorts the keys).
-            goal = gym.spaces.Box(-np.inf, np.inf, shape=(self._goal_dim,), dtype="float64")
-            self.observation_space: gym.Space = gym.spaces.Dict(
+            goal = gym.spaces.Box(-np.inf, np.inf, shape=(self._goal_dim,), dtype=np.float64)
+            self.observation_space: gym.Space[Any] = gym.spaces.Dict(
                 dict(desired_goal=goal, achieved_goal=goal, observation=obs_space)
             )
         else:
@@ -266,7 +271,9 @@ class EnvcEnv(gym.Env):
         self._f32_keys = tuple(core.float32_info_keys)
         self._bool_keys = tuple(core.bool_info_keys)
 
-    def reset(self, *, seed: int | None = None, options: dict | None = None):
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[_F64 | dict[str, _F64], dict[str, Any]]:
         seed = reference_seed(seed, super().reset)
         _errors.options(options)
         obs, info = self._core.reset(seed)
@@ -275,7 +282,9 @@ class EnvcEnv(gym.Env):
                 info[k] = np.bool_(info[k] != 0.0)
         return obs, info
 
-    def step(self, action):
+    def step(
+        self, action: object
+    ) -> tuple[_F64 | dict[str, _F64], float | np.float32, bool, bool, dict[str, Any]]:
         a = as_actions(action)
         if a.ndim != 1:
             raise _errors.coded(
@@ -294,16 +303,22 @@ class EnvcEnv(gym.Env):
             for k in self._bool_keys:
                 if k in info:
                     info[k] = np.bool_(info[k] != 0.0)
-            reward = np.float32(reward) if self._f32_reward else reward
-            return obs, reward, terminated, truncated, info
+            return (
+                obs,
+                np.float32(reward) if self._f32_reward else reward,
+                terminated,
+                truncated,
+                info,
+            )
         return out
 
-    def render(self):
+    def render(self) -> _Frame | None:
         """A frame in ``render_mode``, as Gymnasium's ``MujocoEnv.render`` (docs/rendering.md)."""
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
-        return self._core.render(self.render_mode)
+        # `check_render_mode` let only envc's modes through.
+        return self._core.render(cast("_RenderMode", self.render_mode))
 
     def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
         """A ``[goal]`` task's reward for these goals (``info`` is unused), exactly as ``step``
@@ -339,7 +354,7 @@ class EnvcEnv(gym.Env):
         """Always false (the ``TimeLimit`` truncates)."""
         return self.compute_terminated(achieved_goal, desired_goal, info)
 
-    def close(self):
+    def close(self) -> None:
         core = self._core
         if not isinstance(core, _Closed):
             core.close()
@@ -358,7 +373,10 @@ class EnvcEnv(gym.Env):
 class _Closed:
     """What a closed env steps with: every call raises."""
 
-    def __getattr__(self, name: str):
+    # Setting `numerics` on a closed env sets it here (reading any attribute raises).
+    numerics: str
+
+    def __getattr__(self, name: str) -> NoReturn:
         raise _errors.coded("error[E1103]: the env is closed", "E1103")
 
 

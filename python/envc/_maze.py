@@ -7,7 +7,7 @@ API (``GoalEnv`` adds only the check of the observation space's keys at reset).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import gymnasium as gym
 import numpy as np
@@ -25,13 +25,16 @@ from ._gym import (
     render_overrides,
 )
 
+if TYPE_CHECKING:
+    from ._envc import _F64, _Frame, _RenderMode
+
 try:
     from gymnasium_robotics.core import GoalEnv as _Base
 except ImportError:  # Gymnasium-Robotics is an optional dependency.
     _Base = gym.Env
 
 
-def _cell(options: dict, key: str) -> tuple[int, int] | None:
+def _cell(options: dict[str, Any], key: str) -> tuple[int, int] | None:
     """``options[key]`` as a ``(row, col)`` pair of non-negative ints (``None`` when absent)."""
     cell = options.get(key)
     if cell is None:
@@ -42,13 +45,15 @@ def _cell(options: dict, key: str) -> tuple[int, int] | None:
     return int(c[0]), int(c[1])
 
 
-def _goal_batches(achieved_goal, desired_goal) -> tuple[np.ndarray, np.ndarray, tuple]:
+def _goal_batches(
+    achieved_goal: Any, desired_goal: Any
+) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
     """Goals broadcast against each other as ``[N, 2]`` float64 rows, and the leading shape."""
     return goal_batches(achieved_goal, desired_goal, 2)
 
 
-def _unbounded(n: int) -> gym.spaces.Box:
-    return gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype="float64")
+def _unbounded(n: int) -> gym.spaces.Box[np.float64]:
+    return gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype=np.float64)
 
 
 class EnvcMazeEnv(_Base):
@@ -86,13 +91,13 @@ class EnvcMazeEnv(_Base):
         self,
         spec_id: str,
         render_mode: str | None = None,
-        maze_map: list | None = None,
-        envc_provenance: dict | None = None,
+        maze_map: list[Any] | None = None,
+        envc_provenance: dict[str, Any] | None = None,
         accept_changed_spec: bool = False,
         refuse_other_mujoco: bool = False,
         use_recorded_spec: bool = False,
         **overrides: Any,
-    ):
+    ) -> None:
         spec_id = recovered_spec(
             spec_id, envc_provenance, accept_changed_spec, refuse_other_mujoco, use_recorded_spec
         )
@@ -105,13 +110,14 @@ class EnvcMazeEnv(_Base):
         pairs = overrides_to_toml(overrides)
         if "max_episode_steps" not in overrides:
             pairs.append(("max_episode_steps", "0"))
-        kind, core = _envc.open(spec_id, pairs)
+        kind, opened = _envc.open(spec_id, pairs)
         if kind != "maze":
             raise _errors.coded(
                 f"error[E0602]: `{spec_id}` is a {kind} spec, not a maze; open it with envc.make",
                 "E0602",
             )
-        self._core = core
+        core = cast("_envc.MazeCore", opened)  # a "maze" spec opens as a MazeCore
+        self._core: _envc.MazeCore | _Closed = core
         self.render_mode = render_mode
         self.dt = core.dt
         # As the reference builds it (spaces.Dict sorts the keys).
@@ -131,7 +137,9 @@ class EnvcMazeEnv(_Base):
         self.continuing_task = core.continuing_task
         self.reset_target = core.reset_target
 
-    def reset(self, *, seed: int | None = None, options: dict | None = None):
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, _F64], dict[str, Any]]:
         """Start an episode: ``(obs dict, info)``. ``options`` may hold ``goal_cell`` and
         ``reset_cell`` (``(row, col)`` of free cells); others are drawn as the reference draws."""
         seed = reference_seed(seed, super().reset)
@@ -142,7 +150,9 @@ class EnvcMazeEnv(_Base):
             _cell(opts, "reset_cell"),
         )
 
-    def step(self, action):
+    def step(
+        self, action: object
+    ) -> tuple[dict[str, _F64], np.float64, bool, bool, dict[str, Any]]:
         """``(obs dict, reward, terminated, truncated, info)``; ``info["success"]`` says whether
         the robot is within the goal threshold."""
         a = as_actions(action)
@@ -159,7 +169,7 @@ class EnvcMazeEnv(_Base):
             )
         return obs, np.float64(reward), terminated, truncated, info
 
-    def compute_reward(self, achieved_goal, desired_goal, info=None):
+    def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
         """The goal reward of ``achieved_goal`` against ``desired_goal`` (``info`` is unused):
         a float64 scalar for ``[2]`` goals, a float64 array of the leading shape for
         ``[..., 2]``."""
@@ -167,7 +177,9 @@ class EnvcMazeEnv(_Base):
         r = self._core.compute_reward(a, d)
         return r.reshape(lead) if lead else r[0]
 
-    def compute_terminated(self, achieved_goal, desired_goal, info=None):
+    def compute_terminated(
+        self, achieved_goal: Any, desired_goal: Any, info: Any = None
+    ) -> Any:
         """Whether the episode ends for these goals (reaching the goal, unless the task is
         continuing): a bool for ``[2]`` goals, a bool array of the leading shape for
         ``[..., 2]``."""
@@ -175,21 +187,22 @@ class EnvcMazeEnv(_Base):
         t = self._core.compute_terminated(a, d)
         return t.reshape(lead) if lead else bool(t[0])
 
-    def compute_truncated(self, achieved_goal, desired_goal, info=None):
+    def compute_truncated(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
         """Always false (the ``TimeLimit`` truncates): a bool for ``[2]`` goals, a bool array of
         the leading shape for ``[..., 2]``."""
         a, d, lead = _goal_batches(achieved_goal, desired_goal)
         t = self._core.compute_truncated(a, d)
         return t.reshape(lead) if lead else bool(t[0])
 
-    def render(self):
+    def render(self) -> _Frame | None:
         """A frame of the maze with its goal marker, in ``render_mode`` (docs/rendering.md)."""
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
-        return self._core.render(self.render_mode)
+        # `check_render_mode` let only envc's modes through.
+        return self._core.render(cast("_RenderMode", self.render_mode))
 
-    def close(self):
+    def close(self) -> None:
         core = self._core
         if not isinstance(core, _Closed):
             core.close()

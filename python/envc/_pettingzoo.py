@@ -13,7 +13,8 @@ clipped qvel, ManySegmentAnt v1's wrong ids), envc raises ``ValueError`` instead
 from __future__ import annotations
 
 import os
-from typing import Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, cast
 
 import gymnasium
 import numpy as np
@@ -28,6 +29,9 @@ from ._gym import (
     overrides_to_toml,
     render_overrides,
 )
+
+if TYPE_CHECKING:
+    from ._envc import _F64, _Frame, _RenderMode
 
 # MaMuJoCo v1 scenario names → bundled envc ids. The ManySegment scenarios have one spec per
 # segment count n = N·M of their agent_conf "NxM".
@@ -91,7 +95,7 @@ def resolve_scenario(
     if not isinstance(scenario, (str, os.PathLike)):
         raise TypeError(f"scenario must be a str or path, got {type(scenario).__name__}")
     spec = os.fspath(scenario)
-    pairs = {} if agent_conf is None else {"agent_conf": agent_conf}
+    pairs: dict[str, str | int] = {} if agent_conf is None else {"agent_conf": agent_conf}
     if agent_obsk is None:
         pairs = {"agent_conf": _SINGLE_AGENT}
     else:
@@ -118,8 +122,11 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
     """
 
     def __init__(
-        self, spec: str, overrides: list[tuple[str, str]] = (), render_mode: str | None = None
-    ):
+        self,
+        spec: str,
+        overrides: Sequence[tuple[str, str]] = (),
+        render_mode: str | None = None,
+    ) -> None:
         """Open a multi-agent spec (id or path) with overrides as ``(name, TOML literal)`` pairs
         (``envc.overrides_to_toml`` writes them); ``envc.parallel_env`` is the friendlier door."""
         check_render_mode(render_mode)
@@ -133,8 +140,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
                 "envc.make",
                 "E0602",
             )
-        _, core = _envc.open(spec, list(overrides))
-        self._core = core
+        _, opened = _envc.open(spec, list(overrides))
+        core = cast("_envc.AgentsCore", opened)  # a multi-agent spec opens as an AgentsCore
+        self._core: _envc.AgentsCore | _Closed = core
         self.render_mode = render_mode
         self.metadata = {
             "render_modes": list(RENDER_MODES),
@@ -179,7 +187,9 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         """The agent's action space (float32), the same object on every call."""
         return self.action_spaces[agent]
 
-    def reset(self, seed: int | None = None, options: dict | None = None):
+    def reset(
+        self, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, _F64], dict[str, dict[str, Any]]]:
         """``(observations, infos)``: a dict per agent; every agent gets the same info dict.
 
         A seed restarts the env's RNG stream (as ``np_random`` is reseeded in the reference);
@@ -191,7 +201,15 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         self.agents = list(self.possible_agents)
         return self._per_agent(obs), {a: info for a in self.possible_agents}
 
-    def step(self, actions: dict[str, Any]):
+    def step(
+        self, actions: dict[str, Any]
+    ) -> tuple[
+        dict[str, _F64],
+        dict[str, float],
+        dict[str, bool],
+        dict[str, bool],
+        dict[str, dict[str, Any]],
+    ]:
         """Step with ``{agent: action}`` for every possible agent.
 
         Returns ``(observations, rewards, terminations, truncations, infos)``, each a dict over
@@ -226,13 +244,14 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         every observation are unchanged."""
         self._core.color_agents(on)
 
-    def render(self):
+    def render(self) -> _Frame | None:
         """A frame of the whole robot in ``render_mode`` (None without one), as MaMuJoCo renders."""
         if self.render_mode is None:
             return None
-        return self._core.render(self.render_mode)
+        # `check_render_mode` let only envc's modes through.
+        return self._core.render(cast("_RenderMode", self.render_mode))
 
-    def close(self):
+    def close(self) -> None:
         """Release the env; any later use raises ``RuntimeError``."""
         core = self._core
         if not isinstance(core, _Closed):

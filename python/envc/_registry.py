@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import os
 import warnings
+from collections.abc import Iterable
+from typing import Any
 
 import gymnasium as gym
 
@@ -37,7 +39,7 @@ def _register(
     )
 
 
-def _register_rows(rows) -> None:
+def _register_rows(rows: Iterable[tuple[str, str, int | None, bool, float | None]]) -> None:
     for spec_id, kind, max_steps, _example, threshold in rows:
         if kind in _ENTRY and f"envc/{spec_id}" not in gym.registry:
             _register(f"envc/{spec_id}", kind, spec_id, max_steps, threshold)
@@ -65,7 +67,7 @@ def register_all() -> None:
         warnings.warn(f"envc: ENVC_SPEC_PATH: {p} (left out)", stacklevel=2)
 
 
-def register(path: str | os.PathLike) -> list[str]:
+def register(path: str | os.PathLike[str]) -> list[str]:
     """Register the ids of a spec file, or of every spec file under a directory, so that
     ``gymnasium.make("envc/<id>")``, ``envc.make("<id>")`` and ``envc.parallel_env`` open them.
 
@@ -79,7 +81,7 @@ def register(path: str | os.PathLike) -> list[str]:
     return ids
 
 
-def spec_of(env_id) -> gym.envs.registration.EnvSpec:
+def spec_of(env_id: str | gym.envs.registration.EnvSpec) -> gym.envs.registration.EnvSpec:
     """The ``EnvSpec`` of what :func:`env_id_for` returned."""
     return env_id if isinstance(env_id, gym.envs.registration.EnvSpec) else gym.spec(env_id)
 
@@ -94,7 +96,7 @@ _GYM_MAKE_KEYS = (
 
 
 def env_id_for(
-    id_or_path: str, overrides: dict | None = None
+    id_or_path: str, overrides: dict[str, Any] | None = None
 ) -> str | gym.envs.registration.EnvSpec:
     """The Gymnasium id of a bundled id or a spec file (registered as ``envc/<its id>``), or, for
     a file whose id belongs to another spec, an unregistered ``EnvSpec`` of that name.

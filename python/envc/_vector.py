@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import gymnasium as gym
 import numpy as np
@@ -19,6 +19,11 @@ from ._gym import (
     overrides_to_toml,
     render_overrides,
 )
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+
+    from ._envc import _F64, _Autoreset, _Frame, _RenderMode
 
 _MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
 
@@ -93,7 +98,9 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         if max_episode_steps is not None:
             steps = _errors.integer(max_episode_steps, "max_episode_steps", 0, 2**63)
             pairs.append(("max_episode_steps", str(steps)))
-        core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, mode.value)
+        # AutoresetMode's values are the core's names ("NextStep", "SameStep").
+        autoreset = cast("_Autoreset", mode.value)
+        core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, autoreset)
         # One call at a time: the core steps with the GIL released, and refuses a second
         # thread's call while one runs (E1106).
         self._core = core
@@ -152,7 +159,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         *,
         seed: int | list[int | None] | None = None,
         options: dict[str, Any] | None = None,
-    ):
+    ) -> tuple[_F64, dict[str, Any]]:
         """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
 
         ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
@@ -178,7 +185,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             seeds = [first + i for i in range(self.num_envs)]
         return self._core.reset(seeds, None if mask is None else mask.tolist(), self._copy)
 
-    def _check_mask(self, mask) -> np.ndarray:
+    def _check_mask(self, mask: object) -> np.ndarray:
         """A ``reset_mask`` as Gymnasium's vector envs check it."""
         if not isinstance(mask, np.ndarray):
             raise _errors.coded(
@@ -205,15 +212,19 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
             )
         return mask
 
-    def step(self, actions):
+    def step(
+        self, actions: npt.ArrayLike
+    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]:
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
         return self._core.step(actions)
 
-    def render(self):
+    def render(self) -> tuple[_Frame, ...] | None:
         """Every env's frame in ``render_mode``, as a tuple (Gymnasium's vector ``render``)."""
         if self.render_mode is None:
             return None
-        return tuple(self._core.render(i, self.render_mode) for i in range(self.num_envs))
+        # `check_render_mode` let only envc's modes through.
+        mode = cast("_RenderMode", self.render_mode)
+        return tuple(self._core.render(i, mode) for i in range(self.num_envs))
 
     def close_extras(self, **kwargs: Any) -> None:
         """Stop the threads and free the envs."""

@@ -12,9 +12,12 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 from . import _envc
+
+if TYPE_CHECKING:
+    from ._envc import _Format
 
 __all__ = ["build", "bundled", "main", "policy", "reference_scores"]
 
@@ -34,11 +37,11 @@ def bundled() -> list[str]:
 
 
 def build(
-    spec: str | os.PathLike,
+    spec: str | os.PathLike[str],
     *,
     steps: int | None = None,
-    root: str | os.PathLike | None = None,
-    format: str | None = None,
+    root: str | os.PathLike[str] | None = None,
+    format: Literal["arrow", "hdf5"] | None = None,
     dataset_id: str | None = None,
     workers: int | None = None,
     address: str | None = None,
@@ -60,7 +63,15 @@ def build(
     return _build_on_ray(spec, steps, root, format, dataset_id, int(workers), address)
 
 
-def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> str:
+def _build_on_ray(
+    spec: str,
+    steps: int | None,
+    root: str | None,
+    format: _Format | None,
+    dataset_id: str | None,
+    workers: int,
+    address: str | None,
+) -> str:
     import ray
 
     if workers < 1:
@@ -76,14 +87,17 @@ def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> st
         if not ray.is_initialized():
             ray.init(address=address, include_dashboard=False, log_to_driver=False)
 
-        @ray.remote(num_cpus=1, max_restarts=-1, max_task_retries=0)
         class Builder:
-            def run(self, spec, staging, start, end, fmt):
+            def run(
+                self, spec: str, staging: str, start: int, end: int, fmt: _Format
+            ) -> list[tuple[int, int]]:
                 from envc import _envc as core
 
                 return core.build_shard(spec, staging, start, end, fmt)
 
-        actors = [Builder.remote() for _ in range(workers)]
+        # Ray's class decorator, applied as a call: the checker does not apply class decorators.
+        actor_class: Any = ray.remote(num_cpus=1, max_restarts=-1, max_task_retries=0)(Builder)
+        actors = [actor_class.remote() for _ in range(workers)]
         lengths: list[tuple[int, int]] = []
 
         def cut() -> int | None:
@@ -117,7 +131,8 @@ def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> st
             pending = [(a, min(a + size, done + n)) for a in range(done, done + n, size)]
             got = _run_round(ray, actors, spec, driver.staging, fmt, pending)
             for chunk in sorted(got):
-                lengths.extend(tuple(x) for x in got[chunk])
+                # `(steps, bytes)` pairs, as tuples whatever Ray's pickling made of them.
+                lengths.extend(cast("tuple[int, int]", tuple(x)) for x in got[chunk])
         if n_eps == 0:
             raise ValueError(
                 f"a budget of {budget} {kind} holds no episode of up to {max_steps} steps"
@@ -130,12 +145,19 @@ def _build_on_ray(spec, steps, root, format, dataset_id, workers, address) -> st
                 ray.kill(a)
 
 
-def _run_round(ray, actors, spec, staging, fmt, pending):
+def _run_round(
+    ray: Any,
+    actors: list[Any],
+    spec: str,
+    staging: str,
+    fmt: _Format,
+    pending: list[tuple[int, int]],
+) -> dict[tuple[int, int], list[tuple[int, int]]]:
     """Each chunk of `pending` on the next free actor; a dead actor's chunk is queued again."""
     pending = list(reversed(pending))
     running: dict[Any, tuple[int, tuple[int, int]]] = {}
     attempts: dict[tuple[int, int], int] = {}
-    got: dict[tuple[int, int], list] = {}
+    got: dict[tuple[int, int], list[tuple[int, int]]] = {}
     free = list(range(len(actors)))
     while pending or running:
         while pending and free:
@@ -161,7 +183,9 @@ def _run_round(ray, actors, spec, staging, fmt, pending):
     return got
 
 
-def policy(spec: str | os.PathLike, *, seed: int = 123, deterministic: bool | None = None):
+def policy(
+    spec: str | os.PathLike[str], *, seed: int = 123, deterministic: bool | None = None
+) -> _envc.SpecPolicy:
     """The spec's policy as ``policy(obs) -> action`` (float32), run in Rust without torch:
     the spec's mode unless ``deterministic`` is given; noise from ``default_rng(seed)``."""
     spec = os.fspath(spec)
@@ -171,7 +195,9 @@ def policy(spec: str | os.PathLike, *, seed: int = 123, deterministic: bool | No
 
 
 def reference_scores(
-    spec: str | os.PathLike, expert: str | os.PathLike | None = None, episodes: int = 100
+    spec: str | os.PathLike[str],
+    expert: str | os.PathLike[str] | None = None,
+    episodes: int = 100,
 ) -> dict[str, float]:
     """Minari's reference scores of a dataset spec's evaluation env, computed by Minari's own
     ``get_average_reference_score`` on the reference (Gymnasium) env: ``ref_min_score`` from
@@ -179,7 +205,7 @@ def reference_scores(
     default the spec's ``expert-v0`` sibling), each the mean over ``episodes`` episodes, the
     first reset with seed 123 (as Minari). Needs gymnasium and minari."""
     import gymnasium as gym
-    import tomllib
+    import tomllib  # type: ignore[import-not-found]  # Python 3.11+: 3.10 fails here
     from minari.utils import RandomPolicy, get_average_reference_score
 
     path = _spec_path(spec)
@@ -203,7 +229,7 @@ def reference_scores(
     }
 
 
-def _spec_path(spec) -> str:
+def _spec_path(spec: str | os.PathLike[str]) -> str:
     spec = os.fspath(spec)
     if os.path.exists(spec):
         return os.path.abspath(spec)
@@ -245,12 +271,14 @@ def main(argv: list[str] | None = None) -> int:
         scores = reference_scores(a.spec, episodes=a.episodes)
         print(json.dumps(scores))
         if a.write:
-            for p in write_reference_scores(a.spec, scores):
-                print(f"wrote {p}")
+            for path in write_reference_scores(a.spec, scores):
+                print(f"wrote {path}")
     return 0
 
 
-def write_reference_scores(spec: str | os.PathLike, scores: dict) -> list[str]:
+def write_reference_scores(
+    spec: str | os.PathLike[str], scores: dict[str, float]
+) -> list[str]:
     """Store ``scores`` as the ``[reference_scores]`` table of every dataset spec beside ``spec``
     (the tiers of one env share them, as Minari's generation scripts did)."""
     import re

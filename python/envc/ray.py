@@ -27,14 +27,18 @@ import os
 import sys
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _envc
 from ._datasets import _envc_spec_json, _replay_rows
 from ._errors import coded
 from ._gym import overrides_to_toml
+
+if TYPE_CHECKING:
+    from ._envc import _Format, _Policy, _PolicyFn
 
 __all__ = ["collect", "main"]
 
@@ -66,7 +70,7 @@ def _chunks(episodes: int, workers: int, chunk_size: int | None) -> list[tuple[i
     return [(a, min(a + size, episodes)) for a in range(0, episodes, size)]
 
 
-def _worker_class(ray):
+def _worker_class(ray: Any) -> Any:
     @ray.remote(num_cpus=1, max_restarts=-1, max_task_retries=0)
     class EnvcWorker:
         """One envc env per actor process; each call records one chunk into the staging dir."""
@@ -74,7 +78,19 @@ def _worker_class(ray):
         def pid(self) -> int:
             return os.getpid()
 
-        def run(self, spec, staging, start, end, seed, policy, fmt, overrides, rows, policy_fn):
+        def run(
+            self,
+            spec: str,
+            staging: str,
+            start: int,
+            end: int,
+            seed: int,
+            policy: _Policy,
+            fmt: _Format,
+            overrides: list[tuple[str, str]],
+            rows: list[float] | None,
+            policy_fn: _PolicyFn | None,
+        ) -> tuple[list[tuple[int, int]], float]:
             from envc import _envc as core
 
             t0 = time.perf_counter()
@@ -90,19 +106,20 @@ def collect(
     spec_or_id: str,
     dataset_id: str,
     episodes: int = 10,
-    policy: str | Callable[[np.ndarray, np.random.Generator], Any] = "random",
+    policy: Literal["zero", "random", "replay"]
+    | Callable[[npt.NDArray[np.float64], np.random.Generator], npt.ArrayLike] = "random",
     *,
     seed: int | None = None,
     num_workers: int = 2,
-    format: str = "arrow",
-    root: str | os.PathLike | None = None,
+    format: Literal["arrow", "hdf5"] = "arrow",
+    root: str | os.PathLike[str] | None = None,
     actions: Any = None,
     chunk_size: int | None = None,
     address: str | None = None,
     author: str | None = None,
     description: str | None = None,
     env_spec: str = "reference",
-    stats: dict | None = None,
+    stats: dict[str, Any] | None = None,
     stall_timeout: float | None = STALL_TIMEOUT_S,
     **overrides: Any,
 ) -> str:
@@ -131,9 +148,12 @@ def collect(
     if stall_timeout is not None and not stall_timeout > 0:
         raise ValueError(f"stall_timeout={stall_timeout!r}: expected seconds > 0, or None")
     episodes, num_workers = int(episodes), int(num_workers)
-    policy_fn = None
+    policy_fn: _PolicyFn | None = None
+    policy_name: _Policy
     if callable(policy):
-        policy_fn, policy = policy, "callable"
+        policy_fn, policy_name = policy, "callable"
+    else:
+        policy_name = policy
     rows = _replay_rows(actions)
     if env_spec not in ("reference", "envc"):
         raise ValueError(f"env_spec={env_spec!r}: expected 'reference' or 'envc'")
@@ -146,7 +166,7 @@ def collect(
 
     t_start = time.perf_counter()
     driver = _envc.ShardedCollection(
-        spec, dataset_id, episodes, policy, seed, format, root, ov, rows, author, description,
+        spec, dataset_id, episodes, policy_name, seed, format, root, ov, rows, author, description,
         spec_json, policy_fn is not None,
     )
     workers: list[Any] = []
@@ -173,7 +193,7 @@ def collect(
         def submit(w: int) -> None:
             chunk = pending.pop()
             ref = workers[w].run.remote(
-                spec, driver.staging, chunk[0], chunk[1], driver.seed, policy, format, ov,
+                spec, driver.staging, chunk[0], chunk[1], driver.seed, policy_name, format, ov,
                 rows_ref, fn_ref,
             )
             running[ref] = (w, chunk)
@@ -260,7 +280,9 @@ def collect(
                     "E1602",
                 )
         t_finish = time.perf_counter()
-        directory = driver.finish(done_eps)  # type: ignore[arg-type]
+        # No chunk is pending or running: every episode is recorded.
+        recorded = cast("list[tuple[int, int]]", done_eps)
+        directory = driver.finish(recorded)
         if stats is not None:
             now = time.perf_counter()
             stats.update(
@@ -269,7 +291,7 @@ def collect(
                 finish_s=now - t_finish,
                 chunks=n_chunks,
                 retries=tally["retries"],
-                steps=sum(e[0] for e in done_eps),  # type: ignore[index]
+                steps=sum(e[0] for e in recorded),
             )
         return directory
     finally:
@@ -318,16 +340,16 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("--author")
     c.add_argument("--description")
     a = p.parse_args(argv)
-    import tomllib
+    import tomllib  # type: ignore[import-not-found]  # Python 3.11+: 3.10 fails here
 
-    overrides = {}
+    overrides: dict[str, Any] = {}
     for kv in a.set:
         k, sep, v = kv.partition("=")
         if not sep:
             p.error(f"--set {kv!r}: expected KEY=VALUE")
         overrides[k.strip()] = tomllib.loads(f"v = {v}")["v"]
     actions = np.load(a.actions) if a.actions else None
-    stats: dict = {}
+    stats: dict[str, Any] = {}
     t0 = time.perf_counter()
     d = collect(
         a.spec, a.dataset_id, a.episodes, a.policy, seed=a.seed, num_workers=a.workers,
