@@ -9,9 +9,20 @@ design, the bounds against the CPU core and the figures."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ._plan import CODE, Plan, Unsupported, load
+
+if TYPE_CHECKING:
+    from contextlib import AbstractContextManager
+
+    import jax
+    import numpy.typing as npt
+
+    from .._errors import Error
+    from ._executor import State
+    from ._mjx import MjxBackend
+    from ._vector import BraxView, GymnasiumView
 
 __all__ = ["CODE", "GpuVecEnv", "Plan", "Unsupported", "backends", "make_vec", "plan"]
 
@@ -28,7 +39,7 @@ def plan(id_or_path: str, **overrides: Any) -> Plan:
     return load(id_or_path, overrides_to_toml(overrides))
 
 
-def _device(device: str | None):
+def _device(device: str | None) -> jax.Device | None:
     import jax
 
     if device is None:
@@ -42,13 +53,13 @@ def _device(device: str | None):
         raise _coded(f"device={device!r}: JAX has no such device ({e})", "E1105") from None
 
 
-def _coded(message: str, code: str):
+def _coded(message: str, code: str) -> Error:
     from .._errors import coded
 
     return coded(f"error[{code}]: {message}", code)
 
 
-def _backend(p: Plan, backend: str, device):
+def _backend(p: Plan, backend: str, device: jax.Device | None) -> MjxBackend:
     if backend not in backends():
         raise _coded(f"backend={backend!r}: expected one of {', '.join(backends())}", "E1105")
     from . import _mjx
@@ -73,7 +84,14 @@ class GpuVecEnv:
     same-step mode: a world that terminates or truncates is reset within the step; the returned
     observation is its first one and ``info["final_obs"]`` holds the last one."""
 
-    def __init__(self, p: Plan, backend, num_envs: int, seed: int = 0, device=None):
+    def __init__(
+        self,
+        p: Plan,
+        backend: MjxBackend,
+        num_envs: int,
+        seed: int = 0,
+        device: jax.Device | None = None,
+    ) -> None:
         import jax
 
         from ._executor import Executor
@@ -90,26 +108,30 @@ class GpuVecEnv:
         self.dt = float(p["dt"])
         self.max_episode_steps = p["max_episode_steps"]
         self._key = jax.random.PRNGKey(seed)
-        self.state = None
+        self.state: State | None = None
         self._resamples = any(r["resample_until"] for r in p["reset"])
 
     @property
     def id(self) -> str:
         return self.plan.id
 
-    def _on_device(self):
+    def _on_device(self) -> AbstractContextManager[Any]:
         import contextlib
 
         import jax
 
         return contextlib.nullcontext() if self.device is None else jax.default_device(self.device)
 
-    def reset(self, seed: int | None = None, mask=None):
+    def reset(
+        self, seed: int | None = None, mask: npt.ArrayLike | None = None
+    ) -> tuple[jax.Array, dict[str, jax.Array]]:
         """Reset every world (``mask=None``) or only the worlds where ``mask`` holds."""
         with self._on_device():
             return self._reset(seed, mask)
 
-    def _reset(self, seed, mask):
+    def _reset(
+        self, seed: int | None, mask: npt.ArrayLike | None
+    ) -> tuple[jax.Array, dict[str, jax.Array]]:
         import jax
 
         if seed is not None:
@@ -126,7 +148,7 @@ class GpuVecEnv:
         self.state = state
         return self.state.obs, {}
 
-    def _check_resets(self, state) -> None:
+    def _check_resets(self, state: State) -> None:
         """E1104 when a world's reset met no `resample_until` within the draw limit (looked at
         only for specs that have one: it waits for the device)."""
         if not self._resamples:
@@ -143,7 +165,9 @@ class GpuVecEnv:
                 "E1104",
             )
 
-    def step(self, action):
+    def step(
+        self, action: npt.ArrayLike
+    ) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array, dict[str, jax.Array]]:
         if self.state is None:
             raise _coded("step before reset: call reset() first", "E1103")
         import jax.numpy as jnp
@@ -166,19 +190,19 @@ class GpuVecEnv:
         self.state = out.state
         return out.obs, out.reward, out.terminated, out.truncated, out.info
 
-    def as_gymnasium(self):
+    def as_gymnasium(self) -> GymnasiumView:
         """A ``gymnasium.vector.VectorEnv`` view (numpy in and out, same-step autoreset)."""
         from ._vector import GymnasiumView
 
         return GymnasiumView(self)
 
-    def as_brax(self):
+    def as_brax(self) -> BraxView:
         """A Brax / Playground-style functional env (``reset(rng)``, ``step(state, action)``)."""
         from ._vector import BraxView
 
         return BraxView(self)
 
-    def close(self):
+    def close(self) -> None:
         self.state = None
 
 

@@ -5,16 +5,24 @@ from __future__ import annotations
 
 import os
 import tempfile
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
 
 from ._plan import FIELDS
 
+if TYPE_CHECKING:
+    import mujoco
+    from mujoco import mjx
+
+    from ._plan import Plan
+    from ._terms import Fields
+
 NAME = "mjx"
 
 
-def load_mjmodel(mjb: bytes):
+def load_mjmodel(mjb: bytes) -> mujoco.MjModel:
     """The compiled model from envc's MJB bytes (exactly the model the CPU core runs)."""
     import mujoco
 
@@ -33,7 +41,7 @@ class MjxBackend:
     name = NAME
     fields_supported = FIELDS
 
-    def __init__(self, plan, device=None):
+    def __init__(self, plan: Plan, device: jax.Device | None = None) -> None:
         from mujoco import mjx
 
         self.mjx = mjx
@@ -66,22 +74,22 @@ class MjxBackend:
         return out
 
     # -- state ----------------------------------------------------------------------------------
-    def qpos0(self):
+    def qpos0(self) -> jax.Array:
         return self.m.qpos0
 
-    def initial(self, qpos, qvel):
+    def initial(self, qpos: jax.Array, qvel: jax.Array) -> mjx.Data:
         """A fresh world at (qpos, qvel), derived quantities computed (Gymnasium's set_state:
         reset data, write the state, `mj_forward`)."""
         d = self.d0.replace(qpos=qpos, qvel=qvel)
         return self.mjx.forward(self.m, d)
 
     # -- physics --------------------------------------------------------------------------------
-    def physics(self, d, ctrl):
+    def physics(self, d: mjx.Data, ctrl: jax.Array) -> mjx.Data:
         """`frame_skip` × `mj_step` with `ctrl`, then `mj_rnePostConstraint` when the spec reads
         contact forces (as the CPU core)."""
         d = d.replace(ctrl=ctrl)
 
-        def body(_, d):
+        def body(_: jax.Array, d: mjx.Data) -> mjx.Data:
             return self.mjx.step(self.m, d)
 
         d = jax.lax.fori_loop(0, self.frame_skip, body, d)
@@ -90,11 +98,11 @@ class MjxBackend:
         return d
 
     # -- fields ---------------------------------------------------------------------------------
-    def fields(self, d, action):
+    def fields(self, d: mjx.Data, action: jax.Array) -> Fields:
         """A lookup of flat field arrays (only what is asked for is computed)."""
         m = self.m
 
-        def get(name: str):
+        def get(name: str) -> jax.Array:
             if name == "qpos":
                 return d.qpos
             if name == "qvel":

@@ -4,6 +4,7 @@ refuses, with one coded error listing all of them, every part a backend cannot r
 from __future__ import annotations
 
 import json
+from collections.abc import Collection, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -44,7 +45,7 @@ RESET_DISTS = ("uniform", "normal", "constant")
 class Unsupported(SpecError):
     """A spec with parts the GPU executor cannot run (code E1700); ``parts`` lists them all."""
 
-    def __init__(self, spec_id: str, backend: str, parts: list[str]):
+    def __init__(self, spec_id: str, backend: str, parts: list[str]) -> None:
         self.code = CODE
         self.parts = list(parts)
         lines = "\n".join(f"  - {p}" for p in parts)
@@ -65,12 +66,13 @@ class Plan:
 
     @property
     def id(self) -> str:
-        return self.raw["id"]
+        spec_id: str = self.raw["id"]
+        return spec_id
 
     def __getitem__(self, k: str) -> Any:
         return self.raw[k]
 
-    def sources(self):
+    def sources(self) -> Iterator[tuple[str, dict[str, Any]]]:
         """Every selection the env reads (observation, terms, health, info), with its place."""
         for s in self.raw["observation"]:
             yield f"[observation.{s['name']}]", s["source"]
@@ -93,7 +95,7 @@ class Plan:
         out |= {r["target"]["field"] for r in self.raw["reset"]}
         return out
 
-    def refusals(self, backend_fields=FIELDS) -> list[str]:
+    def refusals(self, backend_fields: Collection[str] = FIELDS) -> list[str]:
         """Every part of the spec this executor cannot run, in spec order (empty: runs all)."""
         out = list(self.raw["not_exported"])
         for t in self.raw["reward"]:
@@ -123,7 +125,7 @@ def load(id_or_path: str, overrides: list[tuple[str, str]]) -> Plan:
     return Plan(json.loads(text, object_hook=_nonfinite), bytes(mjb))
 
 
-def _nonfinite(obj: dict):
+def _nonfinite(obj: dict[str, Any]) -> float | dict[str, Any]:
     # ±inf and NaN travel as {"f64": "inf"} (JSON has no such numbers).
     if len(obj) == 1 and "f64" in obj:
         return float(obj["f64"])

@@ -8,22 +8,30 @@ sums are not bit-identical (float32, XLA's reduction order): docs/gpu.md states 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import jax.numpy as jnp
+
+if TYPE_CHECKING:
+    import jax
+
+    from ._plan import Plan
+
+    # `reward_sum`'s tree: a term's index, or the sum of the subtrees in a list.
+    _SumNode = int | list["_SumNode"]
 
 Fields = Callable[[str], Any]
 
 
-def _gather(f: Fields, sel: dict) -> Any:
+def _gather(f: Fields, sel: dict[str, Any]) -> jax.Array:
     return f(sel["field"])[jnp.asarray(sel["indices"], dtype=jnp.int32)]
 
 
-def _clip(x, r):
+def _clip(x: jax.Array, r: list[float] | None) -> jax.Array:
     return x if r is None else jnp.clip(x, r[0], r[1])
 
 
-def observation(plan, f: Fields):
+def observation(plan: Plan, f: Fields) -> jax.Array:
     parts = []
     for s in plan["observation"]:
         x = _gather(f, s["source"])
@@ -39,7 +47,7 @@ def observation(plan, f: Fields):
     return jnp.concatenate(parts) if parts else jnp.zeros((0,))
 
 
-def healthy(plan, f: Fields):
+def healthy(plan: Plan, f: Fields) -> jax.Array:
     ok = jnp.bool_(True)
     for h in plan["health"]:
         for s in h["sources"]:
@@ -57,10 +65,10 @@ def healthy(plan, f: Fields):
     return ok
 
 
-def velocity_sources(plan) -> list[dict]:
+def velocity_sources(plan: Plan) -> list[dict[str, Any]]:
     """The one-number selections whose value before the step `velocity` terms and infos need,
     in a fixed order (the `before` vector)."""
-    out = []
+    out: list[dict[str, Any]] = []
     for t in plan["reward"]:
         if t["kind"] == "velocity" and t["source"] not in out:
             out.append(t["source"])
@@ -70,14 +78,23 @@ def velocity_sources(plan) -> list[dict]:
     return out
 
 
-def before_values(plan, f: Fields):
+def before_values(plan: Plan, f: Fields) -> jax.Array:
     srcs = velocity_sources(plan)
     if not srcs:
         return jnp.zeros((0,))
     return jnp.stack([_gather(f, s)[0] for s in srcs])
 
 
-def _kernel(plan, t, f: Fields, before, healthy_now, dt, timestep, weight):
+def _kernel(
+    plan: Plan,
+    t: dict[str, Any],
+    f: Fields,
+    before: jax.Array,
+    healthy_now: jax.Array,
+    dt: jax.Array,
+    timestep: jax.Array,
+    weight: float,
+) -> jax.Array:
     k = t["kind"]
     if k == "velocity":
         j = velocity_sources(plan).index(t["source"])
@@ -106,10 +123,19 @@ def _kernel(plan, t, f: Fields, before, healthy_now, dt, timestep, weight):
     raise AssertionError(f"refused before: {k}")
 
 
-def terms(plan, f: Fields, before, healthy_now, dt, timestep, at_before: bool):
+def terms(
+    plan: Plan,
+    f: Fields,
+    before: jax.Array,
+    healthy_now: jax.Array,
+    dt: jax.Array,
+    timestep: jax.Array,
+    at_before: bool,
+) -> tuple[list[jax.Array | None], list[jax.Array | None]]:
     """Signed term values (weighted, and weight 1 for `unweighted` infos), for the terms
     evaluated after the step (`at_before` False) or at its start (True); others are None."""
-    vals, unweighted = [], []
+    vals: list[jax.Array | None] = []
+    unweighted: list[jax.Array | None] = []
     for t in plan["reward"]:
         if t["before"] != at_before:
             vals.append(None)
@@ -122,7 +148,7 @@ def terms(plan, f: Fields, before, healthy_now, dt, timestep, at_before: bool):
     return vals, unweighted
 
 
-def reward_sum(node, vals):
+def reward_sum(node: _SumNode, vals: list[jax.Array | None]) -> jax.Array:
     if isinstance(node, int):
         return vals[node]
     if not node:
@@ -133,8 +159,16 @@ def reward_sum(node, vals):
     return acc
 
 
-def info(plan, f: Fields, before, vals, unweighted, dt, at_reset: bool) -> dict:
-    out = {}
+def info(
+    plan: Plan,
+    f: Fields,
+    before: jax.Array,  # None at reset, which evaluates no `velocity` entry
+    vals: list[jax.Array | None],
+    unweighted: list[jax.Array | None],
+    dt: jax.Array,
+    at_reset: bool,
+) -> dict[str, jax.Array]:
+    out: dict[str, jax.Array] = {}
     srcs = velocity_sources(plan)
     for i in plan["info"]:
         if at_reset and not i["at_reset"]:

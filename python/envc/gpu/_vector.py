@@ -5,13 +5,18 @@ add episode limits and autoreset themselves)."""
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 import jax
 import jax.numpy as jnp
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
+
+if TYPE_CHECKING:
+    import numpy.typing as npt
+
+    from . import GpuVecEnv
 
 
 class GymnasiumView(VectorEnv):
@@ -20,7 +25,7 @@ class GymnasiumView(VectorEnv):
 
     metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}
 
-    def __init__(self, env):
+    def __init__(self, env: GpuVecEnv) -> None:
         self.env = env
         self.num_envs = env.num_envs
         self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (env.obs_dim,), np.float32)
@@ -32,12 +37,19 @@ class GymnasiumView(VectorEnv):
         )
         self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
 
-    def reset(self, *, seed=None, options=None):
+    def reset(
+        self,
+        *,
+        seed: int | None = None,
+        options: dict[str, Any] | None = None,
+    ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         mask = None if options is None else options.get("reset_mask")
         obs, info = self.env.reset(seed=seed, mask=mask)
         return np.asarray(obs), {k: np.asarray(v) for k, v in info.items()}
 
-    def step(self, actions):
+    def step(
+        self, actions: npt.ArrayLike
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
         obs, rew, term, trunc, info = self.env.step(jnp.asarray(actions, jnp.float32))
         return (
             np.asarray(obs),
@@ -47,7 +59,7 @@ class GymnasiumView(VectorEnv):
             {k: np.asarray(v) for k, v in info.items()},
         )
 
-    def close_extras(self, **kwargs):
+    def close_extras(self, **kwargs: Any) -> None:
         self.env.close()
 
 
@@ -61,10 +73,10 @@ class BraxState:
     obs: jax.Array
     reward: jax.Array
     done: jax.Array
-    metrics: dict = dataclasses.field(default_factory=dict)
-    info: dict = dataclasses.field(default_factory=dict)
+    metrics: dict[str, jax.Array] = dataclasses.field(default_factory=dict)
+    info: dict[str, Any] = dataclasses.field(default_factory=dict)
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> BraxState:
         return dataclasses.replace(self, **changes)
 
 
@@ -73,7 +85,7 @@ class BraxView:
     ``observation_size``, ``action_size``. Termination is the spec's; truncation (the time limit)
     is left to Brax's ``EpisodeWrapper`` with ``episode_length = max_episode_steps``."""
 
-    def __init__(self, env):
+    def __init__(self, env: GpuVecEnv) -> None:
         self._x = env.executor
         self.observation_size = env.obs_dim
         self.action_size = env.act_dim
@@ -81,12 +93,12 @@ class BraxView:
         self.dt = env.dt
         self.episode_length = env.max_episode_steps
 
-    def reset(self, rng) -> BraxState:
+    def reset(self, rng: jax.Array) -> BraxState:
         d, obs = self._x._init_world(rng)
         metrics = {k: jnp.float32(0.0) for k in self._metric_keys()}
         return BraxState(d, obs, jnp.float32(0.0), jnp.float32(0.0), metrics, {})
 
-    def step(self, state: BraxState, action) -> BraxState:
+    def step(self, state: BraxState, action: jax.Array) -> BraxState:
         d, obs, reward, terminated, info = self._x._step_world(state.pipeline_state, action)
         metrics = {k: jnp.asarray(info[k], jnp.float32) for k in self._metric_keys()}
         return state.replace(
@@ -97,5 +109,5 @@ class BraxView:
             metrics=metrics,
         )
 
-    def _metric_keys(self):
+    def _metric_keys(self) -> list[str]:
         return [i["key"] for i in self._x.plan["info"] if i["len"] == 1]
