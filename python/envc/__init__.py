@@ -16,6 +16,8 @@ from __future__ import annotations
 import os as _os
 from typing import TYPE_CHECKING, Any
 
+import gymnasium as _gymnasium
+
 from ._mujoco import load_core as _load_core
 
 # The native core built for the installed MuJoCo (envc/_mujoco.py): every module below imports it
@@ -54,7 +56,14 @@ from ._errors import (
     SpecError,
     UnknownParameterError,
 )
-from ._gym import DatasetWarning, EnvcEnv, make, overrides_to_toml
+from ._gym import (
+    DatasetWarning,
+    EnvcEnv,
+    ParityWarning,
+    _parity_warning,
+    make,
+    overrides_to_toml,
+)
 from ._registry import bundled_ids, register, register_all
 from ._vector import EnvcVectorEnv, make_vec
 
@@ -72,6 +81,7 @@ __all__ = [
     "KindError",
     "ModelError",
     "NotResetError",
+    "ParityWarning",
     "SimulationError",
     "SpecError",
     "UnknownParameterError",
@@ -86,6 +96,9 @@ __all__ = [
 ]
 __version__: str = _envc.__version__
 __mujoco_version__ = _envc.__mujoco_version__
+
+# Parity is proven against one Gymnasium release; any other 1.4.x is warned about, once.
+_parity_warning(_gymnasium.__version__)
 
 register_all()
 

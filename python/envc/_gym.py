@@ -171,6 +171,35 @@ class DatasetWarning(UserWarning):
         self.code = code
 
 
+#: The Gymnasium version envc's bit-for-bit parity with the reference is proven against
+#: (tests/reference/requirements.txt pins it; pyproject.toml allows any 1.4.x).
+PARITY_GYMNASIUM = "1.4.0"
+
+
+class ParityWarning(UserWarning):
+    """The installed Gymnasium is not the version envc's bit-for-bit parity with the reference is
+    proven against (``PARITY_GYMNASIUM``): envc runs, but matching that Gymnasium's own envs bit
+    for bit is not proven. Warned once, at ``import envc``."""
+
+
+def _parity_warning(installed: str) -> None:
+    """Warn (:class:`ParityWarning`) when ``installed``, the installed Gymnasium's version, is not
+    the one parity is proven against; nothing when it is."""
+    if installed == PARITY_GYMNASIUM:
+        return
+    import warnings
+
+    warnings.warn(
+        ParityWarning(
+            f"envc: the installed Gymnasium is {installed}, but envc's bit-for-bit parity with "
+            f"Gymnasium's environments is proven against Gymnasium {PARITY_GYMNASIUM} only: "
+            "envc's envs run, but may differ from this version's own; "
+            f"pip install 'gymnasium=={PARITY_GYMNASIUM}' for the proven pairing"
+        ),
+        stacklevel=3,
+    )
+
+
 def recovered_spec(
     spec_id: str,
     provenance: dict[str, Any] | None,
