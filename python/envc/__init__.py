@@ -16,8 +16,6 @@ from __future__ import annotations
 import os as _os
 from typing import TYPE_CHECKING, Any
 
-import gymnasium as _gymnasium
-
 from ._mujoco import load_core as _load_core
 
 # The native core built for the installed MuJoCo (envc/_mujoco.py): every module below imports it
@@ -98,6 +96,8 @@ __version__: str = _envc.__version__
 __mujoco_version__ = _envc.__mujoco_version__
 
 # Parity is proven against one Gymnasium release; any other 1.4.x is warned about, once.
+import gymnasium as _gymnasium
+
 _parity_warning(_gymnasium.__version__)
 
 register_all()

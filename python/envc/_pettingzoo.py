@@ -60,7 +60,7 @@ _SINGLE_AGENT = "none"
 
 def _segments(scenario: str, agent_conf: str | None) -> int:
     try:
-        n, m = agent_conf.split("x")  # type: ignore[union-attr]
+        n, m = agent_conf.split("x")  # type: ignore[union-attr]  # None fails too, as it should
         return int(n) * int(m)
     except Exception:  # noqa: BLE001 - whatever it is, the conf is not "NxM"
         raise ValueError(
