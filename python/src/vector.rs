@@ -283,6 +283,21 @@ fn closed() -> PyErr {
     errors::coded("E1103", "error[E1103]: the vector env is closed".into())
 }
 
+/// The element types a batch of actions is stepped in.
+trait ActionElement: Element + Copy {
+    fn joint(rows: &[Self]) -> envc::JointAction<'_>;
+}
+impl ActionElement for f32 {
+    fn joint(rows: &[f32]) -> envc::JointAction<'_> {
+        envc::JointAction::F32(rows)
+    }
+}
+impl ActionElement for f64 {
+    fn joint(rows: &[f64]) -> envc::JointAction<'_> {
+        envc::JointAction::F64(rows)
+    }
+}
+
 /// `envc._gym.as_actions`, for batches that are not float32 or float64 arrays.
 static AS_ACTIONS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
@@ -528,29 +543,28 @@ impl VecCore {
         copy: bool,
     ) -> Option<PyResult<Bound<'py, PyTuple>>> {
         if let Ok(a) = actions.cast::<PyArray2<f32>>() {
-            return Some(self.step_rows(py, a, envc::JointAction::F32, copy));
+            return Some(self.step_rows(py, a, copy));
         }
         if let Ok(a) = actions.cast::<PyArray2<f64>>() {
-            return Some(self.step_rows(py, a, envc::JointAction::F64, copy));
+            return Some(self.step_rows(py, a, copy));
         }
         None
     }
 
-    fn step_rows<'py, T: Element + Copy>(
+    fn step_rows<'py, T: ActionElement>(
         &mut self,
         py: Python<'py>,
         a: &Bound<'py, PyArray2<T>>,
-        joint: for<'a> fn(&'a [T]) -> envc::JointAction<'a>,
         copy: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let a = a.try_readonly().map_err(errors::argument)?;
         self.check_batch(a.shape())?;
         // `as_slice` takes Fortran order too: only a C-ordered batch is read in place.
         match a.as_slice() {
-            Ok(s) if a.is_c_contiguous() => self.step_batch(py, joint(s), copy),
+            Ok(s) if a.is_c_contiguous() => self.step_batch(py, T::joint(s), copy),
             _ => {
                 let rows = a.as_array().iter().copied().collect::<Vec<T>>();
-                self.step_batch(py, joint(&rows), copy)
+                self.step_batch(py, T::joint(&rows), copy)
             }
         }
     }
