@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
-#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied (the Python stubs, by mypy's stubtest, in the checks lane below);
+#   1. hygiene: cargo fmt --check, clippy and rustdoc with warnings denied, ruff and mypy --strict on the Python package (its stubs, by mypy's stubtest, in the checks lane below);
 #   2. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py),
 #      and the installed reference still gives the published golden values (record.py --verify-golden);
 #   3. the Rust tests (a few binaries: `cargo test --workspace`), including the parity replay of the committed fixtures under the numerics
@@ -70,7 +70,10 @@ wait "$SETUP" || status=$?
 # The extension's and the CLI's release builds ask for shared dependencies alike, so the second
 # reuses the first's (workspace-hack/Cargo.toml).
 "$PY" scripts/release_features.py
-passed "hygiene (fmt, clippy, rustdoc, release features)"
+# The Python package: ruff, and mypy --strict with the native core typed by its stub (the venv's
+# pinned tools, so after the set-up).
+scripts/python-lint.sh
+passed "hygiene (fmt, clippy, rustdoc, release features, ruff, mypy --strict)"
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
 
@@ -87,7 +90,7 @@ lane_python() {
   # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
   # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
   # Its fresh cases draw from the run's one seed, as the live checks below do.
-  ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider tests/python
+  ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider --durations=10 tests/python
   passed "pytest"
 
   # The wheel of scripts/build-wheel.sh outside its checkout, in a venv of its pinned dependencies,
@@ -109,15 +112,17 @@ lane_checks() {
   env -u OPENBLAS_CORETYPE "$PY" tests/reference/record.py --verify-golden
   passed "golden values"
 
-  # The fuzzer's bounded pass (ENVC_FUZZ_SECONDS, default 60), every target.
-  cargo test -q --workspace --test cli fuzz::
+  # The fuzzer's bounded pass, every target: 30 s here (ENVC_FUZZ_SECONDS; a plain `cargo test`
+  # takes 60). Its seed is fixed, so a pass repeats the same inputs: longer runs are
+  # docs/fuzzing.md's, with other seeds.
+  ENVC_FUZZ_SECONDS="${ENVC_FUZZ_SECONDS:-30}" cargo test -q --workspace --test cli fuzz::
   passed "fuzz"
 
   # The catalogue and the fuzzer's `envc` targets again against the optimized binary: undefined
   # behaviour that only the optimizer exposes (an error unwinding through a `C` declaration) shows
   # only there.
   ENVC_BIN="$ROOT/target/release/envc" cargo test -q --workspace --test cli catalogue::
-  ENVC_BIN="$ROOT/target/release/envc" ENVC_FUZZ_TARGETS=compile,cli ENVC_FUZZ_SECONDS=30 \
+  ENVC_BIN="$ROOT/target/release/envc" ENVC_FUZZ_TARGETS=compile,cli ENVC_FUZZ_SECONDS=15 \
     cargo test -q --workspace --test cli fuzz::
   passed "release catalogue and fuzz"
 
@@ -161,15 +166,26 @@ lane_live() {
   # the whole workspace too, so features unify as they did there and nothing is rebuilt.)
   "$PY" tests/reference/check_rollout.py --envc target/debug/envc
   passed "envc rollout, live"
-  # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.)
+  # (`-u OPENBLAS_CORETYPE`: the CPU's own choice, whatever this environment forces.) Under the CPU's
+  # own kernel every check runs; under each forced one the suite's rollouts and one of the other
+  # three checks, turn by turn with the run's seed, so that each forced kernel meets all of them
+  # within three runs.
+  local others=(check_maze_rollout check_mamujoco_rollout check_minari) turn="$SEED"
   for setting in "-u OPENBLAS_CORETYPE" "OPENBLAS_CORETYPE=Prescott" \
                  "OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES=X86_V4" "OPENBLAS_CORETYPE=SkylakeX"; do
     if "$PY" tests/reference/numerics_profile.py --can-run $setting; then
       echo "live checks under env $setting"
-      env $setting "$PY" tests/reference/check_rollout.py --envc target/debug/envc
-      env $setting "$PY" tests/reference/check_maze_rollout.py --envc target/debug/envc --seed "$RANDOM"
-      env $setting "$PY" tests/reference/check_mamujoco_rollout.py --envc target/debug/envc
-      env $setting "$PY" tests/reference/check_minari.py --envc target/debug/envc
+      # (With no OPENBLAS_CORETYPE in this environment, the first check of the lane was this one.)
+      if [ "$setting" != "-u OPENBLAS_CORETYPE" ] || [ -n "${OPENBLAS_CORETYPE:-}" ]; then
+        env $setting "$PY" tests/reference/check_rollout.py --envc target/debug/envc
+      fi
+      local checks=("${others[@]}")
+      [ "$setting" = "-u OPENBLAS_CORETYPE" ] || { checks=("${others[$((turn % 3))]}"); turn=$((turn + 1)); }
+      for check in "${checks[@]}"; do
+        local args=(--envc target/debug/envc)
+        [ "$check" = check_maze_rollout ] && args+=(--seed "$RANDOM")
+        env $setting "$PY" "tests/reference/$check.py" "${args[@]}"
+      done
       passed "live checks under $setting"
     fi
   done
@@ -295,7 +311,7 @@ JOBS+=("${LANES[@]}")
 status=0
 wait "$BUILD" || status=$?
 [ "$status" = 0 ] || fail "$status"
-# The Rust tests, but for the fuzzer's bounded pass (a fixed minute of wall time): the checks lane
+# The Rust tests, but for the fuzzer's bounded pass (a fixed budget of wall time): the checks lane
 # runs it, rather than holding up everything after it.
 status=0
 ( cargo test --workspace -- --skip fuzz::fuzz 2>&1 | sed -u 's/^/[rust] /' ) || status=$?
