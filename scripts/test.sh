@@ -90,14 +90,25 @@ lane_python() {
   # The envc Python package (installed by setup.sh) against the live reference: Gymnasium's classes,
   # vector envs, mazes and PettingZoo, same seeds and actions, fresh seeds every run.
   # Its fresh cases draw from the run's one seed, as the live checks below do.
-  ENVC_LIVE_SEED="$SEED" "$PY" -m pytest -q -p no:cacheprovider --durations=10 tests/python
-  passed "pytest"
+  # In two processes (pytest runs one test at a time): the tests that start Ray clusters and the GPU
+  # executor's, then the wheel (whose Ray cluster must not meet pytest's), beside the rest.
+  local ray=(tests/python/test_ray.py tests/python/test_dataset_suite.py tests/python/test_gpu.py)
+  local pytest=("$PY" -m pytest -q -p no:cacheprovider --durations=5)
+  ENVC_LIVE_SEED="$SEED" "${pytest[@]}" --basetemp "$LIVE/pytest-rest" "${ray[@]/#/--ignore=}" \
+    tests/python > "$LIVE/pytest-rest.log" 2>&1 &
+  local rest="$!"
+  ENVC_LIVE_SEED="$SEED" "${pytest[@]}" --basetemp "$LIVE/pytest-ray" "${ray[@]}"
 
   # The wheel of scripts/build-wheel.sh outside its checkout, in a venv of its pinned dependencies,
   # run with the checkout hidden (tests/wheel/run.sh).
   wait "$venv" || { cat "$LIVE/wheel-venv.log"; exit 1; }
   tests/wheel/run.sh --prebuilt "$LIVE/dist" "$LIVE/wheel"
   passed "wheel"
+  local status=0
+  wait "$rest" || status=$?
+  cat "$LIVE/pytest-rest.log"
+  [ "$status" = 0 ] || exit "$status"
+  passed "pytest"
 }
 
 lane_checks() {

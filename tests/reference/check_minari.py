@@ -27,6 +27,7 @@ import time
 
 import gymnasium as gym
 import minari
+import mujoco
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -112,6 +113,11 @@ def check_envc_datasets(envc, seed):
         short = ds.filter_episodes(lambda e: len(e) < 10**9)
         check(short.total_steps == ds.total_steps, f"{label}: filter_episodes total_steps")
         check(isinstance(ds.storage.metadata["dataset_size"], float), f"{label}: dataset_size")
+        # The MuJoCo the dataset was made with is the one this reference runs on.
+        made_with = ds.storage.metadata.get("mujoco_version")
+        check(made_with == mujoco.__version__, f"{label}: mujoco_version {made_with} != {mujoco.__version__}")
+        reqs = ds.storage.metadata.get("requirements", [])
+        check(f"mujoco=={mujoco.__version__}" in reqs, f"{label}: requirements {reqs}")
         replay_check(ds, label, kwargs)
     listed = minari.list_local_datasets()
     check(set(listed) == {c[1] for c in cases}, f"list_local_datasets: {sorted(listed)}")

@@ -24,6 +24,9 @@ hidden "MUJOCO_GL=egl '$WORK/venv/bin/python' '$WORK/mujoco4.py'"
 hidden "'$WORK/venv/bin/envc' info | grep -q 'linked:    MuJoCo 4.0.1'"
 # A MuJoCo envc does not support (4.0.0, whose sparse Cholesky 4.0.1 fixed): `import envc` names
 # the supported versions rather than loading a build for another library.
+# Datasets on MuJoCo 4.0.1: the wheel's `envc collect` (arrow and HDF5, overrides, an interrupted
+# collection), loaded by the real minari, recovered and replayed in Gymnasium on 4.0.1 bit for bit.
+"$WORK/venv/bin/python" "$ROOT/tests/reference/check_minari.py" --envc "$WORK/venv/bin/envc"
 "$WORK/venv/bin/pip" install -q --disable-pip-version-check --no-deps mujoco-core==4.0.0
 err="$(hidden "'$WORK/venv/bin/python' -c 'import envc'" 2>&1)" && { echo "import envc worked beside MuJoCo 4.0.0" >&2; exit 1; }
 grep -q "the installed MuJoCo is 4.0.0; envc supports MuJoCo 3.17.0 and 4.0.1" <<< "$err" ||
