@@ -172,6 +172,25 @@ def pendulum():
     )
 
 
+def test_the_gpu_env_has_gymnasiums_vector_attributes(pendulum):
+    """`single_observation_space`, `single_action_space` and the batched spaces, as every
+    Gymnasium vector env has them: the action range is the CPU vector env's (the spec's), and the
+    views hand on the same spaces."""
+    cpu = envc.make_vec("InvertedPendulum-v5", 2)
+    try:
+        assert pendulum.single_action_space == cpu.single_action_space
+        assert pendulum.single_action_space.low.tolist() == [-3.0]
+        assert pendulum.single_observation_space.shape == cpu.single_observation_space.shape
+        assert pendulum.single_observation_space.dtype == np.float32
+        assert pendulum.action_space.shape == (N_PENDULUM, 1)
+        assert pendulum.observation_space.shape == (N_PENDULUM, 4)
+        view = pendulum.as_gymnasium()
+        assert view.single_action_space == pendulum.single_action_space
+        assert view.observation_space == pendulum.observation_space
+    finally:
+        cpu.close()
+
+
 def test_masked_reset_touches_only_its_worlds(pendulum):
     env = pendulum
     env.reset(seed=1)

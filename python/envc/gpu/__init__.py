@@ -16,6 +16,7 @@ from ._plan import CODE, Plan, Unsupported, load
 if TYPE_CHECKING:
     from contextlib import AbstractContextManager
 
+    import gymnasium as gym
     import jax
     import numpy.typing as npt
 
@@ -114,6 +115,38 @@ class GpuVecEnv:
     @property
     def id(self) -> str:
         return self.plan.id
+
+    @property
+    def single_observation_space(self) -> gym.spaces.Box:
+        """One world's observation space (float32, unbounded), in Gymnasium's vector names."""
+        import gymnasium as gym
+        import numpy as np
+
+        return gym.spaces.Box(-np.inf, np.inf, (self.obs_dim,), np.float32)
+
+    @property
+    def single_action_space(self) -> gym.spaces.Box:
+        """One world's action space (float32, the spec's control range)."""
+        import gymnasium as gym
+        import numpy as np
+
+        return gym.spaces.Box(
+            np.asarray(self.act_low, np.float32), np.asarray(self.act_high, np.float32)
+        )
+
+    @property
+    def observation_space(self) -> gym.spaces.Space[Any]:
+        """The batch's observation space: ``single_observation_space`` over ``num_envs`` worlds."""
+        import gymnasium as gym
+
+        return gym.vector.utils.batch_space(self.single_observation_space, self.num_envs)
+
+    @property
+    def action_space(self) -> gym.spaces.Space[Any]:
+        """The batch's action space: ``single_action_space`` over ``num_envs`` worlds."""
+        import gymnasium as gym
+
+        return gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
 
     def _on_device(self) -> AbstractContextManager[Any]:
         import contextlib

@@ -7,7 +7,6 @@ from __future__ import annotations
 import dataclasses
 from typing import TYPE_CHECKING, Any
 
-import gymnasium as gym
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -28,14 +27,10 @@ class GymnasiumView(VectorEnv):
     def __init__(self, env: GpuVecEnv) -> None:
         self.env = env
         self.num_envs = env.num_envs
-        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (env.obs_dim,), np.float32)
-        self.single_action_space = gym.spaces.Box(
-            np.asarray(env.act_low, np.float32), np.asarray(env.act_high, np.float32)
-        )
-        self.observation_space = gym.vector.utils.batch_space(
-            self.single_observation_space, self.num_envs
-        )
-        self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
+        self.single_observation_space = env.single_observation_space
+        self.single_action_space = env.single_action_space
+        self.observation_space = env.observation_space
+        self.action_space = env.action_space
 
     def reset(
         self,
