@@ -105,7 +105,9 @@ class EnvcMazeEnv(_Base):
         overrides = render_overrides(overrides)
         if maze_map is not None:
             if "map" in overrides:
-                raise TypeError("pass either `maze_map` or `map`, not both")
+                raise _errors.coded(
+                    "error[E1105]: pass either `maze_map` or `map`, not both", "E1105"
+                )
             overrides["map"] = maze_map
         pairs = overrides_to_toml(overrides)
         if "max_episode_steps" not in overrides:

@@ -93,7 +93,10 @@ def resolve_scenario(
             return spec, [("agent_conf", '"none"')]
         return spec, overrides_to_toml({"agent_conf": agent_conf, "agent_obsk": agent_obsk})
     if not isinstance(scenario, (str, os.PathLike)):
-        raise TypeError(f"scenario must be a str or path, got {type(scenario).__name__}")
+        raise _errors.coded(
+            f"error[E1105]: scenario must be a str or path, got {type(scenario).__name__}",
+            "E1105",
+        )
     spec = os.fspath(scenario)
     pairs: dict[str, str | int] = {} if agent_conf is None else {"agent_conf": agent_conf}
     if agent_obsk is None:
@@ -369,9 +372,10 @@ def parallel_env(
     """
     for name in _SPEC_CONTENT:
         if name in overrides:
-            raise TypeError(
-                f"parallel_env: `{name}` is spec content in envc; write an [agents] spec "
-                "(see specs/mamujoco/) and pass its path as the scenario"
+            raise _errors.coded(
+                f"error[E1105]: parallel_env: `{name}` is spec content in envc; write an "
+                "[agents] spec (see specs/mamujoco/) and pass its path as the scenario",
+                "E1105",
             )
     spec, pairs = resolve_scenario(scenario, agent_conf, agent_obsk)
     overrides = render_overrides(overrides)

@@ -115,8 +115,11 @@ def env_id_for(
 
         kind, spec_id, max_steps = _envc.describe(os.fspath(name), overrides_to_toml(params))
     if kind not in _ENTRY:
-        raise TypeError(
-            f"`{id_or_path}` is a multi-agent spec: open it with envc.parallel_env"
+        from ._errors import coded
+
+        raise coded(
+            f"error[E0602]: `{id_or_path}` is a multi-agent spec: open it with envc.parallel_env",
+            "E0602",
         )
     env_id = f"envc/{spec_id}"
     path = os.path.abspath(name) if os.path.isfile(name) else name
