@@ -6,14 +6,17 @@
 
 use pyo3::PyErr;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+
+/// `envc._errors.coded`, which maps a code to its exception class: looked up once.
+static CODED: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
 /// The envc exception for `code` with `text`. Should the Python module be missing (it never is
 /// in an installed package), a `RuntimeError` still carries the text.
 pub fn coded(code: &str, text: String) -> PyErr {
     Python::attach(|py| {
-        let made = py
-            .import("envc._errors")
-            .and_then(|m| m.getattr("coded"))
+        let made = CODED
+            .import(py, "envc._errors", "coded")
             .and_then(|f| f.call1((text.as_str(), code)));
         match made {
             Ok(e) => PyErr::from_value(e),
