@@ -6,12 +6,13 @@ import json
 import math
 import os
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, NoReturn, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import gymnasium as gym
 import numpy as np
 
 from . import _envc, _errors
+from ._core_env import CoreEnv, _Closed
 
 if TYPE_CHECKING:
     from ._envc import _F64, _Frame, _RenderMode
@@ -231,7 +232,7 @@ def _fps(dt: float) -> int:
     return int(np.round(1.0 / dt))
 
 
-class EnvcEnv(gym.Env):
+class EnvcEnv(CoreEnv, gym.Env):
     """A single-agent task env of any envc spec, stepping in Rust.
 
     ``EnvcEnv("Ant-v5", ctrl_cost_weight=0.1)`` or ``EnvcEnv("my_robot.toml")``. The time limit is
@@ -383,30 +384,6 @@ class EnvcEnv(gym.Env):
         """Always false (the ``TimeLimit`` truncates)."""
         return self.compute_terminated(achieved_goal, desired_goal, info)
 
-    def close(self) -> None:
-        core = self._core
-        if not isinstance(core, _Closed):
-            core.close()
-        self._core = _Closed()
-
-    @property
-    def numerics(self) -> str:
-        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
-        return self._core.numerics
-
-    @numerics.setter
-    def numerics(self, name: str) -> None:
-        self._core.numerics = name
-
-
-class _Closed:
-    """What a closed env steps with: every call raises."""
-
-    # Setting `numerics` on a closed env sets it here (reading any attribute raises).
-    numerics: str
-
-    def __getattr__(self, name: str) -> NoReturn:
-        raise _errors.coded("error[E1103]: the env is closed", "E1103")
 
 
 def make(id_or_path: str, render_mode: str | None = None, **overrides: Any) -> gym.Env:

@@ -13,9 +13,9 @@ import gymnasium as gym
 import numpy as np
 
 from . import _envc, _errors
+from ._core_env import CoreEnv, _Closed
 from ._gym import (
     RENDER_MODES,
-    _Closed,
     as_actions,
     check_render_mode,
     goal_batches,
@@ -56,7 +56,7 @@ def _unbounded(n: int) -> gym.spaces.Box[np.float64]:
     return gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype=np.float64)
 
 
-class EnvcMazeEnv(_Base):
+class EnvcMazeEnv(CoreEnv, _Base):
     """A maze env of any envc maze spec (PointMaze, AntMaze, a robot of your own), stepping in Rust.
 
     ``EnvcMazeEnv("PointMaze_UMaze-v3", continuing_task=False)``, or through Gymnasium:
@@ -204,22 +204,7 @@ class EnvcMazeEnv(_Base):
         # `check_render_mode` let only envc's modes through.
         return self._core.render(cast("_RenderMode", self.render_mode))
 
-    def close(self) -> None:
-        core = self._core
-        if not isinstance(core, _Closed):
-            core.close()
-        self._core = _Closed()
-
     @property
     def goal(self) -> np.ndarray:
         """The current goal (x, y): the next step's ``desired_goal``."""
         return self._core.goal
-
-    @property
-    def numerics(self) -> str:
-        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
-        return self._core.numerics
-
-    @numerics.setter
-    def numerics(self, name: str) -> None:
-        self._core.numerics = name

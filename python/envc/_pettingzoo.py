@@ -21,9 +21,9 @@ import numpy as np
 import pettingzoo
 
 from . import _envc, _errors
+from ._core_env import CoreEnv, _Closed
 from ._gym import (
     RENDER_MODES,
-    _Closed,
     _fps,
     check_render_mode,
     overrides_to_toml,
@@ -106,7 +106,7 @@ def resolve_scenario(
     return spec, overrides_to_toml(pairs)
 
 
-class EnvcParallelEnv(pettingzoo.ParallelEnv):
+class EnvcParallelEnv(CoreEnv, pettingzoo.ParallelEnv):
     """A multi-agent envc spec (``[agents]``) as a PettingZoo ``ParallelEnv``, stepping in Rust.
 
     Every agent shares the reward, terminated, truncated and info of the single-agent task it
@@ -254,12 +254,6 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         # `check_render_mode` let only envc's modes through.
         return self._core.render(cast("_RenderMode", self.render_mode))
 
-    def close(self) -> None:
-        """Release the env; any later use raises ``RuntimeError``."""
-        core = self._core
-        if not isinstance(core, _Closed):
-            core.close()
-        self._core = _Closed()
 
     # -- the reference's mappings -------------------------------------------------------------
 
@@ -295,15 +289,6 @@ class EnvcParallelEnv(pettingzoo.ParallelEnv):
         )
 
     # -- envc extras --------------------------------------------------------------------------
-
-    @property
-    def numerics(self) -> str:
-        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
-        return self._core.numerics
-
-    @numerics.setter
-    def numerics(self, name: str) -> None:
-        self._core.numerics = name
 
     @property
     def spec_id(self) -> str:

@@ -11,6 +11,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from . import _envc, _errors
+from ._core_env import WithNumerics
 from ._gym import (
     RENDER_MODES,
     _fps,
@@ -36,7 +37,7 @@ def _default_threads(num_envs: int) -> int:
     return max(1, min(num_envs, cpus))
 
 
-class EnvcVectorEnv(gym.vector.VectorEnv):
+class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
     """``num_envs`` copies of one envc task spec, stepped in parallel by Rust threads.
 
     ``EnvcVectorEnv("Ant-v5", num_envs=8, num_threads=2, ctrl_cost_weight=0.1)``; the same as
@@ -103,7 +104,7 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
         core = _envc.VecCore(_id(spec_id), pairs, num_envs, threads, autoreset)
         # One call at a time: the core steps with the GIL released, and refuses a second
         # thread's call while one runs (E1106).
-        self._core = core
+        self._core: _envc.VecCore = core
         self.copy = copy
         if type(self).step is EnvcVectorEnv.step:
             # The core's own method: every check `step` makes is the core's, so a batch step
@@ -133,15 +134,6 @@ class EnvcVectorEnv(gym.vector.VectorEnv):
     def num_threads(self) -> int:
         """Threads stepping the envs (the calling thread included)."""
         return self._core.threads
-
-    @property
-    def numerics(self) -> str:
-        """The numerics profile (docs/numerics.md), e.g. ``openblas-haswell+svml``."""
-        return self._core.numerics
-
-    @numerics.setter
-    def numerics(self, name: str) -> None:
-        self._core.numerics = name
 
     @property
     def copy(self) -> bool:
