@@ -11,9 +11,9 @@ import envc
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def test_registering_a_multi_agent_spec_is_a_kind_error():
+def test_making_a_single_agent_env_of_a_multi_agent_spec_is_a_kind_error():
     with pytest.raises(envc.KindError) as e:
-        envc.register(os.path.join(ROOT, "specs", "mamujoco", "ant.toml"))
+        envc.make(os.path.join(ROOT, "specs", "mamujoco", "ant.toml"))
     assert e.value.code == "E0602"
     assert isinstance(e.value, TypeError)
     assert "envc.parallel_env" in str(e.value)
