@@ -90,14 +90,8 @@ pub fn run(args: Args) -> Result<Outcome> {
         .model_path
         .canonicalize()
         .unwrap_or(spec.model_path.clone());
-    let text = match spec.params.iter().find(|p| p.name == "xml_file") {
-        Some(p) => text.replacen(
-            &p.default.to_string(),
-            &format!("{:?}", model.display().to_string()),
-            1,
-        ),
-        None => text,
-    };
+    let text = with_model(&text, &model.display().to_string())
+        .with_context(|| format!("cannot edit {}", spec.spec_path.display()))?;
     let name = crate_name(dir);
     let files: Vec<(&str, String)> = vec![
         ("spec.toml", text),
@@ -119,6 +113,32 @@ pub fn run(args: Args) -> Result<Outcome> {
         dir.display()
     );
     Ok(Outcome::Ok)
+}
+
+/// The spec's text with its `[params] xml_file` (the value, or its `default`) set to `model`;
+/// every other byte (comments, layout, key order) as it was. A spec without one is unchanged.
+fn with_model(text: &str, model: &str) -> Result<String> {
+    let mut doc: toml_edit::DocumentMut = text.parse()?;
+    let Some(item) = doc
+        .get_mut("params")
+        .and_then(|p| p.as_table_like_mut())
+        .and_then(|p| p.get_mut("xml_file"))
+    else {
+        return Ok(text.to_string());
+    };
+    if let Some(t) = item
+        .as_table_like_mut()
+        .filter(|t| t.contains_key("default"))
+    {
+        t.insert("default", toml_edit::value(model));
+    } else {
+        let decor = item.as_value().map(|v| v.decor().clone());
+        *item = toml_edit::value(model);
+        if let (Some(decor), Some(v)) = (decor, item.as_value_mut()) {
+            *v.decor_mut() = decor;
+        }
+    }
+    Ok(doc.to_string())
 }
 
 /// Write the crate into a hidden sibling directory and rename it to `dir` only when every file is
@@ -216,3 +236,36 @@ fn main() -> Result<(), envc::EnvError> {
     Ok(())
 }
 "#;
+
+#[cfg(test)]
+mod tests {
+    use super::with_model;
+
+    #[test]
+    fn the_model_path_is_set_where_the_spec_declares_it_and_nothing_else_moves() {
+        let inline = "# a comment\n[params]\nxml_file = { default = \"../m.xml\", doc = \"MJCF model.\" }\nframe_skip = 4\n";
+        assert_eq!(
+            with_model(inline, "/abs/m.xml").unwrap(),
+            "# a comment\n[params]\nxml_file = { default = \"/abs/m.xml\", doc = \"MJCF model.\" }\nframe_skip = 4\n"
+        );
+        let plain = "[params]\nxml_file = '../m.xml'  # the model\nframe_skip = 4\n";
+        assert_eq!(
+            with_model(plain, "/abs/m.xml").unwrap(),
+            "[params]\nxml_file = \"/abs/m.xml\"  # the model\nframe_skip = 4\n"
+        );
+        let table = "[params.xml_file]\ndefault = \"../m.xml\"\ndoc = \"d\"\n";
+        assert_eq!(
+            with_model(table, "/abs/m.xml").unwrap(),
+            "[params.xml_file]\ndefault = \"/abs/m.xml\"\ndoc = \"d\"\n"
+        );
+        // The same text elsewhere (a comment, another key) is left alone.
+        let elsewhere =
+            "[params]\n# was \"../m.xml\"\nxml_file = \"../m.xml\"\nother = \"../m.xml\"\n";
+        assert_eq!(
+            with_model(elsewhere, "/abs/m.xml").unwrap(),
+            "[params]\n# was \"../m.xml\"\nxml_file = \"/abs/m.xml\"\nother = \"../m.xml\"\n"
+        );
+        let none = "[params]\nframe_skip = 4\n";
+        assert_eq!(with_model(none, "/abs/m.xml").unwrap(), none);
+    }
+}
