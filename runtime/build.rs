@@ -4,7 +4,7 @@
 //! LD_LIBRARY_PATH; without it, MuJoCo comes from pkg-config and the loader's cache. The directory
 //! is handed on as DEP_ENVC_MUJOCO_LIB_DIR: a dependency's link args do not propagate, so each
 //! package that links MuJoCo embeds it too. Also build the C++ shim that catches MuJoCo's C++
-//! exceptions (`csrc/mujoco_catch.cc`, `src/mj/catch.rs`) against that version's headers.
+//! exceptions (`csrc/mujoco_catch.cc`, `src/mj/mod.rs`'s `catch`) against that version's headers.
 
 /// The MuJoCo version built for, and the prefix of its environment variables.
 fn version() -> (&'static str, &'static str) {
