@@ -49,7 +49,7 @@ fn later_rows_override_earlier_ones_key_by_key_and_rows_override_actuator_tables
     let limited = unsafe { std::slice::from_raw_parts(m.actuator_forcelimited, 2) }.to_vec();
     assert_eq!(limited, vec![false, true]);
     // The per-joint table `envc show` prints.
-    let rows = envc::joint_table::joint_table(&env);
+    let rows = envc::describe::joint_table::joint_table(&env);
     assert_eq!(rows.len(), 2);
     assert_eq!(rows[1].rows, vec!["*".to_string(), "kn?e".to_string()]);
     assert_eq!((rows[1].kp, rows[1].kv), (Some(20.0), Some(1.0)));

@@ -137,7 +137,8 @@ impl Legged {
                         if !limited.get(i).is_some_and(|&on| on)
                             || r[0].partial_cmp(&r[1]).is_none_or(|o| o.is_gt())
                         {
-                            let name = crate::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                            let name =
+                                crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
                             return Err(unfit(
                                 spec,
                                 format!(
@@ -169,7 +170,7 @@ impl Legged {
             for (i, &p) in l.default_pose.iter().enumerate() {
                 let (lo, hi) = (range[i][0], range[i][1]);
                 if limited.get(i).is_some_and(|&on| on) && !(lo <= p && p <= hi) {
-                    let name = crate::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                    let name = crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
                     return Err(unfit(
                         spec,
                         format!(

@@ -8,8 +8,8 @@ use envspec::limits::MAX_COORDINATE;
 use mujoco_rs::mujoco_c::{mjModel, mjtObj};
 use mujoco_rs::prelude::MjModel;
 
+use crate::describe::inventory::name;
 use crate::error::EnvError;
-use crate::inventory::name;
 
 /// `1e308`, `-0.4`: plain for ordinary magnitudes, exponent form for huge ones.
 fn num(x: f64) -> String {

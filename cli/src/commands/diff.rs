@@ -389,7 +389,7 @@ fn model_changes(
 ) -> Result<Vec<Change>> {
     let old_m = envc::env::compile(old_r).map_err(|e| anyhow::anyhow!("old model: {e}"))?;
     let new_m = envc::env::compile(new_r).map_err(|e| anyhow::anyhow!("new model: {e}"))?;
-    let mut changes = envc::model_diff::diff_models(&old_m, &new_m);
+    let mut changes = envc::describe::model_diff::diff_models(&old_m, &new_m);
     let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,

@@ -50,7 +50,7 @@ fn model_inventory(any: &envc::AnyEnv) -> Result<Outcome> {
         any.id(),
         env.spec().model_path.display()
     )?;
-    for g in envc::inventory::inventory(env.spec(), env.model()) {
+    for g in envc::describe::inventory::inventory(env.spec(), env.model()) {
         writeln!(o, "\n{} ({}):", g.title, g.lines.len())?;
         let lines: Vec<String> = if g.numbered {
             g.lines
@@ -368,7 +368,7 @@ fn randomization(o: &mut String, env: &envc::Env) -> Result<()> {
 /// The resolved per-joint table (`[actuators.*]` and `[joint_properties]`), from the compiled
 /// model.
 fn joints(o: &mut String, env: &envc::Env) -> Result<()> {
-    let rows = envc::joint_table::joint_table(env);
+    let rows = envc::describe::joint_table::joint_table(env);
     let opt = |x: Option<f64>| x.map(num).unwrap_or("-".into());
     let range = |r: Option<(f64, f64)>| {
         r.map(|(a, b)| format!("[{}, {}]", num(a), num(b)))
