@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import sys
 import time
 from typing import TYPE_CHECKING, Any, Literal, cast
 
@@ -205,7 +206,10 @@ def reference_scores(
     default the spec's ``expert-v0`` sibling), each the mean over ``episodes`` episodes, the
     first reset with seed 123 (as Minari). Needs gymnasium and minari."""
     import gymnasium as gym
-    import tomllib  # type: ignore[import-not-found]  # Python 3.11+: 3.10 fails here
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # the package's `tomli` dependency on 3.10
+        import tomli as tomllib
     from minari.utils import RandomPolicy, get_average_reference_score
 
     path = _spec_path(spec)

@@ -340,7 +340,10 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("--author")
     c.add_argument("--description")
     a = p.parse_args(argv)
-    import tomllib  # type: ignore[import-not-found]  # Python 3.11+: 3.10 fails here
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # the package's `tomli` dependency on 3.10
+        import tomli as tomllib
 
     overrides: dict[str, Any] = {}
     for kv in a.set:
