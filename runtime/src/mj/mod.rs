@@ -451,8 +451,6 @@ pub fn without_mujoco_timer<T>(f: impl FnOnce() -> T) -> T {
     f()
 }
 
-/// Every model parse and compile, through the C++ shim `csrc/mujoco_catch.cc` (kept in this file
-/// so that MuJoCo's FFI stays in one place).
 pub(crate) mod catch {
     //! Every model envc parses or compiles goes through here: MuJoCo's parser and compiler called
     //! from the C++ shim `csrc/mujoco_catch.cc`, so a C++ exception escaping them (MuJoCo catches
