@@ -33,7 +33,47 @@ pub enum DerivedKind {
         /// The second, of the same length.
         with: Selection,
     },
+    /// Contacts of the last forward pass between two elements (or one and anything): whether
+    /// they touch, how many contacts, the summed normal force, or the net force on the first.
+    Contact {
+        /// The first element.
+        a: ContactSide,
+        /// The second (`None`: any geom).
+        b: Option<ContactSide>,
+        /// What is reported.
+        value: ContactValue,
+    },
 }
+
+/// One side of a contact pair: a geom, or every geom of a body (`world`: the world's geoms).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSide {
+    /// The geom's or the body's name.
+    pub name: String,
+    /// The name is a body's (a geom of that name is preferred).
+    pub body: bool,
+}
+
+/// What a `contact` derived value reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactValue {
+    /// `1.0` if any contact pairs the two, else `0.0`.
+    Touching,
+    /// The number of contacts between them.
+    Count,
+    /// `Σ` of the contacts' normal forces (`mj_contactForce`'s first component, N).
+    NormalForce,
+    /// The net contact force on the first element, in the world frame (3 values, N).
+    Force,
+}
+
+/// `value` names of a `contact` derived value, as a spec writes them.
+pub const CONTACT_VALUES: &[(&str, ContactValue)] = &[
+    ("touching", ContactValue::Touching),
+    ("count", ContactValue::Count),
+    ("normal_force", ContactValue::NormalForce),
+    ("force", ContactValue::Force),
+];
 
 /// One `[derived.<name>]` table.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,6 +106,7 @@ impl Derived {
                 .collect(),
             DerivedKind::Norm { source, minus } => std::iter::once(source).chain(minus).collect(),
             DerivedKind::Dot { source, with } => vec![source, with],
+            DerivedKind::Contact { .. } => vec![],
         }
     }
     /// The `kind` a spec writes for it.
@@ -74,6 +115,7 @@ impl Derived {
             DerivedKind::Difference { .. } => "difference",
             DerivedKind::Norm { .. } => "norm",
             DerivedKind::Dot { .. } => "dot",
+            DerivedKind::Contact { .. } => "contact",
         }
     }
 }

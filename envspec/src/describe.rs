@@ -569,6 +569,19 @@ pub fn derived(d: &crate::derived::Derived) -> String {
         },
         DerivedKind::Norm { source, minus } => format!("‖{}‖₂", diff(source, minus)),
         DerivedKind::Dot { source, with } => format!("{} · {}", sel(source), sel(with)),
+        DerivedKind::Contact { a, b, value } => {
+            let what = crate::derived::CONTACT_VALUES
+                .iter()
+                .find(|(_, v)| v == value)
+                .map_or("?", |(n, _)| n);
+            let side = |s: &crate::derived::ContactSide| {
+                format!("{} `{}`", if s.body { "body" } else { "geom" }, s.name)
+            };
+            match b {
+                Some(b) => format!("contact {what} of {} with {}", side(a), side(b)),
+                None => format!("contact {what} of {} with anything", side(a)),
+            }
+        }
     };
     if d.at_reset {
         format!("{text} (at reset)")

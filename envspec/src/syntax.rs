@@ -340,6 +340,7 @@ pub const DERIVED_KINDS: &[(&str, &[&str])] = &[
     ("difference", &["minus", "divide_by"]),
     ("norm", &["minus"]),
     ("dot", &["with"]),
+    ("contact", &["between", "value"]),
 ];
 const DERIVED_COMMON: &[&str] = &["kind", "source", "at", "doc"];
 /// Keys of `[commands.<name>]`.
@@ -882,7 +883,9 @@ fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics) -> Spec {
             DERIVED_COMMON,
             d,
         );
-        require(s, "source", &format!("[derived.{}]", s.name), d);
+        if s.kind("difference") != "contact" {
+            require(s, "source", &format!("[derived.{}]", s.name), d);
+        }
     }
     spec.commands = sections(get("commands"), "commands", &[], d);
     for s in &spec.commands {

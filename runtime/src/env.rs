@@ -131,6 +131,8 @@ struct Sim {
     goal: Vec<f64>,
     /// The `[derived.*]` values (`spec.derived_dim` entries; `runtime/src/derived.rs`).
     derived: Vec<f64>,
+    /// Per `[derived.*]` table, the ids a `contact` table watches.
+    contact_ids: Vec<Option<crate::derived::ContactIds>>,
     /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
     legged: crate::commands::Legged,
     /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
@@ -477,6 +479,7 @@ impl Env {
             numerics,
             goal: vec![0.0; spec.goal_dim],
             derived: vec![0.0; spec.derived_dim],
+            contact_ids: crate::derived::contact_ids(&spec, model.ffi())?,
             nq: size(m.nq),
             nv: size(m.nv),
             nu: size(m.nu),
@@ -1270,6 +1273,8 @@ impl Env {
         let sim = &self.sim;
         crate::derived::update(
             &self.spec.derived,
+            &sim.contact_ids,
+            &sim.data,
             |f| sim.field(f),
             sim.numerics,
             reset,

@@ -354,7 +354,7 @@ impl Ctx<'_> {
     }
 
     /// A geom name, else a body name (`true`): the element a contact term watches.
-    fn geom_name(&mut self, v: &Val, what: &str) -> Option<(String, bool)> {
+    pub(super) fn geom_name(&mut self, v: &Val, what: &str) -> Option<(String, bool)> {
         let Some(name) = v.as_str() else {
             self.d.push(v.type_error(what, "a geom name"));
             return None;

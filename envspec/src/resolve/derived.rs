@@ -2,10 +2,11 @@
 //! docs/spec-reference.md §23). A table may read the ones above it, never itself or later ones.
 
 use super::Ctx;
-use crate::derived::{Derived, DerivedKind};
+use crate::derived::{CONTACT_VALUES, ContactSide, ContactValue, Derived, DerivedKind};
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
 use crate::selector::{Field, Selection};
 use crate::syntax::Section;
+use crate::value::ValKind;
 
 impl Ctx<'_> {
     /// Every `[derived.*]` table, in document order; each is visible to the ones after it.
@@ -40,6 +41,9 @@ impl Ctx<'_> {
                 }
             },
         };
+        if s.kind("difference") == "contact" {
+            return self.contact_derived(s, &what, at_reset, offset);
+        }
         let source = self.sel_key(s, "source")?;
         let source_loc = s.get("source").map(|v| v.loc.clone())?;
         let paired = |cx: &mut Self, key: &str| -> Option<Option<Selection>> {
@@ -103,6 +107,68 @@ impl Ctx<'_> {
             name: s.name.clone(),
             doc: s.doc(),
             kind,
+            at_reset,
+            offset,
+            len,
+        })
+    }
+
+    /// `kind = "contact"`: `between = ["a", "b"]` (or `["a"]`: a and anything), geoms or bodies.
+    fn contact_derived(
+        &mut self,
+        s: &Section,
+        what: &str,
+        at_reset: bool,
+        offset: usize,
+    ) -> Option<Derived> {
+        let v = self.need_key(
+            s,
+            "between",
+            "expected between = [\"geom or body\", \"geom or body\"] (or one name: it and anything)",
+        )?;
+        let names = match &v.kind {
+            ValKind::Array(a) if (1..=2).contains(&a.len()) => a.clone(),
+            _ => {
+                self.d
+                    .push(v.type_error("between", "an array of one or two geom or body names"));
+                return None;
+            }
+        };
+        let mut sides = Vec::new();
+        for n in &names {
+            let (name, body) = self.geom_name(n, "between")?;
+            sides.push(ContactSide { name, body });
+        }
+        let value = match s.get("value") {
+            None => ContactValue::Touching,
+            Some(v) => {
+                match CONTACT_VALUES.iter().find(|(n, _)| Some(*n) == v.as_str()) {
+                    Some((_, c)) => *c,
+                    None => {
+                        self.d.push(
+                        Diagnostic::new(Code::E0104, format!("unknown `value` in {what}"))
+                            .at(v.loc.clone())
+                            .label("expected \"touching\", \"count\", \"normal_force\" or \"force\"")
+                            .help_opt(v.as_str().and_then(|x| {
+                                suggest(x, CONTACT_VALUES.iter().map(|(n, _)| *n))
+                            })),
+                    );
+                        return None;
+                    }
+                }
+            }
+        };
+        let mut sides = sides.into_iter();
+        let a = sides.next()?;
+        let len = if value == ContactValue::Force { 3 } else { 1 };
+        Some(Derived {
+            name: s.name.clone(),
+            doc: s.doc(),
+            kind: DerivedKind::Contact {
+                a,
+                b: sides.next(),
+                value,
+            },
             at_reset,
             offset,
             len,
