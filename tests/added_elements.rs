@@ -301,3 +301,82 @@ source = "xquat[beacon]"
     assert!(envc::envspec::load(&bad, &[]).is_err());
     std::fs::remove_dir_all(p.parent().unwrap()).ok();
 }
+
+/// `[bodies.x] mocap = true, weld = "hand"` compiles to the weld MuJoCo's own MJCF compiler
+/// makes of `<weld body1="x" body2="hand"/>`: type, bodies, data (the relative pose at qpos0),
+/// solver parameters, bit for bit; `[end_effector]` accepts it (E1111 otherwise).
+#[test]
+fn a_weld_from_the_spec_is_the_mjcf_weld() {
+    use envc::mujoco_rs::prelude::MjModel;
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let spec = format!("{root}/specs/examples/arm_pick_and_place.toml");
+    // Without `[init] reset_welds`, which rewrites the weld's pose when the env is made.
+    let dir = std::env::temp_dir().join(format!("envc-weld-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(&spec)
+        .unwrap()
+        .replace("reset_welds = true\n", "")
+        .replace("../../assets/", &format!("{root}/assets/"));
+    std::fs::write(dir.join("spec.toml"), text).unwrap();
+    let env = Env::from_spec_file(dir.join("spec.toml"), &[]).unwrap();
+    let ours = env.model();
+    // The reference: the bare arm with the mocap body written last in its worldbody and the
+    // weld in its own <equality>, as a user would edit the file.
+    let xml = std::fs::read_to_string(format!("{root}/assets/examples/arm/arm.xml"))
+        .unwrap()
+        .replace(
+            "  </worldbody>",
+            "    <body name=\"hand_target\" mocap=\"true\" pos=\"0.4 0 0.76\"/>\n  </worldbody>\n  \
+             <equality><weld body1=\"hand_target\" body2=\"hand\"/></equality>",
+        );
+    let path = dir.join("arm_welded.xml");
+    std::fs::write(&path, xml).unwrap();
+    let reference = MjModel::from_xml(&path).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!((ours.ffi().neq, reference.ffi().neq), (1, 1));
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(ours.eq_type()[0] as i32, reference.eq_type()[0] as i32);
+    assert_eq!(
+        ours.eq_objtype()[0] as i32,
+        reference.eq_objtype()[0] as i32
+    );
+    assert_eq!(ours.eq_obj1id(), reference.eq_obj1id());
+    assert_eq!(ours.eq_obj2id(), reference.eq_obj2id());
+    assert_eq!(ours.eq_active0(), reference.eq_active0());
+    assert_eq!(bits(&ours.eq_data()[0]), bits(&reference.eq_data()[0]));
+    assert_eq!(bits(&ours.eq_solref()[0]), bits(&reference.eq_solref()[0]));
+    assert_eq!(bits(&ours.eq_solimp()[0]), bits(&reference.eq_solimp()[0]));
+    // The relative pose is the one at qpos0: the hand 2 cm above where the target was added.
+    let rel = &reference.eq_data()[0][3..10];
+    assert!((rel[2] - 0.02).abs() < 1e-12 && rel[3] == 1.0, "{rel:?}");
+    // With `reset_welds` (the bundled spec), the env's weld is the identity.
+    let env = Env::from_spec_file(&spec, &[]).unwrap();
+    assert_eq!(
+        env.model().eq_data()[0][3..10],
+        [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+    );
+}
+
+#[test]
+fn a_weld_needs_a_mocap_body_and_a_known_body() {
+    let cases = [
+        ("mocap = true\nweld = \"hnd\"", envc::envspec::Code::E0303),
+        ("weld = \"hand\"", envc::envspec::Code::E0170),
+    ];
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text =
+        std::fs::read_to_string(format!("{root}/specs/examples/arm_pick_and_place.toml")).unwrap();
+    for (i, (body, code)) in cases.iter().enumerate() {
+        let dir = std::env::temp_dir().join(format!("envc-weld-bad-{i}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("spec.toml");
+        let edited = text
+            .replace("mocap = true\nweld = \"hand\"", body)
+            .replace("../../assets/", &format!("{root}/assets/"));
+        std::fs::write(&p, edited).unwrap();
+        let r = envc::envspec::open(p.to_str().unwrap(), &[]).map(|_| ());
+        std::fs::remove_dir_all(&dir).unwrap();
+        let Err(d) = r else { panic!("{body} opened") };
+        assert!(d.0.iter().any(|x| x.code == *code), "{body}: {d:?}");
+    }
+}

@@ -1,8 +1,8 @@
-//! docs/tutorial.md runs as written: its `LANG file=NAME` blocks (TOML, MJCF, URDF) are written (or,
-//! with `append`, appended) into a fresh directory and its `sh` blocks run there, in page order,
-//! with `envc` on the PATH and `ENVC_REPO` set (no block needs it: a wheel user follows the page
-//! as is). Blocks marked `no-test` (a cargo build, Python) are checked elsewhere (scripts/test.sh,
-//! tests/python).
+//! docs/tutorial.md and docs/pick-and-place.md run as written: their `LANG file=NAME` blocks
+//! (TOML, MJCF, URDF) are written (or, with `append`, appended) into a fresh directory and their
+//! `sh` blocks run there, in page order, with `envc` on the PATH and `ENVC_REPO` set (no block
+//! needs it: a wheel user follows the page as is). Blocks marked `no-test` (a cargo build, Python)
+//! and `python` blocks are checked elsewhere (scripts/test.sh, tests/python).
 
 use std::path::Path;
 use std::process::Command;
@@ -44,10 +44,11 @@ fn blocks(md: &str) -> Vec<Block> {
     out
 }
 
-#[test]
-fn the_tutorial_runs_as_written() {
-    let md = std::fs::read_to_string(format!("{ROOT}/docs/tutorial.md")).unwrap();
-    let dir = std::env::temp_dir().join(format!("envc-tutorial-{}", std::process::id()));
+/// Writes the page's files and runs its `sh` blocks in a fresh directory, which it returns;
+/// `(files, sh blocks)` counted.
+fn run_page(page: &str, tag: &str) -> (std::path::PathBuf, usize, usize) {
+    let md = std::fs::read_to_string(format!("{ROOT}/docs/{page}")).unwrap();
+    let dir = std::env::temp_dir().join(format!("envc-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bin = Path::new(env!("CARGO_BIN_EXE_envc")).parent().unwrap();
     let path = format!(
@@ -80,7 +81,7 @@ fn the_tutorial_runs_as_written() {
                     .unwrap();
                 assert!(
                     o.status.success(),
-                    "tutorial block failed:\n{script}\nstdout:\n{}\nstderr:\n{}",
+                    "{page} block failed:\n{script}\nstdout:\n{}\nstderr:\n{}",
                     String::from_utf8_lossy(&o.stdout),
                     String::from_utf8_lossy(&o.stderr)
                 );
@@ -88,6 +89,12 @@ fn the_tutorial_runs_as_written() {
             }
         }
     }
+    (dir, files, commands)
+}
+
+#[test]
+fn the_tutorial_runs_as_written() {
+    let (dir, files, commands) = run_page("tutorial.md", "tutorial");
     assert!(
         files >= 2 && commands >= 6,
         "{files} files, {commands} blocks"
@@ -99,5 +106,37 @@ fn the_tutorial_runs_as_written() {
             .is_file()
     );
     assert!(dir.join("my-arm-crate/src/main.rs").is_file());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// docs/pick-and-place.md runs as written, and its two files are the bundled example's.
+#[test]
+fn the_pick_and_place_guide_runs_as_written() {
+    let (dir, files, commands) = run_page("pick-and-place.md", "pick-and-place");
+    assert!(
+        files >= 6 && commands >= 2,
+        "{files} files, {commands} blocks"
+    );
+    let read = |p: std::path::PathBuf| std::fs::read_to_string(p).unwrap();
+    assert_eq!(
+        read(dir.join("arm.xml")),
+        read(Path::new(ROOT).join("assets/examples/arm/arm.xml"))
+    );
+    // The same lines (the bundled file has blank lines between the page's blocks).
+    let lines = |t: String| -> Vec<String> {
+        t.lines()
+            .filter(|l| !l.is_empty())
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(
+        lines(read(dir.join("pick.toml")).replace(
+            "default = \"arm.xml\"",
+            "default = \"../../assets/examples/arm/arm.xml\""
+        )),
+        lines(read(
+            Path::new(ROOT).join("specs/examples/arm_pick_and_place.toml")
+        ))
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -475,7 +475,9 @@ pub fn manipulation(spec: &ResolvedSpec) -> Vec<String> {
                 format!("{j} = {}", v.join(" "))
             })
             .collect();
-        out.push(format!("[init] qpos: {}", joints.join(", ")));
+        if !joints.is_empty() {
+            out.push(format!("[init] qpos: {}", joints.join(", ")));
+        }
         if i.reset_welds {
             out.push("[init] weld poses reset to the identity".into());
         }

@@ -1002,6 +1002,8 @@ pub enum AddedElement {
         gravcomp: f64,
         /// The marker geom's mass (None: MuJoCo's default density).
         mass: Option<f64>,
+        /// A mocap body's weld partner: a weld equality ties that body to this one.
+        weld: Option<String>,
     },
     /// `[sites]`: a site on a body.
     Site {

@@ -151,7 +151,7 @@ impl AddedKind {
             AddedKind::Body,
             "bodies",
             &[
-                "pos", "joints", "geom", "size", "rgba", "mocap", "gravcomp", "mass", "doc",
+                "pos", "joints", "geom", "size", "rgba", "mocap", "gravcomp", "mass", "weld", "doc",
             ],
         ),
         (

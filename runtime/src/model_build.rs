@@ -276,7 +276,20 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             mocap,
             gravcomp,
             mass,
+            weld,
         } => {
+            if let Some(w) = weld {
+                c_name("a weld to body", w)?;
+                // As the MJCF parser leaves `<weld body1 body2>`: anchor and relative pose all
+                // zero, so the compiler takes the pose at qpos0 (mjSpec's own default differs);
+                // `[init] reset_welds` makes it the identity later.
+                let eq = spec.add_equality();
+                eq.set_type(MjtEq::mjEQ_WELD);
+                eq.set_objtype(MjtObjBase::mjOBJ_BODY);
+                eq.set_name1(name);
+                eq.set_name2(w);
+                eq.data_mut()[..10].fill(0.0);
+            }
             let b = spec.world_body_mut().add_body();
             named("body", name, b.set_name(name))?;
             *b.pos_mut() = *pos;

@@ -95,11 +95,16 @@ impl Ctx<'_> {
 
     /// The body an element attaches to: the world, a body of the model, or one added before.
     fn parent(&mut self, s: &Section, added: &[AddedElement]) -> Option<String> {
-        let Some(v) = s.get("body") else {
-            return Some("world".into());
-        };
+        match s.get("body") {
+            None => Some("world".into()),
+            Some(v) => self.body_named(v, "body", added),
+        }
+    }
+
+    /// A body of the model, one added above, or `world`, named by the value of `key`.
+    fn body_named(&mut self, v: &Val, key: &str, added: &[AddedElement]) -> Option<String> {
         let Some(name) = v.as_str() else {
-            self.d.push(v.type_error("body", "a body name"));
+            self.d.push(v.type_error(key, "a body name"));
             return None;
         };
         let added_body = added
@@ -167,119 +172,7 @@ impl Ctx<'_> {
             return None;
         }
         Some(match kind {
-            AddedKind::Body => {
-                let pos = self.vec_n(s, "pos", [0.0; 3])?;
-                let mut joints = vec![];
-                if let Some(v) = s.get("joints") {
-                    let Some(t) = v.as_table() else {
-                        self.d
-                            .push(v.type_error("joints", "a table `name = \"slide x\"`"));
-                        return None;
-                    };
-                    for j in t {
-                        if j.key.contains('\0') {
-                            self.d.push(nul_in_name("joint", j.key_loc.clone()));
-                            return None;
-                        }
-                        let spec_text = j.value.as_str().unwrap_or("");
-                        let mut words = spec_text.split_whitespace();
-                        let (kind, axis) = (words.next(), words.next());
-                        let jkind = match kind {
-                            Some("slide") => JointKind::Slide,
-                            Some("hinge") => JointKind::Hinge,
-                            Some("free") => JointKind::Free,
-                            Some("ball") => JointKind::Ball,
-                            _ => {
-                                self.d.push(
-                                    Diagnostic::new(
-                                        Code::E0104,
-                                        format!("joint `{}`: `{spec_text}`", j.key),
-                                    )
-                                    .at(j.value.loc.clone())
-                                    .label("expected \"slide x|y|z\", \"hinge x|y|z\", \"free\" or \"ball\""),
-                                );
-                                return None;
-                            }
-                        };
-                        let axis = match (jkind, axis) {
-                            (JointKind::Free | JointKind::Ball, None) => Some([0.0, 0.0, 1.0]),
-                            (JointKind::Free | JointKind::Ball, Some(_)) => None,
-                            (_, axis) => AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1),
-                        };
-                        let Some(axis) = axis else {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0104,
-                                    format!("joint `{}`: `{spec_text}`", j.key),
-                                )
-                                .at(j.value.loc.clone())
-                                .label("expected an axis x, y or z after slide or hinge (free and ball take none)"),
-                            );
-                            return None;
-                        };
-                        if self.model.joint(&j.key).is_some() {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0106,
-                                    format!("the model already has a joint named `{}`", j.key),
-                                )
-                                .at(j.key_loc.clone())
-                                .label("expected a new name"),
-                            );
-                            return None;
-                        }
-                        joints.push((j.key.clone(), jkind, axis));
-                    }
-                }
-                let mut mocap = match s.get("mocap") {
-                    None => false,
-                    Some(v) => self.flag(v, "mocap")?,
-                };
-                if mocap && !joints.is_empty() {
-                    // (the body is kept, without mocap, so what names it is not a follow-on)
-                    mocap = false;
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0170,
-                            format!("[bodies.{name}]: a mocap body has no joints"),
-                        )
-                        .at(s.get("mocap").map_or(s.name_loc.clone(), |v| v.loc.clone()))
-                        .label("expected mocap = true without joints, or joints without mocap")
-                        .help("a mocap body is placed by [init] mocap or the physics never moves it; a body with joints moves"),
-                    );
-                }
-                let gravcomp = match s.get("gravcomp") {
-                    None => 0.0,
-                    Some(v) => {
-                        let g = self.num(v, "gravcomp")?;
-                        self.within(v, g, "gravcomp", crate::limits::MAX_MAGNITUDE)?
-                    }
-                };
-                let mass = self.optional_positive(s, "mass")?;
-                let geom = match s.get("geom") {
-                    None => None,
-                    Some(g) => {
-                        let t = self.geom_type(Some(g), AddedGeomType::Sphere)?;
-                        let size = match s.get("size") {
-                            Some(v) if v.as_f64().is_some() => {
-                                let r = self.num(v, "size")?;
-                                [r, r, r]
-                            }
-                            _ => self.vec_n(s, "size", [0.02; 3])?,
-                        };
-                        Some((t, size, self.rgba(s, [0.9, 0.2, 0.2, 1.0])?))
-                    }
-                };
-                AddedElement::Body {
-                    name,
-                    pos,
-                    joints,
-                    geom,
-                    mocap,
-                    gravcomp,
-                    mass,
-                }
-            }
+            AddedKind::Body => self.added_body(s, name, added)?,
             AddedKind::Site => AddedElement::Site {
                 body: self.parent(s, added)?,
                 pos: self.vec_n(s, "pos", [0.0; 3])?,
@@ -338,6 +231,144 @@ impl Ctx<'_> {
                 dir: self.vec_n(s, "dir", [0.0, 0.0, -1.0])?,
                 name,
             },
+        })
+    }
+    /// A `[bodies.<name>]` table: its joints, mocap, weld, gravity compensation and marker.
+    fn added_body(
+        &mut self,
+        s: &Section,
+        name: String,
+        added: &[AddedElement],
+    ) -> Option<AddedElement> {
+        let pos = self.vec_n(s, "pos", [0.0; 3])?;
+        let mut joints = vec![];
+        if let Some(v) = s.get("joints") {
+            let Some(t) = v.as_table() else {
+                self.d
+                    .push(v.type_error("joints", "a table `name = \"slide x\"`"));
+                return None;
+            };
+            for j in t {
+                if j.key.contains('\0') {
+                    self.d.push(nul_in_name("joint", j.key_loc.clone()));
+                    return None;
+                }
+                let spec_text = j.value.as_str().unwrap_or("");
+                let mut words = spec_text.split_whitespace();
+                let (kind, axis) = (words.next(), words.next());
+                let jkind = match kind {
+                    Some("slide") => JointKind::Slide,
+                    Some("hinge") => JointKind::Hinge,
+                    Some("free") => JointKind::Free,
+                    Some("ball") => JointKind::Ball,
+                    _ => {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0104,
+                                format!("joint `{}`: `{spec_text}`", j.key),
+                            )
+                            .at(j.value.loc.clone())
+                            .label(
+                                "expected \"slide x|y|z\", \"hinge x|y|z\", \"free\" or \"ball\"",
+                            ),
+                        );
+                        return None;
+                    }
+                };
+                let axis = match (jkind, axis) {
+                    (JointKind::Free | JointKind::Ball, None) => Some([0.0, 0.0, 1.0]),
+                    (JointKind::Free | JointKind::Ball, Some(_)) => None,
+                    (_, axis) => AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1),
+                };
+                let Some(axis) = axis else {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!("joint `{}`: `{spec_text}`", j.key),
+                        )
+                        .at(j.value.loc.clone())
+                        .label("expected an axis x, y or z after slide or hinge (free and ball take none)"),
+                    );
+                    return None;
+                };
+                if self.model.joint(&j.key).is_some() {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0106,
+                            format!("the model already has a joint named `{}`", j.key),
+                        )
+                        .at(j.key_loc.clone())
+                        .label("expected a new name"),
+                    );
+                    return None;
+                }
+                joints.push((j.key.clone(), jkind, axis));
+            }
+        }
+        let mut mocap = match s.get("mocap") {
+            None => false,
+            Some(v) => self.flag(v, "mocap")?,
+        };
+        if mocap && !joints.is_empty() {
+            // (the body is kept, without mocap, so what names it is not a follow-on)
+            mocap = false;
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0170,
+                    format!("[bodies.{name}]: a mocap body has no joints"),
+                )
+                .at(s.get("mocap").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                .label("expected mocap = true without joints, or joints without mocap")
+                .help("a mocap body is placed by [init] mocap or the physics never moves it; a body with joints moves"),
+            );
+        }
+        let gravcomp = match s.get("gravcomp") {
+            None => 0.0,
+            Some(v) => {
+                let g = self.num(v, "gravcomp")?;
+                self.within(v, g, "gravcomp", crate::limits::MAX_MAGNITUDE)?
+            }
+        };
+        let mass = self.optional_positive(s, "mass")?;
+        let weld = match s.get("weld") {
+            None => None,
+            Some(_) if !mocap => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0170,
+                        format!("[bodies.{name}]: only a mocap body is welded by `weld`"),
+                    )
+                    .at(s.get("weld").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                    .label("expected mocap = true beside weld")
+                    .help("a weld ties a mocap target to a robot body, which then follows it ([end_effector])"),
+                );
+                return None;
+            }
+            Some(v) => Some(self.body_named(v, "weld", added)?),
+        };
+        let geom = match s.get("geom") {
+            None => None,
+            Some(g) => {
+                let t = self.geom_type(Some(g), AddedGeomType::Sphere)?;
+                let size = match s.get("size") {
+                    Some(v) if v.as_f64().is_some() => {
+                        let r = self.num(v, "size")?;
+                        [r, r, r]
+                    }
+                    _ => self.vec_n(s, "size", [0.02; 3])?,
+                };
+                Some((t, size, self.rgba(s, [0.9, 0.2, 0.2, 1.0])?))
+            }
+        };
+        Some(AddedElement::Body {
+            name,
+            pos,
+            joints,
+            geom,
+            mocap,
+            gravcomp,
+            mass,
+            weld,
         })
     }
 }
