@@ -634,7 +634,10 @@ fn select_rows(
         if let Some(i) = row_names(field, model).iter().position(|r| r == name) {
             return Ok(vec![i]);
         }
-        rows_by_name(name, field, model, loc)
+        match rows_by_name(name, field, model, loc) {
+            Ok(rows) => Ok(rows),
+            Err(e) => name_range(name, field, model, loc).unwrap_or(Err(e)),
+        }
     };
     match idx {
         Index::Name(n) => by_name(n),
@@ -653,6 +656,50 @@ fn select_rows(
             ParamIndex::Int(i) => select_ints(&Index::Int(i), nrows, loc),
         },
         other => select_ints(other, nrows, loc),
+    }
+}
+
+/// `first:last`, two names (names may hold `:` themselves, as `root:z`): every row from the
+/// first's first to the last's last, both included (`qpos[shoulder:wrist]`). `None` when no split
+/// of the text names two elements; an error when the two are out of order or several splits do.
+fn name_range(
+    text: &str,
+    field: Field,
+    model: &ModelInfo,
+    loc: &Location,
+) -> Option<Result<Vec<usize>, Diagnostic>> {
+    let names = row_names(field, model);
+    let rows = |n: &str| -> Option<Vec<usize>> {
+        match names.iter().position(|r| r == n) {
+            Some(i) => Some(vec![i]),
+            None => rows_by_name(n, field, model, loc)
+                .ok()
+                .filter(|r| !r.is_empty()),
+        }
+    };
+    let ranges: Vec<(usize, usize)> = text
+        .match_indices(':')
+        .filter_map(|(k, _)| {
+            let (a, b) = (rows(text[..k].trim())?, rows(text[k + 1..].trim())?);
+            Some((*a.first()?, *b.last()?))
+        })
+        .collect();
+    let err = |label: String| {
+        Some(Err(Diagnostic::new(
+            Code::E0401,
+            format!("cannot read the name range `{text}`"),
+        )
+        .at(loc.clone())
+        .label(label)))
+    };
+    match ranges.as_slice() {
+        [] => None,
+        [(a, b)] if a <= b => Some(Ok((*a..=*b).collect())),
+        [(a, b)] => err(format!(
+            "expected the first name before the last: `{}` comes after `{}`",
+            names[*a], names[*b]
+        )),
+        _ => err("expected one way to split it into two names; list the names with `,`".into()),
     }
 }
 

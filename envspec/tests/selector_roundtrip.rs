@@ -92,3 +92,46 @@ fn a_site_that_is_a_body_points_to_xpos() {
         Some("`foot` is a body of this model, not a site: its position is `xpos[foot]`")
     );
 }
+
+#[test]
+fn name_ranges_select_every_row_between_two_names() {
+    let ant = concat!(env!("CARGO_MANIFEST_DIR"), "/../specs/gymnasium/ant.toml");
+    let spec = envspec::load(ant.as_ref(), &[]).unwrap();
+    // Ant's joints: root (7 qpos, 6 dofs), then hip_1, ankle_1, …, hip_4, ankle_4.
+    assert_eq!(
+        paste("qpos[hip_1:ankle_4]", &spec).indices,
+        (7..15).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        paste("qvel[hip_1:ankle_4]", &spec).indices,
+        (6..14).collect::<Vec<_>>()
+    );
+    // A range may start inside a joint (`root:z`), and it names its rows as single names do.
+    let s = paste("qpos[root:z:ankle_1]", &spec);
+    assert_eq!(s.indices, (2..9).collect::<Vec<_>>());
+    assert_eq!(s.names.first().map(String::as_str), Some("qpos[root:z]"));
+    assert_eq!(s.names.last().map(String::as_str), Some("qpos[ankle_1]"));
+    // Bodies too, and integer slices are still slices.
+    assert_eq!(
+        paste("xpos[torso:front_left_leg]", &spec).indices.len(),
+        6
+    );
+    assert_eq!(paste("qpos[2:4]", &spec).indices, vec![2, 3]);
+    // Fetch's names hold `:` themselves: only one split names two joints.
+    let fetch = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../specs/robotics/fetch/push.toml"
+    );
+    let fetch = envspec::load(fetch.as_ref(), &[]).unwrap();
+    assert_eq!(
+        paste("qpos[robot0:slide0:robot0:slide2]", &fetch).indices,
+        vec![0, 1, 2]
+    );
+    // Backwards is an error that says so.
+    let text = "qpos[ankle_1:hip_1]";
+    let file = SourceFile::new("bad.toml", text.into());
+    let loc = Location::new(&file, 0..text.len());
+    let err = selector::resolve(text, &loc, &spec.model, &|_| unreachable!()).unwrap_err();
+    assert_eq!(err.code, envspec::Code::E0401);
+    assert!(err.message.contains("name range"), "{}", err.message);
+}
