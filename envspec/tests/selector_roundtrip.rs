@@ -112,10 +112,7 @@ fn name_ranges_select_every_row_between_two_names() {
     assert_eq!(s.names.first().map(String::as_str), Some("qpos[root:z]"));
     assert_eq!(s.names.last().map(String::as_str), Some("qpos[ankle_1]"));
     // Bodies too, and integer slices are still slices.
-    assert_eq!(
-        paste("xpos[torso:front_left_leg]", &spec).indices.len(),
-        6
-    );
+    assert_eq!(paste("xpos[torso:front_left_leg]", &spec).indices.len(), 6);
     assert_eq!(paste("qpos[2:4]", &spec).indices, vec![2, 3]);
     // Fetch's names hold `:` themselves: only one split names two joints.
     let fetch = concat!(
