@@ -2,444 +2,191 @@
 //! near-miss suggestion where one exists, and all mistakes of a spec are reported together.
 //! Nothing here may panic inside the library: every call goes through `Result`.
 //!
-//! Most cases break a small hopper spec (`MINI`, below) whose line numbers are stable; a few copy
-//! a real spec from `specs/gymnasium/`. Error codes are documented in `docs/errors.md`.
+//! Most cases break a small hopper spec (`MINI`, in `bad_input/runner.rs`) whose line numbers are
+//! stable; a few copy a real spec from `specs/gymnasium/`. Error codes are documented in
+//! `docs/errors.md`.
+//!
+//! The cases are rows of `cases!` tables, each row its own `#[test]` so a failure names it. A row
+//! lists the fields of a `Case` (`bad_input/runner.rs`): the edits to the spec, the overrides, and
+//! the diagnostics that must come out, each with its code and whichever of its position, message,
+//! help and label the row gives; `run` loads the spec and asserts them all. A row of several
+//! `{ .. }` loads each in turn. Tests of other shapes (rendering, `Override::parse`, MJCF
+//! includes) are plain functions next to the tables.
 
-use std::path::{Path, PathBuf};
+mod runner;
 
-use envspec::{Code, Diagnostic, Diagnostics, Override, ResolvedSpec, Spec, load};
+use std::path::Path;
 
-/// `<repo>/assets/gymnasium`, absolute.
-fn assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace root")
-        .join("assets/gymnasium")
-}
+use envspec::Code::*;
+use envspec::{Code, Diagnostics, Override, Spec, load};
+use runner::*;
 
-/// A per-test scratch directory under the system temp dir, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir()
-            .join(format!("envspec-bad-input-{}", std::process::id()))
-            .join(test);
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create scratch dir");
-        Scratch(dir)
-    }
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).expect("write scratch file");
-        p
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// A small Hopper spec; every test below breaks one or more of its lines. Line numbers matter.
-const MINI: &str = r#"[env]
-id = "Mini-v0"
-
-[params]
-xml_file = 'ASSETS/hopper.xml'
-frame_skip = 4
-max_episode_steps = 1000
-ctrl_cost_weight = 1e-3
-healthy_reward = 1.0
-healthy_z_range = [0.7, inf]
-terminate_when_unhealthy = true
-
-[observation.qpos]
-source = "qpos[1:]"
-
-[observation.qvel]
-source = "qvel"
-clip = [-10.0, 10.0]
-
-[reward]
-sum = [["forward", "healthy"], "ctrl"]
-
-[reward.forward]
-kind = "velocity"
-source = "qpos[0]"
-
-[reward.healthy]
-kind = "healthy"
-weight = "healthy_reward"
-
-[reward.ctrl]
-kind = "sum_squares"
-source = "action"
-weight = "ctrl_cost_weight"
-cost = true
-
-[health]
-terminate = "terminate_when_unhealthy"
-
-[health.height]
-kind = "in_range"
-source = "qpos[1]"
-range = "healthy_z_range"
-
-[reset.qpos]
-target = "qpos"
-kind = "uniform"
-scale = 5e-3
-
-[info.x_position]
-source = "qpos[0]"
-"#;
-
-fn mini() -> String {
-    MINI.replace("ASSETS", &assets().display().to_string())
-}
-
-/// `text` with the single occurrence of `from` replaced by `to`.
-fn with(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(
-        text.matches(from).count(),
-        1,
-        "`{from}` must occur exactly once in the spec"
-    );
-    text.replacen(from, to, 1)
-}
-
-/// A real bundled spec, with its model path made absolute so it can live in a scratch dir.
-fn real(file: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../specs/gymnasium")
-        .join(file);
-    let text = std::fs::read_to_string(&path).expect("bundled spec");
-    text.replace(
-        "\"../../assets/gymnasium/",
-        &format!("\"{}/", assets().display()),
-    )
-}
-
-/// Write `text` as `<scratch>/<name>` and load it with `overrides`.
-fn load_text(
-    s: &Scratch,
-    name: &str,
-    text: &str,
-    overrides: &[Override],
-) -> (PathBuf, Result<ResolvedSpec, Diagnostics>) {
-    let p = s.write(name, text);
-    let r = load(&p, overrides);
-    (p, r)
-}
-
-/// The diagnostics of a spec that must not load.
-fn errors(r: Result<ResolvedSpec, Diagnostics>) -> Diagnostics {
-    match r {
-        Ok(spec) => panic!("expected errors, but `{}` resolved", spec.id),
+/// The diagnostics of a spec text that must not parse.
+fn parse_errors(path: &str, text: String) -> Diagnostics {
+    match Spec::parse(Path::new(path), text) {
+        Ok(_) => panic!("`{path}` parsed"),
         Err(d) => d,
     }
-}
-
-/// `line:col` of a diagnostic (the part of `position()` after the file path).
-fn lc(d: &Diagnostic) -> String {
-    let p = d
-        .position()
-        .unwrap_or_else(|| panic!("no position for {d}"));
-    let mut parts = p.rsplitn(3, ':');
-    let col = parts.next().expect("col");
-    let line = parts.next().expect("line");
-    format!("{line}:{col}")
-}
-
-fn help(d: &Diagnostic) -> Option<&str> {
-    d.help.as_deref()
-}
-
-/// The position of the first occurrence of `needle` in `text`, as `line:col` (col in characters).
-fn find_lc(text: &str, needle: &str) -> String {
-    let at = text
-        .find(needle)
-        .unwrap_or_else(|| panic!("`{needle}` not in text"));
-    let line = text[..at].matches('\n').count() + 1;
-    let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
-    format!("{line}:{}", text[start..at].chars().count() + 1)
-}
-
-fn set(s: &str) -> Override {
-    Override::parse(s).unwrap_or_else(|d| panic!("override `{s}`: {d}"))
 }
 
 // ---------------------------------------------------------------------------------------------
 // The base spec is fine.
 
-#[test]
-fn the_base_spec_resolves() {
-    let s = Scratch::new("base");
-    let (_, r) = load_text(&s, "mini.toml", &mini(), &[]);
-    let spec = r.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(spec.obs_dim, 5 + 6);
-    assert_eq!(spec.reward.len(), 3);
+cases! {
+    the_base_spec_resolves {
+        expect: Resolves(|spec| {
+            assert_eq!(spec.obs_dim, 5 + 6);
+            assert_eq!(spec.reward.len(), 3);
+        }),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Unknown keys, names and kinds: near-miss suggestions.
 
-#[test]
-fn unknown_key_suggests_the_near_miss() {
-    let s = Scratch::new("unknown_key");
-    let text = with(
-        &mini(),
-        "weight = \"healthy_reward\"",
-        "wieght = \"healthy_reward\"",
-    );
-    let (p, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0101]);
-    assert_eq!(d.0[0].position().unwrap(), format!("{}:29:1", p.display()));
-    assert_eq!(d.0[0].message, "unknown key `wieght` in [reward.healthy]");
-    assert_eq!(help(&d.0[0]), Some("did you mean `weight`?"));
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some(
-            "expected one of: kind, weight, cost, info, when, at, only_if, unless, doc, paid_when_unhealthy"
-        )
-    );
-}
+cases! {
+    unknown_key_suggests_the_near_miss {
+        edits: &[("weight = \"healthy_reward\"", "wieght = \"healthy_reward\"")],
+        expect: Fails(&[err(E0101).pos("SCRATCH/spec.toml:29:1")
+            .msg("unknown key `wieght` in [reward.healthy]")
+            .help("did you mean `weight`?")
+            .label("expected one of: kind, weight, cost, info, when, at, only_if, unless, doc, paid_when_unhealthy")]),
+    }
 
-#[test]
-fn unknown_top_level_and_section_keys_suggest_the_near_miss() {
-    let s = Scratch::new("unknown_top");
-    let text = format!(
-        "{}\n[rewards.extra]\nkind = \"constant\"\n",
-        with(&mini(), "clip = [", "clp = [")
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0101, Code::E0101]);
-    // Top-level keys are checked first.
-    assert_eq!(
-        d.0[0].message,
-        "unknown key `rewards` in the spec (top level)"
-    );
-    assert_eq!(lc(&d.0[0]), "53:2");
-    assert_eq!(help(&d.0[0]), Some("did you mean `reward`?"));
-    assert_eq!(d.0[1].message, "unknown key `clp` in [observation.qvel]");
-    assert_eq!(lc(&d.0[1]), "18:1");
-    assert_eq!(help(&d.0[1]), Some("did you mean `clip`?"));
-}
+    unknown_top_level_and_section_keys_suggest_the_near_miss {
+        edits: &[("clip = [", "clp = [")],
+        append: "\n[rewards.extra]\nkind = \"constant\"\n",
+        // Top-level keys are checked first.
+        expect: Fails(&[
+            err(E0101).at("53:2").msg("unknown key `rewards` in the spec (top level)")
+                .help("did you mean `reward`?"),
+            err(E0101).at("18:1").msg("unknown key `clp` in [observation.qvel]")
+                .help("did you mean `clip`?"),
+        ]),
+    }
 
-#[test]
-fn misspelt_parameter_declaration_is_caught_where_it_is_used() {
     // [params] declares names, so a misspelt declaration is not an unknown key: it is found at the
     // reference to the intended name, and the suggestion names the misspelling.
-    let s = Scratch::new("misspelt_decl");
-    let text = with(&mini(), "healthy_reward = 1.0", "helthy_reward = 1.0");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0201]);
-    assert_eq!(lc(&d.0[0]), "29:10");
-    assert_eq!(
-        d.0[0].message,
-        "`healthy_reward` is not a parameter of this spec"
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `helthy_reward`?"));
-}
+    misspelt_parameter_declaration_is_caught_where_it_is_used {
+        edits: &[("healthy_reward = 1.0", "helthy_reward = 1.0")],
+        expect: Fails(&[err(E0201).at("29:10")
+            .msg("`healthy_reward` is not a parameter of this spec")
+            .help("did you mean `helthy_reward`?")]),
+    }
 
-#[test]
-fn unknown_override_suggests_the_parameter() {
-    let s = Scratch::new("unknown_override");
-    let (_, r) = load_text(&s, "spec.toml", &mini(), &[set("helthy_reward=2.0")]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0202]);
-    assert_eq!(d.0[0].position(), None, "overrides have no spec location");
-    assert_eq!(
-        d.0[0].message,
-        "unknown parameter `helthy_reward` for Mini-v0"
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `healthy_reward`?"));
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some(
-            "expected one of: xml_file, frame_skip, max_episode_steps, ctrl_cost_weight, healthy_reward, \
-             healthy_z_range, terminate_when_unhealthy"
-        )
-    );
-}
+    unknown_override_suggests_the_parameter {
+        overrides: &["helthy_reward=2.0"],
+        // Overrides have no spec location.
+        expect: Fails(&[err(E0202).nowhere().msg("unknown parameter `helthy_reward` for Mini-v0")
+            .help("did you mean `healthy_reward`?")
+            .label("expected one of: xml_file, frame_skip, max_episode_steps, ctrl_cost_weight, healthy_reward, healthy_z_range, terminate_when_unhealthy")]),
+    }
 
-#[test]
-fn unknown_reward_kind_suggests_the_near_miss() {
-    let s = Scratch::new("unknown_kind");
-    let text = with(&mini(), "kind = \"sum_squares\"", "kind = \"sum_square\"");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104]);
-    assert_eq!(lc(&d.0[0]), "32:8");
-    assert_eq!(
-        d.0[0].message,
-        "unknown reward kind `sum_square` in [reward.ctrl]"
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `sum_squares`?"));
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some(
-            "expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions"
-        )
-    );
-}
+    unknown_reward_kind_suggests_the_near_miss {
+        edits: &[("kind = \"sum_squares\"", "kind = \"sum_square\"")],
+        expect: Fails(&[err(E0104).at("32:8")
+            .msg("unknown reward kind `sum_square` in [reward.ctrl]")
+            .help("did you mean `sum_squares`?")
+            .label("expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions")]),
+    }
 
-#[test]
-fn unknown_health_reset_and_info_kinds() {
-    let s = Scratch::new("other_kinds");
-    let mut text = with(&mini(), "kind = \"in_range\"", "kind = \"inrange\"");
-    text = with(&text, "kind = \"uniform\"", "kind = \"uniformly\"");
-    text.push_str("\n[info.speed]\nkind = \"velocty\"\nsource = \"qpos[0]\"\n");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0104, Code::E0104, Code::E0104]);
-    assert_eq!(
-        (lc(&d.0[0]), help(&d.0[0])),
-        ("41:8".into(), Some("did you mean `in_range`?"))
-    );
-    assert_eq!(
-        (lc(&d.0[1]), help(&d.0[1])),
-        ("47:8".into(), Some("did you mean `uniform`?"))
-    );
-    assert_eq!(
-        (lc(&d.0[2]), help(&d.0[2])),
-        ("54:8".into(), Some("did you mean `velocity`?"))
-    );
+    unknown_health_reset_and_info_kinds {
+        edits: &[
+            ("kind = \"in_range\"", "kind = \"inrange\""),
+            ("kind = \"uniform\"", "kind = \"uniformly\""),
+        ],
+        append: "\n[info.speed]\nkind = \"velocty\"\nsource = \"qpos[0]\"\n",
+        expect: Fails(&[
+            err(E0104).at("41:8").help("did you mean `in_range`?"),
+            err(E0104).at("47:8").help("did you mean `uniform`?"),
+            err(E0104).at("54:8").help("did you mean `velocity`?"),
+        ]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Types of values and of overrides.
 
-#[test]
-fn wrong_type_of_a_parameter_default() {
-    let s = Scratch::new("frame_skip_five");
-    let text = with(&mini(), "frame_skip = 4", "frame_skip = \"five\"");
-    let (p, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102]);
-    assert_eq!(d.0[0].position().unwrap(), format!("{}:6:14", p.display()));
-    assert_eq!(
-        d.0[0].message,
-        "default of parameter `frame_skip` is not an integer"
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected an integer (type int)")
-    );
+cases! {
+    wrong_type_of_a_parameter_default {
+        edits: &[("frame_skip = 4", "frame_skip = \"five\"")],
+        expect: Fails(&[err(E0102).pos("SCRATCH/spec.toml:6:14")
+            .msg("default of parameter `frame_skip` is not an integer")
+            .label("expected an integer (type int)")]),
+    } {
+        // Long form; columns count characters, not bytes.
+        edits: &[("frame_skip = 4", "frame_skip = { doc = \"Schritte über\", default = \"five\" }")],
+        expect: Fails(&[err(E0102).at("6:49")]),
+    }
 
-    // Long form; columns count characters, not bytes.
-    let text = with(
-        &mini(),
-        "frame_skip = 4",
-        "frame_skip = { doc = \"Schritte über\", default = \"five\" }",
-    );
-    let (_, r) = load_text(&s, "long.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102]);
-    assert_eq!(lc(&d.0[0]), "6:49");
-}
-
-#[test]
-fn wrong_type_of_a_value_in_a_section() {
-    let s = Scratch::new("value_types");
-    let mut text = with(&mini(), "id = \"Mini-v0\"", "id = 5");
-    text = with(&text, "source = \"qvel\"", "source = 3");
-    text = with(&text, "weight = \"ctrl_cost_weight\"", "weight = true");
-    let spec_path = s.write("spec.toml", &text);
     // `id` is checked without the model; the others when resolving. Syntax errors stop first.
-    let d = match Spec::load(&spec_path) {
-        Ok(_) => panic!("expected a syntax error"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0102]);
-    assert_eq!(d.0[0].message, "env.id must be a string, found integer");
-    assert_eq!(lc(&d.0[0]), "2:6");
+    wrong_type_of_a_value_in_a_section {
+        stage: Read,
+        edits: &[
+            ("id = \"Mini-v0\"", "id = 5"),
+            ("source = \"qvel\"", "source = 3"),
+            ("weight = \"ctrl_cost_weight\"", "weight = true"),
+        ],
+        expect: Fails(&[err(E0102).at("2:6").msg("env.id must be a string, found integer")]),
+    } {
+        edits: &[
+            ("source = \"qvel\"", "source = 3"),
+            ("weight = \"ctrl_cost_weight\"", "weight = true"),
+        ],
+        expect: Fails(&[
+            err(E0102).at("17:10")
+                .msg("source must be a selector string such as \"qpos[2:]\", found integer"),
+            err(E0102).at("34:10")
+                .msg("weight must be a number or a parameter name, found boolean"),
+        ]),
+    }
 
-    let text = with(&text, "id = 5", "id = \"Mini-v0\"");
-    let (_, r) = load_text(&s, "spec2.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102, Code::E0102]);
-    assert_eq!(
-        d.0[0].message,
-        "source must be a selector string such as \"qpos[2:]\", found integer"
-    );
-    assert_eq!(lc(&d.0[0]), "17:10");
-    assert_eq!(
-        d.0[1].message,
-        "weight must be a number or a parameter name, found boolean"
-    );
-    assert_eq!(lc(&d.0[1]), "34:10");
-}
+    override_of_the_wrong_type {
+        overrides: &["healthy_z_range=abc"],
+        // The override's own text is the "file" the error points into.
+        expect: Fails(&[err(E0203).pos("<override healthy_z_range>:1:1")
+            .msg("override of `healthy_z_range` is not a range [low, high] (type range)")
+            .label("expected a range [low, high]; the default is [0.7, inf]")]),
+    }
 
-#[test]
-fn override_of_the_wrong_type() {
-    let s = Scratch::new("override_type");
-    let (_, r) = load_text(&s, "spec.toml", &mini(), &[set("healthy_z_range=abc")]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0203]);
-    // The override's own text is the "file" the error points into.
-    assert_eq!(
-        d.0[0].position().as_deref(),
-        Some("<override healthy_z_range>:1:1")
-    );
-    assert_eq!(
-        d.0[0].message,
-        "override of `healthy_z_range` is not a range [low, high] (type range)"
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected a range [low, high]; the default is [0.7, inf]")
-    );
-}
+    all_bad_overrides_are_reported_together {
+        overrides: &[
+            "terminate_when_unhealthy=True",
+            "frame_skip=5.0",
+            "ctrl_cost_wieght=0.1",
+            "healthy_z_range=[1.0]",
+        ],
+        expect: Fails(&[
+            err(E0203).label("expected true or false; the default is true"),
+            err(E0203).label("expected an integer; the default is 4"),
+            err(E0202).help("did you mean `ctrl_cost_weight`?"),
+            err(E0203).pos("<override healthy_z_range>:1:1"),
+        ]),
+    }
 
-#[test]
-fn all_bad_overrides_are_reported_together() {
-    let s = Scratch::new("overrides_together");
-    let overrides = [
-        set("terminate_when_unhealthy=True"),
-        set("frame_skip=5.0"),
-        set("ctrl_cost_wieght=0.1"),
-        set("healthy_z_range=[1.0]"),
-    ];
-    let (_, r) = load_text(&s, "spec.toml", &mini(), &overrides);
-    let d = errors(r);
-    assert_eq!(
-        d.codes(),
-        [Code::E0203, Code::E0203, Code::E0202, Code::E0203]
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected true or false; the default is true")
-    );
-    assert_eq!(
-        d.0[1].label.as_deref(),
-        Some("expected an integer; the default is 4")
-    );
-    assert_eq!(help(&d.0[2]), Some("did you mean `ctrl_cost_weight`?"));
-    assert_eq!(
-        d.0[3].position().as_deref(),
-        Some("<override healthy_z_range>:1:1")
-    );
-}
+    good_overrides_use_toml_literals {
+        overrides: &[
+            "healthy_z_range=[0.3, inf]",
+            "ctrl_cost_weight=1", // an integer is a fine float
+            "terminate_when_unhealthy=false",
+            "frame_skip=5",
+        ],
+        expect: Resolves(|spec| {
+            assert_eq!(spec.frame_skip, 5);
+            assert!(!spec.terminate_when_unhealthy);
+        }),
+    }
 
-#[test]
-fn good_overrides_use_toml_literals() {
-    let s = Scratch::new("overrides_ok");
-    let overrides = [
-        set("healthy_z_range=[0.3, inf]"),
-        set("ctrl_cost_weight=1"), // an integer is a fine float
-        set("terminate_when_unhealthy=false"),
-        set("frame_skip=5"),
-    ];
-    let (_, r) = load_text(&s, "spec.toml", &mini(), &overrides);
-    let spec = r.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(spec.frame_skip, 5);
-    assert!(!spec.terminate_when_unhealthy);
+    invalid_parameter_values {
+        edits: &[("healthy_z_range = [0.7, inf]", "healthy_z_range = [2.0, 1.0]")],
+        overrides: &["frame_skip=0"],
+        expect: Fails(&[
+            // The bad value came from an override.
+            err(E0105).nowhere().msg("frame_skip must be a positive integer"),
+            // Reported where the range is used.
+            err(E0105).at("43:9").msg("range: low 2 is above high 1"),
+        ]),
+    }
 }
 
 #[test]
@@ -456,439 +203,243 @@ fn override_text_without_equals_sign() {
     assert!(Override::parse("=1").is_err());
 }
 
-#[test]
-fn invalid_parameter_values() {
-    let s = Scratch::new("param_values");
-    let text = with(
-        &mini(),
-        "healthy_z_range = [0.7, inf]",
-        "healthy_z_range = [2.0, 1.0]",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[set("frame_skip=0")]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0105, Code::E0105]);
-    assert_eq!(d.0[0].message, "frame_skip must be a positive integer");
-    assert_eq!(
-        d.0[0].position(),
-        None,
-        "the bad value came from an override"
-    );
-    assert_eq!(d.0[1].message, "range: low 2 is above high 1");
-    assert_eq!(lc(&d.0[1]), "43:9", "reported where the range is used");
-}
-
 // ---------------------------------------------------------------------------------------------
 // Parameter references.
 
-#[test]
-fn reference_to_an_undeclared_parameter() {
-    let s = Scratch::new("undeclared");
-    let mut text = with(
-        &mini(),
-        "weight = \"ctrl_cost_weight\"",
-        "weight = \"ctrl_cost_wieght\"",
-    );
-    text = with(
-        &text,
-        "terminate = \"terminate_when_unhealthy\"",
-        "terminate = \"!terminate_when_unhealty\"",
-    );
-    text = with(
-        &text,
-        "range = \"healthy_z_range\"",
-        "range = \"healthy_range\"",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0201, Code::E0201, Code::E0201]);
-    assert_eq!(lc(&d.0[0]), "34:10");
-    assert_eq!(
-        d.0[0].message,
-        "`ctrl_cost_wieght` is not a parameter of this spec"
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected a number or the name of a parameter in [params]")
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `ctrl_cost_weight`?"));
-    // `!name` negates a bool parameter; the name after `!` is what is looked up.
-    assert_eq!(lc(&d.0[1]), "38:13");
-    assert_eq!(
-        d.0[1].message,
-        "`terminate_when_unhealty` is not a parameter of this spec"
-    );
-    assert_eq!(
-        help(&d.0[1]),
-        Some("did you mean `terminate_when_unhealthy`?")
-    );
-    assert_eq!(lc(&d.0[2]), "43:9");
-    assert_eq!(help(&d.0[2]), Some("did you mean `healthy_z_range`?"));
-}
+cases! {
+    reference_to_an_undeclared_parameter {
+        edits: &[
+            ("weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\""),
+            (
+                "terminate = \"terminate_when_unhealthy\"",
+                "terminate = \"!terminate_when_unhealty\"",
+            ),
+            ("range = \"healthy_z_range\"", "range = \"healthy_range\""),
+        ],
+        expect: Fails(&[
+            err(E0201).at("34:10").msg("`ctrl_cost_wieght` is not a parameter of this spec")
+                .label("expected a number or the name of a parameter in [params]")
+                .help("did you mean `ctrl_cost_weight`?"),
+            // `!name` negates a bool parameter; the name after `!` is what is looked up.
+            err(E0201).at("38:13").msg("`terminate_when_unhealty` is not a parameter of this spec")
+                .help("did you mean `terminate_when_unhealthy`?"),
+            err(E0201).at("43:9").help("did you mean `healthy_z_range`?"),
+        ]),
+    }
 
-#[test]
-fn reference_to_a_parameter_of_the_wrong_type() {
-    let s = Scratch::new("param_ref_type");
-    let mut text = with(
-        &mini(),
-        "terminate = \"terminate_when_unhealthy\"",
-        "terminate = \"!healthy_reward\"",
-    );
-    text = with(
-        &text,
-        "range = \"healthy_z_range\"",
-        "range = \"ctrl_cost_weight\"",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102, Code::E0102]);
-    assert_eq!(
-        d.0[0].message,
-        "parameter `healthy_reward` is 1.0, not a bool"
-    );
-    assert_eq!(
-        d.0[1].message,
-        "parameter `ctrl_cost_weight` is 0.001, not a range [low, high]"
-    );
-}
+    reference_to_a_parameter_of_the_wrong_type {
+        edits: &[
+            ("terminate = \"terminate_when_unhealthy\"", "terminate = \"!healthy_reward\""),
+            ("range = \"healthy_z_range\"", "range = \"ctrl_cost_weight\""),
+        ],
+        expect: Fails(&[
+            err(E0102).msg("parameter `healthy_reward` is 1.0, not a bool"),
+            err(E0102).msg("parameter `ctrl_cost_weight` is 0.001, not a range [low, high]"),
+        ]),
+    }
 
-#[test]
-fn dollar_parameter_in_a_selector() {
-    let s = Scratch::new("dollar");
-    let text = with(
-        &real("ant.toml"),
-        "source = \"xpos[$main_body][0]\"\nweight",
-        "source = \"xpos[$main_bdy][0]\"\nweight",
-    );
-    let (_, r) = load_text(&s, "ant.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0201]);
-    assert_eq!(lc(&d.0[0]), find_lc(&text, "\"xpos[$main_bdy][0]\""));
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected an index or the name of a parameter in [params]")
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `main_body`?"));
+    dollar_parameter_in_a_selector {
+        base: Real("ant.toml"),
+        file: "ant.toml",
+        edits: &[(
+            "source = \"xpos[$main_body][0]\"\nweight",
+            "source = \"xpos[$main_bdy][0]\"\nweight",
+        )],
+        expect: Fails(&[err(E0201).at_text("\"xpos[$main_bdy][0]\"")
+            .label("expected an index or the name of a parameter in [params]")
+            .help("did you mean `main_body`?")]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Selectors and model names.
 
-#[test]
-fn body_name_not_in_the_model() {
-    let s = Scratch::new("torsoo");
-    let text = with(
-        &mini(),
-        "source = \"qpos[0]\"\n\n[reward.healthy]",
-        "source = \"xpos[torsoo][0]\"\n\n[reward.healthy]",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0303]);
-    assert_eq!(lc(&d.0[0]), "25:10");
-    assert_eq!(
-        d.0[0].message,
-        format!(
-            "the model {} has no body named `torsoo`",
-            assets().join("hopper.xml").display()
-        )
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected the name of a body of the model (5 named)")
-    );
-    assert_eq!(help(&d.0[0]), Some("did you mean `torso`?"));
-}
+cases! {
+    body_name_not_in_the_model {
+        edits: &[(FORWARD, "source = \"xpos[torsoo][0]\"\n\n[reward.healthy]")],
+        expect: Fails(&[err(E0303).at("25:10")
+            .msg("the model ASSETS/hopper.xml has no body named `torsoo`")
+            .label("expected the name of a body of the model (5 named)")
+            .help("did you mean `torso`?")]),
+    }
 
-#[test]
-fn body_name_from_an_override_is_checked_at_every_use() {
     // Ant: `main_body` is used by the forward reward and two info entries.
-    let s = Scratch::new("main_body_override");
-    let text = real("ant.toml");
-    let (_, r) = load_text(&s, "ant.toml", &text, &[set("main_body=torsoo")]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0303; 3]);
-    assert!(d.iter().all(|e| help(e) == Some("did you mean `torso`?")));
-    assert_eq!(lc(&d.0[0]), find_lc(&text, "\"xpos[$main_body][0]\""));
-}
+    body_name_from_an_override_is_checked_at_every_use {
+        base: Real("ant.toml"),
+        file: "ant.toml",
+        overrides: &["main_body=torsoo"],
+        expect: Fails(&[
+            err(E0303).at_text("\"xpos[$main_body][0]\"").help("did you mean `torso`?"),
+            err(E0303).help("did you mean `torso`?"),
+            err(E0303).help("did you mean `torso`?"),
+        ]),
+    }
 
-#[test]
-fn joint_name_selects_its_entries() {
     // Not an error: a joint name selects the joint's qpos (or dof) rows. A typo is E0303.
-    let s = Scratch::new("joint_name");
-    let text = with(&mini(), "source = \"qpos[1]\"", "source = \"qpos[rootz]\"");
-    let (_, r) = load_text(&s, "ok.toml", &text, &[]);
-    let spec = r.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(spec.health[0].sources[0].indices, [1]);
-
-    let text = with(&mini(), "source = \"qpos[1]\"", "source = \"qpos[root_z]\"");
-    let (_, r) = load_text(&s, "bad.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0303]);
-    assert_eq!(help(&d.0[0]), Some("did you mean `rootz`?"));
-}
-
-#[test]
-fn bad_selector_syntax() {
-    // (selector, message)
-    let cases = [
-        ("qpos[1", "cannot read selector: missing `]`"),
-        ("qpos[]", "cannot read selector: empty `[]`"),
-        (
-            "qpos[1,]",
-            "cannot read selector: an empty entry in a `,` list",
-        ),
-        (
-            "qpos[1][0]",
-            "cannot read selector: `qpos` is a vector: one index only",
-        ),
-        (
-            "xpos[torso][0][1]",
-            "cannot read selector: at most two indices (rows, then columns)",
-        ),
-        ("xpos[torso][w]", "`w` is not a column of `xpos`"),
-        (
-            "xpos[torso].x.y",
-            "cannot read selector: `.x.y` is not a column name",
-        ),
-    ];
-    let s = Scratch::new("selector_syntax");
-    for (i, (sel, msg)) in cases.iter().enumerate() {
-        let text = with(
-            &mini(),
-            "source = \"qpos[1]\"",
-            &format!("source = \"{sel}\""),
-        );
-        let (_, r) = load_text(&s, &format!("case{i}.toml"), &text, &[]);
-        let d = errors(r);
-        assert_eq!(d.codes(), [Code::E0401], "{sel}");
-        assert_eq!(d.0[0].message, *msg, "{sel}");
-        assert_eq!(lc(&d.0[0]), "42:10", "{sel}");
+    joint_name_selects_its_entries {
+        edits: &[(HEIGHT, "source = \"qpos[rootz]\"")],
+        expect: Resolves(|spec| assert_eq!(spec.health[0].sources[0].indices, [1])),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[root_z]\"")],
+        expect: Fails(&[err(E0303).help("did you mean `rootz`?")]),
     }
-}
 
-#[test]
-fn index_out_of_range() {
-    // (selector, message, label)
-    let cases = [
-        (
-            "qpos[7]",
-            "index 7 is out of range for 6 entries",
-            "expected an index in -6..6",
-        ),
-        (
-            "qpos[-7]",
-            "index -7 is out of range for 6 entries",
-            "expected an index in -6..6",
-        ),
-        (
-            "qpos[0,6]",
-            "index 6 is out of range for 6 entries",
-            "expected an index in -6..6",
-        ),
-        (
-            "xpos[torso][3]",
-            "index 3 is out of range for 3 entries",
-            "expected an index in -3..3",
-        ),
-    ];
-    let s = Scratch::new("index_range");
-    for (i, (sel, msg, label)) in cases.iter().enumerate() {
-        let text = with(
-            &mini(),
-            "source = \"qpos[1]\"",
-            &format!("source = \"{sel}\""),
-        );
-        let (_, r) = load_text(&s, &format!("case{i}.toml"), &text, &[]);
-        let d = errors(r);
-        assert_eq!(d.codes(), [Code::E0304], "{sel}");
-        assert_eq!(d.0[0].message, *msg, "{sel}");
-        assert_eq!(d.0[0].label.as_deref(), Some(*label), "{sel}");
-        assert_eq!(lc(&d.0[0]), "42:10", "{sel}");
+    bad_selector_syntax {
+        edits: &[(HEIGHT, "source = \"qpos[1\"")],
+        expect: Fails(&[err(E0401).at("42:10").msg("cannot read selector: missing `]`")]),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[]\"")],
+        expect: Fails(&[err(E0401).at("42:10").msg("cannot read selector: empty `[]`")]),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[1,]\"")],
+        expect: Fails(&[err(E0401).at("42:10")
+            .msg("cannot read selector: an empty entry in a `,` list")]),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[1][0]\"")],
+        expect: Fails(&[err(E0401).at("42:10")
+            .msg("cannot read selector: `qpos` is a vector: one index only")]),
+    } {
+        edits: &[(HEIGHT, "source = \"xpos[torso][0][1]\"")],
+        expect: Fails(&[err(E0401).at("42:10")
+            .msg("cannot read selector: at most two indices (rows, then columns)")]),
+    } {
+        edits: &[(HEIGHT, "source = \"xpos[torso][w]\"")],
+        expect: Fails(&[err(E0401).at("42:10").msg("`w` is not a column of `xpos`")]),
+    } {
+        edits: &[(HEIGHT, "source = \"xpos[torso].x.y\"")],
+        expect: Fails(&[err(E0401).at("42:10")
+            .msg("cannot read selector: `.x.y` is not a column name")]),
     }
-    // Slices clamp like Python's and are never out of range.
-    let text = with(&mini(), "source = \"qpos[1]\"", "source = \"qpos[5:99]\"");
-    let (_, r) = load_text(&s, "slice.toml", &text, &[]);
-    assert_eq!(
-        r.unwrap_or_else(|e| panic!("{e}")).health[0].sources[0].indices,
-        [5]
-    );
-}
 
-#[test]
-fn unknown_selector_field() {
-    let s = Scratch::new("unknown_field");
-    let text = with(&mini(), "source = \"qvel\"", "source = \"qvell\"");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0402]);
-    assert_eq!(lc(&d.0[0]), "17:10");
-    assert_eq!(d.0[0].message, "unknown field `qvell` in selector `qvell`");
-    assert_eq!(help(&d.0[0]), Some("did you mean `qvel`?"));
-}
+    index_out_of_range {
+        edits: &[(HEIGHT, "source = \"qpos[7]\"")],
+        expect: Fails(&[err(E0304).at("42:10").msg("index 7 is out of range for 6 entries")
+            .label("expected an index in -6..6")]),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[-7]\"")],
+        expect: Fails(&[err(E0304).at("42:10").msg("index -7 is out of range for 6 entries")
+            .label("expected an index in -6..6")]),
+    } {
+        edits: &[(HEIGHT, "source = \"qpos[0,6]\"")],
+        expect: Fails(&[err(E0304).at("42:10").msg("index 6 is out of range for 6 entries")
+            .label("expected an index in -6..6")]),
+    } {
+        edits: &[(HEIGHT, "source = \"xpos[torso][3]\"")],
+        expect: Fails(&[err(E0304).at("42:10").msg("index 3 is out of range for 3 entries")
+            .label("expected an index in -3..3")]),
+    } {
+        // Slices clamp like Python's and are never out of range.
+        edits: &[(HEIGHT, "source = \"qpos[5:99]\"")],
+        expect: Resolves(|spec| assert_eq!(spec.health[0].sources[0].indices, [5])),
+    }
 
-#[test]
-fn sizes_that_do_not_fit() {
-    let s = Scratch::new("sizes");
-    let mut text = with(
-        &mini(),
-        "source = \"qpos[0]\"\n\n[reward.healthy]",
-        "source = \"qpos[0:2]\"\n\n[reward.healthy]",
-    );
-    text.push_str("minus = \"qpos0[0:2]\"\n");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0403, Code::E0403]);
-    assert_eq!(
-        d.0[0].message,
-        "a velocity needs one number, `qpos[0:2]` selects 2"
-    );
-    assert_eq!(lc(&d.0[0]), "25:10");
-    assert_eq!(
-        d.0[1].message,
-        "`qpos[0]` has 1 elements but `qpos0[0:2]` has 2"
-    );
-    assert_eq!(lc(&d.0[1]), "52:9");
-    // An array of the wrong length says how long it is.
-    let text = format!(
-        "{}\n[sites.tip]\nbody = \"torso\"\npos = [0.0, 0.1]\n",
-        mini()
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102]);
-    assert!(
-        d.0[0].message.ends_with("found an array of 2 values"),
-        "{}",
-        d.0[0].message
-    );
+    unknown_selector_field {
+        edits: &[("source = \"qvel\"", "source = \"qvell\"")],
+        expect: Fails(&[err(E0402).at("17:10").msg("unknown field `qvell` in selector `qvell`")
+            .help("did you mean `qvel`?")]),
+    }
+
+    sizes_that_do_not_fit {
+        edits: &[(FORWARD, "source = \"qpos[0:2]\"\n\n[reward.healthy]")],
+        append: "minus = \"qpos0[0:2]\"\n",
+        expect: Fails(&[
+            err(E0403).at("25:10").msg("a velocity needs one number, `qpos[0:2]` selects 2"),
+            err(E0403).at("52:9").msg("`qpos[0]` has 1 elements but `qpos0[0:2]` has 2"),
+        ]),
+    } {
+        // An array of the wrong length says how long it is.
+        append: "\n[sites.tip]\nbody = \"torso\"\npos = [0.0, 0.1]\n",
+        expect: Fails(&[err(E0102).msg_ends("found an array of 2 values")]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // The model file.
 
-#[test]
-fn missing_model_file() {
-    let s = Scratch::new("missing_model");
-    // A relative xml_file resolves against the spec's directory.
-    let text = with(
-        &mini(),
-        &format!("'{}/hopper.xml'", assets().display()),
-        "'no_such_model.xml'",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0301]);
-    assert_eq!(lc(&d.0[0]), "5:12");
-    let model = s.0.join("no_such_model.xml");
-    assert!(
-        d.0[0]
-            .message
-            .starts_with(&format!("cannot read model file {}: ", model.display())),
-        "{}",
-        d.0[0].message
-    );
-    assert_eq!(
-        help(&d.0[0]),
-        Some(format!("xml_file resolved to {}", model.display()).as_str())
-    );
-}
+cases! {
+    missing_model_file {
+        // A relative xml_file resolves against the spec's directory.
+        edits: &[(XML_FILE, "'no_such_model.xml'")],
+        expect: Fails(&[err(E0301).at("5:12")
+            .msg_starts("cannot read model file SCRATCH/no_such_model.xml: ")
+            .help("xml_file resolved to SCRATCH/no_such_model.xml")]),
+    }
 
-#[test]
-fn missing_model_file_from_an_override() {
-    let s = Scratch::new("missing_model_override");
-    let (_, r) = load_text(
-        &s,
-        "spec.toml",
-        &mini(),
-        &[set("xml_file=/nonexistent/model.xml")],
-    );
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0301]);
-    assert_eq!(d.0[0].position(), None);
-    assert_eq!(
-        help(&d.0[0]),
-        Some("xml_file resolved to /nonexistent/model.xml")
-    );
-}
+    missing_model_file_from_an_override {
+        overrides: &["xml_file=/nonexistent/model.xml"],
+        expect: Fails(&[err(E0301).nowhere().help("xml_file resolved to /nonexistent/model.xml")]),
+    }
 
-#[test]
-fn malformed_model_file() {
-    let s = Scratch::new("malformed_model");
-    let xml = s.write(
-        "broken.xml",
-        "<mujoco>\n  <worldbody>\n    <body name='a'>\n  </worldbody>\n</mujoco>\n",
-    );
-    let text = with(
-        &mini(),
-        &format!("'{}/hopper.xml'", assets().display()),
-        "'broken.xml'",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0302]);
-    // At the XML error, in the model file, not at the spec's `xml_file`.
-    assert_eq!(d.0[0].position(), Some(format!("{}:4:3", xml.display())));
-    assert_eq!(
-        d.0[0].message,
-        format!(
-            "{}: not well-formed XML: expected 'body' tag, not 'worldbody' at 4:3",
-            xml.display()
-        )
-    );
-    assert_eq!(d.0[0].label.as_deref(), Some("expected well-formed MJCF"));
-
-    // Well-formed XML that is neither MJCF nor URDF (URDF is read: tests/urdf.rs).
-    s.write("robot.sdf", "<sdf version='1.6'/>\n");
-    let text = with(
-        &mini(),
-        &format!("'{}/hopper.xml'", assets().display()),
-        "'robot.sdf'",
-    );
-    let (_, r) = load_text(&s, "sdf.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0302]);
-    assert!(
-        d.0[0]
-            .message
-            .ends_with("root element is <sdf>, not <mujoco>"),
-        "{}",
-        d.0[0].message
-    );
+    malformed_model_file {
+        files: &[(
+            "broken.xml",
+            "<mujoco>\n  <worldbody>\n    <body name='a'>\n  </worldbody>\n</mujoco>\n",
+        )],
+        edits: &[(XML_FILE, "'broken.xml'")],
+        // At the XML error, in the model file, not at the spec's `xml_file`.
+        expect: Fails(&[err(E0302).pos("SCRATCH/broken.xml:4:3")
+            .msg("SCRATCH/broken.xml: not well-formed XML: expected 'body' tag, not 'worldbody' at 4:3")
+            .label("expected well-formed MJCF")]),
+    } {
+        // Well-formed XML that is neither MJCF nor URDF (URDF is read: tests/urdf.rs).
+        files: &[("robot.sdf", "<sdf version='1.6'/>\n")],
+        edits: &[(XML_FILE, "'robot.sdf'")],
+        expect: Fails(&[err(E0302).msg_ends("root element is <sdf>, not <mujoco>")]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // The spec file itself.
 
-#[test]
-fn invalid_toml() {
-    let text = with(&mini(), "id = \"Mini-v0\"", "id = \"Mini-v0");
-    let d = match Spec::parse(Path::new("mini.toml"), text) {
-        Ok(_) => panic!("parsed invalid TOML"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0100]);
-    assert_eq!(d.0[0].position().as_deref(), Some("mini.toml:2:14"));
-    assert_eq!(
-        d.0[0].message,
-        "invalid TOML: invalid basic string, expected `\"`"
-    );
-}
+cases! {
+    invalid_toml {
+        stage: Parse,
+        file: "mini.toml",
+        edits: &[("id = \"Mini-v0\"", "id = \"Mini-v0")],
+        expect: Fails(&[err(E0100).pos("mini.toml:2:14")
+            .msg("invalid TOML: invalid basic string, expected `\"`")]),
+    }
 
-/// One missing `]` is one error, at the `[` it leaves open (the parser's recovery reads the
-/// next lines as more of the array and would report each of them).
-#[test]
-fn an_unclosed_array_is_one_error_at_its_bracket() {
-    let text = with(&mini(), "clip = [-10.0, 10.0]", "clip = [-10.0, 10.0");
-    let d = match Spec::parse(Path::new("mini.toml"), text) {
-        Ok(_) => panic!("parsed invalid TOML"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0100], "{d}");
-    assert_eq!(lc(&d.0[0]), "18:8");
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("this `[` is not closed (the next line was read as more of the array)")
-    );
+    /// One missing `]` is one error, at the `[` it leaves open (the parser's recovery reads the
+    /// next lines as more of the array and would report each of them).
+    an_unclosed_array_is_one_error_at_its_bracket {
+        stage: Parse,
+        edits: &[("clip = [-10.0, 10.0]", "clip = [-10.0, 10.0")],
+        expect: Fails(&[err(E0100).at("18:8")
+            .label("this `[` is not closed (the next line was read as more of the array)")]),
+    }
+
+    unreadable_spec_file {
+        base: Absent,
+        file: "absent.toml",
+        expect: Fails(&[err(E0600).nowhere()]),
+    }
+
+    missing_env_id {
+        edits: &[("id = \"Mini-v0\"\n", "")],
+        expect: Fails(&[err(E0103).pos("SCRATCH/spec.toml:1:2").msg("missing `id` in [env]")
+            .label("expected `id = \"Name-v0\"`")]),
+    }
+
+    missing_env_table_and_required_parameters {
+        base: Empty,
+        stage: Parse,
+        file: "empty.toml",
+        expect: Fails(&[
+            err(E0103).pos("empty.toml:1:1").msg("missing `[env]` table"),
+            err(E0103).pos("empty.toml:1:1").msg("missing parameter `xml_file` in [params]"),
+            err(E0103).pos("empty.toml:1:1").msg("missing parameter `frame_skip` in [params]"),
+            err(E0103).pos("empty.toml:1:1")
+                .msg("missing parameter `max_episode_steps` in [params]"),
+        ]),
+    }
+
+    // `[agents]` is a factorization (envspec::agents); the single-agent spec ignores it.
+    agents_section_is_left_to_the_multi_agent_layer {
+        stage: Parse,
+        append: "\n[agents]\nsplit = 2\n",
+        expect: Parses,
+    }
 }
 
 #[test]
@@ -899,10 +450,7 @@ fn invalid_toml_reports_only_syntax_errors() {
         "frame_skip = 4",
         "frame_skip = { default = 4 doc = \"x\" }",
     );
-    let d = match Spec::parse(Path::new("mini.toml"), text) {
-        Ok(_) => panic!("parsed invalid TOML"),
-        Err(d) => d,
-    };
+    let d = parse_errors("mini.toml", text);
     assert!(!d.is_empty());
     assert!(d.iter().all(|e| e.code == Code::E0100), "{d}");
     assert_eq!(lc(&d.0[0]), "6:32");
@@ -912,176 +460,69 @@ fn invalid_toml_reports_only_syntax_errors() {
     );
 }
 
-#[test]
-fn unreadable_spec_file() {
-    let s = Scratch::new("unreadable");
-    let d = errors(load(&s.0.join("absent.toml"), &[]));
-    assert_eq!(d.codes(), [Code::E0600]);
-    assert_eq!(d.0[0].position(), None);
-}
-
-#[test]
-fn missing_env_id() {
-    let s = Scratch::new("missing_id");
-    let text = with(&mini(), "id = \"Mini-v0\"\n", "");
-    let (p, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0103]);
-    assert_eq!(d.0[0].position().unwrap(), format!("{}:1:2", p.display()));
-    assert_eq!(d.0[0].message, "missing `id` in [env]");
-    assert_eq!(d.0[0].label.as_deref(), Some("expected `id = \"Name-v0\"`"));
-}
-
-#[test]
-fn missing_env_table_and_required_parameters() {
-    let d = match Spec::parse(Path::new("empty.toml"), String::new()) {
-        Ok(_) => panic!("an empty spec parsed"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0103; 4]);
-    let messages: Vec<&str> = d.iter().map(|e| e.message.as_str()).collect();
-    assert_eq!(
-        messages,
-        [
-            "missing `[env]` table",
-            "missing parameter `xml_file` in [params]",
-            "missing parameter `frame_skip` in [params]",
-            "missing parameter `max_episode_steps` in [params]",
-        ]
-    );
-    assert!(
-        d.iter()
-            .all(|e| e.position().as_deref() == Some("empty.toml:1:1"))
-    );
-}
-
-#[test]
-fn agents_section_is_left_to_the_multi_agent_layer() {
-    // `[agents]` is a factorization (envspec::agents); the single-agent spec ignores it.
-    let text = format!("{}\n[agents]\nsplit = 2\n", mini());
-    assert!(Spec::parse(Path::new("mini.toml"), text).is_ok());
-}
-
 // ---------------------------------------------------------------------------------------------
 // The reward sum.
 
-#[test]
-fn sum_names_an_unknown_term() {
-    let s = Scratch::new("sum_unknown");
-    let text = with(
-        &mini(),
-        "sum = [[\"forward\", \"healthy\"], \"ctrl\"]",
-        "sum = [[\"forward\", \"helthy\"], \"ctrl\"]",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    // The unknown name, and the term it was meant to be, which is then missing.
-    assert_eq!(d.codes(), [Code::E0501, Code::E0501]);
-    assert_eq!(d.0[0].message, "`helthy` in `sum` is not a reward term");
-    assert_eq!(lc(&d.0[0]), "21:20");
-    assert_eq!(help(&d.0[0]), Some("did you mean `healthy`?"));
-    assert_eq!(
-        d.0[1].message,
-        "reward term `healthy` is missing from `sum`"
-    );
-    assert_eq!(lc(&d.0[1]), "21:7");
-}
+cases! {
+    sum_names_an_unknown_term {
+        edits: &[(SUM, "sum = [[\"forward\", \"helthy\"], \"ctrl\"]")],
+        // The unknown name, and the term it was meant to be, which is then missing.
+        expect: Fails(&[
+            err(E0501).at("21:20").msg("`helthy` in `sum` is not a reward term")
+                .help("did you mean `healthy`?"),
+            err(E0501).at("21:7").msg("reward term `healthy` is missing from `sum`"),
+        ]),
+    }
 
-#[test]
-fn sum_leaves_a_term_out_or_uses_it_twice() {
-    let s = Scratch::new("sum_counts");
-    let sum = "sum = [[\"forward\", \"healthy\"], \"ctrl\"]";
-    let text = with(&mini(), sum, "sum = [\"forward\", \"ctrl\"]");
-    let (_, r) = load_text(&s, "out.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0501]);
-    assert_eq!(
-        d.0[0].message,
-        "reward term `healthy` is missing from `sum`"
-    );
-    assert_eq!(
-        d.0[0].label.as_deref(),
-        Some("expected every term exactly once")
-    );
-    assert_eq!(lc(&d.0[0]), "21:7");
-
-    let text = with(
-        &mini(),
-        sum,
-        "sum = [\"forward\", \"healthy\", \"ctrl\", \"ctrl\"]",
-    );
-    let (_, r) = load_text(&s, "twice.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0501]);
-    assert_eq!(
-        d.0[0].message,
-        "reward term `ctrl` is used 2 times in `sum`"
-    );
+    sum_leaves_a_term_out_or_uses_it_twice {
+        edits: &[(SUM, "sum = [\"forward\", \"ctrl\"]")],
+        expect: Fails(&[err(E0501).at("21:7").msg("reward term `healthy` is missing from `sum`")
+            .label("expected every term exactly once")]),
+    } {
+        edits: &[(SUM, "sum = [\"forward\", \"healthy\", \"ctrl\", \"ctrl\"]")],
+        expect: Fails(&[err(E0501).msg("reward term `ctrl` is used 2 times in `sum`")]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
-// All errors at once.
+// All errors at once (and `run` checks that the last line counts them).
 
-#[test]
-fn three_independent_mistakes_give_three_diagnostics() {
+cases! {
     // Resolution: an unknown field, an undeclared parameter, an index out of range.
-    let s = Scratch::new("three");
-    let mut text = with(&mini(), "source = \"qvel\"", "source = \"qvell\"");
-    text = with(
-        &text,
-        "weight = \"ctrl_cost_weight\"",
-        "weight = \"ctrl_cost_wieght\"",
-    );
-    text = with(&text, "source = \"qpos[1]\"", "source = \"qpos[7]\"");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0402, Code::E0201, Code::E0304]);
-    let at: Vec<String> = d.iter().map(lc).collect();
-    assert_eq!(at, ["17:10", "34:10", "42:10"]);
-    assert!(d.to_string().ends_with("\n3 errors found"));
-}
+    three_independent_mistakes_give_three_diagnostics {
+        edits: &[
+            ("source = \"qvel\"", "source = \"qvell\""),
+            ("weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\""),
+            (HEIGHT, "source = \"qpos[7]\""),
+        ],
+        expect: Fails(&[err(E0402).at("17:10"), err(E0201).at("34:10"), err(E0304).at("42:10")]),
+    }
 
-#[test]
-fn three_independent_syntax_mistakes_give_three_diagnostics() {
     // Checked without the model: a missing id, an unknown key, an unknown kind.
-    let mut text = with(&mini(), "id = \"Mini-v0\"\n", "");
-    text = with(
-        &text,
-        "weight = \"healthy_reward\"",
-        "wieght = \"healthy_reward\"",
-    );
-    text = with(&text, "kind = \"sum_squares\"", "kind = \"sum_square\"");
-    let d = match Spec::parse(Path::new("mini.toml"), text) {
-        Ok(_) => panic!("parsed"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0103, Code::E0101, Code::E0104]);
-    let at: Vec<String> = d.iter().map(lc).collect();
-    assert_eq!(at, ["1:2", "28:1", "31:8"]);
-}
+    three_independent_syntax_mistakes_give_three_diagnostics {
+        stage: Parse,
+        edits: &[
+            ("id = \"Mini-v0\"\n", ""),
+            ("weight = \"healthy_reward\"", "wieght = \"healthy_reward\""),
+            ("kind = \"sum_squares\"", "kind = \"sum_square\""),
+        ],
+        expect: Fails(&[err(E0103).at("1:2"), err(E0101).at("28:1"), err(E0104).at("31:8")]),
+    }
 
-#[test]
-fn three_mistakes_in_a_real_spec() {
-    let s = Scratch::new("three_real");
-    let mut text = real("hopper.toml");
-    text = with(&text, "source = \"qpos[2]\"", "source = \"qpos[7]\"");
-    text = with(
-        &text,
-        "[observation.qvel]\nsource = \"qvel\"",
-        "[observation.qvel]\nsource = \"qvell\"",
-    );
-    text = with(
-        &text,
-        "weight = \"ctrl_cost_weight\"",
-        "weight = \"ctrl_cost_wieght\"",
-    );
-    let (_, r) = load_text(&s, "hopper.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.len(), 3, "{d}");
-    assert_eq!(d.codes(), [Code::E0402, Code::E0201, Code::E0304]);
-    assert_eq!(lc(&d.0[0]), find_lc(&text, "\"qvell\""));
-    assert_eq!(lc(&d.0[1]), find_lc(&text, "\"ctrl_cost_wieght\""));
-    assert_eq!(lc(&d.0[2]), find_lc(&text, "\"qpos[7]\""));
+    three_mistakes_in_a_real_spec {
+        base: Real("hopper.toml"),
+        file: "hopper.toml",
+        edits: &[
+            ("source = \"qpos[2]\"", "source = \"qpos[7]\""),
+            ("[observation.qvel]\nsource = \"qvel\"", "[observation.qvel]\nsource = \"qvell\""),
+            ("weight = \"ctrl_cost_weight\"", "weight = \"ctrl_cost_wieght\""),
+        ],
+        expect: Fails(&[
+            err(E0402).at_text("\"qvell\""),
+            err(E0201).at_text("\"ctrl_cost_wieght\""),
+            err(E0304).at_text("\"qpos[7]\""),
+        ]),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1090,10 +531,7 @@ fn three_mistakes_in_a_real_spec() {
 #[test]
 fn rendered_diagnostic_is_pinned() {
     let text = with(&mini(), "kind = \"sum_squares\"", "kind = \"sum_square\"");
-    let d = match Spec::parse(Path::new("specs/mini.toml"), text) {
-        Ok(_) => panic!("parsed"),
-        Err(d) => d,
-    };
+    let d = parse_errors("specs/mini.toml", text);
     let expected = "\
 error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
   --> specs/mini.toml:32:8
@@ -1110,8 +548,10 @@ error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
 fn rendered_text_names_the_file_line_and_column() {
     let s = Scratch::new("render");
     let text = with(&mini(), "source = \"qvel\"", "source = \"qvell\"");
-    let (p, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
+    let p = s.write("spec.toml", &text);
+    let Err(d) = load(&p, &[]) else {
+        panic!("`{}` loaded", p.display())
+    };
     let out = d.0[0].to_string();
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(
@@ -1134,10 +574,7 @@ fn rendered_text_names_the_file_line_and_column() {
 fn crlf_line_endings_give_the_same_positions() {
     let text =
         with(&mini(), "kind = \"sum_squares\"", "kind = \"sum_square\"").replace('\n', "\r\n");
-    let d = match Spec::parse(Path::new("crlf.toml"), text) {
-        Ok(_) => panic!("parsed"),
-        Err(d) => d,
-    };
+    let d = parse_errors("crlf.toml", text);
     assert_eq!(lc(&d.0[0]), "32:8");
     assert!(
         d.0[0]
@@ -1150,132 +587,69 @@ fn crlf_line_endings_give_the_same_positions() {
 // ---------------------------------------------------------------------------------------------
 // Known problems (see the report that came with this file); un-ignore once fixed.
 
-#[test]
-fn xml_file_with_a_non_path_type_is_an_error_not_a_panic() {
-    let s = Scratch::new("xml_file_type");
-    let text = with(
-        &mini(),
-        &format!("xml_file = '{}/hopper.xml'", assets().display()),
-        "xml_file = { default = 3, type = \"int\" }",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0102]);
-    assert_eq!(
-        d.0[0].message,
-        "default of parameter `xml_file` is not a file path"
-    );
-    assert_eq!(lc(&d.0[0]), "5:24");
-}
-
-#[test]
-fn a_disabled_observation_segment_is_still_checked() {
-    let s = Scratch::new("when_false");
-    let text = with(
-        &mini(),
-        "source = \"qvel\"",
-        "source = \"qvell\"\nwhen = false",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0402]);
-}
-
-#[test]
-fn sum_is_checked_even_when_another_term_fails() {
-    let s = Scratch::new("sum_after_failure");
-    let mut text = with(
-        &mini(),
-        "sum = [[\"forward\", \"healthy\"], \"ctrl\"]",
-        "sum = [[\"forward\", \"healthy\"]]",
-    );
-    text = with(
-        &text,
-        "source = \"qpos[0]\"\n\n[reward.healthy]",
-        "source = \"qpos[9]\"\n\n[reward.healthy]",
-    );
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    // The bad index, and `ctrl` (which resolved) missing from `sum`.
-    assert_eq!(d.codes(), [Code::E0304, Code::E0501]);
-}
-
-#[test]
-fn empty_uniform_reset_bounds() {
-    let s = Scratch::new("uniform_bounds");
-    let text = with(&mini(), "scale = 5e-3", "scale = -5e-3");
-    let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-    let d = errors(r);
-    assert_eq!(d.codes(), [Code::E0105]);
-    assert_eq!(
-        d.0[0].message,
-        "[reset.qpos]: uniform bounds [0.005, -0.005) are empty or infinite"
-    );
-    assert_eq!(lc(&d.0[0]), "48:9");
-}
-
-/// The codes split from E0104 (docs/errors.md): each means one thing, and each is located.
-#[test]
-fn out_of_range_duplicate_wrong_kind_and_maze_codes() {
-    let s = Scratch::new("split_codes");
-    let cases = [
-        // A reversed clip range: a number out of range.
-        (
-            with(&mini(), "clip = [-10.0, 10.0]", "clip = [10.0, -10.0]"),
-            Code::E0105,
-            "18:8",
-        ),
-        // `x_position` twice: once by its table name, once by `key`.
-        (
-            format!(
-                "{}\n[info.x]\nkey = \"x_position\"\nsource = \"qpos[0]\"\n",
-                mini()
-            ),
-            Code::E0106,
-            "54:7",
-        ),
-        // A reset of something that is not qpos or qvel.
-        (
-            with(&mini(), "target = \"qpos\"", "target = \"xpos[torso]\""),
-            Code::E0107,
-            "46:10",
-        ),
-    ];
-    for (text, code, at) in cases {
-        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-        let d = errors(r);
-        assert_eq!(d.codes(), [code], "{d}");
-        assert_eq!(lc(&d.0[0]), at, "{d}");
+cases! {
+    xml_file_with_a_non_path_type_is_an_error_not_a_panic {
+        edits: &[(
+            "xml_file = 'ASSETS/hopper.xml'",
+            "xml_file = { default = 3, type = \"int\" }",
+        )],
+        expect: Fails(&[err(E0102).at("5:24")
+            .msg("default of parameter `xml_file` is not a file path")]),
     }
-    // `[maze]` in a task spec: found without the model.
-    let text = format!("{}\n[maze]\nid = \"M-v0\"\n", mini());
-    let d = match Spec::parse(Path::new("mini.toml"), text) {
-        Ok(_) => panic!("parsed"),
-        Err(d) => d,
-    };
-    assert_eq!(d.codes(), [Code::E0108]);
-    assert_eq!(lc(&d.0[0]), "53:2");
-}
 
-/// `fails_if` without `op` is a missing key (E0103); an unknown `op` is E0104.
-#[test]
-fn fails_if_op_missing_or_unknown() {
-    let s = Scratch::new("fails_if_op");
-    let check = "kind = \"in_range\"\nsource = \"qpos[1]\"\nrange = \"healthy_z_range\"";
-    for (op, code, at) in [
-        ("", Code::E0103, "40:9"),
-        ("op = \"=<\"\n", Code::E0104, "43:6"),
-        ("op = 1\n", Code::E0102, "43:6"),
-    ] {
-        let text = with(
-            &mini(),
-            check,
-            &format!("kind = \"fails_if\"\nsource = \"qpos[1]\"\n{op}value = 0.7"),
-        );
-        let (_, r) = load_text(&s, "spec.toml", &text, &[]);
-        let d = errors(r);
-        assert_eq!(d.codes(), [code], "{d}");
-        assert_eq!(lc(&d.0[0]), at, "{d}");
+    a_disabled_observation_segment_is_still_checked {
+        edits: &[("source = \"qvel\"", "source = \"qvell\"\nwhen = false")],
+        expect: Fails(&[err(E0402)]),
+    }
+
+    sum_is_checked_even_when_another_term_fails {
+        edits: &[
+            (SUM, "sum = [[\"forward\", \"healthy\"]]"),
+            (FORWARD, "source = \"qpos[9]\"\n\n[reward.healthy]"),
+        ],
+        // The bad index, and `ctrl` (which resolved) missing from `sum`.
+        expect: Fails(&[err(E0304), err(E0501)]),
+    }
+
+    empty_uniform_reset_bounds {
+        edits: &[("scale = 5e-3", "scale = -5e-3")],
+        expect: Fails(&[err(E0105).at("48:9")
+            .msg("[reset.qpos]: uniform bounds [0.005, -0.005) are empty or infinite")]),
+    }
+
+    /// The codes split from E0104 (docs/errors.md): each means one thing, and each is located.
+    out_of_range_duplicate_wrong_kind_and_maze_codes {
+        // A reversed clip range: a number out of range.
+        edits: &[("clip = [-10.0, 10.0]", "clip = [10.0, -10.0]")],
+        expect: Fails(&[err(E0105).at("18:8")]),
+    } {
+        // `x_position` twice: once by its table name, once by `key`.
+        append: "\n[info.x]\nkey = \"x_position\"\nsource = \"qpos[0]\"\n",
+        expect: Fails(&[err(E0106).at("54:7")]),
+    } {
+        // A reset of something that is not qpos or qvel.
+        edits: &[("target = \"qpos\"", "target = \"xpos[torso]\"")],
+        expect: Fails(&[err(E0107).at("46:10")]),
+    } {
+        // `[maze]` in a task spec: found without the model.
+        stage: Parse,
+        append: "\n[maze]\nid = \"M-v0\"\n",
+        expect: Fails(&[err(E0108).at("53:2")]),
+    }
+
+    /// `fails_if` without `op` is a missing key (E0103); an unknown `op` is E0104.
+    fails_if_op_missing_or_unknown {
+        edits: &[(HEALTH_CHECK, "kind = \"fails_if\"\nsource = \"qpos[1]\"\nvalue = 0.7")],
+        expect: Fails(&[err(E0103).at("40:9")]),
+    } {
+        edits: &[(
+            HEALTH_CHECK,
+            "kind = \"fails_if\"\nsource = \"qpos[1]\"\nop = \"=<\"\nvalue = 0.7",
+        )],
+        expect: Fails(&[err(E0104).at("43:6")]),
+    } {
+        edits: &[(HEALTH_CHECK, "kind = \"fails_if\"\nsource = \"qpos[1]\"\nop = 1\nvalue = 0.7")],
+        expect: Fails(&[err(E0102).at("43:6")]),
     }
 }
 
