@@ -11,13 +11,16 @@ use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
+mod actuators;
 mod added;
 mod commands;
 mod conditions;
 mod derived;
 mod edits;
 mod events;
+mod geom_properties;
 mod goal;
+mod joint_properties;
 mod keyframes;
 mod terrain;
 pub(crate) use commands::command_selection;
