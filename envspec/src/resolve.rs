@@ -26,6 +26,7 @@ mod terrain;
 pub(crate) use commands::command_selection;
 pub use keyframes::ROOT_POSE_KEYS;
 mod manipulation;
+mod manipulation_reset;
 mod noise;
 mod pairing;
 
