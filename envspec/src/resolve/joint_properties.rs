@@ -187,52 +187,7 @@ impl Ctx<'_> {
     ) {
         let what = |k: &str| format!("joint_properties.\"{}\".{k}", row.name);
         match key {
-            "kp" | "kv" => {
-                let Some(x) = self.gain_value(v, &what(key), key) else {
-                    return;
-                };
-                set.push((key.to_string(), vec![x]));
-                for &k in on {
-                    let a = &mut edits.actuators[k];
-                    let fits = match (&mut a.kind, key) {
-                        (ActuatorKind::Position { kp, .. }, "kp") => {
-                            *kp = x;
-                            true
-                        }
-                        (ActuatorKind::Position { kv, .. }, _) => {
-                            *kv = Some(x);
-                            true
-                        }
-                        (ActuatorKind::Velocity { kv }, "kv") => {
-                            *kv = x;
-                            true
-                        }
-                        _ => false,
-                    };
-                    if !fits {
-                        self.d.push(
-                            Diagnostic::new(
-                                Code::E0161,
-                                format!(
-                                    "`{key}` in [joint_properties.\"{}\"] reaches actuator `{}` ([actuators.{}]), which is a {} actuator",
-                                    row.name,
-                                    a.name,
-                                    a.section,
-                                    match a.kind {
-                                        ActuatorKind::Motor => "motor",
-                                        ActuatorKind::Position { .. } => "position",
-                                        ActuatorKind::Velocity { .. } => "velocity",
-                                    }
-                                ),
-                            )
-                            .at(v.loc.clone())
-                            .label("kp applies to position actuators; kv to position and velocity actuators")
-                            .help(format!("set `kind = \"position\"` in [actuators.{}]", a.section)),
-                        );
-                        break;
-                    }
-                }
-            }
+            "kp" | "kv" => self.actuator_gain_key(row, key, v, on, edits, set),
             "effort" => {
                 let Some(x) = self.num_within(v, &what(key), crate::limits::MAX_MAGNITUDE) else {
                     return;
@@ -294,6 +249,64 @@ impl Ctx<'_> {
                 for &k in on {
                     edits.actuators[k].gear = x;
                 }
+            }
+        }
+    }
+
+    /// A row's `kp` or `kv`, set on the actuators `on`: E0161 at the first that is not a position
+    /// actuator (or, for `kv`, a velocity actuator).
+    fn actuator_gain_key(
+        &mut self,
+        row: &Section,
+        key: &str,
+        v: &Val,
+        on: &[usize],
+        edits: &mut ModelEdits,
+        set: &mut Vec<(String, Vec<f64>)>,
+    ) {
+        let what = |k: &str| format!("joint_properties.\"{}\".{k}", row.name);
+        let Some(x) = self.gain_value(v, &what(key), key) else {
+            return;
+        };
+        set.push((key.to_string(), vec![x]));
+        for &k in on {
+            let a = &mut edits.actuators[k];
+            let fits = match (&mut a.kind, key) {
+                (ActuatorKind::Position { kp, .. }, "kp") => {
+                    *kp = x;
+                    true
+                }
+                (ActuatorKind::Position { kv, .. }, _) => {
+                    *kv = Some(x);
+                    true
+                }
+                (ActuatorKind::Velocity { kv }, "kv") => {
+                    *kv = x;
+                    true
+                }
+                _ => false,
+            };
+            if !fits {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0161,
+                        format!(
+                            "`{key}` in [joint_properties.\"{}\"] reaches actuator `{}` ([actuators.{}]), which is a {} actuator",
+                            row.name,
+                            a.name,
+                            a.section,
+                            match a.kind {
+                                ActuatorKind::Motor => "motor",
+                                ActuatorKind::Position { .. } => "position",
+                                ActuatorKind::Velocity { .. } => "velocity",
+                            }
+                        ),
+                    )
+                    .at(v.loc.clone())
+                    .label("kp applies to position actuators; kv to position and velocity actuators")
+                    .help(format!("set `kind = \"position\"` in [actuators.{}]", a.section)),
+                );
+                break;
             }
         }
     }
