@@ -11,6 +11,7 @@ use crate::selector::{self, Field, ParamIndex, Selection};
 use crate::syntax::{Section, Spec};
 use crate::value::{Val, ValKind};
 
+mod actions;
 mod actuators;
 mod added;
 mod commands;
@@ -22,6 +23,7 @@ mod geom_properties;
 mod goal;
 mod joint_properties;
 mod keyframes;
+mod legged;
 mod terrain;
 pub(crate) use commands::command_selection;
 pub use keyframes::ROOT_POSE_KEYS;
