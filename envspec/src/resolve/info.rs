@@ -1,0 +1,195 @@
+//! `[info.*]`: the entries of the step's (and reset's) info dict.
+
+use crate::diagnostic::{Code, Diagnostic, Location, suggest};
+use crate::ir::*;
+
+use super::Ctx;
+
+impl Ctx<'_> {
+    /// The `[info.*]` entries that are switched on, each with the location of its key.
+    /// `off`: the names of the reward terms switched off by `when`.
+    pub(super) fn info(
+        &mut self,
+        terms: &[RewardTerm],
+        off: &[String],
+    ) -> Vec<(InfoItem, Option<Location>)> {
+        let mut out = vec![];
+        for s in &self.spec.info {
+            let enabled = match s.get("when") {
+                Some(w) => self.flag(w, "when").unwrap_or(true),
+                None => true,
+            };
+            let key = match s.get("key") {
+                None => s.name.clone(),
+                Some(v) => match v.as_str() {
+                    Some(k) => k.to_string(),
+                    None => {
+                        self.d.push(v.type_error("key", "an info key (a string)"));
+                        continue;
+                    }
+                },
+            };
+            let key_loc = s
+                .get("key")
+                .map(|v| v.loc.clone())
+                .unwrap_or(s.name_loc.clone());
+            let in_reset = match s.get("in_reset") {
+                Some(v) => self.flag(v, "in_reset").unwrap_or(true),
+                None => true,
+            };
+            let unweighted = match s.get("unweighted") {
+                Some(v) => self.flag(v, "unweighted").unwrap_or(false),
+                None => false,
+            };
+            let (kind, len, at_reset) = match s.kind("value") {
+                "term" => {
+                    let Some(v) = s.get("term") else { continue };
+                    let Some(name) = v.as_str() else {
+                        self.d
+                            .push(v.type_error("term", "the name of a reward term"));
+                        continue;
+                    };
+                    match terms.iter().position(|t| t.name == name) {
+                        Some(i) => (InfoKind::Term(i), 1, false),
+                        None => {
+                            let declared = self.spec.reward.iter().any(|r| r.name == name);
+                            if !declared {
+                                self.d.push(
+                                    Diagnostic::new(
+                                        Code::E0502,
+                                        format!("[info.{}] reports `{name}`, which is not a reward term", s.name),
+                                    )
+                                    .at(v.loc.clone())
+                                    .label("expected the name of a [reward.<name>] table")
+                                    .help_opt(suggest(
+                                        name,
+                                        self.spec.reward.iter().map(|r| r.name.as_str()),
+                                    )),
+                                );
+                            } else if enabled && off.iter().any(|o| o == name) {
+                                self.d.push(
+                                    Diagnostic::new(
+                                        Code::E0502,
+                                        format!(
+                                            "[info.{}] reports reward term `{name}`, which its `when` switches off",
+                                            s.name
+                                        ),
+                                    )
+                                    .at(v.loc.clone())
+                                    .label("expected a term that is switched on whenever this entry is (give the entry the same `when`)"),
+                                );
+                            }
+                            // A declared term that failed to resolve was reported where it failed.
+                            continue;
+                        }
+                    }
+                }
+                "goal_reached" => {
+                    let what = format!("[info.{}]", s.name);
+                    let Some(c) = self.goal_check(s, &what, GoalNorm::Blas) else {
+                        continue;
+                    };
+                    (InfoKind::GoalReached(c), 1, in_reset)
+                }
+                "goals_reached" => {
+                    let what = format!("[info.{}]", s.name);
+                    let Some(cs) = self.goal_checks(s, &what, GoalNorm::Blas) else {
+                        continue;
+                    };
+                    (InfoKind::GoalsReached(cs), 1, in_reset)
+                }
+                "condition" => {
+                    let what = format!("[info.{}] condition", s.name);
+                    // A missing `condition` is reported by the syntax check.
+                    let Some(v) = s.get("condition") else {
+                        continue;
+                    };
+                    let Some(cs) = self.conditions(v, &what) else {
+                        continue;
+                    };
+                    (InfoKind::Condition(cs), 1, in_reset)
+                }
+                kind => {
+                    let Some(source) = self.sel_key(s, "source") else {
+                        continue;
+                    };
+                    let len = source.len();
+                    match kind {
+                        "value" => {
+                            let minus = self.sel_key(s, "minus").filter(|m| {
+                                self.same_len(
+                                    &source,
+                                    m,
+                                    &s.get("minus").expect("`minus` was read just above").loc,
+                                )
+                            });
+                            (InfoKind::Value { source, minus }, len, in_reset)
+                        }
+                        "norm" => (InfoKind::Norm { source }, 1, in_reset),
+                        "velocity" => {
+                            if !self.scalar(
+                                &source,
+                                &s.get("source").expect("`source` was read just above").loc,
+                                "a velocity",
+                            ) {
+                                continue;
+                            }
+                            (InfoKind::Velocity { source }, 1, false)
+                        }
+                        _ => continue,
+                    }
+                }
+            };
+            if !enabled {
+                continue;
+            }
+            let (float32, boolean) = match s.get("dtype") {
+                None => (false, false),
+                Some(v) => {
+                    match v.as_str() {
+                        Some("float32") => (true, false),
+                        Some("float64") => (false, false),
+                        Some("bool") => (false, true),
+                        _ => {
+                            self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown info `dtype`")
+                                .at(v.loc.clone())
+                                .label("expected \"float64\" (the default), \"float32\" or \"bool\""),
+                        );
+                            (false, false)
+                        }
+                    }
+                }
+            };
+            out.push((
+                InfoItem {
+                    key,
+                    doc: s.doc(),
+                    kind,
+                    len,
+                    at_reset,
+                    unweighted,
+                    float32,
+                    boolean,
+                },
+                Some(key_loc),
+            ));
+        }
+        out
+    }
+
+    pub(super) fn check_info_keys(&mut self, info: &[(InfoItem, Option<Location>)]) {
+        for (i, (item, loc)) in info.iter().enumerate() {
+            if info[..i].iter().any(|(o, _)| o.key == item.key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0106,
+                        format!("info key `{}` is defined twice", item.key),
+                    )
+                    .at_opt(loc.clone())
+                    .label("expected unique info keys (among the entries switched on)"),
+                );
+            }
+        }
+    }
+}
