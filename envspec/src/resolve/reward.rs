@@ -44,41 +44,7 @@ impl Ctx<'_> {
                 Some(w) => self.flag(w, "when").unwrap_or(true),
                 None => true,
             };
-            let before = match s.get("at") {
-                None => false,
-                Some(v) => match v.as_str() {
-                    Some("after") => false,
-                    Some("before")
-                        if matches!(
-                            s.kind(""),
-                            "velocity" | "healthy" | "feet_air_time" | "feet_slip"
-                        ) =>
-                    {
-                        self.d.push(
-                            Diagnostic::new(
-                                Code::E0104,
-                                format!(
-                                    "a `{}` term cannot be evaluated before the step",
-                                    s.kind("")
-                                ),
-                            )
-                            .at(v.loc.clone())
-                            .label("expected \"after\" (velocity, healthy and feet terms need the post-step state)"),
-                        );
-                        false
-                    }
-                    Some("before") => true,
-                    _ => {
-                        self.d.push(
-                            Diagnostic::new(Code::E0104, "unknown `at`")
-                                .at(v.loc.clone())
-                                .label("expected \"after\" (the post-step state) or \"before\" (the state before the action)")
-                                .help_opt(v.as_str().and_then(|x| suggest(x, ["after", "before"]))),
-                        );
-                        false
-                    }
-                },
-            };
+            let before = self.term_at(s);
             let paid_when_unhealthy = match s.get("paid_when_unhealthy") {
                 Some(v) => self.flag(v, "paid_when_unhealthy").unwrap_or(false),
                 None => false,
@@ -91,110 +57,8 @@ impl Ctx<'_> {
                 Some(v) => self.flag(v, "cost").unwrap_or(false),
                 None => false,
             };
-            let info = match s.get("info") {
-                Some(v) => match v.as_str() {
-                    Some(k) => Some(k.to_string()),
-                    None => {
-                        self.d.push(v.type_error("info", "a key name"));
-                        None
-                    }
-                },
-                None => None,
-            };
-            let kind = match s.kind("") {
-                "velocity" => self.need_sel(s, "source").and_then(|src| {
-                    self.scalar(
-                        &src,
-                        &s.get("source").expect("`source` was read just above").loc,
-                        "a velocity",
-                    )
-                    .then_some(TermKind::Velocity { source: src })
-                }),
-                "healthy" => Some(TermKind::Healthy),
-                "sum_squares" => self
-                    .need_sel(s, "source")
-                    .map(|source| TermKind::SumSquares {
-                        source,
-                        clip_input: s
-                            .get("clip_input")
-                            .and_then(|v| self.range(v, "clip_input")),
-                        clip: s.get("clip").and_then(|v| self.range(v, "clip")),
-                    }),
-                "norm" => self.need_sel(s, "source").map(|source| {
-                    let minus = self.sel_key(s, "minus").filter(|m| {
-                        self.same_len(
-                            &source,
-                            m,
-                            &s.get("minus").expect("`minus` was read just above").loc,
-                        )
-                    });
-                    TermKind::Norm { source, minus }
-                }),
-                "quadratic" => self.need_sel(s, "source").and_then(|source| {
-                    let n = source.len();
-                    let coefs = self.num_list(s, "coefs", n, 1.0)?;
-                    let targets = self.num_list(s, "targets", n, 0.0)?;
-                    Some(TermKind::Quadratic {
-                        source,
-                        coefs,
-                        targets,
-                    })
-                }),
-                "value" => self.need_sel(s, "source").and_then(|source| {
-                    if !self.scalar(
-                        &source,
-                        &s.get("source").expect("`source` was read just above").loc,
-                        "a value term",
-                    ) {
-                        return None;
-                    }
-                    let divide_by = match s.get("divide_by") {
-                        None => None,
-                        Some(v) => match v.as_str() {
-                            Some("timestep") => Some(Divisor::Timestep),
-                            Some("dt") => Some(Divisor::Dt),
-                            _ => {
-                                self.d.push(
-                                    Diagnostic::new(Code::E0104, "unknown divisor")
-                                        .at(v.loc.clone())
-                                        .label("expected \"timestep\" or \"dt\""),
-                                );
-                                None
-                            }
-                        },
-                    };
-                    Some(TermKind::Value { source, divide_by })
-                }),
-                "constant" => Some(TermKind::Constant),
-                "weighted_square" => self.need_sel(s, "source").and_then(|source| {
-                    let loc = &s.get("source").expect("`source` was read just above").loc;
-                    if !self.scalar(&source, loc, "a weighted_square term") {
-                        return None;
-                    }
-                    let target = match s.get("target") {
-                        Some(v) => self.num(v, "target")?,
-                        None => 0.0,
-                    };
-                    Some(TermKind::WeightedSquare { source, target })
-                }),
-                "goal_sparse" => self
-                    .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
-                    .map(TermKind::GoalSparse),
-                "goal_dense" => self
-                    .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
-                    .map(TermKind::GoalDense),
-                "goal_missed" => self
-                    .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
-                    .map(TermKind::GoalMissed),
-                "goal_distance" => self
-                    .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
-                    .map(TermKind::GoalDistance),
-                "goals_missed" => self
-                    .goal_checks(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
-                    .map(TermKind::GoalsMissed),
-                k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
-                _ => None, // reported by the syntax check
-            };
+            let info = self.term_info_key(s);
+            let kind = self.term_kind(s);
             let only_if = match s.get("only_if") {
                 Some(v) => self
                     .conditions(v, &format!("[reward.{}] only_if", s.name))
@@ -226,6 +90,162 @@ impl Ctx<'_> {
             }
         }
         out
+    }
+
+    /// A term's `at`: "before" (true: the state before the action) or "after" (the default),
+    /// which the kinds that need the post-step state refuse.
+    fn term_at(&mut self, s: &Section) -> bool {
+        match s.get("at") {
+            None => false,
+            Some(v) => match v.as_str() {
+                Some("after") => false,
+                Some("before")
+                    if matches!(
+                        s.kind(""),
+                        "velocity" | "healthy" | "feet_air_time" | "feet_slip"
+                    ) =>
+                {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!(
+                                "a `{}` term cannot be evaluated before the step",
+                                s.kind("")
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected \"after\" (velocity, healthy and feet terms need the post-step state)"),
+                    );
+                    false
+                }
+                Some("before") => true,
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, "unknown `at`")
+                            .at(v.loc.clone())
+                            .label("expected \"after\" (the post-step state) or \"before\" (the state before the action)")
+                            .help_opt(v.as_str().and_then(|x| suggest(x, ["after", "before"]))),
+                    );
+                    false
+                }
+            },
+        }
+    }
+
+    /// A term's `info`: the info key that reports it.
+    fn term_info_key(&mut self, s: &Section) -> Option<String> {
+        match s.get("info") {
+            Some(v) => match v.as_str() {
+                Some(k) => Some(k.to_string()),
+                None => {
+                    self.d.push(v.type_error("info", "a key name"));
+                    None
+                }
+            },
+            None => None,
+        }
+    }
+
+    /// What a term computes, by its `kind` (None: the term has an error, reported).
+    fn term_kind(&mut self, s: &Section) -> Option<TermKind> {
+        match s.kind("") {
+            "velocity" => self.need_sel(s, "source").and_then(|src| {
+                self.scalar(
+                    &src,
+                    &s.get("source").expect("`source` was read just above").loc,
+                    "a velocity",
+                )
+                .then_some(TermKind::Velocity { source: src })
+            }),
+            "healthy" => Some(TermKind::Healthy),
+            "sum_squares" => self
+                .need_sel(s, "source")
+                .map(|source| TermKind::SumSquares {
+                    source,
+                    clip_input: s
+                        .get("clip_input")
+                        .and_then(|v| self.range(v, "clip_input")),
+                    clip: s.get("clip").and_then(|v| self.range(v, "clip")),
+                }),
+            "norm" => self.need_sel(s, "source").map(|source| {
+                let minus = self.sel_key(s, "minus").filter(|m| {
+                    self.same_len(
+                        &source,
+                        m,
+                        &s.get("minus").expect("`minus` was read just above").loc,
+                    )
+                });
+                TermKind::Norm { source, minus }
+            }),
+            "quadratic" => self.need_sel(s, "source").and_then(|source| {
+                let n = source.len();
+                let coefs = self.num_list(s, "coefs", n, 1.0)?;
+                let targets = self.num_list(s, "targets", n, 0.0)?;
+                Some(TermKind::Quadratic {
+                    source,
+                    coefs,
+                    targets,
+                })
+            }),
+            "value" => self.value_term(s),
+            "constant" => Some(TermKind::Constant),
+            "weighted_square" => self.need_sel(s, "source").and_then(|source| {
+                let loc = &s.get("source").expect("`source` was read just above").loc;
+                if !self.scalar(&source, loc, "a weighted_square term") {
+                    return None;
+                }
+                let target = match s.get("target") {
+                    Some(v) => self.num(v, "target")?,
+                    None => 0.0,
+                };
+                Some(TermKind::WeightedSquare { source, target })
+            }),
+            "goal_sparse" => self
+                .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                .map(TermKind::GoalSparse),
+            "goal_dense" => self
+                .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                .map(TermKind::GoalDense),
+            "goal_missed" => self
+                .goal_check(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                .map(TermKind::GoalMissed),
+            "goal_distance" => self
+                .goal_distance(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                .map(TermKind::GoalDistance),
+            "goals_missed" => self
+                .goal_checks(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
+                .map(TermKind::GoalsMissed),
+            k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
+            _ => None, // reported by the syntax check
+        }
+    }
+
+    /// `kind = "value"`: one selected number, optionally divided by the timestep or `dt`.
+    fn value_term(&mut self, s: &Section) -> Option<TermKind> {
+        let source = self.need_sel(s, "source")?;
+        if !self.scalar(
+            &source,
+            &s.get("source").expect("`source` was read just above").loc,
+            "a value term",
+        ) {
+            return None;
+        }
+        let divide_by = match s.get("divide_by") {
+            None => None,
+            Some(v) => match v.as_str() {
+                Some("timestep") => Some(Divisor::Timestep),
+                Some("dt") => Some(Divisor::Dt),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, "unknown divisor")
+                            .at(v.loc.clone())
+                            .label("expected \"timestep\" or \"dt\""),
+                    );
+                    None
+                }
+            },
+        };
+        Some(TermKind::Value { source, divide_by })
     }
 
     pub(super) fn need_sel(&mut self, s: &Section, key: &str) -> Option<Selection> {
@@ -303,12 +323,7 @@ impl Ctx<'_> {
         node
     }
 
-    fn sum_node(
-        &mut self,
-        v: &Val,
-        terms: &[RewardTerm],
-        used: &mut [usize],
-    ) -> Option<SumNode> {
+    fn sum_node(&mut self, v: &Val, terms: &[RewardTerm], used: &mut [usize]) -> Option<SumNode> {
         match &v.kind {
             ValKind::Str(name) => match terms.iter().position(|t| &t.name == name) {
                 Some(i) => {
