@@ -426,11 +426,11 @@ fn camera_key(e: &Entry, d: &mut Diagnostics) -> Option<CameraKey> {
     }
 }
 
+/// `(index, on)` pairs in the order written: mjtVisFlag numbers, or geom groups.
+type Switches = Vec<(usize, bool)>;
+
 /// `visual_options`: mjtVisFlag switches, and `geomgroup_N` switches, each in the order written.
-fn visual_options(
-    params: &[Param],
-    d: &mut Diagnostics,
-) -> (Vec<(usize, bool)>, Vec<(usize, bool)>) {
+fn visual_options(params: &[Param], d: &mut Diagnostics) -> (Switches, Switches) {
     let mut visual_options = vec![];
     let mut geom_groups = vec![];
     if let Some(p) = param(params, "visual_options")
