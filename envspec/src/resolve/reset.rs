@@ -149,167 +149,199 @@ impl Ctx<'_> {
                 out.extend(self.settle(s));
                 continue;
             }
-            let enabled = match s.get("when") {
-                Some(w) => self.flag(w, "when").unwrap_or(true),
-                None => true,
-            };
-            let Some(target) = self.sel_key(s, "target") else {
-                continue;
-            };
-            if !matches!(
-                target.field,
-                Field::Qpos | Field::Qvel | Field::Goal | Field::MocapPos | Field::MocapQuat
-            ) {
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0107,
-                        format!(
-                            "reset target `{}` is not qpos, qvel, goal, mocap_pos or mocap_quat",
-                            target.text
-                        ),
-                    )
-                    .at(s
-                        .get("target")
-                        .expect("`target` was read just above")
-                        .loc
-                        .clone())
-                    .label("expected a selection of qpos, qvel, goal, mocap_pos or mocap_quat"),
-                );
-                continue;
+            out.extend(self.drawn_reset(s));
+        }
+        out
+    }
+
+    /// A reset step that draws its target; None when `when` switches it off, or when it has an
+    /// error (reported).
+    fn drawn_reset(&mut self, s: &Section) -> Option<ResetStep> {
+        let enabled = match s.get("when") {
+            Some(w) => self.flag(w, "when").unwrap_or(true),
+            None => true,
+        };
+        let target = self.reset_target(s)?;
+        let n = target.len();
+        let kind = s.kind("");
+        let dist = self.reset_dist(s, kind, n)?;
+        if self.draw_too_large(s, &dist) || self.empty_uniform(s, &dist, n) {
+            return None;
+        }
+        let set = self.reset_mode(s, kind);
+        let (around, probability) = self.reset_placement(s, n);
+        let resample_until = s
+            .get("resample_until")
+            .and_then(|v| self.resample_until(s, v, &dist, n));
+        if !enabled {
+            return None;
+        }
+        Some(ResetStep {
+            name: s.name.clone(),
+            doc: s.doc(),
+            target,
+            dist,
+            set,
+            resample_until,
+            around,
+            probability,
+        })
+    }
+
+    /// A reset step's `target`: a selection of qpos, qvel, goal, mocap_pos or mocap_quat (E0107
+    /// otherwise).
+    fn reset_target(&mut self, s: &Section) -> Option<Selection> {
+        let target = self.sel_key(s, "target")?;
+        if !matches!(
+            target.field,
+            Field::Qpos | Field::Qvel | Field::Goal | Field::MocapPos | Field::MocapQuat
+        ) {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0107,
+                    format!(
+                        "reset target `{}` is not qpos, qvel, goal, mocap_pos or mocap_quat",
+                        target.text
+                    ),
+                )
+                .at(s
+                    .get("target")
+                    .expect("`target` was read just above")
+                    .loc
+                    .clone())
+                .label("expected a selection of qpos, qvel, goal, mocap_pos or mocap_quat"),
+            );
+            return None;
+        }
+        Some(target)
+    }
+
+    /// E0110 when a draw can be beyond `limits::MAX_COORDINATE`; true when reported.
+    fn draw_too_large(&mut self, s: &Section, dist: &Distribution) -> bool {
+        let widest = match dist {
+            Distribution::Uniform { low, high } => {
+                low.iter().chain(high).fold(0.0, |m: f64, x| m.max(x.abs()))
             }
-            let n = target.len();
-            let kind = s.kind("");
-            let Some(dist) = self.reset_dist(s, kind, n) else {
-                continue;
-            };
-            let widest = match &dist {
-                Distribution::Uniform { low, high } => {
-                    low.iter().chain(high).fold(0.0, |m: f64, x| m.max(x.abs()))
-                }
-                Distribution::Normal { scale } => scale.abs(),
-                Distribution::Constant { value } => value.abs(),
-                Distribution::Values { values } => {
-                    values.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
-                }
-                Distribution::Meet(m) => m
-                    .offset
-                    .iter()
-                    .fold(m.scale.abs() + m.gap.abs(), |a, x| a.max(x.abs())),
-                Distribution::Keyframe { .. }
-                | Distribution::RootPose { .. }
-                | Distribution::Rotation(_)
-                | Distribution::UnitQuaternion
-                | Distribution::Settle(_)
-                | Distribution::TerrainOrigin { .. } => 0.0,
-            };
-            if widest > limits::MAX_COORDINATE {
-                let at = ["scale", "low", "high", "value"]
-                    .iter()
-                    .find_map(|k| s.get(k))
+            Distribution::Normal { scale } => scale.abs(),
+            Distribution::Constant { value } => value.abs(),
+            Distribution::Values { values } => values.iter().fold(0.0, |m: f64, x| m.max(x.abs())),
+            Distribution::Meet(m) => m
+                .offset
+                .iter()
+                .fold(m.scale.abs() + m.gap.abs(), |a, x| a.max(x.abs())),
+            Distribution::Keyframe { .. }
+            | Distribution::RootPose { .. }
+            | Distribution::Rotation(_)
+            | Distribution::UnitQuaternion
+            | Distribution::Settle(_)
+            | Distribution::TerrainOrigin { .. } => 0.0,
+        };
+        if widest > limits::MAX_COORDINATE {
+            let at = ["scale", "low", "high", "value"]
+                .iter()
+                .find_map(|k| s.get(k))
+                .map(|v| v.loc.clone())
+                .unwrap_or(s.name_loc.clone());
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0110,
+                    format!("[reset.{}]: a draw as large as {widest:e} is beyond envc's limit of {:e}", s.name, limits::MAX_COORDINATE),
+                )
+                .at(at)
+                .label("expected a distribution within ±1e6")
+                .help("MuJoCo takes seconds per step from such a state, or resets it; see docs/limits.md"),
+            );
+            return true;
+        }
+        false
+    }
+
+    /// E0105 when a uniform's bounds are empty or infinite; true when reported.
+    fn empty_uniform(&mut self, s: &Section, dist: &Distribution, n: usize) -> bool {
+        if let Distribution::Uniform { low, high } = dist {
+            // numpy refuses these (and so would reset); report them with the spec's location.
+            if let Some(i) = (0..n).find(|&i| {
+                low[i].partial_cmp(&high[i]).is_none_or(|o| o.is_gt())
+                    || !(high[i] - low[i]).is_finite()
+            }) {
+                let at = s
+                    .get("scale")
+                    .or(s.get("low"))
                     .map(|v| v.loc.clone())
                     .unwrap_or(s.name_loc.clone());
                 self.d.push(
                     Diagnostic::new(
-                        Code::E0110,
-                        format!("[reset.{}]: a draw as large as {widest:e} is beyond envc's limit of {:e}", s.name, limits::MAX_COORDINATE),
+                        Code::E0105,
+                        format!(
+                            "[reset.{}]: uniform bounds [{}, {}) are empty or infinite",
+                            s.name, low[i], high[i]
+                        ),
                     )
                     .at(at)
-                    .label("expected a distribution within ±1e6")
-                    .help("MuJoCo takes seconds per step from such a state, or resets it; see docs/limits.md"),
+                    .label("expected low <= high with a finite width (scale >= 0)"),
                 );
-                continue;
+                return true;
             }
-            if let Distribution::Uniform { low, high } = &dist {
-                // numpy refuses these (and so would reset); report them with the spec's location.
-                if let Some(i) = (0..n).find(|&i| {
-                    low[i].partial_cmp(&high[i]).is_none_or(|o| o.is_gt())
-                        || !(high[i] - low[i]).is_finite()
-                }) {
-                    let at = s
-                        .get("scale")
-                        .or(s.get("low"))
-                        .map(|v| v.loc.clone())
-                        .unwrap_or(s.name_loc.clone());
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0105,
-                            format!(
-                                "[reset.{}]: uniform bounds [{}, {}) are empty or infinite",
-                                s.name, low[i], high[i]
-                            ),
-                        )
-                        .at(at)
-                        .label("expected low <= high with a finite width (scale >= 0)"),
-                    );
-                    continue;
-                }
-            }
-            let set = match s.get("mode") {
-                None => kind == "constant",
-                Some(m) => {
-                    match m.as_str() {
-                        Some("add") => false,
-                        Some("set") => true,
-                        _ => {
-                            self.d.push(
-                            Diagnostic::new(Code::E0104, "unknown reset mode")
-                                .at(m.loc.clone())
-                                .label("expected \"add\" (initial value + draw) or \"set\" (the draw)"),
-                        );
-                            false
-                        }
-                    }
-                }
-            };
-            let (around, probability) = self.reset_placement(s, n);
-            let resample_until = s.get("resample_until").and_then(|v| {
-                let until = self.until(v)?;
-                if matches!(until, Until::MinDistance(_)) && s.get("around").is_none() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0170,
-                            format!("[reset.{}]: min_distance needs `around`", s.name),
-                        )
-                        .at(v.loc.clone())
-                        .label("min_distance is measured from the `around` point")
-                        .help("add around = \"<record>\" (an `[init] record`)"),
-                    );
-                    return None;
-                }
-                match unmet(&dist, n, until) {
-                    None => Some(until),
-                    Some(why) => {
-                        self.d.push(
-                            Diagnostic::new(
-                                Code::E0110,
-                                format!(
-                                    "[reset.{}]: resample_until can never be met: {why}",
-                                    s.name
-                                ),
-                            )
-                            .at(v.loc.clone())
-                            .label("expected a condition some draw of the distribution meets")
-                            .help("the reference would redraw for ever at reset"),
-                        );
-                        None
-                    }
-                }
-            });
-            if !enabled {
-                continue;
-            }
-            out.push(ResetStep {
-                name: s.name.clone(),
-                doc: s.doc(),
-                target,
-                dist,
-                set,
-                resample_until,
-                around,
-                probability,
-            });
         }
-        out
+        false
+    }
+
+    /// A reset step's `mode`: "set" (true: the draw is the value) or "add" (the draw is added to
+    /// the initial value); a constant sets by default, the others add.
+    fn reset_mode(&mut self, s: &Section, kind: &str) -> bool {
+        match s.get("mode") {
+            None => kind == "constant",
+            Some(m) => match m.as_str() {
+                Some("add") => false,
+                Some("set") => true,
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, "unknown reset mode")
+                            .at(m.loc.clone())
+                            .label("expected \"add\" (initial value + draw) or \"set\" (the draw)"),
+                    );
+                    false
+                }
+            },
+        }
+    }
+
+    /// A reset step's `resample_until` (read from `v`): a condition some draw of `dist` can meet.
+    fn resample_until(
+        &mut self,
+        s: &Section,
+        v: &Val,
+        dist: &Distribution,
+        n: usize,
+    ) -> Option<Until> {
+        let until = self.until(v)?;
+        if matches!(until, Until::MinDistance(_)) && s.get("around").is_none() {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0170,
+                    format!("[reset.{}]: min_distance needs `around`", s.name),
+                )
+                .at(v.loc.clone())
+                .label("min_distance is measured from the `around` point")
+                .help("add around = \"<record>\" (an `[init] record`)"),
+            );
+            return None;
+        }
+        match unmet(dist, n, until) {
+            None => Some(until),
+            Some(why) => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0110,
+                        format!("[reset.{}]: resample_until can never be met: {why}", s.name),
+                    )
+                    .at(v.loc.clone())
+                    .label("expected a condition some draw of the distribution meets")
+                    .help("the reference would redraw for ever at reset"),
+                );
+                None
+            }
+        }
     }
 
     /// The distribution of a `uniform`, `normal` or `constant` reset step of `n` elements.
