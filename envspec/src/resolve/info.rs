@@ -1,7 +1,6 @@
-//! `[info.*]`: the entries of the step's (and reset's) info dict.
-
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
 use crate::ir::*;
+use crate::syntax::Section;
 
 use super::Ctx;
 
@@ -41,126 +40,14 @@ impl Ctx<'_> {
                 Some(v) => self.flag(v, "unweighted").unwrap_or(false),
                 None => false,
             };
-            let (kind, len, at_reset) = match s.kind("value") {
-                "term" => {
-                    let Some(v) = s.get("term") else { continue };
-                    let Some(name) = v.as_str() else {
-                        self.d
-                            .push(v.type_error("term", "the name of a reward term"));
-                        continue;
-                    };
-                    match terms.iter().position(|t| t.name == name) {
-                        Some(i) => (InfoKind::Term(i), 1, false),
-                        None => {
-                            let declared = self.spec.reward.iter().any(|r| r.name == name);
-                            if !declared {
-                                self.d.push(
-                                    Diagnostic::new(
-                                        Code::E0502,
-                                        format!("[info.{}] reports `{name}`, which is not a reward term", s.name),
-                                    )
-                                    .at(v.loc.clone())
-                                    .label("expected the name of a [reward.<name>] table")
-                                    .help_opt(suggest(
-                                        name,
-                                        self.spec.reward.iter().map(|r| r.name.as_str()),
-                                    )),
-                                );
-                            } else if enabled && off.iter().any(|o| o == name) {
-                                self.d.push(
-                                    Diagnostic::new(
-                                        Code::E0502,
-                                        format!(
-                                            "[info.{}] reports reward term `{name}`, which its `when` switches off",
-                                            s.name
-                                        ),
-                                    )
-                                    .at(v.loc.clone())
-                                    .label("expected a term that is switched on whenever this entry is (give the entry the same `when`)"),
-                                );
-                            }
-                            // A declared term that failed to resolve was reported where it failed.
-                            continue;
-                        }
-                    }
-                }
-                "goal_reached" => {
-                    let what = format!("[info.{}]", s.name);
-                    let Some(c) = self.goal_check(s, &what, GoalNorm::Blas) else {
-                        continue;
-                    };
-                    (InfoKind::GoalReached(c), 1, in_reset)
-                }
-                "goals_reached" => {
-                    let what = format!("[info.{}]", s.name);
-                    let Some(cs) = self.goal_checks(s, &what, GoalNorm::Blas) else {
-                        continue;
-                    };
-                    (InfoKind::GoalsReached(cs), 1, in_reset)
-                }
-                "condition" => {
-                    let what = format!("[info.{}] condition", s.name);
-                    // A missing `condition` is reported by the syntax check.
-                    let Some(v) = s.get("condition") else {
-                        continue;
-                    };
-                    let Some(cs) = self.conditions(v, &what) else {
-                        continue;
-                    };
-                    (InfoKind::Condition(cs), 1, in_reset)
-                }
-                kind => {
-                    let Some(source) = self.sel_key(s, "source") else {
-                        continue;
-                    };
-                    let len = source.len();
-                    match kind {
-                        "value" => {
-                            let minus = self.sel_key(s, "minus").filter(|m| {
-                                self.same_len(
-                                    &source,
-                                    m,
-                                    &s.get("minus").expect("`minus` was read just above").loc,
-                                )
-                            });
-                            (InfoKind::Value { source, minus }, len, in_reset)
-                        }
-                        "norm" => (InfoKind::Norm { source }, 1, in_reset),
-                        "velocity" => {
-                            if !self.scalar(
-                                &source,
-                                &s.get("source").expect("`source` was read just above").loc,
-                                "a velocity",
-                            ) {
-                                continue;
-                            }
-                            (InfoKind::Velocity { source }, 1, false)
-                        }
-                        _ => continue,
-                    }
-                }
+            let Some((kind, len, at_reset)) = self.info_kind(s, terms, off, enabled, in_reset)
+            else {
+                continue;
             };
             if !enabled {
                 continue;
             }
-            let (float32, boolean) = match s.get("dtype") {
-                None => (false, false),
-                Some(v) => {
-                    match v.as_str() {
-                        Some("float32") => (true, false),
-                        Some("float64") => (false, false),
-                        Some("bool") => (false, true),
-                        _ => {
-                            self.d.push(
-                            Diagnostic::new(Code::E0104, "unknown info `dtype`")
-                                .at(v.loc.clone())
-                                .label("expected \"float64\" (the default), \"float32\" or \"bool\""),
-                        );
-                            (false, false)
-                        }
-                    }
-                }
-            };
+            let (float32, boolean) = self.info_dtype(s);
             out.push((
                 InfoItem {
                     key,
@@ -176,6 +63,147 @@ impl Ctx<'_> {
             ));
         }
         out
+    }
+
+    /// What an entry reports, its length, and whether the reset's info has it too (None: an
+    /// error, reported here or by the syntax check).
+    fn info_kind(
+        &mut self,
+        s: &Section,
+        terms: &[RewardTerm],
+        off: &[String],
+        enabled: bool,
+        in_reset: bool,
+    ) -> Option<(InfoKind, usize, bool)> {
+        Some(match s.kind("value") {
+            "term" => (self.term_info(s, terms, off, enabled)?, 1, false),
+            "goal_reached" => {
+                let what = format!("[info.{}]", s.name);
+                let c = self.goal_check(s, &what, GoalNorm::Blas)?;
+                (InfoKind::GoalReached(c), 1, in_reset)
+            }
+            "goals_reached" => {
+                let what = format!("[info.{}]", s.name);
+                let cs = self.goal_checks(s, &what, GoalNorm::Blas)?;
+                (InfoKind::GoalsReached(cs), 1, in_reset)
+            }
+            "condition" => {
+                let what = format!("[info.{}] condition", s.name);
+                // A missing `condition` is reported by the syntax check.
+                let v = s.get("condition")?;
+                let cs = self.conditions(v, &what)?;
+                (InfoKind::Condition(cs), 1, in_reset)
+            }
+            kind => return self.source_info(s, kind, in_reset),
+        })
+    }
+
+    /// `kind = "term"`: a reward term by name, which must be switched on whenever the entry is.
+    fn term_info(
+        &mut self,
+        s: &Section,
+        terms: &[RewardTerm],
+        off: &[String],
+        enabled: bool,
+    ) -> Option<InfoKind> {
+        let v = s.get("term")?;
+        let Some(name) = v.as_str() else {
+            self.d
+                .push(v.type_error("term", "the name of a reward term"));
+            return None;
+        };
+        match terms.iter().position(|t| t.name == name) {
+            Some(i) => Some(InfoKind::Term(i)),
+            None => {
+                let declared = self.spec.reward.iter().any(|r| r.name == name);
+                if !declared {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0502,
+                            format!(
+                                "[info.{}] reports `{name}`, which is not a reward term",
+                                s.name
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected the name of a [reward.<name>] table")
+                        .help_opt(suggest(
+                            name,
+                            self.spec.reward.iter().map(|r| r.name.as_str()),
+                        )),
+                    );
+                } else if enabled && off.iter().any(|o| o == name) {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0502,
+                            format!(
+                                "[info.{}] reports reward term `{name}`, which its `when` switches off",
+                                s.name
+                            ),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected a term that is switched on whenever this entry is (give the entry the same `when`)"),
+                    );
+                }
+                // A declared term that failed to resolve was reported where it failed.
+                None
+            }
+        }
+    }
+
+    /// An entry that reads a selection: `value` (optionally `minus` another), `norm`, `velocity`.
+    fn source_info(
+        &mut self,
+        s: &Section,
+        kind: &str,
+        in_reset: bool,
+    ) -> Option<(InfoKind, usize, bool)> {
+        let source = self.sel_key(s, "source")?;
+        let len = source.len();
+        Some(match kind {
+            "value" => {
+                let minus = self.sel_key(s, "minus").filter(|m| {
+                    self.same_len(
+                        &source,
+                        m,
+                        &s.get("minus").expect("`minus` was read just above").loc,
+                    )
+                });
+                (InfoKind::Value { source, minus }, len, in_reset)
+            }
+            "norm" => (InfoKind::Norm { source }, 1, in_reset),
+            "velocity" => {
+                if !self.scalar(
+                    &source,
+                    &s.get("source").expect("`source` was read just above").loc,
+                    "a velocity",
+                ) {
+                    return None;
+                }
+                (InfoKind::Velocity { source }, 1, false)
+            }
+            _ => return None,
+        })
+    }
+
+    /// An entry's `dtype` as (float32, bool): "float64" (the default), "float32" or "bool".
+    fn info_dtype(&mut self, s: &Section) -> (bool, bool) {
+        match s.get("dtype") {
+            None => (false, false),
+            Some(v) => match v.as_str() {
+                Some("float32") => (true, false),
+                Some("float64") => (false, false),
+                Some("bool") => (false, true),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, "unknown info `dtype`")
+                            .at(v.loc.clone())
+                            .label("expected \"float64\" (the default), \"float32\" or \"bool\""),
+                    );
+                    (false, false)
+                }
+            },
+        }
     }
 
     pub(super) fn check_info_keys(&mut self, info: &[(InfoItem, Option<Location>)]) {
