@@ -60,92 +60,37 @@ struct Ctx<'a> {
     frame_skip: u32,
 }
 
+impl<'a> Ctx<'a> {
+    fn new(spec: &'a Spec, params: &'a [Param], model: &'a ModelInfo, d: Diagnostics) -> Self {
+        Ctx {
+            spec,
+            params,
+            model,
+            d,
+            goal_dim: None,
+            commands: vec![],
+            derived: vec![],
+            derived_failed: vec![],
+            records: vec![],
+            dt: 0.0,
+            frame_skip: 1,
+        }
+    }
+}
+
 /// Resolve a checked spec with parameter overrides against its model.
 pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diagnostics> {
     let params = resolve_params(spec, overrides)?;
-    let param = |n: &str| params.iter().find(|p| p.name == n);
-
-    let xml = param("xml_file").expect("checked by syntax");
+    let xml = params
+        .iter()
+        .find(|p| p.name == "xml_file")
+        .expect("checked by syntax");
     let (model_path, mut model) = load_model(spec, xml)?;
+    let (model_edits, d) = edit_model(spec, &params, &mut model);
+    let mut cx = Ctx::new(spec, &params, &model, d);
 
-    // `[bodies]` ... add elements to the model, which the other model edits may name (a
-    // `[joint_properties]` row over an added joint): resolve them first.
-    let mut cx = Ctx {
-        spec,
-        params: &params,
-        model: &model,
-        d: Diagnostics::default(),
-        goal_dim: None,
-        commands: vec![],
-        derived: vec![],
-        derived_failed: vec![],
-        records: vec![],
-        dt: 0.0,
-        frame_skip: 1,
-    };
-    let added = cx.added_elements();
-    let d = cx.d;
-    let mut with_added = model.clone();
-    added::apply(&added, &mut with_added);
-    // `[actuators]` / `[physics]` change the model itself: resolve them first.
-    let mut cx = Ctx {
-        spec,
-        params: &params,
-        model: &with_added,
-        d,
-        goal_dim: None,
-        commands: vec![],
-        derived: vec![],
-        derived_failed: vec![],
-        records: vec![],
-        dt: 0.0,
-        frame_skip: 1,
-    };
-    let model_edits = cx.model_edits(added);
-    let d = cx.d;
-    edits::apply(&model_edits, &mut model);
-    let mut cx = Ctx {
-        spec,
-        params: &params,
-        model: &model,
-        d,
-        goal_dim: None,
-        commands: vec![],
-        derived: vec![],
-        derived_failed: vec![],
-        records: vec![],
-        dt: 0.0,
-        frame_skip: 1,
-    };
-
-    let frame_skip = match param("frame_skip").map(|p| &p.value) {
-        Some(ParamValue::Int(n)) if (1..=limits::MAX_FRAME_SKIP).contains(n) => *n as u32,
-        Some(ParamValue::Int(n)) if *n > limits::MAX_FRAME_SKIP => {
-            cx.over_limit("frame_skip", *n, limits::MAX_FRAME_SKIP);
-            1
-        }
-        _ => {
-            cx.d.push(cx.param_error("frame_skip", "frame_skip must be a positive integer"));
-            1
-        }
-    };
-    // 0 means no time limit (the reference's `max_episode_steps=None`).
-    let max_episode_steps = match param("max_episode_steps").map(|p| &p.value) {
-        Some(ParamValue::Int(n)) if *n > limits::MAX_EPISODE_STEPS => {
-            cx.over_limit("max_episode_steps", *n, limits::MAX_EPISODE_STEPS);
-            None
-        }
-        Some(ParamValue::Int(n)) if *n < 0 => {
-            cx.d.push(cx.param_error(
-                "max_episode_steps",
-                "max_episode_steps must be ≥ 0 (0: no time limit)",
-            ));
-            None
-        }
-        Some(ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
-        _ => None,
-    };
-
+    let frame_skip = cx.frame_skip_param();
+    let max_episode_steps = cx.max_episode_steps_param();
     cx.dt = model.timestep * frame_skip as f64;
     cx.frame_skip = frame_skip;
     let commands = cx.commands(model.timestep * frame_skip as f64);
@@ -159,16 +104,7 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let observation = cx.observation();
     let corruption = cx.corruption(&observation);
     let obs_dim = observation.iter().map(Segment::len).sum();
-    let terms = cx.reward_terms();
-    let all_terms: Vec<RewardTerm> = terms.iter().map(|(t, _)| t.clone()).collect();
-    // `sum` names every term, switched on or not; switched-off terms are then pruned from it.
-    let full_sum = cx.reward_sum(&all_terms);
-    let off: Vec<String> = terms
-        .iter()
-        .filter(|(_, on)| !on)
-        .map(|(t, _)| t.name.clone())
-        .collect();
-    let (reward, reward_sum) = reward::prune_terms(terms, full_sum);
+    let (reward, reward_sum, off) = cx.rewards();
     let terminate_when_unhealthy = match &spec.health_terminate {
         Some(v) => cx.flag(v, "health.terminate").unwrap_or(true),
         None => true,
@@ -176,37 +112,12 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let health = cx.health();
     let termination = cx.terminations();
     let reset = cx.reset(model_edits.terrain.as_ref());
-    let mut info = cx.info(&reward, &off);
-    for (i, t) in reward.iter().enumerate() {
-        if let Some(key) = &t.info {
-            let loc = spec
-                .reward
-                .iter()
-                .find(|s| s.name == t.name)
-                .and_then(|s| s.get("info"))
-                .map(|v| v.loc.clone());
-            info.push((
-                InfoItem {
-                    key: key.clone(),
-                    doc: t.doc.clone(),
-                    kind: InfoKind::Term(i),
-                    len: 1,
-                    at_reset: false,
-                    unweighted: false,
-                    float32: false,
-                    boolean: false,
-                },
-                loc,
-            ));
-        }
-    }
-    cx.check_info_keys(&info);
-    let info: Vec<InfoItem> = info.into_iter().map(|(i, _)| i).collect();
+    let info = cx.info_items(&reward, &off);
 
     let events = cx.events();
     let goal_dim = cx.goal_dim.as_ref().map_or(0, |(n, _)| *n);
     let Ctx { d, .. } = cx;
-    let mut resolved = ResolvedSpec {
+    let resolved = ResolvedSpec {
         id: spec.id.clone(),
         description: spec.description.clone(),
         spec_path: spec.path().to_path_buf(),
@@ -240,6 +151,35 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         warnings: vec![],
         manipulation,
     };
+    finish(spec, resolved, d, &params)
+}
+
+/// Apply the spec's model edits to `model`: the edits, and the problems found so far.
+fn edit_model(spec: &Spec, params: &[Param], model: &mut ModelInfo) -> (ModelEdits, Diagnostics) {
+    // `[bodies]` ... add elements to the model, which the other model edits may name (a
+    // `[joint_properties]` row over an added joint): resolve them first.
+    let mut cx = Ctx::new(spec, params, model, Diagnostics::default());
+    let added = cx.added_elements();
+    let d = cx.d;
+    let mut with_added = model.clone();
+    added::apply(&added, &mut with_added);
+    // `[actuators]` / `[physics]` change the model itself: resolve them first.
+    let mut cx = Ctx::new(spec, params, &with_added, d);
+    let model_edits = cx.model_edits(added);
+    let d = cx.d;
+    edits::apply(&model_edits, model);
+    (model_edits, d)
+}
+
+/// The warnings of a resolved spec, whether it needs `mj_rnePostConstraint`, and the check that
+/// a `default_pose` it reads has an `[actions]` table; errors are then blamed on the overrides
+/// they come from.
+fn finish(
+    spec: &Spec,
+    mut resolved: ResolvedSpec,
+    mut d: Diagnostics,
+    params: &[Param],
+) -> Result<ResolvedSpec, Diagnostics> {
     resolved.warnings = pairing::warnings(spec, &resolved);
     resolved.warnings.extend(added::falling(spec, &resolved));
     resolved.warnings.extend(reset::far_draws(spec, &resolved));
@@ -247,7 +187,6 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
         .sources()
         .any(|s| s.field.needs_rne_post_constraint());
     resolved.needs_rne_post_constraint = rne;
-    let mut d = d;
     if spec.actions.is_none() && resolved.reads(Field::DefaultPose) {
         d.push(
             Diagnostic::new(
@@ -258,8 +197,46 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
             .label("expected an [actions] table with default_pose, or another selector"),
         );
     }
-    let d = blame_overrides(d, &params);
+    let d = blame_overrides(d, params);
     d.into_result(resolved)
+}
+
+impl Ctx<'_> {
+    /// `frame_skip`: physics steps per env step, from 1 to `limits::MAX_FRAME_SKIP` (1 when not).
+    fn frame_skip_param(&mut self) -> u32 {
+        match self.param("frame_skip").map(|p| &p.value) {
+            Some(ParamValue::Int(n)) if (1..=limits::MAX_FRAME_SKIP).contains(n) => *n as u32,
+            Some(ParamValue::Int(n)) if *n > limits::MAX_FRAME_SKIP => {
+                self.over_limit("frame_skip", *n, limits::MAX_FRAME_SKIP);
+                1
+            }
+            _ => {
+                self.d
+                    .push(self.param_error("frame_skip", "frame_skip must be a positive integer"));
+                1
+            }
+        }
+    }
+
+    /// `max_episode_steps`: the time limit, None for none.
+    fn max_episode_steps_param(&mut self) -> Option<u64> {
+        // 0 means no time limit (the reference's `max_episode_steps=None`).
+        match self.param("max_episode_steps").map(|p| &p.value) {
+            Some(ParamValue::Int(n)) if *n > limits::MAX_EPISODE_STEPS => {
+                self.over_limit("max_episode_steps", *n, limits::MAX_EPISODE_STEPS);
+                None
+            }
+            Some(ParamValue::Int(n)) if *n < 0 => {
+                self.d.push(self.param_error(
+                    "max_episode_steps",
+                    "max_episode_steps must be ≥ 0 (0: no time limit)",
+                ));
+                None
+            }
+            Some(ParamValue::Int(n)) if *n > 0 => Some(*n as u64),
+            _ => None,
+        }
+    }
 }
 
 /// The model `xml_file` names (`${NAME}` expanded; a relative default against the spec's

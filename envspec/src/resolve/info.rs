@@ -5,13 +5,42 @@ use crate::syntax::Section;
 use super::Ctx;
 
 impl Ctx<'_> {
+    /// The info entries: the `[info.*]` entries that are switched on, then the reward terms'
+    /// `info` keys (E0106 for a key used twice). `off`: the names of the reward terms switched
+    /// off by `when`.
+    pub(super) fn info_items(&mut self, reward: &[RewardTerm], off: &[String]) -> Vec<InfoItem> {
+        let mut info = self.info(reward, off);
+        for (i, t) in reward.iter().enumerate() {
+            if let Some(key) = &t.info {
+                let loc = self
+                    .spec
+                    .reward
+                    .iter()
+                    .find(|s| s.name == t.name)
+                    .and_then(|s| s.get("info"))
+                    .map(|v| v.loc.clone());
+                info.push((
+                    InfoItem {
+                        key: key.clone(),
+                        doc: t.doc.clone(),
+                        kind: InfoKind::Term(i),
+                        len: 1,
+                        at_reset: false,
+                        unweighted: false,
+                        float32: false,
+                        boolean: false,
+                    },
+                    loc,
+                ));
+            }
+        }
+        self.check_info_keys(&info);
+        info.into_iter().map(|(i, _)| i).collect()
+    }
+
     /// The `[info.*]` entries that are switched on, each with the location of its key.
     /// `off`: the names of the reward terms switched off by `when`.
-    pub(super) fn info(
-        &mut self,
-        terms: &[RewardTerm],
-        off: &[String],
-    ) -> Vec<(InfoItem, Option<Location>)> {
+    fn info(&mut self, terms: &[RewardTerm], off: &[String]) -> Vec<(InfoItem, Option<Location>)> {
         let mut out = vec![];
         for s in &self.spec.info {
             let enabled = match s.get("when") {
@@ -206,7 +235,7 @@ impl Ctx<'_> {
         }
     }
 
-    pub(super) fn check_info_keys(&mut self, info: &[(InfoItem, Option<Location>)]) {
+    fn check_info_keys(&mut self, info: &[(InfoItem, Option<Location>)]) {
         for (i, (item, loc)) in info.iter().enumerate() {
             if info[..i].iter().any(|(o, _)| o.key == item.key) {
                 self.d.push(

@@ -10,10 +10,7 @@ use super::Ctx;
 
 /// Drop the terms switched off by `when`: from the term list (renumbering the rest) and from the
 /// sum, where a list left empty disappears from its parent (the top level stays, summing to 0).
-pub(super) fn prune_terms(
-    terms: Vec<(RewardTerm, bool)>,
-    sum: SumNode,
-) -> (Vec<RewardTerm>, SumNode) {
+fn prune_terms(terms: Vec<(RewardTerm, bool)>, sum: SumNode) -> (Vec<RewardTerm>, SumNode) {
     let mut map = Vec::with_capacity(terms.len());
     let mut kept = vec![];
     for (t, on) in terms {
@@ -36,8 +33,24 @@ pub(super) fn prune_terms(
 }
 
 impl Ctx<'_> {
+    /// The reward terms that resolve and are switched on, their sum, and the names of the terms
+    /// `when` switches off.
+    pub(super) fn rewards(&mut self) -> (Vec<RewardTerm>, SumNode, Vec<String>) {
+        let terms = self.reward_terms();
+        let all_terms: Vec<RewardTerm> = terms.iter().map(|(t, _)| t.clone()).collect();
+        // `sum` names every term, switched on or not; switched-off terms are then pruned from it.
+        let full_sum = self.reward_sum(&all_terms);
+        let off: Vec<String> = terms
+            .iter()
+            .filter(|(_, on)| !on)
+            .map(|(t, _)| t.name.clone())
+            .collect();
+        let (reward, reward_sum) = prune_terms(terms, full_sum);
+        (reward, reward_sum, off)
+    }
+
     /// Every term that resolves, with whether its `when` switches it on.
-    pub(super) fn reward_terms(&mut self) -> Vec<(RewardTerm, bool)> {
+    fn reward_terms(&mut self) -> Vec<(RewardTerm, bool)> {
         let mut out = vec![];
         for s in &self.spec.reward {
             let enabled = match s.get("when") {
@@ -298,7 +311,7 @@ impl Ctx<'_> {
         }
     }
 
-    pub(super) fn reward_sum(&mut self, terms: &[RewardTerm]) -> SumNode {
+    fn reward_sum(&mut self, terms: &[RewardTerm]) -> SumNode {
         let Some(v) = self.spec.reward_sum.clone() else {
             return SumNode::Sum((0..terms.len()).map(SumNode::Term).collect());
         };
