@@ -61,6 +61,7 @@ struct Ctx<'a> {
 }
 
 impl<'a> Ctx<'a> {
+    /// A context with nothing resolved yet; `d` holds the problems found before it.
     fn new(spec: &'a Spec, params: &'a [Param], model: &'a ModelInfo, d: Diagnostics) -> Self {
         Ctx {
             spec,
