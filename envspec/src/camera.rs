@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile};
 use crate::params::{Origin, Param, ParamType, ParamValue};
 use crate::syntax::Spec;
-use crate::value::{Val, ValKind, parse_literal};
+use crate::value::{Entry, Val, ValKind, parse_literal};
 
 /// The rendering parameters every task spec has: name, type, default, doc.
 pub const RENDER_PARAMS: &[(&str, ParamType, &str, &str)] = &[
@@ -288,152 +288,9 @@ impl RenderSettings {
         let height = int_param(params, "height", 1, 16384, &mut d) as u32;
         let max_geom = int_param(params, "max_geom", 1, 1 << 24, &mut d) as u32;
         let id = int_param(params, "camera_id", -1, i32::MAX as i64, &mut d);
-        let name = param(params, "camera_name").and_then(|p| match &p.value {
-            ParamValue::Str(s) if !s.is_empty() => Some((s.clone(), p)),
-            _ => None,
-        });
-        let id_param = param(params, "camera_id");
-        let camera = match (id, name) {
-            (-1, None) => None,
-            (-1, Some((n, p))) => Some(Located {
-                value: ObjRef::Name(n),
-                loc: origin_loc(p),
-                param: "camera_name",
-            }),
-            (i, None) => Some(Located {
-                value: ObjRef::Id(i),
-                loc: id_param.and_then(origin_loc),
-                param: "camera_id",
-            }),
-            (_, Some((_, p))) => {
-                // Gymnasium: "Both `camera_id` and `camera_name` cannot be specified at the same time."
-                d.push(
-                    Diagnostic::new(Code::E1505, "both `camera_id` and `camera_name` are set")
-                        .at_opt(origin_loc(p))
-                        .label("expected one of them (camera_id = -1 or camera_name = \"\")"),
-                );
-                None
-            }
-        };
-        let mut camera_config = vec![];
-        if let Some(p) = param(params, "default_camera_config")
-            && let Some(t) = table_of(p, &mut d)
-        {
-            for e in t.as_table().unwrap_or(&[]) {
-                let v = &e.value;
-                let num = |d: &mut Diagnostics| {
-                    v.as_f64().or_else(|| {
-                        d.push(v.type_error(&e.key, "a number").with_code(Code::E1505));
-                        None
-                    })
-                };
-                let key = match e.key.as_str() {
-                    "type" => match &v.kind {
-                        ValKind::Int(i @ 0..=2) => Some(CameraKey::Type(*i as i32)),
-                        ValKind::Str(s) => match s.as_str() {
-                            "free" => Some(CameraKey::Type(0)),
-                            "tracking" => Some(CameraKey::Type(1)),
-                            "fixed" => Some(CameraKey::Type(2)),
-                            _ => None,
-                        },
-                        _ => None,
-                    }
-                    .or_else(|| {
-                        d.push(
-                            Diagnostic::new(Code::E1505, "unknown camera `type`")
-                                .at(v.loc.clone())
-                                .label("expected \"free\", \"tracking\", \"fixed\" or 0, 1, 2"),
-                        );
-                        None
-                    }),
-                    "fixedcamid" => obj_ref(v, "default_camera_config", "fixedcamid", &mut d)
-                        .map(CameraKey::FixedCam),
-                    "trackbodyid" => obj_ref(v, "default_camera_config", "trackbodyid", &mut d)
-                        .map(CameraKey::TrackBody),
-                    "lookat" => match &v.kind {
-                        ValKind::Array(a)
-                            if a.len() == 3 && a.iter().all(|x| x.as_f64().is_some()) =>
-                        {
-                            let x: Vec<f64> = a.iter().filter_map(Val::as_f64).collect();
-                            Some(CameraKey::Lookat([x[0], x[1], x[2]]))
-                        }
-                        _ => {
-                            d.push(
-                                v.type_error("lookat", "an array of 3 numbers")
-                                    .with_code(Code::E1505),
-                            );
-                            None
-                        }
-                    },
-                    "distance" => num(&mut d).map(CameraKey::Distance),
-                    "azimuth" => num(&mut d).map(CameraKey::Azimuth),
-                    "elevation" => num(&mut d).map(CameraKey::Elevation),
-                    "orthographic" => match v.kind {
-                        ValKind::Bool(b) => Some(CameraKey::Orthographic(b as i32)),
-                        ValKind::Int(i) => Some(CameraKey::Orthographic((i != 0) as i32)),
-                        _ => {
-                            d.push(
-                                v.type_error("orthographic", "true or false")
-                                    .with_code(Code::E1505),
-                            );
-                            None
-                        }
-                    },
-                    other => {
-                        d.push(
-                            Diagnostic::new(
-                                Code::E1505,
-                                format!("`{other}` is not a viewer camera attribute"),
-                            )
-                            .at(e.key_loc.clone())
-                            .label(format!("expected one of: {}", CAMERA_KEYS.join(", ")))
-                            .help_opt(crate::diagnostic::suggest(
-                                other,
-                                CAMERA_KEYS.iter().copied(),
-                            )),
-                        );
-                        None
-                    }
-                };
-                camera_config.extend(key);
-            }
-        }
-        let mut visual_options = vec![];
-        let mut geom_groups = vec![];
-        if let Some(p) = param(params, "visual_options")
-            && let Some(t) = table_of(p, &mut d)
-        {
-            for e in t.as_table().unwrap_or(&[]) {
-                let group = e
-                    .key
-                    .strip_prefix("geomgroup_")
-                    .and_then(|g| g.parse::<usize>().ok())
-                    .filter(|&g| g < 6);
-                if let (Some(g), ValKind::Bool(on)) = (group, &e.value.kind) {
-                    geom_groups.push((g, *on));
-                    continue;
-                }
-                let flag = VIS_FLAGS
-                    .iter()
-                    .position(|f| f.eq_ignore_ascii_case(e.key.trim_start_matches("mjVIS_")))
-                    .or_else(|| e.key.parse::<usize>().ok().filter(|&i| i < VIS_FLAGS.len()));
-                let on = match e.value.kind {
-                    ValKind::Bool(b) => Some(b),
-                    ValKind::Int(i) => Some(i != 0),
-                    _ => None,
-                };
-                match (flag, on) {
-                    (Some(f), Some(on)) => visual_options.push((f, on)),
-                    (None, _) => d.push(
-                        Diagnostic::new(Code::E1505, format!("`{}` is not a visual option", e.key))
-                            .at(e.key_loc.clone())
-                            .label("expected an mjtVisFlag name without mjVIS_ (e.g. contactpoint), its number, or geomgroup_0 … geomgroup_5")
-                            .help_opt(crate::diagnostic::suggest(&e.key, VIS_FLAGS.iter().copied())),
-                    ),
-                    (_, None) => d.push(e.value.type_error(&e.key, "true or false").with_code(Code::E1505)),
-                }
-            }
-        }
+        let camera = camera(params, id, &mut d);
+        let camera_config = camera_config(params, &mut d);
+        let (visual_options, geom_groups) = visual_options(params, &mut d);
         d.into_result(RenderSettings {
             width,
             height,
@@ -444,6 +301,173 @@ impl RenderSettings {
             geom_groups,
         })
     }
+}
+
+/// The model camera to render from: `camera_id` (`id`, already read) or `camera_name`, not both.
+fn camera(params: &[Param], id: i64, d: &mut Diagnostics) -> Option<Located<ObjRef>> {
+    let name = param(params, "camera_name").and_then(|p| match &p.value {
+        ParamValue::Str(s) if !s.is_empty() => Some((s.clone(), p)),
+        _ => None,
+    });
+    let id_param = param(params, "camera_id");
+    match (id, name) {
+        (-1, None) => None,
+        (-1, Some((n, p))) => Some(Located {
+            value: ObjRef::Name(n),
+            loc: origin_loc(p),
+            param: "camera_name",
+        }),
+        (i, None) => Some(Located {
+            value: ObjRef::Id(i),
+            loc: id_param.and_then(origin_loc),
+            param: "camera_id",
+        }),
+        (_, Some((_, p))) => {
+            // Gymnasium: "Both `camera_id` and `camera_name` cannot be specified at the same time."
+            d.push(
+                Diagnostic::new(Code::E1505, "both `camera_id` and `camera_name` are set")
+                    .at_opt(origin_loc(p))
+                    .label("expected one of them (camera_id = -1 or camera_name = \"\")"),
+            );
+            None
+        }
+    }
+}
+
+/// `default_camera_config`: the viewer camera's attributes, in the order written.
+fn camera_config(params: &[Param], d: &mut Diagnostics) -> Vec<CameraKey> {
+    let mut camera_config = vec![];
+    if let Some(p) = param(params, "default_camera_config")
+        && let Some(t) = table_of(p, d)
+    {
+        for e in t.as_table().unwrap_or(&[]) {
+            camera_config.extend(camera_key(e, d));
+        }
+    }
+    camera_config
+}
+
+/// One `default_camera_config` entry (None: reported).
+fn camera_key(e: &Entry, d: &mut Diagnostics) -> Option<CameraKey> {
+    let v = &e.value;
+    let num = |d: &mut Diagnostics| {
+        v.as_f64().or_else(|| {
+            d.push(v.type_error(&e.key, "a number").with_code(Code::E1505));
+            None
+        })
+    };
+    match e.key.as_str() {
+        "type" => match &v.kind {
+            ValKind::Int(i @ 0..=2) => Some(CameraKey::Type(*i as i32)),
+            ValKind::Str(s) => match s.as_str() {
+                "free" => Some(CameraKey::Type(0)),
+                "tracking" => Some(CameraKey::Type(1)),
+                "fixed" => Some(CameraKey::Type(2)),
+                _ => None,
+            },
+            _ => None,
+        }
+        .or_else(|| {
+            d.push(
+                Diagnostic::new(Code::E1505, "unknown camera `type`")
+                    .at(v.loc.clone())
+                    .label("expected \"free\", \"tracking\", \"fixed\" or 0, 1, 2"),
+            );
+            None
+        }),
+        "fixedcamid" => {
+            obj_ref(v, "default_camera_config", "fixedcamid", d).map(CameraKey::FixedCam)
+        }
+        "trackbodyid" => {
+            obj_ref(v, "default_camera_config", "trackbodyid", d).map(CameraKey::TrackBody)
+        }
+        "lookat" => match &v.kind {
+            ValKind::Array(a) if a.len() == 3 && a.iter().all(|x| x.as_f64().is_some()) => {
+                let x: Vec<f64> = a.iter().filter_map(Val::as_f64).collect();
+                Some(CameraKey::Lookat([x[0], x[1], x[2]]))
+            }
+            _ => {
+                d.push(
+                    v.type_error("lookat", "an array of 3 numbers")
+                        .with_code(Code::E1505),
+                );
+                None
+            }
+        },
+        "distance" => num(d).map(CameraKey::Distance),
+        "azimuth" => num(d).map(CameraKey::Azimuth),
+        "elevation" => num(d).map(CameraKey::Elevation),
+        "orthographic" => match v.kind {
+            ValKind::Bool(b) => Some(CameraKey::Orthographic(b as i32)),
+            ValKind::Int(i) => Some(CameraKey::Orthographic((i != 0) as i32)),
+            _ => {
+                d.push(
+                    v.type_error("orthographic", "true or false")
+                        .with_code(Code::E1505),
+                );
+                None
+            }
+        },
+        other => {
+            d.push(
+                Diagnostic::new(
+                    Code::E1505,
+                    format!("`{other}` is not a viewer camera attribute"),
+                )
+                .at(e.key_loc.clone())
+                .label(format!("expected one of: {}", CAMERA_KEYS.join(", ")))
+                .help_opt(crate::diagnostic::suggest(
+                    other,
+                    CAMERA_KEYS.iter().copied(),
+                )),
+            );
+            None
+        }
+    }
+}
+
+/// `(index, on)` pairs in the order written: mjtVisFlag numbers, or geom groups.
+type Switches = Vec<(usize, bool)>;
+
+/// `visual_options`: mjtVisFlag switches, and `geomgroup_N` switches, each in the order written.
+fn visual_options(params: &[Param], d: &mut Diagnostics) -> (Switches, Switches) {
+    let mut visual_options = vec![];
+    let mut geom_groups = vec![];
+    if let Some(p) = param(params, "visual_options")
+        && let Some(t) = table_of(p, d)
+    {
+        for e in t.as_table().unwrap_or(&[]) {
+            let group = e
+                .key
+                .strip_prefix("geomgroup_")
+                .and_then(|g| g.parse::<usize>().ok())
+                .filter(|&g| g < 6);
+            if let (Some(g), ValKind::Bool(on)) = (group, &e.value.kind) {
+                geom_groups.push((g, *on));
+                continue;
+            }
+            let flag = VIS_FLAGS
+                .iter()
+                .position(|f| f.eq_ignore_ascii_case(e.key.trim_start_matches("mjVIS_")))
+                .or_else(|| e.key.parse::<usize>().ok().filter(|&i| i < VIS_FLAGS.len()));
+            let on = match e.value.kind {
+                ValKind::Bool(b) => Some(b),
+                ValKind::Int(i) => Some(i != 0),
+                _ => None,
+            };
+            match (flag, on) {
+                    (Some(f), Some(on)) => visual_options.push((f, on)),
+                    (None, _) => d.push(
+                        Diagnostic::new(Code::E1505, format!("`{}` is not a visual option", e.key))
+                            .at(e.key_loc.clone())
+                            .label("expected an mjtVisFlag name without mjVIS_ (e.g. contactpoint), its number, or geomgroup_0 … geomgroup_5")
+                            .help_opt(crate::diagnostic::suggest(&e.key, VIS_FLAGS.iter().copied())),
+                    ),
+                    (_, None) => d.push(e.value.type_error(&e.key, "true or false").with_code(Code::E1505)),
+                }
+        }
+    }
+    (visual_options, geom_groups)
 }
 
 trait WithCode {

@@ -1,6 +1,7 @@
 //! Commands (`[commands.*]`), PD position actions (`[actions]`) and the legged-locomotion reward
 //! terms, as resolved into the IR (docs/spec-reference.md, "Commands, PD actions and legged
-//! terms"). The resolver is `resolve/commands.rs`; the runtime `runtime/src/commands.rs`.
+//! terms"). The resolvers are `resolve/commands.rs`, `resolve/actions.rs` and `resolve/legged.rs`;
+//! the runtime `runtime/src/commands.rs`.
 
 use crate::selector::Selection;
 

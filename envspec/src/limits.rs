@@ -221,138 +221,179 @@ pub fn check_mjcf_sizes(
     source: &std::sync::Arc<SourceFile>,
 ) -> Vec<Diagnostic> {
     let mut out = vec![];
-    let at = |node: roxmltree::Node, attr: &str| -> Location {
-        let span = node
-            .attribute_node(attr)
-            .map(|a| a.range_value())
-            .unwrap_or_else(|| node.range());
-        Location::new(source, span)
-    };
-    // An integer attribute (MuJoCo reads ints with strtol; a non-number is MuJoCo's to report).
-    let int = |node: roxmltree::Node, attr: &str| -> Option<i64> {
-        node.attribute(attr)?
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .map(|x| x as i64)
-    };
-    let over = |node: roxmltree::Node, attr: &str, value: String, limit: String| {
-        Diagnostic::new(
-            Code::E0110,
-            format!(
-                "<{} {attr}> asks MuJoCo for {value}, beyond envc's limit of {limit}",
-                node.tag_name().name()
-            ),
-        )
-        .at(at(node, attr))
-        .label(format!("expected at most {limit}"))
-        .help("MuJoCo would try to allocate it (and abort when it cannot); see docs/limits.md")
-    };
     for node in doc.descendants().filter(|n| n.is_element()) {
         match node.tag_name().name() {
-            "option" => {
-                // Every number of <option> must be finite (a NaN gravity makes every reward NaN),
-                // and the timestep in (0, MAX_TIMESTEP].
-                for a in node.attributes() {
-                    let nums: Vec<f64> = a
-                        .value()
-                        .split_whitespace()
-                        .map_while(|x| x.parse().ok())
-                        .collect();
-                    let bad = nums.iter().any(|x| !x.is_finite())
-                        || (a.name() == "timestep"
-                            && nums
-                                .first()
-                                .is_some_and(|&t| !(t > 0.0 && t <= MAX_TIMESTEP)));
-                    if bad {
-                        let expected = if a.name() == "timestep" {
-                            format!("a timestep in (0, {MAX_TIMESTEP}] seconds")
-                        } else {
-                            "finite numbers".to_string()
-                        };
-                        out.push(
-                            Diagnostic::new(
-                                Code::E0105,
-                                format!(
-                                    "<option {}=\"{}\"> is not {expected}",
-                                    a.name(),
-                                    a.value()
-                                ),
-                            )
-                            .at(at(node, a.name()))
-                            .label(format!("expected {expected}")),
-                        );
-                    }
-                }
-            }
-            "size" => {
-                for a in node.attributes() {
-                    let name = a.name();
-                    let limit = if name.starts_with("nuser_") || name == "nkey" {
-                        MAX_PER_ELEMENT
-                    } else if matches!(name, "nuserdata" | "nconmax" | "njmax" | "nstack") {
-                        MAX_BUFFER_ENTRIES
-                    } else {
-                        continue;
-                    };
-                    if let Some(n) = int(node, name)
-                        && n > limit
-                    {
-                        out.push(over(node, name, n.to_string(), limit.to_string()));
-                    }
-                }
-                if let Some(m) = node.attribute("memory")
-                    && let Some(bytes) = memory_bytes(m)
-                    && bytes > MAX_ARENA_BYTES as f64
-                {
-                    out.push(over(
-                        node,
-                        "memory",
-                        m.trim().to_string(),
-                        human_bytes(MAX_ARENA_BYTES),
-                    ));
-                }
-            }
-            tag @ ("texture" | "hfield") => {
-                let (a, b) = if tag == "texture" {
-                    ("width", "height")
-                } else {
-                    ("nrow", "ncol")
-                };
-                let n = int(node, a).unwrap_or(1).max(1) as i128
-                    * int(node, b).unwrap_or(1).max(1) as i128;
-                if n > MAX_GRID as i128 {
-                    out.push(over(
-                        node,
-                        a,
-                        format!("{n} samples ({a} × {b})"),
-                        MAX_GRID.to_string(),
-                    ));
-                }
-            }
+            "option" => option_numbers(node, source, &mut out),
+            "size" => stated_sizes(node, source, &mut out),
+            tag @ ("texture" | "hfield") => grid_samples(node, tag, source, &mut out),
             tag @ ("replicate" | "composite" | "flexcomp") => {
-                let n: i128 = node
-                    .attribute("count")
-                    .map(|c| {
-                        c.split_whitespace()
-                            .filter_map(|x| x.parse::<f64>().ok())
-                            .map(|x| (x as i128).max(1))
-                            .product()
-                    })
-                    .unwrap_or(1);
-                if n > MAX_GRID as i128 {
-                    out.push(over(
-                        node,
-                        "count",
-                        format!("{n} copies of <{tag}>"),
-                        MAX_GRID.to_string(),
-                    ));
-                }
+                copy_count(node, tag, source, &mut out)
             }
             _ => {}
         }
     }
     out
+}
+
+/// Where `attr` of `node` is in `source` (the element itself when it has no such attribute).
+fn attr_at(source: &std::sync::Arc<SourceFile>, node: roxmltree::Node, attr: &str) -> Location {
+    let span = node
+        .attribute_node(attr)
+        .map(|a| a.range_value())
+        .unwrap_or_else(|| node.range());
+    Location::new(source, span)
+}
+
+/// An integer attribute (MuJoCo reads ints with strtol; a non-number is MuJoCo's to report).
+fn int_attr(node: roxmltree::Node, attr: &str) -> Option<i64> {
+    node.attribute(attr)?
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .map(|x| x as i64)
+}
+
+/// E0110 at `attr` of `node`: it asks MuJoCo for `value`, beyond `limit`.
+fn over(
+    source: &std::sync::Arc<SourceFile>,
+    node: roxmltree::Node,
+    attr: &str,
+    value: String,
+    limit: String,
+) -> Diagnostic {
+    Diagnostic::new(
+        Code::E0110,
+        format!(
+            "<{} {attr}> asks MuJoCo for {value}, beyond envc's limit of {limit}",
+            node.tag_name().name()
+        ),
+    )
+    .at(attr_at(source, node, attr))
+    .label(format!("expected at most {limit}"))
+    .help("MuJoCo would try to allocate it (and abort when it cannot); see docs/limits.md")
+}
+
+/// `<option>`: every number finite (a NaN gravity makes every reward NaN), and the timestep in
+/// (0, `MAX_TIMESTEP`]; E0105 otherwise.
+fn option_numbers(
+    node: roxmltree::Node,
+    source: &std::sync::Arc<SourceFile>,
+    out: &mut Vec<Diagnostic>,
+) {
+    for a in node.attributes() {
+        let nums: Vec<f64> = a
+            .value()
+            .split_whitespace()
+            .map_while(|x| x.parse().ok())
+            .collect();
+        let bad = nums.iter().any(|x| !x.is_finite())
+            || (a.name() == "timestep"
+                && nums
+                    .first()
+                    .is_some_and(|&t| !(t > 0.0 && t <= MAX_TIMESTEP)));
+        if bad {
+            let expected = if a.name() == "timestep" {
+                format!("a timestep in (0, {MAX_TIMESTEP}] seconds")
+            } else {
+                "finite numbers".to_string()
+            };
+            out.push(
+                Diagnostic::new(
+                    Code::E0105,
+                    format!("<option {}=\"{}\"> is not {expected}", a.name(), a.value()),
+                )
+                .at(attr_at(source, node, a.name()))
+                .label(format!("expected {expected}")),
+            );
+        }
+    }
+}
+
+/// `<size>`: the per-element user sizes, `nkey`, the buffer sizes and `memory`.
+fn stated_sizes(
+    node: roxmltree::Node,
+    source: &std::sync::Arc<SourceFile>,
+    out: &mut Vec<Diagnostic>,
+) {
+    for a in node.attributes() {
+        let name = a.name();
+        let limit = if name.starts_with("nuser_") || name == "nkey" {
+            MAX_PER_ELEMENT
+        } else if matches!(name, "nuserdata" | "nconmax" | "njmax" | "nstack") {
+            MAX_BUFFER_ENTRIES
+        } else {
+            continue;
+        };
+        if let Some(n) = int_attr(node, name)
+            && n > limit
+        {
+            out.push(over(source, node, name, n.to_string(), limit.to_string()));
+        }
+    }
+    if let Some(m) = node.attribute("memory")
+        && let Some(bytes) = memory_bytes(m)
+        && bytes > MAX_ARENA_BYTES as f64
+    {
+        out.push(over(
+            source,
+            node,
+            "memory",
+            m.trim().to_string(),
+            human_bytes(MAX_ARENA_BYTES),
+        ));
+    }
+}
+
+/// `<texture>` and `<hfield>`: the samples of their grid.
+fn grid_samples(
+    node: roxmltree::Node,
+    tag: &str,
+    source: &std::sync::Arc<SourceFile>,
+    out: &mut Vec<Diagnostic>,
+) {
+    let (a, b) = if tag == "texture" {
+        ("width", "height")
+    } else {
+        ("nrow", "ncol")
+    };
+    let n = int_attr(node, a).unwrap_or(1).max(1) as i128
+        * int_attr(node, b).unwrap_or(1).max(1) as i128;
+    if n > MAX_GRID as i128 {
+        out.push(over(
+            source,
+            node,
+            a,
+            format!("{n} samples ({a} × {b})"),
+            MAX_GRID.to_string(),
+        ));
+    }
+}
+
+/// `<replicate>`, `<composite>`, `<flexcomp>`: the copies their `count` makes.
+fn copy_count(
+    node: roxmltree::Node,
+    tag: &str,
+    source: &std::sync::Arc<SourceFile>,
+    out: &mut Vec<Diagnostic>,
+) {
+    let n: i128 = node
+        .attribute("count")
+        .map(|c| {
+            c.split_whitespace()
+                .filter_map(|x| x.parse::<f64>().ok())
+                .map(|x| (x as i128).max(1))
+                .product()
+        })
+        .unwrap_or(1);
+    if n > MAX_GRID as i128 {
+        out.push(over(
+            source,
+            node,
+            "count",
+            format!("{n} copies of <{tag}>"),
+            MAX_GRID.to_string(),
+        ));
+    }
 }
 
 /// The first element nested deeper than `MAX_NESTING` (the document as a whole counts as level 0,

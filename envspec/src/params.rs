@@ -241,6 +241,29 @@ fn has_nan(v: &ParamValue) -> bool {
 /// Defaults from the spec, then the overrides, each checked. All problems are reported together.
 pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>, Diagnostics> {
     let mut d = Diagnostics::default();
+    let mut params = defaults(spec, &mut d);
+    // Gymnasium's rendering arguments, which every task spec has.
+    crate::camera::add_render_params(spec, &mut params);
+    for (i, o) in overrides.iter().enumerate() {
+        if overrides[..i].iter().any(|earlier| earlier.name == o.name) {
+            d.push(
+                Diagnostic::new(
+                    Code::E0205,
+                    format!("parameter `{}` is overridden more than once", o.name),
+                )
+                .label("expected each parameter at most once")
+                .help("keep the one value you mean; envc does not let the last one win silently"),
+            );
+            continue;
+        }
+        apply_override(spec, o, &mut params, &mut d);
+    }
+    d.into_result(params)
+}
+
+/// The parameters the spec declares, at their defaults (a default of the wrong type, or NaN,
+/// is reported and leaves its parameter out).
+fn defaults(spec: &Spec, d: &mut Diagnostics) -> Vec<Param> {
     let mut params = vec![];
     for p in &spec.params {
         let ty = decl_type(p);
@@ -272,109 +295,105 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
             ),
         }
     }
-    // Gymnasium's rendering arguments, which every task spec has.
-    crate::camera::add_render_params(spec, &mut params);
-    for (i, o) in overrides.iter().enumerate() {
-        if overrides[..i].iter().any(|earlier| earlier.name == o.name) {
-            d.push(
-                Diagnostic::new(
-                    Code::E0205,
-                    format!("parameter `{}` is overridden more than once", o.name),
-                )
-                .label("expected each parameter at most once")
-                .help("keep the one value you mean; envc does not let the last one win silently"),
-            );
-            continue;
-        }
-        let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
-            d.push(
-                Diagnostic::new(
-                    Code::E0202,
-                    format!("unknown parameter `{}` for {}", o.name, spec.id),
-                )
-                .label(format!(
-                    "expected one of: {}",
-                    spec.params
-                        .iter()
-                        .map(|p| p.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))
-                .help_opt(suggest(
-                    &o.name,
-                    spec.params.iter().map(|p| p.name.as_str()),
-                )),
-            );
-            continue;
-        };
-        if param.fixed {
-            d.push(
-                Diagnostic::new(
-                    Code::E0204,
-                    format!(
-                        "parameter `{}` is fixed in {}: it is not a constructor argument",
-                        o.name, spec.id
-                    ),
-                )
-                .label(format!("its value is {}", param.default))
-                .help("copy the spec and change the value there (or remove `fixed = true`)"),
-            );
-            continue;
-        }
-        let (value, loc) = match &o.value {
-            OverrideValue::Value(v) => {
-                // Integers are acceptable floats.
-                let v = match (param.ty, v) {
-                    (ParamType::Float, ParamValue::Int(i)) => ParamValue::Float(*i as f64),
-                    _ => v.clone(),
-                };
-                (type_ok(&v, param.ty).then_some(v), None)
-            }
-            OverrideValue::Text(text) => {
-                let file = SourceFile::new(format!("<override {}>", o.name), text.clone());
-                let loc = Location::new(&file, 0..text.len());
-                let parsed = parse_literal(&file);
-                let v = match (&parsed, param.ty) {
-                    (Some(v), ty) => convert(v, ty),
-                    (None, ParamType::String | ParamType::Path | ParamType::Body) => {
-                        Some(ParamValue::Str(text.clone()))
-                    }
-                    (None, _) => None,
-                };
-                (v, Some(loc))
-            }
-        };
-        match value {
-            Some(v) if has_nan(&v) => d.push(
-                Diagnostic::new(Code::E0105, format!("override of `{}` is NaN", o.name))
-                    .at_opt(loc)
-                    .label(format!(
-                        "expected a number; the default is {}",
-                        param.default
-                    )),
-            ),
-            Some(v) => {
-                param.value = v;
-                param.origin = Origin::Override(o.name.clone());
-            }
-            None => d.push(
-                Diagnostic::new(
-                    Code::E0203,
-                    format!(
-                        "override of `{}` is not {} (type {})",
-                        o.name,
-                        param.ty.expected(),
-                        param.ty.name()
-                    ),
-                )
+    params
+}
+
+/// Set the parameter `o` names to its value: unless it names none, a fixed one, or gives a value
+/// of the wrong type (each reported).
+fn apply_override(spec: &Spec, o: &Override, params: &mut [Param], d: &mut Diagnostics) {
+    let Some(param) = params.iter_mut().find(|p| p.name == o.name) else {
+        d.push(
+            Diagnostic::new(
+                Code::E0202,
+                format!("unknown parameter `{}` for {}", o.name, spec.id),
+            )
+            .label(format!(
+                "expected one of: {}",
+                spec.params
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+            .help_opt(suggest(
+                &o.name,
+                spec.params.iter().map(|p| p.name.as_str()),
+            )),
+        );
+        return;
+    };
+    if param.fixed {
+        d.push(
+            Diagnostic::new(
+                Code::E0204,
+                format!(
+                    "parameter `{}` is fixed in {}: it is not a constructor argument",
+                    o.name, spec.id
+                ),
+            )
+            .label(format!("its value is {}", param.default))
+            .help("copy the spec and change the value there (or remove `fixed = true`)"),
+        );
+        return;
+    }
+    let (value, loc) = override_value(o, param);
+    match value {
+        Some(v) if has_nan(&v) => d.push(
+            Diagnostic::new(Code::E0105, format!("override of `{}` is NaN", o.name))
                 .at_opt(loc)
                 .label(format!(
-                    "expected {}; the default is {}",
-                    param.ty.expected(),
+                    "expected a number; the default is {}",
                     param.default
                 )),
-            ),
+        ),
+        Some(v) => {
+            param.value = v;
+            param.origin = Origin::Override(o.name.clone());
+        }
+        None => d.push(
+            Diagnostic::new(
+                Code::E0203,
+                format!(
+                    "override of `{}` is not {} (type {})",
+                    o.name,
+                    param.ty.expected(),
+                    param.ty.name()
+                ),
+            )
+            .at_opt(loc)
+            .label(format!(
+                "expected {}; the default is {}",
+                param.ty.expected(),
+                param.default
+            )),
+        ),
+    }
+}
+
+/// An override's value converted to its parameter's type (None: it does not convert), and the
+/// location of its text (None for a value given as a value).
+fn override_value(o: &Override, param: &Param) -> (Option<ParamValue>, Option<Location>) {
+    match &o.value {
+        OverrideValue::Value(v) => {
+            // Integers are acceptable floats.
+            let v = match (param.ty, v) {
+                (ParamType::Float, ParamValue::Int(i)) => ParamValue::Float(*i as f64),
+                _ => v.clone(),
+            };
+            (type_ok(&v, param.ty).then_some(v), None)
+        }
+        OverrideValue::Text(text) => {
+            let file = SourceFile::new(format!("<override {}>", o.name), text.clone());
+            let loc = Location::new(&file, 0..text.len());
+            let parsed = parse_literal(&file);
+            let v = match (&parsed, param.ty) {
+                (Some(v), ty) => convert(v, ty),
+                (None, ParamType::String | ParamType::Path | ParamType::Body) => {
+                    Some(ParamValue::Str(text.clone()))
+                }
+                (None, _) => None,
+            };
+            (v, Some(loc))
         }
     }
-    d.into_result(params)
 }

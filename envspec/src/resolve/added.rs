@@ -7,7 +7,7 @@ use crate::diagnostic::{Code, Diagnostic};
 use crate::ir::{AddedElement, AddedGeomType};
 use crate::mjcf::{Joint, JointKind, ModelInfo};
 use crate::syntax::{AddedKind, Section};
-use crate::value::{Val, ValKind};
+use crate::value::{Entry, Val, ValKind};
 
 use super::Ctx;
 
@@ -241,70 +241,7 @@ impl Ctx<'_> {
         added: &[AddedElement],
     ) -> Option<AddedElement> {
         let pos = self.vec_n(s, "pos", [0.0; 3])?;
-        let mut joints = vec![];
-        if let Some(v) = s.get("joints") {
-            let Some(t) = v.as_table() else {
-                self.d
-                    .push(v.type_error("joints", "a table `name = \"slide x\"`"));
-                return None;
-            };
-            for j in t {
-                if j.key.contains('\0') {
-                    self.d.push(nul_in_name("joint", j.key_loc.clone()));
-                    return None;
-                }
-                let spec_text = j.value.as_str().unwrap_or("");
-                let mut words = spec_text.split_whitespace();
-                let (kind, axis) = (words.next(), words.next());
-                let jkind = match kind {
-                    Some("slide") => JointKind::Slide,
-                    Some("hinge") => JointKind::Hinge,
-                    Some("free") => JointKind::Free,
-                    Some("ball") => JointKind::Ball,
-                    _ => {
-                        self.d.push(
-                            Diagnostic::new(
-                                Code::E0104,
-                                format!("joint `{}`: `{spec_text}`", j.key),
-                            )
-                            .at(j.value.loc.clone())
-                            .label(
-                                "expected \"slide x|y|z\", \"hinge x|y|z\", \"free\" or \"ball\"",
-                            ),
-                        );
-                        return None;
-                    }
-                };
-                let axis = match (jkind, axis) {
-                    (JointKind::Free | JointKind::Ball, None) => Some([0.0, 0.0, 1.0]),
-                    (JointKind::Free | JointKind::Ball, Some(_)) => None,
-                    (_, axis) => AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1),
-                };
-                let Some(axis) = axis else {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0104,
-                            format!("joint `{}`: `{spec_text}`", j.key),
-                        )
-                        .at(j.value.loc.clone())
-                        .label("expected an axis x, y or z after slide or hinge (free and ball take none)"),
-                    );
-                    return None;
-                };
-                if self.model.joint(&j.key).is_some() {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0106,
-                            format!("the model already has a joint named `{}`", j.key),
-                        )
-                        .at(j.key_loc.clone())
-                        .label("expected a new name"),
-                    );
-                    return None;
-                }
-                joints.push((j.key.clone(), jkind, axis));
-            }
-        }
+        let joints = self.body_joints(s)?;
         let mut mocap = match s.get("mocap") {
             None => false,
             Some(v) => self.flag(v, "mocap")?,
@@ -370,6 +307,75 @@ impl Ctx<'_> {
             mass,
             weld,
         })
+    }
+
+    /// A body's `joints = { name = "slide x", ... }`, in the order written.
+    fn body_joints(&mut self, s: &Section) -> Option<Vec<(String, JointKind, [f64; 3])>> {
+        let mut joints = vec![];
+        if let Some(v) = s.get("joints") {
+            let Some(t) = v.as_table() else {
+                self.d
+                    .push(v.type_error("joints", "a table `name = \"slide x\"`"));
+                return None;
+            };
+            for j in t {
+                joints.push(self.body_joint(j)?);
+            }
+        }
+        Some(joints)
+    }
+
+    /// One joint of an added body: `"slide x|y|z"`, `"hinge x|y|z"`, `"free"` or `"ball"`, under
+    /// a name the model does not have.
+    fn body_joint(&mut self, j: &Entry) -> Option<(String, JointKind, [f64; 3])> {
+        if j.key.contains('\0') {
+            self.d.push(nul_in_name("joint", j.key_loc.clone()));
+            return None;
+        }
+        let spec_text = j.value.as_str().unwrap_or("");
+        let mut words = spec_text.split_whitespace();
+        let (kind, axis) = (words.next(), words.next());
+        let jkind = match kind {
+            Some("slide") => JointKind::Slide,
+            Some("hinge") => JointKind::Hinge,
+            Some("free") => JointKind::Free,
+            Some("ball") => JointKind::Ball,
+            _ => {
+                self.d.push(
+                    Diagnostic::new(Code::E0104, format!("joint `{}`: `{spec_text}`", j.key))
+                        .at(j.value.loc.clone())
+                        .label("expected \"slide x|y|z\", \"hinge x|y|z\", \"free\" or \"ball\""),
+                );
+                return None;
+            }
+        };
+        let axis = match (jkind, axis) {
+            (JointKind::Free | JointKind::Ball, None) => Some([0.0, 0.0, 1.0]),
+            (JointKind::Free | JointKind::Ball, Some(_)) => None,
+            (_, axis) => AXES.iter().find(|(n, _)| Some(*n) == axis).map(|a| a.1),
+        };
+        let Some(axis) = axis else {
+            self.d.push(
+                Diagnostic::new(Code::E0104, format!("joint `{}`: `{spec_text}`", j.key))
+                    .at(j.value.loc.clone())
+                    .label(
+                        "expected an axis x, y or z after slide or hinge (free and ball take none)",
+                    ),
+            );
+            return None;
+        };
+        if self.model.joint(&j.key).is_some() {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0106,
+                    format!("the model already has a joint named `{}`", j.key),
+                )
+                .at(j.key_loc.clone())
+                .label("expected a new name"),
+            );
+            return None;
+        }
+        Some((j.key.clone(), jkind, axis))
     }
 }
 

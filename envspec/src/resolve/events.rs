@@ -35,150 +35,9 @@ impl Ctx<'_> {
             None => vec![],
         };
         let kind = if push {
-            if !matches!(mode, EventMode::Interval { .. }) {
-                self.d.push(
-                    Diagnostic::new(Code::E0152, format!("{ctx}: a push is an interval event"))
-                        .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
-                        .label("expected mode = \"interval\" with interval_seconds"),
-                );
-                return None;
-            }
-            let loc = s.get("elements").map_or(&s.name_loc, |v| &v.loc).clone();
-            let mut joints = vec![];
-            for (b, name) in self.matches(&elements_text, ElementKind::Body, s, &ctx)? {
-                let free = self
-                    .model
-                    .joints
-                    .iter()
-                    .position(|j| j.body == b && j.kind == JointKind::Free);
-                let Some(j) = free else {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0152,
-                            format!("{ctx}: a push kicks a body's free joint; `{name}` has none"),
-                        )
-                        .at(loc.clone())
-                        .label("expected bodies with a free joint (a floating base)"),
-                    );
-                    return None;
-                };
-                joints.push(Element {
-                    dofs: (self.model.joints[j].dofadr, 6),
-                    name,
-                    index: b,
-                });
-            }
-            let mut axis = |key: &str| match s.get(key) {
-                Some(v) => {
-                    let r = self.range(v, key)?;
-                    self.finite_range(r, v, key)
-                }
-                None => Some((0.0, 0.0)),
-            };
-            let (x, y) = (axis("x")?, axis("y")?);
-            EventKind::Push { joints, x, y }
+            self.push_event(s, &ctx, mode, &elements_text)?
         } else {
-            let fv = self.need(s, "field", &ctx)?;
-            let fname = self.string(fv, "field")?;
-            let Some(field) = EventField::parse(&fname) else {
-                let names: Vec<&str> = FIELDS.iter().map(|(n, _)| *n).collect();
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0104,
-                        format!("unknown event field `{fname}` in {ctx}"),
-                    )
-                    .at(fv.loc.clone())
-                    .label(format!("expected one of: {}", names.join(", ")))
-                    .help_opt(suggest(&fname, names.iter().copied())),
-                );
-                return None;
-            };
-            let ek = field.elements();
-            let elements = if ek == ElementKind::Model {
-                if let Some(v) = s.get("elements") {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0152,
-                            format!("{ctx}: `{fname}` is model-wide and takes no elements"),
-                        )
-                        .at(v.loc.clone())
-                        .label("remove `elements`"),
-                    );
-                    return None;
-                }
-                vec![]
-            } else {
-                self.matches(&elements_text, ek, s, &ctx)?
-                    .into_iter()
-                    .map(|(i, n)| self.element(ek, i, n))
-                    .collect()
-            };
-            let dist = self.distribution(s, &ctx)?;
-            let operation = match s.get("operation") {
-                None => Operation::Abs,
-                Some(v) => {
-                    let o = self.string(v, "operation")?;
-                    match Operation::parse(&o) {
-                        Some(op) => op,
-                        None => {
-                            self.d.push(
-                                Diagnostic::new(
-                                    Code::E0104,
-                                    format!("unknown operation `{o}` in {ctx}"),
-                                )
-                                .at(v.loc.clone())
-                                .label(format!("expected one of: {}", Operation::NAMES.join(", ")))
-                                .help_opt(suggest(&o, Operation::NAMES.iter().copied())),
-                            );
-                            return None;
-                        }
-                    }
-                }
-            };
-            let shared = match s.get("shared") {
-                Some(v) => self.flag(v, "shared")?,
-                None => false,
-            };
-            if matches!(mode, EventMode::Interval { .. }) && field.needs_set_const() {
-                // mj_setConst recomputes from qpos0 in the env's data: not within an episode.
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0152,
-                        format!(
-                            "{ctx}: `{fname}` changes MuJoCo's derived constants and can only be \
-                             randomized at startup or reset, not at an interval"
-                        ),
-                    )
-                    .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
-                    .label("expected mode = \"startup\" or \"reset\""),
-                );
-                return None;
-            }
-            if matches!(field, EventField::BodyQuatEuler(_))
-                && (mode != EventMode::Reset || operation != Operation::Abs)
-            {
-                // The angles make a whole new orientation at each reset; there is no base.
-                self.d.push(
-                    Diagnostic::new(
-                        Code::E0152,
-                        format!(
-                            "{ctx}: `{fname}` sets the orientation anew at every reset: it needs \
-                             mode = \"reset\" and operation = \"abs\""
-                        ),
-                    )
-                    .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
-                    .label("expected mode = \"reset\", operation = \"abs\" (the default)"),
-                );
-                return None;
-            }
-            self.check_limits(s, &ctx, field, dist, operation)?;
-            EventKind::Model {
-                field,
-                elements,
-                dist,
-                operation,
-                shared,
-            }
+            self.model_event(s, &ctx, mode, &elements_text)?
         };
         enabled.then(|| Event {
             name: s.name.clone(),
@@ -186,6 +45,175 @@ impl Ctx<'_> {
             mode,
             kind,
             elements_text,
+        })
+    }
+
+    /// A `push`: an interval kick of the free joint of each body `elements` names, by a velocity
+    /// drawn from the `x` and `y` ranges.
+    fn push_event(
+        &mut self,
+        s: &Section,
+        ctx: &str,
+        mode: EventMode,
+        elements_text: &[String],
+    ) -> Option<EventKind> {
+        if !matches!(mode, EventMode::Interval { .. }) {
+            self.d.push(
+                Diagnostic::new(Code::E0152, format!("{ctx}: a push is an interval event"))
+                    .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                    .label("expected mode = \"interval\" with interval_seconds"),
+            );
+            return None;
+        }
+        let loc = s.get("elements").map_or(&s.name_loc, |v| &v.loc).clone();
+        let mut joints = vec![];
+        for (b, name) in self.matches(elements_text, ElementKind::Body, s, ctx)? {
+            let free = self
+                .model
+                .joints
+                .iter()
+                .position(|j| j.body == b && j.kind == JointKind::Free);
+            let Some(j) = free else {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0152,
+                        format!("{ctx}: a push kicks a body's free joint; `{name}` has none"),
+                    )
+                    .at(loc.clone())
+                    .label("expected bodies with a free joint (a floating base)"),
+                );
+                return None;
+            };
+            joints.push(Element {
+                dofs: (self.model.joints[j].dofadr, 6),
+                name,
+                index: b,
+            });
+        }
+        let mut axis = |key: &str| match s.get(key) {
+            Some(v) => {
+                let r = self.range(v, key)?;
+                self.finite_range(r, v, key)
+            }
+            None => Some((0.0, 0.0)),
+        };
+        let (x, y) = (axis("x")?, axis("y")?);
+        Some(EventKind::Push { joints, x, y })
+    }
+
+    /// A model event: a `field` of the model, drawn for the elements it names.
+    fn model_event(
+        &mut self,
+        s: &Section,
+        ctx: &str,
+        mode: EventMode,
+        elements_text: &[String],
+    ) -> Option<EventKind> {
+        let fv = self.need(s, "field", ctx)?;
+        let fname = self.string(fv, "field")?;
+        let Some(field) = EventField::parse(&fname) else {
+            let names: Vec<&str> = FIELDS.iter().map(|(n, _)| *n).collect();
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0104,
+                    format!("unknown event field `{fname}` in {ctx}"),
+                )
+                .at(fv.loc.clone())
+                .label(format!("expected one of: {}", names.join(", ")))
+                .help_opt(suggest(&fname, names.iter().copied())),
+            );
+            return None;
+        };
+        let ek = field.elements();
+        let elements = if ek == ElementKind::Model {
+            if let Some(v) = s.get("elements") {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0152,
+                        format!("{ctx}: `{fname}` is model-wide and takes no elements"),
+                    )
+                    .at(v.loc.clone())
+                    .label("remove `elements`"),
+                );
+                return None;
+            }
+            vec![]
+        } else {
+            self.matches(elements_text, ek, s, ctx)?
+                .into_iter()
+                .map(|(i, n)| self.element(ek, i, n))
+                .collect()
+        };
+        let dist = self.distribution(s, ctx)?;
+        let operation = self.operation(s, ctx)?;
+        let shared = match s.get("shared") {
+            Some(v) => self.flag(v, "shared")?,
+            None => false,
+        };
+        if matches!(mode, EventMode::Interval { .. }) && field.needs_set_const() {
+            // mj_setConst recomputes from qpos0 in the env's data: not within an episode.
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0152,
+                    format!(
+                        "{ctx}: `{fname}` changes MuJoCo's derived constants and can only be \
+                         randomized at startup or reset, not at an interval"
+                    ),
+                )
+                .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                .label("expected mode = \"startup\" or \"reset\""),
+            );
+            return None;
+        }
+        if matches!(field, EventField::BodyQuatEuler(_))
+            && (mode != EventMode::Reset || operation != Operation::Abs)
+        {
+            // The angles make a whole new orientation at each reset; there is no base.
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0152,
+                    format!(
+                        "{ctx}: `{fname}` sets the orientation anew at every reset: it needs \
+                         mode = \"reset\" and operation = \"abs\""
+                    ),
+                )
+                .at(s.get("mode").map_or(s.name_loc.clone(), |v| v.loc.clone()))
+                .label("expected mode = \"reset\", operation = \"abs\" (the default)"),
+            );
+            return None;
+        }
+        self.check_limits(s, ctx, field, dist, operation)?;
+        Some(EventKind::Model {
+            field,
+            elements,
+            dist,
+            operation,
+            shared,
+        })
+    }
+
+    /// `operation`: how a draw meets the model's value (`abs`, the default: the draw replaces it).
+    fn operation(&mut self, s: &Section, ctx: &str) -> Option<Operation> {
+        Some(match s.get("operation") {
+            None => Operation::Abs,
+            Some(v) => {
+                let o = self.string(v, "operation")?;
+                match Operation::parse(&o) {
+                    Some(op) => op,
+                    None => {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0104,
+                                format!("unknown operation `{o}` in {ctx}"),
+                            )
+                            .at(v.loc.clone())
+                            .label(format!("expected one of: {}", Operation::NAMES.join(", ")))
+                            .help_opt(suggest(&o, Operation::NAMES.iter().copied())),
+                        );
+                        return None;
+                    }
+                }
+            }
         })
     }
 

@@ -114,50 +114,8 @@ impl Ctx<'_> {
     pub(super) fn terrain(&mut self) -> Option<Terrain> {
         let s = self.spec.terrain.as_ref()?;
         let errors = self.d.0.len();
-        let tile_size = match s.get("tile_size") {
-            None => Some([8.0, 8.0]),
-            Some(v) => match &v.kind {
-                crate::value::ValKind::Array(a) if a.len() == 2 => {
-                    let x = self.num(&a[0], "terrain.tile_size");
-                    let y = self.num(&a[1], "terrain.tile_size");
-                    match (x, y) {
-                        (Some(x), Some(y)) if x > 0.0 && y > 0.0 && x.max(y) <= MAX_TILE_SIZE => {
-                            Some([x, y])
-                        }
-                        (Some(_), Some(_)) => {
-                            self.e0105(
-                                v,
-                                "terrain.tile_size must be two sides in (0, 1000] metres".into(),
-                                "expected [x, y] in metres",
-                            );
-                            None
-                        }
-                        _ => None,
-                    }
-                }
-                _ => self
-                    .positive(s, "tile_size", 8.0, MAX_TILE_SIZE)
-                    .map(|x| [x, x]),
-            },
-        };
-        let layout = match s.get("layout") {
-            None => Some(true),
-            Some(v) => match v.as_str() {
-                Some("curriculum") => Some(true),
-                Some("random") => Some(false),
-                _ => {
-                    self.d.push(
-                        Diagnostic::new(
-                            Code::E0104,
-                            format!("unknown terrain layout {}", v.to_toml()),
-                        )
-                        .at(v.loc.clone())
-                        .label("expected \"curriculum\" or \"random\""),
-                    );
-                    None
-                }
-            },
-        };
+        let tile_size = self.tile_size(s);
+        let layout = self.terrain_layout(s);
         let tiles = self.terrain_generators(s);
         let rows = self.count(s, "rows", 10, 1, MAX_TERRAIN_TILES);
         let cols = match (layout, &tiles) {
@@ -188,6 +146,85 @@ impl Ctx<'_> {
         else {
             return None;
         };
+        self.terrain_size(s, tile_size, &tiles, rows, cols)?;
+        self.terrain_work(s, tile_size, &tiles, curriculum, rows, cols, border_width);
+        if self.d.0.len() > errors {
+            return None;
+        }
+        Some(Terrain {
+            tile_size,
+            rows,
+            cols,
+            border_width: border_width?,
+            border_height: border_height?,
+            seed: seed? as u64,
+            curriculum,
+            difficulty: difficulty?,
+            tiles,
+        })
+    }
+
+    /// `tile_size`: one side, or `[x, y]`, in (0, 1000] metres (8 by default).
+    fn tile_size(&mut self, s: &Section) -> Option<[f64; 2]> {
+        match s.get("tile_size") {
+            None => Some([8.0, 8.0]),
+            Some(v) => match &v.kind {
+                crate::value::ValKind::Array(a) if a.len() == 2 => {
+                    let x = self.num(&a[0], "terrain.tile_size");
+                    let y = self.num(&a[1], "terrain.tile_size");
+                    match (x, y) {
+                        (Some(x), Some(y)) if x > 0.0 && y > 0.0 && x.max(y) <= MAX_TILE_SIZE => {
+                            Some([x, y])
+                        }
+                        (Some(_), Some(_)) => {
+                            self.e0105(
+                                v,
+                                "terrain.tile_size must be two sides in (0, 1000] metres".into(),
+                                "expected [x, y] in metres",
+                            );
+                            None
+                        }
+                        _ => None,
+                    }
+                }
+                _ => self
+                    .positive(s, "tile_size", 8.0, MAX_TILE_SIZE)
+                    .map(|x| [x, x]),
+            },
+        }
+    }
+
+    /// `layout`: "curriculum" (true, the default) or "random" (false).
+    fn terrain_layout(&mut self, s: &Section) -> Option<bool> {
+        match s.get("layout") {
+            None => Some(true),
+            Some(v) => match v.as_str() {
+                Some("curriculum") => Some(true),
+                Some("random") => Some(false),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0104,
+                            format!("unknown terrain layout {}", v.to_toml()),
+                        )
+                        .at(v.loc.clone())
+                        .label("expected \"curriculum\" or \"random\""),
+                    );
+                    None
+                }
+            },
+        }
+    }
+
+    /// E0110 when the grid has too many tiles, or could make too many heightfield cells.
+    fn terrain_size(
+        &mut self,
+        s: &Section,
+        tile_size: [f64; 2],
+        tiles: &[TerrainTile],
+        rows: usize,
+        cols: usize,
+    ) -> Option<()> {
         if rows * cols > MAX_TERRAIN_TILES {
             self.d.push(
                 Diagnostic::new(
@@ -233,21 +270,7 @@ impl Ctx<'_> {
             );
             return None;
         }
-        self.terrain_work(s, tile_size, &tiles, curriculum, rows, cols, border_width);
-        if self.d.0.len() > errors {
-            return None;
-        }
-        Some(Terrain {
-            tile_size,
-            rows,
-            cols,
-            border_width: border_width?,
-            border_height: border_height?,
-            seed: seed? as u64,
-            curriculum,
-            difficulty: difficulty?,
-            tiles,
-        })
+        Some(())
     }
 
     /// Bounds on what the terrain makes, checked before the runtime allocates anything: each

@@ -1,0 +1,270 @@
+//! `[actions]`: how the policy's action becomes the model's controls (PD position targets, or
+//! the control ranges); IR in `crate::commands`.
+
+use super::Ctx;
+use crate::diagnostic::{Code, Diagnostic, suggest};
+use crate::ir::*;
+use crate::limits;
+use crate::mjcf::JointKind;
+use crate::syntax::Section;
+use crate::value::{Val, ValKind};
+
+/// E0132 at `v`.
+fn e0132(v: &Val, msg: String, label: &str) -> Diagnostic {
+    Diagnostic::new(Code::E0132, msg)
+        .at(v.loc.clone())
+        .label(label.to_string())
+}
+
+impl Ctx<'_> {
+    /// `[actions] scale` as a table `joint pattern = scale` over the actuators' joints (mjlab's
+    /// per-actuator action scale); later rows win, each row matches a joint, and every actuator
+    /// gets a scale.
+    fn action_scales(&mut self, v: &Val) -> Option<Vec<f64>> {
+        let rows = v.as_table()?;
+        let joints: Vec<Option<String>> = self
+            .model
+            .actuators
+            .iter()
+            .map(|a| a.target.clone())
+            .collect();
+        let mut scale: Vec<Option<f64>> = vec![None; joints.len()];
+        for e in rows {
+            let x = self.num(&e.value, "[actions] scale")?;
+            let x = self.within(&e.value, x, "[actions] scale", limits::MAX_MAGNITUDE)?;
+            // Actuators without a joint take the empty name, which no pattern matches.
+            let hit = self.glob_hits(
+                &e.key,
+                joints.iter().map(|j| j.as_deref().unwrap_or("")),
+                &e.key_loc,
+                &format!("the joints of the model's {} actuators", joints.len()),
+                "a glob pattern over the actuators' joint names (`*`: any run of characters, `?`: one)",
+            )?;
+            for k in hit {
+                scale[k] = Some(x);
+            }
+        }
+        if let Some(k) = scale.iter().position(Option::is_none) {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0132,
+                    format!(
+                        "[actions] scale covers {} of the model's {} actuators: no row matches actuator `{}`",
+                        scale.iter().filter(|x| x.is_some()).count(),
+                        scale.len(),
+                        self.model.actuators[k].name
+                    ),
+                )
+                .at(v.loc.clone())
+                .label("expected a row matching every actuator's joint (e.g. \"*\" = 0.25 first)"),
+            );
+            return None;
+        }
+        Some(scale.into_iter().flatten().collect())
+    }
+
+    /// `[actions]`: PD position targets over every actuator of the model.
+    pub(super) fn actions(&mut self) -> Option<PdActions> {
+        let s = self.spec.actions.as_ref()?;
+        let nu = self.model.nu();
+        let kind = match s.get("kind").map(|v| (v, v.as_str())) {
+            None | Some((_, Some("pd_position"))) => ActionKind::PdPosition,
+            Some((_, Some("ctrlrange"))) => ActionKind::CtrlRange,
+            Some((v, _)) => {
+                self.d.push(
+                    Diagnostic::new(Code::E0104, "unknown [actions] kind")
+                        .at(v.loc.clone())
+                        .label("expected \"pd_position\" or \"ctrlrange\""),
+                );
+                ActionKind::PdPosition
+            }
+        };
+        if kind == ActionKind::CtrlRange {
+            return self.ctrlrange_actions(s);
+        }
+        let max = limits::MAX_MAGNITUDE;
+        let scale = match s.get("scale") {
+            Some(v) if v.as_table().is_some() => self.action_scales(v)?,
+            Some(v) => {
+                let x = self.num(v, "[actions] scale")?;
+                vec![self.within(v, x, "[actions] scale", max)?; nu]
+            }
+            None => vec![1.0; nu],
+        };
+        let range = self.action_range(s)?;
+        let kp = self.action_gain(s, "kp");
+        let kd = self.action_gain(s, "kd");
+        let damping = self.action_gain(s, "damping");
+        let default_pose = self.default_pose(s, nu)?;
+        Some(PdActions {
+            kind,
+            scale,
+            default_pose,
+            range,
+            kp,
+            kd,
+            damping,
+        })
+    }
+
+    /// `[actions] range`: the action space, finite ([-1, 1] by default).
+    fn action_range(&mut self, s: &Section) -> Option<(f64, f64)> {
+        let max = limits::MAX_MAGNITUDE;
+        Some(match s.get("range") {
+            Some(v) => {
+                let r = self.range(v, "range")?;
+                if !(r.0.is_finite() && r.1.is_finite()) {
+                    self.d.push(e0132(
+                        v,
+                        format!("[actions] range [{}, {}] is not finite", r.0, r.1),
+                        "expected a finite action space, e.g. [-1.0, 1.0]",
+                    ));
+                } else {
+                    self.within(v, r.0, "[actions] range", max)?;
+                    self.within(v, r.1, "[actions] range", max)?;
+                }
+                r
+            }
+            None => (-1.0, 1.0),
+        })
+    }
+
+    /// `[actions] kp`, `kd` or `damping`, when given: a gain ≥ 0.
+    fn action_gain(&mut self, s: &Section, key: &str) -> Option<f64> {
+        let max = limits::MAX_MAGNITUDE;
+        let v = s.get(key)?;
+        let x = self.num(v, key)?;
+        let x = self.within(v, x, &format!("[actions] {key}"), max)?;
+        if x < 0.0 {
+            self.d.push(e0132(
+                v,
+                format!("[actions] {key} is {x}"),
+                "expected a gain >= 0",
+            ));
+        }
+        Some(x)
+    }
+
+    /// `[actions] default_pose`: a keyframe of the model, or one number per actuator (`nu`).
+    fn default_pose(&mut self, s: &Section, nu: usize) -> Option<DefaultPose> {
+        let Some(pose) = s.get("default_pose") else {
+            self.d.push(
+                Diagnostic::new(Code::E0103, "missing `default_pose` in [actions]")
+                    .at(s.name_loc.clone())
+                    .label("expected a keyframe name (e.g. \"home\") or one number per actuator"),
+            );
+            return None;
+        };
+        Some(match &pose.kind {
+            ValKind::Str(name) => self.keyframe_pose(name, pose)?,
+            ValKind::Array(a) if a.len() == nu => DefaultPose::Values(
+                a.iter()
+                    .map(|x| {
+                        let n = self.num(x, "default_pose")?;
+                        self.within(x, n, "a default_pose value", limits::MAX_COORDINATE)
+                    })
+                    .collect::<Option<_>>()?,
+            ),
+            other => {
+                let given = match other {
+                    ValKind::Array(a) => format!("{} numbers were given", a.len()),
+                    _ => "a single value was given".to_string(),
+                };
+                self.d.push(e0132(
+                    pose,
+                    format!(
+                        "[actions] default_pose does not fit the model's {nu} actuators: {given}"
+                    ),
+                    &format!("expected a keyframe name or an array of {nu} numbers"),
+                ));
+                return None;
+            }
+        })
+    }
+
+    /// A `default_pose` named by keyframe: the qpos address of each actuator's joint (None for a
+    /// tendon or site actuator, whose default is the keyframe's `ctrl`).
+    fn keyframe_pose(&mut self, name: &str, pose: &Val) -> Option<DefaultPose> {
+        if !self.model.keyframes.iter().any(|k| k == name) {
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0133,
+                    format!(
+                        "the model {} has no keyframe named `{name}`",
+                        self.model.path.display()
+                    ),
+                )
+                .at(pose.loc.clone())
+                .label(format!(
+                    "expected one of the model's keyframes ({} named)",
+                    self.model
+                        .keyframes
+                        .iter()
+                        .filter(|k| !k.is_empty())
+                        .count()
+                ))
+                .help_opt(suggest(
+                    name,
+                    self.model.keyframes.iter().map(String::as_str),
+                )),
+            );
+            return None;
+        }
+        let mut qposadr = vec![];
+        for a in &self.model.actuators {
+            let joint = a.target.as_deref().and_then(|t| self.model.joint(t));
+            match joint {
+                Some(j) if matches!(j.kind, JointKind::Hinge | JointKind::Slide) => {
+                    qposadr.push(Some(j.qposadr))
+                }
+                // A tendon's (or site's) target is its control: the keyframe's `ctrl`.
+                None => qposadr.push(None),
+                Some(_) => {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0133,
+                            format!(
+                                "actuator `{}` drives a ball or free joint, so keyframe `{name}` gives it no default position",
+                                a.name
+                            ),
+                        )
+                        .at(pose.loc.clone())
+                        .label("expected actuators on hinge or slide joints, or tendons")
+                        .help("give default_pose as one number per actuator instead"),
+                    );
+                    return None;
+                }
+            }
+        }
+        Some(DefaultPose::Keyframe {
+            name: name.to_string(),
+            qposadr,
+        })
+    }
+
+    /// `kind = "ctrlrange"`: the control ranges give the mapping, so no other key is taken.
+    fn ctrlrange_actions(&mut self, s: &Section) -> Option<PdActions> {
+        for key in ["scale", "default_pose", "range", "kp", "kd", "damping"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("`{key}` does not apply to [actions] kind = \"ctrlrange\""),
+                    )
+                    .at(v.loc.clone())
+                    .label("the control ranges give the centre, the scale and the action space")
+                    .help("remove it, or use kind = \"pd_position\""),
+                );
+            }
+        }
+        Some(PdActions {
+            kind: ActionKind::CtrlRange,
+            scale: vec![],
+            default_pose: DefaultPose::CtrlRangeCentre,
+            range: (-1.0, 1.0),
+            kp: None,
+            kd: None,
+            damping: None,
+        })
+    }
+}
