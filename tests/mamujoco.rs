@@ -60,6 +60,53 @@ fn pusher_swapped(ours: &[f64], k: usize) -> Vec<f64> {
 }
 
 fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result<usize, String> {
+    let (mut env, names) = open_case(profile, case)?;
+    let rec = Recording::read(dir, case, &names)?;
+    let mut check = RowCheck {
+        case,
+        names: &names,
+        rec: &rec,
+        pusher: case.spec == "pusher",
+        swapped: None,
+    };
+    env.reset(Some(case.seed));
+    let mut row = 0;
+    check.row(&env, row, "reset")?;
+    for t in 0..case.steps {
+        let g = rec.actions.row(t).to_vec();
+        let locals = env.global_action_to_local(&g).map_err(|e| e.to_string())?;
+        let refs: Vec<&[f64]> = locals.iter().map(Vec::as_slice).collect();
+        let s = env.step(&refs).map_err(|e| e.to_string())?;
+        let (r, te, tr) = (s.reward, s.terminated, s.truncated);
+        if r.to_bits() != rec.reward[t].to_bits() {
+            return Err(format!(
+                "{}: reward at step {t}: {r} vs reference {}",
+                case.name, rec.reward[t]
+            ));
+        }
+        if te != (rec.terminated[t] != 0.0) || tr != (rec.truncated[t] != 0.0) {
+            return Err(format!("{}: flags at step {t}", case.name));
+        }
+        row += 1;
+        check.row(&env, row, "step")?;
+        if te || tr {
+            if !env.agents().is_empty() {
+                return Err(format!("{}: agents not emptied at episode end", case.name));
+            }
+            env.reset(None);
+            row += 1;
+            check.row(&env, row, "reset")?;
+        }
+    }
+    Ok(case.steps)
+}
+
+/// The case's env under `profile`, and its agents' names, checked (with their observation
+/// levels) against the recording's.
+fn open_case(
+    profile: envc::numerics::Profile,
+    case: &Case,
+) -> Result<(MultiAgentEnv, Vec<String>), String> {
     let spec = root().join(format!("specs/mamujoco/{}.toml", case.spec));
     let mut overrides = vec![
         Override::text("agent_conf", &case.agent_conf),
@@ -94,21 +141,59 @@ fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result
             ));
         }
     }
-    let mut npz = NpzReader::new(File::open(dir.join(format!("{}.npz", case.name))).unwrap())
-        .map_err(|e| e.to_string())?;
-    let actions: Array2<f64> = npz.by_name("actions").unwrap();
-    let state: Array2<f64> = npz.by_name("state").unwrap();
-    let reward: Array1<f64> = npz.by_name("reward").unwrap();
-    let terminated: Array1<f64> = npz.by_name("terminated").unwrap();
-    let truncated: Array1<f64> = npz.by_name("truncated").unwrap();
-    let obs: Vec<Array2<f64>> = names
-        .iter()
-        .map(|a| npz.by_name(&format!("obs_{a}")).unwrap())
-        .collect();
-    let pusher = case.spec == "pusher";
-    let mut swapped: Option<bool> = None;
-    let mut check_row = |env: &MultiAgentEnv, row: usize, what: &str| -> Result<(), String> {
-        let s = state.row(row).to_vec();
+    Ok((env, names))
+}
+
+/// A case's recording (`{name}.npz`): the global actions, and per row the state, every agent's
+/// observation, the reward and the flags.
+struct Recording {
+    actions: Array2<f64>,
+    state: Array2<f64>,
+    reward: Array1<f64>,
+    terminated: Array1<f64>,
+    truncated: Array1<f64>,
+    /// By agent, in `names` order.
+    obs: Vec<Array2<f64>>,
+}
+
+impl Recording {
+    fn read(dir: &Path, case: &Case, names: &[String]) -> Result<Recording, String> {
+        let mut npz = NpzReader::new(File::open(dir.join(format!("{}.npz", case.name))).unwrap())
+            .map_err(|e| e.to_string())?;
+        let actions: Array2<f64> = npz.by_name("actions").unwrap();
+        let state: Array2<f64> = npz.by_name("state").unwrap();
+        let reward: Array1<f64> = npz.by_name("reward").unwrap();
+        let terminated: Array1<f64> = npz.by_name("terminated").unwrap();
+        let truncated: Array1<f64> = npz.by_name("truncated").unwrap();
+        let obs: Vec<Array2<f64>> = names
+            .iter()
+            .map(|a| npz.by_name(&format!("obs_{a}")).unwrap())
+            .collect();
+        Ok(Recording {
+            actions,
+            state,
+            reward,
+            terminated,
+            truncated,
+            obs,
+        })
+    }
+}
+
+/// The env's state and observations against a row of the recording.
+struct RowCheck<'a> {
+    case: &'a Case,
+    names: &'a [String],
+    rec: &'a Recording,
+    pusher: bool,
+    /// Whether Pusher's agent_0 shows the two tied nodes swapped (decided at the first row).
+    swapped: Option<bool>,
+}
+
+impl RowCheck<'_> {
+    fn row(&mut self, env: &MultiAgentEnv, row: usize, what: &str) -> Result<(), String> {
+        let (case, names, pusher) = (self.case, self.names, self.pusher);
+        let s = self.rec.state.row(row).to_vec();
         if !same(env.state(), &s) {
             return Err(format!(
                 "{}: state differs at row {row} ({what})",
@@ -116,7 +201,7 @@ fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result
             ));
         }
         for (i, o) in env.observations().iter().enumerate() {
-            let want = obs[i].row(row).to_vec();
+            let want = self.rec.obs[i].row(row).to_vec();
             if o.len() != want.len() {
                 return Err(format!(
                     "{}: {} obs dim {} vs reference {}",
@@ -126,12 +211,13 @@ fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result
                     want.len()
                 ));
             }
-            if same(o, &want) && (!pusher || i != 0 || swapped != Some(true)) {
-                swapped.get_or_insert(false);
+            if same(o, &want) && (!pusher || i != 0 || self.swapped != Some(true)) {
+                self.swapped.get_or_insert(false);
                 continue;
             }
-            if pusher && i == 0 && swapped != Some(false) && same(&pusher_swapped(o, 0), &want) {
-                swapped = Some(true);
+            if pusher && i == 0 && self.swapped != Some(false) && same(&pusher_swapped(o, 0), &want)
+            {
+                self.swapped = Some(true);
                 continue;
             }
             let first = o
@@ -150,37 +236,7 @@ fn run_case(dir: &Path, profile: envc::numerics::Profile, case: &Case) -> Result
             ));
         }
         Ok(())
-    };
-    env.reset(Some(case.seed));
-    let mut row = 0;
-    check_row(&env, row, "reset")?;
-    for t in 0..case.steps {
-        let g = actions.row(t).to_vec();
-        let locals = env.global_action_to_local(&g).map_err(|e| e.to_string())?;
-        let refs: Vec<&[f64]> = locals.iter().map(Vec::as_slice).collect();
-        let s = env.step(&refs).map_err(|e| e.to_string())?;
-        let (r, te, tr) = (s.reward, s.terminated, s.truncated);
-        if r.to_bits() != reward[t].to_bits() {
-            return Err(format!(
-                "{}: reward at step {t}: {r} vs reference {}",
-                case.name, reward[t]
-            ));
-        }
-        if te != (terminated[t] != 0.0) || tr != (truncated[t] != 0.0) {
-            return Err(format!("{}: flags at step {t}", case.name));
-        }
-        row += 1;
-        check_row(&env, row, "step")?;
-        if te || tr {
-            if !env.agents().is_empty() {
-                return Err(format!("{}: agents not emptied at episode end", case.name));
-            }
-            env.reset(None);
-            row += 1;
-            check_row(&env, row, "reset")?;
-        }
     }
-    Ok(case.steps)
 }
 
 #[test]

@@ -85,18 +85,79 @@ fn own_specs(dir: &Path) -> [PathBuf; 3] {
     [task, maze, agents]
 }
 
+/// The files a cell's command reads or writes, named after its case (`tag`).
+struct CellFiles {
+    tag: String,
+    /// Zero actions for `rollout`.
+    actions: PathBuf,
+    /// `rollout`'s output.
+    out: PathBuf,
+    /// `collect`'s root and dataset id.
+    ds_root: PathBuf,
+    ds_id: String,
+}
+
 /// Run one cell; returns the failure text, if any.
 fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<String> {
     let spec = case.args[usize::from(own)].as_str();
     let tag = format!("{}-{}", case.kind, u8::from(own));
     let actions = dir.join(format!("a{}.npy", case.act_dim));
     write_npy(&actions, 5, case.act_dim);
-    let out = dir.join(format!("{tag}.npz"));
-    let ds_root = dir.join("datasets");
-    let ds_id = format!("matrix/k{tag}-v0");
+    let files = CellFiles {
+        actions,
+        out: dir.join(format!("{tag}.npz")),
+        ds_root: dir.join("datasets"),
+        ds_id: format!("matrix/k{tag}-v0"),
+        tag,
+    };
+    let args = match cell_args(cmd, expect, spec, own, dir, &files) {
+        Ok(Some(args)) => args,
+        Ok(None) => return None,
+        Err(e) => return Some(e),
+    };
+    let o = envc(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    let what = format!("`envc {}` ({expect})", args.join(" "));
+    if expect.starts_with("yes") {
+        if o.status.code() != Some(0) {
+            return Some(format!("{what}: status {:?}\n{stderr}", o.status.code()));
+        }
+        succeeded(cmd, case, &what, &stdout, dir, &files)
+    } else if expect.starts_with("E0602") {
+        (o.status.code() != Some(2) || !stderr.contains("E0602")).then(|| {
+            format!(
+                "{what}: expected status 2 with E0602, got {:?}\n{stderr}",
+                o.status.code()
+            )
+        })
+    } else {
+        Some(format!("unknown matrix cell `{expect}` for `{cmd}`"))
+    }
+}
+
+/// The command line of a cell: `None` for a cell that is not run, an error for an unknown
+/// command.
+fn cell_args(
+    cmd: &str,
+    expect: &str,
+    spec: &str,
+    own: bool,
+    dir: &Path,
+    files: &CellFiles,
+) -> Result<Option<Vec<String>>, String> {
+    let CellFiles {
+        tag,
+        actions,
+        out,
+        ds_root,
+        ds_id,
+    } = files;
     let root_s = ds_root.display().to_string();
-    let args: Vec<String> = match cmd {
-        "list" if own => return None, // `list` shows the bundled ids only
+    Ok(Some(match cmd {
+        "list" if own => return Ok(None), // `list` shows the bundled ids only
         "list" => vec!["list".into(), "--format".into(), "json".into()],
         "check" | "show" => vec![cmd.into(), spec.into()],
         "run" => ["run", spec, "--episodes", "1", "--max-steps", "30"]
@@ -116,7 +177,7 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
             "collect",
             spec,
             "--dataset-id",
-            &ds_id,
+            ds_id,
             "--episodes",
             "1",
             "--policy",
@@ -130,7 +191,7 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
         .to_vec(),
         "dataset show" if expect.starts_with("yes") => {
             // The dataset this kind's `collect` cell wrote.
-            let p = ds_root.join(&ds_id);
+            let p = ds_root.join(ds_id);
             vec!["dataset".into(), "show".into(), p.display().to_string()]
         }
         "dataset show" => vec!["dataset".into(), "show".into(), spec.into()],
@@ -163,68 +224,59 @@ fn cell(cmd: &str, expect: &str, case: &Case, own: bool, dir: &Path) -> Option<S
             "--out".into(),
             dir.join(format!("{tag}.mp4")).display().to_string(),
         ],
-        other => return Some(format!("the matrix names an unknown command `{other}`")),
-    };
-    let o = envc(&args.iter().map(String::as_str).collect::<Vec<_>>());
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr),
-    );
-    let what = format!("`envc {}` ({expect})", args.join(" "));
-    if expect.starts_with("yes") {
-        if o.status.code() != Some(0) {
-            return Some(format!("{what}: status {:?}\n{stderr}", o.status.code()));
+        other => return Err(format!("the matrix names an unknown command `{other}`")),
+    }))
+}
+
+/// What a `yes` cell that exited 0 must also have done; the failure text, if any.
+fn succeeded(
+    cmd: &str,
+    case: &Case,
+    what: &str,
+    stdout: &str,
+    dir: &Path,
+    files: &CellFiles,
+) -> Option<String> {
+    if cmd == "list" {
+        let v: serde_json::Value = serde_json::from_str(stdout).unwrap();
+        let kind = ["task", "maze", "agents"][case.kind];
+        let found = v.as_array().unwrap().iter().any(|r| {
+            r["id"].as_str() == Some(case.args[0].as_str()) && r["kind"].as_str() == Some(kind)
+        });
+        if !found {
+            return Some(format!("{what}: no {kind} row for {}", case.args[0]));
         }
-        if cmd == "list" {
-            let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-            let kind = ["task", "maze", "agents"][case.kind];
-            let found = v.as_array().unwrap().iter().any(|r| {
-                r["id"].as_str() == Some(case.args[0].as_str()) && r["kind"].as_str() == Some(kind)
-            });
-            if !found {
-                return Some(format!("{what}: no {kind} row for {}", case.args[0]));
-            }
-        }
-        if cmd == "render" {
-            // The video plays: ffprobe decodes it back (frame count and size; a reset frame and
-            // one per step, three steps unless the episode ended first).
-            let video = dir.join(format!("{tag}.mp4"));
-            let probe = Command::new("ffprobe")
-                .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
-                .args([
-                    "-show_entries",
-                    "stream=nb_read_frames,width,height",
-                    "-of",
-                    "csv=p=0",
-                ])
-                .arg(&video)
-                .output();
-            let got = probe.map(|p| String::from_utf8_lossy(&p.stdout).trim().to_string());
-            if !matches!(got.as_deref(), Ok("64,48,4")) {
-                return Some(format!("{what}: ffprobe says {got:?}, expected 64,48,4"));
-            }
-        }
-        // A dataset says what made it: the MuJoCo and envc versions and the spec it recorded.
-        if cmd == "dataset show"
-            && !(stdout.contains("made with         MuJoCo 3.17.0, envc ")
-                && stdout.contains("files recorded)"))
-        {
-            return Some(format!("{what}: no versions or spec record in\n{stdout}"));
-        }
-        if cmd == "rollout" && !out.is_file() {
-            return Some(format!("{what}: no {}", out.display()));
-        }
-        None
-    } else if expect.starts_with("E0602") {
-        (o.status.code() != Some(2) || !stderr.contains("E0602")).then(|| {
-            format!(
-                "{what}: expected status 2 with E0602, got {:?}\n{stderr}",
-                o.status.code()
-            )
-        })
-    } else {
-        Some(format!("unknown matrix cell `{expect}` for `{cmd}`"))
     }
+    if cmd == "render" {
+        // The video plays: ffprobe decodes it back (frame count and size; a reset frame and
+        // one per step, three steps unless the episode ended first).
+        let video = dir.join(format!("{}.mp4", files.tag));
+        let probe = Command::new("ffprobe")
+            .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+            .args([
+                "-show_entries",
+                "stream=nb_read_frames,width,height",
+                "-of",
+                "csv=p=0",
+            ])
+            .arg(&video)
+            .output();
+        let got = probe.map(|p| String::from_utf8_lossy(&p.stdout).trim().to_string());
+        if !matches!(got.as_deref(), Ok("64,48,4")) {
+            return Some(format!("{what}: ffprobe says {got:?}, expected 64,48,4"));
+        }
+    }
+    // A dataset says what made it: the MuJoCo and envc versions and the spec it recorded.
+    if cmd == "dataset show"
+        && !(stdout.contains("made with         MuJoCo 3.17.0, envc ")
+            && stdout.contains("files recorded)"))
+    {
+        return Some(format!("{what}: no versions or spec record in\n{stdout}"));
+    }
+    if cmd == "rollout" && !files.out.is_file() {
+        return Some(format!("{what}: no {}", files.out.display()));
+    }
+    None
 }
 
 #[test]

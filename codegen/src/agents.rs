@@ -10,9 +10,11 @@
 
 use std::path::Path;
 
+use envspec::agents::AgentsSpec;
 use envspec::{Diagnostics, Override};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
+use syn::Ident;
 
 use crate::{Input, absolute, manifest_root, track};
 
@@ -49,20 +51,7 @@ pub(crate) fn expand(input: Input) -> TokenStream {
     let root = manifest_root();
     let spec_path = absolute(&root, Path::new(&input.path.value()));
     let span = input.path.span();
-    let overrides: Vec<Override> = input
-        .overrides
-        .iter()
-        .map(|(k, lit)| {
-            let v = match lit {
-                syn::Lit::Str(s) if k == "xml_file" => {
-                    absolute(&root, Path::new(&s.value())).display().to_string()
-                }
-                syn::Lit::Str(s) => s.value(),
-                other => quote!(#other).to_string(),
-            };
-            Override::text(&k.to_string(), &v)
-        })
-        .collect();
+    let overrides = build_overrides(&input, &root);
     // The spec, its base, the model and its includes, through envspec's one reader (`track`).
     let mut reader = envspec::source::Reader::disk();
     let spec = match reader.run(|| envspec::agents::load(&spec_path, &overrides)) {
@@ -81,6 +70,115 @@ pub(crate) fn expand(input: Input) -> TokenStream {
         .to_compile_error();
     };
     let vis = &input.vis;
+    let mut items = TokenStream::new();
+    let mut agents = vec![];
+    for (i, a) in spec.agents.iter().enumerate() {
+        let agent = AgentTypes {
+            obs: format_ident!("{}Agent{}Obs", name, i),
+            act: format_ident!("{}Agent{}Action", name, i),
+            field: format_ident!("{}", ident(&a.name)),
+        };
+        items.extend(agent_items(vis, &spec, a, &agent));
+        agents.push(agent);
+    }
+    items.extend(env_items(
+        vis, &name, &spec, &agents, &spec_path, &overrides,
+    ));
+    items.extend(track(&root, &reader));
+    items
+}
+
+/// Macro arguments → overrides (`xml_file` made absolute).
+fn build_overrides(input: &Input, root: &Path) -> Vec<Override> {
+    input
+        .overrides
+        .iter()
+        .map(|(k, lit)| {
+            let v = match lit {
+                syn::Lit::Str(s) if k == "xml_file" => {
+                    absolute(root, Path::new(&s.value())).display().to_string()
+                }
+                syn::Lit::Str(s) => s.value(),
+                other => quote!(#other).to_string(),
+            };
+            Override::text(&k.to_string(), &v)
+        })
+        .collect()
+}
+
+/// One agent's generated types and its field in the all-agents structs.
+struct AgentTypes {
+    obs: Ident,
+    act: Ident,
+    field: Ident,
+}
+
+/// One agent's observation type (an accessor per segment) and action type (a field per node).
+fn agent_items(
+    vis: &syn::Visibility,
+    spec: &AgentsSpec,
+    a: &envspec::agents::Agent,
+    t: &AgentTypes,
+) -> TokenStream {
+    let (obs_ty, act_ty) = (&t.obs, &t.act);
+    let dim = Literal::usize_unsuffixed(a.obs_dim);
+    let nact = Literal::usize_unsuffixed(a.actions.len());
+    let accessors = a.observation.iter().map(|s| {
+        let f = format_ident!("{}", ident(&s.name));
+        let (lo, hi) = (s.offset, s.offset + s.len());
+        let doc = format!("`[{lo}:{hi}]` {}", s.element_names().join(", "));
+        quote! {
+            #[doc = #doc]
+            pub fn #f(&self) -> &[f64] { &self.0[#lo..#hi] }
+        }
+    });
+    let obs_doc = format!(
+        "{}'s observation ({} float64), conf `{}`, k = {}.",
+        a.name, a.obs_dim, spec.conf, spec.k
+    );
+    let act_names: Vec<_> = a
+        .nodes
+        .iter()
+        .map(|n| format_ident!("{}", ident(n)))
+        .collect();
+    let act_docs: Vec<String> = a
+        .nodes
+        .iter()
+        .zip(&a.actions)
+        .zip(&a.actuators)
+        .map(|((n, g), act)| format!("node `{n}`: global action[{g}], actuator {act}"))
+        .collect();
+    let act_doc = format!(
+        "{}'s action: one value per node, in its action order.",
+        a.name
+    );
+    quote! {
+        #[doc = #obs_doc]
+        #[derive(Clone, Debug, PartialEq)]
+        #vis struct #obs_ty(pub [f64; #dim]);
+        impl #obs_ty {
+            pub const DIM: usize = #dim;
+            #(#accessors)*
+        }
+        #[doc = #act_doc]
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #vis struct #act_ty { #( #[doc = #act_docs] pub #act_names: f64, )* }
+        impl #act_ty {
+            pub const DIM: usize = #nact;
+            pub fn to_array(&self) -> [f64; #nact] { [#(self.#act_names),*] }
+        }
+    }
+}
+
+/// Every agent's observations and actions, the step result and the env over the dynamic one.
+fn env_items(
+    vis: &syn::Visibility,
+    name: &Ident,
+    spec: &AgentsSpec,
+    agents: &[AgentTypes],
+    spec_path: &Path,
+    overrides: &[Override],
+) -> TokenStream {
     let path_str = spec_path.display().to_string();
     let ov_names: Vec<String> = overrides.iter().map(|o| o.name.clone()).collect();
     let ov_values: Vec<String> = overrides
@@ -90,68 +188,10 @@ pub(crate) fn expand(input: Input) -> TokenStream {
             envspec::OverrideValue::Value(v) => v.to_string(),
         })
         .collect();
-
-    let mut items = TokenStream::new();
-    let mut obs_fields = vec![];
-    let mut act_fields = vec![];
-    let mut obs_types = vec![];
-    let mut act_types = vec![];
-    for (i, a) in spec.agents.iter().enumerate() {
-        let obs_ty = format_ident!("{}Agent{}Obs", name, i);
-        let act_ty = format_ident!("{}Agent{}Action", name, i);
-        let field = format_ident!("{}", ident(&a.name));
-        let dim = Literal::usize_unsuffixed(a.obs_dim);
-        let nact = Literal::usize_unsuffixed(a.actions.len());
-        let accessors = a.observation.iter().map(|s| {
-            let f = format_ident!("{}", ident(&s.name));
-            let (lo, hi) = (s.offset, s.offset + s.len());
-            let doc = format!("`[{lo}:{hi}]` {}", s.element_names().join(", "));
-            quote! {
-                #[doc = #doc]
-                pub fn #f(&self) -> &[f64] { &self.0[#lo..#hi] }
-            }
-        });
-        let obs_doc = format!(
-            "{}'s observation ({} float64), conf `{}`, k = {}.",
-            a.name, a.obs_dim, spec.conf, spec.k
-        );
-        let act_names: Vec<_> = a
-            .nodes
-            .iter()
-            .map(|n| format_ident!("{}", ident(n)))
-            .collect();
-        let act_docs: Vec<String> = a
-            .nodes
-            .iter()
-            .zip(&a.actions)
-            .zip(&a.actuators)
-            .map(|((n, g), act)| format!("node `{n}`: global action[{g}], actuator {act}"))
-            .collect();
-        let act_doc = format!(
-            "{}'s action: one value per node, in its action order.",
-            a.name
-        );
-        items.extend(quote! {
-            #[doc = #obs_doc]
-            #[derive(Clone, Debug, PartialEq)]
-            #vis struct #obs_ty(pub [f64; #dim]);
-            impl #obs_ty {
-                pub const DIM: usize = #dim;
-                #(#accessors)*
-            }
-            #[doc = #act_doc]
-            #[derive(Clone, Copy, Debug, Default, PartialEq)]
-            #vis struct #act_ty { #( #[doc = #act_docs] pub #act_names: f64, )* }
-            impl #act_ty {
-                pub const DIM: usize = #nact;
-                pub fn to_array(&self) -> [f64; #nact] { [#(self.#act_names),*] }
-            }
-        });
-        obs_fields.push(field.clone());
-        act_fields.push(field);
-        obs_types.push(obs_ty);
-        act_types.push(act_ty);
-    }
+    let obs_fields: Vec<&Ident> = agents.iter().map(|a| &a.field).collect();
+    let act_fields = &obs_fields;
+    let obs_types: Vec<&Ident> = agents.iter().map(|a| &a.obs).collect();
+    let act_types: Vec<&Ident> = agents.iter().map(|a| &a.act).collect();
     let obs_all = format_ident!("{}Obs", name);
     let act_all = format_ident!("{}Actions", name);
     let step_ty = format_ident!("{}Step", name);
@@ -163,7 +203,7 @@ pub(crate) fn expand(input: Input) -> TokenStream {
         "Typed multi-agent env `{}` (conf `{}`, k = {}) over {}, from {}.",
         spec.id, spec.conf, spec.k, spec.base.id, path_str
     );
-    items.extend(quote! {
+    quote! {
         /// Every agent's observation.
         #[derive(Clone, Debug, PartialEq)]
         #vis struct #obs_all { #( pub #obs_fields: #obs_types, )* }
@@ -203,7 +243,5 @@ pub(crate) fn expand(input: Input) -> TokenStream {
             /// The global state (the base env's observation).
             pub fn state(&self) -> &[f64] { self.inner.state() }
         }
-    });
-    items.extend(track(&root, &reader));
-    items
+    }
 }

@@ -150,7 +150,18 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
         r.model.timestep,
         r.frame_skip
     ));
+    observation_table(&mut d, r);
+    action_table(&mut d, r);
+    reward_table(&mut d, r);
+    health_table(&mut d, r);
+    termination_table(&mut d, r);
+    reset_table(&mut d, r);
+    d.push_str("\n# Parameters\n\nSee the `Config` type: one field per parameter.\n");
+    d
+}
 
+/// `# Observation`: one row per segment, long element lists shortened.
+fn observation_table(d: &mut String, r: &ResolvedSpec) {
     d.push_str("# Observation\n\n| index | segment | elements |\n|---|---|---|\n");
     for s in &r.observation {
         let names = s.element_names();
@@ -176,7 +187,10 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
             cell(&shown)
         ));
     }
+}
 
+/// `# Action`: one row per actuator.
+fn action_table(d: &mut String, r: &ResolvedSpec) {
     d.push_str("\n# Action\n\n| index | actuator | drives |\n|---|---|---|\n");
     for (i, a) in r.model.actuators.iter().enumerate() {
         d.push_str(&format!(
@@ -186,7 +200,10 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
         ));
     }
     d.push_str("\nControl ranges come from the compiled model: `ctrl_range()`.\n");
+}
 
+/// `# Reward`: one row per term with its formula.
+fn reward_table(d: &mut String, r: &ResolvedSpec) {
     d.push_str("\n# Reward\n\n| term | kind | signed value | info key |\n|---|---|---|---|\n");
     for t in &r.reward {
         let f = term_formula(t);
@@ -202,43 +219,54 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
                 .unwrap_or_default()
         ));
     }
+}
 
-    if !r.health.is_empty() {
+/// `# Health`: one row per check (nothing without checks).
+fn health_table(d: &mut String, r: &ResolvedSpec) {
+    if r.health.is_empty() {
+        return;
+    }
+    d.push_str(&format!(
+        "\n# Health\n\nUnhealthy {} the episode.\n\n| check | condition |\n|---|---|\n",
+        if r.terminate_when_unhealthy {
+            "terminates"
+        } else {
+            "does not terminate"
+        }
+    ));
+    for h in &r.health {
+        let src: Vec<String> = h.sources.iter().map(|s| format!("`{}`", s.text)).collect();
         d.push_str(&format!(
-            "\n# Health\n\nUnhealthy {} the episode.\n\n| check | condition |\n|---|---|\n",
-            if r.terminate_when_unhealthy {
-                "terminates"
-            } else {
-                "does not terminate"
-            }
+            "| `{}` | {}: {} |\n",
+            h.name,
+            src.join(", "),
+            check_condition(&h.kind)
         ));
-        for h in &r.health {
-            let src: Vec<String> = h.sources.iter().map(|s| format!("`{}`", s.text)).collect();
-            let cond = match &h.kind {
-                CheckKind::Finite => "finite".to_string(),
-                CheckKind::InRange { lo, hi, closed } => {
-                    let (l, r) = if *closed { ('[', ']') } else { ('(', ')') };
-                    format!("in {l}{lo}, {hi}{r}")
-                }
-                CheckKind::FailsIf { op, value } => {
-                    let op = match op {
-                        CmpOp::Lt => "<",
-                        CmpOp::Le => "≤",
-                        CmpOp::Gt => ">",
-                        CmpOp::Ge => "≥",
-                    };
-                    format!("unhealthy if {op} {value}")
-                }
+    }
+}
+
+/// A health check's condition as the table shows it.
+fn check_condition(kind: &CheckKind) -> String {
+    match kind {
+        CheckKind::Finite => "finite".to_string(),
+        CheckKind::InRange { lo, hi, closed } => {
+            let (l, r) = if *closed { ('[', ']') } else { ('(', ')') };
+            format!("in {l}{lo}, {hi}{r}")
+        }
+        CheckKind::FailsIf { op, value } => {
+            let op = match op {
+                CmpOp::Lt => "<",
+                CmpOp::Le => "≤",
+                CmpOp::Gt => ">",
+                CmpOp::Ge => "≥",
             };
-            d.push_str(&format!(
-                "| `{}` | {}: {} |\n",
-                h.name,
-                src.join(", "),
-                cond
-            ));
+            format!("unhealthy if {op} {value}")
         }
     }
+}
 
+/// `# Termination` (nothing without conditions), then the goal vector's note.
+fn termination_table(d: &mut String, r: &ResolvedSpec) {
     if !r.termination.is_empty() {
         d.push_str("\n# Termination\n\n| condition | terminates when |\n|---|---|\n");
         for t in &r.termination {
@@ -253,43 +281,48 @@ pub(crate) fn env_doc(r: &ResolvedSpec, spec: &str) -> String {
             r.goal_dim
         ));
     }
+}
 
-    if !r.reset.is_empty() {
-        d.push_str(
-            "\n# Reset (RNG draw order)\n\n| step | target | distribution |\n|---|---|---|\n",
-        );
-        for s in &r.reset {
-            let dist = match &s.dist {
-                Distribution::Uniform { low, high } => {
-                    if low.iter().all(|x| *x == low[0]) && high.iter().all(|x| *x == high[0]) {
-                        format!("uniform({}, {})", low[0], high[0])
-                    } else {
-                        "uniform (per element)".into()
-                    }
-                }
-                Distribution::Normal { scale } => format!("{scale} × normal"),
-                Distribution::Constant { value } => format!("constant {value}"),
-                Distribution::Values { values } => format!("constant {values:?}"),
-                Distribution::Keyframe { name, .. } => format!("keyframe `{name}`"),
-                Distribution::RootPose { .. } => "root pose (x, y, z, roll, pitch, yaw)".into(),
-                Distribution::TerrainOrigin { rows } => {
-                    format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
-                }
-                Distribution::Meet(_) => "points brought together (meet)".into(),
-                Distribution::Rotation(_) => "a rotation (angle and axis)".into(),
-                Distribution::UnitQuaternion => "quaternion normalised".into(),
-                Distribution::Settle(_) => "settling steps".into(),
-            };
-            let mode = if s.set { "set" } else { "add" };
-            d.push_str(&format!(
-                "| `{}` | `{}` | {dist} ({mode}) |\n",
-                s.name, s.target.text
-            ));
-        }
+/// `# Reset`: one row per step, in RNG draw order (nothing without steps).
+fn reset_table(d: &mut String, r: &ResolvedSpec) {
+    if r.reset.is_empty() {
+        return;
     }
+    d.push_str("\n# Reset (RNG draw order)\n\n| step | target | distribution |\n|---|---|---|\n");
+    for s in &r.reset {
+        let mode = if s.set { "set" } else { "add" };
+        d.push_str(&format!(
+            "| `{}` | `{}` | {} ({mode}) |\n",
+            s.name,
+            s.target.text,
+            distribution(&s.dist)
+        ));
+    }
+}
 
-    d.push_str("\n# Parameters\n\nSee the `Config` type: one field per parameter.\n");
-    d
+/// A reset distribution as the table shows it.
+fn distribution(dist: &Distribution) -> String {
+    match dist {
+        Distribution::Uniform { low, high } => {
+            if low.iter().all(|x| *x == low[0]) && high.iter().all(|x| *x == high[0]) {
+                format!("uniform({}, {})", low[0], high[0])
+            } else {
+                "uniform (per element)".into()
+            }
+        }
+        Distribution::Normal { scale } => format!("{scale} × normal"),
+        Distribution::Constant { value } => format!("constant {value}"),
+        Distribution::Values { values } => format!("constant {values:?}"),
+        Distribution::Keyframe { name, .. } => format!("keyframe `{name}`"),
+        Distribution::RootPose { .. } => "root pose (x, y, z, roll, pitch, yaw)".into(),
+        Distribution::TerrainOrigin { rows } => {
+            format!("a terrain tile's origin (rows {} … {})", rows.0, rows.1)
+        }
+        Distribution::Meet(_) => "points brought together (meet)".into(),
+        Distribution::Rotation(_) => "a rotation (angle and axis)".into(),
+        Distribution::UnitQuaternion => "quaternion normalised".into(),
+        Distribution::Settle(_) => "settling steps".into(),
+    }
 }
 
 pub(crate) fn action_doc(r: &ResolvedSpec, env: &Ident) -> String {

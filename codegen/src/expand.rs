@@ -6,7 +6,7 @@ use envspec::params::decl_type;
 use envspec::{Diagnostics, Override, ParamType, ParamValue, ResolvedSpec, Spec};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
-use syn::{Ident, Lit};
+use syn::{Ident, Lit, Visibility};
 
 use crate::{Input, absolute, docs, manifest_root, track};
 
@@ -192,7 +192,7 @@ fn param_value(ty: ParamType, v: &ParamValue) -> TokenStream {
     }
 }
 
-#[allow(clippy::too_many_lines)] // One `quote!` block per item of the generated env's API, in order.
+/// The typed env's items, in order: Config, Obs, Action, Info, ResetInfo, Step and the env.
 fn generate(
     input: &Input,
     name: &Ident,
@@ -201,18 +201,55 @@ fn generate(
     spec_path: &Path,
 ) -> syn::Result<TokenStream> {
     let vis = &input.vis;
-    let config = format_ident!("{}Config", name);
-    let obs = format_ident!("{}Obs", name);
-    let action = format_ident!("{}Action", name);
-    let info = format_ident!("{}Info", name);
-    let reset_info = format_ident!("{}ResetInfo", name);
-    let step = format_ident!("{}Step", name);
-    let id = &r.id;
-    let spec_file = spec_path.display().to_string();
-    let obs_dim = r.obs_dim;
-    let act_dim = r.act_dim();
+    let names = Names {
+        env: name,
+        config: format_ident!("{}Config", name),
+        obs: format_ident!("{}Obs", name),
+        action: format_ident!("{}Action", name),
+        info: format_ident!("{}Info", name),
+        reset_info: format_ident!("{}ResetInfo", name),
+        step: format_ident!("{}Step", name),
+    };
+    let config_def = config_items(vis, &names, r)?;
+    let obs_def = obs_items(vis, &names, spec, r)?;
+    let action_def = action_items(vis, &names, r);
+    // Info: step info has every key, reset info the `at_reset` ones.
+    let info_def = info_struct(vis, r, r.info.iter().collect(), &names.info, "step info")?;
+    let reset_info_def = info_struct(
+        vis,
+        r,
+        r.reset_info().collect(),
+        &names.reset_info,
+        "reset info",
+    )?;
+    let step_def = step_items(vis, &names);
+    let env_def = env_items(vis, &names, spec, r, spec_path);
+    Ok(quote! {
+        #config_def
+        #obs_def
+        #action_def
+        #info_def
+        #reset_info_def
+        #step_def
+        #env_def
+    })
+}
 
-    // Config: one field per parameter; defaults are the spec's (after build-time overrides).
+/// The names of the generated types.
+struct Names<'a> {
+    env: &'a Ident,
+    config: Ident,
+    obs: Ident,
+    action: Ident,
+    info: Ident,
+    reset_info: Ident,
+    step: Ident,
+}
+
+/// Config: one field per parameter; defaults are the spec's (after build-time overrides).
+fn config_items(vis: &Visibility, names: &Names, r: &ResolvedSpec) -> syn::Result<TokenStream> {
+    let config = &names.config;
+    let id = &r.id;
     let mut fields = vec![];
     let mut defaults = vec![];
     let mut builders = vec![];
@@ -248,94 +285,12 @@ fn generate(
             }
         });
     }
-
-    // Observation: one accessor per declared segment (switched-off segments give empty slices).
-    let seg_names: Vec<&str> = spec.observation.iter().map(|s| s.name.as_str()).collect();
-    let mut accessors = vec![];
-    for (i, s) in spec.observation.iter().enumerate() {
-        let f = ident(&s.name, "observation segment")?;
-        let doc = docs::segment_doc(r, &s.name);
-        accessors.push(quote! {
-            #[doc = #doc]
-            pub fn #f(&self) -> &'a [f64] {
-                &self.data[self.layout[#i].clone()]
-            }
-        });
-    }
-
-    // Action.
-    // An end-effector action is Cartesian, not one value per actuator.
-    let act_names: Vec<&str> = match &r.manipulation.end_effector {
-        Some(e) => ["dx", "dy", "dz", "gripper"][..e.act_dim()].to_vec(),
-        None => r.model.actuators.iter().map(docs::actuator_label).collect(),
-    };
-
-    // Info: step info has every key, reset info the `at_reset` ones.
-    let info_struct = |items: Vec<&envspec::ir::InfoItem>, tyname: &Ident, what: &str| {
-        let mut fs = vec![];
-        let mut reads = vec![];
-        let mut keys = vec![];
-        let mut gets = vec![];
-        for it in items {
-            let f = ident(&it.key, "info key")?;
-            let key = &it.key;
-            let doc = docs::info_doc(r, it);
-            keys.push(key.clone());
-            gets.push(if it.len == 1 {
-                quote! { #key => ::core::option::Option::Some(::core::slice::from_ref(&self.#f)) }
-            } else {
-                quote! { #key => ::core::option::Option::Some(&self.#f[..]) }
-            });
-            if it.len == 1 {
-                fs.push(quote! { #[doc = #doc] pub #f: f64 });
-                reads.push(quote! { #f: ::envc::typed::info_scalar(info, #key) });
-            } else {
-                let n = it.len;
-                fs.push(quote! { #[doc = #doc] pub #f: [f64; #n] });
-                reads.push(quote! { #f: ::envc::typed::info_array::<#n>(info, #key) });
-            }
-        }
-        let doc = format!(
-            "The {what} of `{id}`, one typed field per key (NaN when an override removed a key)."
-        );
-        Ok::<_, syn::Error>(quote! {
-            #[doc = #doc]
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            #vis struct #tyname { #(#fs,)* }
-            impl #tyname {
-                /// Copy the values out of a dynamic info view.
-                #[allow(unused_variables)]
-                pub fn from_info(info: &::envc::Info<'_>) -> Self {
-                    Self { #(#reads,)* }
-                }
-                /// The keys, in the spec's info order.
-                pub const KEYS: &'static [&'static str] = &[#(#keys),*];
-                /// A value by key, as the dynamic info gives it.
-                pub fn get(&self, key: &str) -> ::core::option::Option<&[f64]> {
-                    match key {
-                        #(#gets,)*
-                        _ => ::core::option::Option::None,
-                    }
-                }
-            }
-        })
-    };
-    let info_def = info_struct(r.info.iter().collect(), &info, "step info")?;
-    let reset_info_def = info_struct(r.reset_info().collect(), &reset_info, "reset info")?;
-
-    let env_doc = docs::env_doc(r, &spec_display(spec_path));
     let config_doc = format!(
         "Parameters of `{id}`: one field per spec parameter, defaults from the spec.\n\n\
          Build with struct update (`{config} {{ ctrl_cost_weight: 0.1, ..Default::default() }}`) or \
          builder style (`{config}::default().ctrl_cost_weight(0.1)`). Values are checked like the \
          spec when the env is built."
     );
-    let obs_doc = format!(
-        "An observation of `{id}`: named, typed access to each segment (see [`{name}`] for the layout)."
-    );
-    let action_doc = docs::action_doc(r, name);
-    let step_doc = format!("The result of [`{name}::step`]: typed observation and info.");
-
     Ok(quote! {
         #[doc = #config_doc]
         #[derive(Clone, Debug, PartialEq)]
@@ -359,7 +314,32 @@ fn generate(
                 out
             }
         }
+    })
+}
 
+/// Observation: one accessor per declared segment (switched-off segments give empty slices).
+fn obs_items(
+    vis: &Visibility,
+    names: &Names,
+    spec: &Spec,
+    r: &ResolvedSpec,
+) -> syn::Result<TokenStream> {
+    let (obs, name, id) = (&names.obs, names.env, &r.id);
+    let mut accessors = vec![];
+    for (i, s) in spec.observation.iter().enumerate() {
+        let f = ident(&s.name, "observation segment")?;
+        let doc = docs::segment_doc(r, &s.name);
+        accessors.push(quote! {
+            #[doc = #doc]
+            pub fn #f(&self) -> &'a [f64] {
+                &self.data[self.layout[#i].clone()]
+            }
+        });
+    }
+    let obs_doc = format!(
+        "An observation of `{id}`: named, typed access to each segment (see [`{name}`] for the layout)."
+    );
+    Ok(quote! {
         #[doc = #obs_doc]
         #[derive(Clone, Copy, Debug)]
         #vis struct #obs<'a> {
@@ -381,7 +361,20 @@ fn generate(
                 self.data
             }
         }
+    })
+}
 
+/// Action: a fixed-size array with the actuators' names.
+fn action_items(vis: &Visibility, names: &Names, r: &ResolvedSpec) -> TokenStream {
+    let action = &names.action;
+    let act_dim = r.act_dim();
+    // An end-effector action is Cartesian, not one value per actuator.
+    let act_names: Vec<&str> = match &r.manipulation.end_effector {
+        Some(e) => ["dx", "dy", "dz", "gripper"][..e.act_dim()].to_vec(),
+        None => r.model.actuators.iter().map(docs::actuator_label).collect(),
+    };
+    let action_doc = docs::action_doc(r, names.env);
+    quote! {
         #[doc = #action_doc]
         #[derive(Clone, Copy, Debug, PartialEq)]
         #vis struct #action(
@@ -416,10 +409,72 @@ fn generate(
                 Self(a)
             }
         }
+    }
+}
 
-        #info_def
-        #reset_info_def
+/// An info struct: one typed field per key of `items`.
+fn info_struct(
+    vis: &Visibility,
+    r: &ResolvedSpec,
+    items: Vec<&envspec::ir::InfoItem>,
+    tyname: &Ident,
+    what: &str,
+) -> syn::Result<TokenStream> {
+    let id = &r.id;
+    let mut fs = vec![];
+    let mut reads = vec![];
+    let mut keys = vec![];
+    let mut gets = vec![];
+    for it in items {
+        let f = ident(&it.key, "info key")?;
+        let key = &it.key;
+        let doc = docs::info_doc(r, it);
+        keys.push(key.clone());
+        gets.push(if it.len == 1 {
+            quote! { #key => ::core::option::Option::Some(::core::slice::from_ref(&self.#f)) }
+        } else {
+            quote! { #key => ::core::option::Option::Some(&self.#f[..]) }
+        });
+        if it.len == 1 {
+            fs.push(quote! { #[doc = #doc] pub #f: f64 });
+            reads.push(quote! { #f: ::envc::typed::info_scalar(info, #key) });
+        } else {
+            let n = it.len;
+            fs.push(quote! { #[doc = #doc] pub #f: [f64; #n] });
+            reads.push(quote! { #f: ::envc::typed::info_array::<#n>(info, #key) });
+        }
+    }
+    let doc = format!(
+        "The {what} of `{id}`, one typed field per key (NaN when an override removed a key)."
+    );
+    Ok(quote! {
+        #[doc = #doc]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #vis struct #tyname { #(#fs,)* }
+        impl #tyname {
+            /// Copy the values out of a dynamic info view.
+            #[allow(unused_variables)]
+            pub fn from_info(info: &::envc::Info<'_>) -> Self {
+                Self { #(#reads,)* }
+            }
+            /// The keys, in the spec's info order.
+            pub const KEYS: &'static [&'static str] = &[#(#keys),*];
+            /// A value by key, as the dynamic info gives it.
+            pub fn get(&self, key: &str) -> ::core::option::Option<&[f64]> {
+                match key {
+                    #(#gets,)*
+                    _ => ::core::option::Option::None,
+                }
+            }
+        }
+    })
+}
 
+/// Step: the typed result of `step`.
+fn step_items(vis: &Visibility, names: &Names) -> TokenStream {
+    let (step, obs, info, name) = (&names.step, &names.obs, &names.info, names.env);
+    let step_doc = format!("The result of [`{name}::step`]: typed observation and info.");
+    quote! {
         #[doc = #step_doc]
         #[derive(Clone, Copy, Debug)]
         #vis struct #step<'a> {
@@ -434,7 +489,34 @@ fn generate(
             /// The step's info terms.
             pub info: #info,
         }
+    }
+}
 
+/// The env type: constructors, `reset` and `step` over the typed items, and the dynamic env
+/// underneath.
+fn env_items(
+    vis: &Visibility,
+    names: &Names,
+    spec: &Spec,
+    r: &ResolvedSpec,
+    spec_path: &Path,
+) -> TokenStream {
+    let Names {
+        env: name,
+        config,
+        obs,
+        action,
+        info,
+        reset_info,
+        step,
+    } = names;
+    let id = &r.id;
+    let spec_file = spec_path.display().to_string();
+    let obs_dim = r.obs_dim;
+    let act_dim = r.act_dim();
+    let seg_names: Vec<&str> = spec.observation.iter().map(|s| s.name.as_str()).collect();
+    let env_doc = docs::env_doc(r, &spec_display(spec_path));
+    quote! {
         #[doc = #env_doc]
         #vis struct #name {
             env: ::envc::Env,
@@ -513,7 +595,7 @@ fn generate(
                 &mut self.env
             }
         }
-    })
+    }
 }
 
 /// The spec path as shown in docs: relative to the crate when possible.

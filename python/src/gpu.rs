@@ -8,8 +8,8 @@
 
 use envspec::Field;
 use envspec::ir::{
-    Apply, CheckKind, CmpOp, Distribution, Divisor, InfoKind, ResolvedSpec, SumNode, TermKind,
-    Until,
+    Apply, CheckKind, CmpOp, Distribution, Divisor, HealthCheck, InfoItem, InfoKind, ResetStep,
+    ResolvedSpec, RewardTerm, Segment, SumNode, TermKind, Until,
 };
 use envspec::selector::Selection;
 use pyo3::prelude::*;
@@ -71,8 +71,60 @@ struct Sizes {
     ntendon: usize,
 }
 
-#[allow(clippy::too_many_lines)] // The JSON plan field by field, in the order the GPU executor reads it.
+/// The JSON plan, in the order the GPU executor reads it. `not_exported` gathers, in this order,
+/// what the plan leaves out: tables and fields, reward terms, termination, reset steps, info
+/// items, then the parts run on the CPU core alone.
 fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
+    let mut not_exported = cpu_only_tables(spec);
+    let observation: Vec<Value> = spec.observation.iter().map(segment).collect();
+    let reward: Vec<Value> = spec
+        .reward
+        .iter()
+        .map(|t| reward_term(t, &mut not_exported))
+        .collect();
+    let health: Vec<Value> = spec.health.iter().map(health_check).collect();
+    for t in &spec.termination {
+        not_exported.push(format!("[termination.{}] kind = \"goal_reached\"", t.name));
+    }
+    let reset: Vec<Value> = spec
+        .reset
+        .iter()
+        .map(|r| reset_step(r, &mut not_exported))
+        .collect();
+    let info: Vec<Value> = spec
+        .info
+        .iter()
+        .map(|i| info_item(i, &mut not_exported))
+        .collect();
+    cpu_only_parts(spec, &mut not_exported);
+    json!({
+        "id": spec.id,
+        "frame_skip": spec.frame_skip,
+        "max_episode_steps": spec.max_episode_steps,
+        "timestep": spec.model.timestep,
+        "dt": spec.dt(),
+        "sizes": {
+            "nq": z.nq, "nv": z.nv, "nu": z.nu, "nbody": z.nbody, "nsite": z.nsite,
+            "ntendon": z.ntendon,
+        },
+        "obs_dim": spec.obs_dim,
+        "act_low": nums(&act.low),
+        "act_high": nums(&act.high),
+        "observation": observation,
+        "reward": reward,
+        "reward_sum": sum_node(&spec.reward_sum),
+        "health": health,
+        "terminate_when_unhealthy": spec.terminate_when_unhealthy,
+        "reset": reset,
+        "info": info,
+        "needs_rne_post_constraint": spec.needs_rne_post_constraint,
+        "reads_mass_center": spec.reads(Field::MassCenter),
+        "not_exported": not_exported,
+    })
+}
+
+/// The tables, fields and observation options the plan does not describe.
+fn cpu_only_tables(spec: &ResolvedSpec) -> Vec<String> {
     let mut not_exported: Vec<String> = vec![];
     if spec.model_edits.forward_before_observation {
         // The executors read the observation where the step leaves the data.
@@ -118,209 +170,205 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
             not_exported.push(format!("[reward.{}] only_if / unless", t.name));
         }
     }
-    let observation: Vec<Value> = spec
-        .observation
-        .iter()
-        .map(|s| {
-            json!({
-                "name": s.name,
-                "source": sel(&s.source),
-                "minus": opt_sel(s.minus.as_ref()),
-                "apply": s.apply.map(|a| match a { Apply::Sin => "sin", Apply::Cos => "cos", Apply::Positive => "positive" }),
-                "clip": range(s.clip),
-                "offset": s.offset,
-                "len": s.len(),
-            })
-        })
-        .collect();
-    let reward: Vec<Value> = spec
-        .reward
-        .iter()
-        .map(|t| {
-            let mut v = json!({
-                "name": t.name,
-                "kind": t.kind_name(),
-                "weight": num(t.weight),
-                "cost": t.cost,
-                "info": t.info,
-                "before": t.before,
-                "paid_when_unhealthy": t.paid_when_unhealthy,
+    not_exported
+}
+
+fn segment(s: &Segment) -> Value {
+    json!({
+        "name": s.name,
+        "source": sel(&s.source),
+        "minus": opt_sel(s.minus.as_ref()),
+        "apply": s.apply.map(|a| match a { Apply::Sin => "sin", Apply::Cos => "cos", Apply::Positive => "positive" }),
+        "clip": range(s.clip),
+        "offset": s.offset,
+        "len": s.len(),
+    })
+}
+
+/// A reward term; a kind the plan does not describe goes to `not_exported`.
+fn reward_term(t: &RewardTerm, not_exported: &mut Vec<String>) -> Value {
+    let mut v = json!({
+        "name": t.name,
+        "kind": t.kind_name(),
+        "weight": num(t.weight),
+        "cost": t.cost,
+        "info": t.info,
+        "before": t.before,
+        "paid_when_unhealthy": t.paid_when_unhealthy,
+    });
+    let o = v.as_object_mut().expect("an object");
+    match &t.kind {
+        TermKind::Velocity { source } => {
+            o.insert("source".into(), sel(source));
+        }
+        TermKind::SumSquares {
+            source,
+            clip_input,
+            clip,
+        } => {
+            o.insert("source".into(), sel(source));
+            o.insert("clip_input".into(), range(*clip_input));
+            o.insert("clip".into(), range(*clip));
+        }
+        TermKind::Norm { source, minus } => {
+            o.insert("source".into(), sel(source));
+            o.insert("minus".into(), opt_sel(minus.as_ref()));
+        }
+        TermKind::Quadratic {
+            source,
+            coefs,
+            targets,
+        } => {
+            o.insert("source".into(), sel(source));
+            o.insert("coefs".into(), nums(coefs));
+            o.insert("targets".into(), nums(targets));
+        }
+        TermKind::Value { source, divide_by } => {
+            o.insert("source".into(), sel(source));
+            let d = divide_by.map(|d| match d {
+                Divisor::Timestep => "timestep",
+                Divisor::Dt => "dt",
             });
-            let o = v.as_object_mut().expect("an object");
-            match &t.kind {
-                TermKind::Velocity { source } => {
-                    o.insert("source".into(), sel(source));
-                }
-                TermKind::SumSquares {
-                    source,
-                    clip_input,
-                    clip,
-                } => {
-                    o.insert("source".into(), sel(source));
-                    o.insert("clip_input".into(), range(*clip_input));
-                    o.insert("clip".into(), range(*clip));
-                }
-                TermKind::Norm { source, minus } => {
-                    o.insert("source".into(), sel(source));
-                    o.insert("minus".into(), opt_sel(minus.as_ref()));
-                }
-                TermKind::Quadratic {
-                    source,
-                    coefs,
-                    targets,
-                } => {
-                    o.insert("source".into(), sel(source));
-                    o.insert("coefs".into(), nums(coefs));
-                    o.insert("targets".into(), nums(targets));
-                }
-                TermKind::Value { source, divide_by } => {
-                    o.insert("source".into(), sel(source));
-                    let d = divide_by.map(|d| match d {
-                        Divisor::Timestep => "timestep",
-                        Divisor::Dt => "dt",
-                    });
-                    o.insert("divide_by".into(), json!(d));
-                }
-                TermKind::Healthy | TermKind::Constant => {}
-                TermKind::GoalSparse(_)
-                | TermKind::GoalDense(_)
-                | TermKind::GoalMissed(_)
-                | TermKind::GoalDistance(_)
-                | TermKind::GoalsMissed(_)
-                | TermKind::WeightedSquare { .. }
-                | TermKind::Legged(_) => {
-                    not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
-                }
-            }
-            v
-        })
-        .collect();
-    let health: Vec<Value> = spec
-        .health
-        .iter()
-        .map(|h| {
-            let sources: Vec<Value> = h.sources.iter().map(sel).collect();
-            match h.kind {
-                CheckKind::Finite => json!({"name": h.name, "kind": "finite", "sources": sources}),
-                CheckKind::InRange { lo, hi, closed } => json!({
-                    "name": h.name, "kind": "in_range", "sources": sources,
-                    "lo": num(lo), "hi": num(hi), "closed": closed,
-                }),
-                CheckKind::FailsIf { op: o, value } => json!({
-                    "name": h.name, "kind": "fails_if", "sources": sources,
-                    "op": op(o), "value": num(value),
-                }),
-            }
-        })
-        .collect();
-    for t in &spec.termination {
-        not_exported.push(format!("[termination.{}] kind = \"goal_reached\"", t.name));
+            o.insert("divide_by".into(), json!(d));
+        }
+        TermKind::Healthy | TermKind::Constant => {}
+        TermKind::GoalSparse(_)
+        | TermKind::GoalDense(_)
+        | TermKind::GoalMissed(_)
+        | TermKind::GoalDistance(_)
+        | TermKind::GoalsMissed(_)
+        | TermKind::WeightedSquare { .. }
+        | TermKind::Legged(_) => {
+            not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
+        }
     }
-    let reset: Vec<Value> = spec
-        .reset
-        .iter()
-        .map(|r| {
-            let dist = match &r.dist {
-                Distribution::Uniform { low, high } => {
-                    json!({"kind": "uniform", "low": nums(low), "high": nums(high)})
-                }
-                Distribution::Normal { scale } => json!({"kind": "normal", "scale": num(*scale)}),
-                Distribution::Constant { value } => {
-                    json!({"kind": "constant", "value": num(*value)})
-                }
-                Distribution::Values { .. } => {
-                    not_exported.push(format!("[reset.{}] value = [per element]", r.name));
-                    json!({"kind": "unsupported"})
-                }
-                Distribution::Keyframe { name, .. } => {
-                    not_exported.push(format!("[reset.{}] kind = \"keyframe\" ({name})", r.name));
-                    json!({"kind": "unsupported"})
-                }
-                Distribution::RootPose { .. } => {
-                    not_exported.push(format!("[reset.{}] kind = \"root_pose\"", r.name));
-                    json!({"kind": "unsupported"})
-                }
-                Distribution::TerrainOrigin { .. } => {
-                    not_exported.push(format!("[reset.{}] kind = \"terrain_origin\"", r.name));
-                    json!({"kind": "unsupported"})
-                }
-                Distribution::Meet(_)
-                | Distribution::Rotation(_)
-                | Distribution::UnitQuaternion
-                | Distribution::Settle(_) => {
-                    not_exported.push(format!(
-                        "[reset.{}] kind = \"{}\"",
-                        r.name,
-                        r.dist.kind_name()
-                    ));
-                    json!({"kind": "unsupported"})
-                }
-            };
-            let until = r.resample_until.map(|u| match u {
-                Until::NormBelow(x) => json!({"norm_below": num(x)}),
-                Until::NormAbove(x) => json!({"norm_above": num(x)}),
-                Until::MinDistance(x) => json!({"min_distance": num(x)}),
-            });
-            if r.around.is_some()
-                || r.probability.is_some()
-                || matches!(
-                    r.target.field,
-                    envspec::Field::Goal | envspec::Field::MocapPos | envspec::Field::MocapQuat
-                )
-            {
-                not_exported.push(format!(
-                    "[reset.{}] around / probability / a goal or mocap target",
-                    r.name
-                ));
-            }
-            json!({
-                "name": r.name, "target": sel(&r.target), "dist": dist, "set": r.set,
-                "resample_until": until,
-            })
-        })
-        .collect();
-    let info: Vec<Value> = spec
-        .info
-        .iter()
-        .map(|i| {
-            let mut v = json!({
-                "key": i.key, "len": i.len, "at_reset": i.at_reset, "unweighted": i.unweighted,
-            });
-            let o = v.as_object_mut().expect("an object");
-            match &i.kind {
-                InfoKind::Value { source, minus } => {
-                    o.insert("kind".into(), json!("value"));
-                    o.insert("source".into(), sel(source));
-                    o.insert("minus".into(), opt_sel(minus.as_ref()));
-                }
-                InfoKind::Norm { source } => {
-                    o.insert("kind".into(), json!("norm"));
-                    o.insert("source".into(), sel(source));
-                }
-                InfoKind::Velocity { source } => {
-                    o.insert("kind".into(), json!("velocity"));
-                    o.insert("source".into(), sel(source));
-                }
-                InfoKind::Term(t) => {
-                    o.insert("kind".into(), json!("term"));
-                    o.insert("term".into(), json!(t));
-                }
-                InfoKind::GoalReached(_) => {
-                    o.insert("kind".into(), json!("goal_reached"));
-                    not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
-                }
-                InfoKind::GoalsReached(_) => {
-                    o.insert("kind".into(), json!("goals_reached"));
-                    not_exported.push(format!("[info.{}] kind = \"goals_reached\"", i.key));
-                }
-                InfoKind::Condition(_) => {
-                    o.insert("kind".into(), json!("condition"));
-                    not_exported.push(format!("[info.{}] kind = \"condition\"", i.key));
-                }
-            }
-            v
-        })
-        .collect();
+    v
+}
+
+fn health_check(h: &HealthCheck) -> Value {
+    let sources: Vec<Value> = h.sources.iter().map(sel).collect();
+    match h.kind {
+        CheckKind::Finite => json!({"name": h.name, "kind": "finite", "sources": sources}),
+        CheckKind::InRange { lo, hi, closed } => json!({
+            "name": h.name, "kind": "in_range", "sources": sources,
+            "lo": num(lo), "hi": num(hi), "closed": closed,
+        }),
+        CheckKind::FailsIf { op: o, value } => json!({
+            "name": h.name, "kind": "fails_if", "sources": sources,
+            "op": op(o), "value": num(value),
+        }),
+    }
+}
+
+/// A reset step; what the plan does not describe of it goes to `not_exported`.
+fn reset_step(r: &ResetStep, not_exported: &mut Vec<String>) -> Value {
+    let dist = reset_distribution(r, not_exported);
+    let until = r.resample_until.map(|u| match u {
+        Until::NormBelow(x) => json!({"norm_below": num(x)}),
+        Until::NormAbove(x) => json!({"norm_above": num(x)}),
+        Until::MinDistance(x) => json!({"min_distance": num(x)}),
+    });
+    if r.around.is_some()
+        || r.probability.is_some()
+        || matches!(
+            r.target.field,
+            envspec::Field::Goal | envspec::Field::MocapPos | envspec::Field::MocapQuat
+        )
+    {
+        not_exported.push(format!(
+            "[reset.{}] around / probability / a goal or mocap target",
+            r.name
+        ));
+    }
+    json!({
+        "name": r.name, "target": sel(&r.target), "dist": dist, "set": r.set,
+        "resample_until": until,
+    })
+}
+
+/// A reset step's distribution; `{"kind": "unsupported"}` for those the plan does not describe,
+/// which go to `not_exported`.
+fn reset_distribution(r: &ResetStep, not_exported: &mut Vec<String>) -> Value {
+    match &r.dist {
+        Distribution::Uniform { low, high } => {
+            json!({"kind": "uniform", "low": nums(low), "high": nums(high)})
+        }
+        Distribution::Normal { scale } => json!({"kind": "normal", "scale": num(*scale)}),
+        Distribution::Constant { value } => {
+            json!({"kind": "constant", "value": num(*value)})
+        }
+        Distribution::Values { .. } => {
+            not_exported.push(format!("[reset.{}] value = [per element]", r.name));
+            json!({"kind": "unsupported"})
+        }
+        Distribution::Keyframe { name, .. } => {
+            not_exported.push(format!("[reset.{}] kind = \"keyframe\" ({name})", r.name));
+            json!({"kind": "unsupported"})
+        }
+        Distribution::RootPose { .. } => {
+            not_exported.push(format!("[reset.{}] kind = \"root_pose\"", r.name));
+            json!({"kind": "unsupported"})
+        }
+        Distribution::TerrainOrigin { .. } => {
+            not_exported.push(format!("[reset.{}] kind = \"terrain_origin\"", r.name));
+            json!({"kind": "unsupported"})
+        }
+        Distribution::Meet(_)
+        | Distribution::Rotation(_)
+        | Distribution::UnitQuaternion
+        | Distribution::Settle(_) => {
+            not_exported.push(format!(
+                "[reset.{}] kind = \"{}\"",
+                r.name,
+                r.dist.kind_name()
+            ));
+            json!({"kind": "unsupported"})
+        }
+    }
+}
+
+/// An info item; a goal or condition kind goes to `not_exported`.
+fn info_item(i: &InfoItem, not_exported: &mut Vec<String>) -> Value {
+    let mut v = json!({
+        "key": i.key, "len": i.len, "at_reset": i.at_reset, "unweighted": i.unweighted,
+    });
+    let o = v.as_object_mut().expect("an object");
+    match &i.kind {
+        InfoKind::Value { source, minus } => {
+            o.insert("kind".into(), json!("value"));
+            o.insert("source".into(), sel(source));
+            o.insert("minus".into(), opt_sel(minus.as_ref()));
+        }
+        InfoKind::Norm { source } => {
+            o.insert("kind".into(), json!("norm"));
+            o.insert("source".into(), sel(source));
+        }
+        InfoKind::Velocity { source } => {
+            o.insert("kind".into(), json!("velocity"));
+            o.insert("source".into(), sel(source));
+        }
+        InfoKind::Term(t) => {
+            o.insert("kind".into(), json!("term"));
+            o.insert("term".into(), json!(t));
+        }
+        InfoKind::GoalReached(_) => {
+            o.insert("kind".into(), json!("goal_reached"));
+            not_exported.push(format!("[info.{}] kind = \"goal_reached\"", i.key));
+        }
+        InfoKind::GoalsReached(_) => {
+            o.insert("kind".into(), json!("goals_reached"));
+            not_exported.push(format!("[info.{}] kind = \"goals_reached\"", i.key));
+        }
+        InfoKind::Condition(_) => {
+            o.insert("kind".into(), json!("condition"));
+            not_exported.push(format!("[info.{}] kind = \"condition\"", i.key));
+        }
+    }
+    v
+}
+
+/// Commands, PD actions, observation noise and delay, action latency and events.
+fn cpu_only_parts(spec: &ResolvedSpec, not_exported: &mut Vec<String>) {
     for c in &spec.commands {
         not_exported.push(format!("[commands.{}]", c.name));
     }
@@ -341,30 +389,6 @@ fn plan(spec: &ResolvedSpec, z: &Sizes, act: &envc::BoxSpace) -> Value {
     for e in &spec.events {
         not_exported.push(format!("[events.{}]", e.name));
     }
-    json!({
-        "id": spec.id,
-        "frame_skip": spec.frame_skip,
-        "max_episode_steps": spec.max_episode_steps,
-        "timestep": spec.model.timestep,
-        "dt": spec.dt(),
-        "sizes": {
-            "nq": z.nq, "nv": z.nv, "nu": z.nu, "nbody": z.nbody, "nsite": z.nsite,
-            "ntendon": z.ntendon,
-        },
-        "obs_dim": spec.obs_dim,
-        "act_low": nums(&act.low),
-        "act_high": nums(&act.high),
-        "observation": observation,
-        "reward": reward,
-        "reward_sum": sum_node(&spec.reward_sum),
-        "health": health,
-        "terminate_when_unhealthy": spec.terminate_when_unhealthy,
-        "reset": reset,
-        "info": info,
-        "needs_rne_post_constraint": spec.needs_rne_post_constraint,
-        "reads_mass_center": spec.reads(Field::MassCenter),
-        "not_exported": not_exported,
-    })
 }
 
 /// `(plan JSON, compiled model as MJB bytes)` of a task spec under overrides, opened through the

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
-use envspec::diff::{Change, RuleId, Verdict};
+use envspec::diff::{Change, Report, RuleId, Verdict};
 use envspec::{Kind, Override, ParamValue, Spec};
 
 use crate::Outcome;
@@ -185,80 +185,102 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
         Kind::Agents => {
             envspec::diff::diff_agents(old_path, new_path).map_err(|d| anyhow::anyhow!("{d}"))?
         }
-        Kind::Maze => {
-            let load = |s: &Side, what: &str| {
-                envspec::maze::load_maze(&s.path, &s.overrides)
-                    .map_err(|d| anyhow::anyhow!("{d}"))
-                    .with_context(|| format!("{what} maze {}", s.path.display()))
-            };
-            let (o, n) = (load(&old, "old")?, load(&new, "new")?);
-            let mut report = envspec::diff::diff_mazes(&o, &n);
-            report.old_id = old.id.clone().unwrap_or(report.old_id);
-            report.new_id = new.id.clone().unwrap_or(report.new_id);
-            report.extend(vec![]); // the flags name the ids
-            // The robot models (compiled as each maze resolves its robot; identical models add
-            // nothing). A robot that does not resolve is already reported.
-            let resolve = |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
-            if !args.no_model
-                && let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n))
-            {
-                let mut changes = model_changes(&a, &b)?;
-                for c in &mut changes {
-                    c.subject = format!("robot {}", c.subject);
-                }
-                report.extend(changes);
-            }
-            report
-        }
-        Kind::Task => {
-            let (old, old_r) = load(old_path).with_context(|| format!("old spec {}", args.old))?;
-            let (new, new_r) = load(new_path).with_context(|| format!("new spec {}", args.new))?;
-            let mut report = envspec::diff::diff(&old, &old_r, &new, &new_r);
-            if !args.no_model {
-                let mut changes = model_changes(&old_r, &new_r)?;
-                // A model change the spec's own changes do not already break: does it reach a
-                // rollout at all? (A friction that MuJoCo's max rule overrides at every contact
-                // does not.) Then it is compatible, and the witness says how that was checked.
-                // (Pointing `xml_file` at another file is judged by what the models do.)
-                let model_file = |c: &Change| c.subject == "param xml_file";
-                let spec_breaks = report.changes.iter().any(|c| c.breaking && !model_file(c));
-                // Every model difference, the unclassified residual included, is judged by its
-                // effect when the spec's own changes do not already break: a gain MuJoCo stores
-                // outside the compared arrays must not pass as "no behaviour change".
-                let model_differs = !changes.is_empty() || report.changes.iter().any(&model_file);
-                if !spec_breaks && model_differs {
-                    let effect = rollout_difference(&old_r, &new_r);
-                    let file_changes = report.changes.iter_mut().filter(|c| model_file(c));
-                    for c in changes.iter_mut().chain(file_changes) {
-                        let (breaking, said) = match &effect {
-                            None => (
-                                false,
-                                format!(
-                                    "no effect on a rollout: {ROLLOUT_STEPS} steps of seeded random actions (seed 0, resets included) are bit-identical"
-                                ),
-                            ),
-                            Some(w) => (true, w.clone()),
-                        };
-                        // (a file named differently that compiles to the same model stays as it was)
-                        if c.rule == envspec::diff::RuleId::ModelFileChanged {
-                            continue;
-                        }
-                        c.breaking = breaking;
-                        c.witness = Some(format!(
-                            "{said}{}",
-                            c.witness
-                                .as_deref()
-                                .map(|w| format!("; {w}"))
-                                .unwrap_or_default()
-                        ));
-                    }
-                }
-                report.extend(changes);
-            }
-            report
-        }
+        Kind::Maze => diff_mazes(args, &old, &new)?,
+        Kind::Task => diff_tasks(args, old_path, new_path)?,
     };
-    // Show git revisions as the user wrote them (`REV:path`), not the temporary checkout.
+    name_revisions(args, &mut report, old_path, new_path, tmp);
+    relative_paths(&mut report);
+    Ok(print(&report, args.format))
+}
+
+/// Two maze specs: the mazes, then the robot models each resolves.
+fn diff_mazes(args: &Args, old: &Side, new: &Side) -> Result<Report> {
+    let load = |s: &Side, what: &str| {
+        envspec::maze::load_maze(&s.path, &s.overrides)
+            .map_err(|d| anyhow::anyhow!("{d}"))
+            .with_context(|| format!("{what} maze {}", s.path.display()))
+    };
+    let (o, n) = (load(old, "old")?, load(new, "new")?);
+    let mut report = envspec::diff::diff_mazes(&o, &n);
+    report.old_id = old.id.clone().unwrap_or(report.old_id);
+    report.new_id = new.id.clone().unwrap_or(report.new_id);
+    report.extend(vec![]); // the flags name the ids
+    // The robot models (compiled as each maze resolves its robot; identical models add
+    // nothing). A robot that does not resolve is already reported.
+    let resolve = |m: &envspec::maze::MazeSpec| envspec::load(&m.robot, &m.robot_overrides);
+    if !args.no_model
+        && let (Ok(a), Ok(b)) = (resolve(&o), resolve(&n))
+    {
+        let mut changes = model_changes(&a, &b)?;
+        for c in &mut changes {
+            c.subject = format!("robot {}", c.subject);
+        }
+        report.extend(changes);
+    }
+    Ok(report)
+}
+
+/// Two task specs: the specs, then the compiled models, each model change judged by its effect.
+fn diff_tasks(args: &Args, old_path: &Path, new_path: &Path) -> Result<Report> {
+    let (old, old_r) = load(old_path).with_context(|| format!("old spec {}", args.old))?;
+    let (new, new_r) = load(new_path).with_context(|| format!("new spec {}", args.new))?;
+    let mut report = envspec::diff::diff(&old, &old_r, &new, &new_r);
+    if !args.no_model {
+        let mut changes = model_changes(&old_r, &new_r)?;
+        judge_model_changes(&mut report, &mut changes, &old_r, &new_r);
+        report.extend(changes);
+    }
+    Ok(report)
+}
+
+/// A model change the spec's own changes do not already break: does it reach a rollout at all?
+/// (A friction that MuJoCo's max rule overrides at every contact does not.) Then it is
+/// compatible, and the witness says how that was checked. (Pointing `xml_file` at another file
+/// is judged by what the models do.)
+fn judge_model_changes(
+    report: &mut Report,
+    changes: &mut [Change],
+    old_r: &envspec::ResolvedSpec,
+    new_r: &envspec::ResolvedSpec,
+) {
+    let model_file = |c: &Change| c.subject == "param xml_file";
+    let spec_breaks = report.changes.iter().any(|c| c.breaking && !model_file(c));
+    // Every model difference, the unclassified residual included, is judged by its
+    // effect when the spec's own changes do not already break: a gain MuJoCo stores
+    // outside the compared arrays must not pass as "no behaviour change".
+    let model_differs = !changes.is_empty() || report.changes.iter().any(&model_file);
+    if spec_breaks || !model_differs {
+        return;
+    }
+    let effect = rollout_difference(old_r, new_r);
+    let file_changes = report.changes.iter_mut().filter(|c| model_file(c));
+    for c in changes.iter_mut().chain(file_changes) {
+        let (breaking, said) = match &effect {
+            None => (
+                false,
+                format!(
+                    "no effect on a rollout: {ROLLOUT_STEPS} steps of seeded random actions (seed 0, resets included) are bit-identical"
+                ),
+            ),
+            Some(w) => (true, w.clone()),
+        };
+        // (a file named differently that compiles to the same model stays as it was)
+        if c.rule == envspec::diff::RuleId::ModelFileChanged {
+            continue;
+        }
+        c.breaking = breaking;
+        c.witness = Some(format!(
+            "{said}{}",
+            c.witness
+                .as_deref()
+                .map(|w| format!("; {w}"))
+                .unwrap_or_default()
+        ));
+    }
+}
+
+/// Show git revisions as the user wrote them (`REV:path`), not the temporary checkout.
+fn name_revisions(args: &Args, report: &mut Report, old_path: &Path, new_path: &Path, tmp: &Path) {
     for (arg, path, side) in [(&args.old, old_path, "old"), (&args.new, new_path, "new")] {
         let Some((rev, _)) = arg.split_once(':') else {
             continue;
@@ -284,7 +306,10 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             }
         }
     }
-    // Paths relative to the working directory read better in reviews and CI annotations.
+}
+
+/// Paths relative to the working directory read better in reviews and CI annotations.
+fn relative_paths(report: &mut Report) {
     if let Ok(cwd) = std::env::current_dir() {
         let rel = |f: &mut String| {
             if let Ok(p) = Path::new(f.as_str()).strip_prefix(&cwd) {
@@ -299,10 +324,8 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
             }
         }
     }
-    Ok(print(&report, args.format))
 }
 
-/// The compiled models compared (MuJoCo), with the model files named when they differ.
 /// Steps of the rollout that decides whether a model change reaches the task.
 const ROLLOUT_STEPS: usize = 300;
 
@@ -383,6 +406,7 @@ fn rollout_difference(
     None
 }
 
+/// The compiled models compared (MuJoCo), with the model files named when they differ.
 fn model_changes(
     old_r: &envspec::ResolvedSpec,
     new_r: &envspec::ResolvedSpec,

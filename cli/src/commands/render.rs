@@ -234,65 +234,11 @@ fn encoder(gif: bool, w: u32, h: u32, fps: u32, dest: &Path) -> Result<std::proc
 
 pub fn run(args: Args) -> Result<Outcome> {
     let kind = output_kind(&args.out)?;
-    // The result is renamed over `--out`: never over a device, FIFO or socket (the node itself
-    // would be replaced, for every program on the machine).
-    if let Ok(m) = std::fs::metadata(&args.out)
-        && !m.is_file()
-        && !(m.is_dir() && kind == Output::Frames)
-    {
-        bail!(
-            "error[E1410]: cannot write {}: it is not a regular file; envc writes an output whole and renames it into place",
-            args.out.display()
-        );
-    }
-    // Frames go into a directory of their own: never mixed with (or over) files already there.
-    if kind == Output::Frames
-        && args
-            .out
-            .read_dir()
-            .is_ok_and(|mut entries| entries.next().is_some())
-    {
-        bail!(
-            "error[E1412]: {} exists and is not empty; `envc render` writes PNG frames into a new or empty directory, never over files already there",
-            args.out.display()
-        );
-    }
-    let mut sets = args.set.clone();
-    if let Some(c) = &args.camera {
-        sets.push(format!("camera_name={c:?}"));
-    }
-    if let Some(s) = &args.size {
-        let (w, h) = parse_size(s)?;
-        sets.push(format!("width={w}"));
-        sets.push(format!("height={h}"));
-    }
-    let mut env = crate::target::env(&args.spec, &sets)?;
-    if args.color_agents {
-        match &mut env {
-            envc::AnyEnv::Agents(e) => e.color_agents(true),
-            other => {
-                return Err(crate::target::unsupported(
-                    "render --color-agents",
-                    other.id(),
-                    other.kind(),
-                    "colours the agents of a multi-agent spec",
-                    "leave out --color-agents, or render a factorization (e.g. MaMuJoCo-Ant-v1)",
-                ));
-            }
-        }
-    }
+    check_destination(&args.out, kind)?;
+    let mut env = open_env(&args)?;
     let space = env.action_space().clone();
     let act_dim = env.act_dim();
-    let replay = match (args.policy, &args.actions) {
-        (Policy::Replay, Some(p)) => {
-            let a = envc::npy::read_matrix(p)?.into_f64();
-            crate::target::action_file_shape(p, a.dim(), env.id(), act_dim)?;
-            a.iter().copied().collect::<Vec<f64>>()
-        }
-        (Policy::Replay, None) => bail!("--policy replay needs --actions A.npy"),
-        (_, Some(_)) => bail!("--actions is only used with --policy replay"),
-        _ => vec![],
-    };
+    let replay = replay_actions(&args, &env, act_dim)?;
     // Gymnasium's render_fps: round(1/dt); the maze classes declare 50.
     let fps = if env.kind() == envspec::Kind::Maze {
         50
@@ -304,92 +250,17 @@ pub fn run(args: Args) -> Result<Outcome> {
         .unwrap_or(args.max_steps)
         .min(args.max_steps.max(1));
 
-    // Written under a temporary name next to the destination, renamed when complete.
-    let name = args
-        .out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "frames".into());
-    let parent = match args.out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
+    let tmp = temporary_output(&args.out, kind)?;
+    let episodes = Episodes {
+        args: &args,
+        kind,
+        fps,
+        limit,
+        dest: &tmp,
+        space: &space,
+        replay: &replay,
     };
-    let tmp = parent.join(format!(".{name}.partial-{}", std::process::id()));
-    let dest = match kind {
-        Output::Frames => {
-            std::fs::create_dir_all(&tmp).map_err(|e| {
-                e1506(
-                    format!("cannot create {}: {e}", tmp.display()),
-                    "check the path",
-                )
-            })?;
-            tmp.clone()
-        }
-        _ => tmp.clone(),
-    };
-    let result = (|| -> Result<(u64, u32, u32)> {
-        let mut policy_rng = NumpyRng::from_seed(args.seed);
-        let mut action = vec![0.0; act_dim];
-        let mut row = 0usize;
-        let bar = ProgressBar::new(args.episodes * limit);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} steps ({elapsed}, eta {eta})",
-            )
-            .expect("static template")
-            .progress_chars("=> "),
-        );
-        bar.set_message(format!("rendering {}", env.id()));
-        let mut child: Option<(Sink, u32, u32)> = None;
-        let mut frames = 0u64;
-        let mut write =
-            |env: &mut envc::AnyEnv, child: &mut Option<(Sink, u32, u32)>| -> Result<()> {
-                let f = env.render(RenderMode::RgbArray)?;
-                let (w, h) = (f.width as u32, f.height as u32);
-                if child.is_none() {
-                    *child = Some((Sink::open(kind, w, h, fps, &dest)?, w, h));
-                }
-                let (sink, ..) = child.as_mut().expect("just set");
-                sink.write(f.rgb.unwrap_or(&[]), w, h)?;
-                frames += 1;
-                Ok(())
-            };
-        for ep in 0..args.episodes {
-            env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
-            write(&mut env, &mut child)?;
-            for t in 0..limit {
-                match args.policy {
-                    Policy::Random => {
-                        for (i, a) in action.iter_mut().enumerate() {
-                            *a = policy_rng.uniform(space.low[i], space.high[i]);
-                        }
-                    }
-                    Policy::Replay => {
-                        let n = replay.len() / act_dim;
-                        if row >= n {
-                            break;
-                        }
-                        action.copy_from_slice(&replay[row * act_dim..(row + 1) * act_dim]);
-                        row += 1;
-                    }
-                    Policy::Zero => {}
-                }
-                let s = env.step_joint(JointAction::F64(&action))?;
-                let done = s.terminated || s.truncated;
-                write(&mut env, &mut child)?;
-                bar.inc(1);
-                if done {
-                    bar.inc(limit - t - 1);
-                    break;
-                }
-            }
-        }
-        bar.finish_and_clear();
-        let (sink, w, h) = child.ok_or_else(|| anyhow!("no frame was rendered"))?;
-        sink.finish()?;
-        Ok((frames, w, h))
-    })();
-    let (frames, w, h) = match result {
+    let (frames, w, h) = match episodes.render(&mut env) {
         Ok(x) => x,
         Err(e) => {
             let _ = if kind == Output::Frames {
@@ -416,4 +287,179 @@ pub fn run(args: Args) -> Result<Outcome> {
         args.out.display()
     );
     Ok(Outcome::Ok)
+}
+
+/// Refuses a `--out` the result must not be renamed over.
+fn check_destination(out: &Path, kind: Output) -> Result<()> {
+    // The result is renamed over `--out`: never over a device, FIFO or socket (the node itself
+    // would be replaced, for every program on the machine).
+    if let Ok(m) = std::fs::metadata(out)
+        && !m.is_file()
+        && !(m.is_dir() && kind == Output::Frames)
+    {
+        bail!(
+            "error[E1410]: cannot write {}: it is not a regular file; envc writes an output whole and renames it into place",
+            out.display()
+        );
+    }
+    // Frames go into a directory of their own: never mixed with (or over) files already there.
+    if kind == Output::Frames
+        && out
+            .read_dir()
+            .is_ok_and(|mut entries| entries.next().is_some())
+    {
+        bail!(
+            "error[E1412]: {} exists and is not empty; `envc render` writes PNG frames into a new or empty directory, never over files already there",
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// The env to render, with `--camera` and `--size` as parameter overrides.
+fn open_env(args: &Args) -> Result<envc::AnyEnv> {
+    let mut sets = args.set.clone();
+    if let Some(c) = &args.camera {
+        sets.push(format!("camera_name={c:?}"));
+    }
+    if let Some(s) = &args.size {
+        let (w, h) = parse_size(s)?;
+        sets.push(format!("width={w}"));
+        sets.push(format!("height={h}"));
+    }
+    let mut env = crate::target::env(&args.spec, &sets)?;
+    if args.color_agents {
+        match &mut env {
+            envc::AnyEnv::Agents(e) => e.color_agents(true),
+            other => {
+                return Err(crate::target::unsupported(
+                    "render --color-agents",
+                    other.id(),
+                    other.kind(),
+                    "colours the agents of a multi-agent spec",
+                    "leave out --color-agents, or render a factorization (e.g. MaMuJoCo-Ant-v1)",
+                ));
+            }
+        }
+    }
+    Ok(env)
+}
+
+/// The rows of `--actions`, flat, for `--policy replay` (empty for the other policies).
+fn replay_actions(args: &Args, env: &envc::AnyEnv, act_dim: usize) -> Result<Vec<f64>> {
+    Ok(match (args.policy, &args.actions) {
+        (Policy::Replay, Some(p)) => {
+            let a = envc::npy::read_matrix(p)?.into_f64();
+            crate::target::action_file_shape(p, a.dim(), env.id(), act_dim)?;
+            a.iter().copied().collect::<Vec<f64>>()
+        }
+        (Policy::Replay, None) => bail!("--policy replay needs --actions A.npy"),
+        (_, Some(_)) => bail!("--actions is only used with --policy replay"),
+        _ => vec![],
+    })
+}
+
+/// Where the output is written before it is complete: a temporary name next to `--out`, renamed
+/// when complete (a directory, made here, for PNG frames).
+fn temporary_output(out: &Path, kind: Output) -> Result<PathBuf> {
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frames".into());
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let tmp = parent.join(format!(".{name}.partial-{}", std::process::id()));
+    if kind == Output::Frames {
+        std::fs::create_dir_all(&tmp).map_err(|e| {
+            e1506(
+                format!("cannot create {}: {e}", tmp.display()),
+                "check the path",
+            )
+        })?;
+    }
+    Ok(tmp)
+}
+
+/// The episodes to render and where their frames go.
+struct Episodes<'a> {
+    args: &'a Args,
+    kind: Output,
+    fps: u32,
+    /// Steps per episode at most.
+    limit: u64,
+    dest: &'a Path,
+    space: &'a envc::BoxSpace,
+    /// `--actions`, flat (`--policy replay`).
+    replay: &'a [f64],
+}
+
+impl Episodes<'_> {
+    /// Every episode's frames written to the sink (opened at the first frame, whose size it
+    /// takes); the frame count and size.
+    fn render(&self, env: &mut envc::AnyEnv) -> Result<(u64, u32, u32)> {
+        let args = self.args;
+        let (limit, act_dim) = (self.limit, env.act_dim());
+        let mut policy_rng = NumpyRng::from_seed(args.seed);
+        let mut action = vec![0.0; act_dim];
+        let mut row = 0usize;
+        let bar = ProgressBar::new(args.episodes * limit);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} steps ({elapsed}, eta {eta})",
+            )
+            .expect("static template")
+            .progress_chars("=> "),
+        );
+        bar.set_message(format!("rendering {}", env.id()));
+        let mut child: Option<(Sink, u32, u32)> = None;
+        let mut frames = 0u64;
+        let mut write =
+            |env: &mut envc::AnyEnv, child: &mut Option<(Sink, u32, u32)>| -> Result<()> {
+                let f = env.render(RenderMode::RgbArray)?;
+                let (w, h) = (f.width as u32, f.height as u32);
+                if child.is_none() {
+                    *child = Some((Sink::open(self.kind, w, h, self.fps, self.dest)?, w, h));
+                }
+                let (sink, ..) = child.as_mut().expect("just set");
+                sink.write(f.rgb.unwrap_or(&[]), w, h)?;
+                frames += 1;
+                Ok(())
+            };
+        for ep in 0..args.episodes {
+            env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
+            write(env, &mut child)?;
+            for t in 0..limit {
+                match args.policy {
+                    Policy::Random => {
+                        for (i, a) in action.iter_mut().enumerate() {
+                            *a = policy_rng.uniform(self.space.low[i], self.space.high[i]);
+                        }
+                    }
+                    Policy::Replay => {
+                        let n = self.replay.len() / act_dim;
+                        if row >= n {
+                            break;
+                        }
+                        action.copy_from_slice(&self.replay[row * act_dim..(row + 1) * act_dim]);
+                        row += 1;
+                    }
+                    Policy::Zero => {}
+                }
+                let s = env.step_joint(JointAction::F64(&action))?;
+                let done = s.terminated || s.truncated;
+                write(env, &mut child)?;
+                bar.inc(1);
+                if done {
+                    bar.inc(limit - t - 1);
+                    break;
+                }
+            }
+        }
+        bar.finish_and_clear();
+        let (sink, w, h) = child.ok_or_else(|| anyhow!("no frame was rendered"))?;
+        sink.finish()?;
+        Ok((frames, w, h))
+    }
 }

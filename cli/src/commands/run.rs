@@ -61,10 +61,6 @@ fn stats(x: &[f64]) -> (f64, f64, f64, f64) {
 
 pub fn run(args: Args) -> Result<Outcome> {
     let mut env = crate::target::env(&args.spec, &args.set)?;
-    let space = env.action_space().clone();
-    // The policy's own stream, separate from the env's (as Gymnasium's action_space.seed).
-    let mut policy_rng = NumpyRng::from_seed(args.seed);
-    let mut action = vec![0.0; env.act_dim()];
     let limit = env.max_episode_steps();
     let Some(cap) = args.max_steps.or(limit) else {
         return Err(crate::target::needs_max_steps(
@@ -73,69 +69,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             "give --max-steps N (steps per episode), or ",
         ));
     };
-    let bar = if args.format == Format::Text {
-        ProgressBar::new(args.episodes)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} episodes ({elapsed})")
-            .expect("static template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(env.id().to_string());
-    let (mut returns, mut lengths) = (vec![], vec![]);
-    let (mut steps, mut terminations) = (0u64, 0u64);
-    // Episodes whose last step reported `is_success` = 1 (goal tasks, as HER evaluates them).
-    let tracks_success = env
-        .physics_env()
-        .spec()
-        .info
-        .iter()
-        .any(|i| i.key == "is_success");
-    let mut successes = 0u64;
-    // Why episodes ended: reason → (count, an example), and a failing reset state.
-    let mut endings: std::collections::BTreeMap<String, (u64, String)> = Default::default();
-    let mut bad_start: Option<envc::Unhealthy> = None;
-    let start = Instant::now();
-    for ep in 0..args.episodes {
-        env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
-        if bad_start.is_none() && env.kind() != envspec::Kind::Maze {
-            bad_start = env.physics_env().unhealthy();
-        }
-        let (mut ret, mut len) = (0.0, 0u64);
-        loop {
-            if let Policy::Random = args.policy {
-                for (i, a) in action.iter_mut().enumerate() {
-                    *a = policy_rng.uniform(space.low[i], space.high[i]);
-                }
-            }
-            let s = env.step_joint(JointAction::F64(&action))?;
-            ret += s.reward;
-            len += 1;
-            if s.terminated || s.truncated || len >= cap {
-                terminations += s.terminated as u64;
-                let info = env.physics_env().step_info();
-                successes += u64::from(info.scalar("is_success") == Some(1.0));
-                if s.terminated {
-                    let (reason, example) = ending(&env);
-                    let e = endings.entry(reason).or_insert((0, example));
-                    e.0 += 1;
-                }
-                break;
-            }
-        }
-        steps += len;
-        returns.push(ret);
-        lengths.push(len as f64);
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    let secs = start.elapsed().as_secs_f64();
-    let (rm, rs, rmin, rmax) = stats(&returns);
-    let (lm, ls, lmin, lmax) = stats(&lengths);
-    let sps = steps as f64 / secs.max(1e-9);
-    if returns.is_empty() {
+    let tally = run_episodes(&args, &mut env, cap)?;
+    if tally.returns.is_empty() {
         // No episode, no statistics: min/max of nothing would print as inf / -inf.
         match args.format {
             Format::Json => println!(
@@ -150,60 +85,165 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
         return Ok(Outcome::Ok);
     }
-    use crate::plural;
     match args.format {
-        Format::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&serde_json::json!({
-                "env": env.id(), "episodes": args.episodes, "steps": steps, "terminations": terminations,
-                "return": {"mean": rm, "std": rs, "min": rmin, "max": rmax},
-                "length": {"mean": lm, "std": ls, "min": lmin, "max": lmax},
-                "steps_per_second": sps, "warnings": env.warnings(),
-                "terminated_by": endings.iter().map(|(r, (n, e))| serde_json::json!({"reason": r, "count": n, "example": e})).collect::<Vec<_>>(),
-                "reset_state_fails": bad_start.as_ref().map(|u| u.check.clone()),
-                "success_rate": tracks_success.then(|| successes as f64 / args.episodes as f64),
-            }))?
-        ),
-        Format::Text => {
-            println!(
-                "{}: {}, {} ({terminations} terminated)",
-                env.id(),
-                plural(args.episodes, "episode", "episodes"),
-                plural(steps, "step", "steps"),
-            );
-            println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
-            println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
-            if tracks_success {
-                println!(
-                    "  success {:.1} % ({successes} of {} episodes end with is_success = 1)",
-                    100.0 * successes as f64 / args.episodes as f64,
-                    args.episodes
-                );
-            }
-            println!("  {sps:.0} steps/s");
-            for (reason, (n, example)) in &endings {
-                println!("  terminated {n}× by {reason}: {example}");
-            }
-            if let Some(u) = &bad_start {
-                println!(
-                    "  warning: the reset state already fails health check `{}`: {} = {} ({}); check the spec's reset and the model's initial pose",
-                    u.check,
-                    u.element,
-                    u.value,
-                    rule(&u.rule)
-                );
-            } else if terminations == args.episodes && lm <= 3.0 {
-                println!(
-                    "  warning: every episode ended within {}: the initial state may already be close to failing a check",
-                    plural(lmax as u64, "step", "steps")
-                );
-            }
-            for w in env.warnings() {
-                println!("  MuJoCo warning: {w}");
-            }
-        }
+        Format::Json => print_json(&args, &env, &tally)?,
+        Format::Text => print_text(&args, &env, &tally),
     }
     Ok(Outcome::Ok)
+}
+
+/// What the episodes of a run came to.
+struct Tally {
+    returns: Vec<f64>,
+    lengths: Vec<f64>,
+    steps: u64,
+    terminations: u64,
+    /// Whether the spec reports `is_success` (goal tasks, as HER evaluates them).
+    tracks_success: bool,
+    /// Episodes whose last step reported `is_success` = 1.
+    successes: u64,
+    /// Why episodes ended: reason → (count, an example).
+    endings: std::collections::BTreeMap<String, (u64, String)>,
+    /// A health check the reset state already fails.
+    bad_start: Option<envc::Unhealthy>,
+    /// Wall time of the episodes.
+    secs: f64,
+}
+
+/// `args.episodes` episodes of at most `cap` steps, with a progress bar in text mode.
+fn run_episodes(args: &Args, env: &mut envc::AnyEnv, cap: u64) -> Result<Tally> {
+    let space = env.action_space().clone();
+    // The policy's own stream, separate from the env's (as Gymnasium's action_space.seed).
+    let mut policy_rng = NumpyRng::from_seed(args.seed);
+    let mut action = vec![0.0; env.act_dim()];
+    let bar = if args.format == Format::Text {
+        ProgressBar::new(args.episodes)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} episodes ({elapsed})")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(env.id().to_string());
+    let mut tally = Tally {
+        returns: vec![],
+        lengths: vec![],
+        steps: 0,
+        terminations: 0,
+        tracks_success: env
+            .physics_env()
+            .spec()
+            .info
+            .iter()
+            .any(|i| i.key == "is_success"),
+        successes: 0,
+        endings: Default::default(),
+        bad_start: None,
+        secs: 0.0,
+    };
+    let start = Instant::now();
+    for ep in 0..args.episodes {
+        env.try_reset(if ep == 0 { Some(args.seed) } else { None })?;
+        if tally.bad_start.is_none() && env.kind() != envspec::Kind::Maze {
+            tally.bad_start = env.physics_env().unhealthy();
+        }
+        let (mut ret, mut len) = (0.0, 0u64);
+        loop {
+            if let Policy::Random = args.policy {
+                for (i, a) in action.iter_mut().enumerate() {
+                    *a = policy_rng.uniform(space.low[i], space.high[i]);
+                }
+            }
+            let s = env.step_joint(JointAction::F64(&action))?;
+            ret += s.reward;
+            len += 1;
+            if s.terminated || s.truncated || len >= cap {
+                tally.terminations += s.terminated as u64;
+                let info = env.physics_env().step_info();
+                tally.successes += u64::from(info.scalar("is_success") == Some(1.0));
+                if s.terminated {
+                    let (reason, example) = ending(env);
+                    let e = tally.endings.entry(reason).or_insert((0, example));
+                    e.0 += 1;
+                }
+                break;
+            }
+        }
+        tally.steps += len;
+        tally.returns.push(ret);
+        tally.lengths.push(len as f64);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    tally.secs = start.elapsed().as_secs_f64();
+    Ok(tally)
+}
+
+/// The summary as JSON (`--format json`).
+fn print_json(args: &Args, env: &envc::AnyEnv, t: &Tally) -> Result<()> {
+    let (rm, rs, rmin, rmax) = stats(&t.returns);
+    let (lm, ls, lmin, lmax) = stats(&t.lengths);
+    let sps = t.steps as f64 / t.secs.max(1e-9);
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&serde_json::json!({
+            "env": env.id(), "episodes": args.episodes, "steps": t.steps, "terminations": t.terminations,
+            "return": {"mean": rm, "std": rs, "min": rmin, "max": rmax},
+            "length": {"mean": lm, "std": ls, "min": lmin, "max": lmax},
+            "steps_per_second": sps, "warnings": env.warnings(),
+            "terminated_by": t.endings.iter().map(|(r, (n, e))| serde_json::json!({"reason": r, "count": n, "example": e})).collect::<Vec<_>>(),
+            "reset_state_fails": t.bad_start.as_ref().map(|u| u.check.clone()),
+            "success_rate": t.tracks_success.then(|| t.successes as f64 / args.episodes as f64),
+        }))?
+    );
+    Ok(())
+}
+
+/// The summary as text, with warnings about episodes that end at once.
+fn print_text(args: &Args, env: &envc::AnyEnv, t: &Tally) {
+    use crate::plural;
+    let (rm, rs, rmin, rmax) = stats(&t.returns);
+    let (lm, ls, lmin, lmax) = stats(&t.lengths);
+    let sps = t.steps as f64 / t.secs.max(1e-9);
+    let (terminations, successes) = (t.terminations, t.successes);
+    println!(
+        "{}: {}, {} ({terminations} terminated)",
+        env.id(),
+        plural(args.episodes, "episode", "episodes"),
+        plural(t.steps, "step", "steps"),
+    );
+    println!("  return  mean {rm:.3}  std {rs:.3}  min {rmin:.3}  max {rmax:.3}");
+    println!("  length  mean {lm:.1}  std {ls:.1}  min {lmin}  max {lmax}");
+    if t.tracks_success {
+        println!(
+            "  success {:.1} % ({successes} of {} episodes end with is_success = 1)",
+            100.0 * successes as f64 / args.episodes as f64,
+            args.episodes
+        );
+    }
+    println!("  {sps:.0} steps/s");
+    for (reason, (n, example)) in &t.endings {
+        println!("  terminated {n}× by {reason}: {example}");
+    }
+    if let Some(u) = &t.bad_start {
+        println!(
+            "  warning: the reset state already fails health check `{}`: {} = {} ({}); check the spec's reset and the model's initial pose",
+            u.check,
+            u.element,
+            u.value,
+            rule(&u.rule)
+        );
+    } else if terminations == args.episodes && lm <= 3.0 {
+        println!(
+            "  warning: every episode ended within {}: the initial state may already be close to failing a check",
+            plural(lmax as u64, "step", "steps")
+        );
+    }
+    for w in env.warnings() {
+        println!("  MuJoCo warning: {w}");
+    }
 }
 
 /// A check's rule as a clause: the range and finite kinds say when the state is healthy,

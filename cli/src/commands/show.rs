@@ -114,9 +114,40 @@ pub fn run(args: Args) -> Result<Outcome> {
     };
     let spec = env.spec().clone();
     let cwd = std::env::current_dir().unwrap_or_default();
-    let rel = |p: &std::path::Path| p.strip_prefix(&cwd).unwrap_or(p).display().to_string();
     let mut o = String::new();
-    writeln!(o, "{}  ({})", spec.id, rel(&spec.spec_path))?;
+    write_header(&mut o, &env, &spec, &cwd)?;
+    write_parameters(&mut o, &spec, &cwd)?;
+    write_observation(&mut o, &spec)?;
+    write_action(&mut o, &env, &spec)?;
+    if !spec.model_edits.actuators.is_empty() || !spec.model_edits.joints.is_empty() {
+        joints(&mut o, &env)?;
+    }
+    write_manipulation(&mut o, &spec)?;
+    write_derived(&mut o, &spec)?;
+    write_reward(&mut o, &spec)?;
+    write_endings(&mut o, &spec)?;
+    write_reset(&mut o, &spec)?;
+    if !spec.events.is_empty() {
+        randomization(&mut o, &env)?;
+    }
+    write_info(&mut o, &spec)?;
+    print!("{o}");
+    Ok(Outcome::Ok)
+}
+
+/// `p` relative to the working directory when it is under it.
+fn rel(cwd: &std::path::Path, p: &std::path::Path) -> String {
+    p.strip_prefix(cwd).unwrap_or(p).display().to_string()
+}
+
+/// The id, description, model sizes and how an episode ends.
+fn write_header(
+    o: &mut String,
+    env: &envc::Env,
+    spec: &envc::envspec::ResolvedSpec,
+    cwd: &std::path::Path,
+) -> std::fmt::Result {
+    writeln!(o, "{}  ({})", spec.id, rel(cwd, &spec.spec_path))?;
     if !spec.description.is_empty() {
         writeln!(o, "  {}", spec.description)?;
     }
@@ -124,7 +155,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     writeln!(
         o,
         "model: {}  (nq {}, nv {}, nu {}, nbody {}; timestep {}, frame_skip {}, dt {})",
-        rel(&spec.model_path),
+        rel(cwd, &spec.model_path),
         m.nq,
         m.nv,
         m.nu(),
@@ -146,7 +177,15 @@ pub fn run(args: Args) -> Result<Outcome> {
     if let Some(t) = spec.reward_threshold {
         writeln!(o, "reward threshold: {t}")?;
     }
+    Ok(())
+}
 
+/// Every parameter with its type, value and where the value comes from.
+fn write_parameters(
+    o: &mut String,
+    spec: &envc::envspec::ResolvedSpec,
+    cwd: &std::path::Path,
+) -> std::fmt::Result {
     writeln!(o, "\nparameters:")?;
     let w = spec.params.iter().map(|p| p.name.len()).max().unwrap_or(0);
     for p in &spec.params {
@@ -167,20 +206,32 @@ pub fn run(args: Args) -> Result<Outcome> {
             p.value.to_string()
         )?;
     }
+    Ok(())
+}
 
+/// The observation segments, each with the names of its elements.
+fn write_observation(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
     writeln!(o, "\nobservation ({} float64):", spec.obs_dim)?;
     for s in &spec.observation {
         writeln!(o, "  {}", segment_line(s, &s.source.text))?;
         writeln!(o, "{}", wrap(&s.element_names(), 6, 100))?;
     }
+    Ok(())
+}
 
+/// The action: one row per value with its bounds (Cartesian rows for an end effector, else one
+/// per actuator), then the `[actions]` mapping.
+fn write_action(
+    o: &mut String,
+    env: &envc::Env,
+    spec: &envc::envspec::ResolvedSpec,
+) -> std::fmt::Result {
     writeln!(
         o,
         "\naction ({} float64; float32 bounds as Gymnasium's Box):",
         env.act_dim()
     )?;
     let sp = env.action_space();
-    let manipulation = describe::manipulation(&spec);
     if spec.manipulation.end_effector.is_some() {
         for (i, (lo, hi)) in sp.low.iter().zip(&sp.high).enumerate() {
             let what = ["dx", "dy", "dz", "gripper"][i.min(3)];
@@ -190,7 +241,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let ee_actuators = if spec.manipulation.end_effector.is_some() {
         &[][..]
     } else {
-        &m.actuators[..]
+        &spec.model.actuators[..]
     };
     for (i, a) in ee_actuators.iter().enumerate() {
         let target = a.target.as_deref().unwrap_or("-");
@@ -199,23 +250,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         } else {
             a.name.as_str()
         };
-        // Actuators the spec adds: their kind and gear (the model's own are in its file).
-        let added = spec
-            .model_edits
-            .actuators
-            .iter()
-            .find(|x| x.name == a.name)
-            .map(|x| {
-                let kind = match x.kind {
-                    envspec::ir::ActuatorKind::Motor => "motor".to_string(),
-                    envspec::ir::ActuatorKind::Position { kp, kv } => {
-                        format!("position kp {kp} kv {}", kv.unwrap_or(0.0))
-                    }
-                    envspec::ir::ActuatorKind::Velocity { kv } => format!("velocity kv {kv}"),
-                };
-                format!("  {kind}, gear {} (added by the spec)", x.gear)
-            })
-            .unwrap_or_default();
+        let added = added_actuator(spec, &a.name);
         writeln!(
             o,
             "  {i:>3}  {name:<20} -> {target:<20} [{}, {}]{added}",
@@ -228,21 +263,42 @@ pub fn run(args: Args) -> Result<Outcome> {
         writeln!(o, "  {}", a.describe())?;
         writeln!(o, "  default_pose = {pose:?}")?;
     }
+    Ok(())
+}
 
-    if !spec.model_edits.actuators.is_empty() || !spec.model_edits.joints.is_empty() {
-        joints(&mut o, &env)?;
-    }
+/// Actuators the spec adds: their kind and gear (the model's own are in its file).
+fn added_actuator(spec: &envc::envspec::ResolvedSpec, name: &str) -> String {
+    spec.model_edits
+        .actuators
+        .iter()
+        .find(|x| x.name == name)
+        .map(|x| {
+            let kind = match x.kind {
+                envspec::ir::ActuatorKind::Motor => "motor".to_string(),
+                envspec::ir::ActuatorKind::Position { kp, kv } => {
+                    format!("position kp {kp} kv {}", kv.unwrap_or(0.0))
+                }
+                envspec::ir::ActuatorKind::Velocity { kv } => format!("velocity kv {kv}"),
+            };
+            format!("  {kind}, gear {} (added by the spec)", x.gear)
+        })
+        .unwrap_or_default()
+}
 
+/// The manipulation tables (nothing without them).
+fn write_manipulation(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
+    let manipulation = describe::manipulation(spec);
     if !manipulation.is_empty() {
         writeln!(o, "\nmanipulation:")?;
         for line in &manipulation {
             writeln!(o, "  {line}")?;
         }
     }
+    Ok(())
+}
 
-    write_derived(&mut o, &spec)?;
-    write_reward(&mut o, &spec)?;
-
+/// The health checks, then the termination conditions beside them.
+fn write_endings(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
     writeln!(
         o,
         "\nhealth ({}):",
@@ -261,7 +317,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             writeln!(o, "  {:<14} {}", t.name, describe::termination(t))?;
         }
     }
+    Ok(())
+}
 
+/// What a reset draws, in order: the reset steps, the commands, then the noise and delays.
+fn write_reset(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
     writeln!(o, "\nreset (in RNG draw order; then mj_forward):")?;
     for r in &spec.reset {
         writeln!(o, "  {:<14} {}", r.name, describe::reset_step_named(r))?;
@@ -277,7 +337,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         }
     }
 
-    let corruption = envspec::noise::describe(&spec);
+    let corruption = envspec::noise::describe(spec);
     if !corruption.is_empty() {
         writeln!(
             o,
@@ -287,11 +347,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             writeln!(o, "  {l}")?;
         }
     }
+    Ok(())
+}
 
-    if !spec.events.is_empty() {
-        randomization(&mut o, &env)?;
-    }
-
+/// The info keys, each with when it is reported and what it holds.
+fn write_info(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
     writeln!(o, "\ninfo:")?;
     for i in &spec.info {
         let when = if i.at_reset { "reset+step" } else { "step" };
@@ -300,11 +360,10 @@ pub fn run(args: Args) -> Result<Outcome> {
             "  {:<24} {:<10} {}",
             i.key,
             when,
-            describe::info(&spec, i)
+            describe::info(spec, i)
         )?;
     }
-    print!("{o}");
-    Ok(Outcome::Ok)
+    Ok(())
 }
 
 /// One observation segment as `show` prints it: `[a:b]  name  = what (clipped to [lo, hi])`.
