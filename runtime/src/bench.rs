@@ -159,10 +159,9 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
+/// Env steps between two clock reads.
 const CHUNK: usize = 16;
 
-/// `threads` raw loops (`frame_skip × mj_step` + post-step kernel) in parallel for `slice` of
-/// wall time; env steps per second summed over threads.
 /// The env's first reset state, from which the raw loops restart: `mj_resetData` alone would put a
 /// maze's robot at the world origin (often inside a wall), not in a reset cell.
 struct StartState {
@@ -170,6 +169,7 @@ struct StartState {
     qvel: Vec<f64>,
 }
 
+/// Put `raw` back at the start state (`mj_forward` after).
 fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) -> Result<(), String> {
     raw.reset();
     // The lengths of the env's state of the same model.
@@ -190,6 +190,8 @@ fn raw_step(
     crate::mj::call(raw, crate::mj::Call::Step { n: fs, rne })
 }
 
+/// `threads` raw loops (`frame_skip × mj_step` + post-step kernel) in parallel for `slice` of
+/// wall time; env steps per second summed over threads.
 #[allow(clippy::too_many_arguments)]
 fn parallel_ceiling(
     model: &Arc<MjModel>,
@@ -238,59 +240,12 @@ pub fn bench(
     overrides: &[Override],
     cfg: &BenchConfig,
 ) -> Result<BenchResult, EnvError> {
-    // Any kind: a maze steps its robot in the maze world, a multi-agent spec its factorized task
-    // (the ceiling is that same model). Vector envs run tasks only; the others report NaN there.
-    let mut env = crate::open(id_or_path, overrides)?;
-    let spec: Arc<ResolvedSpec> = Arc::clone(env.physics_env().spec());
-    let model = Arc::clone(env.physics_env().model());
-    let envs = cfg.envs.max(1);
-    let actions = Actions::new(&model, 4096.max(envs * 4));
-    // The env's own actions where they are not the controls (an end-effector action).
-    let env_actions = if env.physics_env().act_dim() == model.ffi().nu as usize {
-        actions.clone()
-    } else {
-        Actions::in_space(env.physics_env().action_space(), 4096.max(envs * 4))
-    };
-    let mut vec = match env.kind() {
-        // (a goal task's dict observations are not batched: single env only)
-        crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
-            Arc::clone(&spec),
-            envs,
-            cfg.threads,
-            Autoreset::NextStep,
-        )?),
-        _ => None,
-    };
-    let threads = vec.as_ref().map_or(cfg.threads.max(1), |v| v.threads());
-    let id = env.id().to_string();
-    let mut raw = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
-        path: spec.model_path.clone(),
-        message: format!("cannot allocate mjData: {e}"),
-    })?;
-    let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
-    env.try_reset(Some(0))?;
-    let start_state = {
-        let (qpos, qvel) = env.physics_env().state();
-        StartState {
-            qpos: qpos.to_vec(),
-            qvel: qvel.to_vec(),
-        }
-    };
-    let start_state = &start_state;
-    if let Some(v) = &mut vec {
-        v.reset(Some(0));
-    }
-
-    let mut cursor = 0usize; // action row, shared so every measurement sees the same stream
-    let (mut steps, mut episodes) = (0u64, 0u64);
-    let mut raw_since_reset = 0u64;
+    let mut b = Bench::new(id_or_path, overrides, cfg)?;
     let rounds = cfg.rounds.max(1);
     let slice = Duration::from_secs_f64((cfg.seconds / (4 * rounds) as f64).max(0.01));
     let (mut c, mut s, mut v, mut sr, mut vr) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut p, mut pr) = (vec![], vec![]);
-    // A MuJoCo error in the raw loops (the env's own come back from `step`).
-    let mut mujoco_error: Option<String> = None;
-    let mut env_error: Option<EnvError> = None;
+    let threads = b.threads;
 
     // Round 0 is a warm-up (caches, page faults, first episode lengths) and is not reported.
     for round in 0..=rounds {
@@ -298,99 +253,9 @@ pub fn bench(
         let mut got = [0.0; 4];
         for k in 0..4 {
             let which = (k + round) % 4;
-            got[which] = match which {
-                0 => {
-                    let ep_len = steps
-                        .checked_div(episodes)
-                        .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
-                        .max(1);
-                    rate(slice, thread_cpu, || {
-                        for _ in 0..CHUNK {
-                            let a = actions.rows(cursor, 1);
-                            cursor += 1;
-                            let mut stepped = Ok(());
-                            if raw_since_reset >= ep_len {
-                                stepped = restart(&mut raw, start_state);
-                                raw_since_reset = 0;
-                            }
-                            if let Err(e) = stepped.and_then(|()| raw_step(&mut raw, a, fs, rne)) {
-                                mujoco_error.get_or_insert(e);
-                                raw_since_reset = ep_len;
-                            }
-                            raw_since_reset += 1;
-                        }
-                        CHUNK as u64
-                    })
-                }
-                1 => rate(slice, thread_cpu, || {
-                    for _ in 0..CHUNK {
-                        let a = env_actions.rows(cursor, 1);
-                        cursor += 1;
-                        // The action has the env's length and is finite: only MuJoCo can fail.
-                        let done = match env.step_joint(JointAction::F64(a)) {
-                            Ok(s) => s.terminated || s.truncated,
-                            Err(e) => {
-                                env_error.get_or_insert(e);
-                                true
-                            }
-                        };
-                        steps += 1;
-                        if done {
-                            episodes += 1;
-                            let _ = env.try_reset(None);
-                        }
-                    }
-                    CHUNK as u64
-                }),
-                3 => {
-                    let ep_len = steps
-                        .checked_div(episodes)
-                        .unwrap_or(spec.max_episode_steps.unwrap_or(1000))
-                        .max(1);
-                    parallel_ceiling(
-                        &model,
-                        &actions,
-                        threads,
-                        slice,
-                        fs,
-                        rne,
-                        ep_len,
-                        start_state,
-                    )
-                    .unwrap_or_else(|e| {
-                        mujoco_error.get_or_insert(e);
-                        f64::NAN
-                    })
-                }
-                _ => match &mut vec {
-                    None => f64::NAN,
-                    Some(vec) => rate(slice, wall, || {
-                        let mut real = 0;
-                        for _ in 0..CHUNK / 4 {
-                            let a = env_actions.rows(cursor, envs);
-                            cursor += 1;
-                            if let Err(e) = vec.step(a) {
-                                env_error.get_or_insert(e);
-                                return 0;
-                            }
-                            // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
-                            real += vec.envs().iter().filter(|e| e.elapsed_steps() > 0).count();
-                        }
-                        real as u64
-                    }),
-                },
-            };
+            got[which] = b.measure(which, slice);
         }
-        if let Some(e) = env_error.take() {
-            return Err(e);
-        }
-        if let Some(message) = mujoco_error.take() {
-            return Err(EnvError::Mujoco {
-                env: id,
-                during: "in the benchmark's raw mj_step loop",
-                message,
-            });
-        }
+        b.take_error()?;
         if round > 0 {
             c.push(got[0]);
             s.push(got[1]);
@@ -402,10 +267,10 @@ pub fn bench(
         }
     }
     Ok(BenchResult {
-        id,
-        frame_skip: fs as usize,
-        rne_post_constraint: rne,
-        envs,
+        id: b.id,
+        frame_skip: b.fs as usize,
+        rne_post_constraint: b.rne,
+        envs: b.envs,
         threads,
         rounds,
         ceiling: median(c),
@@ -415,10 +280,229 @@ pub fn bench(
         vector_parallel_ratio: median(pr),
         single_ratio: median(sr),
         vector_ratio: median(vr),
-        episode_len: if episodes > 0 {
-            steps as f64 / episodes as f64
+        episode_len: if b.episodes > 0 {
+            b.steps as f64 / b.episodes as f64
         } else {
             f64::NAN
         },
     })
+}
+
+/// One benchmark's env, raw data and the counters its four measurements share.
+struct Bench {
+    id: String,
+    spec: Arc<ResolvedSpec>,
+    model: Arc<MjModel>,
+    env: crate::AnyEnv,
+    /// The vector env (None where vector envs do not run the spec's kind).
+    vec: Option<VecEnv>,
+    raw: MjData<Arc<MjModel>>,
+    start_state: StartState,
+    /// Actions in the control range, for the raw loops.
+    actions: Actions,
+    /// The env's own actions (an end effector's, where they are not the controls).
+    env_actions: Actions,
+    envs: usize,
+    threads: usize,
+    fs: u32,
+    rne: bool,
+    /// The action row, shared so every measurement sees the same stream.
+    cursor: usize,
+    /// Steps and episodes of the single env: the raw loops reset at its mean episode length.
+    steps: u64,
+    episodes: u64,
+    raw_since_reset: u64,
+    /// A MuJoCo error in the raw loops (the env's own come back from `step`).
+    mujoco_error: Option<String>,
+    env_error: Option<EnvError>,
+}
+
+impl Bench {
+    /// Open the env (any kind: a maze steps its robot in the maze world, a multi-agent spec its
+    /// factorized task, and the ceiling is that same model), its vector env where the kind has
+    /// one, and the raw data; reset them all.
+    fn new(id_or_path: &str, overrides: &[Override], cfg: &BenchConfig) -> Result<Bench, EnvError> {
+        // Vector envs run tasks only; the others report NaN there.
+        let mut env = crate::open(id_or_path, overrides)?;
+        let spec: Arc<ResolvedSpec> = Arc::clone(env.physics_env().spec());
+        let model = Arc::clone(env.physics_env().model());
+        let envs = cfg.envs.max(1);
+        let actions = Actions::new(&model, 4096.max(envs * 4));
+        // The env's own actions where they are not the controls (an end-effector action).
+        let env_actions = if env.physics_env().act_dim() == model.ffi().nu as usize {
+            actions.clone()
+        } else {
+            Actions::in_space(env.physics_env().action_space(), 4096.max(envs * 4))
+        };
+        let mut vec = match env.kind() {
+            // (a goal task's dict observations are not batched: single env only)
+            crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
+                Arc::clone(&spec),
+                envs,
+                cfg.threads,
+                Autoreset::NextStep,
+            )?),
+            _ => None,
+        };
+        let threads = vec.as_ref().map_or(cfg.threads.max(1), |v| v.threads());
+        let id = env.id().to_string();
+        let raw = MjData::try_new(Arc::clone(&model)).map_err(|e| EnvError::Compile {
+            path: spec.model_path.clone(),
+            message: format!("cannot allocate mjData: {e}"),
+        })?;
+        let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
+        env.try_reset(Some(0))?;
+        let start_state = {
+            let (qpos, qvel) = env.physics_env().state();
+            StartState {
+                qpos: qpos.to_vec(),
+                qvel: qvel.to_vec(),
+            }
+        };
+        if let Some(v) = &mut vec {
+            v.reset(Some(0));
+        }
+        Ok(Bench {
+            id,
+            spec,
+            model,
+            env,
+            vec,
+            raw,
+            start_state,
+            actions,
+            env_actions,
+            envs,
+            threads,
+            fs,
+            rne,
+            cursor: 0,
+            steps: 0,
+            episodes: 0,
+            raw_since_reset: 0,
+            mujoco_error: None,
+            env_error: None,
+        })
+    }
+
+    /// One measurement for `slice`: 0 the ceiling, 1 the single env, 2 the vector env, 3 the
+    /// parallel ceiling.
+    fn measure(&mut self, which: usize, slice: Duration) -> f64 {
+        match which {
+            0 => self.ceiling(slice),
+            1 => self.single(slice),
+            3 => self.parallel(slice),
+            _ => self.vector(slice),
+        }
+    }
+
+    /// The episode length the raw loops reset at: the single env's mean so far.
+    fn ep_len(&self) -> u64 {
+        self.steps
+            .checked_div(self.episodes)
+            .unwrap_or(self.spec.max_episode_steps.unwrap_or(1000))
+            .max(1)
+    }
+
+    /// The raw `MjData` loop, thread CPU time.
+    fn ceiling(&mut self, slice: Duration) -> f64 {
+        let ep_len = self.ep_len();
+        rate(slice, thread_cpu, || {
+            for _ in 0..CHUNK {
+                let a = self.actions.rows(self.cursor, 1);
+                self.cursor += 1;
+                let mut stepped = Ok(());
+                if self.raw_since_reset >= ep_len {
+                    stepped = restart(&mut self.raw, &self.start_state);
+                    self.raw_since_reset = 0;
+                }
+                if let Err(e) = stepped.and_then(|()| raw_step(&mut self.raw, a, self.fs, self.rne))
+                {
+                    self.mujoco_error.get_or_insert(e);
+                    self.raw_since_reset = ep_len;
+                }
+                self.raw_since_reset += 1;
+            }
+            CHUNK as u64
+        })
+    }
+
+    /// One env stepped with autoreset, thread CPU time.
+    fn single(&mut self, slice: Duration) -> f64 {
+        rate(slice, thread_cpu, || {
+            for _ in 0..CHUNK {
+                let a = self.env_actions.rows(self.cursor, 1);
+                self.cursor += 1;
+                // The action has the env's length and is finite: only MuJoCo can fail.
+                let done = match self.env.step_joint(JointAction::F64(a)) {
+                    Ok(s) => s.terminated || s.truncated,
+                    Err(e) => {
+                        self.env_error.get_or_insert(e);
+                        true
+                    }
+                };
+                self.steps += 1;
+                if done {
+                    self.episodes += 1;
+                    let _ = self.env.try_reset(None);
+                }
+            }
+            CHUNK as u64
+        })
+    }
+
+    /// The vector env, wall time (NaN without one).
+    fn vector(&mut self, slice: Duration) -> f64 {
+        match &mut self.vec {
+            None => f64::NAN,
+            Some(vec) => rate(slice, wall, || {
+                let mut real = 0;
+                for _ in 0..CHUNK / 4 {
+                    let a = self.env_actions.rows(self.cursor, self.envs);
+                    self.cursor += 1;
+                    if let Err(e) = vec.step(a) {
+                        self.env_error.get_or_insert(e);
+                        return 0;
+                    }
+                    // Autoreset slots (NextStep) leave the env at 0 elapsed steps.
+                    real += vec.envs().iter().filter(|e| e.elapsed_steps() > 0).count();
+                }
+                real as u64
+            }),
+        }
+    }
+
+    /// `threads` raw loops at once, wall time.
+    fn parallel(&mut self, slice: Duration) -> f64 {
+        let ep_len = self.ep_len();
+        parallel_ceiling(
+            &self.model,
+            &self.actions,
+            self.threads,
+            slice,
+            self.fs,
+            self.rne,
+            ep_len,
+            &self.start_state,
+        )
+        .unwrap_or_else(|e| {
+            self.mujoco_error.get_or_insert(e);
+            f64::NAN
+        })
+    }
+
+    /// The first error of the round's measurements, if any (the env's first).
+    fn take_error(&mut self) -> Result<(), EnvError> {
+        if let Some(e) = self.env_error.take() {
+            return Err(e);
+        }
+        if let Some(message) = self.mujoco_error.take() {
+            return Err(EnvError::Mujoco {
+                env: self.id.clone(),
+                during: "in the benchmark's raw mj_step loop",
+                message,
+            });
+        }
+        Ok(())
+    }
 }

@@ -87,6 +87,52 @@ struct Feet {
     air_time: Vec<f64>,
 }
 
+/// The contact state of a feet term, its feet and floor named by the model's ids.
+fn feet_state(spec: &ResolvedSpec, m: &mjModel, f: &FeetContact) -> Result<Feet, crate::EnvError> {
+    let geom = |n: &str, body: bool| {
+        let (obj, what) = if body {
+            (mjtObj::mjOBJ_BODY, "body")
+        } else {
+            (mjtObj::mjOBJ_GEOM, "geom")
+        };
+        id(m, obj, n)
+            .map(|i| i as i32)
+            .ok_or_else(|| unfit(spec, format!("the compiled model has no {what} `{n}`")))
+    };
+    let n = f.geoms.len();
+    Ok(Feet {
+        geoms: (0..n)
+            .map(|i| geom(&f.geoms[i], f.bodies[i]))
+            .collect::<Result<_, _>>()?,
+        bodies: f.bodies.clone(),
+        floor: geom(&f.floor, f.floor_is_body)?,
+        floor_is_body: f.floor_is_body,
+        contact: vec![false; n],
+        last_contact: vec![false; n],
+        first_contact: vec![false; n],
+        air_now: vec![0.0; n],
+        air_time: vec![0.0; n],
+    })
+}
+
+/// Per joint, the soft-limit range `joint_limits` reads (None where the joint is unlimited).
+fn soft_limits(model: &MjModel, factor: f64, centered: bool) -> Vec<Option<(f64, f64)>> {
+    let njnt = model.ffi().njnt as usize;
+    let (limited, range) = (model.jnt_limited(), model.jnt_range());
+    let soft = |[lo, hi]: [f64; 2]| {
+        if centered {
+            // mjlab's order of operations: mean ∓ 0.5 · range · factor.
+            let (mean, width) = ((lo + hi) / 2.0, hi - lo);
+            (mean - 0.5 * width * factor, mean + 0.5 * width * factor)
+        } else {
+            (factor * lo, factor * hi)
+        }
+    };
+    (0..njnt)
+        .map(|j| limited[j].then(|| soft(range[j])))
+        .collect()
+}
+
 /// What the env holds for commands, PD actions and legged terms.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Legged {
@@ -114,7 +160,7 @@ pub(crate) struct Legged {
 impl Legged {
     pub fn new(spec: &ResolvedSpec, model: &MjModel) -> Result<Legged, crate::EnvError> {
         let m = model.ffi();
-        let (nu, nsite, nq) = (m.nu as usize, m.nsite as usize, m.nq as usize);
+        let (nu, nsite) = (m.nu as usize, m.nsite as usize);
         let mut l = Legged {
             command: vec![0.0; spec.command_dim],
             last_action: vec![0.0; spec.act_dim()],
@@ -123,69 +169,13 @@ impl Legged {
             ..Default::default()
         };
         if let Some(a) = &spec.actions {
-            l.pd = true;
-            if a.kind == ActionKind::PdPosition {
-                l.scale.clone_from(&a.scale);
-            }
-            match &a.default_pose {
-                DefaultPose::Values(v) => l.default_pose.copy_from_slice(v),
-                DefaultPose::CtrlRangeCentre => {
-                    // Gymnasium-Robotics' hands: (hi + lo) / 2 and (hi − lo) / 2, as numpy
-                    // computes them (Adroit's mean and 0.5 × span are the same numbers).
-                    let limited = model.actuator_ctrllimited();
-                    for (i, r) in model.actuator_ctrlrange().iter().enumerate() {
-                        if !limited.get(i).is_some_and(|&on| on)
-                            || r[0].partial_cmp(&r[1]).is_none_or(|o| o.is_gt())
-                        {
-                            let name =
-                                crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
-                            return Err(unfit(
-                                spec,
-                                format!(
-                                    "[actions] kind = \"ctrlrange\" needs every actuator's control range, and actuator `{name}` has none (ctrllimited is false)"
-                                ),
-                            ));
-                        }
-                        l.default_pose[i] = (r[1] + r[0]) / 2.0;
-                        l.scale[i] = (r[1] - r[0]) / 2.0;
-                        l.ctrl_clip.push((r[0], r[1]));
-                    }
-                }
-                DefaultPose::Keyframe { name, qposadr } => {
-                    let k = id(m, mjtObj::mjOBJ_KEY, name).ok_or_else(|| {
-                        unfit(spec, format!("the compiled model has no keyframe `{name}`"))
-                    })?;
-                    for (i, &adr) in qposadr.iter().enumerate() {
-                        // k < nkey, adr < nq, i < nu.
-                        l.default_pose[i] = match adr {
-                            Some(adr) => model.key_qpos()[k * nq + adr],
-                            None => model.key_ctrl()[k * nu + i],
-                        };
-                    }
-                }
-            }
-            // A target outside a limited actuator's control range is clamped by MuJoCo: the
-            // default pose would not be what the spec says (degrees for radians, say).
-            let (limited, range) = (model.actuator_ctrllimited(), model.actuator_ctrlrange());
-            for (i, &p) in l.default_pose.iter().enumerate() {
-                let (lo, hi) = (range[i][0], range[i][1]);
-                if limited.get(i).is_some_and(|&on| on) && !(lo <= p && p <= hi) {
-                    let name = crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
-                    return Err(unfit(
-                        spec,
-                        format!(
-                            "[actions] default_pose[{i}] = {p} is outside actuator `{name}`'s control range [{lo}, {hi}] (MuJoCo would clamp every target to it; are the values in the model's units?)"
-                        ),
-                    ));
-                }
-            }
+            l.set_actions(spec, model, a)?;
         }
         l.landings = crate::landings::Landings::new(spec, model)?;
         l.site_frames = spec.sources().any(|s| s.field.is_site_frame());
         if l.site_frames {
             l.site = std::array::from_fn(|_| vec![0.0; nsite * 3]);
         }
-        let njnt = m.njnt as usize;
         for t in &spec.reward {
             let feet = match &t.kind {
                 TermKind::Legged(lt) => lt.feet(),
@@ -193,54 +183,85 @@ impl Legged {
             };
             l.feet.push(match feet {
                 None => None,
-                Some(f) => {
-                    let geom = |n: &str, body: bool| {
-                        let (obj, what) = if body {
-                            (mjtObj::mjOBJ_BODY, "body")
-                        } else {
-                            (mjtObj::mjOBJ_GEOM, "geom")
-                        };
-                        id(m, obj, n).map(|i| i as i32).ok_or_else(|| {
-                            unfit(spec, format!("the compiled model has no {what} `{n}`"))
-                        })
-                    };
-                    let n = f.geoms.len();
-                    Some(Feet {
-                        geoms: (0..n)
-                            .map(|i| geom(&f.geoms[i], f.bodies[i]))
-                            .collect::<Result<_, _>>()?,
-                        bodies: f.bodies.clone(),
-                        floor: geom(&f.floor, f.floor_is_body)?,
-                        floor_is_body: f.floor_is_body,
-                        contact: vec![false; n],
-                        last_contact: vec![false; n],
-                        first_contact: vec![false; n],
-                        air_now: vec![0.0; n],
-                        air_time: vec![0.0; n],
-                    })
-                }
+                Some(f) => Some(feet_state(spec, m, f)?),
             });
             if let TermKind::Legged(LeggedTerm::JointLimits {
                 factor, centered, ..
             }) = &t.kind
                 && l.jnt_range.is_empty()
             {
-                let (limited, range) = (model.jnt_limited(), model.jnt_range());
-                let soft = |[lo, hi]: [f64; 2]| {
-                    if *centered {
-                        // mjlab's order of operations: mean ∓ 0.5 · range · factor.
-                        let (mean, width) = ((lo + hi) / 2.0, hi - lo);
-                        (mean - 0.5 * width * factor, mean + 0.5 * width * factor)
-                    } else {
-                        (factor * lo, factor * hi)
-                    }
-                };
-                l.jnt_range = (0..njnt)
-                    .map(|j| limited[j].then(|| soft(range[j])))
-                    .collect();
+                l.jnt_range = soft_limits(model, *factor, *centered);
             }
         }
         Ok(l)
+    }
+
+    /// `[actions]`: PD actions, their scale and default pose, checked against the actuators'
+    /// control ranges.
+    fn set_actions(
+        &mut self,
+        spec: &ResolvedSpec,
+        model: &MjModel,
+        a: &PdActions,
+    ) -> Result<(), crate::EnvError> {
+        let m = model.ffi();
+        let (nu, nq) = (m.nu as usize, m.nq as usize);
+        self.pd = true;
+        if a.kind == ActionKind::PdPosition {
+            self.scale.clone_from(&a.scale);
+        }
+        match &a.default_pose {
+            DefaultPose::Values(v) => self.default_pose.copy_from_slice(v),
+            DefaultPose::CtrlRangeCentre => {
+                // Gymnasium-Robotics' hands: (hi + lo) / 2 and (hi − lo) / 2, as numpy
+                // computes them (Adroit's mean and 0.5 × span are the same numbers).
+                let limited = model.actuator_ctrllimited();
+                for (i, r) in model.actuator_ctrlrange().iter().enumerate() {
+                    if !limited.get(i).is_some_and(|&on| on)
+                        || r[0].partial_cmp(&r[1]).is_none_or(|o| o.is_gt())
+                    {
+                        let name = crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                        return Err(unfit(
+                            spec,
+                            format!(
+                                "[actions] kind = \"ctrlrange\" needs every actuator's control range, and actuator `{name}` has none (ctrllimited is false)"
+                            ),
+                        ));
+                    }
+                    self.default_pose[i] = (r[1] + r[0]) / 2.0;
+                    self.scale[i] = (r[1] - r[0]) / 2.0;
+                    self.ctrl_clip.push((r[0], r[1]));
+                }
+            }
+            DefaultPose::Keyframe { name, qposadr } => {
+                let k = id(m, mjtObj::mjOBJ_KEY, name).ok_or_else(|| {
+                    unfit(spec, format!("the compiled model has no keyframe `{name}`"))
+                })?;
+                for (i, &adr) in qposadr.iter().enumerate() {
+                    // k < nkey, adr < nq, i < nu.
+                    self.default_pose[i] = match adr {
+                        Some(adr) => model.key_qpos()[k * nq + adr],
+                        None => model.key_ctrl()[k * nu + i],
+                    };
+                }
+            }
+        }
+        // A target outside a limited actuator's control range is clamped by MuJoCo: the
+        // default pose would not be what the spec says (degrees for radians, say).
+        let (limited, range) = (model.actuator_ctrllimited(), model.actuator_ctrlrange());
+        for (i, &p) in self.default_pose.iter().enumerate() {
+            let (lo, hi) = (range[i][0], range[i][1]);
+            if limited.get(i).is_some_and(|&on| on) && !(lo <= p && p <= hi) {
+                let name = crate::describe::inventory::name(m, mjtObj::mjOBJ_ACTUATOR, i);
+                return Err(unfit(
+                    spec,
+                    format!(
+                        "[actions] default_pose[{i}] = {p} is outside actuator `{name}`'s control range [{lo}, {hi}] (MuJoCo would clamp every target to it; are the values in the model's units?)"
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Compute the site velocities and axes from now on (a reader the spec does not know of,
@@ -415,25 +436,7 @@ impl Legged {
         field: &dyn Fn(Field) -> &'a [f64],
         action: &[f64],
     ) -> f64 {
-        // The sum of the selections' norms, left to right (mjlab's `‖cmd_xy‖ + |cmd_wz|`).
-        let speed = |parts: &[Selection]| {
-            parts.iter().fold(0.0, |acc, p| {
-                let f = field(p.field);
-                acc + norm(numerics, p.len(), &|k| f[p.indices[k]])
-            })
-        };
-        let gate = |g: &Option<Gate>| match g {
-            None => 1.0,
-            Some(g) => {
-                let n = speed(&g.command);
-                let open = if g.below {
-                    n < g.threshold
-                } else {
-                    n > g.threshold
-                };
-                open as u8 as f64
-            }
-        };
+        let gate = |g: &Option<Gate>| gate_factor(g, numerics, field);
         match t {
             LeggedTerm::Tracking {
                 source,
@@ -441,18 +444,7 @@ impl Legged {
                 coefs,
                 sigma,
                 zero,
-            } => {
-                let (x, y) = (field(source.field), field(target.field));
-                let mut s = pairwise_sum(source.len(), &|k| {
-                    let d = y[target.indices[k]] - x[source.indices[k]];
-                    d * d * coefs[k]
-                });
-                if let Some(z) = zero {
-                    let v = field(z.field);
-                    s += pairwise_sum(z.len(), &|k| v[z.indices[k]] * v[z.indices[k]]);
-                }
-                (-s / sigma).exp()
-            }
+            } => tracking(source, target, coefs, *sigma, zero.as_ref(), field),
             LeggedTerm::SumAbs {
                 source,
                 minus,
@@ -499,15 +491,12 @@ impl Legged {
                 thresholds,
                 sigma,
             } => {
-                let v = if parts.is_empty() { 0.0 } else { speed(parts) };
-                let regime = thresholds.iter().take_while(|&&t| v >= t).count();
-                let (x, m, std) = (field(source.field), field(minus.field), &sigma[regime]);
-                let n = source.len();
-                let s = pairwise_sum(n, &|k| {
-                    let d = x[source.indices[k]] - m[minus.indices[k]];
-                    d * d / (std[k] * std[k])
-                });
-                (-(s / n as f64)).exp()
+                let v = if parts.is_empty() {
+                    0.0
+                } else {
+                    speed(parts, numerics, field)
+                };
+                posture(source, minus, thresholds, sigma, v, field)
             }
             LeggedTerm::FeetClearance {
                 height,
@@ -516,20 +505,7 @@ impl Legged {
                 max_height,
                 power,
                 gate: g,
-            } => {
-                let (z, v) = (field(height.field), field(velocity.field));
-                pairwise_sum(height.len(), &|k| {
-                    let h = z[height.indices[k]].clamp(0.0, *max_height);
-                    let (vx, vy) = (v[velocity.indices[2 * k]], v[velocity.indices[2 * k + 1]]);
-                    let speed = (vx * vx + vy * vy).sqrt();
-                    let speed = if *power == 1.0 {
-                        speed
-                    } else {
-                        speed.powf(*power)
-                    };
-                    (h - target).abs() * speed
-                }) * gate(g)
-            }
+            } => clearance(height, velocity, *target, *max_height, *power, field) * gate(g),
             LeggedTerm::FeetSwingHeight { gate: g, .. }
             | LeggedTerm::SoftLanding { gate: g, .. } => self.landings.kernel(i) * gate(g),
             LeggedTerm::SelfCollisions { .. } => self.landings.kernel(i),
@@ -545,4 +521,92 @@ impl Legged {
             }
         }
     }
+}
+
+/// The sum of the selections' norms, left to right (mjlab's `‖cmd_xy‖ + |cmd_wz|`).
+fn speed<'a>(parts: &[Selection], numerics: Profile, field: &dyn Fn(Field) -> &'a [f64]) -> f64 {
+    parts.iter().fold(0.0, |acc, p| {
+        let f = field(p.field);
+        acc + norm(numerics, p.len(), &|k| f[p.indices[k]])
+    })
+}
+
+/// A term's command gate: 1 where it is open (or the term has none), else 0.
+fn gate_factor<'a>(g: &Option<Gate>, numerics: Profile, field: &dyn Fn(Field) -> &'a [f64]) -> f64 {
+    match g {
+        None => 1.0,
+        Some(g) => {
+            let n = speed(&g.command, numerics, field);
+            let open = if g.below {
+                n < g.threshold
+            } else {
+                n > g.threshold
+            };
+            open as u8 as f64
+        }
+    }
+}
+
+/// `exp(−Σ coefₖ (targetₖ − xₖ)² / σ)`, the `zero` selection's squares added to the sum.
+fn tracking<'a>(
+    source: &Selection,
+    target: &Selection,
+    coefs: &[f64],
+    sigma: f64,
+    zero: Option<&Selection>,
+    field: &dyn Fn(Field) -> &'a [f64],
+) -> f64 {
+    let (x, y) = (field(source.field), field(target.field));
+    let mut s = pairwise_sum(source.len(), &|k| {
+        let d = y[target.indices[k]] - x[source.indices[k]];
+        d * d * coefs[k]
+    });
+    if let Some(z) = zero {
+        let v = field(z.field);
+        s += pairwise_sum(z.len(), &|k| v[z.indices[k]] * v[z.indices[k]]);
+    }
+    (-s / sigma).exp()
+}
+
+/// `exp(−mean((x − minus)² / std²))`, `std` the row of `sigma` for the regime the command speed
+/// `v` is in (the thresholds it reaches).
+fn posture<'a>(
+    source: &Selection,
+    minus: &Selection,
+    thresholds: &[f64],
+    sigma: &[Vec<f64>],
+    v: f64,
+    field: &dyn Fn(Field) -> &'a [f64],
+) -> f64 {
+    let regime = thresholds.iter().take_while(|&&t| v >= t).count();
+    let (x, m, std) = (field(source.field), field(minus.field), &sigma[regime]);
+    let n = source.len();
+    let s = pairwise_sum(n, &|k| {
+        let d = x[source.indices[k]] - m[minus.indices[k]];
+        d * d / (std[k] * std[k])
+    });
+    (-(s / n as f64)).exp()
+}
+
+/// `Σ |clip(z, 0, max_height) − target| · ‖v_xy‖^power` over the feet.
+fn clearance<'a>(
+    height: &Selection,
+    velocity: &Selection,
+    target: f64,
+    max_height: f64,
+    power: f64,
+    field: &dyn Fn(Field) -> &'a [f64],
+) -> f64 {
+    let (z, v) = (field(height.field), field(velocity.field));
+    pairwise_sum(height.len(), &|k| {
+        let h = z[height.indices[k]].clamp(0.0, max_height);
+        let (vx, vy) = (v[velocity.indices[2 * k]], v[velocity.indices[2 * k + 1]]);
+        let speed = (vx * vx + vy * vy).sqrt();
+        let speed = if power == 1.0 {
+            speed
+        } else {
+            speed.powf(power)
+        };
+        (h - target).abs() * speed
+    })
 }

@@ -246,8 +246,63 @@ fn c_name(what: &str, name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Add a spec's `[bodies]`, `[sites]`, `[geoms]`, `[cameras]` or `[lights]` element.
-fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
+/// `r` with the element it was adding named in its error.
+fn named(what: &str, name: &str, r: Result<(), MjEditError>) -> Result<(), String> {
+    r.map_err(|err| format!("cannot add {what} `{name}`: {err}"))
+}
+
+/// A `weld` of an added body to body `to`.
+fn add_weld(spec: &mut MjSpec, name: &str, to: &str) -> Result<(), String> {
+    c_name("a weld to body", to)?;
+    // As the MJCF parser leaves `<weld body1 body2>`: anchor and relative pose all
+    // zero, so the compiler takes the pose at qpos0 (mjSpec's own default differs);
+    // `[init] reset_welds` makes it the identity later.
+    let eq = spec.add_equality();
+    eq.set_type(MjtEq::mjEQ_WELD);
+    eq.set_objtype(MjtObjBase::mjOBJ_BODY);
+    eq.set_name1(name);
+    eq.set_name2(to);
+    eq.data_mut()[..10].fill(0.0);
+    Ok(())
+}
+
+/// An added body's joints: name, kind and axis each.
+fn add_joints(b: &mut MjsBody, joints: &[(String, JointKind, [f64; 3])]) -> Result<(), String> {
+    for (j, kind, axis) in joints {
+        let jt = b.add_joint();
+        named("joint", j, jt.set_name(j))?;
+        jt.set_type(match kind {
+            JointKind::Slide => MjtJoint::mjJNT_SLIDE,
+            JointKind::Hinge => MjtJoint::mjJNT_HINGE,
+            JointKind::Free => MjtJoint::mjJNT_FREE,
+            JointKind::Ball => MjtJoint::mjJNT_BALL,
+        });
+        *jt.axis_mut() = *axis;
+    }
+    Ok(())
+}
+
+/// An added body's marker geom: no contacts, and a small mass so the joints have inertia.
+fn add_marker(
+    b: &mut MjsBody,
+    t: AddedGeomType,
+    size: [f64; 3],
+    rgba: [f32; 4],
+    mass: Option<f64>,
+) {
+    let g = b.add_geom();
+    g.set_type(geom_type(t));
+    *g.size_mut() = size;
+    *g.rgba_mut() = rgba;
+    g.set_contype(0);
+    g.set_conaffinity(0);
+    if let Some(m) = mass {
+        g.set_mass(m);
+    }
+}
+
+/// The names an added element gives MuJoCo (its own, its joints', its body's) pass `c_name`.
+fn check_names(e: &AddedElement) -> Result<(), String> {
     let (name, body) = match e {
         AddedElement::Body { name, joints, .. } => {
             for (j, _, _) in joints {
@@ -264,9 +319,12 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
     if let Some(b) = body {
         c_name("an element to body", b)?;
     }
-    let named = |what: &str, name: &str, r: Result<(), MjEditError>| {
-        r.map_err(|err| format!("cannot add {what} `{name}`: {err}"))
-    };
+    Ok(())
+}
+
+/// Add a spec's `[bodies]`, `[sites]`, `[geoms]`, `[cameras]` or `[lights]` element.
+fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
+    check_names(e)?;
     match e {
         AddedElement::Body {
             name,
@@ -279,44 +337,16 @@ fn add_element(spec: &mut MjSpec, e: &AddedElement) -> Result<(), String> {
             weld,
         } => {
             if let Some(w) = weld {
-                c_name("a weld to body", w)?;
-                // As the MJCF parser leaves `<weld body1 body2>`: anchor and relative pose all
-                // zero, so the compiler takes the pose at qpos0 (mjSpec's own default differs);
-                // `[init] reset_welds` makes it the identity later.
-                let eq = spec.add_equality();
-                eq.set_type(MjtEq::mjEQ_WELD);
-                eq.set_objtype(MjtObjBase::mjOBJ_BODY);
-                eq.set_name1(name);
-                eq.set_name2(w);
-                eq.data_mut()[..10].fill(0.0);
+                add_weld(spec, name, w)?;
             }
             let b = spec.world_body_mut().add_body();
             named("body", name, b.set_name(name))?;
             *b.pos_mut() = *pos;
             b.set_mocap(*mocap);
             b.set_gravcomp(*gravcomp);
-            for (j, kind, axis) in joints {
-                let jt = b.add_joint();
-                named("joint", j, jt.set_name(j))?;
-                jt.set_type(match kind {
-                    JointKind::Slide => MjtJoint::mjJNT_SLIDE,
-                    JointKind::Hinge => MjtJoint::mjJNT_HINGE,
-                    JointKind::Free => MjtJoint::mjJNT_FREE,
-                    JointKind::Ball => MjtJoint::mjJNT_BALL,
-                });
-                *jt.axis_mut() = *axis;
-            }
+            add_joints(b, joints)?;
             if let Some((t, size, rgba)) = geom {
-                // A marker: no contacts, and a small mass so the joints have inertia.
-                let g = b.add_geom();
-                g.set_type(geom_type(*t));
-                *g.size_mut() = *size;
-                *g.rgba_mut() = *rgba;
-                g.set_contype(0);
-                g.set_conaffinity(0);
-                if let Some(m) = mass {
-                    g.set_mass(*m);
-                }
+                add_marker(b, *t, *size, *rgba, *mass);
             }
         }
         AddedElement::Site {

@@ -221,13 +221,41 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
 pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
     let (a, b) = (old.ffi(), new.ffi());
     let mut out = vec![];
-    let change = |rule, aspect: String, was: String, now: String, witness: Option<String>| {
-        let c = Change::new(rule, "model", aspect).values(Some(was), Some(now));
-        match witness {
-            Some(w) => c.witness(w),
-            None => c,
-        }
-    };
+    size_changes(a, b, &mut out);
+    option_changes(a, b, &mut out);
+    array_changes(old, new, &mut out);
+    if out.is_empty() && saved(old) != saved(new) {
+        // Not classified here: `envc diff` judges it by a rollout, as every model change.
+        out.push(
+            Change::new(RuleId::ModelBinaryChanged, "model", "compiled model")
+                .values(
+                    Some("one binary model".into()),
+                    Some("another (outside the compared arrays)".into()),
+                )
+                .witness("the binary models differ outside the compared physics arrays (visual settings, names or other options)")
+                .breaking(false),
+        );
+    }
+    out
+}
+
+/// One change of the model: `aspect` was `was` and is `now`.
+fn change(
+    rule: RuleId,
+    aspect: String,
+    was: String,
+    now: String,
+    witness: Option<String>,
+) -> Change {
+    let c = Change::new(rule, "model", aspect).values(Some(was), Some(now));
+    match witness {
+        Some(w) => c.witness(w),
+        None => c,
+    }
+}
+
+/// The sizes (`nq`, `nu`, ...) that differ.
+fn size_changes(a: &mjModel, b: &mjModel, out: &mut Vec<Change>) {
     let sizes = [
         ("nq", a.nq, b.nq),
         ("nv", a.nv, b.nv),
@@ -248,6 +276,10 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             out.push(change(rule, n.into(), x.to_string(), y.to_string(), None));
         }
     }
+}
+
+/// The physics options (`opt.*`) that differ, bit for bit.
+fn option_changes(a: &mjModel, b: &mjModel, out: &mut Vec<Change>) {
     let (oa, ob) = (&a.opt, &b.opt);
     let scalars = [
         ("opt.timestep", oa.timestep, ob.timestep),
@@ -296,83 +328,79 @@ pub fn diff_models(old: &MjModel, new: &MjModel) -> Vec<Change> {
             None,
         ));
     }
-    {
-        // Each group of arrays is compared when its element count is the same in both models
-        // (a removed geom must not hide a changed body mass).
-        let same = |x: i64, y: i64| x == y;
-        let counts_match = |field: &str| match field.split('_').next().unwrap_or("") {
-            "body" => same(a.nbody, b.nbody),
-            "geom" => same(a.ngeom, b.ngeom),
-            "jnt" => same(a.njnt, b.njnt),
-            "dof" => same(a.nv, b.nv),
-            "actuator" => same(a.nu, b.nu),
-            "key" => same(a.nkey, b.nkey) && same(a.nq, b.nq),
-            _ => same(a.nq, b.nq),
-        };
-        let arrs = compared_arrays(old, new);
-        for arr in arrs {
-            if !counts_match(arr.field) {
-                continue;
+}
+
+/// The compared arrays' rows that differ, one change per array (its first row, the others
+/// named in the witness).
+fn array_changes(old: &MjModel, new: &MjModel, out: &mut Vec<Change>) {
+    let (a, b) = (old.ffi(), new.ffi());
+    // Each group of arrays is compared when its element count is the same in both models
+    // (a removed geom must not hide a changed body mass).
+    let same = |x: i64, y: i64| x == y;
+    let counts_match = |field: &str| match field.split('_').next().unwrap_or("") {
+        "body" => same(a.nbody, b.nbody),
+        "geom" => same(a.ngeom, b.ngeom),
+        "jnt" => same(a.njnt, b.njnt),
+        "dof" => same(a.nv, b.nv),
+        "actuator" => same(a.nu, b.nu),
+        "key" => same(a.nkey, b.nkey) && same(a.nq, b.nq),
+        _ => same(a.nq, b.nq),
+    };
+    let arrs = compared_arrays(old, new);
+    for arr in arrs {
+        if !counts_match(arr.field) {
+            continue;
+        }
+        let mut diffs = row_diffs(&arr, b);
+        match diffs.len() {
+            0 => {}
+            1 => {
+                let (l, x, y) = diffs.remove(0);
+                out.push(change(arr.rule, format!("{}[{l}]", arr.field), x, y, None));
             }
-            let rows = arr.old.len() / arr.width.max(1);
-            let mut diffs = vec![];
-            for r in 0..rows {
-                let (x, y) = (
-                    &arr.old[r * arr.width..(r + 1) * arr.width],
-                    &arr.new[r * arr.width..(r + 1) * arr.width],
-                );
-                if x.iter().zip(y).any(|(p, q)| p.to_bits() != q.to_bits()) {
-                    let label = if arr.obj == mjtObj::mjOBJ_UNKNOWN {
-                        format!("{r}")
-                    } else {
-                        name(b, arr.obj, r)
-                    };
-                    let fmt = |v: &[f64]| {
-                        if v.len() == 1 {
-                            format!("{}", v[0])
-                        } else {
-                            format!("{v:?}")
-                        }
-                    };
-                    diffs.push((label, fmt(x), fmt(y)));
-                }
-            }
-            match diffs.len() {
-                0 => {}
-                1 => {
-                    let (l, x, y) = diffs.remove(0);
-                    out.push(change(arr.rule, format!("{}[{l}]", arr.field), x, y, None));
-                }
-                n => {
-                    let (l, x, y) = diffs[0].clone();
-                    let others: Vec<&str> =
-                        diffs[1..].iter().map(|d| d.0.as_str()).take(8).collect();
-                    out.push(change(
-                        arr.rule,
-                        format!("{}[{l}]", arr.field),
-                        x,
-                        y,
-                        Some(format!(
-                            "{n} rows differ; also {}{}",
-                            others.join(", "),
-                            if n > 9 { ", …" } else { "" }
-                        )),
-                    ));
-                }
+            n => {
+                let (l, x, y) = diffs[0].clone();
+                let others: Vec<&str> = diffs[1..].iter().map(|d| d.0.as_str()).take(8).collect();
+                out.push(change(
+                    arr.rule,
+                    format!("{}[{l}]", arr.field),
+                    x,
+                    y,
+                    Some(format!(
+                        "{n} rows differ; also {}{}",
+                        others.join(", "),
+                        if n > 9 { ", …" } else { "" }
+                    )),
+                ));
             }
         }
     }
-    if out.is_empty() && saved(old) != saved(new) {
-        // Not classified here: `envc diff` judges it by a rollout, as every model change.
-        out.push(
-            Change::new(RuleId::ModelBinaryChanged, "model", "compiled model")
-                .values(
-                    Some("one binary model".into()),
-                    Some("another (outside the compared arrays)".into()),
-                )
-                .witness("the binary models differ outside the compared physics arrays (visual settings, names or other options)")
-                .breaking(false),
+}
+
+/// The rows of `arr` that differ bit for bit: each row's name (in model `b`), old and new values.
+fn row_diffs(arr: &Arr, b: &mjModel) -> Vec<(String, String, String)> {
+    let rows = arr.old.len() / arr.width.max(1);
+    let mut diffs = vec![];
+    for r in 0..rows {
+        let (x, y) = (
+            &arr.old[r * arr.width..(r + 1) * arr.width],
+            &arr.new[r * arr.width..(r + 1) * arr.width],
         );
+        if x.iter().zip(y).any(|(p, q)| p.to_bits() != q.to_bits()) {
+            let label = if arr.obj == mjtObj::mjOBJ_UNKNOWN {
+                format!("{r}")
+            } else {
+                name(b, arr.obj, r)
+            };
+            let fmt = |v: &[f64]| {
+                if v.len() == 1 {
+                    format!("{}", v[0])
+                } else {
+                    format!("{v:?}")
+                }
+            };
+            diffs.push((label, fmt(x), fmt(y)));
+        }
     }
-    out
+    diffs
 }
