@@ -55,6 +55,13 @@ const EXAMPLE_MODELS: &[(&str, &str)] = &[
             "/../assets/gymnasium/reacher.xml"
         ),
     ),
+    (
+        "ArmPickAndPlace-v0",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/examples/arm/arm.xml"
+        ),
+    ),
 ];
 
 fn each_env(f: impl Fn(&str, Env)) {

@@ -128,8 +128,13 @@ fn check(robot: &str) {
     stale.reset(Some(5));
     rows.push(row(&env, &stale, "reset", &zero, 0.0, false));
     for steps in 0..900 {
-        // Small actions keep it walking-ish; large ones (past the soft limits) make it fall.
-        let amp = if steps < 450 { 0.5 } else { 3.0 };
+        // Small actions keep it walking-ish; large ones make it fall, and the largest drive the
+        // joints past their soft limits.
+        let amp = match steps {
+            0..450 => 0.5,
+            450..700 => 3.0,
+            _ => 8.0,
+        };
         let a: Vec<f64> = (0..nu).map(|_| rng.uniform(-amp, amp)).collect();
         // What numpy needs to replay the step's physics substeps with MuJoCo itself.
         let pre = {

@@ -175,7 +175,7 @@ fn terrain_work_beyond_the_limits_is_located_e0110() {
         assert_eq!(d.codes(), [Code::E0110], "{width}: {}", d.0[0]);
         assert!(d.0[0].message.contains("geoms"), "{}", d.0[0].message);
         assert!(d.0[0].message.contains("20000"), "{}", d.0[0].message);
-        assert_eq!(line_of(&d, 0), "66", "{}", d.0[0]);
+        assert_eq!(line_of(&d, 0), "67", "{}", d.0[0]);
     }
     // Default stairs on 1000 m tiles.
     let d = errors(

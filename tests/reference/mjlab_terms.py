@@ -33,6 +33,10 @@ import numpy as np
 import term_checks
 
 DT = 0.02
+# sim.py's MujocoCfg defaults that MujocoCfg.apply writes over the compiled model, whatever the
+# MJCF says (the velocity env config sets timestep, iterations and ls_iterations).
+MUJOCO_CFG = dict(timestep=0.005, integrator=mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+                  tolerance=1e-8, ls_tolerance=0.01, solver=mujoco.mjtSolver.mjSOL_NEWTON)
 G1_WALK = {r".*hip_pitch.*": 0.3, r".*hip_roll.*": 0.15, r".*hip_yaw.*": 0.15, r".*knee.*": 0.35,
            r".*ankle_pitch.*": 0.25, r".*ankle_roll.*": 0.1, r".*waist_yaw.*": 0.2,
            r".*waist_roll.*": 0.08, r".*waist_pitch.*": 0.1, r".*shoulder_pitch.*": 0.15,
@@ -58,7 +62,7 @@ ROBOTS = {
                  "foot_clearance": -2.0, "foot_slip": -0.1, "foot_swing_height": -0.25,
                  "soft_landing": -1e-5},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=10.0,
-                    cone=mujoco.mjtCone.mjCONE_ELLIPTIC),
+                    cone=mujoco.mjtCone.mjCONE_ELLIPTIC, **MUJOCO_CFG),
         # go1_constants.FULL_COLLISION (first-match dicts over geom_names_expr's matches).
         collision=dict(expr=r".*_collision\d*", contype=1, conaffinity=1,
                        condim={r"^[FR][LR]_foot_collision$": 6, r".*_collision\d*": 1},
@@ -77,7 +81,7 @@ ROBOTS = {
                  "foot_slip": -0.1, "foot_swing_height": -0.25, "soft_landing": -1e-5,
                  "self_collisions": -1.0},
         solver=dict(iterations=10, ls_iterations=20, ccd_iterations=50, impratio=1.0,
-                    cone=mujoco.mjtCone.mjCONE_PYRAMIDAL),
+                    cone=mujoco.mjtCone.mjCONE_PYRAMIDAL, **MUJOCO_CFG),
         # g1_constants.FULL_COLLISION.
         collision=dict(expr=".*_collision", contype=1, conaffinity=1,
                        condim={r"^(left|right)_foot[1-7]_collision$": 3, ".*_collision": 1},
@@ -228,8 +232,10 @@ def main():
         imu_ang, imu_lin = term_checks.site_vel(m, fresh, imu, True)
         if r["kind"] == "reset":
             last_act = np.zeros(nu)
+        # last_action: action_manager.action, the action this step applied (zeros after a reset).
+        applied = np.zeros(nu) if r["kind"] == "reset" else np.array(r["action"])
         want = np.hstack([imu_lin, imu_ang, frame(fresh, base).T @ down, qpos[7:] - default,
-                          qvel[6:], last_act, obs[n_obs:n_obs + 3]])
+                          qvel[6:], applied, obs[n_obs:n_obs + 3]])
         ok &= close("observation", obs, want, t)
         if r["kind"] == "reset":
             command = obs[n_obs:n_obs + 3]

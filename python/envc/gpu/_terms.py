@@ -2,7 +2,7 @@
 of one world's fields (a dict of flat arrays, as the CPU core's `Sim::field` gives them). Backend
 neutral: a backend supplies the fields, `jax.vmap` batches the worlds.
 
-Same operations as `runtime/src/env.rs` and `observe.rs`, in the same order where it matters;
+Same operations as `runtime/src/env/` and `observe.rs`, in the same order where it matters;
 sums are not bit-identical (float32, XLA's reduction order): docs/gpu.md states the bound."""
 
 from __future__ import annotations

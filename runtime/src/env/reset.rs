@@ -33,6 +33,9 @@ impl Env {
             None if self.rng.is_none() => self.rng = Some(NumpyRng::from_entropy()),
             None => {}
         }
+        // No action yet: a reset's observation never carries the last episode's (mjlab's
+        // `last_action` after a reset; the same seed, the same reset observation).
+        self.sim.action.fill(0.0);
         // Draw order steps 1–2 (docs/spec-reference.md): the events, before `[reset]`.
         let event_error = self.reset_events(seed.is_some());
         let init = self.spec.manipulation.init.as_ref();
