@@ -33,7 +33,7 @@ pub const MUJOCO_VERSION: &str = "4.0.1";
 
 mod any_env;
 pub mod bench;
-mod commands;
+mod legged;
 mod derived;
 pub mod describe;
 pub mod env;

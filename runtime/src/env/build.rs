@@ -271,7 +271,7 @@ pub fn compile(spec: &ResolvedSpec) -> Result<MjModel, EnvError> {
     {
         mj::manip::reset_welds(&mut model);
     }
-    crate::commands::apply_gains(spec, &mut model)?;
+    crate::legged::apply_gains(spec, &mut model)?;
     Ok(model)
 }
 

@@ -33,8 +33,8 @@ pub(super) struct Sim {
     pub(super) derived: Vec<f64>,
     /// Per `[derived.*]` table, the ids a `contact` table watches.
     pub(super) contact_ids: Vec<Option<crate::derived::ContactIds>>,
-    /// Commands, PD actions and legged-term state (`runtime/src/commands.rs`).
-    pub(super) legged: crate::commands::Legged,
+    /// Commands, PD actions and legged-term state (`runtime/src/legged.rs`).
+    pub(super) legged: crate::legged::Legged,
     /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
     /// (`runtime/src/manipulation.rs`).
     pub(super) manip: crate::manipulation::Manip,
@@ -63,7 +63,7 @@ impl Sim {
             mass_center: [0.0; 3],
             ten_j: vec![0.0; size(m.ntendon) * size(m.nv)],
             mass_sum: 0.0,
-            legged: crate::commands::Legged::new(spec, model)?,
+            legged: crate::legged::Legged::new(spec, model)?,
             manip: crate::manipulation::Manip::new(spec, model)?,
             model: Arc::clone(model),
             data,

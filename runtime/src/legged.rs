@@ -1,5 +1,6 @@
-//! Commands, PD position actions and the legged reward kernels at run time (IR in
-//! `envspec::commands`; docs/spec-reference.md, "Commands, PD actions and legged terms").
+//! The legged machinery at run time: commands, PD position actions, feet contacts and the
+//! legged reward kernels (IR in `envspec::commands`; docs/spec-reference.md, "Commands, PD
+//! actions and legged terms").
 //!
 //! Draws: at reset, after the `[reset.*]` steps, every command in declared order; at a step, after
 //! the reward, the commands whose interval is due. One command draws one numpy `uniform(low,
