@@ -10,9 +10,10 @@ use std::sync::Arc;
 use crate::agents::AgentsSpec;
 use crate::diagnostic::{Diagnostics, SourceFile};
 use crate::ir::ResolvedSpec;
+use crate::kind::Kind;
 use crate::maze::MazeSpec;
 use crate::params::Override;
-use crate::registry::{self, Kind};
+use crate::registry;
 use crate::syntax::Spec;
 use crate::value::Val;
 

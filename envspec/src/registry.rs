@@ -9,50 +9,9 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::diagnostic::{Code, Diagnostic, SourceFile, suggest};
 use crate::params::Override;
-use crate::value::{Val, parse_document};
+use crate::value::parse_document;
 
-/// The three kinds of spec.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Kind {
-    /// A single-agent task (`[env]`, observation, reward, ...).
-    Task,
-    /// A maze world around a robot task (`[maze]`).
-    Maze,
-    /// A factorization of a task among agents (`[agents]`).
-    Agents,
-}
-
-impl Kind {
-    /// The kind a parsed spec document declares: `[maze]` → maze, `[agents]` → multi-agent,
-    /// anything else a task (whose own checks then say what is missing).
-    pub fn of_document(root: &Val) -> Kind {
-        let top = root.as_table().unwrap_or(&[]);
-        let has = |k: &str| top.iter().any(|e| e.key == k);
-        if has("maze") {
-            Kind::Maze
-        } else if has("agents") {
-            Kind::Agents
-        } else {
-            Kind::Task
-        }
-    }
-
-    /// The kind's name in messages, e.g. `multi-agent`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kind::Task => "task",
-            Kind::Maze => "maze",
-            Kind::Agents => "multi-agent",
-        }
-    }
-}
-
-impl std::fmt::Display for Kind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use crate::kind::Kind;
 
 /// One bundled id.
 #[derive(Clone, Debug)]

@@ -33,7 +33,6 @@ pub const MUJOCO_VERSION: &str = "4.0.1";
 
 mod any_env;
 pub mod bench;
-mod legged;
 mod derived;
 pub mod describe;
 pub mod env;
@@ -45,6 +44,7 @@ pub mod gymnasium;
 pub mod joint_env;
 mod landings;
 mod latency;
+mod legged;
 mod manipulation;
 pub mod maze;
 pub mod memory;
