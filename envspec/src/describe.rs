@@ -267,20 +267,7 @@ pub fn reset_step_named(r: &ResetStep) -> String {
 
 fn reset_step_as(r: &ResetStep, target: &str) -> String {
     let dist = match &r.dist {
-        Distribution::Uniform { low, high } => {
-            let same =
-                low.windows(2).all(|w| w[0] == w[1]) && high.windows(2).all(|w| w[0] == w[1]);
-            if same && !low.is_empty() {
-                format!("uniform[{}, {})", num(low[0]), num(high[0]))
-            } else {
-                let pairs: Vec<String> = low
-                    .iter()
-                    .zip(high)
-                    .map(|(l, h)| format!("[{}, {})", num(*l), num(*h)))
-                    .collect();
-                format!("uniform per element {}", pairs.join(" "))
-            }
-        }
+        Distribution::Uniform { low, high } => uniform(low, high),
         Distribution::Normal { scale } => format!("{} × normal(0, 1)", num(*scale)),
         Distribution::Constant { value } => num(*value),
         Distribution::Values { values } => {
@@ -290,75 +277,11 @@ fn reset_step_as(r: &ResetStep, target: &str) -> String {
         Distribution::Keyframe { name, .. } => {
             return format!("qpos = keyframe `{name}`");
         }
-        Distribution::RootPose { ranges } => {
-            let v: Vec<String> = crate::resolve::ROOT_POSE_KEYS
-                .iter()
-                .zip(ranges)
-                .filter(|(_, r)| r.0 != 0.0 || r.1 != 0.0)
-                .map(|(k, r)| format!("{k} uniform[{}, {})", num(r.0), num(r.1)))
-                .collect();
-            return format!(
-                "{}: position += (x, y, z), quat ← quat ⊗ euler_xyz(roll, pitch, yaw); {}",
-                target,
-                if v.is_empty() {
-                    "every range 0".into()
-                } else {
-                    v.join(", ")
-                }
-            );
-        }
-        Distribution::Rotation(crate::ir::Rotation {
-            axis,
-            angle,
-            parallel,
-        }) => {
-            let parallel = if *parallel {
-                " ⊗ one of 24 axis-aligned orientations"
-            } else {
-                ""
-            };
-            let axis = match axis {
-                Some(a) => format!("{a:?}"),
-                None => "uniform[-1, 1)³".to_string(),
-            };
-            let op = if r.set { "=" } else { "← q ⊗" };
-            return format!(
-                "{target} {op} quat_from_angle_and_axis(uniform[{}, {}), {axis}){parallel}",
-                num(angle.0),
-                num(angle.1)
-            );
-        }
+        Distribution::RootPose { ranges } => return root_pose(target, ranges),
+        Distribution::Rotation(rot) => return rotation(target, r.set, rot),
         Distribution::UnitQuaternion => return format!("{target} ← q / ‖q‖"),
-        Distribution::Settle(s) => {
-            let watch = match &s.require {
-                Some((sel, above)) => format!(
-                    ", then again from the first step unless {} > {}",
-                    sel.text,
-                    num(*above)
-                ),
-                None => String::new(),
-            };
-            return format!("{} control steps with action 0{watch}", s.steps);
-        }
-        Distribution::Meet(m) => {
-            let pts = |v: &[usize]| {
-                v.iter()
-                    .map(usize::to_string)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            return format!(
-                "{}: points [{}] and one of [{}] meet {} short of record{:?} + {:?} + {} × normal(0, 1)³; with probability {} unchanged",
-                target,
-                pts(&m.always),
-                pts(&m.one_of),
-                num(m.gap),
-                m.center,
-                m.offset,
-                num(m.scale),
-                num(m.unchanged)
-            );
-        }
+        Distribution::Settle(s) => return settle(s),
+        Distribution::Meet(m) => return meet(target, m),
         Distribution::TerrainOrigin { rows } => {
             return format!(
                 "{}: position += the spawn origin of a [terrain] tile drawn uniformly (rows {} … {}, any column)",
@@ -386,6 +309,98 @@ fn reset_step_as(r: &ResetStep, target: &str) -> String {
         .probability
         .map_or(String::new(), |p| format!(" (with probability {})", num(p)));
     format!("{target} {op} {dist}{until}{chance}")
+}
+
+/// Uniform bounds: one interval when every element shares it, else one per element.
+fn uniform(low: &[f64], high: &[f64]) -> String {
+    let same = low.windows(2).all(|w| w[0] == w[1]) && high.windows(2).all(|w| w[0] == w[1]);
+    if same && !low.is_empty() {
+        format!("uniform[{}, {})", num(low[0]), num(high[0]))
+    } else {
+        let pairs: Vec<String> = low
+            .iter()
+            .zip(high)
+            .map(|(l, h)| format!("[{}, {})", num(*l), num(*h)))
+            .collect();
+        format!("uniform per element {}", pairs.join(" "))
+    }
+}
+
+/// A root pose drawn around the initial one; ranges that are 0 are left out.
+fn root_pose(target: &str, ranges: &[(f64, f64); 6]) -> String {
+    let v: Vec<String> = crate::resolve::ROOT_POSE_KEYS
+        .iter()
+        .zip(ranges)
+        .filter(|(_, r)| r.0 != 0.0 || r.1 != 0.0)
+        .map(|(k, r)| format!("{k} uniform[{}, {})", num(r.0), num(r.1)))
+        .collect();
+    format!(
+        "{}: position += (x, y, z), quat ← quat ⊗ euler_xyz(roll, pitch, yaw); {}",
+        target,
+        if v.is_empty() {
+            "every range 0".into()
+        } else {
+            v.join(", ")
+        }
+    )
+}
+
+/// A random rotation, set or composed with the initial orientation.
+fn rotation(target: &str, set: bool, rot: &Rotation) -> String {
+    let Rotation {
+        axis,
+        angle,
+        parallel,
+    } = rot;
+    let parallel = if *parallel {
+        " ⊗ one of 24 axis-aligned orientations"
+    } else {
+        ""
+    };
+    let axis = match axis {
+        Some(a) => format!("{a:?}"),
+        None => "uniform[-1, 1)³".to_string(),
+    };
+    let op = if set { "=" } else { "← q ⊗" };
+    format!(
+        "{target} {op} quat_from_angle_and_axis(uniform[{}, {}), {axis}){parallel}",
+        num(angle.0),
+        num(angle.1)
+    )
+}
+
+/// Control steps with action 0, the reset starting over unless the watched value exceeds its bound.
+fn settle(s: &Settle) -> String {
+    let watch = match &s.require {
+        Some((sel, above)) => format!(
+            ", then again from the first step unless {} > {}",
+            sel.text,
+            num(*above)
+        ),
+        None => String::new(),
+    };
+    format!("{} control steps with action 0{watch}", s.steps)
+}
+
+/// Points brought together near a drawn meeting point, or left as they are.
+fn meet(target: &str, m: &Meet) -> String {
+    let pts = |v: &[usize]| {
+        v.iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "{}: points [{}] and one of [{}] meet {} short of record{:?} + {:?} + {} × normal(0, 1)³; with probability {} unchanged",
+        target,
+        pts(&m.always),
+        pts(&m.one_of),
+        num(m.gap),
+        m.center,
+        m.offset,
+        num(m.scale),
+        num(m.unchanged)
+    )
 }
 
 /// An info entry: what it reports and how it is computed.

@@ -2,7 +2,7 @@
 //! on. Events are matched by name and compared resolved (ranges, elements by their model names).
 
 use super::{Ctx, pos};
-use crate::diff::{Change, RuleId};
+use crate::diff::{Change, Pos, RuleId};
 use crate::events::{Event, EventDist, EventKind, EventMode};
 
 const NOT_COMPARABLE: &str = "returns are not comparable";
@@ -72,6 +72,23 @@ fn names(e: &Event) -> Vec<String> {
     }
 }
 
+/// One event present on both sides, with where each side writes it.
+struct Pair<'a> {
+    o: &'a Event,
+    n: &'a Event,
+    subject: String,
+    oa: Option<Pos>,
+    na: Option<Pos>,
+}
+
+impl Pair<'_> {
+    fn change(&self, rule: RuleId, aspect: &str, was: String, now: String) -> Change {
+        Change::new(rule, self.subject.clone(), aspect)
+            .values(Some(was), Some(now))
+            .at(self.oa.clone(), self.na.clone())
+    }
+}
+
 pub(super) fn events(cx: &mut Ctx) {
     let (old, new) = (&cx.old_r.events, &cx.new_r.events);
     let at = |spec: &crate::syntax::Spec, name: &str| {
@@ -84,186 +101,212 @@ pub(super) fn events(cx: &mut Ctx) {
     for o in old {
         let (oa, subject) = (at(cx.old, &o.name), format!("events.{}", o.name));
         let Some(n) = new.iter().find(|n| n.name == o.name) else {
-            out.push(
-                Change::new(RuleId::EventsRemoved, subject, "removed")
-                    .values(Some(summary(o)), None)
-                    .at(oa, None)
-                    .witness(format!(
-                        "`{}` is no longer randomized ({}): the policy trains on the compiled values; {NOT_COMPARABLE}",
-                        o.field_name(),
-                        mode_effect(&o.mode)
-                    )),
-            );
+            out.push(removed(o, subject, oa));
             continue;
         };
         let na = at(cx.new, &n.name);
-        let change = |rule: RuleId, aspect: &str, was: String, now: String| {
-            Change::new(rule, subject.clone(), aspect)
-                .values(Some(was), Some(now))
-                .at(oa.clone(), na.clone())
+        let p = Pair {
+            o,
+            n,
+            subject,
+            oa,
+            na,
         };
-        if o.field_name() != n.field_name() {
-            out.push(
-                change(
-                    RuleId::EventsFieldChanged,
-                    "field",
-                    o.field_name().into(),
-                    n.field_name().into(),
-                )
-                .witness(format!(
-                    "randomizes `{}` instead of `{}`: the policy trains on another distribution of models; {NOT_COMPARABLE}",
-                    n.field_name(),
-                    o.field_name()
-                )),
-            );
-            continue;
-        }
-        if o.mode != n.mode {
-            out.push(
-                change(
-                    RuleId::EventsModeChanged,
-                    "mode",
-                    mode_text(&o.mode),
-                    mode_text(&n.mode),
-                )
-                .witness(format!(
-                    "{} instead of {}: the policy sees the randomization at another rate; {NOT_COMPARABLE}",
-                    mode_effect(&n.mode),
-                    mode_effect(&o.mode)
-                )),
-            );
-        }
-        let (on, nn) = (names(o), names(n));
-        if on != nn || o.elements_text != n.elements_text {
-            let added: Vec<&String> = nn.iter().filter(|x| !on.contains(x)).collect();
-            let removed: Vec<&String> = on.iter().filter(|x| !nn.contains(x)).collect();
-            let list = |v: &[&String]| v.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ");
-            let mut c = change(
-                RuleId::EventsElementsChanged,
-                "elements",
-                format!("{:?}", o.elements_text),
-                format!("{:?}", n.elements_text),
-            );
-            c = if on == nn {
-                c.breaking(false)
-                    .witness("the same elements are matched: no effect")
-            } else {
-                c.witness(format!(
-                    "randomized now: {}; no longer: {}; {NOT_COMPARABLE}",
-                    if added.is_empty() {
-                        "-".into()
-                    } else {
-                        list(&added)
-                    },
-                    if removed.is_empty() {
-                        "-".into()
-                    } else {
-                        list(&removed)
-                    },
-                ))
-            };
-            out.push(c);
-        }
-        if let (
-            EventKind::Model {
-                dist: od,
-                operation: oo,
-                shared: os,
-                ..
-            },
-            EventKind::Model {
-                dist: nd,
-                operation: no,
-                shared: ns,
-                ..
-            },
-        ) = (&o.kind, &n.kind)
-        {
-            if od.name() != nd.name() {
-                out.push(
-                    change(
-                        RuleId::EventsDistributionChanged,
-                        "distribution",
-                        od.describe(),
-                        nd.describe(),
-                    )
-                    .witness(format!(
-                        "`{}` is drawn {} instead of {}: other values are likely; {NOT_COMPARABLE}",
-                        n.field_name(),
-                        nd.name(),
-                        od.name()
-                    )),
-                );
-            }
-            if oo != no {
-                out.push(
-                    change(
-                        RuleId::EventsOperationChanged,
-                        "operation",
-                        oo.name().into(),
-                        no.name().into(),
-                    )
-                    .witness(format!(
-                        "draws are applied by {} instead of {}: the resulting values differ; {NOT_COMPARABLE}",
-                        no.name(),
-                        oo.name()
-                    )),
-                );
-            }
-            if os != ns {
-                out.push(
-                    change(
-                        RuleId::EventsSharedChanged,
-                        "shared",
-                        os.to_string(),
-                        ns.to_string(),
-                    )
-                    .witness(if *ns {
-                        "one draw for every element: the elements vary together (correlated)"
-                    } else {
-                        "one draw per element: the elements vary independently"
-                    }),
-                );
-            }
-        }
-        for ((label, or, ot), (_, nr, nt)) in ranges(o).into_iter().zip(ranges(n)) {
-            if ot != nt {
-                let what = if label == "range" {
-                    format!("`{}` range", n.field_name())
-                } else {
-                    format!("push {label} range")
-                };
-                out.push(
-                    change(RuleId::EventsRangeChanged, label, ot.clone(), nt.clone())
-                        .witness(range_effect(&what, or, nr, &ot, &nt)),
-                );
-            }
-        }
+        matched(&p, &mut out);
     }
     for n in new {
         if old.iter().any(|o| o.name == n.name) {
             continue;
         }
-        out.push(
-            Change::new(RuleId::EventsAdded, format!("events.{}", n.name), "added")
-                .values(None, Some(summary(n)))
-                .at(None, at(cx.new, &n.name))
-                .witness(if n.writes_model() {
-                    format!(
-                        "`{}` is now randomized ({}): the policy trains on a distribution of models where it saw one; {NOT_COMPARABLE}",
-                        n.field_name(),
-                        mode_effect(&n.mode)
-                    )
-                } else {
-                    format!(
-                        "the robot is now pushed ({}): the policy trains on disturbed episodes; {NOT_COMPARABLE}",
-                        mode_text(&n.mode)
-                    )
-                }),
-        );
+        out.push(added(n, at(cx.new, &n.name)));
     }
     for c in out {
         cx.add(c);
+    }
+}
+
+fn removed(o: &Event, subject: String, oa: Option<Pos>) -> Change {
+    Change::new(RuleId::EventsRemoved, subject, "removed")
+        .values(Some(summary(o)), None)
+        .at(oa, None)
+        .witness(format!(
+            "`{}` is no longer randomized ({}): the policy trains on the compiled values; {NOT_COMPARABLE}",
+            o.field_name(),
+            mode_effect(&o.mode)
+        ))
+}
+
+fn added(n: &Event, na: Option<Pos>) -> Change {
+    Change::new(RuleId::EventsAdded, format!("events.{}", n.name), "added")
+        .values(None, Some(summary(n)))
+        .at(None, na)
+        .witness(if n.writes_model() {
+            format!(
+                "`{}` is now randomized ({}): the policy trains on a distribution of models where it saw one; {NOT_COMPARABLE}",
+                n.field_name(),
+                mode_effect(&n.mode)
+            )
+        } else {
+            format!(
+                "the robot is now pushed ({}): the policy trains on disturbed episodes; {NOT_COMPARABLE}",
+                mode_text(&n.mode)
+            )
+        })
+}
+
+/// The changes of an event kept by name; another field makes the rest moot.
+fn matched(p: &Pair, out: &mut Vec<Change>) {
+    let (o, n) = (p.o, p.n);
+    if o.field_name() != n.field_name() {
+        out.push(
+            p.change(
+                RuleId::EventsFieldChanged,
+                "field",
+                o.field_name().into(),
+                n.field_name().into(),
+            )
+            .witness(format!(
+                "randomizes `{}` instead of `{}`: the policy trains on another distribution of models; {NOT_COMPARABLE}",
+                n.field_name(),
+                o.field_name()
+            )),
+        );
+        return;
+    }
+    if o.mode != n.mode {
+        out.push(
+            p.change(
+                RuleId::EventsModeChanged,
+                "mode",
+                mode_text(&o.mode),
+                mode_text(&n.mode),
+            )
+            .witness(format!(
+                "{} instead of {}: the policy sees the randomization at another rate; {NOT_COMPARABLE}",
+                mode_effect(&n.mode),
+                mode_effect(&o.mode)
+            )),
+        );
+    }
+    if let Some(c) = elements(p) {
+        out.push(c);
+    }
+    model(p, out);
+    for ((label, or, ot), (_, nr, nt)) in ranges(o).into_iter().zip(ranges(n)) {
+        if ot != nt {
+            let what = if label == "range" {
+                format!("`{}` range", n.field_name())
+            } else {
+                format!("push {label} range")
+            };
+            out.push(
+                p.change(RuleId::EventsRangeChanged, label, ot.clone(), nt.clone())
+                    .witness(range_effect(&what, or, nr, &ot, &nt)),
+            );
+        }
+    }
+}
+
+/// The matched elements: a rewritten pattern that matches the same names has no effect.
+fn elements(p: &Pair) -> Option<Change> {
+    let (o, n) = (p.o, p.n);
+    let (on, nn) = (names(o), names(n));
+    if on == nn && o.elements_text == n.elements_text {
+        return None;
+    }
+    let added: Vec<&String> = nn.iter().filter(|x| !on.contains(x)).collect();
+    let removed: Vec<&String> = on.iter().filter(|x| !nn.contains(x)).collect();
+    let list = |v: &[&String]| v.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ");
+    let c = p.change(
+        RuleId::EventsElementsChanged,
+        "elements",
+        format!("{:?}", o.elements_text),
+        format!("{:?}", n.elements_text),
+    );
+    Some(if on == nn {
+        c.breaking(false)
+            .witness("the same elements are matched: no effect")
+    } else {
+        c.witness(format!(
+            "randomized now: {}; no longer: {}; {NOT_COMPARABLE}",
+            if added.is_empty() {
+                "-".into()
+            } else {
+                list(&added)
+            },
+            if removed.is_empty() {
+                "-".into()
+            } else {
+                list(&removed)
+            },
+        ))
+    })
+}
+
+/// Distribution, operation and sharing of a model event (pushes have none).
+fn model(p: &Pair, out: &mut Vec<Change>) {
+    let (
+        EventKind::Model {
+            dist: od,
+            operation: oo,
+            shared: os,
+            ..
+        },
+        EventKind::Model {
+            dist: nd,
+            operation: no,
+            shared: ns,
+            ..
+        },
+    ) = (&p.o.kind, &p.n.kind)
+    else {
+        return;
+    };
+    if od.name() != nd.name() {
+        out.push(
+            p.change(
+                RuleId::EventsDistributionChanged,
+                "distribution",
+                od.describe(),
+                nd.describe(),
+            )
+            .witness(format!(
+                "`{}` is drawn {} instead of {}: other values are likely; {NOT_COMPARABLE}",
+                p.n.field_name(),
+                nd.name(),
+                od.name()
+            )),
+        );
+    }
+    if oo != no {
+        out.push(
+            p.change(
+                RuleId::EventsOperationChanged,
+                "operation",
+                oo.name().into(),
+                no.name().into(),
+            )
+            .witness(format!(
+                "draws are applied by {} instead of {}: the resulting values differ; {NOT_COMPARABLE}",
+                no.name(),
+                oo.name()
+            )),
+        );
+    }
+    if os != ns {
+        out.push(
+            p.change(
+                RuleId::EventsSharedChanged,
+                "shared",
+                os.to_string(),
+                ns.to_string(),
+            )
+            .witness(if *ns {
+                "one draw for every element: the elements vary together (correlated)"
+            } else {
+                "one draw per element: the elements vary independently"
+            }),
+        );
     }
 }
 

@@ -50,7 +50,6 @@ fn info_text(r: &ResolvedSpec, i: &InfoItem) -> String {
 
 pub(super) fn info_items(cx: &mut Ctx) {
     let (o, n) = (cx.old_r, cx.new_r);
-    let same = |i: &InfoItem, j: &InfoItem| behaviour::info(o, i) == behaviour::info(n, j);
     let removed: Vec<&InfoItem> = o
         .info
         .iter()
@@ -61,6 +60,43 @@ pub(super) fn info_items(cx: &mut Ctx) {
         .iter()
         .filter(|j| !o.info.iter().any(|i| i.key == j.key))
         .collect();
+    let (renamed_to, taken) = renames(cx, &removed, &added);
+    for (r, i) in removed.iter().enumerate() {
+        let subject = format!("info.{}", i.key);
+        cx.add(match renamed_to[r] {
+            Some(a) => Change::new(RuleId::InfoKeyRenamed, subject, "renamed")
+                .values(Some(i.key.clone()), Some(added[a].key.clone()))
+                .at(info_pos(cx.old, &i.key), info_pos(cx.new, &added[a].key)),
+            None => Change::new(RuleId::InfoKeyRemoved, subject, "removed")
+                .values(Some(info_text(o, i)), None)
+                .at(info_pos(cx.old, &i.key), None),
+        });
+    }
+    kept(cx);
+    for (a, j) in added.iter().enumerate() {
+        if !taken[a] {
+            let when = if j.at_reset { "reset and step" } else { "step" };
+            cx.add(
+                Change::new(RuleId::InfoKeyAdded, format!("info.{}", j.key), "added")
+                    .values(None, Some(format!("{} ({when})", info_text(n, j))))
+                    .at(None, info_pos(cx.new, &j.key)),
+            );
+        }
+    }
+    inactive_tables_removed(cx);
+    docs(cx);
+}
+
+/// Pair removed keys with added ones: for each removed key, the added key it was renamed to;
+/// for each added key, whether a removed one took it. A rename that also changed the reported
+/// reward term's definition is reported here.
+fn renames(
+    cx: &mut Ctx,
+    removed: &[&InfoItem],
+    added: &[&InfoItem],
+) -> (Vec<Option<usize>>, Vec<bool>) {
+    let (o, n) = (cx.old_r, cx.new_r);
+    let same = |i: &InfoItem, j: &InfoItem| behaviour::info(o, i) == behaviour::info(n, j);
     // A key that disappears while another with the same definition appears was renamed.
     let mut renamed_to: Vec<Option<usize>> = vec![None; removed.len()];
     let mut taken = vec![false; added.len()];
@@ -97,17 +133,13 @@ pub(super) fn info_items(cx: &mut Ctx) {
             }
         }
     }
-    for (r, i) in removed.iter().enumerate() {
-        let subject = format!("info.{}", i.key);
-        cx.add(match renamed_to[r] {
-            Some(a) => Change::new(RuleId::InfoKeyRenamed, subject, "renamed")
-                .values(Some(i.key.clone()), Some(added[a].key.clone()))
-                .at(info_pos(cx.old, &i.key), info_pos(cx.new, &added[a].key)),
-            None => Change::new(RuleId::InfoKeyRemoved, subject, "removed")
-                .values(Some(info_text(o, i)), None)
-                .at(info_pos(cx.old, &i.key), None),
-        });
-    }
+    (renamed_to, taken)
+}
+
+/// Keys on both sides: their definition and when they are reported.
+fn kept(cx: &mut Ctx) {
+    let (o, n) = (cx.old_r, cx.new_r);
+    let same = |i: &InfoItem, j: &InfoItem| behaviour::info(o, i) == behaviour::info(n, j);
     for i in &o.info {
         let Some(j) = n.info.iter().find(|j| j.key == i.key) else {
             continue;
@@ -130,18 +162,12 @@ pub(super) fn info_items(cx: &mut Ctx) {
             );
         }
     }
-    for (a, j) in added.iter().enumerate() {
-        if !taken[a] {
-            let when = if j.at_reset { "reset and step" } else { "step" };
-            cx.add(
-                Change::new(RuleId::InfoKeyAdded, format!("info.{}", j.key), "added")
-                    .values(None, Some(format!("{} ({when})", info_text(n, j))))
-                    .at(None, info_pos(cx.new, &j.key)),
-            );
-        }
-    }
-    // `[info.*]` tables that only apply under non-default parameters and are gone in the new spec
-    // (e.g. an alternative definition of a key switched on by a flag).
+}
+
+/// `[info.*]` tables that only apply under non-default parameters and are gone in the new spec
+/// (e.g. an alternative definition of a key switched on by a flag).
+fn inactive_tables_removed(cx: &mut Ctx) {
+    let o = cx.old_r;
     for s in &cx.old.info {
         let key = s.str("key").unwrap_or(&s.name);
         let active = o
@@ -165,6 +191,10 @@ pub(super) fn info_items(cx: &mut Ctx) {
             );
         }
     }
+}
+
+/// The docs of `[info.*]` tables on both sides.
+fn docs(cx: &mut Ctx) {
     for s in &cx.old.info {
         let Some(t) = cx.new.info.iter().find(|t| t.name == s.name) else {
             continue;

@@ -71,27 +71,47 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         new_r,
         changes: vec![],
     };
-    params::env_section(&mut cx);
-    params::params(&mut cx);
-    observation::observation(&mut cx);
-    noise::noise(&mut cx);
+    task_rules(&mut cx);
+    model_edit_rules(&mut cx);
+    events::events(&mut cx);
+    manipulation::manipulation(&mut cx);
+    derived::derived(&mut cx);
+
+    let mut report = Report::new(
+        &old_r.id,
+        &new_r.id,
+        old.path().display().to_string(),
+        new.path().display().to_string(),
+    );
+    report.extend(cx.changes);
+    report
+}
+
+/// The rules of a task's own tables, from `[env]` and parameters to commands and actions, in
+/// report order.
+fn task_rules(cx: &mut Ctx) {
+    let (old, new) = (cx.old, cx.new);
+    params::env_section(cx);
+    params::params(cx);
+    observation::observation(cx);
+    noise::noise(cx);
     sections::sections(
-        &mut cx,
+        cx,
         &sections::REWARD,
         &old.reward,
         &new.reward,
         &|r: &ResolvedSpec, n: &str| r.reward.iter().find(|t| t.name == n).map(behaviour::term),
     );
-    whole::reward_sum(&mut cx);
+    whole::reward_sum(cx);
     sections::sections(
-        &mut cx,
+        cx,
         &sections::HEALTH,
         &old.health,
         &new.health,
         &|r: &ResolvedSpec, n: &str| r.health.iter().find(|c| c.name == n).map(behaviour::check),
     );
     sections::sections(
-        &mut cx,
+        cx,
         &sections::TERMINATION,
         &old.termination,
         &new.termination,
@@ -102,9 +122,9 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
                 .map(|t| behaviour::goal_check(&t.reached))
         },
     );
-    whole::episode(&mut cx);
+    whole::episode(cx);
     sections::sections(
-        &mut cx,
+        cx,
         &sections::RESET,
         &old.reset,
         &new.reset,
@@ -115,17 +135,21 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
                 .map(behaviour::reset_step)
         },
     );
-    whole::reset_order(&mut cx);
-    whole::terrain(&mut cx);
-    whole::observation_refresh(&mut cx);
-    whole::physics_options(&mut cx);
-    info::info_items(&mut cx);
-    commands::commands(&mut cx);
-    commands::actions(&mut cx);
-    // Model edits, judged by what they resolve to: the actuators a table adds, the whole
-    // per-joint table (rows override each other), a keyframe's positions.
+    whole::reset_order(cx);
+    whole::terrain(cx);
+    whole::observation_refresh(cx);
+    whole::physics_options(cx);
+    info::info_items(cx);
+    commands::commands(cx);
+    commands::actions(cx);
+}
+
+/// Model edits, judged by what they resolve to: the actuators a table adds, the whole
+/// per-joint table (rows override each other), a keyframe's positions.
+fn model_edit_rules(cx: &mut Ctx) {
+    let (old, new) = (cx.old, cx.new);
     sections::sections(
-        &mut cx,
+        cx,
         &sections::ACTUATORS,
         &old.actuators,
         &new.actuators,
@@ -140,7 +164,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         },
     );
     sections::sections(
-        &mut cx,
+        cx,
         &sections::JOINT_PROPERTIES,
         &old.joint_properties,
         &new.joint_properties,
@@ -154,7 +178,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         },
     );
     sections::sections(
-        &mut cx,
+        cx,
         &sections::GEOM_PROPERTIES,
         &old.geom_properties,
         &new.geom_properties,
@@ -167,7 +191,7 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
         },
     );
     sections::sections(
-        &mut cx,
+        cx,
         &sections::KEYFRAMES,
         &old.keyframes,
         &new.keyframes,
@@ -179,18 +203,6 @@ pub fn diff(old: &Spec, old_r: &ResolvedSpec, new: &Spec, new_r: &ResolvedSpec) 
                 .map(|k| format!("{k:?}"))
         },
     );
-    events::events(&mut cx);
-    manipulation::manipulation(&mut cx);
-    derived::derived(&mut cx);
-
-    let mut report = Report::new(
-        &old_r.id,
-        &new_r.id,
-        old.path().display().to_string(),
-        new.path().display().to_string(),
-    );
-    report.extend(cx.changes);
-    report
 }
 
 /// E0905: the two sides of a diff are different kinds of spec (`kind` names them, e.g. `maze`,

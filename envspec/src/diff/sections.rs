@@ -285,64 +285,8 @@ pub(super) fn sections<K: PartialEq>(
         };
         matched_new[j] = true;
         let t = &new[j];
-        let subject = format!("{}.{}", kind.name, s.name);
         let (was_r, now_r) = (resolved(cx.old_r, &s.name), resolved(cx.new_r, &t.name));
-        let same_effect = was_r == now_r;
-        let (a, b) = (entries(s), entries(t));
-        for (k, v, p) in &a {
-            if skipped(kind, k) {
-                continue;
-            }
-            let (now, np) = match b.iter().find(|(k2, _, _)| k2 == k) {
-                Some((_, v2, _)) if v2 == v => continue,
-                Some((_, v2, p2)) => (Some(v2.clone()), Some(p2.clone())),
-                None => (None, Some(pos(&t.name_loc))),
-            };
-            let rule = key_rule(kind, k, same_effect && now.is_some());
-            cx.add(
-                Change::new(rule, &subject, k.clone())
-                    .values(Some(v.clone()), now)
-                    .at(Some(p.clone()), np)
-                    .breaking(rule.rule().breaking && !same_effect),
-            );
-        }
-        for (k, v, p) in &b {
-            if !(a.iter().any(|(k2, _, _)| k2 == k) || skipped(kind, k)) {
-                let rule = key_rule(kind, k, false);
-                cx.add(
-                    Change::new(rule, &subject, k.clone())
-                        .values(None, Some(v.clone()))
-                        .at(Some(pos(&s.name_loc)), Some(p.clone()))
-                        .breaking(rule.rule().breaking && !same_effect),
-                );
-            }
-        }
-        if !same_effect
-            && a.len() == b.len()
-            && a.iter().zip(&b).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
-        {
-            // Same text, different effect: a parameter default or the model changed under it.
-            let witness = match (was_r, now_r) {
-                (None, Some(_)) => "switched on under the default parameters",
-                (Some(_), None) => "switched off under the default parameters",
-                _ => "same text, different value under the default parameters",
-            };
-            // (an actuator table can add dozens of actuators: name only those that changed)
-            let (was, now) = if kind.name == "actuators" {
-                actuator_delta(cx.old_r, cx.new_r, &s.name)
-            } else {
-                (
-                    (kind.describe)(cx.old_r, &s.name),
-                    (kind.describe)(cx.new_r, &t.name),
-                )
-            };
-            cx.add(
-                Change::new(kind.resolved_changed, &subject, "resolved value")
-                    .values(was, now)
-                    .at(Some(pos(&s.name_loc)), Some(pos(&t.name_loc)))
-                    .witness(witness),
-            );
-        }
+        matched(cx, kind, s, t, was_r, now_r);
     }
     let added: Vec<&Section> = new
         .iter()
@@ -389,5 +333,72 @@ pub(super) fn sections<K: PartialEq>(
                     .breaking(active),
             );
         }
+    }
+}
+
+/// The changes of a section present on both sides: each key "was X, now Y" (compatible when the
+/// resolved items are equal), then the same text resolving differently.
+fn matched<K: PartialEq>(
+    cx: &mut Ctx,
+    kind: &Kind,
+    s: &Section,
+    t: &Section,
+    was_r: Option<K>,
+    now_r: Option<K>,
+) {
+    let subject = format!("{}.{}", kind.name, s.name);
+    let same_effect = was_r == now_r;
+    let (a, b) = (entries(s), entries(t));
+    for (k, v, p) in &a {
+        if skipped(kind, k) {
+            continue;
+        }
+        let (now, np) = match b.iter().find(|(k2, _, _)| k2 == k) {
+            Some((_, v2, _)) if v2 == v => continue,
+            Some((_, v2, p2)) => (Some(v2.clone()), Some(p2.clone())),
+            None => (None, Some(pos(&t.name_loc))),
+        };
+        let rule = key_rule(kind, k, same_effect && now.is_some());
+        cx.add(
+            Change::new(rule, &subject, k.clone())
+                .values(Some(v.clone()), now)
+                .at(Some(p.clone()), np)
+                .breaking(rule.rule().breaking && !same_effect),
+        );
+    }
+    for (k, v, p) in &b {
+        if !(a.iter().any(|(k2, _, _)| k2 == k) || skipped(kind, k)) {
+            let rule = key_rule(kind, k, false);
+            cx.add(
+                Change::new(rule, &subject, k.clone())
+                    .values(None, Some(v.clone()))
+                    .at(Some(pos(&s.name_loc)), Some(p.clone()))
+                    .breaking(rule.rule().breaking && !same_effect),
+            );
+        }
+    }
+    if !same_effect && a.len() == b.len() && a.iter().zip(&b).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+    {
+        // Same text, different effect: a parameter default or the model changed under it.
+        let witness = match (was_r, now_r) {
+            (None, Some(_)) => "switched on under the default parameters",
+            (Some(_), None) => "switched off under the default parameters",
+            _ => "same text, different value under the default parameters",
+        };
+        // (an actuator table can add dozens of actuators: name only those that changed)
+        let (was, now) = if kind.name == "actuators" {
+            actuator_delta(cx.old_r, cx.new_r, &s.name)
+        } else {
+            (
+                (kind.describe)(cx.old_r, &s.name),
+                (kind.describe)(cx.new_r, &t.name),
+            )
+        };
+        cx.add(
+            Change::new(kind.resolved_changed, &subject, "resolved value")
+                .values(was, now)
+                .at(Some(pos(&s.name_loc)), Some(pos(&t.name_loc)))
+                .witness(witness),
+        );
     }
 }

@@ -51,27 +51,9 @@ pub fn from_document(
     overrides: &[Override],
 ) -> Result<MazeSpec, Diagnostics> {
     let mut d = Diagnostics::default();
-    let top = root.as_table().unwrap_or(&[]);
-    for e in top.iter().filter(|e| e.key != "maze") {
-        d.push(unknown_key(e, "a maze spec (top level)", &["maze"]));
-    }
-    let Some(maze) = top.iter().find(|e| e.key == "maze") else {
-        d.push(
-            Diagnostic::new(Code::E0103, "a maze spec needs a `[maze]` table")
-                .at(Location::new(file, 0..0))
-                .label("expected a [maze] table"),
-        );
+    let Some((maze, table)) = maze_table(file, root, &mut d) else {
         return Err(d);
     };
-    let Some(table) = maze.value.as_table() else {
-        d.push(maze.value.type_error("`maze`", "a table"));
-        return Err(d);
-    };
-    for e in table {
-        if !MAZE_KEYS.contains(&e.key.as_str()) {
-            d.push(unknown_key(e, "[maze]", MAZE_KEYS));
-        }
-    }
     let dir = file.path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut r = Reader {
         entries: table.to_vec(),
@@ -80,27 +62,7 @@ pub fn from_document(
         grid_loc: None,
         cell_locs: vec![],
     };
-    let mut robot_overrides = vec![];
-    let mut map_dir = dir.clone();
-    for o in overrides {
-        if !MAZE_PARAMS.contains(&o.name.as_str()) {
-            robot_overrides.push(o.clone());
-            continue;
-        }
-        let v = override_val(o);
-        if o.name == "map" {
-            map_dir = PathBuf::from(".");
-        }
-        let entry = Entry {
-            key: o.name.clone(),
-            key_loc: v.loc.clone(),
-            value: v,
-        };
-        match r.entries.iter_mut().find(|e| e.key == o.name) {
-            Some(e) => *e = entry,
-            None => r.entries.push(entry),
-        }
-    }
+    let (robot_overrides, map_dir) = r.apply_overrides(overrides, &dir);
 
     let id = r.string("id", true).unwrap_or_default();
     if let Some(loc) = r.get("id").map(|v| v.loc.clone())
@@ -113,37 +75,10 @@ pub fn from_document(
         .string("robot", true)
         .map(|s| dir.join(s))
         .unwrap_or_default();
-    let mut base_overrides = r.robot_params(&dir);
-    let robot_params = r
-        .get("robot_params")
-        .and_then(Val::as_table)
-        .unwrap_or(&[])
-        .iter()
-        .filter(|e| !robot_overrides.iter().any(|o| o.name == e.key))
-        .map(|e| {
-            let span = e.key_loc.span.start..e.value.loc.span.end;
-            (e.key.clone(), Location::new(&e.key_loc.file, span))
-        })
-        .collect();
-    // A registry family's overrides replace the spec's own `robot_params` of the same name (a
-    // layer, not a user's duplicate, which E0205 refuses).
-    base_overrides.retain(|o| !robot_overrides.iter().any(|r| r.name == o.name));
-    base_overrides.extend(robot_overrides);
+    let (base_overrides, robot_params) = r.robot_layers(&dir, robot_overrides);
     let maze_size_scaling = r.positive("maze_size_scaling");
     let maze_height = r.positive("maze_height");
-    let position_noise_range = r.float("position_noise_range").unwrap_or(0.25);
-    if position_noise_range < 0.0 {
-        let loc = r.get("position_noise_range").map(|v| v.loc.clone());
-        r.d.push(
-            Diagnostic::new(
-                Code::E0105,
-                format!("`position_noise_range` is {position_noise_range}"),
-            )
-            .at_opt(loc)
-            .label("expected a number ≥ 0 (the reference's is 0.25)"),
-        );
-    }
-    r.within_maze_scale("position_noise_range", position_noise_range);
+    let position_noise_range = r.position_noise_range();
     let goal_threshold = r.goal_threshold();
     let velocity_clip = r.float("velocity_clip");
     let continuing_task = r.boolean("continuing_task").unwrap_or(true);
@@ -182,6 +117,37 @@ pub fn from_document(
     })
 }
 
+/// The `[maze]` entry and its table, with unknown keys at the top level and in `[maze]`
+/// reported; None when there is no `[maze]` table (reported).
+fn maze_table<'a>(
+    file: &Arc<SourceFile>,
+    root: &'a Val,
+    d: &mut Diagnostics,
+) -> Option<(&'a Entry, &'a [Entry])> {
+    let top = root.as_table().unwrap_or(&[]);
+    for e in top.iter().filter(|e| e.key != "maze") {
+        d.push(unknown_key(e, "a maze spec (top level)", &["maze"]));
+    }
+    let Some(maze) = top.iter().find(|e| e.key == "maze") else {
+        d.push(
+            Diagnostic::new(Code::E0103, "a maze spec needs a `[maze]` table")
+                .at(Location::new(file, 0..0))
+                .label("expected a [maze] table"),
+        );
+        return None;
+    };
+    let Some(table) = maze.value.as_table() else {
+        d.push(maze.value.type_error("`maze`", "a table"));
+        return None;
+    };
+    for e in table {
+        if !MAZE_KEYS.contains(&e.key.as_str()) {
+            d.push(unknown_key(e, "[maze]", MAZE_KEYS));
+        }
+    }
+    Some((maze, table))
+}
+
 /// An override's value as a TOML value located in its own text (`<override NAME>`); text that is
 /// not a TOML literal is a bare string.
 fn override_val(o: &Override) -> Val {
@@ -208,6 +174,78 @@ struct Reader {
 impl Reader {
     fn get(&self, key: &str) -> Option<&Val> {
         self.entries.iter().find(|e| e.key == key).map(|e| &e.value)
+    }
+
+    /// Overrides of maze parameters replace (or add) `[maze]` entries; the rest are the robot's,
+    /// returned with the directory a `map` path resolves against (the working directory once
+    /// overridden).
+    fn apply_overrides(&mut self, overrides: &[Override], dir: &Path) -> (Vec<Override>, PathBuf) {
+        let mut robot_overrides = vec![];
+        let mut map_dir = dir.to_path_buf();
+        for o in overrides {
+            if !MAZE_PARAMS.contains(&o.name.as_str()) {
+                robot_overrides.push(o.clone());
+                continue;
+            }
+            let v = override_val(o);
+            if o.name == "map" {
+                map_dir = PathBuf::from(".");
+            }
+            let entry = Entry {
+                key: o.name.clone(),
+                key_loc: v.loc.clone(),
+                value: v,
+            };
+            match self.entries.iter_mut().find(|e| e.key == o.name) {
+                Some(e) => *e = entry,
+                None => self.entries.push(entry),
+            }
+        }
+        (robot_overrides, map_dir)
+    }
+
+    /// The robot's overrides: `robot_params`, then `robot_overrides` (a registry family's or a
+    /// user's); and where each `robot_params` entry the robot receives is written.
+    fn robot_layers(
+        &mut self,
+        dir: &Path,
+        robot_overrides: Vec<Override>,
+    ) -> (Vec<Override>, Vec<(String, Location)>) {
+        let mut base_overrides = self.robot_params(dir);
+        let robot_params = self
+            .get("robot_params")
+            .and_then(Val::as_table)
+            .unwrap_or(&[])
+            .iter()
+            .filter(|e| !robot_overrides.iter().any(|o| o.name == e.key))
+            .map(|e| {
+                let span = e.key_loc.span.start..e.value.loc.span.end;
+                (e.key.clone(), Location::new(&e.key_loc.file, span))
+            })
+            .collect();
+        // A registry family's overrides replace the spec's own `robot_params` of the same name (a
+        // layer, not a user's duplicate, which E0205 refuses).
+        base_overrides.retain(|o| !robot_overrides.iter().any(|r| r.name == o.name));
+        base_overrides.extend(robot_overrides);
+        (base_overrides, robot_params)
+    }
+
+    /// `position_noise_range`, 0.25 by default (E0105 below 0, E0110 beyond the maze scale).
+    fn position_noise_range(&mut self) -> f64 {
+        let position_noise_range = self.float("position_noise_range").unwrap_or(0.25);
+        if position_noise_range < 0.0 {
+            let loc = self.get("position_noise_range").map(|v| v.loc.clone());
+            self.d.push(
+                Diagnostic::new(
+                    Code::E0105,
+                    format!("`position_noise_range` is {position_noise_range}"),
+                )
+                .at_opt(loc)
+                .label("expected a number ≥ 0 (the reference's is 0.25)"),
+            );
+        }
+        self.within_maze_scale("position_noise_range", position_noise_range);
+        position_noise_range
     }
 
     fn missing(&mut self, key: &str, expected: &str) {
