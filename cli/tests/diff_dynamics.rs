@@ -1,5 +1,6 @@
 //! `envc diff` misses no dynamics change: actuator gains and force ranges, joint armature and
-//! damping, geom contact properties, keyframes, pushes, solver options, per-joint action scales, posture widths, a model
+//! damping, geom contact properties, keyframes, pushes, solver options, per-joint action scales, posture widths, a weld's
+//! partner, a model
 //! change only the binary comparison sees, and a multi-agent default factorization. Each case is one file of `cli/tests/diff_golden/dynamics/` against
 //! `base.toml`; the reports are pinned in `cli/tests/diff_golden/dynamics.txt` (ENVC_BLESS=1
 //! regenerates it; review the change).
@@ -124,6 +125,12 @@ const CASES: &[(&str, &str, i32, &[&str])] = &[
         &[
             "  ! [reward-term-key-changed] reward.pose: std: was [{ * = 0.1 }, { hip = 0.3, knee = 0.5 }] (cli/tests/diff_golden/dynamics/scale_old.toml:53), now [{ * = 0.1 }, { hip = 0.3, knee = 0.6 }] (cli/tests/diff_golden/dynamics/posture_new.toml:53)",
         ],
+    ),
+    (
+        "weld_old.toml",
+        "weld_new.toml",
+        3,
+        &["  ! [model-array-changed] model: eq_obj2id[#0]: was 7, now 6"],
     ),
     (
         "agents_old.toml",

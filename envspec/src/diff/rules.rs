@@ -293,7 +293,7 @@ rules! {
     ModelOptionChanged = "model-option-changed", Dynamics, true,
         "A physics option (timestep, gravity, density, viscosity, integrator, solver, iterations and the other solver options) changed.";
     ModelArrayChanged = "model-array-changed", Dynamics, true,
-        "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; actuator gear, gains, biases, dynamics, types and force range) differs (witness: the rows).";
+        "A compiled physics array (body mass, inertia, pose; geom friction, size, contact; joint and dof properties; actuator gear, gains, biases, dynamics, types and force range; equality constraints: type, objects, data, solref, solimp) differs (witness: the rows).";
     ModelActuatorArrayChanged = "model-actuator-array-changed", Action, true,
         "An actuator's control range or transmission target changed: the action space or what an action entry drives.";
     ModelQpos0Changed = "model-qpos0-changed", Reset, true,

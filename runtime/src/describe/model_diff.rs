@@ -8,7 +8,7 @@
 
 use envspec::diff::{Change, RuleId};
 use mujoco_rs::mujoco_c::{mjModel, mjtObj};
-use mujoco_rs::prelude::{MjModel, MjtBias, MjtDyn, MjtGain, MjtGeomBase, MjtJoint};
+use mujoco_rs::prelude::{MjModel, MjtBias, MjtDyn, MjtEq, MjtGain, MjtGeomBase, MjtJoint};
 
 fn name(m: &mjModel, obj: mjtObj, id: usize) -> String {
     crate::mj::names::name(m, obj, id).unwrap_or_else(|| format!("#{id}"))
@@ -53,7 +53,7 @@ macro_rules! flat_enum {
         }
     )*};
 }
-flat_enum!(MjtGeomBase, MjtJoint, MjtDyn, MjtGain, MjtBias);
+flat_enum!(MjtGeomBase, MjtJoint, MjtDyn, MjtGain, MjtBias, MjtEq);
 
 /// The first `n` values of `x` (the count the comparison is made for).
 fn nums<T: Flat + ?Sized>(x: &T, n: usize) -> Vec<f64> {
@@ -111,6 +111,8 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
         a.nv as usize,
         a.nu as usize,
     );
+    let neq = a.neq as usize;
+    const NEQDATA: usize = mujoco_rs::mujoco_c::mjNEQDATA as usize;
     /// Array `field` of both models, `n` values each.
     macro_rules! arr {
         ($field:ident, $rule:ident, $width:expr, $obj:ident, $n:expr) => {
@@ -140,6 +142,20 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
         arr!(geom_conaffinity, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
         arr!(geom_solref, ModelArrayChanged, 2, mjOBJ_GEOM, ng * 2),
         arr!(jnt_type, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
+        // Equality constraints (a weld ties a mocap target to a hand): what and which they tie,
+        // their data (anchor, relative pose, torque scale) and their softness.
+        arr!(eq_type, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
+        arr!(eq_obj1id, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
+        arr!(eq_obj2id, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
+        arr!(
+            eq_data,
+            ModelArrayChanged,
+            NEQDATA,
+            mjOBJ_EQUALITY,
+            neq * NEQDATA
+        ),
+        arr!(eq_solref, ModelArrayChanged, 2, mjOBJ_EQUALITY, neq * 2),
+        arr!(eq_solimp, ModelArrayChanged, 5, mjOBJ_EQUALITY, neq * 5),
         arr!(jnt_axis, ModelArrayChanged, 3, mjOBJ_JOINT, nj * 3),
         arr!(jnt_range, ModelArrayChanged, 2, mjOBJ_JOINT, nj * 2),
         arr!(jnt_stiffness, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
@@ -343,6 +359,7 @@ fn array_changes(old: &MjModel, new: &MjModel, out: &mut Vec<Change>) {
         "jnt" => same(a.njnt, b.njnt),
         "dof" => same(a.nv, b.nv),
         "actuator" => same(a.nu, b.nu),
+        "eq" => same(a.neq, b.neq),
         "key" => same(a.nkey, b.nkey) && same(a.nq, b.nq),
         _ => same(a.nq, b.nq),
     };
