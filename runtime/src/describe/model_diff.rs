@@ -111,8 +111,6 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
         a.nv as usize,
         a.nu as usize,
     );
-    let neq = a.neq as usize;
-    const NEQDATA: usize = mujoco_rs::mujoco_c::mjNEQDATA as usize;
     /// Array `field` of both models, `n` values each.
     macro_rules! arr {
         ($field:ident, $rule:ident, $width:expr, $obj:ident, $n:expr) => {
@@ -127,7 +125,7 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
         };
     }
     use mjtObj::*;
-    vec![
+    let mut arrays = vec![
         arr!(body_mass, ModelArrayChanged, 1, mjOBJ_BODY, nb),
         arr!(body_inertia, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
         arr!(body_ipos, ModelArrayChanged, 3, mjOBJ_BODY, nb * 3),
@@ -142,20 +140,6 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
         arr!(geom_conaffinity, ModelArrayChanged, 1, mjOBJ_GEOM, ng),
         arr!(geom_solref, ModelArrayChanged, 2, mjOBJ_GEOM, ng * 2),
         arr!(jnt_type, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
-        // Equality constraints (a weld ties a mocap target to a hand): what and which they tie,
-        // their data (anchor, relative pose, torque scale) and their softness.
-        arr!(eq_type, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
-        arr!(eq_obj1id, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
-        arr!(eq_obj2id, ModelArrayChanged, 1, mjOBJ_EQUALITY, neq),
-        arr!(
-            eq_data,
-            ModelArrayChanged,
-            NEQDATA,
-            mjOBJ_EQUALITY,
-            neq * NEQDATA
-        ),
-        arr!(eq_solref, ModelArrayChanged, 2, mjOBJ_EQUALITY, neq * 2),
-        arr!(eq_solimp, ModelArrayChanged, 5, mjOBJ_EQUALITY, neq * 5),
         arr!(jnt_axis, ModelArrayChanged, 3, mjOBJ_JOINT, nj * 3),
         arr!(jnt_range, ModelArrayChanged, 2, mjOBJ_JOINT, nj * 2),
         arr!(jnt_stiffness, ModelArrayChanged, 1, mjOBJ_JOINT, nj),
@@ -230,6 +214,61 @@ fn compared_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
             old: nums(old.qpos0(), a.nq as usize),
             new: nums(new.qpos0(), b.nq as usize),
         },
+    ];
+    arrays.extend(equality_arrays(old, new));
+    arrays
+}
+
+/// Equality constraints (a weld ties a mocap target to a hand): what and which they tie, their
+/// data (anchor, relative pose, torque scale) and their softness.
+fn equality_arrays(old: &MjModel, new: &MjModel) -> Vec<Arr> {
+    let neq = old.ffi().neq as usize;
+    let data = mujoco_rs::mujoco_c::mjNEQDATA as usize;
+    let arr = |field, width, old: Vec<f64>, new: Vec<f64>| Arr {
+        field,
+        rule: RuleId::ModelArrayChanged,
+        width,
+        obj: mjtObj::mjOBJ_EQUALITY,
+        old,
+        new,
+    };
+    vec![
+        arr(
+            "eq_type",
+            1,
+            nums(old.eq_type(), neq),
+            nums(new.eq_type(), neq),
+        ),
+        arr(
+            "eq_obj1id",
+            1,
+            nums(old.eq_obj1id(), neq),
+            nums(new.eq_obj1id(), neq),
+        ),
+        arr(
+            "eq_obj2id",
+            1,
+            nums(old.eq_obj2id(), neq),
+            nums(new.eq_obj2id(), neq),
+        ),
+        arr(
+            "eq_data",
+            data,
+            nums(old.eq_data(), neq * data),
+            nums(new.eq_data(), neq * data),
+        ),
+        arr(
+            "eq_solref",
+            2,
+            nums(old.eq_solref(), neq * 2),
+            nums(new.eq_solref(), neq * 2),
+        ),
+        arr(
+            "eq_solimp",
+            5,
+            nums(old.eq_solimp(), neq * 5),
+            nums(new.eq_solimp(), neq * 5),
+        ),
     ]
 }
 
