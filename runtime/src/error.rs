@@ -171,3 +171,11 @@ impl EnvError {
         }
     }
 }
+
+/// Why the compiled model cannot serve the spec's `[actions]` or legged terms (E1110).
+pub(crate) fn unfit(spec: &envspec::ResolvedSpec, what: String) -> EnvError {
+    EnvError::Legged {
+        env: spec.id.clone(),
+        what,
+    }
+}

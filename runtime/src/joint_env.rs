@@ -1,11 +1,13 @@
 //! [`JointEnv`]: what an env of any kind offers — a task ([`Env`], typed or dynamic), a maze
-//! ([`MazeEnv`]) or a multi-agent spec ([`MultiAgentEnv`]) — stepped with one joint action.
+//! ([`MazeEnv`](crate::maze::MazeEnv)) or a multi-agent spec
+//! ([`MultiAgentEnv`](crate::multi_agent::MultiAgentEnv)) — stepped with one joint action.
 //!
 //! Everything that drives envs without caring for their kind is written against this trait:
 //! [`AnyEnv`](crate::AnyEnv) (the one door's env), the vector env's workers, the dataset
 //! collector (`envc_datasets::Recordable` adds what Minari stores), the CLI's one rollout loop
 //! and the Python binding's base class. Kind-specific views (a maze's dict observation, each agent's
-//! observation) stay on the concrete types.
+//! observation) stay on the concrete types, and each kind's impl lives beside its kind (tasks here,
+//! `maze/joint.rs`, `multi_agent/joint.rs`).
 //!
 //! ```no_run
 //! use envc::{JointAction, JointEnv};
@@ -21,8 +23,6 @@ use envspec::Kind;
 use crate::env::{BoxSpace, Env};
 use crate::environment::Environment;
 use crate::error::EnvError;
-use crate::maze::MazeEnv;
-use crate::multi_agent::MultiAgentEnv;
 use crate::numerics::Profile;
 use crate::render::{Frame, RenderMode};
 
@@ -157,7 +157,7 @@ pub(crate) fn check_action(
 }
 
 /// The physics env's reset error, if its last reset found no valid start.
-fn reset_result(env: &Env) -> Result<(), EnvError> {
+pub(crate) fn reset_result(env: &Env) -> Result<(), EnvError> {
     env.reset_error().map_or(Ok(()), Err)
 }
 
@@ -192,84 +192,6 @@ impl<E: Environment> JointEnv for E {
     }
     fn require_reset(&mut self) {
         self.env_mut().require_reset();
-    }
-}
-
-impl JointEnv for MazeEnv {
-    fn kind(&self) -> Kind {
-        Kind::Maze
-    }
-    fn id(&self) -> &str {
-        MazeEnv::id(self)
-    }
-    fn physics_env(&self) -> &Env {
-        self.robot()
-    }
-    fn physics_env_mut(&mut self) -> &mut Env {
-        self.robot_mut()
-    }
-    fn try_reset(&mut self, seed: Option<u64>) -> Result<(), EnvError> {
-        self.reset(seed, None)?;
-        reset_result(self.robot())
-    }
-    fn step_joint(&mut self, action: JointAction<'_>) -> Result<JointStep, EnvError> {
-        let s = match action {
-            JointAction::F64(a) => self.step(a)?,
-            JointAction::F32(a) => self.step_f32(a)?,
-        };
-        Ok(JointStep {
-            reward: s.reward,
-            terminated: s.terminated,
-            truncated: s.truncated,
-        })
-    }
-    fn require_reset(&mut self) {
-        MazeEnv::require_reset(self);
-    }
-    /// The maze's own time limit (its robot's is not used).
-    fn max_episode_steps(&self) -> Option<u64> {
-        MazeEnv::max_episode_steps(self)
-    }
-    /// The maze world with its goal marker.
-    fn render(&mut self, mode: RenderMode) -> Result<Frame<'_>, EnvError> {
-        MazeEnv::render(self, mode)
-    }
-}
-
-impl JointEnv for MultiAgentEnv {
-    fn kind(&self) -> Kind {
-        Kind::Agents
-    }
-    fn id(&self) -> &str {
-        &self.spec().id
-    }
-    fn physics_env(&self) -> &Env {
-        self.env()
-    }
-    fn physics_env_mut(&mut self) -> &mut Env {
-        self.env_mut()
-    }
-    fn try_reset(&mut self, seed: Option<u64>) -> Result<(), EnvError> {
-        self.reset(seed);
-        reset_result(self.env())
-    }
-    fn step_joint(&mut self, action: JointAction<'_>) -> Result<JointStep, EnvError> {
-        let s = match action {
-            JointAction::F64(a) => self.step_global(a)?,
-            JointAction::F32(a) => self.step_global_f32(a)?,
-        };
-        Ok(JointStep {
-            reward: s.reward,
-            terminated: s.terminated,
-            truncated: s.truncated,
-        })
-    }
-    fn require_reset(&mut self) {
-        MultiAgentEnv::require_reset(self);
-    }
-    /// The whole robot, each agent's limbs in its colour when `color_agents` is on.
-    fn render(&mut self, mode: RenderMode) -> Result<Frame<'_>, EnvError> {
-        MultiAgentEnv::render(self, mode)
     }
 }
 

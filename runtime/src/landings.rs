@@ -14,7 +14,7 @@ use mujoco_rs::prelude::MjData;
 use mujoco_rs::wrappers::mj_model::traits::ModelType;
 
 use crate::EnvError;
-use crate::legged::unfit;
+use crate::error::unfit;
 
 /// Which geoms a foot or a floor is: one geom, or every geom of one body.
 #[derive(Clone, Copy, Debug)]

@@ -13,18 +13,11 @@ use mujoco_rs::mujoco_c::{mjModel, mjtBias, mjtGain, mjtObj};
 use mujoco_rs::prelude::{MjData, MjModel, MjtObjBase};
 use mujoco_rs::wrappers::mj_model::traits::ModelType;
 
+use crate::error::unfit;
 use crate::mj::model_edit::{ModelArray, ModelValues, NPRM};
 
 use crate::numerics::{Profile, norm, pairwise_sum};
 use crate::rng::NumpyRng;
-
-/// Why the compiled model cannot serve the spec's `[actions]` or legged terms (E1110).
-pub(crate) fn unfit(spec: &ResolvedSpec, what: String) -> crate::EnvError {
-    crate::EnvError::Legged {
-        env: spec.id.clone(),
-        what,
-    }
-}
 
 fn id(m: &mjModel, obj: mjtObj, name: &str) -> Option<usize> {
     crate::mj::names::id(m, obj, name)

@@ -61,7 +61,6 @@ pub mod registry;
 pub mod render;
 pub mod rng;
 pub mod terrain;
-mod total_mass;
 pub mod typed;
 pub mod vector;
 

@@ -31,6 +31,7 @@ use crate::numerics::Profile;
 use crate::rng::NumpyRng;
 
 mod fit;
+mod joint;
 
 /// The goal-conditioned observation (Gymnasium-Robotics' dict; keys sort as achieved_goal,
 /// desired_goal, observation in the reference's `spaces.Dict`).

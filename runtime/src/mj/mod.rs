@@ -11,10 +11,11 @@
 //! - [`state`]: borrows mujoco-rs cannot split (qpos and qvel at once);
 //! - [`manip`]: what manipulation tasks read and write (site Jacobians, mocap poses, the
 //!   simulation time, weld poses);
-//! - [`stat`]: the `mjStatistic` of a spec and of a compiled model (`settotalmass`, `total_mass.rs`);
+//! - [`stat`]: the `mjStatistic` of a spec and of a compiled model (`settotalmass`, [`total_mass`]);
 //! - [`without_mujoco_timer`]: MuJoCo's process-wide profiling clock, cleared while envc steps.
 
 pub(crate) mod log;
+pub(crate) mod total_mass;
 
 pub(crate) use calls::{Call, call};
 
@@ -515,13 +516,13 @@ pub(crate) mod catch {
     /// `MjSpec::compile` makes (the shim moves mj_compile's result into a model mujoco-rs owns).
     pub(crate) fn compile(spec: &mut MjSpec) -> Result<MjModel, String> {
         // `<compiler settotalmass>` is deprecated in MuJoCo: envc applies it (`total_mass`).
-        let Some(taken) = crate::total_mass::take(spec) else {
+        let Some(taken) = super::total_mass::take(spec) else {
             return compile_as_is(spec);
         };
         let compiled = compile_as_is(spec);
-        crate::total_mass::restore(spec, &taken);
+        super::total_mass::restore(spec, &taken);
         let mut model = compiled?;
-        crate::total_mass::apply(spec, &mut model, &taken)?;
+        super::total_mass::apply(spec, &mut model, &taken)?;
         Ok(model)
     }
 

@@ -24,6 +24,8 @@ use envspec::{Override, ResolvedSpec};
 use crate::env::{BoxSpace, Env, Info};
 use crate::error::EnvError;
 
+mod joint;
+
 /// The result of one multi-agent step. Reward, terminated, truncated and info are shared by every
 /// agent (MaMuJoCo gives each agent the same values).
 pub struct MultiStep<'a> {
