@@ -10,8 +10,10 @@ use std::ffi::OsString;
 use clap::{Parser, Subcommand};
 
 mod commands;
+mod kinds;
 mod output;
 mod target;
+mod trajectory;
 
 #[derive(Parser)]
 #[command(

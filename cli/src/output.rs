@@ -236,6 +236,20 @@ impl Drop for Output {
     }
 }
 
+/// One observation segment as `show` prints it: `[a:b]  name  = what (clipped to [lo, hi])`.
+pub fn segment_line(s: &envspec::ir::Segment, what: &str) -> String {
+    let clip = s
+        .clip
+        .map(|(lo, hi)| format!("  (clipped to [{lo}, {hi}])"))
+        .unwrap_or_default();
+    format!(
+        "[{}:{}]  {}  = {what}{clip}",
+        s.offset,
+        s.offset + s.len(),
+        s.name
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

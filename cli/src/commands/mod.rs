@@ -6,8 +6,6 @@ pub mod dataset;
 pub mod diff;
 pub mod info;
 pub mod list;
-pub mod maze;
-pub mod multi_agent;
 pub mod new;
 pub mod render;
 pub mod rollout;

@@ -2,17 +2,17 @@
 //! [--set k=v ...] [--auto-reset]`: run one action sequence and save the trajectory (format in the
 //! README, "Trajectory files"). `--policy` needs no numpy to try an env.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use envc::npy::{Matrix, read_matrix};
 use envc::{Env, JointAction, JointEnv, JointStep};
-use ndarray::{Array, Array1, Array2, ArrayD, IxDyn};
+use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
 use crate::output::Sticky;
+pub(crate) use crate::trajectory::{InfoColumns, Trajectory};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -61,55 +61,6 @@ fn policy_actions(policy: Policy, steps: usize, space: &envc::BoxSpace, seed: u6
     Matrix::F32(Array2::from_shape_vec((steps, n), values).expect("steps × act_dim values"))
 }
 
-/// Per-key info values collected over steps.
-#[derive(Default)]
-pub(crate) struct InfoColumns {
-    keys: Vec<(String, usize)>,
-    values: BTreeMap<String, Vec<f64>>,
-}
-
-impl InfoColumns {
-    pub(crate) fn push(&mut self, info: envc::Info<'_>) {
-        if self.keys.is_empty() {
-            self.keys = info.iter().map(|(k, v)| (k.to_string(), v.len())).collect();
-        }
-        for (k, v) in info.iter() {
-            self.values
-                .entry(k.to_string())
-                .or_default()
-                .extend_from_slice(v);
-        }
-    }
-    /// `prefix.<key>` of every row: `[n]` for scalar keys, `[n, k]` for vector keys.
-    pub(crate) fn write(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
-        for (name, a) in self.arrays(prefix)? {
-            npz.add_array(name.as_str(), &a)?;
-        }
-        Ok(())
-    }
-    /// `prefix.<key>` of the first row alone (a reset's info): `[]` for scalars, `[k]` for
-    /// vectors.
-    pub(crate) fn write_first(&self, npz: &mut NpzWriter<Sticky>, prefix: &str) -> Result<()> {
-        for (name, a) in self.arrays(prefix)? {
-            npz.add_array(name.as_str(), &a.index_axis_move(ndarray::Axis(0), 0))?;
-        }
-        Ok(())
-    }
-    fn arrays(&self, prefix: &str) -> Result<Vec<(String, ArrayD<f64>)>> {
-        let mut out = vec![];
-        for (k, len) in &self.keys {
-            let v = self.values[k].clone();
-            let n = v.len() / len;
-            let shape = if *len == 1 { vec![n] } else { vec![n, *len] };
-            out.push((
-                format!("{prefix}.{k}"),
-                Array::from_shape_vec(IxDyn(&shape), v)?,
-            ));
-        }
-        Ok(out)
-    }
-}
-
 /// E1402: a trajectory of `steps` steps would not fit envc's in-memory limit.
 fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
     // envc's limit, or half of what the process may still allocate (the arrays are copied
@@ -141,36 +92,6 @@ fn check_size(steps: usize, env: &envc::AnyEnv) -> Result<()> {
         )
         .help(format!("at most {} steps; split it into several rollouts (see docs/limits.md)", limit / per_step))
     ))
-}
-
-/// What a trajectory file holds of one kind of env. The one loop ([`roll`]) resets and steps
-/// any kind through [`JointEnv`] and writes the reward and flags; each kind records its own
-/// observations and infos (flat, a maze's dict, every agent's) and writes them around those.
-pub(crate) trait Trajectory {
-    type Env: JointEnv;
-    /// After a reset: the first (`at` None) or an auto-reset before step `at`.
-    fn reset(&mut self, env: &Self::Env, at: Option<usize>);
-    /// After a step.
-    fn step(&mut self, env: &Self::Env);
-    /// The arrays written before `reward`, `terminated` and `truncated` (the observations).
-    fn write_obs(
-        &mut self,
-        npz: &mut NpzWriter<Sticky>,
-        env: &Self::Env,
-        n: usize,
-        auto_reset: bool,
-    ) -> Result<()>;
-    /// The arrays written after them (infos, and with `--auto-reset` the resets).
-    fn write_rest(
-        self,
-        npz: &mut NpzWriter<Sticky>,
-        env: &Self::Env,
-        auto_reset: bool,
-    ) -> Result<()>;
-    /// How the closing message names the env.
-    fn describe(&self, env: &Self::Env) -> String {
-        env.id().to_string()
-    }
 }
 
 /// Reset with `seed`, step through the rows of `actions` (float32 rows step as a float32 policy),
@@ -325,11 +246,11 @@ pub fn run(args: Args) -> Result<Outcome> {
             auto,
         ),
         envc::AnyEnv::Maze(mut env) => {
-            let rec = crate::commands::maze::MazeTrajectory::default();
+            let rec = crate::kinds::maze::MazeTrajectory::default();
             roll(&mut *env, rec, seed, &as_f64(), out, auto)
         }
         envc::AnyEnv::Agents(mut env) => {
-            let rec = crate::commands::multi_agent::AgentsTrajectory::new(&env);
+            let rec = crate::kinds::multi_agent::AgentsTrajectory::new(&env);
             roll(&mut env, rec, seed, &as_f64(), out, auto)
         }
     }

@@ -109,8 +109,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let env = match any {
         envc::AnyEnv::Task(env) => env,
-        envc::AnyEnv::Maze(env) => return crate::commands::maze::show(&env),
-        envc::AnyEnv::Agents(env) => return crate::commands::multi_agent::show(&env),
+        envc::AnyEnv::Maze(env) => return crate::kinds::maze::show(&env),
+        envc::AnyEnv::Agents(env) => return crate::kinds::multi_agent::show(&env),
     };
     let spec = env.spec().clone();
     let cwd = std::env::current_dir().unwrap_or_default();
@@ -213,7 +213,7 @@ fn write_parameters(
 fn write_observation(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::Result {
     writeln!(o, "\nobservation ({} float64):", spec.obs_dim)?;
     for s in &spec.observation {
-        writeln!(o, "  {}", segment_line(s, &s.source.text))?;
+        writeln!(o, "  {}", crate::output::segment_line(s, &s.source.text))?;
         writeln!(o, "{}", wrap(&s.element_names(), 6, 100))?;
     }
     Ok(())
@@ -364,20 +364,6 @@ fn write_info(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::R
         )?;
     }
     Ok(())
-}
-
-/// One observation segment as `show` prints it: `[a:b]  name  = what (clipped to [lo, hi])`.
-pub fn segment_line(s: &envspec::ir::Segment, what: &str) -> String {
-    let clip = s
-        .clip
-        .map(|(lo, hi)| format!("  (clipped to [{lo}, {hi}])"))
-        .unwrap_or_default();
-    format!(
-        "[{}:{}]  {}  = {what}{clip}",
-        s.offset,
-        s.offset + s.len(),
-        s.name
-    )
 }
 
 /// The `[events]` table: one row per value an event writes, with the values it can take.

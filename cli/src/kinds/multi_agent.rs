@@ -9,8 +9,8 @@ use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
-use crate::commands::rollout::Trajectory;
 use crate::output::Sticky;
+use crate::trajectory::Trajectory;
 
 /// A multi-agent trajectory (global actions [T, act_dim] go to the agents): `obs.<agent>`
 /// [n+1, dim], `state` `[n+1, state_dim]`; with `--auto-reset` `reset_obs.<agent>`,
@@ -162,7 +162,7 @@ pub fn show(env: &MultiAgentEnv) -> Result<Outcome> {
         }
         writeln!(o, "  observation:")?;
         for s in &a.observation {
-            let line = crate::commands::show::segment_line(s, &s.element_names().join(", "));
+            let line = crate::output::segment_line(s, &s.element_names().join(", "));
             writeln!(o, "    {line}")?;
         }
     }

@@ -10,8 +10,8 @@ use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
 use crate::Outcome;
-use crate::commands::rollout::{InfoColumns, Trajectory};
 use crate::output::Sticky;
+use crate::trajectory::{InfoColumns, Trajectory};
 
 struct DictObs {
     observation: Vec<f64>,
