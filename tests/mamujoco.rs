@@ -500,7 +500,7 @@ fn v2_specs_fix_the_reference_bugs() {
         }
     }
     // `envc diff` reports the fix as a breaking observation change.
-    let r = envspec::agents::diff(&spec("humanoid.toml"), &spec("humanoid_v2.toml")).unwrap();
+    let r = envspec::diff::diff_agents(&spec("humanoid.toml"), &spec("humanoid_v2.toml")).unwrap();
     assert_eq!(r.verdict(), envspec::diff::Verdict::Breaking);
     assert!(r.changes.iter().any(|c| {
         c.witness

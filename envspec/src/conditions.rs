@@ -4,8 +4,20 @@
 //! element into one of two values (`indicator`: Adroit's door `1.0 if open else -1.0`). Resolved
 //! in `resolve/conditions.rs`; docs/spec-reference.md §7 ("Conditions").
 
-use crate::ir::CmpOp;
 use crate::selector::Selection;
+
+/// A comparison: a condition's `op`, a health check's `fails_if`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CmpOp {
+    /// `<`.
+    Lt,
+    /// `≤`.
+    Le,
+    /// `>`.
+    Gt,
+    /// `≥`.
+    Ge,
+}
 
 /// The number a condition compares.
 #[derive(Clone, Debug, PartialEq)]

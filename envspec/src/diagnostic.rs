@@ -63,43 +63,6 @@ impl SourceFile {
     }
 }
 
-/// Read a text file for a reader that quotes it, within `limit` bytes, through the one source of
-/// spec inputs ([`crate::source`]: the disk or a git revision, recorded). A file that is not UTF-8
-/// is diagnosed with `code` at the line and column of its first bad byte (`what` names the file's
-/// role, e.g. "spec"); `unreadable` words any other failure.
-pub fn read_source(
-    path: &Path,
-    limit: u64,
-    code: Code,
-    what: &str,
-    unreadable: impl FnOnce(crate::limits::ReadError) -> Diagnostic,
-) -> Result<Arc<SourceFile>, Diagnostic> {
-    let bytes = crate::source::read_bytes(path, limit).map_err(unreadable)?;
-    let (at, bytes) = match String::from_utf8(bytes) {
-        Ok(text) => return Ok(SourceFile::new(path, text)),
-        // The lossy text equals the file up to the first bad byte, so the offset holds, and the
-        // line can be shown (U+FFFD where the bad bytes are).
-        Err(e) => (e.utf8_error().valid_up_to(), e.into_bytes()),
-    };
-    let at = at.min(bytes.len());
-    let len = match std::str::from_utf8(&bytes[at..]) {
-        Err(e) => e.error_len().unwrap_or(bytes.len() - at),
-        Ok(_) => 0,
-    };
-    let bad = bytes[at..at + len.min(4)]
-        .iter()
-        .map(|b| format!("0x{b:02x}"))
-        .collect::<Vec<_>>()
-        .join(" ");
-    let file = SourceFile::new(path, String::from_utf8_lossy(&bytes).into_owned());
-    Err(
-        Diagnostic::new(code, format!("the {what} file is not UTF-8 text"))
-            .at(Location::new(&file, at..at + '\u{fffd}'.len_utf8()))
-            .label(format!("invalid UTF-8 byte {bad}"))
-            .help("save the file as UTF-8"),
-    )
-}
-
 /// A location: a byte range in a source file.
 #[derive(Clone, Debug)]
 pub struct Location {

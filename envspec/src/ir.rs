@@ -15,9 +15,10 @@ mod terrain;
 
 use std::path::PathBuf;
 
+pub use crate::conditions::CmpOp;
 pub use added::{ActuatorKind, AddedActuator, AddedElement, AddedGeomType};
 pub use goal::{Desired, GoalCheck, GoalDistance, GoalNorm};
-pub use health::{CheckKind, CmpOp, HealthCheck, Termination};
+pub use health::{CheckKind, HealthCheck, Termination};
 pub use info::{InfoItem, InfoKind};
 pub use model_edits::{GeomEdit, JointEdit, JointRow, ModelEdits, SpecKeyframe};
 pub use observation::{Apply, Segment};

@@ -266,7 +266,7 @@ impl Reader {
         }
         self.including.push(key);
         let limit = limits::MAX_MODEL_BYTES;
-        let source = crate::diagnostic::read_source(path, limit, Code::E0301, "model", |e| {
+        let source = crate::source::read_source(path, limit, Code::E0301, "model", |e| {
             Diagnostic::new(
                 e.code(Code::E0301),
                 format!("cannot read model file {}: {e}", path.display()),

@@ -243,7 +243,7 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
     let mut d = Diagnostics::default();
     let mut params = defaults(spec, &mut d);
     // Gymnasium's rendering arguments, which every task spec has.
-    crate::camera::add_render_params(spec, &mut params);
+    crate::render_params::add_render_params(spec, &mut params);
     for (i, o) in overrides.iter().enumerate() {
         if overrides[..i].iter().any(|earlier| earlier.name == o.name) {
             d.push(

@@ -13,7 +13,9 @@ use std::cell::RefCell;
 use std::io::Read as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::Arc;
 
+use crate::diagnostic::{Code, Diagnostic, Location, SourceFile};
 use crate::limits::ReadError;
 
 /// Where the files under a mount come from.
@@ -311,6 +313,43 @@ pub fn check_asset(path: &Path, limit: u64) -> Result<(), ReadError> {
     Ok(())
 }
 
+/// Read a text file for a reader that quotes it, within `limit` bytes, through the one source of
+/// spec inputs ([`crate::source`]: the disk or a git revision, recorded). A file that is not UTF-8
+/// is diagnosed with `code` at the line and column of its first bad byte (`what` names the file's
+/// role, e.g. "spec"); `unreadable` words any other failure.
+pub fn read_source(
+    path: &Path,
+    limit: u64,
+    code: Code,
+    what: &str,
+    unreadable: impl FnOnce(ReadError) -> Diagnostic,
+) -> Result<Arc<SourceFile>, Diagnostic> {
+    let bytes = read_bytes(path, limit).map_err(unreadable)?;
+    let (at, bytes) = match String::from_utf8(bytes) {
+        Ok(text) => return Ok(SourceFile::new(path, text)),
+        // The lossy text equals the file up to the first bad byte, so the offset holds, and the
+        // line can be shown (U+FFFD where the bad bytes are).
+        Err(e) => (e.utf8_error().valid_up_to(), e.into_bytes()),
+    };
+    let at = at.min(bytes.len());
+    let len = match std::str::from_utf8(&bytes[at..]) {
+        Err(e) => e.error_len().unwrap_or(bytes.len() - at),
+        Ok(_) => 0,
+    };
+    let bad = bytes[at..at + len.min(4)]
+        .iter()
+        .map(|b| format!("0x{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let file = SourceFile::new(path, String::from_utf8_lossy(&bytes).into_owned());
+    Err(
+        Diagnostic::new(code, format!("the {what} file is not UTF-8 text"))
+            .at(Location::new(&file, at..at + '\u{fffd}'.len_utf8()))
+            .label(format!("invalid UTF-8 byte {bad}"))
+            .help("save the file as UTF-8"),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -345,39 +384,5 @@ mod tests {
         assert!(read_text(&dir.join("none"), 100).is_err());
         assert_eq!(outer.files().len(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    /// What `env!` and `multi_agent_env!` track: every file the spec pulls in, in the order read.
-    #[test]
-    fn loading_a_spec_records_the_spec_its_base_and_its_model() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let paths = |r: &Reader| -> Vec<PathBuf> {
-            r.files()
-                .iter()
-                .map(|f| crate::path::normalize(&f.path))
-                .collect()
-        };
-        let mut reader = Reader::disk();
-        let task = root.join("specs/gymnasium/hopper.toml");
-        reader.run(|| crate::load(&task, &[])).unwrap();
-        let model = crate::path::normalize(&root.join("assets/gymnasium/hopper.xml"));
-        assert_eq!(
-            paths(&reader),
-            vec![crate::path::normalize(&task), model.clone()]
-        );
-        assert!(reader.files().iter().all(|f| f.hash.is_some()));
-
-        let mut reader = Reader::disk();
-        let agents = root.join("specs/mamujoco/hopper.toml");
-        reader.run(|| crate::agents::load(&agents, &[])).unwrap();
-        // The base chain is read first (its check), then the base spec is loaded.
-        assert_eq!(
-            paths(&reader),
-            vec![
-                crate::path::normalize(&agents),
-                crate::path::normalize(&task),
-                model
-            ]
-        );
     }
 }

@@ -19,8 +19,9 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::diagnostic::{Code, Diagnostic, read_source};
+use crate::diagnostic::{Code, Diagnostic};
 use crate::mjcf::{Joint, JointKind, ModelInfo};
+use crate::source::read_source;
 
 fn malformed(path: &Path, msg: impl Into<String>) -> Diagnostic {
     Diagnostic::new(Code::E0302, format!("{}: {}", path.display(), msg.into()))

@@ -149,7 +149,7 @@ pub fn read_document(
     what: &str,
 ) -> Result<(Arc<SourceFile>, Val), Diagnostics> {
     let limit = crate::limits::MAX_SPEC_BYTES;
-    let file = crate::diagnostic::read_source(path, limit, Code::E0600, what, |e| {
+    let file = crate::source::read_source(path, limit, Code::E0600, what, |e| {
         Diagnostic::new(
             e.code(Code::E0600),
             format!("cannot read {what} {}: {e}", path.display()),

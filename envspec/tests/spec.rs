@@ -16,6 +16,7 @@ mod mjlab_kinds;
 mod noise;
 mod registry_walks;
 mod selector_roundtrip;
+mod source_reads;
 mod terrain_errors;
 mod v4_terms;
 

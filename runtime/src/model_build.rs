@@ -40,7 +40,7 @@ pub(crate) fn compile_error_text(path: &std::path::Path, message: &str) -> Strin
     let unreadable = |e: envspec::limits::ReadError| {
         envspec::Diagnostic::new(envspec::Code::E1001, e.to_string())
     };
-    let read = envspec::diagnostic::read_source(path, limit, envspec::Code::E1001, "", unreadable);
+    let read = envspec::source::read_source(path, limit, envspec::Code::E1001, "", unreadable);
     let Ok(file) = read else {
         return plain();
     };

@@ -199,8 +199,3 @@ pub fn from_document(
 
 /// A multi-agent spec shared between threads.
 pub type SharedAgentsSpec = Arc<AgentsSpec>;
-
-/// Semantic diff of two multi-agent specs; see [`crate::diff::diff_agents`].
-pub fn diff(old_path: &Path, new_path: &Path) -> Result<crate::diff::Report, Diagnostics> {
-    crate::diff::diff_agents(old_path, new_path)
-}

@@ -1,6 +1,7 @@
 //! Whether an episode goes on: health checks and `[termination.*]` conditions.
 
 use super::GoalCheck;
+use crate::conditions::CmpOp;
 use crate::selector::Selection;
 
 /// `[termination.<name>]`: the episode terminates on a step after which the condition holds.
@@ -12,19 +13,6 @@ pub struct Termination {
     pub doc: String,
     /// Spec kind `goal_reached`.
     pub reached: GoalCheck,
-}
-
-/// A comparison of a health check's `fails_if`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CmpOp {
-    /// `<`.
-    Lt,
-    /// `≤`.
-    Le,
-    /// `>`.
-    Gt,
-    /// `≥`.
-    Ge,
 }
 
 /// What a health check tests.
