@@ -40,7 +40,6 @@ pub mod open;
 pub mod params;
 pub mod path;
 pub mod registry;
-pub mod render_params;
 pub mod resolve;
 pub mod selector;
 pub mod source;

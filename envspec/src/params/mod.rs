@@ -8,6 +8,8 @@ use crate::diagnostic::{Code, Diagnostic, Diagnostics, Location, SourceFile, sug
 use crate::syntax::{ParamDecl, Spec};
 use crate::value::{Val, ValKind, format_float, parse_literal};
 
+pub mod render;
+
 /// A parameter's declared `type`, which decides how overrides are parsed and checked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ParamType {
@@ -243,7 +245,7 @@ pub fn resolve_params(spec: &Spec, overrides: &[Override]) -> Result<Vec<Param>,
     let mut d = Diagnostics::default();
     let mut params = defaults(spec, &mut d);
     // Gymnasium's rendering arguments, which every task spec has.
-    crate::render_params::add_render_params(spec, &mut params);
+    render::add_render_params(spec, &mut params);
     for (i, o) in overrides.iter().enumerate() {
         if overrides[..i].iter().any(|earlier| earlier.name == o.name) {
             d.push(

@@ -1,5 +1,5 @@
 //! The rendering parameters every task spec has (Gymnasium's `MujocoEnv` arguments), declared
-//! here and read by [`crate::camera`].
+//! here (overridable as any other) and read by [`crate::camera`].
 
 use crate::diagnostic::Location;
 use crate::params::{Origin, Param, ParamType, ParamValue};
