@@ -11,7 +11,7 @@ use crate::error::DatasetError;
 use crate::mlp::MlpPolicy;
 use crate::plan::{EpisodePolicy, episode_rng, episode_seed};
 use crate::recordable::Recordable;
-use crate::shard::ShardEpisode;
+use crate::shard_episode::ShardEpisode;
 use crate::writer::DatasetInfo;
 use crate::{Format, Recording};
 use envc::rng::NumpyRng;

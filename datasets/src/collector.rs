@@ -8,6 +8,7 @@ use crate::Format;
 use crate::episode::{EpisodeRecord, InfoColumn};
 use crate::error::DatasetError;
 use crate::recordable::{Recordable, TaskKind};
+use crate::shard_episode::ShardEpisode;
 use crate::space::{Dtype, Space};
 use crate::writer::{DatasetInfo, DatasetWriter};
 
@@ -45,6 +46,23 @@ pub struct CollectOptions {
     pub format: Format,
     /// Metadata besides the counts.
     pub info: DatasetInfo,
+}
+
+/// The recording's outcome.
+#[derive(Clone, Debug)]
+pub struct Recording {
+    /// The published dataset's directory.
+    pub dir: PathBuf,
+    /// Steps recorded over all episodes.
+    pub steps: u64,
+    /// The seed every episode derived from (the plan's, or the one drawn).
+    pub seed: u64,
+    /// MuJoCo warnings raised while recording.
+    pub warnings: Vec<String>,
+    /// Staging directories of interrupted collections removed before this one started.
+    pub cleaned: Vec<PathBuf>,
+    /// Directories in the staging root without a lock file, left alone.
+    pub unlocked: Vec<PathBuf>,
 }
 
 /// Summary of one recorded episode.
@@ -228,10 +246,7 @@ impl<E: Recordable<K>, K> Collector<E, K> {
     /// Publish the episodes workers wrote into this collector's staging directory
     /// ([`crate::record_shard`]): `episodes[i]` is what episode i's worker reported. They are
     /// checked against the disk (E1210) before the rename, as [`Collector::finish`].
-    pub fn finish_shards(
-        mut self,
-        episodes: &[crate::ShardEpisode],
-    ) -> Result<PathBuf, DatasetError> {
+    pub fn finish_shards(mut self, episodes: &[ShardEpisode]) -> Result<PathBuf, DatasetError> {
         self.writer.adopt_shards(episodes)?;
         self.writer.finish()
     }
@@ -240,7 +255,7 @@ impl<E: Recordable<K>, K> Collector<E, K> {
     /// ahead of a step budget that ended before them).
     pub fn finish_shards_trimmed(
         mut self,
-        episodes: &[crate::ShardEpisode],
+        episodes: &[ShardEpisode],
     ) -> Result<PathBuf, DatasetError> {
         self.writer.discard_shards_from(episodes.len() as u64)?;
         self.finish_shards(episodes)
@@ -248,12 +263,12 @@ impl<E: Recordable<K>, K> Collector<E, K> {
 
     /// [`Collector::finish`], with what the caller reports of the recording: its steps and seed,
     /// the env's warnings and the writer's clean-up notes.
-    pub fn finish_recording(self, steps: u64, seed: u64) -> Result<crate::Recording, DatasetError> {
+    pub fn finish_recording(self, steps: u64, seed: u64) -> Result<Recording, DatasetError> {
         let warnings = self.env().warnings().to_vec();
         let cleaned = self.writer().cleaned().to_vec();
         let unlocked = self.writer().unlocked().to_vec();
         let dir = self.finish()?;
-        Ok(crate::Recording {
+        Ok(Recording {
             dir,
             steps,
             seed,

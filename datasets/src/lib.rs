@@ -40,12 +40,14 @@ mod gym_spec;
 mod hdf5_io;
 mod id;
 mod json;
+mod layout;
 mod mlp;
 mod plan;
 mod provenance;
 mod reader;
 mod recordable;
 mod shard;
+mod shard_episode;
 mod space;
 mod staging;
 mod tensor;
@@ -53,23 +55,24 @@ mod writer;
 
 pub use build::{Build, BuildOptions, SpecActor};
 pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
-pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy, STOP};
+pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy, Recording, STOP};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;
 pub use gym_spec::env_spec_json;
 pub use id::DatasetId;
+pub use layout::{STAGING_DIR, default_root};
 pub use mlp::MlpPolicy;
 pub use plan::{
-    EpisodePolicy, Plan, PlanActor, PlanPolicy, Recording, default_description, episode_rng,
-    episode_seed, record, record_shard, record_with,
+    EpisodePolicy, Plan, PlanActor, PlanPolicy, default_description, episode_rng, episode_seed,
+    record, record_shard, record_with,
 };
 pub use provenance::{RecoverOptions, RecoveredSpec, recover};
 pub use reader::Dataset;
 pub use recordable::{MazeKind, Recordable, TaskKind};
-pub use shard::ShardEpisode;
+pub use shard_episode::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};
-pub use writer::{DatasetInfo, DatasetWriter, STAGING_DIR, default_root};
+pub use writer::{DatasetInfo, DatasetWriter};
 
 /// The format tag written as `minari_version`. Minari checks it against a fixed set: "0.5.4" is
 /// what the pinned reader (0.5.4) writes itself; see docs/datasets.md for older readers.

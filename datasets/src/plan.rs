@@ -6,13 +6,14 @@
 //! ([`record_shard`]), and [`record`] is the one-process case.
 
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::Format;
-use crate::collector::{CollectOptions, Collector, Policy};
+use crate::collector::{CollectOptions, Collector, Policy, Recording};
 use crate::error::DatasetError;
 use crate::recordable::Recordable;
-use crate::shard::{ShardCollector, ShardEpisode};
+use crate::shard::ShardCollector;
+use crate::shard_episode::ShardEpisode;
 use envc::BoxSpace;
 use envc::rng::{NumpyRng, SeedSequence};
 
@@ -184,23 +185,6 @@ impl<O: ?Sized> EpisodePolicy<O> for PlanActor {
             }
         }
     }
-}
-
-/// The recording's outcome.
-#[derive(Clone, Debug)]
-pub struct Recording {
-    /// The published dataset's directory.
-    pub dir: PathBuf,
-    /// Steps recorded over all episodes.
-    pub steps: u64,
-    /// The seed every episode derived from (the plan's, or the one drawn).
-    pub seed: u64,
-    /// MuJoCo warnings raised while recording.
-    pub warnings: Vec<String>,
-    /// Staging directories of interrupted collections removed before this one started.
-    pub cleaned: Vec<PathBuf>,
-    /// Directories in the staging root without a lock file, left alone.
-    pub unlocked: Vec<PathBuf>,
 }
 
 /// The description a dataset gets when none is given.

@@ -7,9 +7,9 @@ use serde_json::{Map, Value};
 
 use crate::error::{DatasetError, io, malformed};
 use crate::json::parse_lenient;
+use crate::layout::default_root;
 use crate::space::Space;
 use crate::tensor::{Data, Episode, Tensor};
-use crate::writer::default_root;
 use crate::{Format, arrow_io};
 
 /// An opened dataset: its metadata, ready to read episodes one at a time.

@@ -13,13 +13,12 @@ use serde_json::{Map, Value, json};
 use crate::episode::EpisodeRecord;
 use crate::error::{DatasetError, io};
 use crate::id::DatasetId;
+use crate::layout::{SHARDS_DIR, STAGING_DIR, default_root, dir_size};
 use crate::reader::Dataset;
+use crate::shard_episode::{ShardEpisode, read_shard_episode};
 use crate::space::Space;
 use crate::staging::{self, Staging};
 use crate::{Format, MINARI_VERSION, arrow_io};
-
-/// Name of the staging directory inside the datasets root (hidden: Minari skips it).
-pub const STAGING_DIR: &str = ".envc-staging";
 
 /// What goes into `metadata.json` besides the counts.
 #[derive(Clone, Debug, Default)]
@@ -80,19 +79,6 @@ pub struct DatasetWriter {
     /// their total size. `finish` then checks that every one is in place (one directory
     /// listing) instead of reading or `stat`ing them all again.
     shard_bytes: Option<u64>,
-}
-
-/// `MINARI_DATASETS_PATH`, or Minari's default `~/.minari/datasets`.
-pub fn default_root() -> PathBuf {
-    match std::env::var_os("MINARI_DATASETS_PATH") {
-        Some(p) if !p.is_empty() => PathBuf::from(p),
-        _ => {
-            let home = std::env::var_os("HOME")
-                .map(PathBuf::from)
-                .unwrap_or_else(|| PathBuf::from("."));
-            home.join(".minari").join("datasets")
-        }
-    }
 }
 
 /// Refuse an id whose directory would sit inside another dataset (Minari would read the new one's
@@ -323,10 +309,7 @@ impl DatasetWriter {
         self.staging.check_owned()?;
         let dirs = [
             (self.staging.dir().join("ds").join("data"), ""),
-            (
-                self.staging.dir().join(crate::shard::SHARDS_DIR),
-                ".episode",
-            ),
+            (self.staging.dir().join(SHARDS_DIR), ".episode"),
         ];
         for (dir, suffix) in dirs {
             let Ok(rd) = fs::read_dir(&dir) else { continue };
@@ -351,7 +334,7 @@ impl DatasetWriter {
 
     /// Takes the episodes workers staged as this dataset's, in order (the driver of a sharded
     /// build).
-    pub fn adopt_shards(&mut self, episodes: &[crate::ShardEpisode]) -> Result<(), DatasetError> {
+    pub fn adopt_shards(&mut self, episodes: &[ShardEpisode]) -> Result<(), DatasetError> {
         if self.episodes != 0 {
             return Err(DatasetError::Write {
                 path: self.data.clone(),
@@ -368,7 +351,7 @@ impl DatasetWriter {
             }
             Format::Hdf5 => {
                 for (i, e) in episodes.iter().enumerate() {
-                    let ep = crate::shard::read_shard_episode(self.staging.dir(), i as u64)?;
+                    let ep = read_shard_episode(self.staging.dir(), i as u64)?;
                     if ep.rewards.len() as u64 != e.steps {
                         return Err(DatasetError::Unverified {
                             path: self.staging.dir().to_path_buf(),
@@ -384,7 +367,7 @@ impl DatasetWriter {
                     let _ = fs::remove_file(
                         self.staging
                             .dir()
-                            .join(crate::shard::SHARDS_DIR)
+                            .join(SHARDS_DIR)
                             .join(format!("{i}.episode")),
                     );
                 }
@@ -608,21 +591,6 @@ impl Drop for DatasetWriter {
         // Close files before `staging` (dropped next) removes them, unless already published.
         self.backend = None;
     }
-}
-
-/// Total size of the files under `dir`.
-pub fn dir_size(dir: &Path) -> std::io::Result<u64> {
-    let mut total = 0;
-    for e in fs::read_dir(dir)? {
-        let e = e?;
-        let meta = e.metadata()?;
-        total += if meta.is_dir() {
-            dir_size(&e.path())?
-        } else {
-            meta.len()
-        };
-    }
-    Ok(total)
 }
 
 #[cfg(test)]
