@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """No import circle between the files of a crate: a file's `crate::a::b` and `super::x` paths
-(outside comments) are edges to the files of those modules, and no set of files may reach itself
+and the names the crate root re-exports (`crate::Name`), outside comments, are edges to the files
+of those modules, and no set of files may reach itself
 through them. A module and its own submodules are one family (a parent re-exporting its children
 is not a circle). Run by scripts/test.sh's hygiene check; exit status 1 names each circle.
 
@@ -25,6 +26,7 @@ CRATES = {
 }
 PATH = re.compile(r"crate::([a-z_][a-z0-9_]*(?:::[a-z_][a-z0-9_]*)*)")
 SUPER = re.compile(r"super::([a-z_][a-z0-9_]*)")
+ROOT_NAME = re.compile(r"crate::([A-Za-z_][A-Za-z0-9_]*)\b(?!::)")
 
 
 def module(root: str, path: str) -> str:
@@ -39,15 +41,41 @@ def related(a: str, b: str) -> bool:
     return a == b or a.startswith(b + "::") or b.startswith(a + "::") or not a or not b
 
 
+def reexports(root: str, mods: dict[str, str]) -> dict[str, str]:
+    """Names the crate root re-exports (`pub use module::{A, B}`), by the module they come from:
+    `crate::A` reaches that module's file."""
+    out: dict[str, str] = {}
+    for name in ("lib.rs", "main.rs"):
+        path = os.path.join(root, name)
+        if not os.path.exists(path):
+            continue
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+        for m, names in re.findall(r"pub use ([a-z_][a-z0-9_:]*)::\{([^}]*)\}", text):
+            for n in names.split(","):
+                n = n.strip().split(" as ")[-1].strip()
+                if n and m in mods:
+                    out[n] = m
+        for m, n in re.findall(r"pub use ([a-z_][a-z0-9_:]*)::([A-Za-z_][A-Za-z0-9_]*)\s*;", text):
+            if m in mods:
+                out[n] = m
+    return out
+
+
 def edges(root: str) -> dict[str, set[str]]:
     files = subprocess.check_output(["git", "ls-files", f"{root}/*.rs"], text=True).split()
     mods = {module(root, f): f for f in files}
+    names = reexports(root, mods)
     out: dict[str, set[str]] = {m: set() for m in mods}
     for m, f in mods.items():
         with open(f, encoding="utf-8") as fh:
             text = "\n".join(
                 line for line in fh.read().split("\n") if not line.lstrip().startswith("//")
             )
+        for n in ROOT_NAME.findall(text):
+            target = names.get(n)
+            if target is not None and not related(m, target):
+                out[m].add(target)
         for p in PATH.findall(text):
             parts = p.split("::")
             for k in range(len(parts), 0, -1):

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # envc's test suite, runnable on a fresh machine (it runs scripts/setup.sh first):
-#   1. hygiene: the size rules (scripts/sizes.py), cargo fmt --check, clippy and rustdoc with warnings denied, ruff and mypy --strict on the Python package (its stubs, by mypy's stubtest, in the checks lane below);
+#   1. hygiene: the size rules (scripts/sizes.py), no import circle (scripts/import_circles.py), cargo fmt --check, clippy and rustdoc with warnings denied, ruff and mypy --strict on the Python package (its stubs, by mypy's stubtest, in the checks lane below);
 #   2. the compiled models in assets/ are identical to the reference's (tests/reference/check_models.py),
 #      and the installed reference still gives the published golden values (record.py --verify-golden);
 #   3. the Rust tests (a few binaries: `cargo test --workspace`), including the parity replay of the committed fixtures under the numerics
@@ -54,6 +54,7 @@ JOBS+=("$SETUP")
 # (Chained: `set -e` does not reach inside a function called with `||`.)
 hygiene() {
   python3 scripts/sizes.py &&
+    python3 scripts/import_circles.py &&
     cargo fmt --all --check &&
     cargo clippy -q --workspace --all-targets -- -D warnings &&
     RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps
@@ -74,7 +75,7 @@ wait "$SETUP" || status=$?
 # The Python package: ruff, and mypy --strict with the native core typed by its stub (the venv's
 # pinned tools, so after the set-up).
 scripts/python-lint.sh
-passed "hygiene (sizes, fmt, clippy, rustdoc, release features, ruff, mypy --strict)"
+passed "hygiene (sizes, import circles, fmt, clippy, rustdoc, release features, ruff, mypy --strict)"
 SEED="${ENVC_LIVE_SEED:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}"
 echo "pytest and the live checks below: seed $SEED (ENVC_LIVE_SEED=$SEED repeats them)"
 

@@ -606,3 +606,45 @@ pub fn derived(d: &crate::derived::Derived) -> String {
         text
     }
 }
+
+/// One line per corrupted segment, then the action latency, for `envc show` (draw order:
+/// segments with noise draw in this order, one value per element, at reset and after each step).
+pub fn corruption(r: &crate::ResolvedSpec) -> Vec<String> {
+    let dt = r.dt();
+    let steps = |n: usize| {
+        let s = if n == 1 { "" } else { "s" };
+        format!(
+            "{n} step{s} ({} s)",
+            crate::value::format_float(n as f64 * dt)
+        )
+    };
+    let mut out = vec![];
+    for c in &r.corruption.segments {
+        let seg = &r.observation[c.segment];
+        let mut parts = vec![];
+        if let Some(n) = &c.noise {
+            let clip = seg
+                .clip
+                .map(|(lo, hi)| format!(", then clipped to [{lo}, {hi}]"))
+                .unwrap_or_default();
+            parts.push(format!("noise {n}{clip}"));
+        }
+        if c.delay > 0 {
+            parts.push(format!("delayed {}", steps(c.delay)));
+        }
+        out.push(format!(
+            "{:<14} [{}:{}]  {}",
+            c.name,
+            seg.offset,
+            seg.offset + seg.len(),
+            parts.join("; ")
+        ));
+    }
+    if r.corruption.action_latency > 0 {
+        out.push(format!(
+            "action latency {} (zeros after a reset)",
+            steps(r.corruption.action_latency)
+        ));
+    }
+    out
+}

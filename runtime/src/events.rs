@@ -7,8 +7,10 @@
 //! event on the same value wins. Results are clamped to the field's bounds
 //! (`EventField::lower_bound`, `upper_bound`).
 
+use envspec::ResolvedSpec;
 use envspec::events::{Event, EventDist, EventField, EventKind, EventMode, Operation};
 use mujoco_rs::mujoco_c::{mjModel, mjtObj};
+use mujoco_rs::prelude::MjModel;
 
 use crate::mj::model_edit::{ModelArray, ModelValues, NPRM};
 
@@ -443,9 +445,8 @@ pub struct Row {
 
 /// The randomization table of an env's spec over its compiled model values (the env's model
 /// before its first reset).
-pub fn table(env: &crate::Env) -> Result<Vec<Row>, EnvError> {
-    let spec = env.spec();
-    let m: &mjModel = env.model().ffi();
+pub fn table(spec: &ResolvedSpec, model: &MjModel) -> Result<Vec<Row>, EnvError> {
+    let m: &mjModel = model.ffi();
     let mut rows = vec![];
     for e in &spec.events {
         let mode = match e.mode {

@@ -337,7 +337,7 @@ fn write_reset(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::
         }
     }
 
-    let corruption = envspec::noise::describe(spec);
+    let corruption = envspec::describe::corruption(spec);
     if !corruption.is_empty() {
         writeln!(
             o,
@@ -368,7 +368,7 @@ fn write_info(o: &mut String, spec: &envc::envspec::ResolvedSpec) -> std::fmt::R
 
 /// The `[events]` table: one row per value an event writes, with the values it can take.
 fn randomization(o: &mut String, env: &envc::Env) -> Result<()> {
-    let rows = envc::events::table(env)?;
+    let rows = envc::events::table(env.spec(), env.model())?;
     writeln!(
         o,
         "\nrandomization ({} events in draw order; values from the compiled model):",
