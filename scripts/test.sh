@@ -69,6 +69,10 @@ JOBS+=("$BUILD")
 status=0
 wait "$SETUP" || status=$?
 [ "$status" = 0 ] || fail "$status"
+# Specs whose model lies in an installed Python package (`${python:gymnasium_robotics}`, the
+# Kitchen's) find it on the venv's search path, in every check below, as `import envc` there does.
+ENVC_PYTHON_PATH="$("$PY" -c 'import os, sys; print(os.pathsep.join(p for p in sys.path if p))')"
+export ENVC_PYTHON_PATH
 # The extension's and the CLI's release builds ask for shared dependencies alike, so the second
 # reuses the first's (workspace-hack/Cargo.toml).
 "$PY" scripts/release_features.py

@@ -50,6 +50,34 @@ impl TaskCore {
             0
         })
     }
+    /// A `[goal]` of parts: each part in play's name and length, in goal-vector order (empty
+    /// for a single goal).
+    #[getter]
+    fn goal_parts(slf: PyRef<'_, Self>) -> PyResult<Vec<(String, usize)>> {
+        let t = slf.as_super().task()?;
+        let parts = t
+            .spec()
+            .manipulation
+            .goal
+            .as_ref()
+            .and_then(|g| g.parts.as_ref());
+        Ok(parts.map_or(vec![], |p| {
+            p.parts.iter().map(|x| (x.name.clone(), x.len())).collect()
+        }))
+    }
+    /// The info keys of `goal_parts` entries: one value per part, reported as a list of names.
+    #[getter]
+    fn parts_info_keys(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
+        Ok(slf
+            .as_super()
+            .task()?
+            .spec()
+            .info
+            .iter()
+            .filter(|i| matches!(i.kind, envspec::ir::InfoKind::GoalParts(_)))
+            .map(|i| i.key.clone())
+            .collect())
+    }
     /// The info keys reported as numpy float32 (`dtype = "float32"`).
     #[getter]
     fn float32_info_keys(slf: PyRef<'_, Self>) -> PyResult<Vec<String>> {
