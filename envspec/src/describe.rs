@@ -2,8 +2,8 @@
 //! `envc diff`, so a term reads the same everywhere.
 
 use crate::ir::*;
-use crate::selector::Selection;
 use crate::manipulation::{GoalParts, GoalTable};
+use crate::selector::Selection;
 use crate::value::format_float;
 
 fn num(x: f64) -> String {

@@ -29,6 +29,7 @@ pub mod diagnostic;
 pub mod diff;
 pub mod events;
 pub mod goal;
+pub mod goal_norm;
 pub mod ir;
 pub mod kind;
 pub mod limits;

@@ -190,7 +190,7 @@ pub struct GoalParts {
     /// The distance below which a part counts as reached (strictly).
     pub threshold: f64,
     /// How a part's distance sums its squares.
-    pub norm: crate::ir::GoalNorm,
+    pub norm: crate::goal_norm::GoalNorm,
     /// A part reached leaves the list of parts still to complete.
     pub remove_done: bool,
     /// The episode terminates when every part has been reached at least once.
