@@ -85,27 +85,24 @@ def test_a_mistake_is_e1801_at_its_line_and_column(tmp_path):
 def test_the_reference_score_rewrite_changes_that_table_only(tmp_path):
     """Every tier of an env gets the scores: where the table is, its values are replaced in
     place; where it is not, a table comes before [train]; every other line is as written."""
-    env = tmp_path / "hopper"
-    shutil.copytree(SUITE / "mujoco" / "hopper", env)
-    # One tier without the table, one with a comment in it.
-    simple, medium = env / "simple-v0.toml", env / "medium-v0.toml"
-    table = medium.read_text().split("[reference_scores]\n", 1)[1].split("\n\n", 1)[0] + "\n"
-    simple.write_text(simple.read_text().replace("[reference_scores]\n" + table + "\n", ""))
-    medium.write_text(medium.read_text().replace("[reference_scores]\n", "[reference_scores]\n# measured by Minari\n"))
+    env = tmp_path / "invertedpendulum"
+    shutil.copytree(SUITE / "mujoco" / "invertedpendulum", env)
+    # One tier without the table, the other with a comment in it.
+    expert, medium = env / "expert-v0.toml", env / "medium-v0.toml"
+    table = expert.read_text().split("[reference_scores]\n", 1)[1].split("\n\n", 1)[0] + "\n"
+    medium.write_text(medium.read_text().replace("[reference_scores]\n" + table + "\n", ""))
+    comment = "[reference_scores]\n# measured by Minari\n"
+    expert.write_text(expert.read_text().replace("[reference_scores]\n", comment))
     before = {p.name: p.read_text() for p in sorted(env.glob("*.toml"))}
-    assert "[reference_scores]" not in before["simple-v0.toml"]
+    assert "[reference_scores]" not in before["medium-v0.toml"]
     scores = {"ref_min_score": -12.5, "ref_max_score": 3000.25, "num_episodes_average_score": 100}
-    written = envc.datasets.write_reference_scores(env / "expert-v0.toml", scores)
-    assert [Path(p).name for p in written] == sorted(before)
-    new = "[reference_scores]\nref_min_score = -12.5\nref_max_score = 3000.25\nnum_episodes_average_score = 100\n"
-    for name, text in before.items():
-        after = (env / name).read_text()
-        assert tomllib.loads(after)["reference_scores"] == scores, name
-        if name == "simple-v0.toml":
-            assert after == text.replace("\n[train]\n", "\n" + new + "\n[train]\n", 1)
-        elif name == "medium-v0.toml":
-            old = "[reference_scores]\n# measured by Minari\n" + table
-            assert old in text
-            assert after == text.replace(old, new.replace("]\n", "]\n# measured by Minari\n", 1))
-        else:
-            assert after == text.replace("[reference_scores]\n" + table, new), name
+    written = envc.datasets.write_reference_scores(expert, scores)
+    assert [Path(p).name for p in written] == ["expert-v0.toml", "medium-v0.toml"]
+    new = "ref_min_score = -12.5\nref_max_score = 3000.25\nnum_episodes_average_score = 100\n"
+    after = {p.name: p.read_text() for p in sorted(env.glob("*.toml"))}
+    for name, text in after.items():
+        assert tomllib.loads(text)["reference_scores"] == scores, name
+    assert after["expert-v0.toml"] == before["expert-v0.toml"].replace(comment + table, comment + new)
+    assert after["medium-v0.toml"] == before["medium-v0.toml"].replace(
+        "\n[train]\n", "\n[reference_scores]\n" + new + "\n[train]\n", 1
+    )

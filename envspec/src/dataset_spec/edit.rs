@@ -52,11 +52,13 @@ pub fn with_reference_scores(path: &Path, scores: &RefScores) -> Result<String, 
             for (key, value) in values {
                 table.insert(key, Item::Value(value));
             }
-            let train = doc
-                .get("train")
-                .and_then(Item::as_table)
-                .and_then(Table::position);
-            if let Some(at) = train {
+            // Where [train] was, blank lines before it included: [train] follows one blank line.
+            let train = doc.get_mut("train").and_then(Item::as_table_mut);
+            if let Some((train, at)) = train.and_then(|t| t.position().map(|at| (t, at))) {
+                if let Some(prefix) = train.decor().prefix().cloned() {
+                    table.decor_mut().set_prefix(prefix);
+                }
+                train.decor_mut().set_prefix("\n");
                 shift_from(doc.as_table_mut(), at);
                 table.set_position(Some(at));
             }
