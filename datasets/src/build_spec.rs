@@ -14,15 +14,15 @@ use crate::error::DatasetError;
 
 /// A dataset spec file, or a bundled dataset's id (`mujoco/hopper/simple-v0`), read and checked.
 pub fn open_spec(what: &str) -> Result<DatasetSpec, DatasetError> {
-    let spec = envspec::dataset_spec::open(what).map_err(|d| bad_spec(what, d))?;
+    let (path, _) = envspec::dataset_spec::path_of(what);
+    let spec = envspec::dataset_spec::open(what).map_err(|d| bad_spec(&path, d))?;
     checked(spec)
 }
 
 /// A dataset spec's text, read and checked; `path` locates errors and resolves the policy file.
 pub fn parse_spec(path: &Path, text: &str) -> Result<DatasetSpec, DatasetError> {
     let file = envspec::SourceFile::new(path, text.to_string());
-    let spec = envspec::dataset_spec::parse(&file)
-        .map_err(|d| bad_spec(&path.display().to_string(), d))?;
+    let spec = envspec::dataset_spec::parse(&file).map_err(|d| bad_spec(path, d))?;
     checked(spec)
 }
 
@@ -43,12 +43,12 @@ fn checked(spec: DatasetSpec) -> Result<DatasetSpec, DatasetError> {
     Ok(spec)
 }
 
-/// envspec's diagnostic as E1801's one line; `what` is the file when the problem has no place
+/// envspec's diagnostic as E1801's one line; `path` is the file when the problem has no place
 /// in it (an unreadable file).
-fn bad_spec(what: &str, d: Diagnostic) -> DatasetError {
+fn bad_spec(path: &Path, d: Diagnostic) -> DatasetError {
     let (path, (line, col)) = match &d.location {
         Some(at) => (at.file.path.clone(), at.file.line_col(at.span.start)),
-        None => (what.into(), (0, 0)),
+        None => (path.to_path_buf(), (0, 0)),
     };
     DatasetError::BadSpec {
         path,

@@ -183,15 +183,20 @@ pub fn bundled() -> Vec<PathBuf> {
     out
 }
 
+/// The file `what` names: itself when it is a file (or ends in `.toml`), else the bundled
+/// dataset of that id (`mujoco/hopper/simple-v0`); and whether it was named as a file.
+pub fn path_of(what: &str) -> (PathBuf, bool) {
+    let p = Path::new(what);
+    if p.is_file() || what.ends_with(".toml") {
+        (p.to_path_buf(), true)
+    } else {
+        (datasets_dir().join(format!("{what}.toml")), false)
+    }
+}
+
 /// A dataset spec file, or a bundled dataset's id (`mujoco/hopper/simple-v0`).
 pub fn open(what: &str) -> Result<DatasetSpec, Diagnostic> {
-    let p = Path::new(what);
-    let named_file = p.is_file() || what.ends_with(".toml");
-    let path = if named_file {
-        p.to_path_buf()
-    } else {
-        datasets_dir().join(format!("{what}.toml"))
-    };
+    let (path, named_file) = path_of(what);
     read(&path).map_err(|d| match d.location {
         None if !named_file => Diagnostic::new(
             Code::E1801,
