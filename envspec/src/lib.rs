@@ -23,6 +23,7 @@ pub mod bundle;
 pub mod camera;
 pub mod commands;
 pub mod conditions;
+pub mod dataset_spec;
 pub mod derived;
 pub mod describe;
 pub mod diagnostic;
