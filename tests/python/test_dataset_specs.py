@@ -60,19 +60,19 @@ def test_every_bundled_spec_reads_as_tomllib_reads_it():
 def test_a_mistake_is_e1801_at_its_line_and_column(tmp_path):
     bad = tmp_path / "d.toml"
     bad.write_text(SPEC.replace("seed = 1\n", "episodes = 2\nseed = 1\n"))
-    with pytest.raises(envc.Error) as e:
+    with pytest.raises(envc.DatasetError) as e:
         envc.datasets.read_spec(bad)
     assert e.value.code == "E1801"
     assert str(e.value) == f"error[E1801]: {bad}:6:1: give `steps` or `episodes`, not both"
     # An unknown key is refused where it is written.
     bad.write_text(SPEC.replace("mode = ", "mood = "))
-    with pytest.raises(envc.Error) as e:
+    with pytest.raises(envc.DatasetError) as e:
         envc.datasets.read_spec(bad)
     assert e.value.code == "E1801"
     assert str(e.value).startswith(f"error[E1801]: {bad}:9:1: unknown field `mood`, expected")
     # Not TOML at all.
     bad.write_text(SPEC.replace('tier = "x"', 'tier = "x'))
-    with pytest.raises(envc.Error) as e:
+    with pytest.raises(envc.DatasetError) as e:
         envc.datasets.read_spec(bad)
     assert e.value.code == "E1801"
     assert str(e.value).startswith(f"error[E1801]: {bad}:3:")
