@@ -4,7 +4,9 @@
 //! phases of a shared machine hit all of them alike); medians are reported:
 //! * **ceiling**: a raw `MjData` of the same compiled model, `frame_skip × mj_step` per env step
 //!   (+ `mj_rnePostConstraint` when the spec reads contact forces), same actions, reset at the
-//!   env's observed mean episode length;
+//!   env's observed mean episode length. Where the env's action is not its controls (`[actions]`,
+//!   `[end_effector]`), the raw loop replays the controls and mocap poses the env applied over
+//!   the same actions, so both run the same physics;
 //! * **single**: one [`Env`](crate::Env) stepped with the same actions, autoreset on termination/truncation;
 //! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted);
 //! * **parallel ceiling**: `threads` raw loops at once, wall time: the multi-core ceiling as the
@@ -24,7 +26,7 @@ use mujoco_rs::prelude::{MjData, MjModel};
 use crate::error::EnvError;
 use crate::rng::NumpyRng;
 use crate::vector::{Autoreset, VecEnv};
-use crate::{JointAction, JointEnv};
+use crate::{AnyEnv, JointAction, JointEnv};
 
 /// What `envc bench` measures and for how long.
 #[derive(Clone, Debug)]
@@ -120,6 +122,40 @@ impl Actions {
             rows,
         }
     }
+    /// The controls (and mocap poses) an env whose action is not its controls applied over `rows`
+    /// steps of `actions` from its seed-0 reset, resetting where it ends an episode: what the
+    /// raw loops replay, so the ceiling is the physics the env runs (random controls would
+    /// leave a welded arm still, or throw a PD robot about).
+    fn replayed(env: &mut AnyEnv, actions: &Actions, rows: usize) -> Result<Actions, EnvError> {
+        use envspec::Field;
+        env.try_reset(Some(0))?;
+        let width = |e: &AnyEnv| {
+            let p = e.physics_env();
+            p.field(Field::Ctrl).len()
+                + p.field(Field::MocapPos).len()
+                + p.field(Field::MocapQuat).len()
+        };
+        let act_dim = width(env);
+        let mut data = Vec::with_capacity(rows * act_dim);
+        for r in 0..rows {
+            let done = match env.step_joint(JointAction::F64(actions.rows(r, 1))) {
+                Ok(s) => s.terminated || s.truncated,
+                Err(_) => true,
+            };
+            let p = env.physics_env();
+            for f in [Field::Ctrl, Field::MocapPos, Field::MocapQuat] {
+                data.extend_from_slice(p.field(f));
+            }
+            if done {
+                env.try_reset(None)?;
+            }
+        }
+        Ok(Actions {
+            data,
+            act_dim,
+            rows,
+        })
+    }
     /// `count` consecutive rows starting at row `i` (wrapping is avoided by the row count).
     fn rows(&self, i: usize, count: usize) -> &[f64] {
         let start = (i % (self.rows - count + 1)) * self.act_dim;
@@ -186,7 +222,15 @@ fn raw_step(
     fs: u32,
     rne: bool,
 ) -> Result<(), String> {
-    raw.ctrl_mut().copy_from_slice(action);
+    // A replayed row: the controls, then the mocap positions and quaternions.
+    let nu = raw.ctrl().len();
+    raw.ctrl_mut().copy_from_slice(&action[..nu]);
+    if action.len() > nu {
+        let (pos, quat, _, _) = crate::mj::manip::mocap_mut(raw);
+        let np = pos.len();
+        pos.copy_from_slice(&action[nu..nu + np]);
+        quat.copy_from_slice(&action[nu + np..]);
+    }
     crate::mj::call(raw, crate::mj::Call::Step { n: fs, rne })
 }
 
@@ -327,13 +371,23 @@ impl Bench {
         let spec: Arc<ResolvedSpec> = Arc::clone(env.physics_env().spec());
         let model = Arc::clone(env.physics_env().model());
         let envs = cfg.envs.max(1);
-        let actions = Actions::new(&model, 4096.max(envs * 4));
+        let rows = 4096.max(envs * 4);
+        let mut actions = Actions::new(&model, rows);
         // The env's own actions where they are not the controls (an end-effector action).
         let env_actions = if env.physics_env().act_dim() == model.ffi().nu as usize {
             actions.clone()
         } else {
-            Actions::in_space(env.physics_env().action_space(), 4096.max(envs * 4))
+            Actions::in_space(env.physics_env().action_space(), rows)
         };
+        // Where the action is not the controls (PD targets, an end effector, a position delta),
+        // the raw loops replay the controls the env applied.
+        let manip = &spec.manipulation;
+        if spec.actions.is_some()
+            || manip.end_effector.is_some()
+            || env_actions.act_dim != actions.act_dim
+        {
+            actions = Actions::replayed(&mut env, &env_actions, rows)?;
+        }
         let mut vec = match env.kind() {
             // (a goal task's dict observations are not batched: single env only)
             crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
