@@ -75,7 +75,7 @@ pub fn expand_env(s: &str) -> Result<String, String> {
 
 /// The directory of the installed Python package `name` (`${python:name}`): the first entry of
 /// `ENVC_PYTHON_PATH`, then `PYTHONPATH`, then the `sys.path` of `python3` (the envc package
-/// sets `ENVC_PYTHON_PATH` to its own interpreter's `sys.path` when imported) holding
+/// appends its own interpreter's `sys.path` to `ENVC_PYTHON_PATH` when imported) holding
 /// `name/__init__.py`. Found by hand: no crate asks an interpreter for its search path.
 pub fn python_package_dir(name: &str) -> Option<PathBuf> {
     let valid = !name.is_empty()
