@@ -10,6 +10,7 @@ mod entry_point;
 mod events;
 mod fixed_params;
 mod fuzz_regressions;
+mod goal_parts;
 mod gymnasium_specs;
 mod maze_errors;
 mod messages;

@@ -27,10 +27,21 @@ pub(super) fn manipulation(cx: &mut Ctx) {
         (
             RuleId::GoalChanged,
             "goal",
-            o.goal.as_ref().map(goal),
-            n.goal.as_ref().map(goal),
+            o.goal.as_ref().map(goal_layout),
+            n.goal.as_ref().map(goal_layout),
         ),
     ];
+    // The same layout, another checklist: a reward change.
+    let (was, now) = (o.goal.as_ref(), n.goal.as_ref());
+    let checklist = was
+        .zip(now)
+        .filter(|(a, b)| goal_layout(a) == goal_layout(b))
+        .and_then(|(a, b)| Some((checklist(a.parts.as_ref()?), checklist(b.parts.as_ref()?))))
+        .filter(|(a, b)| a != b);
+    let mut tables = tables.to_vec();
+    if let Some((a, b)) = checklist {
+        tables.push((RuleId::GoalPartsChanged, "goal", Some(a), Some(b)));
+    }
     for (rule, table, was, now) in tables {
         if was == now {
             continue;
@@ -56,11 +67,35 @@ pub(super) fn manipulation(cx: &mut Ctx) {
     }
 }
 
-/// What a `[goal]` resolves to: the achieved elements, and the parts with their values.
-fn goal(g: &crate::manipulation::GoalTable) -> String {
+/// A `[goal]`'s layout: the achieved elements, and the parts' names and sizes.
+fn goal_layout(g: &crate::manipulation::GoalTable) -> String {
     let names = g.achieved.names.join(", ");
     match &g.parts {
         None => names,
-        Some(p) => format!("{names}; {p:?}"),
+        Some(p) => {
+            let parts: Vec<String> = p
+                .parts
+                .iter()
+                .map(|x| format!("{:?} ({})", x.name, x.len()))
+                .collect();
+            format!("{names}; parts {}", parts.join(", "))
+        }
     }
+}
+
+/// What decides that a part is done: the desired values, the threshold, the norm and the rules.
+fn checklist(p: &crate::manipulation::GoalParts) -> String {
+    let desired: Vec<String> = p
+        .parts
+        .iter()
+        .map(|x| format!("{:?} {:?}", x.name, x.desired))
+        .collect();
+    format!(
+        "{}; ‖·‖ {} < {}; remove_done {}, terminate_when_done {}",
+        desired.join(", "),
+        p.norm.name(),
+        crate::value::format_float(p.threshold),
+        p.remove_done,
+        p.terminate_when_done
+    )
 }

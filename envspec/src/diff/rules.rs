@@ -403,6 +403,8 @@ rules! {
         "A `[hold.*]` table was added, removed or changed: other joints are held after each step, or at another value.";
     GoalChanged = "goal-changed", Observation, true,
         "`[goal]` was added, removed or changed: the observation becomes (or stops being) a goal dict, or `achieved_goal` reads something else.";
+    GoalPartsChanged = "goal-parts-changed", Reward, true,
+        "A `[goal]` of parts keeps its layout but a part's desired value, the threshold, the norm or the checklist's rules changed: what counts as a part done changes, and with it the reward and the termination.";
     // Derived values (`[derived.*]`).
     DerivedChanged = "derived-changed", Observation, true,
         "A `[derived.*]` table was added, removed or changed: every observation segment, reward term, condition or info entry that reads it sees other values.";

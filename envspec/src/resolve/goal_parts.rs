@@ -21,6 +21,14 @@ struct Declared {
 }
 
 impl Ctx<'_> {
+    /// Whether the spec declares `[goal] parts` (resolved or not).
+    pub(super) fn parts_declared(&self) -> bool {
+        self.spec
+            .goal
+            .as_ref()
+            .is_some_and(|g| g.get("parts").is_some())
+    }
+
     /// The parts of `[goal]` in play, and the achieved selection they make together.
     pub(super) fn goal_parts(
         &mut self,

@@ -136,6 +136,10 @@ impl Ctx<'_> {
                     set
                 });
                 if self.goal_parts == 0 {
+                    // A `[goal]` with parts that failed was reported there.
+                    if self.parts_declared() {
+                        return None;
+                    }
                     self.d.push(
                         Diagnostic::new(
                             Code::E0170,

@@ -229,6 +229,10 @@ impl Ctx<'_> {
                 .goal_checks(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                 .map(TermKind::GoalsMissed),
             "parts_reached" if self.goal_parts == 0 => {
+                // A `[goal]` with parts that failed was reported there.
+                if self.parts_declared() {
+                    return None;
+                }
                 self.d.push(
                     Diagnostic::new(
                         Code::E0170,
