@@ -214,14 +214,19 @@ fn restart(raw: &mut MjData<Arc<MjModel>>, s: &StartState) -> Result<(), String>
     crate::mj::call(raw, crate::mj::Call::Forward)
 }
 
-/// One env step of raw physics on `raw` with `action`; MuJoCo's errors returned (the data is then
-/// reset by the next `restart`).
-fn raw_step(
-    raw: &mut MjData<Arc<MjModel>>,
-    action: &[f64],
+/// What one raw env step runs: `fs × mj_step`, `mj_rnePostConstraint` with `rne`, and the
+/// `[hold.*]` joints set after the physics with the `mj_forward` the reference calls then.
+#[derive(Clone, Debug)]
+struct RawStep {
     fs: u32,
     rne: bool,
-) -> Result<(), String> {
+    /// Per `[hold.*]` table: its qpos addresses and value.
+    holds: Vec<(Vec<usize>, f64)>,
+}
+
+/// One env step of raw physics on `raw` with `action`; MuJoCo's errors returned (the data is then
+/// reset by the next `restart`).
+fn raw_step(raw: &mut MjData<Arc<MjModel>>, action: &[f64], how: &RawStep) -> Result<(), String> {
     // A replayed row: the controls, then the mocap positions and quaternions.
     let nu = raw.ctrl().len();
     raw.ctrl_mut().copy_from_slice(&action[..nu]);
@@ -231,7 +236,18 @@ fn raw_step(
         pos.copy_from_slice(&action[nu..nu + np]);
         quat.copy_from_slice(&action[nu + np..]);
     }
-    crate::mj::call(raw, crate::mj::Call::Step { n: fs, rne })
+    let (n, rne) = (how.fs, how.rne);
+    crate::mj::call(raw, crate::mj::Call::Step { n, rne })?;
+    if how.holds.is_empty() {
+        return Ok(());
+    }
+    let qpos = raw.qpos_mut();
+    for (adr, value) in &how.holds {
+        for &a in adr {
+            qpos[a] = *value;
+        }
+    }
+    crate::mj::call(raw, crate::mj::Call::Forward)
 }
 
 /// `threads` raw loops (`frame_skip × mj_step` + post-step kernel) in parallel for `slice` of
@@ -242,8 +258,7 @@ fn parallel_ceiling(
     actions: &Actions,
     threads: usize,
     slice: Duration,
-    fs: u32,
-    rne: bool,
+    how: &RawStep,
     ep_len: u64,
     start_state: &StartState,
 ) -> Result<f64, String> {
@@ -262,7 +277,7 @@ fn parallel_ceiling(
                                 restart(&mut raw, start_state)?;
                             }
                             let a = actions.rows(t * 997 + n as usize, 1);
-                            raw_step(&mut raw, a, fs, rne)?;
+                            raw_step(&mut raw, a, how)?;
                             n += 1;
                         }
                     }
@@ -312,8 +327,8 @@ pub fn bench(
     }
     Ok(BenchResult {
         id: b.id,
-        frame_skip: b.fs as usize,
-        rne_post_constraint: b.rne,
+        frame_skip: b.how.fs as usize,
+        rne_post_constraint: b.how.rne,
         envs: b.envs,
         threads,
         rounds,
@@ -348,8 +363,8 @@ struct Bench {
     env_actions: Actions,
     envs: usize,
     threads: usize,
-    fs: u32,
-    rne: bool,
+    /// What the raw loops run per env step.
+    how: RawStep,
     /// The action row, shared so every measurement sees the same stream.
     cursor: usize,
     /// Steps and episodes of the single env: the raw loops reset at its mean episode length.
@@ -404,7 +419,13 @@ impl Bench {
             path: spec.model_path.clone(),
             message: format!("cannot allocate mjData: {e}"),
         })?;
-        let (fs, rne) = (spec.frame_skip, spec.needs_rne_post_constraint);
+        let how = RawStep {
+            fs: spec.frame_skip,
+            rne: spec.needs_rne_post_constraint,
+            holds: (spec.manipulation.hold.iter())
+                .map(|h| (h.qpos.clone(), h.value))
+                .collect(),
+        };
         env.try_reset(Some(0))?;
         let start_state = {
             let (qpos, qvel) = env.physics_env().state();
@@ -428,8 +449,7 @@ impl Bench {
             env_actions,
             envs,
             threads,
-            fs,
-            rne,
+            how,
             cursor: 0,
             steps: 0,
             episodes: 0,
@@ -470,8 +490,7 @@ impl Bench {
                     stepped = restart(&mut self.raw, &self.start_state);
                     self.raw_since_reset = 0;
                 }
-                if let Err(e) = stepped.and_then(|()| raw_step(&mut self.raw, a, self.fs, self.rne))
-                {
+                if let Err(e) = stepped.and_then(|()| raw_step(&mut self.raw, a, &self.how)) {
                     self.mujoco_error.get_or_insert(e);
                     self.raw_since_reset = ep_len;
                 }
@@ -534,8 +553,7 @@ impl Bench {
             &self.actions,
             self.threads,
             slice,
-            self.fs,
-            self.rne,
+            &self.how,
             ep_len,
             &self.start_state,
         )
