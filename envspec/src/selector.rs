@@ -11,6 +11,8 @@
 
 mod parse;
 mod rows;
+#[cfg(test)]
+mod tests;
 
 use crate::diagnostic::{Code, Diagnostic, Location, suggest};
 use crate::mjcf::ModelInfo;

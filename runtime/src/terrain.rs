@@ -12,6 +12,9 @@ use envspec::ir::{Terrain, TileKind};
 
 use crate::rng::NumpyRng;
 
+#[cfg(test)]
+mod tests;
+
 /// The thinnest border of a stairs tile (mjlab's `_MIN_BORDER_HEIGHT`).
 const MIN_BORDER_HEIGHT: f64 = 0.05;
 

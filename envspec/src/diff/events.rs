@@ -336,3 +336,59 @@ fn summary(e: &Event) -> String {
         ),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_widen_narrow_or_shift() {
+        // new ⊇ old: widened; old ⊇ new: narrowed; neither: shifted.
+        assert_eq!(
+            range_effect("`geom_friction` range", (0.5, 1.0), (0.25, 1.5), "a", "b"),
+            "`geom_friction` range widened from a to b: the policy trains on a wider distribution; returns are not comparable"
+        );
+        assert_eq!(
+            range_effect("push x range", (-1.0, 1.0), (-0.5, 1.0), "a", "b"),
+            "push x range narrowed from a to b: the policy trains on a narrower distribution and may not cover what it met before; returns are not comparable"
+        );
+        assert_eq!(
+            range_effect("r", (0.0, 1.0), (0.5, 1.5), "a", "b"),
+            "r shifted from a to b: the policy trains on other values; returns are not comparable"
+        );
+        // A Gaussian is compared on mean ± 3 std: std 0.1 → 0.2 around 0 is (-0.3, 0.3) →
+        // (-0.6, 0.6), wider.
+        let (g1, g2) = (
+            EventDist::Gaussian {
+                mean: 0.0,
+                std: 0.1,
+            },
+            EventDist::Gaussian {
+                mean: 0.0,
+                std: 0.2,
+            },
+        );
+        assert!(range_effect("r", g1.support(), g2.support(), "", "").contains("widened"));
+    }
+
+    #[test]
+    fn modes_and_ranges_in_words() {
+        let fixed = EventMode::Interval {
+            low: 2.0,
+            high: 2.0,
+        };
+        let drawn = EventMode::Interval {
+            low: 1.0,
+            high: 3.5,
+        };
+        assert_eq!(mode_text(&fixed), "interval every 2 s");
+        assert_eq!(mode_text(&drawn), "interval every 1–3.5 s");
+        assert_eq!(mode_text(&EventMode::Reset), "reset");
+        assert_eq!(mode_effect(&EventMode::Startup), "drawn once per seed");
+        assert_eq!(mode_effect(&EventMode::Reset), "drawn every episode");
+        assert_eq!(mode_effect(&fixed), "drawn every 2 s during episodes");
+        assert_eq!(mode_effect(&drawn), "drawn every 1–3.5 s during episodes");
+        // Rust's shortest float display: 1.0 is `1`.
+        assert_eq!(fmt_range((0.5, 1.0)), "[0.5, 1]");
+    }
+}

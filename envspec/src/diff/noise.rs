@@ -123,3 +123,20 @@ pub(super) fn noise(cx: &mut Ctx) {
         cx.add(c);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_and_amplitudes_in_words() {
+        // 3 × 0.25 = 0.75 exactly; 1 × 0.05 is 0.05.
+        assert_eq!(steps(3, 0.25), "3 steps (0.75 s)");
+        assert_eq!(steps(1, 0.05), "1 step (0.05 s)");
+        assert_eq!(steps(0, 0.05), "0 steps (0.0 s)");
+        // Six decimals: 0.1234567 → 0.123457; integers keep a `.0`.
+        assert_eq!(short(0.1234567), "0.123457");
+        assert_eq!(short(2.0), "2.0");
+        assert_eq!(std_text(None), "0");
+    }
+}

@@ -216,3 +216,53 @@ fn active(r: &ResolvedSpec, use_name: &str) -> bool {
         _ => true,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_changed_default_takes_the_rule_of_its_most_harmful_use() {
+        let uses = |cats: &[Category]| -> Vec<(Category, String)> {
+            cats.iter().map(|c| (*c, c.key().to_string())).collect()
+        };
+        assert_eq!(default_rule(&[]), RuleId::ParamDefaultUnused);
+        // Categories order most harmful first: observation, action, reward, termination, reset,
+        // randomization, dynamics, parameters, info, documentation.
+        for (cats, rule) in [
+            (
+                &[Category::Info, Category::Observation, Category::Reward][..],
+                RuleId::ParamDefaultObservation,
+            ),
+            (
+                &[Category::Info, Category::Reward],
+                RuleId::ParamDefaultReward,
+            ),
+            (
+                &[Category::Reset, Category::Termination],
+                RuleId::ParamDefaultTermination,
+            ),
+            (
+                &[Category::Dynamics, Category::Reset],
+                RuleId::ParamDefaultReset,
+            ),
+            (
+                &[Category::Dynamics, Category::Randomization],
+                RuleId::ParamDefaultRandomization,
+            ),
+            (&[Category::Dynamics], RuleId::ParamDefaultDynamics),
+            (&[Category::Info], RuleId::ParamDefaultInfo),
+        ] {
+            assert_eq!(default_rule(&uses(cats)), rule, "{cats:?}");
+            // The rule's category is that of the use (docs/diff-rules.md's param-default-* rows).
+            assert_eq!(rule.category(), *cats.iter().min().unwrap());
+        }
+        assert_eq!(
+            used_by(&[
+                (Category::Reward, "reward.healthy".into()),
+                (Category::Info, "info.x".into())
+            ]),
+            "used by reward.healthy, info.x"
+        );
+    }
+}

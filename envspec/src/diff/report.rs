@@ -318,3 +318,141 @@ mod code_span_tests {
         assert_eq!(code_span("a``b"), "```a``b```");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(old_id: &str, new_id: &str, changes: Vec<Change>) -> Report {
+        let mut r = Report::new(old_id, new_id, "old.toml", "new.toml");
+        r.extend(changes);
+        r
+    }
+
+    #[test]
+    fn verdicts() {
+        assert_eq!(report("A-v1", "A-v1", vec![]).verdict(), Verdict::NoChange);
+        // docs/diff-rules.md: a respelled selector is "shown, but no change (the verdict ignores it)".
+        let respelled = Change::new(RuleId::SelectorRespelled, "observation.x", "source");
+        assert!(!respelled.breaking);
+        assert_eq!(
+            report("A-v1", "A-v1", vec![respelled.clone()]).verdict(),
+            Verdict::NoChange
+        );
+        // param-added is "no" in the table: compatible, no flag.
+        let added = Change::new(RuleId::ParamAdded, "param x", "added");
+        let r = report("A-v1", "A-v1", vec![respelled, added.clone()]);
+        assert_eq!((r.verdict(), r.flags.len()), (Verdict::Compatible, 0));
+        // A breaking-by-default rule lowered where the resolved spec shows no effect.
+        let lowered =
+            Change::new(RuleId::RewardTermKeyChanged, "reward.a", "weight").breaking(false);
+        assert_eq!(
+            report("A-v1", "A-v1", vec![lowered]).verdict(),
+            Verdict::Compatible
+        );
+        let layout = Change::new(RuleId::ObservationLayoutChanged, "observation", "layout");
+        assert!(layout.breaking);
+        assert_eq!(
+            report("A-v1", "A-v2", vec![added, layout]).verdict(),
+            Verdict::Breaking
+        );
+    }
+
+    #[test]
+    fn a_breaking_change_under_the_same_id_is_flagged() {
+        let layout = Change::new(RuleId::ObservationLayoutChanged, "observation", "layout");
+        let r = report("Hopper-v5", "Hopper-v5", vec![layout.clone()]);
+        assert_eq!(
+            r.flags,
+            [
+                "this change breaks trained policies but the env id stays `Hopper-v5`: bump its version"
+            ]
+        );
+        // A new id is the announcement: no flag, still breaking.
+        let r = report("Hopper-v4", "Hopper-v5", vec![layout]);
+        assert!(r.flags.is_empty());
+        assert_eq!(r.verdict(), Verdict::Breaking);
+        // Results change (reward, dynamics) without touching the policy's interface.
+        let r = report(
+            "Hopper-v5",
+            "Hopper-v5",
+            vec![
+                Change::new(RuleId::ModelArrayChanged, "model", "body_mass"),
+                Change::new(RuleId::RewardTermKeyChanged, "reward.a", "weight"),
+            ],
+        );
+        assert_eq!(
+            r.flags,
+            [
+                "this change alters results (reward, dynamics: returns are not comparable) but the env id stays `Hopper-v5`: bump its version"
+            ]
+        );
+        // Only a parameter-category break (a removed parameter) flags nothing.
+        let r = report(
+            "A-v1",
+            "A-v1",
+            vec![Change::new(RuleId::ParamRemoved, "param x", "removed")],
+        );
+        assert_eq!((r.verdict(), r.flags.len()), (Verdict::Breaking, 0));
+    }
+
+    #[test]
+    fn changes_are_ordered_by_category_most_harmful_first() {
+        let r = report(
+            "A-v1",
+            "A-v2",
+            vec![
+                Change::new(RuleId::DocChanged, "reward.a", "doc"),
+                Change::new(RuleId::InfoKeyAdded, "info.k", "added"),
+                Change::new(RuleId::ActionsRemoved, "actions", "removed"),
+                Change::new(RuleId::RewardSumChanged, "reward", "sum"),
+                Change::new(RuleId::NoiseAdded, "observation.x", "noise"),
+            ],
+        );
+        let order: Vec<&str> = r.changes.iter().map(|c| c.category().key()).collect();
+        assert_eq!(
+            order,
+            ["action", "reward", "randomization", "info", "documentation"]
+        );
+    }
+
+    #[test]
+    fn text_lines_as_the_docs_show_them() {
+        // The example in docs/diff-rules.md, rebuilt.
+        let pos = |file: &str, line| {
+            Some(Pos {
+                file: file.into(),
+                line,
+            })
+        };
+        let c = Change::new(
+            RuleId::RewardTermKeyChanged,
+            "reward.healthy",
+            "paid_when_unhealthy",
+        )
+        .values(Some("\"terminate_when_unhealthy\"".into()), None)
+        .at(
+            pos("specs/gymnasium/hopper_v4.toml", 47),
+            pos("specs/gymnasium/hopper.toml", 46),
+        );
+        let text = report("Hopper-v4", "Hopper-v5", vec![c]).to_text();
+        assert!(
+            text.contains(
+                "\nreward — returns are no longer comparable\n  ! [reward-term-key-changed] reward.healthy: paid_when_unhealthy: was \"terminate_when_unhealthy\" (specs/gymnasium/hopper_v4.toml:47), now absent (specs/gymnasium/hopper.toml:46)\n"
+            ),
+            "{text}"
+        );
+        assert!(text.contains("verdict: BREAKING: reward (returns are no longer comparable)\n"));
+        let added =
+            Change::new(RuleId::ParamAdded, "param x", "added").values(None, Some("1".into()));
+        let text = report("A-v1", "A-v1", vec![added]).to_text();
+        assert!(
+            text.contains("verdict: compatible (no behaviour change)\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("    [param-added] param x: added: 1\n"),
+            "{text}"
+        );
+    }
+}

@@ -504,4 +504,85 @@ mod tests {
         assert_eq!(RuleId::RewardSumChanged.id(), "reward-sum-changed");
         assert_eq!(RuleId::MazeWallAdded.category(), Category::Dynamics);
     }
+
+    #[test]
+    fn rows_as_docs_diff_rules_md_lists_them() {
+        // Copied by hand from the tables of docs/diff-rules.md: id | category | breaking.
+        let rows = [
+            ("env-id-changed", "documentation", false),
+            ("selector-respelled", "documentation", false),
+            ("env-dt-changed", "dynamics", true),
+            ("param-removed", "parameters", true),
+            ("param-now-argument", "parameters", false),
+            ("param-default-unused", "parameters", false),
+            ("param-default-observation", "observation", true),
+            ("param-default-randomization", "randomization", true),
+            ("noise-added", "randomization", true),
+            ("reward-sum-changed", "reward", true),
+            ("health-terminate-changed", "termination", true),
+            ("reset-draw-order-changed", "reset", true),
+            ("info-table-inactive-removed", "info", false),
+            ("model-actuator-count-changed", "action", true),
+            ("model-file-changed", "documentation", false),
+            ("agents-conf-added", "action", false),
+            ("agents-action-bounds-changed", "action", false),
+            ("maze-wall-added", "dynamics", true),
+            ("maze-robot-params-changed", "parameters", false),
+            ("goal-changed", "observation", true),
+            ("observation-refresh-changed", "observation", true),
+            ("terrain-changed", "dynamics", true),
+            ("events-shared-changed", "randomization", true),
+        ];
+        for (id, cat, breaking) in rows {
+            let r = RULES.iter().find(|r| r.id == id).expect(id);
+            assert_eq!((r.category.key(), r.breaking), (cat, breaking), "{id}");
+        }
+        // Every documentation rule is compatible: it changes no behaviour.
+        for r in RULES
+            .iter()
+            .filter(|r| r.category == Category::Documentation)
+        {
+            assert!(!r.breaking, "{}", r.id);
+        }
+    }
+
+    #[test]
+    fn categories_in_report_order() {
+        // docs/diff-rules.md: "the report's sections, most harmful first".
+        let keys: Vec<&str> = Category::ALL.iter().map(|c| c.key()).collect();
+        assert_eq!(
+            keys,
+            [
+                "observation",
+                "action",
+                "reward",
+                "termination",
+                "reset",
+                "randomization",
+                "dynamics",
+                "parameters",
+                "info",
+                "documentation"
+            ]
+        );
+        // The derived order (used to sort reports and pick a default's most harmful use) agrees.
+        assert!(Category::ALL.windows(2).all(|w| w[0] < w[1]));
+        for c in Category::ALL {
+            assert_eq!(
+                serde_json::to_string(c).unwrap(),
+                format!("\"{}\"", c.key())
+            );
+        }
+        assert_eq!(Category::Observation.impact(), "breaks trained policies");
+        assert_eq!(Category::Action.impact(), "breaks trained policies");
+        assert_eq!(
+            Category::Reward.impact(),
+            "returns are no longer comparable"
+        );
+        assert_eq!(Category::Documentation.impact(), "no behaviour change");
+        assert_eq!(
+            serde_json::to_string(&RuleId::EnvDtChanged).unwrap(),
+            "\"env-dt-changed\""
+        );
+    }
 }

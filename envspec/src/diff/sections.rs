@@ -402,3 +402,51 @@ fn matched<K: PartialEq>(
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kind(name: &'static str) -> Kind {
+        Kind {
+            name,
+            added: RuleId::RewardTermAdded,
+            removed: RuleId::RewardTermRemoved,
+            renamed: RuleId::RewardTermRenamed,
+            key_changed: RuleId::RewardTermKeyChanged,
+            resolved_changed: RuleId::RewardTermResolvedChanged,
+            describe: |_, _| None,
+        }
+    }
+
+    #[test]
+    fn key_rules() {
+        let k = kind("reward");
+        // A selector key respelled with the same effect is documentation (selector-respelled).
+        for key in ["source", "minus", "target", "achieved", "desired"] {
+            assert_eq!(key_rule(&k, key, true), RuleId::SelectorRespelled, "{key}");
+            assert_eq!(
+                key_rule(&k, key, false),
+                RuleId::RewardTermKeyChanged,
+                "{key}"
+            );
+        }
+        assert_eq!(key_rule(&k, "doc", false), RuleId::DocChanged);
+        assert_eq!(key_rule(&k, "doc", true), RuleId::DocChanged);
+        // Any other key is the section's own key-changed rule, same effect or not (the
+        // same-effect case is lowered to compatible where the change is made, not here).
+        assert_eq!(key_rule(&k, "weight", true), RuleId::RewardTermKeyChanged);
+        assert_eq!(key_rule(&k, "weight", false), RuleId::RewardTermKeyChanged);
+    }
+
+    #[test]
+    fn keys_with_rules_of_their_own_are_skipped() {
+        assert!(skipped(&kind("reward"), "info"));
+        assert!(!skipped(&kind("reward"), "weight"));
+        assert!(!skipped(&kind("reward"), "noise"));
+        assert!(skipped(&kind("observation"), "noise"));
+        assert!(skipped(&kind("observation"), "delay"));
+        assert!(!skipped(&kind("observation"), "info"));
+        assert!(!skipped(&kind("observation"), "source"));
+    }
+}
