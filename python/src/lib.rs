@@ -1,8 +1,8 @@
 //! `envc._envc`: the native core of the `envc` Python package. Every spec opens through the one
 //! door (`envc::open`); each kind gets a core object that steps with numpy arrays: one base class,
-//! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a thin subclass
-//! per kind (`TaskCore`, `MazeCore`, `AgentsCore`). The Gymnasium, vector and PettingZoo classes
-//! are Python (`python/envc/`), thin over these cores.
+//! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a subclass per
+//! kind that holds the kind's env (`TaskCore`, `MazeCore`, `AgentsCore`). The Gymnasium, vector
+//! and PettingZoo classes are Python (`python/envc/`), thin over these cores.
 
 use envc::JointEnv;
 use pyo3::prelude::*;
@@ -13,6 +13,7 @@ mod convert;
 mod env_core;
 mod errors;
 mod gpu;
+mod joint_methods;
 mod maze;
 mod mujoco_timer;
 mod multi_agent;
@@ -36,12 +37,16 @@ fn open(
         |_| {},
     )?;
     let kind = env.kind();
-    let base = PyClassInitializer::from(env_core::EnvCore::new(env));
-    let made = match kind {
-        envspec::Kind::Task => Py::new(py, base.add_subclass(task::TaskCore))?.into_any(),
-        envspec::Kind::Maze => Py::new(py, base.add_subclass(maze::MazeCore))?.into_any(),
-        envspec::Kind::Agents => {
-            Py::new(py, base.add_subclass(multi_agent::AgentsCore))?.into_any()
+    let base = PyClassInitializer::from(env_core::EnvCore);
+    let made = match env {
+        envc::AnyEnv::Task(env) => {
+            Py::new(py, base.add_subclass(task::TaskCore { env }))?.into_any()
+        }
+        envc::AnyEnv::Maze(env) => {
+            Py::new(py, base.add_subclass(maze::MazeCore { env }))?.into_any()
+        }
+        envc::AnyEnv::Agents(env) => {
+            Py::new(py, base.add_subclass(multi_agent::AgentsCore { env }))?.into_any()
         }
     };
     Ok((kind_name(kind).into(), made))
