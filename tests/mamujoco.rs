@@ -708,7 +708,7 @@ fn agents_read_site_orientation_and_jacobian_velocity() {
         "[observation.rot]\nsource = \"site_euler[tip]\"\n\n[observation.vel]\nsource = \"site_xvelp[tip]\"\n\n[observation.cos]",
     );
     std::fs::write(dir.join("task.toml"), task).unwrap();
-    let envc::AnyEnv::Agents(mut multi) =
+    let envc::AnyEnv::MultiAgent(mut multi) =
         envc::open(dir.join("agents.toml").to_str().unwrap(), &[]).unwrap()
     else {
         panic!("a multi-agent spec");

@@ -99,7 +99,7 @@ pub fn recordable(env: AnyEnv) -> Result<Box<dyn Recordable + Send>, Box<MultiAg
     match env {
         AnyEnv::Task(e) => Ok(Box::new(e)),
         AnyEnv::Maze(e) => Ok(Box::new(MazeRecording(e))),
-        AnyEnv::Agents(e) => Err(Box::new(e)),
+        AnyEnv::MultiAgent(e) => Err(Box::new(e)),
     }
 }
 

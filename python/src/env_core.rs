@@ -1,5 +1,5 @@
 //! `EnvCore`: the base class of every kind's core. Each kind's subclass (`TaskCore`, `MazeCore`,
-//! `AgentsCore`: `#[pyclass(extends = EnvCore)]`) holds its own env, typed, and adds only what is
+//! `MultiAgentCore`: `#[pyclass(extends = EnvCore)]`) holds its own env, typed, and adds only what is
 //! its own; the base holds nothing, and its methods (`joint_methods.rs`) reach the env of the
 //! subclass they are called on. What a kind's env must offer for them is [`KindEnv`]: `JointEnv`,
 //! and the observation and info a reset or step returns in the kind's form (a flat array, a

@@ -13,7 +13,7 @@ use crate::env_core::{After, EnvCore, KindEnv, ResetOut, StepOut, guarded, step_
 use crate::errors;
 use crate::maze::MazeCore;
 use crate::mujoco_timer::without_mujoco_timer;
-use crate::multi_agent::AgentsCore;
+use crate::multi_agent::MultiAgentCore;
 use crate::task::TaskCore;
 
 /// `f` on the env of the kind's core `slf` is. The subclasses are the only cores `open` makes;
@@ -28,7 +28,7 @@ fn with_env<R>(
     if let Ok(c) = slf.cast::<MazeCore>() {
         return f(&mut *c.try_borrow_mut()?.env);
     }
-    if let Ok(c) = slf.cast::<AgentsCore>() {
+    if let Ok(c) = slf.cast::<MultiAgentCore>() {
         return f(&mut c.try_borrow_mut()?.env);
     }
     Err(pyo3::exceptions::PyTypeError::new_err(

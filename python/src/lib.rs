@@ -1,7 +1,7 @@
 //! `envc._envc`: the native core of the `envc` Python package. Every spec opens through the one
 //! door (`envc::open`); each kind gets a core object that steps with numpy arrays: one base class,
 //! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a subclass per
-//! kind that holds the kind's env (`TaskCore`, `MazeCore`, `AgentsCore`). The Gymnasium, vector
+//! kind that holds the kind's env (`TaskCore`, `MazeCore`, `MultiAgentCore`). The Gymnasium, vector
 //! and PettingZoo classes are Python (`python/envc/`), thin over these cores.
 
 use envc::JointEnv;
@@ -45,8 +45,8 @@ fn open(
         envc::AnyEnv::Maze(env) => {
             Py::new(py, base.add_subclass(maze::MazeCore { env }))?.into_any()
         }
-        envc::AnyEnv::Agents(env) => {
-            Py::new(py, base.add_subclass(multi_agent::AgentsCore { env }))?.into_any()
+        envc::AnyEnv::MultiAgent(env) => {
+            Py::new(py, base.add_subclass(multi_agent::MultiAgentCore { env }))?.into_any()
         }
     };
     Ok((kind_name(kind).into(), made))
@@ -221,7 +221,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<env_core::EnvCore>()?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
-    m.add_class::<multi_agent::AgentsCore>()?;
+    m.add_class::<multi_agent::MultiAgentCore>()?;
     m.add_class::<vector::VecCore>()?;
     // The Python hierarchy's SpecError, for code that catches `_envc.SpecError`.
     m.add(

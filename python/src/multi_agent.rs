@@ -12,7 +12,7 @@ use crate::errors;
 
 /// A multi-agent env (`envc.parallel_env` wraps it as a PettingZoo `ParallelEnv`).
 #[pyclass(module = "envc._envc", extends = EnvCore)]
-pub struct AgentsCore {
+pub struct MultiAgentCore {
     pub(crate) env: MultiAgentEnv,
 }
 
@@ -49,7 +49,7 @@ fn slices<'a>(xs: &'a [PyReadonlyArray1<'_, f64>]) -> PyResult<Vec<&'a [f64]>> {
 }
 
 #[pymethods]
-impl AgentsCore {
+impl MultiAgentCore {
     /// Step with one float64 action per agent (in agent order): every agent's observation and
     /// the shared reward, terminated, truncated and info.
     fn step_agents<'py>(

@@ -15,7 +15,7 @@ use crate::trajectory::Trajectory;
 /// A multi-agent trajectory (global actions [T, act_dim] go to the agents): `obs.<agent>`
 /// [n+1, dim], `state` `[n+1, state_dim]`; with `--auto-reset` `reset_obs.<agent>`,
 /// `reset_state` and `reset_at` of the resets after the first.
-pub struct AgentsTrajectory {
+pub struct MultiAgentTrajectory {
     obs: Vec<Vec<f64>>,
     state: Vec<f64>,
     reset_at: Vec<i64>,
@@ -23,10 +23,10 @@ pub struct AgentsTrajectory {
     reset_state: Vec<f64>,
 }
 
-impl AgentsTrajectory {
+impl MultiAgentTrajectory {
     pub fn new(env: &MultiAgentEnv) -> Self {
         let n_agents = env.num_agents();
-        AgentsTrajectory {
+        MultiAgentTrajectory {
             obs: vec![vec![]; n_agents],
             state: vec![],
             reset_at: vec![],
@@ -36,7 +36,7 @@ impl AgentsTrajectory {
     }
 }
 
-impl Trajectory for AgentsTrajectory {
+impl Trajectory for MultiAgentTrajectory {
     type Env = MultiAgentEnv;
     fn reset(&mut self, env: &MultiAgentEnv, at: Option<usize>) {
         match at {
