@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import tomllib
 
 import gymnasium as gym
 import numpy as np
@@ -21,9 +20,7 @@ import envc.datasets
 
 
 def returns(spec_path: str, episodes: int, deterministic: bool) -> np.ndarray:
-    with open(spec_path, "rb") as f:
-        d = tomllib.load(f)
-    ds = d["dataset"]
+    ds = envc.datasets.read_spec(spec_path)["dataset"]
     env = gym.make(ds["env"], **ds.get("params", {}))
     pol = envc.datasets.policy(spec_path, seed=ds["seed"], deterministic=deterministic)
     out = []
@@ -49,8 +46,7 @@ def main() -> None:
     print("|---|---:|---:|")
     for i in ids:
         path = os.path.abspath(os.path.join(root, i + ".toml"))
-        with open(path, "rb") as f:
-            pol = tomllib.load(f)["policy"]["file"]
+        pol = envc.datasets.read_spec(path)["policy"]["file"]
         if not os.path.exists(os.path.join(os.path.dirname(path), pol)):
             continue
         det = returns(path, a.episodes, True)

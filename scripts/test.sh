@@ -69,6 +69,10 @@ JOBS+=("$BUILD")
 status=0
 wait "$SETUP" || status=$?
 [ "$status" = 0 ] || fail "$status"
+# Specs whose model lies in an installed Python package (`${python:gymnasium_robotics}`, the
+# Kitchen's) find it on the venv's search path, in every check below, as `import envc` there does.
+ENVC_PYTHON_PATH="$("$PY" -c 'import os, sys; print(os.pathsep.join(p for p in sys.path if p))')"
+export ENVC_PYTHON_PATH
 # The extension's and the CLI's release builds ask for shared dependencies alike, so the second
 # reuses the first's (workspace-hack/Cargo.toml).
 "$PY" scripts/release_features.py
@@ -244,6 +248,11 @@ lane_live() {
   "$PY" tests/reference/record_adroit.py --out "$LIVE/adroit" --seed "$SEED"
   ENVC_ADROIT_DIR="$LIVE/adroit" cargo test -q --workspace --test integration adroit::
   passed "Adroit, live seed"
+  # FrankaKitchen-v1: fresh-seed rollouts of the reference (its checklist at its threshold and at a
+  # larger one), replayed through envc's spec.
+  "$PY" tests/reference/record_kitchen.py --out "$LIVE" --seed "$SEED"
+  ENVC_KITCHEN_DIR="$LIVE" cargo test -q --workspace --test integration kitchen::
+  passed "Franka Kitchen, live seed"
   # Minari datasets of maze envs (dict observations, both formats) written by `envc collect`, loaded
   # by the real minari and replayed in Gymnasium-Robotics (fresh seed).
   MZ="$(mktemp -d)"
@@ -277,12 +286,13 @@ lane_mujoco4() {
   local py="$venv/bin/python" out="$LIVE/mujoco-4.0.1"
   local run=(cargo test -q -p envc-tests --features mujoco-4.0.1 --test integration --)
   # Every integration test but those that replay 3.17.0's own recordings (Fetch's and the Shadow
-  # Hand's committed fixtures, the golden values, the AVX2-profile recordings, Python-made Minari
+  # Hand's and the Kitchen's committed fixtures, the golden values, the AVX2-profile recordings, Python-made Minari
   # datasets, mjlab's term values, sensor values) or need 3.17.0's fixed arena (4.0.1 does not
   # overflow a `<size memory>` arena on Hopper): the suites recorded per version replay 4.0.1's.
   local only_317=(fetch::fetch_reach fetch::fetch_push fetch::fetch_slide fetch::fetch_pick_and_place
     hand::hand_reach hand::hand_manipulate_block hand::hand_manipulate_egg hand::hand_manipulate_pen
-    hand::hand_manipulate_touch_sensors golden::golden_table_of_the_reference_doc
+    hand::hand_manipulate_touch_sensors kitchen::kitchen_default kitchen::kitchen_checklist
+    golden::golden_table_of_the_reference_doc
     parity::avx2_recording_is_bit_identical maze::maze_parity_avx2_recording
     mamujoco::mamujoco_parity_avx2_recording minari::reads_python_datacollector_datasets
     mjlab_terms::g1_terms_match_numpy_from_mjlabs_term_functions
@@ -298,14 +308,17 @@ lane_mujoco4() {
   "$py" tests/reference/record_mamujoco.py --out "$out/mamujoco" --seed "$SEED" --quick >/dev/null
   "$py" tests/reference/record_robotics.py --out "$out/robotics" --seed "$SEED" >/dev/null
   "$py" tests/reference/record_adroit.py --out "$out/adroit" --seed "$SEED" >/dev/null
+  "$py" tests/reference/record_kitchen.py --out "$out" --seed "$SEED" 2>/dev/null
   ENVC_PARITY_DIR="$out/parity" ENVC_VECTOR_DIR="$out/vector" ENVC_MAZE_DIR="$out/maze" \
     ENVC_MAMUJOCO_DIR="$out/mamujoco" ENVC_ROBOTICS_DIR="$out/robotics" ENVC_ADROIT_DIR="$out/adroit" \
+    ENVC_KITCHEN_DIR="$out" \
     "${run[@]}" --exact parity::every_recorded_case_is_bit_identical \
     vector::replays_gymnasium_sync_vector_env_bit_for_bit maze::maze_parity mamujoco::mamujoco_parity \
     adroit::adroit_door adroit::adroit_hammer adroit::adroit_pen adroit::adroit_relocate \
     fetch::fetch_reach fetch::fetch_push fetch::fetch_slide fetch::fetch_pick_and_place \
     hand::hand_reach hand::hand_manipulate_block hand::hand_manipulate_egg \
-    hand::hand_manipulate_pen hand::hand_manipulate_touch_sensors
+    hand::hand_manipulate_pen hand::hand_manipulate_touch_sensors \
+    kitchen::kitchen_default kitchen::kitchen_checklist
   passed "MuJoCo 4.0.1: live seed"
   tests/wheel/mujoco4.sh "$LIVE/dist" "$LIVE/wheel-mujoco-4.0.1"
   passed "MuJoCo 4.0.1: the wheel beside it"

@@ -19,7 +19,9 @@ and the best one is kept; that best checkpoint is exported to the spec's `[polic
   `squash = 0` (action = mean, clipped to the bounds).
 
 Both carry `action_low`, `action_high` and `activation` (0 relu, 1 tanh). envc runs the file in
-Rust (`envc::policy::MlpPolicy`) without torch.
+Rust (`envc::policy::MlpPolicy`) without torch. The spec is read by envc (`envc.datasets.read_spec`):
+the training venv's own envc if it has one, else the repository's `python/` as scripts/setup.sh
+built it.
 """
 
 from __future__ import annotations
@@ -28,14 +30,20 @@ import argparse
 import os
 import sys
 import time
-import tomllib
 
 import numpy as np
 
 
 def load_spec(path: str) -> dict:
-    with open(path, "rb") as f:
-        return tomllib.load(f)
+    """The spec as envc reads it (a mistake is E1801 at its line and column)."""
+    try:
+        import envc.datasets
+    except ImportError:
+        # The training venv does not install envc: the repository's package serves, once
+        # scripts/setup.sh has built its native core into python/envc/ (abi3, any Python >= 3.10).
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+        import envc.datasets
+    return envc.datasets.read_spec(path)
 
 
 def make_env_fn(env_id: str, params: dict):

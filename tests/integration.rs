@@ -17,6 +17,7 @@ mod hand;
 mod invariants;
 mod joint_patterns;
 mod joystick_terms;
+mod kitchen;
 mod mamujoco;
 mod maze;
 mod minari;

@@ -56,6 +56,10 @@ pub(crate) fn info_doc(r: &ResolvedSpec, it: &InfoItem) -> String {
         InfoKind::GoalReached(c) => format!("1 if {} else 0", describe::goal_check(c)),
         InfoKind::GoalsReached(cs) => format!("1 if {} else 0", describe::goal_checks(cs)),
         InfoKind::Condition(cs) => format!("1 if {} else 0", describe::conditions(cs)),
+        InfoKind::GoalParts(which) => format!(
+            "per [goal] part: {} (1/0, or the completion order)",
+            which.name()
+        ),
     };
     if it.doc.is_empty() {
         format!("`{}`: {what}.", it.key)
@@ -129,6 +133,7 @@ fn kernel_formula(t: &envspec::ir::RewardTerm) -> String {
         TermKind::GoalsMissed(cs) => {
             format!("{w} × ((1 if {} else 0) − 1)", describe::goal_checks(cs))
         }
+        TermKind::PartsReached => format!("{w} × the number of [goal] parts reached now"),
     }
 }
 

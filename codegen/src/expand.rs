@@ -168,6 +168,7 @@ fn param_type(ty: ParamType) -> TokenStream {
         ParamType::String | ParamType::Table => quote!(::std::string::String),
         ParamType::Path => quote!(::std::path::PathBuf),
         ParamType::Body => quote!(::envc::typed::BodyRef),
+        ParamType::Names => quote!(::std::vec::Vec<::std::string::String>),
     }
 }
 
@@ -189,6 +190,7 @@ fn param_value(ty: ParamType, v: &ParamValue) -> TokenStream {
         (_, ParamValue::Str(s)) | (_, ParamValue::Table(s)) => {
             quote!(::std::string::String::from(#s))
         }
+        (_, ParamValue::Names(n)) => quote!(::std::vec![#(::std::string::String::from(#n)),*]),
     }
 }
 

@@ -138,7 +138,7 @@ impl Build {
                 .dataset_id
                 .clone()
                 .unwrap_or_else(|| s.dataset_id.clone()),
-            format: opts.format.unwrap_or(s.format),
+            format: opts.format.unwrap_or(s.format.into()),
             info,
         })
     }

@@ -20,6 +20,7 @@ fn param_json(v: &ParamValue) -> Option<PyJson> {
         ParamValue::Float(x) => PyJson::Float(*x),
         ParamValue::Range(a, b) => PyJson::List(vec![PyJson::Float(*a), PyJson::Float(*b)]),
         ParamValue::Str(s) => PyJson::Str(s.clone()),
+        ParamValue::Names(n) => PyJson::List(n.iter().map(|s| PyJson::Str(s.clone())).collect()),
         ParamValue::Table(_) => return None,
     })
 }

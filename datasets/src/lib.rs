@@ -54,7 +54,10 @@ mod tensor;
 mod writer;
 
 pub use build::{Build, BuildOptions, SpecActor};
-pub use build_spec::{Budget, DatasetSpec, PolicyMode, RefScores, datasets_dir};
+pub use build_spec::{
+    Budget, DatasetSpec, PolicyMode, RefScores, StorageFormat, bundled, datasets_dir, open_spec,
+    parse_spec,
+};
 pub use collector::{CollectOptions, Collector, EpisodeSummary, Policy, Recording, STOP};
 pub use episode::{EpisodeRecord, InfoColumn};
 pub use error::DatasetError;

@@ -66,6 +66,23 @@ pub enum ActionKind {
     /// The action, clipped to [−1, 1], spans each actuator's control range:
     /// `ctrl = clip(centre + action × half_width, ctrlrange)` (Gymnasium-Robotics' hands).
     CtrlRange,
+    /// The action, clipped to [−1, 1], is a velocity integrated from the position the agent
+    /// last observed: `ctrl = clip(observed + clip(scale × action, velocity) × dt, position)`
+    /// (Gymnasium-Robotics' Franka Kitchen, after D4RL).
+    PositionDelta,
+}
+
+/// `kind = "position_delta"`: where the observed position comes from and the bounds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositionDelta {
+    /// The `[observation.*]` segment read (noise and delay included), one value per actuator.
+    pub from: String,
+    /// Its index in `ResolvedSpec::observation`.
+    pub segment: usize,
+    /// Per actuator: the velocity bounds.
+    pub velocity: Vec<(f64, f64)>,
+    /// Per actuator: the position bounds.
+    pub position: Vec<(f64, f64)>,
 }
 
 impl ActionKind {
@@ -74,6 +91,7 @@ impl ActionKind {
         match self {
             ActionKind::PdPosition => "pd_position",
             ActionKind::CtrlRange => "ctrlrange",
+            ActionKind::PositionDelta => "position_delta",
         }
     }
 }
@@ -96,6 +114,8 @@ pub struct PdActions {
     pub kd: Option<f64>,
     /// Joint damping (`dof_damping`) of every actuated joint (Playground's "Kd").
     pub damping: Option<f64>,
+    /// `kind = "position_delta"` only: the observed position and the bounds.
+    pub delta: Option<PositionDelta>,
 }
 
 /// `‖command‖ > threshold` (or `<` with `below`) gates a term: the kernel is multiplied by 1 or 0
@@ -503,6 +523,12 @@ impl PdActions {
     pub fn describe(&self) -> String {
         if self.kind == ActionKind::CtrlRange {
             return "actions span the control ranges: ctrl = clip(centre + half_width × clip(action, -1, 1), ctrlrange)".to_string();
+        }
+        if let Some(d) = &self.delta {
+            return format!(
+                "position deltas: ctrl = clip(observation.{} + clip(scale × clip(action, -1, 1), velocity) × dt, position), scale {:?}, velocity {:?}, position {:?}",
+                d.from, self.scale, d.velocity, d.position
+            );
         }
         let pose = match &self.default_pose {
             DefaultPose::CtrlRangeCentre => "the control ranges' centres".to_string(),

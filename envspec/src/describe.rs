@@ -2,6 +2,7 @@
 //! `envc diff`, so a term reads the same everywhere.
 
 use crate::ir::*;
+use crate::manipulation::{GoalParts, GoalTable};
 use crate::selector::Selection;
 use crate::value::format_float;
 
@@ -150,6 +151,7 @@ fn kernel_alone(t: &RewardTerm) -> String {
         ),
         TermKind::GoalDistance(g) => goal_distance(g),
         TermKind::GoalsMissed(cs) => format!("(1 if {} else 0) − 1", goal_checks(cs)),
+        TermKind::PartsReached => "the number of [goal] parts still to complete reached now".into(),
         TermKind::Legged(l) => l.formula(),
     }
 }
@@ -416,6 +418,9 @@ pub fn info(spec: &ResolvedSpec, i: &InfoItem) -> String {
         InfoKind::GoalReached(c) => format!("1 if {} else 0", goal_check(c)),
         InfoKind::GoalsReached(cs) => format!("1 if {} else 0", goal_checks(cs)),
         InfoKind::Condition(cs) => format!("1 if {} else 0", conditions(cs)),
+        InfoKind::GoalParts(which) => {
+            format!("the [goal] parts {} (a list of names)", which.name())
+        }
     }
 }
 
@@ -558,10 +563,43 @@ pub fn manipulation(spec: &ResolvedSpec) -> Vec<String> {
         ));
     }
     if let Some(g) = &m.goal {
+        match &g.parts {
+            None => out.push(format!(
+                "[goal] achieved_goal = {} ({} values); desired_goal = goal",
+                g.achieved.text,
+                g.achieved.len()
+            )),
+            Some(p) => out.extend(goal_parts(g, p)),
+        }
+    }
+    out
+}
+
+/// A `[goal]` of parts: the checklist's rules, then each part in play.
+fn goal_parts(g: &GoalTable, p: &GoalParts) -> Vec<String> {
+    let mut out = vec![format!(
+        "[goal] {} parts, each done when its ‖achieved − desired‖ ({}) < {}; a part done {}; {}",
+        p.parts.len(),
+        p.norm.name(),
+        num(p.threshold),
+        if p.remove_done {
+            "leaves the list"
+        } else {
+            "stays on the list"
+        },
+        if p.terminate_when_done {
+            "terminated once every part is done"
+        } else {
+            "no termination"
+        }
+    )];
+    for part in &p.parts {
+        let names = &g.achieved.names[part.offset..part.offset + part.len()];
         out.push(format!(
-            "[goal] achieved_goal = {} ({} values); desired_goal = goal",
-            g.achieved.text,
-            g.achieved.len()
+            "  {:?}: {} -> {:?}",
+            part.name,
+            names.join(", "),
+            part.desired
         ));
     }
     out

@@ -305,6 +305,9 @@ pub enum Code {
     /// An `[end_effector]` or `[init] mocap` body that is not a mocap body of the compiled model,
     /// or (for `[end_effector]`) one no weld constraint ties to a robot body.
     E1111,
+    /// A dataset spec (`specs/datasets/**.toml`) that cannot be read: not TOML, an unknown or
+    /// missing key, a wrong type, no budget or both, an unknown format.
+    E1801,
     /// An internal failure (a bug in envc) caught at the Python boundary.
     E1900,
 }

@@ -19,7 +19,7 @@ pub use crate::conditions::CmpOp;
 pub use added::{ActuatorKind, AddedActuator, AddedElement, AddedGeomType};
 pub use goal::{Desired, GoalCheck, GoalDistance, GoalNorm};
 pub use health::{CheckKind, HealthCheck, Termination};
-pub use info::{InfoItem, InfoKind};
+pub use info::{InfoItem, InfoKind, PartSet};
 pub use model_edits::{GeomEdit, JointEdit, JointRow, ModelEdits, SpecKeyframe};
 pub use observation::{Apply, Segment};
 pub use physics::{Integrator, SOLVER_OPTIONS, SolverOption};
@@ -28,7 +28,7 @@ pub use reward::{Divisor, RewardTerm, SumNode, TermKind};
 pub use terrain::{Terrain, TerrainTile, TileKind};
 
 pub use crate::commands::{
-    ActionKind, Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions,
+    ActionKind, Command, DefaultPose, FeetContact, Gate, LeggedTerm, PdActions, PositionDelta,
 };
 pub use crate::conditions::{Condition, Indicator, Quantity};
 use crate::mjcf::ModelInfo;

@@ -29,7 +29,19 @@ pub const END_EFFECTOR_KEYS: &[&str] = &[
     "doc",
 ];
 /// Keys of `[goal]`.
-pub const GOAL_TABLE_KEYS: &[&str] = &["achieved", "marker", "doc"];
+pub const GOAL_TABLE_KEYS: &[&str] = &[
+    "achieved",
+    "marker",
+    "parts",
+    "in_play",
+    "threshold",
+    "norm",
+    "remove_done",
+    "terminate_when_done",
+    "doc",
+];
+/// Keys of one `[goal.parts]` row.
+pub const GOAL_PART_KEYS: &[&str] = &["achieved", "desired"];
 /// Keys of `[hold.<name>]`.
 pub const HOLD_KEYS: &[&str] = &["joints", "value", "when", "doc"];
 
@@ -160,4 +172,49 @@ pub struct GoalTable {
     /// `marker`: a mocap body put at the goal at every reset (a 3-D goal), so the goal is
     /// seen in renders and read as `xpos[marker]`.
     pub marker: Option<String>,
+    /// `[goal.parts]`: the goal as named parts (observed as dicts of named goals), each with a
+    /// fixed desired value, kept as a checklist; `None` for a single goal vector.
+    pub parts: Option<GoalParts>,
+}
+
+/// A goal made of named parts in play, each done when `‖achieved − desired‖ < threshold`
+/// (the norm as `norm` says). The env keeps which parts are still to complete through an
+/// episode: `parts_reached` rewards the ones reached, a part reached leaves the list
+/// (`remove_done`), and the episode terminates once every part has been reached
+/// (`terminate_when_done`): Gymnasium-Robotics' Franka Kitchen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GoalParts {
+    /// The parts in play, in order; the goal vector is their desired values end to end, and
+    /// `achieved` their achieved selections.
+    pub parts: Vec<GoalPart>,
+    /// The distance below which a part counts as reached (strictly).
+    pub threshold: f64,
+    /// How a part's distance sums its squares.
+    pub norm: crate::goal_norm::GoalNorm,
+    /// A part reached leaves the list of parts still to complete.
+    pub remove_done: bool,
+    /// The episode terminates when every part has been reached at least once.
+    pub terminate_when_done: bool,
+}
+
+/// One named part of a goal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GoalPart {
+    /// The name (the key in the observation's goal dicts).
+    pub name: String,
+    /// Where the part's numbers start in the goal vector.
+    pub offset: usize,
+    /// Its desired value (the goal vector's numbers from `offset`).
+    pub desired: Vec<f64>,
+}
+
+impl GoalPart {
+    /// The number of goal numbers of the part.
+    pub fn len(&self) -> usize {
+        self.desired.len()
+    }
+    /// Whether the part has no numbers (never: the resolver refuses it).
+    pub fn is_empty(&self) -> bool {
+        self.desired.is_empty()
+    }
 }

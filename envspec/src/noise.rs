@@ -44,6 +44,15 @@ pub struct Noise {
     pub scale: f64,
     /// A multiplier shared by segments (Playground's `noise_config.level`), 1 by default.
     pub level: f64,
+    /// `order = "level_scale_draw"`: `(level · scale) · draw` (Gymnasium-Robotics' and D4RL's
+    /// `ratio * amp * uniform(-1, 1)`), where the default multiplies left to right from the
+    /// draw, `draw · level · scale` (Playground's). The two round differently.
+    pub scale_first: bool,
+}
+
+impl Noise {
+    /// The `order` values a spec may write.
+    pub const ORDERS: &'static [&'static str] = &["draw_level_scale", "level_scale_draw"];
 }
 
 impl Noise {
@@ -66,6 +75,9 @@ impl fmt::Display for Noise {
         }
         if self.level != 1.0 {
             write!(f, " (level {} × scale {})", self.level, self.scale)?;
+        }
+        if self.scale_first {
+            f.write_str(", (level · scale) · draw")?;
         }
         Ok(())
     }

@@ -59,14 +59,52 @@ pub fn expand_env(s: &str) -> Result<String, String> {
         };
         let name = &rest[i + 2..i + 2 + len];
         out.push_str(&rest[..i]);
-        match std::env::var(name) {
-            Ok(v) => out.push_str(&v),
-            Err(_) => return Err(name.to_string()),
+        let value = match name.strip_prefix("python:") {
+            Some(package) => python_package_dir(package).map(|p| p.to_string_lossy().into_owned()),
+            None => std::env::var(name).ok(),
+        };
+        match value {
+            Some(v) => out.push_str(&v),
+            None => return Err(name.to_string()),
         }
         rest = &rest[i + 3 + len..];
     }
     out.push_str(rest);
     Ok(out)
+}
+
+/// The directory of the installed Python package `name` (`${python:name}`): the first entry of
+/// `ENVC_PYTHON_PATH`, then `PYTHONPATH`, then the `sys.path` of `python3` (the envc package
+/// sets `ENVC_PYTHON_PATH` to its own interpreter's `sys.path` when imported) holding
+/// `name/__init__.py`. Found by hand: no crate asks an interpreter for its search path.
+pub fn python_package_dir(name: &str) -> Option<PathBuf> {
+    let valid = !name.is_empty()
+        && name
+            .split('.')
+            .all(|p| !p.is_empty() && p.chars().all(|c| c.is_alphanumeric() || c == '_'));
+    if !valid {
+        return None;
+    }
+    let rel: PathBuf = name.split('.').collect();
+    let find = |dirs: &mut dyn Iterator<Item = PathBuf>| {
+        dirs.map(|d| d.join(&rel))
+            .find(|p| p.join("__init__.py").is_file())
+            .and_then(|p| std::path::absolute(p).ok())
+    };
+    for var in ["ENVC_PYTHON_PATH", "PYTHONPATH"] {
+        if let Some(v) = std::env::var_os(var)
+            && let Some(p) = find(&mut std::env::split_paths(&v))
+        {
+            return Some(p);
+        }
+    }
+    let out = std::process::Command::new("python3")
+        .args(["-c", "import sys; print('\\n'.join(sys.path))"])
+        .stderr(std::process::Stdio::null())
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    find(&mut text.lines().filter(|l| !l.is_empty()).map(PathBuf::from))
 }
 
 #[cfg(test)]

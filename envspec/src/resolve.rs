@@ -20,6 +20,7 @@ mod edits;
 mod events;
 mod geom_properties;
 mod goal;
+mod goal_parts;
 mod health;
 mod info;
 mod joint_properties;
@@ -46,6 +47,8 @@ struct Ctx<'a> {
     d: Diagnostics,
     /// Length of the env-held goal vector, and where a `desired = "goal"` first fixed it.
     goal_dim: Option<(usize, Location)>,
+    /// The number of `[goal]` parts in play (0: the goal is not made of parts).
+    goal_parts: usize,
     /// `[commands.*]`, resolved before anything that may select them (`command[...]`).
     commands: Vec<Command>,
     /// `[derived.*]` resolved so far (`derived[...]` sees the tables above it).
@@ -69,6 +72,7 @@ impl<'a> Ctx<'a> {
             model,
             d,
             goal_dim: None,
+            goal_parts: 0,
             commands: vec![],
             derived: vec![],
             derived_failed: vec![],
@@ -99,10 +103,11 @@ pub fn resolve(spec: &Spec, overrides: &[Override]) -> Result<ResolvedSpec, Diag
     let command_dim = commands.iter().map(Command::len).sum();
     let derived = cx.derived();
     let derived_dim = derived.iter().map(|d| d.len).sum();
-    let actions = cx.actions();
+    let mut actions = cx.actions();
     let manipulation = cx.manipulation();
 
     let observation = cx.observation();
+    cx.link_action_source(&mut actions, &observation);
     let corruption = cx.corruption(&observation);
     let obs_dim = observation.iter().map(Segment::len).sum();
     let (reward, reward_sum, off) = cx.rewards();
@@ -251,13 +256,22 @@ fn load_model(spec: &Spec, xml: &Param) -> Result<(PathBuf, ModelInfo), Diagnost
                 Origin::Override(_) => None,
             };
             Diagnostics::from(
-                Diagnostic::new(
-                    Code::E0301,
-                    format!("xml_file names ${{{name}}}, an environment variable that is not set"),
-                )
-                .at_opt(at)
-                .label("expected a path; ${NAME} reads the variable NAME")
-                .help(format!("set it, e.g. `export {name}=/path/to/models`")),
+                match name.strip_prefix("python:") {
+                    Some(package) => Diagnostic::new(
+                        Code::E0301,
+                        format!("xml_file names ${{{name}}}, and no Python package `{package}` is installed where envc looks"),
+                    )
+                    .at_opt(at)
+                    .label("expected a path; ${python:PACKAGE} is the installed package's directory")
+                    .help(format!("install it (`pip install ...`), or set ENVC_PYTHON_PATH to the directory holding `{package}/`")),
+                    None => Diagnostic::new(
+                        Code::E0301,
+                        format!("xml_file names ${{{name}}}, an environment variable that is not set"),
+                    )
+                    .at_opt(at)
+                    .label("expected a path; ${NAME} reads the variable NAME")
+                    .help(format!("set it, e.g. `export {name}=/path/to/models`")),
+                },
             )
         })?,
         _ => unreachable!("xml_file is a path parameter"),

@@ -87,7 +87,7 @@ cases! {
         expect: Fails(&[err(E0104).at("32:8")
             .msg("unknown reward kind `sum_square` in [reward.ctrl]")
             .help("did you mean `sum_squares`?")
-            .label("expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions")]),
+            .label("expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, parts_reached, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions")]),
     }
 
     unknown_health_reset_and_info_kinds {
@@ -537,7 +537,7 @@ error[E0104]: unknown reward kind `sum_square` in [reward.ctrl]
   --> specs/mini.toml:32:8
    |
 32 | kind = \"sum_square\"
-   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions
+   |        ^^^^^^^^^^^^ expected one of: velocity, healthy, sum_squares, norm, quadratic, value, constant, weighted_square, goal_sparse, goal_dense, goal_missed, goal_distance, goals_missed, parts_reached, tracking, sum_abs, action_rate, feet_air_time, feet_slip, joint_limits, posture, feet_clearance, feet_swing_height, soft_landing, self_collisions
    = help: did you mean `sum_squares`?
 ";
     assert_eq!(d.0[0].to_string(), expected);

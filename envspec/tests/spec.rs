@@ -5,6 +5,7 @@
 mod agents_typos;
 mod bad_input;
 mod commands;
+mod dataset_specs;
 mod entry_point;
 mod events;
 mod fixed_params;

@@ -14,9 +14,14 @@ vector envs, ``envc.parallel_env`` for multi-agent specs.
 from __future__ import annotations
 
 import os as _os
+import sys as _sys
 from typing import TYPE_CHECKING, Any
 
 from ._mujoco import load_core as _load_core
+
+# `${python:PACKAGE}` in a spec's xml_file is found on this interpreter's search path (the
+# resolver reads ENVC_PYTHON_PATH; a user's own setting wins).
+_os.environ.setdefault("ENVC_PYTHON_PATH", _os.pathsep.join(p for p in _sys.path if p))
 
 # The native core built for the installed MuJoCo (envc/_mujoco.py): every module below imports it
 # as `envc._envc`.

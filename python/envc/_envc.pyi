@@ -34,11 +34,13 @@ __all__ = [
     "gpu_plan",
     "open",
     "parameters",
+    "read_dataset_spec",
     "recover_spec",
     "register",
     "registry",
     "set_bundle_root",
     "spec_path_problems",
+    "with_reference_scores",
 ]
 
 __mujoco_version__: str
@@ -174,6 +176,18 @@ def build_driver(
 def datasets_dir() -> str:
     """The bundled dataset specs' directory."""
 
+def read_dataset_spec(spec: str) -> dict[str, Any]:
+    """A dataset spec file or bundled id, checked (E1801 at its line and column), as its TOML
+    data: the tables as written, `[train]` included."""
+
+def with_reference_scores(
+    path: str | PathLike[str],
+    ref_min_score: float,
+    ref_max_score: float,
+    num_episodes_average_score: int,
+) -> str:
+    """The spec's text with `[reference_scores]` set, every other line kept as written."""
+
 @final
 class SpecPolicy:
     """A dataset spec's `.npz` policy, run in Rust: `policy(obs) -> float32 action`."""
@@ -255,6 +269,10 @@ class TaskCore(EnvCore):
     def params(self) -> list[tuple[str, str]]: ...
     @property
     def goal_dim(self) -> int: ...
+    @property
+    def goal_parts(self) -> list[tuple[str, int]]: ...
+    @property
+    def parts_info_keys(self) -> list[str]: ...
     @property
     def goal_reward_float32(self) -> bool: ...
     @property

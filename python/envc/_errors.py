@@ -62,8 +62,8 @@ class SimulationError(Error, RuntimeError, ValueError):
 
 
 class DatasetError(Error, ValueError):
-    """A Minari dataset that cannot be read or written, or a collection that failed (E12xx,
-    E1600–E1602)."""
+    """A Minari dataset that cannot be read or written, a collection that failed, or a dataset
+    spec that cannot be used (E12xx, E1600–E1602, E1801–E1802)."""
 
 
 class ArgumentError(Error, TypeError, ValueError):
@@ -110,7 +110,7 @@ def class_for(code: str) -> type[Error]:
         return ActionError
     if code in ("E1001", "E1002", "E1003", "E1110", "E1111", "E1120"):
         return ModelError
-    if code.startswith(("E12", "E16")):
+    if code.startswith(("E12", "E16", "E18")):
         return DatasetError
     if code < "E1000" or code.startswith("E13") or code in ("E1503", "E1504", "E1505"):
         return SpecError

@@ -280,9 +280,21 @@ class EnvcEnv(CoreEnv, gym.Env):
         self.metadata = {"render_modes": list(RENDER_MODES), "render_fps": _fps(core.dt)}
         obs_space = gym.spaces.Box(low=core.obs_low, high=core.obs_high, dtype=np.float64)
         self._goal_dim = core.goal_dim
+        # A `[goal]` of parts: goals are dicts of named parts (Gymnasium-Robotics' Kitchen).
+        self._parts: tuple[tuple[str, int], ...] = tuple(core.goal_parts)
+        self._parts_info: tuple[str, ...] = tuple(core.parts_info_keys)
         if self._goal_dim:
             # A `[goal]` task: Gymnasium-Robotics' dict observation (its Dict sorts the keys).
-            goal = gym.spaces.Box(-np.inf, np.inf, shape=(self._goal_dim,), dtype=np.float64)
+            goal: gym.Space[Any] = gym.spaces.Box(
+                -np.inf, np.inf, shape=(self._goal_dim,), dtype=np.float64
+            )
+            if self._parts:
+                goal = gym.spaces.Dict(
+                    {
+                        name: gym.spaces.Box(-np.inf, np.inf, shape=(n,), dtype=np.float64)
+                        for name, n in self._parts
+                    }
+                )
             self.observation_space: gym.Space[Any] = gym.spaces.Dict(
                 dict(desired_goal=goal, achieved_goal=goal, observation=obs_space)
             )
@@ -310,7 +322,41 @@ class EnvcEnv(CoreEnv, gym.Env):
         for k in self._bool_keys:
             if k in info:
                 info[k] = np.bool_(info[k] != 0.0)
+        if self._parts:
+            return self._present_parts(obs, info)
         return obs, info
+
+    def _present_parts(self, obs: Any, info: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+        """A `[goal]` of parts: goals as dicts of named parts, `goal_parts` info as lists of
+        names (ordered by value: completion order, else part order)."""
+        for key in ("achieved_goal", "desired_goal"):
+            flat, off, parts = obs[key], 0, {}
+            for name, n in self._parts:
+                parts[name] = flat[off : off + n].copy()
+                off += n
+            obs[key] = parts
+        names = [name for name, _ in self._parts]
+        for k in self._parts_info:
+            if k in info:
+                v = np.atleast_1d(info[k])
+                ranked = sorted((v[i], i) for i in range(len(names)) if v[i] != 0.0)
+                info[k] = [names[i] for _, i in ranked]
+        return obs, info
+
+    def _flat_goal(self, goal: Any) -> Any:
+        """A dict of named parts as the flat goal vectors they make (anything else as given)."""
+        if not (self._parts and isinstance(goal, dict)):
+            return goal
+        try:
+            return np.concatenate(
+                [np.asarray(goal[name], dtype=np.float64) for name, _ in self._parts], axis=-1
+            )
+        except (KeyError, ValueError) as e:
+            raise _errors.coded(
+                f"error[E1105]: goal parts: expected the keys {[n for n, _ in self._parts]} "
+                f"with matching shapes ({e})",
+                "E1105",
+            ) from None
 
     def step(
         self, action: object
@@ -325,8 +371,10 @@ class EnvcEnv(CoreEnv, gym.Env):
             out = self._core.step_f32(np.ascontiguousarray(a))
         else:
             out = self._core.step(np.ascontiguousarray(a, dtype=np.float64))
-        if self._f32_reward or self._f32_keys or self._bool_keys:
+        if self._f32_reward or self._f32_keys or self._bool_keys or self._parts:
             obs, reward, terminated, truncated, info = out
+            if self._parts:
+                obs, info = self._present_parts(obs, info)
             for k in self._f32_keys:
                 if k in info:
                     info[k] = np.float32(info[k])
@@ -361,7 +409,9 @@ class EnvcEnv(CoreEnv, gym.Env):
                 "[goal] table (docs/spec-reference.md §22)",
                 "E0170",
             )
-        a, d, lead = goal_batches(achieved_goal, desired_goal, self._goal_dim)
+        a, d, lead = goal_batches(
+            self._flat_goal(achieved_goal), self._flat_goal(desired_goal), self._goal_dim
+        )
         r = self._core.compute_reward(a, d)
         if self._core.goal_reward_float32:
             r = r.astype(np.float32)
@@ -370,9 +420,10 @@ class EnvcEnv(CoreEnv, gym.Env):
     def compute_terminated(self, achieved_goal: Any, desired_goal: Any, info: Any = None) -> Any:
         """False for a task without ``[termination.*]`` (Gymnasium-Robotics' Fetch): a bool, or
         a bool array of the leading shape (E0170 for a task with termination conditions)."""
-        if self._core.terminations:
+        if self._core.terminations or self._parts:
             raise _errors.coded(
-                "error[E0170]: compute_terminated: this task's [termination.*] conditions are not "
+                "error[E0170]: compute_terminated: this task's termination (its "
+                "[termination.*] conditions, or the parts of its goal completed) is not "
                 "evaluated on given goals; step the env instead",
                 "E0170",
             )

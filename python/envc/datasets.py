@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import sys
 import time
 from typing import TYPE_CHECKING, Any, Literal, cast
 
@@ -20,7 +19,7 @@ from . import _envc
 if TYPE_CHECKING:
     from ._envc import _Format
 
-__all__ = ["build", "bundled", "main", "policy", "reference_scores"]
+__all__ = ["build", "bundled", "main", "policy", "read_spec", "reference_scores"]
 
 # Per-chunk attempts before a sharded build gives up (as envc.ray).
 MAX_ATTEMPTS = 4
@@ -35,6 +34,14 @@ def bundled() -> list[str]:
             if f.endswith(".toml"):
                 out.append(os.path.relpath(os.path.join(d, f), root)[: -len(".toml")])
     return sorted(out)
+
+
+def read_spec(spec: str | os.PathLike[str]) -> dict[str, Any]:
+    """A dataset spec (a file or a bundled id) as its TOML data, ``[train]`` included, read and
+    checked by envc's own reader: a mistake is an ``envc.Error`` with code E1801 at its line and
+    column."""
+    spec = os.fspath(spec)
+    return _envc.read_dataset_spec(os.path.abspath(spec) if os.path.exists(spec) else spec)
 
 
 def build(
@@ -206,10 +213,6 @@ def reference_scores(
     default the spec's ``expert-v0`` sibling), each the mean over ``episodes`` episodes, the
     first reset with seed 123 (as Minari). Needs gymnasium and minari."""
     import gymnasium as gym
-    if sys.version_info >= (3, 11):
-        import tomllib
-    else:  # the package's `tomli` dependency on 3.10
-        import tomli as tomllib
     from minari.utils import RandomPolicy, get_average_reference_score
 
     path = _spec_path(spec)
@@ -218,8 +221,7 @@ def reference_scores(
         if expert is not None
         else os.path.join(os.path.dirname(path), "expert-v0.toml")
     )
-    with open(path, "rb") as f:
-        d = tomllib.load(f)
+    d = read_spec(path)
     eval_id = d["metadata"].get("eval_env", d["dataset"]["env"])
     params = d["metadata"].get("eval_params", d["dataset"].get("params", {}))
     env = gym.make(eval_id, **params)
@@ -284,27 +286,24 @@ def write_reference_scores(
     spec: str | os.PathLike[str], scores: dict[str, float]
 ) -> list[str]:
     """Store ``scores`` as the ``[reference_scores]`` table of every dataset spec beside ``spec``
-    (the tiers of one env share them, as Minari's generation scripts did)."""
-    import re
-
-    table = "[reference_scores]\n" + "".join(
-        f"{k} = {scores[k]!r}\n"
-        for k in ("ref_min_score", "ref_max_score", "num_episodes_average_score")
-    )
+    (the tiers of one env share them, as Minari's generation scripts did). The edit is
+    structural: every other table, comment and blank line stays as written."""
     d = os.path.dirname(_spec_path(spec))
-    written = []
-    for f in sorted(os.listdir(d)):
-        if not f.endswith(".toml"):
-            continue
-        p = os.path.join(d, f)
-        with open(p) as fh:
-            text = fh.read()
-        text = re.sub(r"\n\[reference_scores\]\n(?:[^\[\n][^\n]*\n)*", "\n", text)
-        text = text.replace("\n[train]\n", "\n" + table + "\n[train]\n", 1)
-        with open(p, "w") as fh:
+    paths = [os.path.join(d, f) for f in sorted(os.listdir(d)) if f.endswith(".toml")]
+    # Every spec edited before any is written: one that is not a dataset spec (E1801) stops all.
+    texts = [
+        _envc.with_reference_scores(
+            p,
+            float(scores["ref_min_score"]),
+            float(scores["ref_max_score"]),
+            int(scores["num_episodes_average_score"]),
+        )
+        for p in paths
+    ]
+    for p, text in zip(paths, texts, strict=True):
+        with open(p, "w", encoding="utf-8") as fh:
             fh.write(text)
-        written.append(p)
-    return written
+    return paths
 
 
 if __name__ == "__main__":

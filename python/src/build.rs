@@ -4,14 +4,14 @@
 
 use std::path::PathBuf;
 
-use envc_datasets::{Budget, Build, BuildOptions, DatasetSpec, Format, MlpPolicy, PolicyMode};
+use envc_datasets::{Budget, Build, BuildOptions, Format, MlpPolicy, PolicyMode};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::errors;
 
 fn open(spec: &str, steps: Option<u64>) -> PyResult<Build> {
-    let spec = DatasetSpec::open(spec).map_err(errors::dataset_error)?;
+    let spec = envc_datasets::open_spec(spec).map_err(errors::dataset_error)?;
     Build::new(spec, steps).map_err(errors::dataset_error)
 }
 
@@ -74,7 +74,7 @@ pub fn dataset_build_plan(
         Budget::Steps(n) => ("steps", n),
         Budget::Episodes(n) => ("episodes", n),
     };
-    let format = opts.format.unwrap_or(build.spec.format).name();
+    let format = opts.format.unwrap_or(build.spec.format.into()).name();
     Ok((build.spec.seed, kind, n, build.max_episode_steps, format))
 }
 

@@ -237,6 +237,7 @@ fn reward_term(t: &RewardTerm, not_exported: &mut Vec<String>) -> Value {
         | TermKind::GoalMissed(_)
         | TermKind::GoalDistance(_)
         | TermKind::GoalsMissed(_)
+        | TermKind::PartsReached
         | TermKind::WeightedSquare { .. }
         | TermKind::Legged(_) => {
             not_exported.push(format!("[reward.{}] kind = \"{}\"", t.name, t.kind_name()));
@@ -362,6 +363,10 @@ fn info_item(i: &InfoItem, not_exported: &mut Vec<String>) -> Value {
         InfoKind::Condition(_) => {
             o.insert("kind".into(), json!("condition"));
             not_exported.push(format!("[info.{}] kind = \"condition\"", i.key));
+        }
+        InfoKind::GoalParts(_) => {
+            o.insert("kind".into(), json!("goal_parts"));
+            not_exported.push(format!("[info.{}] kind = \"goal_parts\"", i.key));
         }
     }
     v

@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 mod build;
 mod collect;
 mod convert;
+mod dataset_spec;
 mod env_core;
 mod errors;
 mod gpu;
@@ -216,6 +217,8 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(build::build_driver, m)?)?;
     m.add_class::<build::SpecPolicy>()?;
     m.add_function(wrap_pyfunction!(build::datasets_dir, m)?)?;
+    m.add_function(wrap_pyfunction!(dataset_spec::read_dataset_spec, m)?)?;
+    m.add_function(wrap_pyfunction!(dataset_spec::with_reference_scores, m)?)?;
     m.add_function(wrap_pyfunction!(gpu::gpu_plan, m)?)?;
     m.add_class::<collect::ShardedCollection>()?;
     m.add_class::<env_core::EnvCore>()?;

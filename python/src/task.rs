@@ -40,6 +40,24 @@ impl TaskCore {
             0
         }
     }
+    /// A `[goal]` of parts: each part in play's name and length, in goal-vector order (empty
+    /// for a single goal).
+    #[getter]
+    fn goal_parts(&self) -> Vec<(String, usize)> {
+        let goal = self.env.spec().manipulation.goal.as_ref();
+        let parts = goal.and_then(|g| g.parts.as_ref());
+        parts.map_or(vec![], |p| {
+            p.parts.iter().map(|x| (x.name.clone(), x.len())).collect()
+        })
+    }
+    /// The info keys of `goal_parts` entries: one value per part, reported as a list of names.
+    #[getter]
+    fn parts_info_keys(&self) -> Vec<String> {
+        let info = self.env.spec().info.iter();
+        info.filter(|i| matches!(i.kind, envspec::ir::InfoKind::GoalParts(_)))
+            .map(|i| i.key.clone())
+            .collect()
+    }
     /// The info keys reported as numpy float32 (`dtype = "float32"`).
     #[getter]
     fn float32_info_keys(&self) -> Vec<String> {

@@ -201,7 +201,7 @@ impl Legged {
         let m = model.ffi();
         let (nu, nq) = (m.nu as usize, m.nq as usize);
         self.pd = true;
-        if a.kind == ActionKind::PdPosition {
+        if matches!(a.kind, ActionKind::PdPosition | ActionKind::PositionDelta) {
             self.scale.clone_from(&a.scale);
         }
         match &a.default_pose {
@@ -309,6 +309,29 @@ impl Legged {
             for (i, c) in ctrl.iter_mut().enumerate() {
                 *c = action(i);
             }
+        }
+    }
+
+    /// `[actions] kind = "position_delta"`: `ctrl = clip(observed + clip(0 + scale × action,
+    /// velocity) × dt, position)`, the action first clipped to [−1, 1], in the reference's order
+    /// (`act_mid + action × act_rng` with `act_mid = 0`).
+    pub fn write_ctrl_delta(
+        &self,
+        d: &envspec::ir::PositionDelta,
+        action: &[f64],
+        observed: &[f64],
+        dt: f64,
+        ctrl: &mut [f64],
+    ) {
+        for (i, c) in ctrl.iter_mut().enumerate() {
+            let a = crate::numerics::clip(action[i], -1.0, 1.0);
+            // `0.0 +` as the reference adds its zero midpoint: −0.0 becomes +0.0.
+            #[allow(clippy::identity_op)]
+            let v = 0.0 + a * self.scale[i];
+            let (vlo, vhi) = d.velocity[i];
+            let (plo, phi) = d.position[i];
+            let v = crate::numerics::clip(v, vlo, vhi);
+            *c = crate::numerics::clip(observed[i] + v * dt, plo, phi);
         }
     }
 

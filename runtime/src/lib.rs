@@ -40,6 +40,7 @@ pub mod environment;
 pub mod error;
 pub mod events;
 pub mod goal;
+mod goal_parts;
 pub mod gymnasium;
 pub mod joint_env;
 mod landings;

@@ -27,12 +27,18 @@ pub(crate) struct ObsNoise {
     rings: Vec<Ring>,
 }
 
-/// One noise value: Playground's `(2u − 1)·level·scale` or `z·level·scale`, left to right.
+/// One noise value: Playground's `(2u − 1)·level·scale` or `z·level·scale`, left to right, or
+/// `(level·scale)·draw` with `order = "level_scale_draw"`.
 #[inline]
 fn draw(n: &Noise, rng: &mut NumpyRng) -> f64 {
-    match n.kind {
-        NoiseKind::Uniform => (2.0 * rng.next_f64() - 1.0) * n.level * n.scale,
-        NoiseKind::Gaussian => rng.standard_normal() * n.level * n.scale,
+    let x = match n.kind {
+        NoiseKind::Uniform => 2.0 * rng.next_f64() - 1.0,
+        NoiseKind::Gaussian => rng.standard_normal(),
+    };
+    if n.scale_first {
+        (n.level * n.scale) * x
+    } else {
+        x * n.level * n.scale
     }
 }
 

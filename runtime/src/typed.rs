@@ -62,6 +62,11 @@ impl ToParam for (f64, f64) {
         ParamValue::Range(self.0, self.1)
     }
 }
+impl ToParam for Vec<String> {
+    fn to_param(&self) -> ParamValue {
+        ParamValue::Names(self.clone())
+    }
+}
 impl ToParam for String {
     fn to_param(&self) -> ParamValue {
         ParamValue::Str(self.clone())

@@ -117,9 +117,9 @@ fn build(
     dataset_id: Option<String>,
     format: Option<&str>,
 ) -> Result<Outcome> {
-    use envc_datasets::{Build, BuildOptions, DatasetSpec, Format};
+    use envc_datasets::{Build, BuildOptions, Format};
     let err = |e: envc_datasets::DatasetError| anyhow::anyhow!("{e}");
-    let spec = DatasetSpec::open(spec).map_err(err)?;
+    let spec = envc_datasets::open_spec(spec).map_err(err)?;
     let id = dataset_id
         .clone()
         .unwrap_or_else(|| spec.dataset_id.clone());

@@ -261,7 +261,9 @@ fn write_action(
     if let Some(a) = &spec.actions {
         let pose = env.field(envspec::Field::DefaultPose);
         writeln!(o, "  {}", a.describe())?;
-        writeln!(o, "  default_pose = {pose:?}")?;
+        if a.delta.is_none() {
+            writeln!(o, "  default_pose = {pose:?}")?;
+        }
     }
     Ok(())
 }

@@ -74,6 +74,7 @@ enum TermKindKey {
     GoalMissed(GoalCheckKey),
     GoalDistance(GoalDistanceKey),
     GoalsMissed(Vec<GoalCheckKey>),
+    PartsReached,
     /// A legged kernel, compared by its whole resolved value.
     Legged(String),
 }
@@ -150,6 +151,7 @@ pub(crate) fn term(t: &RewardTerm) -> TermKey {
         TermKind::GoalMissed(c) => TermKindKey::GoalMissed(goal_check(c)),
         TermKind::GoalDistance(g) => TermKindKey::GoalDistance(goal_distance(g)),
         TermKind::GoalsMissed(cs) => TermKindKey::GoalsMissed(cs.iter().map(goal_check).collect()),
+        TermKind::PartsReached => TermKindKey::PartsReached,
         TermKind::Legged(l) => TermKindKey::Legged(format!("{l:?}")),
     };
     TermKey {
@@ -275,6 +277,7 @@ pub(crate) enum InfoKey {
     GoalsReached(Vec<GoalCheckKey>),
     /// The conditions, compared by their whole resolved value.
     Condition(String),
+    GoalParts(PartSet, usize),
 }
 
 pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
@@ -288,6 +291,7 @@ pub(crate) fn info(r: &ResolvedSpec, i: &InfoItem) -> InfoKey {
         InfoKind::GoalReached(c) => InfoKey::GoalReached(goal_check(c)),
         InfoKind::GoalsReached(cs) => InfoKey::GoalsReached(cs.iter().map(goal_check).collect()),
         InfoKind::Condition(cs) => InfoKey::Condition(format!("{cs:?}")),
+        InfoKind::GoalParts(which) => InfoKey::GoalParts(*which, i.len),
     }
 }
 

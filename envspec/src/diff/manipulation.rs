@@ -27,8 +27,8 @@ pub(super) fn manipulation(cx: &mut Ctx) {
         (
             RuleId::GoalChanged,
             "goal",
-            o.goal.as_ref().map(|g| g.achieved.names.join(", ")),
-            n.goal.as_ref().map(|g| g.achieved.names.join(", ")),
+            o.goal.as_ref().map(goal),
+            n.goal.as_ref().map(goal),
         ),
     ];
     for (rule, table, was, now) in tables {
@@ -53,5 +53,14 @@ pub(super) fn manipulation(cx: &mut Ctx) {
             .values(was, now)
             .at(at(cx.old), at(cx.new));
         cx.add(c);
+    }
+}
+
+/// What a `[goal]` resolves to: the achieved elements, and the parts with their values.
+fn goal(g: &crate::manipulation::GoalTable) -> String {
+    let names = g.achieved.names.join(", ");
+    match &g.parts {
+        None => names,
+        Some(p) => format!("{names}; {p:?}"),
     }
 }

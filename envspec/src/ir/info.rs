@@ -33,6 +33,44 @@ pub enum InfoKind {
     GoalsReached(Vec<GoalCheck>),
     /// 1.0 when every condition holds, else 0.0 (spec kind `condition`).
     Condition(Vec<Condition>),
+    /// One value per `[goal]` part in play (spec kind `goal_parts`), which the Python package
+    /// reports as the list of the parts' names whose value is not 0, ordered by value.
+    GoalParts(PartSet),
+}
+
+/// Which parts a `goal_parts` info entry lists.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PartSet {
+    /// Still to complete: 1 or 0 (`which = "remaining"`, Kitchen's `tasks_to_complete`).
+    Remaining,
+    /// Reached by this step while still to complete: 1 or 0 (`which = "reached"`,
+    /// `step_task_completions`).
+    Reached,
+    /// Reached at least once this episode: the order of completion, 1 for the first, else 0
+    /// (`which = "completed"`, `episode_task_completions`).
+    Completed,
+}
+
+impl PartSet {
+    /// The `which` values a spec may write.
+    pub const NAMES: &'static [&'static str] = &["remaining", "reached", "completed"];
+    /// The set a spec's `which = "..."` names.
+    pub fn parse(s: &str) -> Option<PartSet> {
+        match s {
+            "remaining" => Some(PartSet::Remaining),
+            "reached" => Some(PartSet::Reached),
+            "completed" => Some(PartSet::Completed),
+            _ => None,
+        }
+    }
+    /// The `which` a spec writes for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            PartSet::Remaining => "remaining",
+            PartSet::Reached => "reached",
+            PartSet::Completed => "completed",
+        }
+    }
 }
 
 impl InfoKind {
@@ -58,7 +96,7 @@ impl InfoKind {
                         .into_iter(),
                 );
             }
-            InfoKind::Term(_) => (None, None),
+            InfoKind::Term(_) | InfoKind::GoalParts(_) => (None, None),
         };
         Either::Pair(a.into_iter().chain(b))
     }

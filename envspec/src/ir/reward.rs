@@ -80,6 +80,9 @@ pub enum TermKind {
     /// `(1.0 if every check is reached else 0.0) − 1.0` (spec kind `goals_missed`):
     /// Gymnasium-Robotics' hand manipulation `success − 1`, +0.0 when reached.
     GoalsMissed(Vec<GoalCheck>),
+    /// The number of `[goal]` parts still to complete that are reached now (spec kind
+    /// `parts_reached`; Franka Kitchen's reward, `len(step_task_completions)`).
+    PartsReached,
     /// A legged-locomotion kernel (`tracking`, `sum_abs`, `action_rate`, `feet_air_time`,
     /// `feet_slip`, `joint_limits`).
     Legged(LeggedTerm),
@@ -138,7 +141,7 @@ impl TermKind {
                         .into_iter(),
                 );
             }
-            TermKind::Healthy | TermKind::Constant => (None, None),
+            TermKind::Healthy | TermKind::Constant | TermKind::PartsReached => (None, None),
             TermKind::Legged(l) => return Either::Many(l.sources().into_iter()),
         };
         Either::Pair(a.into_iter().chain(b))
@@ -162,6 +165,7 @@ impl RewardTerm {
             TermKind::GoalMissed(_) => "goal_missed",
             TermKind::GoalDistance(_) => "goal_distance",
             TermKind::GoalsMissed(_) => "goals_missed",
+            TermKind::PartsReached => "parts_reached",
             TermKind::Legged(l) => l.kind_name(),
         }
     }

@@ -30,6 +30,8 @@ pub enum ParamType {
     Body,
     /// An opaque table (e.g. viewer camera settings).
     Table,
+    /// A list of names (strings), e.g. the parts of a checklist goal in play.
+    Names,
 }
 
 impl ParamType {
@@ -44,6 +46,7 @@ impl ParamType {
             ParamType::Path => "path",
             ParamType::Body => "body",
             ParamType::Table => "table",
+            ParamType::Names => "names",
         }
     }
     fn from_name(s: &str) -> ParamType {
@@ -55,6 +58,7 @@ impl ParamType {
             "path" => ParamType::Path,
             "body" => ParamType::Body,
             "table" => ParamType::Table,
+            "names" => ParamType::Names,
             _ => ParamType::Float,
         }
     }
@@ -68,6 +72,7 @@ impl ParamType {
             ParamType::Path => "a file path",
             ParamType::Body => "a body id (integer) or name (string)",
             ParamType::Table => "a table",
+            ParamType::Names => "a list of names, e.g. [\"a\", \"b\"]",
         }
     }
 }
@@ -87,6 +92,8 @@ pub enum ParamValue {
     Str(String),
     /// A table, kept as its TOML text.
     Table(String),
+    /// A list of names.
+    Names(Vec<String>),
 }
 
 impl fmt::Display for ParamValue {
@@ -98,6 +105,10 @@ impl fmt::Display for ParamValue {
             ParamValue::Range(a, b) => write!(f, "[{}, {}]", format_float(*a), format_float(*b)),
             ParamValue::Str(s) => write!(f, "{s:?}"),
             ParamValue::Table(t) => f.write_str(t),
+            ParamValue::Names(n) => {
+                let quoted: Vec<String> = n.iter().map(|s| format!("{s:?}")).collect();
+                write!(f, "[{}]", quoted.join(", "))
+            }
         }
     }
 }
@@ -194,6 +205,9 @@ pub fn decl_type(p: &ParamDecl) -> ParamType {
         ValKind::Int(_) => ParamType::Int,
         ValKind::Float(_) => ParamType::Float,
         ValKind::Str(_) => ParamType::String,
+        ValKind::Array(a) if a.first().is_some_and(|v| matches!(v.kind, ValKind::Str(_))) => {
+            ParamType::Names
+        }
         ValKind::Array(_) => ParamType::Range,
         ValKind::Table(_) => ParamType::Table,
     }
@@ -213,6 +227,14 @@ pub fn convert(v: &Val, ty: ParamType) -> Option<ParamValue> {
         (ParamType::Body, ValKind::Int(i)) => Some(ParamValue::Int(*i)),
         (ParamType::Body, ValKind::Str(s)) => Some(ParamValue::Str(s.clone())),
         (ParamType::Table, ValKind::Table(_)) => Some(ParamValue::Table(v.to_toml())),
+        (ParamType::Names, ValKind::Array(a)) => Some(ParamValue::Names(
+            a.iter()
+                .map(|x| match &x.kind {
+                    ValKind::Str(s) => Some(s.clone()),
+                    _ => None,
+                })
+                .collect::<Option<Vec<_>>>()?,
+        )),
         _ => None,
     }
 }
@@ -227,6 +249,7 @@ fn type_ok(value: &ParamValue, ty: ParamType) -> bool {
             | (ParamType::String | ParamType::Path, ParamValue::Str(_))
             | (ParamType::Body, ParamValue::Int(_) | ParamValue::Str(_))
             | (ParamType::Table, ParamValue::Table(_))
+            | (ParamType::Names, ParamValue::Names(_))
     )
 }
 

@@ -70,17 +70,33 @@ impl Ctx<'_> {
         let kind = match s.get("kind").map(|v| (v, v.as_str())) {
             None | Some((_, Some("pd_position"))) => ActionKind::PdPosition,
             Some((_, Some("ctrlrange"))) => ActionKind::CtrlRange,
+            Some((_, Some("position_delta"))) => ActionKind::PositionDelta,
             Some((v, _)) => {
                 self.d.push(
                     Diagnostic::new(Code::E0104, "unknown [actions] kind")
                         .at(v.loc.clone())
-                        .label("expected \"pd_position\" or \"ctrlrange\""),
+                        .label("expected \"pd_position\", \"ctrlrange\" or \"position_delta\""),
                 );
                 ActionKind::PdPosition
             }
         };
         if kind == ActionKind::CtrlRange {
             return self.ctrlrange_actions(s);
+        }
+        if kind == ActionKind::PositionDelta {
+            return self.position_delta_actions(s);
+        }
+        for key in ["from", "velocity", "position"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("`{key}` applies to [actions] kind = \"position_delta\" only"),
+                    )
+                    .at(v.loc.clone())
+                    .label("PD targets are default_pose + scale × action"),
+                );
+            }
         }
         let max = limits::MAX_MAGNITUDE;
         let scale = match s.get("scale") {
@@ -104,6 +120,7 @@ impl Ctx<'_> {
             kp,
             kd,
             damping,
+            delta: None,
         })
     }
 
@@ -265,6 +282,142 @@ impl Ctx<'_> {
             kp: None,
             kd: None,
             damping: None,
+            delta: None,
         })
+    }
+
+    /// `kind = "position_delta"`: `from` (an observation segment, linked once the observation
+    /// is resolved), `scale`, and `velocity` / `position` bounds: one `[low, high]` for every
+    /// actuator, or a list of one per actuator.
+    fn position_delta_actions(&mut self, s: &Section) -> Option<PdActions> {
+        for key in ["default_pose", "range", "kp", "kd", "damping"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0101,
+                        format!("`{key}` does not apply to [actions] kind = \"position_delta\""),
+                    )
+                    .at(v.loc.clone())
+                    .label("the action is a velocity from the observed position, in [-1, 1]")
+                    .help("remove it, or use kind = \"pd_position\""),
+                );
+            }
+        }
+        let nu = self.model.nu();
+        let from = match s.get("from").map(|v| (v, v.as_str())) {
+            Some((_, Some(name))) => name.to_string(),
+            Some((v, None)) => {
+                self.d
+                    .push(v.type_error("[actions] from", "an [observation.*] segment's name"));
+                return None;
+            }
+            None => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0103,
+                        "missing `from` in [actions] kind = \"position_delta\"",
+                    )
+                    .at(s.name_loc.clone())
+                    .label("expected from = the observation segment holding the positions"),
+                );
+                return None;
+            }
+        };
+        let scale = match s.get("scale") {
+            Some(v) => vec![self.num_within(v, "[actions] scale", limits::MAX_MAGNITUDE)?; nu],
+            None => vec![1.0; nu],
+        };
+        let velocity = self.bounds_per_actuator(s, "velocity", nu)?;
+        let position = self.bounds_per_actuator(s, "position", nu)?;
+        Some(PdActions {
+            kind: ActionKind::PositionDelta,
+            scale,
+            default_pose: DefaultPose::Values(vec![0.0; nu]),
+            range: (-1.0, 1.0),
+            kp: None,
+            kd: None,
+            damping: None,
+            delta: Some(PositionDelta {
+                from,
+                segment: usize::MAX,
+                velocity,
+                position,
+            }),
+        })
+    }
+
+    /// `[low, high]` for every actuator, or one such pair per actuator (unbounded if absent).
+    fn bounds_per_actuator(
+        &mut self,
+        s: &Section,
+        key: &str,
+        nu: usize,
+    ) -> Option<Vec<(f64, f64)>> {
+        let Some(v) = s.get(key) else {
+            return Some(vec![(f64::NEG_INFINITY, f64::INFINITY); nu]);
+        };
+        let what = format!("[actions] {key}");
+        match v.as_array() {
+            Some(rows) if rows.first().is_some_and(|r| r.as_array().is_some()) => {
+                if rows.len() != nu {
+                    self.d.push(e0132(
+                        v,
+                        format!(
+                            "{what} has {} pairs for the model's {nu} actuators",
+                            rows.len()
+                        ),
+                        "expected one [low, high] per actuator",
+                    ));
+                    return None;
+                }
+                rows.iter().map(|r| self.range(r, &what)).collect()
+            }
+            _ => Some(vec![self.range(v, &what)?; nu]),
+        }
+    }
+
+    /// Link a `position_delta` action's `from` to its observation segment (after the
+    /// observation is resolved): the segment must exist and hold one value per actuator.
+    pub(super) fn link_action_source(
+        &mut self,
+        actions: &mut Option<PdActions>,
+        observation: &[Segment],
+    ) {
+        let Some(d) = actions.as_mut().and_then(|a| a.delta.as_mut()) else {
+            return;
+        };
+        let loc = self
+            .spec
+            .actions
+            .as_ref()
+            .and_then(|s| s.get("from"))
+            .map(|v| v.loc.clone());
+        let nu = self.model.nu();
+        match observation.iter().position(|o| o.name == d.from) {
+            Some(i) if observation[i].len() == nu => d.segment = i,
+            found => {
+                let msg = match found {
+                    Some(i) => format!(
+                        "[actions] from = \"{}\": the segment has {} values, the model {nu} actuators",
+                        d.from,
+                        observation[i].len()
+                    ),
+                    None => format!(
+                        "[actions] from = \"{}\" is not an [observation.*] segment",
+                        d.from
+                    ),
+                };
+                self.d.push(
+                    Diagnostic::new(Code::E0132, msg)
+                        .at_opt(loc)
+                        .label("expected a segment with one position per actuator")
+                        .help_opt(suggest(
+                            &d.from,
+                            observation.iter().map(|o| o.name.as_str()),
+                        )),
+                );
+                *actions = None;
+            }
+        }
     }
 }

@@ -123,6 +123,44 @@ impl Ctx<'_> {
                 let cs = self.conditions(v, &what)?;
                 (InfoKind::Condition(cs), 1, in_reset)
             }
+            "goal_parts" => {
+                let which = s.get("which").and_then(|v| {
+                    let set = v.as_str().and_then(PartSet::parse);
+                    if set.is_none() {
+                        self.d.push(
+                            Diagnostic::new(Code::E0104, "unknown goal_parts `which`")
+                                .at(v.loc.clone())
+                                .label("expected \"remaining\", \"reached\" or \"completed\""),
+                        );
+                    }
+                    set
+                });
+                if self.goal_parts == 0 {
+                    self.d.push(
+                        Diagnostic::new(
+                            Code::E0170,
+                            format!("[info.{}] kind = \"goal_parts\" needs [goal] parts", s.name),
+                        )
+                        .at(s.name_loc.clone())
+                        .label("expected a [goal] table with `parts`"),
+                    );
+                    return None;
+                }
+                let Some(which) = which else {
+                    if s.get("which").is_none() {
+                        self.d.push(
+                            Diagnostic::new(
+                                Code::E0103,
+                                format!("missing `which` in [info.{}]", s.name),
+                            )
+                            .at(s.name_loc.clone())
+                            .label("expected which = \"remaining\", \"reached\" or \"completed\""),
+                        );
+                    }
+                    return None;
+                };
+                (InfoKind::GoalParts(which), self.goal_parts, in_reset)
+            }
             kind => return self.source_info(s, kind, in_reset),
         })
     }

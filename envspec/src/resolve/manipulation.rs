@@ -103,6 +103,24 @@ impl Ctx<'_> {
     }
 
     fn goal_table(&mut self, s: &Section) -> Option<GoalTable> {
+        if let Some(t) = s.get("parts") {
+            return self.goal_table_of_parts(s, t);
+        }
+        for key in [
+            "in_play",
+            "threshold",
+            "norm",
+            "remove_done",
+            "terminate_when_done",
+        ] {
+            if let Some(v) = s.get(key) {
+                self.d.push(misfit(
+                    &v.loc,
+                    format!("[goal] {key} applies to a goal of parts"),
+                    "expected it beside [goal.parts], or remove it",
+                ));
+            }
+        }
         let Some(v) = s.get("achieved") else {
             self.d.push(
                 Diagnostic::new(Code::E0103, "missing `achieved` in [goal]")
@@ -142,7 +160,32 @@ impl Ctx<'_> {
                 Some(body)
             }
         };
-        Some(GoalTable { achieved, marker })
+        Some(GoalTable {
+            achieved,
+            marker,
+            parts: None,
+        })
+    }
+
+    /// `[goal]` with `parts`: the achieved goal is the parts' selections end to end.
+    fn goal_table_of_parts(&mut self, s: &Section, t: &Val) -> Option<GoalTable> {
+        for key in ["achieved", "marker"] {
+            if let Some(v) = s.get(key) {
+                self.d.push(misfit(
+                    &v.loc,
+                    format!("[goal] {key} does not apply to a goal of parts"),
+                    "each part names what it achieves",
+                ));
+            }
+        }
+        let (achieved, parts) = self.goal_parts(s, t)?;
+        self.goal_dim = Some((achieved.len(), t.loc.clone()));
+        self.goal_parts = parts.parts.len();
+        Some(GoalTable {
+            achieved,
+            marker: None,
+            parts: Some(parts),
+        })
     }
 
     /// `goal`, `goal[i]`, `goal[a:b]`: elements of the env-held goal vector.

@@ -108,11 +108,26 @@ impl Ctx<'_> {
             None => Some(1.0),
             Some(x) => self.amplitude(x, &format!("{what}.level")),
         };
+        let scale_first = match get("order") {
+            None => Some(false),
+            Some(o) => match o.as_str() {
+                Some("draw_level_scale") => Some(false),
+                Some("level_scale_draw") => Some(true),
+                _ => {
+                    self.d.push(
+                        Diagnostic::new(Code::E0104, format!("unknown {what}.order"))
+                            .at(o.loc.clone())
+                            .label("expected \"draw_level_scale\" (the default) or \"level_scale_draw\""),
+                    );
+                    None
+                }
+            },
+        };
         let on = match get("when") {
             None => true,
             Some(w) => self.flag(w, &format!("{what}.when")).unwrap_or(true),
         };
-        let (kind, scale, level) = (kind?, scale?, level?);
+        let (kind, scale, level, scale_first) = (kind?, scale?, level?, scale_first?);
         if level * scale > MAX_NOISE {
             self.d.push(
                 Diagnostic::new(
@@ -128,7 +143,12 @@ impl Ctx<'_> {
             );
             return None;
         }
-        on.then_some(Noise { kind, scale, level })
+        on.then_some(Noise {
+            kind,
+            scale,
+            level,
+            scale_first,
+        })
     }
 
     /// A finite number ≥ 0 (or a parameter holding one).

@@ -228,6 +228,21 @@ impl Ctx<'_> {
             "goals_missed" => self
                 .goal_checks(s, &format!("[reward.{}]", s.name), GoalNorm::Pairwise)
                 .map(TermKind::GoalsMissed),
+            "parts_reached" if self.goal_parts == 0 => {
+                self.d.push(
+                    Diagnostic::new(
+                        Code::E0170,
+                        format!(
+                            "[reward.{}] kind = \"parts_reached\" needs [goal] parts",
+                            s.name
+                        ),
+                    )
+                    .at(s.name_loc.clone())
+                    .label("expected a [goal] table with `parts`"),
+                );
+                None
+            }
+            "parts_reached" => Some(TermKind::PartsReached),
             k if LeggedTerm::KINDS.contains(&k) => self.legged_term(s),
             _ => None, // reported by the syntax check
         }

@@ -36,7 +36,7 @@ pub(super) const ENV_KEYS: &[&str] = &["id", "description", "reward_threshold", 
 
 pub(super) const PARAM_KEYS: &[&str] = &["default", "doc", "type", "fixed"];
 pub(crate) const PARAM_TYPES: &[&str] = &[
-    "bool", "int", "float", "range", "string", "path", "body", "table",
+    "bool", "int", "float", "range", "string", "path", "body", "table", "names",
 ];
 pub(super) const SEGMENT_KEYS: &[&str] = &[
     "source",
@@ -52,7 +52,7 @@ pub(super) const SEGMENT_KEYS: &[&str] = &[
     "doc",
 ];
 /// Keys of an observation segment's `noise` table.
-pub const NOISE_KEYS: &[&str] = &["kind", "scale", "level", "when"];
+pub const NOISE_KEYS: &[&str] = &["kind", "scale", "level", "order", "when"];
 /// Keys of `[latency]`.
 pub const LATENCY_KEYS: &[&str] = &["action", "doc"];
 
@@ -71,6 +71,7 @@ pub const REWARD_KINDS: &[(&str, &[&str])] = &[
     ("goal_missed", GOAL_KEYS),
     ("goal_distance", &["achieved", "desired", "norm"]),
     ("goals_missed", &["checks"]),
+    ("parts_reached", &[]),
     ("tracking", &["source", "target", "coefs", "sigma", "zero"]),
     ("sum_abs", &["source", "minus", "gate"]),
     ("action_rate", &[]),
@@ -123,6 +124,9 @@ pub const ACTION_KEYS: &[&str] = &[
     "kp",
     "kd",
     "damping",
+    "from",
+    "velocity",
+    "position",
     "doc",
 ];
 /// Keys of a goal-reaching check (`goal_sparse`, `goal_reached`).
@@ -225,6 +229,7 @@ pub const INFO_KINDS: &[(&str, &[&str])] = &[
     ("velocity", &["source"]),
     ("term", &["term", "unweighted"]),
     ("condition", &["condition", "in_reset"]),
+    ("goal_parts", &["which", "in_reset"]),
     (
         "goal_reached",
         &[

@@ -363,6 +363,7 @@ fn read_info(top: &[Entry], spec: &mut Spec, d: &mut Diagnostics) {
             "term" => "term",
             "goal_reached" => "achieved",
             "goals_reached" => "checks",
+            "goal_parts" => "which",
             "condition" => "condition",
             _ => "source",
         };

@@ -127,5 +127,10 @@ pub(super) fn write_info(
         InfoKind::GoalReached(c) => out[0] = sim.goal_reached(c) as u8 as f64,
         InfoKind::GoalsReached(cs) => out[0] = sim.goals_reached(cs) as u8 as f64,
         InfoKind::Condition(cs) => out[0] = cs.iter().all(|c| sim.condition_holds(c)) as u8 as f64,
+        InfoKind::GoalParts(which) => {
+            if let Some(c) = &sim.parts {
+                c.write(*which, out);
+            }
+        }
     }
 }

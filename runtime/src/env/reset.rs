@@ -46,6 +46,7 @@ impl Env {
         };
         self.sim
             .restart(init.is_some(), &self.qpos_init, &self.qvel_init);
+        self.start_parts();
         self.reset_failure = None;
         if let Some(message) = self.reset_steps() {
             mujoco_error = Some(message);
@@ -68,6 +69,22 @@ impl Env {
                 values: &self.reset_info_values,
             },
         )
+    }
+
+    /// A `[goal]` of parts: every part to complete, the goal vector their desired values
+    /// (before the `[reset.*]` steps, which may draw it anew).
+    fn start_parts(&mut self) {
+        let Some(c) = self.sim.parts.as_mut() else {
+            return;
+        };
+        c.reset();
+        let goal = self.spec.manipulation.goal.as_ref();
+        for p in goal
+            .and_then(|g| g.parts.as_ref())
+            .map_or(&[][..], |p| &p.parts)
+        {
+            self.sim.goal[p.offset..p.offset + p.len()].copy_from_slice(&p.desired);
+        }
     }
 
     /// The `[reset.*]` steps in spec order; a `settle` step whose check fails starts them over.

@@ -79,6 +79,7 @@ impl Env {
                 }
             }
             TermKind::Constant => return weight,
+            TermKind::PartsReached => sim.parts.as_ref().map_or(0, |c| c.reached_count()) as f64,
             TermKind::WeightedSquare { source, target } => {
                 let d = sim.get(source, 0) - target;
                 return (weight * d) * d;
@@ -121,9 +122,14 @@ impl Env {
         if self.spec.manipulation.goal.is_none() || n == 0 {
             return Err(format!("{} has no [goal] table", self.spec.id));
         }
-        // Where each goal distance's elements lie in a goal row.
+        // Where each goal distance's elements lie in a goal row (a parts count reads the
+        // parts' own positions).
         let mut at: Vec<Vec<Vec<usize>>> = vec![];
         for t in &self.spec.reward {
+            if matches!(t.kind, TermKind::PartsReached) {
+                at.push(vec![]);
+                continue;
+            }
             let found = crate::manipulation::goal_positions(&self.spec, &t.kind);
             let Some(positions) = found else {
                 return Err(format!(
@@ -146,12 +152,72 @@ impl Env {
         for (r, o) in out.iter_mut().enumerate() {
             let (a, d) = (&achieved[r * n..(r + 1) * n], &desired[r * n..(r + 1) * n]);
             for ((v, t), at) in values.iter_mut().zip(&self.spec.reward).zip(&at) {
-                *v = crate::goal::term_value(t, self.sim.numerics, a, d, &|i, k| at[i][k])
-                    .unwrap_or(f64::NAN);
+                *v = match (&t.kind, self.parts_and_checklist()) {
+                    (TermKind::PartsReached, Some((parts, c))) => {
+                        let x = t.weight * c.count_row(parts, self.sim.numerics, a, d) as f64;
+                        if t.cost { -x } else { x }
+                    }
+                    _ => crate::goal::term_value(t, self.sim.numerics, a, d, &|i, k| at[i][k])
+                        .unwrap_or(f64::NAN),
+                };
             }
             *o = sum_values(&self.spec.reward_sum, &values);
         }
         Ok(())
+    }
+}
+
+impl Env {
+    /// A `[goal]` of parts and its checklist.
+    fn parts_and_checklist(
+        &self,
+    ) -> Option<(
+        &envspec::manipulation::GoalParts,
+        &crate::goal_parts::Checklist,
+    )> {
+        let parts = self.spec.manipulation.goal.as_ref()?.parts.as_ref()?;
+        Some((parts, self.sim.parts.as_ref()?))
+    }
+
+    /// After the physics: which parts still to complete the state reaches.
+    pub(super) fn evaluate_parts(&mut self) {
+        let Some(parts) = self
+            .spec
+            .manipulation
+            .goal
+            .as_ref()
+            .and_then(|g| g.parts.as_ref())
+        else {
+            return;
+        };
+        let achieved = &self
+            .spec
+            .manipulation
+            .goal
+            .as_ref()
+            .expect("parts")
+            .achieved;
+        // Taken out while the simulation is read (no allocation).
+        let mut c = self.sim.parts.take().expect("built with the parts");
+        let sim = &self.sim;
+        c.evaluate(parts, sim.numerics, &|k| sim.get(achieved, k));
+        self.sim.parts = Some(c);
+    }
+
+    /// After the reward: the reached parts are completed; whether every part now is.
+    pub(super) fn commit_parts(&mut self) -> bool {
+        let Some(parts) = self
+            .spec
+            .manipulation
+            .goal
+            .as_ref()
+            .and_then(|g| g.parts.as_ref())
+        else {
+            return false;
+        };
+        let c = self.sim.parts.as_mut().expect("built with the parts");
+        c.commit(parts);
+        parts.terminate_when_done && c.all_completed()
     }
 }
 

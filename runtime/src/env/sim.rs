@@ -38,6 +38,8 @@ pub(super) struct Sim {
     /// `[init]`, `[end_effector]`, `[hold.*]` and the fields they read
     /// (`runtime/src/manipulation.rs`).
     pub(super) manip: crate::manipulation::Manip,
+    /// A `[goal]` of parts: the checklist (`runtime/src/goal_parts.rs`).
+    pub(super) parts: Option<crate::goal_parts::Checklist>,
 }
 
 impl Sim {
@@ -53,6 +55,12 @@ impl Sim {
         let mut sim = Sim {
             numerics,
             goal: vec![0.0; spec.goal_dim],
+            parts: spec
+                .manipulation
+                .goal
+                .as_ref()
+                .and_then(|g| g.parts.as_ref())
+                .map(crate::goal_parts::Checklist::new),
             derived: vec![0.0; spec.derived_dim],
             contact_ids: crate::derived::contact_ids(spec, model.ffi())?,
             nq: size(m.nq),

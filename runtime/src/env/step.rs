@@ -86,8 +86,10 @@ impl Env {
         self.score_terms(true, true);
         self.run_physics()?;
         let healthy = self.spec.health.iter().all(|c| self.check(c));
+        self.evaluate_parts();
         self.score_terms(false, healthy);
         let reward = self.sum(&self.spec.reward_sum);
+        let parts_done = self.commit_parts();
         self.sim.legged.commit_contacts();
         // Draw order step 4: commands due are redrawn (the info below shows the new ones).
         if !self.spec.commands.is_empty() {
@@ -97,6 +99,7 @@ impl Env {
         self.write_step_info();
         self.elapsed += 1;
         let terminated = (!healthy && self.spec.terminate_when_unhealthy)
+            || parts_done
             || self
                 .spec
                 .termination
@@ -161,6 +164,14 @@ impl Env {
             self.sim
                 .manip
                 .apply_action(e, &self.sim.action, self.action_f32, &mut self.sim.data);
+        } else if let Some(d) = self.spec.actions.as_ref().and_then(|a| a.delta.as_ref()) {
+            // From the position the agent last saw: the observation still holds it.
+            let seg = &self.spec.observation[d.segment];
+            let observed = &self.obs[seg.offset..seg.offset + seg.len()];
+            let ctrl = self.sim.data.ctrl_mut();
+            self.sim
+                .legged
+                .write_ctrl_delta(d, &self.sim.action, observed, self.dt, ctrl);
         } else {
             let ctrl = self.sim.data.ctrl_mut();
             self.sim.legged.write_ctrl(&self.sim.action, ctrl);
