@@ -2,8 +2,8 @@
 //! and reset/step that append the stored observation row. Every task env (typed or dynamic,
 //! through [`Environment`]) and the maze env ([`MazeRecording`]) implement it; a multi-agent env
 //! does not, as Minari datasets are single-agent. The trait is object safe, so code that records
-//! whatever [`envc::open`] gave holds a `Box<dyn Recordable + Send>` ([`recordable`]) and never matches on
-//! the kind again.
+//! whatever [`envc::open`] gave holds a `Box<dyn Recordable + Send>` ([`recordable`]) and never
+//! matches on the kind again.
 //!
 //! The impls live here, not beside the kinds in the runtime: the runtime does not depend on this
 //! crate. That leaves one knot. The task impl is a blanket one over every [`Environment`] (typed
