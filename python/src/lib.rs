@@ -70,7 +70,7 @@ fn registry(only: Option<Vec<String>>) -> Vec<RegistryRow> {
                 match envspec::open(&e.id, &[]) {
                     Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
                     Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
-                    Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
+                    Ok(envc::AnySpec::MultiAgent(a)) => (a.base.max_episode_steps, None),
                     Err(_) => (None, None),
                 }
             });
@@ -103,7 +103,7 @@ fn describe(
     let max = match &spec {
         envc::AnySpec::Task(t) => t.max_episode_steps,
         envc::AnySpec::Maze(m) => m.max_episode_steps,
-        envc::AnySpec::Agents(a) => a.base.max_episode_steps,
+        envc::AnySpec::MultiAgent(a) => a.base.max_episode_steps,
     };
     Ok((kind_name(spec.kind()).into(), spec.id().to_string(), max))
 }
@@ -112,7 +112,7 @@ pub(crate) fn kind_name(k: envspec::Kind) -> &'static str {
     match k {
         envspec::Kind::Task => "task",
         envspec::Kind::Maze => "maze",
-        envspec::Kind::Agents => "agents",
+        envspec::Kind::MultiAgent => "agents",
     }
 }
 

@@ -137,7 +137,7 @@ pub fn parameters(id_or_path: &str) -> PyResult<Vec<(String, String, String, Str
     let params = match &spec {
         envc::AnySpec::Task(t) => &t.params,
         envc::AnySpec::Maze(_) => return Ok(vec![]),
-        envc::AnySpec::Agents(a) => &a.base.params,
+        envc::AnySpec::MultiAgent(a) => &a.base.params,
     };
     Ok(params
         .iter()

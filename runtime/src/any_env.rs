@@ -40,7 +40,9 @@ impl AnyEnv {
         Ok(match spec {
             AnySpec::Task(s) => AnyEnv::Task(Env::new(std::sync::Arc::new(*s))?),
             AnySpec::Maze(s) => AnyEnv::Maze(Box::new(MazeEnv::new(*s)?)),
-            AnySpec::Agents(s) => AnyEnv::MultiAgent(MultiAgentEnv::new(std::sync::Arc::new(*s))?),
+            AnySpec::MultiAgent(s) => {
+                AnyEnv::MultiAgent(MultiAgentEnv::new(std::sync::Arc::new(*s))?)
+            }
         })
     }
 

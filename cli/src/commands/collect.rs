@@ -156,7 +156,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         Err(env) => Err(crate::target::unsupported(
             "collect",
             &id,
-            envspec::Kind::Agents,
+            envspec::Kind::MultiAgent,
             "records single-agent Minari datasets",
             &format!(
                 "collect its base task instead: `envc collect {} ...`",

@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use anyhow::Result;
 use envc::multi_agent::MultiAgentEnv;
-use envspec::agents::AgentsSpec;
+use envspec::multi_agent::MultiAgentSpec;
 use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
@@ -172,7 +172,10 @@ pub fn show(env: &MultiAgentEnv) -> Result<Outcome> {
 
 /// `envc check` of a multi-agent spec beyond the conf it opened with: every conf at k = 0, 1, 2
 /// resolves (unless the user chose a conf). Returns the first conf's diagnostics.
-pub fn check_confs(spec: &AgentsSpec, overrides: &[envc::Override]) -> Vec<envspec::Diagnostic> {
+pub fn check_confs(
+    spec: &MultiAgentSpec,
+    overrides: &[envc::Override],
+) -> Vec<envspec::Diagnostic> {
     let user_conf = overrides.iter().any(|o| o.name == "agent_conf");
     let confs: Vec<String> = if user_conf {
         vec![spec.conf.clone()]
@@ -188,7 +191,7 @@ pub fn check_confs(spec: &AgentsSpec, overrides: &[envc::Override]) -> Vec<envsp
                 .collect();
             o.push(envc::Override::text("agent_conf", c));
             o.push(envc::Override::text("agent_obsk", &k.to_string()));
-            if let Err(d) = envspec::agents::load(&spec.spec_path, &o) {
+            if let Err(d) = envspec::multi_agent::load(&spec.spec_path, &o) {
                 return d.0;
             }
         }
