@@ -376,7 +376,7 @@ fn bad_factorizations_are_errors_not_panics() {
     ];
     for (name, body, want) in cases {
         let p = write(name, body);
-        match envspec::agents::load(&p, &[]) {
+        match envspec::multi_agent::load(&p, &[]) {
             Ok(_) => panic!("{name} accepted"),
             Err(d) => {
                 let mut codes = d.codes();
@@ -389,7 +389,7 @@ fn bad_factorizations_are_errors_not_panics() {
     }
     // E0109 points at the conf's name.
     let twice = dir.join("twice.toml");
-    let d = envspec::agents::load(&twice, &[]).unwrap_err();
+    let d = envspec::multi_agent::load(&twice, &[]).unwrap_err();
     assert_eq!(d.0[0].code, envc::envspec::Code::E0109);
     assert!(
         d.0[0].position().unwrap().ends_with("twice.toml:3:11"),
@@ -400,10 +400,10 @@ fn bad_factorizations_are_errors_not_panics() {
         "ok.toml",
         &format!("confs = {{ x = [[\"a\", \"b\", \"c\"], [\"d\", \"e\", \"f\"]] }}\n{nodes}"),
     );
-    assert!(envspec::agents::load(&p, &[]).is_ok());
-    let e = envspec::agents::load(&p, &[Override::text("agent_conf", "y")]).unwrap_err();
+    assert!(envspec::multi_agent::load(&p, &[]).is_ok());
+    let e = envspec::multi_agent::load(&p, &[Override::text("agent_conf", "y")]).unwrap_err();
     assert_eq!(e.codes(), [envc::envspec::Code::E0203]);
-    let e = envspec::agents::load(&p, &[Override::text("agent_obsk", "-1")]).unwrap_err();
+    let e = envspec::multi_agent::load(&p, &[Override::text("agent_obsk", "-1")]).unwrap_err();
     assert_eq!(e.codes(), [envc::envspec::Code::E0203]);
     // Wrong action shapes are errors.
     let mut env = MultiAgentEnv::from_spec_file(&p, &[]).unwrap();
@@ -423,14 +423,14 @@ fn every_bundled_multi_agent_spec_loads_for_every_conf_and_k() {
             continue;
         }
         let spec =
-            envspec::agents::load(&p, &[]).unwrap_or_else(|d| panic!("{}: {d}", p.display()));
+            envspec::multi_agent::load(&p, &[]).unwrap_or_else(|d| panic!("{}: {d}", p.display()));
         for conf in &spec.confs {
             for k in 0..=2 {
                 let o = [
                     Override::text("agent_conf", conf),
                     Override::text("agent_obsk", &k.to_string()),
                 ];
-                let s = envspec::agents::load(&p, &o).unwrap();
+                let s = envspec::multi_agent::load(&p, &o).unwrap();
                 let mut acts: Vec<usize> =
                     s.agents.iter().flat_map(|a| a.actions.clone()).collect();
                 acts.sort();
@@ -456,7 +456,8 @@ fn v2_specs_fix_the_reference_bugs() {
         ("humanoid.toml", "abdomen_z"),
         ("humanoid_v2.toml", "abdomen_y"),
     ] {
-        let s = envspec::agents::load(&spec(file), &[Override::text("agent_obsk", "0")]).unwrap();
+        let s =
+            envspec::multi_agent::load(&spec(file), &[Override::text("agent_obsk", "0")]).unwrap();
         let a = &s.agents[0];
         let seg = a
             .observation
@@ -466,7 +467,7 @@ fn v2_specs_fix_the_reference_bugs() {
         assert_eq!(seg.source.names, [format!("qpos[{joint}]")], "{file}");
     }
     // ManySegmentAnt v2: each node observes and drives its own joint.
-    let s = envspec::agents::load(&spec("many_segment_ant_3_v2.toml"), &[]).unwrap();
+    let s = envspec::multi_agent::load(&spec("many_segment_ant_3_v2.toml"), &[]).unwrap();
     for a in &s.agents {
         for (node, act) in a.nodes.iter().zip(&a.actuators) {
             assert_eq!(format!("({node})"), *act, "actuator of {node}");
@@ -500,7 +501,8 @@ fn v2_specs_fix_the_reference_bugs() {
         }
     }
     // `envc diff` reports the fix as a breaking observation change.
-    let r = envspec::diff::diff_agents(&spec("humanoid.toml"), &spec("humanoid_v2.toml")).unwrap();
+    let r =
+        envspec::diff::diff_multi_agent(&spec("humanoid.toml"), &spec("humanoid_v2.toml")).unwrap();
     assert_eq!(r.verdict(), envspec::diff::Verdict::Breaking);
     assert!(r.changes.iter().any(|c| {
         c.witness
@@ -708,7 +710,7 @@ fn agents_read_site_orientation_and_jacobian_velocity() {
         "[observation.rot]\nsource = \"site_euler[tip]\"\n\n[observation.vel]\nsource = \"site_xvelp[tip]\"\n\n[observation.cos]",
     );
     std::fs::write(dir.join("task.toml"), task).unwrap();
-    let envc::AnyEnv::Agents(mut multi) =
+    let envc::AnyEnv::MultiAgent(mut multi) =
         envc::open(dir.join("agents.toml").to_str().unwrap(), &[]).unwrap()
     else {
         panic!("a multi-agent spec");

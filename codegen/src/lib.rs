@@ -15,9 +15,9 @@
 //! `ENVC_MANIFEST_DIR_OVERRIDE` replaces it (used by the compile-fail tests, whose crates live
 //! under `target/`).
 
-mod agents;
 mod docs;
 mod expand;
+mod multi_agent;
 
 use std::path::{Path, PathBuf};
 
@@ -37,7 +37,7 @@ pub fn env(input: TokenStream) -> TokenStream {
 #[proc_macro]
 pub fn multi_agent_env(input: TokenStream) -> TokenStream {
     let input = syn::parse_macro_input!(input as Input);
-    agents::expand(input).into()
+    multi_agent::expand(input).into()
 }
 
 pub(crate) struct Input {

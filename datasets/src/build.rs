@@ -38,7 +38,7 @@ pub struct SpecActor {
     rng: NumpyRng,
 }
 
-impl EpisodePolicy<[f64]> for SpecActor {
+impl EpisodePolicy for SpecActor {
     fn begin(&mut self, seed: u64, episode: u64) {
         self.rng = episode_rng(seed, episode);
     }

@@ -1,22 +1,22 @@
 //! Recording whole episodes of any envc env that has a Minari form (tasks, typed or dynamic, and
 //! mazes: see [`Recordable`]) under any policy. One collector for every kind.
 
-use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 
 use crate::Format;
 use crate::episode::{EpisodeRecord, InfoColumn};
 use crate::error::DatasetError;
-use crate::recordable::{Recordable, TaskKind};
+use crate::recordable::Recordable;
 use crate::shard_episode::ShardEpisode;
 use crate::space::{Dtype, Space};
 use crate::writer::{DatasetInfo, DatasetWriter};
 
 /// Chooses actions. Actions are float32, as in Gymnasium's action spaces; the env is stepped with
 /// exactly the stored values (`step_f32`), so a replay in Gymnasium reproduces the episode.
-pub trait Policy<O: ?Sized> {
-    /// Write the action for `obs` into `action`.
-    fn act(&mut self, obs: &O, action: &mut [f32]);
+pub trait Policy {
+    /// Write the action for `obs` (the env's flat observation, [`Recordable::flat_obs`]; empty
+    /// for an env without one, which only a policy that reads none drives) into `action`.
+    fn act(&mut self, obs: &[f64], action: &mut [f32]);
     /// Asked before every step: true stops the episode (E1601, nothing written), so that a
     /// caller's Ctrl-C ends a long episode at once.
     fn interrupted(&mut self) -> bool {
@@ -24,8 +24,8 @@ pub trait Policy<O: ?Sized> {
     }
 }
 
-impl<O: ?Sized, F: FnMut(&O, &mut [f32])> Policy<O> for F {
-    fn act(&mut self, obs: &O, action: &mut [f32]) {
+impl<F: FnMut(&[f64], &mut [f32])> Policy for F {
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
         self(obs, action)
     }
 }
@@ -78,13 +78,12 @@ pub struct EpisodeSummary {
 
 /// Wraps an env and records episodes into a dataset. Buffers hold one episode and are reused, so
 /// memory stays flat however many episodes are collected; each episode is on disk when
-/// [`Collector::episode`] returns. `K` is the env's kind ([`Recordable`]), inferred from the env:
-/// a `Collector<Env>` records a task, a `Collector<MazeEnv, MazeKind>` a maze.
-pub struct Collector<E, K = TaskKind> {
+/// [`Collector::episode`] returns. A `Collector<Env>` records a task, a
+/// `Collector<Box<dyn Recordable + Send>>` whatever [`crate::recordable`] gave.
+pub struct Collector<E> {
     env: E,
     writer: DatasetWriter,
     buffers: Buffers,
-    kind: PhantomData<fn() -> K>,
 }
 
 /// One episode's arrays, reused from episode to episode.
@@ -103,12 +102,12 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
-    pub(crate) fn new<E: Recordable<K>, K>(env: &E) -> Buffers {
+    pub(crate) fn new<E: Recordable + ?Sized>(env: &E) -> Buffers {
         Buffers {
             budget: envc::memory::available().map_or(u64::MAX, |b| b / 4),
             obs: vec![],
             actions: vec![],
-            action: vec![0.0; env.action_space().dim()],
+            action: vec![0.0; env.joint().act_dim()],
             rewards: vec![],
             terminations: vec![],
             truncations: vec![],
@@ -117,11 +116,11 @@ impl Buffers {
     }
 
     /// Run one whole episode of `env` from `reset(seed)`; returns whether it terminated.
-    pub(crate) fn run<E: Recordable<K>, K>(
+    pub(crate) fn run<E: Recordable + ?Sized>(
         &mut self,
         env: &mut E,
         seed: u64,
-        policy: &mut impl Policy<E::Obs>,
+        policy: &mut impl Policy,
     ) -> Result<bool, DatasetError> {
         self.obs.clear();
         self.actions.clear();
@@ -139,7 +138,7 @@ impl Buffers {
                     why: "interrupted".into(),
                 });
             }
-            policy.act(env.policy_obs(), &mut self.action);
+            policy.act(env.flat_obs().unwrap_or(&[]), &mut self.action);
             let s = env.record_step(&self.action, &mut self.obs, &mut self.infos)?;
             self.actions.extend_from_slice(&self.action);
             self.rewards.push(s.reward);
@@ -174,12 +173,12 @@ impl Buffers {
     }
 }
 
-impl<E: Recordable<K>, K> Collector<E, K> {
+impl<E: Recordable> Collector<E> {
     /// Start a dataset for `env`. The Gymnasium env spec (with overridden parameters as kwargs) is
     /// stored when its spec names an `[env] entry_point`; `options.info.env_spec` set by the caller
     /// wins.
-    pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E, K>, DatasetError> {
-        options.info.numerics = Some(env.numerics().to_string());
+    pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
+        options.info.numerics = Some(env.joint().numerics().to_string());
         if options.info.env_spec.is_none() {
             options.info.env_spec = env.env_spec();
         }
@@ -199,7 +198,7 @@ impl<E: Recordable<K>, K> Collector<E, K> {
                 format!("mujoco=={}", envc::MUJOCO_VERSION),
             ];
         }
-        let a = env.action_space();
+        let a = env.joint().action_space();
         let act_space = Space::box1(Dtype::F32, &a.low, &a.high);
         let writer = DatasetWriter::create(
             options.root.as_deref(),
@@ -214,8 +213,19 @@ impl<E: Recordable<K>, K> Collector<E, K> {
             env,
             writer,
             buffers,
-            kind: PhantomData,
         })
+    }
+
+    /// The same collector over its env as a trait object (one type for every kind).
+    pub fn boxed(self) -> Collector<Box<dyn Recordable + Send>>
+    where
+        E: Send + 'static,
+    {
+        Collector {
+            env: Box::new(self.env),
+            writer: self.writer,
+            buffers: self.buffers,
+        }
     }
 
     /// The env being recorded.
@@ -231,7 +241,7 @@ impl<E: Recordable<K>, K> Collector<E, K> {
     pub fn episode(
         &mut self,
         seed: u64,
-        policy: &mut impl Policy<E::Obs>,
+        policy: &mut impl Policy,
     ) -> Result<EpisodeSummary, DatasetError> {
         let terminated = self.buffers.run(&mut self.env, seed, policy)?;
         let record = self.buffers.record(seed);
@@ -264,7 +274,7 @@ impl<E: Recordable<K>, K> Collector<E, K> {
     /// [`Collector::finish`], with what the caller reports of the recording: its steps and seed,
     /// the env's warnings and the writer's clean-up notes.
     pub fn finish_recording(self, steps: u64, seed: u64) -> Result<Recording, DatasetError> {
-        let warnings = self.env().warnings().to_vec();
+        let warnings = self.env().joint().warnings().to_vec();
         let cleaned = self.writer().cleaned().to_vec();
         let unlocked = self.writer().unlocked().to_vec();
         let dir = self.finish()?;

@@ -11,7 +11,7 @@ use std::path::Path;
 use crate::Format;
 use crate::collector::{CollectOptions, Collector, Policy, Recording};
 use crate::error::DatasetError;
-use crate::recordable::Recordable;
+use crate::recordable::{Recordable, policy_fits};
 use crate::shard::ShardCollector;
 use crate::shard_episode::ShardEpisode;
 use envc::BoxSpace;
@@ -79,11 +79,16 @@ pub fn episode_rng(seed: u64, episode: u64) -> NumpyRng {
 /// Chooses the actions of whole episodes: [`EpisodePolicy::begin`] is called before each one
 /// with the plan's seed and the episode's index in the dataset, so a policy can restart its
 /// state from `(seed, i)` and give the same actions whichever worker runs the episode.
-pub trait EpisodePolicy<O: ?Sized> {
+pub trait EpisodePolicy {
     /// Restart for episode `episode` of a plan seeded with `seed`.
     fn begin(&mut self, seed: u64, episode: u64);
-    /// Write the action for `obs` into `action`.
-    fn act(&mut self, obs: &O, action: &mut [f32]);
+    /// Write the action for `obs` (as [`Policy::act`]) into `action`.
+    fn act(&mut self, obs: &[f64], action: &mut [f32]);
+    /// Whether the actions depend on the observation: such a policy needs an env with a flat one
+    /// ([`Recordable::flat_obs`]), which the recording checks before its first episode.
+    fn reads_obs(&self) -> bool {
+        true
+    }
     /// Called after each episode, before it is written: a policy that failed on the way (a
     /// Python callable that raised) says so here, and the episode is never written (E1601).
     fn check(&mut self) -> Result<(), DatasetError> {
@@ -95,12 +100,15 @@ pub trait EpisodePolicy<O: ?Sized> {
     }
 }
 
-impl<O: ?Sized, P: EpisodePolicy<O> + ?Sized> EpisodePolicy<O> for &mut P {
+impl<P: EpisodePolicy + ?Sized> EpisodePolicy for &mut P {
     fn begin(&mut self, seed: u64, episode: u64) {
         (**self).begin(seed, episode)
     }
-    fn act(&mut self, obs: &O, action: &mut [f32]) {
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
         (**self).act(obs, action)
+    }
+    fn reads_obs(&self) -> bool {
+        (**self).reads_obs()
     }
     fn check(&mut self) -> Result<(), DatasetError> {
         (**self).check()
@@ -113,8 +121,8 @@ impl<O: ?Sized, P: EpisodePolicy<O> + ?Sized> EpisodePolicy<O> for &mut P {
 /// An [`EpisodePolicy`] as the collector's per-episode [`Policy`].
 struct Steps<'a, P>(&'a mut P);
 
-impl<O: ?Sized, P: EpisodePolicy<O>> Policy<O> for Steps<'_, P> {
-    fn act(&mut self, obs: &O, action: &mut [f32]) {
+impl<P: EpisodePolicy> Policy for Steps<'_, P> {
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
         self.0.act(obs, action)
     }
     fn interrupted(&mut self) -> bool {
@@ -162,12 +170,15 @@ impl PlanActor {
     }
 }
 
-impl<O: ?Sized> EpisodePolicy<O> for PlanActor {
+impl EpisodePolicy for PlanActor {
     fn begin(&mut self, seed: u64, episode: u64) {
         self.rng = episode_rng(seed, episode);
         self.cursor = 0;
     }
-    fn act(&mut self, _obs: &O, a: &mut [f32]) {
+    fn reads_obs(&self) -> bool {
+        false
+    }
+    fn act(&mut self, _obs: &[f64], a: &mut [f32]) {
         match &self.policy {
             PlanPolicy::Zero | PlanPolicy::Callable => a.fill(0.0),
             PlanPolicy::Random => {
@@ -200,24 +211,25 @@ pub fn default_description(plan: &Plan, env_id: &str) -> String {
 /// Record `plan` from `env` into the dataset `options` names with the built-in policy;
 /// `progress(episodes, steps)` is called after every episode. The dataset appears only when
 /// every episode is written.
-pub fn record<E: Recordable<K>, K>(
+pub fn record<E: Recordable>(
     env: E,
     plan: &Plan,
     options: CollectOptions,
     progress: impl FnMut(u64, u64),
 ) -> Result<Recording, DatasetError> {
-    let actor = PlanActor::new(&plan.policy, env.action_space())?;
+    let actor = PlanActor::new(&plan.policy, env.joint().action_space())?;
     record_with(env, plan, options, actor, progress)
 }
 
 /// [`record`] with the caller's policy.
-pub fn record_with<E: Recordable<K>, K, P: EpisodePolicy<E::Obs>>(
+pub fn record_with<E: Recordable, P: EpisodePolicy>(
     env: E,
     plan: &Plan,
     mut options: CollectOptions,
     mut policy: P,
     mut progress: impl FnMut(u64, u64),
 ) -> Result<Recording, DatasetError> {
+    policy_fits(&env, policy.reads_obs())?;
     if options.info.algorithm_name.is_none() {
         options.info.algorithm_name = Some(plan.policy.name().to_string());
     }
@@ -290,7 +302,7 @@ fn disk_usage(dir: &Path) -> std::io::Result<u64> {
 /// worker shares); returns each episode's steps and bytes, in order. Episodes already there (from an
 /// attempt that died after writing them) are recorded again and left as they were: they are the
 /// same bytes.
-pub fn record_shard<E: Recordable<K>, K, P: EpisodePolicy<E::Obs>>(
+pub fn record_shard<E: Recordable, P: EpisodePolicy>(
     env: E,
     seed: u64,
     range: Range<u64>,
@@ -298,6 +310,7 @@ pub fn record_shard<E: Recordable<K>, K, P: EpisodePolicy<E::Obs>>(
     format: Format,
     mut policy: P,
 ) -> Result<Vec<ShardEpisode>, DatasetError> {
+    policy_fits(&env, policy.reads_obs())?;
     let mut shard = ShardCollector::new(env, staging, format)?;
     let mut lengths = Vec::with_capacity((range.end - range.start) as usize);
     for ep in range {

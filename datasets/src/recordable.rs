@@ -1,16 +1,16 @@
-//! What the one collector needs from an env beyond [`JointEnv`]: its spaces as Minari stores
-//! them, its info columns, and reset/step that append the stored observation row. Every task env
-//! (typed or dynamic, through [`Environment`]) and the maze env implement it; a multi-agent env
-//! does not, as Minari datasets are single-agent.
+//! What the one collector needs from an env: its spaces as Minari stores them, its info columns,
+//! and reset/step that append the stored observation row. Every task env (typed or dynamic,
+//! through [`Environment`]) and the maze env ([`MazeRecording`]) implement it; a multi-agent env
+//! does not, as Minari datasets are single-agent. The trait is object safe, so code that records
+//! whatever [`envc::open`] gave holds a `Box<dyn Recordable + Send>` ([`recordable`]) and never
+//! matches on the kind again.
 //!
 //! The impls live here, not beside the kinds in the runtime: the runtime does not depend on this
 //! crate. That leaves one knot. The task impl is a blanket one over every [`Environment`] (typed
 //! envs are types of the user's crate), and beside it an impl for [`MazeEnv`] would be refused:
 //! both are `envc`'s, so `envc` could one day make a maze an `Environment` and the two impls
-//! would overlap (coherence reasons only about impls the current crate alone could add). So the
-//! trait takes the kind as a marker type, [`TaskKind`] or [`MazeKind`]: the two impls are of
-//! different traits and never overlap, and callers never name the marker, as it is inferred from
-//! the env (`Collector::new(maze, ..)` is a `Collector<MazeEnv, MazeKind>`).
+//! would overlap (coherence reasons only about impls the current crate alone could add). So a
+//! maze is recorded through this crate's own wrapper, [`MazeRecording`].
 
 use crate::episode::InfoColumn;
 use crate::error::DatasetError;
@@ -20,21 +20,13 @@ use crate::space::{Dtype, Space};
 use envc::environment::Environment;
 use envc::error::EnvError;
 use envc::maze::{MazeEnv, MazeObs};
-use envc::{Info, JointAction, JointEnv, JointStep};
+use envc::multi_agent::MultiAgentEnv;
+use envc::{AnyEnv, Info, JointAction, JointEnv, JointStep};
 
-/// The [`Recordable`] impl of task envs, typed or dynamic (a marker, never a value).
-#[derive(Debug)]
-pub enum TaskKind {}
-
-/// The [`Recordable`] impl of maze envs (a marker, never a value).
-#[derive(Debug)]
-pub enum MazeKind {}
-
-/// An env the collector can record (its action space, numerics and warnings are the
-/// [`JointEnv`]'s); `K` says which kind's impl (see the module doc), inferred from the env.
-pub trait Recordable<K = TaskKind>: JointEnv {
-    /// What the policy sees: the flat observation, or a maze's dict observation.
-    type Obs: ?Sized;
+/// An env the collector can record. Object safe: `Box<dyn Recordable + Send>` records any kind.
+pub trait Recordable {
+    /// The env as every kind drives it (its action space, numerics and warnings).
+    fn joint(&self) -> &dyn JointEnv;
     /// The stored observation space (a `Box`, or a `Dict` flattened key by key, keys sorted).
     fn observation_space(&self) -> Space;
     /// The info columns, in stored order (values empty).
@@ -44,8 +36,9 @@ pub trait Recordable<K = TaskKind>: JointEnv {
     /// What made the env (`envc_provenance`), when it was opened from files; an error when they
     /// cannot be recorded as they were read.
     fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>>;
-    /// The observation the policy acts on.
-    fn policy_obs(&self) -> &Self::Obs;
+    /// The flat observation a policy acts on: a task's. `None` for a maze, whose observation is
+    /// a dict: only policies that read no observation drive it ([`policy_fits`]).
+    fn flat_obs(&self) -> Option<&[f64]>;
     /// `reset(seed)`; appends the observation row to `obs` and one value per info column.
     fn record_reset(
         &mut self,
@@ -60,6 +53,65 @@ pub trait Recordable<K = TaskKind>: JointEnv {
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
     ) -> Result<JointStep, EnvError>;
+}
+
+/// A boxed recordable env is one too (what [`recordable`] gives, to every generic collector).
+impl Recordable for Box<dyn Recordable + Send> {
+    fn joint(&self) -> &dyn JointEnv {
+        (**self).joint()
+    }
+    fn observation_space(&self) -> Space {
+        (**self).observation_space()
+    }
+    fn info_columns(&self) -> Vec<InfoColumn> {
+        (**self).info_columns()
+    }
+    fn env_spec(&self) -> Option<String> {
+        (**self).env_spec()
+    }
+    fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>> {
+        (**self).provenance()
+    }
+    fn flat_obs(&self) -> Option<&[f64]> {
+        (**self).flat_obs()
+    }
+    fn record_reset(
+        &mut self,
+        seed: u64,
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<(), EnvError> {
+        (**self).record_reset(seed, obs, infos)
+    }
+    fn record_step(
+        &mut self,
+        action: &[f32],
+        obs: &mut Vec<f64>,
+        infos: &mut [InfoColumn],
+    ) -> Result<JointStep, EnvError> {
+        (**self).record_step(action, obs, infos)
+    }
+}
+
+/// The env [`envc::open`] gave, as the collector records it: a task or a maze. A multi-agent env
+/// is handed back (Minari datasets are single-agent), for the caller's own refusal.
+pub fn recordable(env: AnyEnv) -> Result<Box<dyn Recordable + Send>, Box<MultiAgentEnv>> {
+    match env {
+        AnyEnv::Task(e) => Ok(Box::new(e)),
+        AnyEnv::Maze(e) => Ok(Box::new(MazeRecording(e))),
+        AnyEnv::MultiAgent(e) => Err(Box::new(e)),
+    }
+}
+
+/// Whether a policy can drive `env`: one that reads observations (a callable, a spec's MLP)
+/// needs a flat one, which a maze has not.
+pub fn policy_fits<E: Recordable + ?Sized>(env: &E, reads_obs: bool) -> Result<(), DatasetError> {
+    if reads_obs && env.flat_obs().is_none() {
+        return Err(DatasetError::Unsupported(
+            "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Append each column's value from `info` (zeros when a key is absent, e.g. step-only keys in a
@@ -85,8 +137,10 @@ fn columns(spec: &envspec::ResolvedSpec) -> impl Iterator<Item = InfoColumn> + '
     })
 }
 
-impl<E: Environment> Recordable<TaskKind> for E {
-    type Obs = [f64];
+impl<E: Environment> Recordable for E {
+    fn joint(&self) -> &dyn JointEnv {
+        self
+    }
     /// A `[goal]` task's is the reference's dict (keys sorted), as a maze's.
     fn observation_space(&self) -> Space {
         let o = Environment::observation_space(self);
@@ -120,8 +174,8 @@ impl<E: Environment> Recordable<TaskKind> for E {
             provenance::record("task", &arg, &spec.spec_path, &spec.inputs)
         })
     }
-    fn policy_obs(&self) -> &[f64] {
-        Environment::obs(self)
+    fn flat_obs(&self) -> Option<&[f64]> {
+        Some(Environment::obs(self))
     }
     fn record_reset(
         &mut self,
@@ -173,13 +227,18 @@ fn push_maze_obs(buf: &mut Vec<f64>, o: &MazeObs) {
     buf.extend_from_slice(&o.observation);
 }
 
-impl Recordable<MazeKind> for MazeEnv {
-    type Obs = MazeObs;
+/// A maze env as the collector records it (this crate's own type: see the module doc).
+pub struct MazeRecording(pub Box<MazeEnv>);
+
+impl Recordable for MazeRecording {
+    fn joint(&self) -> &dyn JointEnv {
+        &*self.0
+    }
     fn observation_space(&self) -> Space {
         Space::Dict(vec![
             ("achieved_goal".into(), unbounded(2)),
             ("desired_goal".into(), unbounded(2)),
-            ("observation".into(), unbounded(self.observation_dim())),
+            ("observation".into(), unbounded(self.0.observation_dim())),
         ])
     }
     /// `success`, then every key the robot reports.
@@ -190,12 +249,12 @@ impl Recordable<MazeKind> for MazeEnv {
             values: vec![],
         };
         std::iter::once(success)
-            .chain(columns(self.robot().spec()))
+            .chain(columns(self.0.robot().spec()))
             .collect()
     }
     /// envc's own registration (`envc/<id>`, a `GoalEnv`): the maze id, or its spec file.
     fn env_spec(&self) -> Option<String> {
-        let m = self.spec();
+        let m = self.0.spec();
         Some(envc_env_spec_json(
             &m.id,
             "envc._maze:EnvcMazeEnv",
@@ -206,12 +265,12 @@ impl Recordable<MazeKind> for MazeEnv {
     }
     /// The maze's files, then its robot's.
     fn provenance(&self) -> Option<Result<serde_json::Value, DatasetError>> {
-        let m = self.spec();
+        let m = self.0.spec();
         if m.inputs.is_empty() {
             return None;
         }
         let mut inputs = m.inputs.clone();
-        for f in &self.robot().spec().inputs {
+        for f in &self.0.robot().spec().inputs {
             if !inputs.iter().any(|i| i.path == f.path) {
                 inputs.push(f.clone());
             }
@@ -219,8 +278,8 @@ impl Recordable<MazeKind> for MazeEnv {
         let arg = envc_spec_arg(&m.id, &m.path);
         Some(provenance::record("maze", &arg, &m.path, &inputs))
     }
-    fn policy_obs(&self) -> &MazeObs {
-        self.obs()
+    fn flat_obs(&self) -> Option<&[f64]> {
+        None
     }
     fn record_reset(
         &mut self,
@@ -228,9 +287,9 @@ impl Recordable<MazeKind> for MazeEnv {
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
     ) -> Result<(), EnvError> {
-        let (o, success) = self.reset(Some(seed), None)?;
+        let (o, success) = self.0.reset(Some(seed), None)?;
         push_maze_obs(obs, o);
-        push_info(infos, Some(success), self.robot().reset_info());
+        push_info(infos, Some(success), self.0.robot().reset_info());
         Ok(())
     }
     fn record_step(
@@ -239,9 +298,9 @@ impl Recordable<MazeKind> for MazeEnv {
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
     ) -> Result<JointStep, EnvError> {
-        let s = self.step_joint(JointAction::F32(action))?;
-        push_info(infos, Some(self.success()), self.robot().step_info());
-        push_maze_obs(obs, self.obs());
+        let s = self.0.step_joint(JointAction::F32(action))?;
+        push_info(infos, Some(self.0.success()), self.0.robot().step_info());
+        push_maze_obs(obs, self.0.obs());
         Ok(s)
     }
 }

@@ -11,7 +11,6 @@
 //! episode that is already there keeps the first copy (same bytes).
 
 use std::fs;
-use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 
 use crate::Format;
@@ -24,9 +23,8 @@ use crate::shard_episode::{ShardEpisode, encode};
 use crate::space::Space;
 
 /// Records episodes of one env into a sharded collection's staging directory.
-pub(crate) struct ShardCollector<E, K> {
+pub(crate) struct ShardCollector<E> {
     env: E,
-    kind: PhantomData<fn() -> K>,
     buffers: Buffers,
     staging: PathBuf,
     format: Format,
@@ -74,12 +72,12 @@ fn publish(from: &Path, to: &Path) -> Result<(), DatasetError> {
     }
 }
 
-impl<E: Recordable<K>, K> ShardCollector<E, K> {
+impl<E: Recordable> ShardCollector<E> {
     pub(crate) fn new(
         env: E,
         staging: &Path,
         format: Format,
-    ) -> Result<ShardCollector<E, K>, DatasetError> {
+    ) -> Result<ShardCollector<E>, DatasetError> {
         if format == Format::Hdf5 && !format.available() {
             return Err(DatasetError::BackendMissing("hdf5"));
         }
@@ -91,9 +89,8 @@ impl<E: Recordable<K>, K> ShardCollector<E, K> {
         Ok(ShardCollector {
             buffers: Buffers::new(&env),
             obs_space: env.observation_space(),
-            act_dim: env.action_space().dim(),
+            act_dim: env.joint().act_dim(),
             env,
-            kind: PhantomData,
             staging: staging.to_path_buf(),
             format,
             seed: 0,
@@ -102,11 +99,7 @@ impl<E: Recordable<K>, K> ShardCollector<E, K> {
     }
 
     /// Run one episode (reset with `seed`) into the buffers.
-    pub(crate) fn run(
-        &mut self,
-        seed: u64,
-        policy: &mut impl Policy<E::Obs>,
-    ) -> Result<(), DatasetError> {
+    pub(crate) fn run(&mut self, seed: u64, policy: &mut impl Policy) -> Result<(), DatasetError> {
         self.seed = seed;
         self.buffers.run(&mut self.env, seed, policy).map(|_| ())
     }
@@ -158,7 +151,7 @@ impl<E: Recordable<K>, K> ShardCollector<E, K> {
     }
 }
 
-impl<E, K> Drop for ShardCollector<E, K> {
+impl<E> Drop for ShardCollector<E> {
     fn drop(&mut self) {
         if let Some(t) = &self.tmp {
             let _ = fs::remove_dir_all(t);

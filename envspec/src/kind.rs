@@ -11,8 +11,10 @@ pub enum Kind {
     Task,
     /// A maze world around a robot task (`[maze]`).
     Maze,
-    /// A factorization of a task among agents (`[agents]`).
-    Agents,
+    /// A factorization of a task among agents (`[agents]`); `"agents"` in serialized output, as
+    /// the Python package names the kind.
+    #[serde(rename = "agents")]
+    MultiAgent,
 }
 
 impl Kind {
@@ -24,7 +26,7 @@ impl Kind {
         if has("maze") {
             Kind::Maze
         } else if has("agents") {
-            Kind::Agents
+            Kind::MultiAgent
         } else {
             Kind::Task
         }
@@ -35,7 +37,7 @@ impl Kind {
         match self {
             Kind::Task => "task",
             Kind::Maze => "maze",
-            Kind::Agents => "multi-agent",
+            Kind::MultiAgent => "multi-agent",
         }
     }
 }

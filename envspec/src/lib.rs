@@ -18,7 +18,6 @@
 // Every public item says what it is or why it exists; CI denies warnings.
 #![warn(missing_docs)]
 
-pub mod agents;
 pub mod bundle;
 pub mod camera;
 pub mod commands;
@@ -37,6 +36,7 @@ pub mod limits;
 pub mod manipulation;
 pub mod maze;
 pub mod mjcf;
+pub mod multi_agent;
 pub mod noise;
 pub mod open;
 pub mod params;

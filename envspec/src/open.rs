@@ -7,11 +7,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::agents::AgentsSpec;
 use crate::diagnostic::{Diagnostics, SourceFile};
 use crate::ir::ResolvedSpec;
 use crate::kind::Kind;
 use crate::maze::MazeSpec;
+use crate::multi_agent::MultiAgentSpec;
 use crate::params::Override;
 use crate::registry;
 use crate::syntax::Spec;
@@ -25,7 +25,7 @@ pub enum AnySpec {
     /// A maze over a robot's task spec.
     Maze(Box<MazeSpec>),
     /// A multi-agent factorization of a task spec.
-    Agents(Box<AgentsSpec>),
+    MultiAgent(Box<MultiAgentSpec>),
 }
 
 impl AnySpec {
@@ -34,7 +34,7 @@ impl AnySpec {
         match self {
             AnySpec::Task(_) => Kind::Task,
             AnySpec::Maze(_) => Kind::Maze,
-            AnySpec::Agents(_) => Kind::Agents,
+            AnySpec::MultiAgent(_) => Kind::MultiAgent,
         }
     }
 
@@ -43,7 +43,7 @@ impl AnySpec {
         match self {
             AnySpec::Task(s) => &s.id,
             AnySpec::Maze(s) => &s.id,
-            AnySpec::Agents(s) => &s.id,
+            AnySpec::MultiAgent(s) => &s.id,
         }
     }
 
@@ -52,7 +52,7 @@ impl AnySpec {
         match self {
             AnySpec::Task(s) => &s.spec_path,
             AnySpec::Maze(s) => &s.path,
-            AnySpec::Agents(s) => &s.spec_path,
+            AnySpec::MultiAgent(s) => &s.spec_path,
         }
     }
 }
@@ -142,7 +142,7 @@ fn open_as(
     match &mut spec {
         AnySpec::Task(s) => s.inputs = inputs,
         AnySpec::Maze(m) => m.inputs = inputs,
-        AnySpec::Agents(_) => {}
+        AnySpec::MultiAgent(_) => {}
     }
     Ok(spec)
 }
@@ -161,7 +161,7 @@ fn read_as(
         Kind::Maze => AnySpec::Maze(Box::new(crate::maze::from_document(
             &doc.file, &doc.root, overrides,
         )?)),
-        Kind::Agents => AnySpec::Agents(Box::new(crate::agents::from_document(
+        Kind::MultiAgent => AnySpec::MultiAgent(Box::new(crate::multi_agent::from_document(
             &doc.file, &doc.root, overrides,
         )?)),
     })

@@ -464,14 +464,14 @@ fn entries_of(path: &Path, example: bool) -> Vec<Entry> {
     }
     match Kind::of_document(&root) {
         Kind::Maze => id_in("maze").map(|id| vec![entry(id, Kind::Maze)]),
-        Kind::Agents => {
+        Kind::MultiAgent => {
             // A complete task that also declares agents: its task id opens the task.
             let agents = id_in("agents")
                 .or_else(|| id_in("env"))
                 .unwrap_or_else(stem);
             let mut v = vec![Entry {
                 task: false,
-                ..entry(agents.clone(), Kind::Agents)
+                ..entry(agents.clone(), Kind::MultiAgent)
             }];
             if let Some(task) = id_in("env").filter(|t| *t != agents) {
                 v.push(entry(task, Kind::Task));

@@ -24,7 +24,7 @@ fn load_with(conf_first_node: &str) -> envspec::Diagnostics {
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("ant_agents.toml");
     std::fs::write(&p, text).unwrap();
-    let d = envspec::agents::load(&p, &[]).expect_err("a typo must not load");
+    let d = envspec::multi_agent::load(&p, &[]).expect_err("a typo must not load");
     std::fs::remove_dir_all(&dir).ok();
     d
 }

@@ -434,7 +434,7 @@ cases! {
         ]),
     }
 
-    // `[agents]` is a factorization (envspec::agents); the single-agent spec ignores it.
+    // `[agents]` is a factorization (envspec::multi_agent); the single-agent spec ignores it.
     agents_section_is_left_to_the_multi_agent_layer {
         stage: Parse,
         append: "\n[agents]\nsplit = 2\n",

@@ -27,7 +27,9 @@ fn loading_a_spec_records_the_spec_its_base_and_its_model() {
 
     let mut reader = Reader::disk();
     let agents = root.join("specs/mamujoco/hopper.toml");
-    reader.run(|| envspec::agents::load(&agents, &[])).unwrap();
+    reader
+        .run(|| envspec::multi_agent::load(&agents, &[]))
+        .unwrap();
     // The base chain is read first (its check), then the base spec is loaded.
     assert_eq!(
         paths(&reader),

@@ -11,9 +11,9 @@ import numpy.typing as npt
 from typing_extensions import Self, disjoint_base
 
 __all__ = [
-    "AgentsCore",
     "EnvCore",
     "MazeCore",
+    "MultiAgentCore",
     "ShardedCollection",
     "SpecError",
     "SpecPolicy",
@@ -69,7 +69,7 @@ _PolicyFn = Callable[[_F64, np.random.Generator], npt.ArrayLike]
 
 def open(
     id_or_path: str, overrides: list[tuple[str, str]] = ...
-) -> tuple[_Kind, TaskCore | MazeCore | AgentsCore]:
+) -> tuple[_Kind, TaskCore | MazeCore | MultiAgentCore]:
     """Open any kind of spec: `(kind, core)` with kind "task", "maze" or "agents"."""
 
 def gpu_plan(id_or_path: str, overrides: list[tuple[str, str]] = ...) -> tuple[str, bytes]:
@@ -292,7 +292,7 @@ class TaskCore(EnvCore):
     def compute_reward(self, achieved: _F64, desired: _F64) -> _F64: ...
 
 @final
-class AgentsCore(EnvCore):
+class MultiAgentCore(EnvCore):
     """A multi-agent env (`envc.EnvcParallelEnv` wraps it); its joint action is the global one."""
 
     @property

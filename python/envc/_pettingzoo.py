@@ -144,8 +144,8 @@ class EnvcParallelEnv(CoreEnv, pettingzoo.ParallelEnv):
                 "E0602",
             )
         _, opened = _envc.open(spec, list(overrides))
-        core = cast("_envc.AgentsCore", opened)  # a multi-agent spec opens as an AgentsCore
-        self._core: _envc.AgentsCore | _Closed = core
+        core = cast("_envc.MultiAgentCore", opened)  # a multi-agent spec opens as a MultiAgentCore
+        self._core: _envc.MultiAgentCore | _Closed = core
         self.render_mode = render_mode
         self.metadata = {
             "render_modes": list(RENDER_MODES),

@@ -112,8 +112,8 @@ pub fn build_driver(
     let build = open(spec, steps)?;
     let opts = options(steps, root, format, dataset_id)?;
     let c = build.driver(&opts).map_err(errors::dataset_error)?;
-    Ok(crate::collect::ShardedCollection::of_task(
-        c,
+    Ok(crate::collect::ShardedCollection::of(
+        c.boxed(),
         build.spec.seed,
     ))
 }

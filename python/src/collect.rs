@@ -6,14 +6,13 @@
 use std::path::PathBuf;
 
 use envc_datasets::{
-    CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, MazeKind, Plan,
-    PlanActor, PlanPolicy, ShardEpisode,
+    CollectOptions, Collector, DatasetError, DatasetInfo, EpisodePolicy, Format, Plan, PlanActor,
+    PlanPolicy, Recordable, ShardEpisode,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::{convert, errors};
-use envc::JointEnv;
 
 fn plan_policy(policy: &str, actions: Option<Vec<f32>>, has_fn: bool) -> PyResult<PlanPolicy> {
     Ok(match (policy, actions, has_fn) {
@@ -57,20 +56,21 @@ fn format(name: &str) -> PyResult<Format> {
 }
 
 /// The env of a collection: a task or a maze with a time limit.
-fn open_env(id_or_path: &str, overrides: &[(String, String)]) -> PyResult<(envc::AnyEnv, String)> {
+fn open_env(
+    id_or_path: &str,
+    overrides: &[(String, String)],
+) -> PyResult<(Box<dyn Recordable + Send>, String)> {
     let env = envc::open(id_or_path, &convert::overrides(overrides)).map_err(errors::env_error)?;
-    let id = match &env {
-        envc::AnyEnv::Agents(_) => {
-            return Err(errors::coded(
-                "E0602",
-                format!(
-                    "error[E0602]: `{id_or_path}` is a multi-agent spec; Minari datasets are single-agent (collect its base task)"
-                ),
-            ));
-        }
-        e => e.id().to_string(),
-    };
-    if env.max_episode_steps().is_none() {
+    let env = envc_datasets::recordable(env).map_err(|_| {
+        errors::coded(
+            "E0602",
+            format!(
+                "error[E0602]: `{id_or_path}` is a multi-agent spec; Minari datasets are single-agent (collect its base task)"
+            ),
+        )
+    })?;
+    let id = env.joint().id().to_string();
+    if env.joint().max_episode_steps().is_none() {
         // E1401, as `envc collect`: an episode might never end.
         return Err(errors::coded(
             "E1401",
@@ -129,7 +129,7 @@ impl PyPolicy {
     }
 }
 
-impl EpisodePolicy<[f64]> for PyPolicy {
+impl EpisodePolicy for PyPolicy {
     fn begin(&mut self, seed: u64, episode: u64) {
         self.episode = episode;
         if self.err.is_some() {
@@ -189,12 +189,15 @@ impl<P> Interruptible<P> {
     }
 }
 
-impl<O: ?Sized, P: EpisodePolicy<O>> EpisodePolicy<O> for Interruptible<P> {
+impl<P: EpisodePolicy> EpisodePolicy for Interruptible<P> {
     fn begin(&mut self, seed: u64, episode: u64) {
         self.inner.begin(seed, episode)
     }
-    fn act(&mut self, obs: &O, action: &mut [f32]) {
+    fn act(&mut self, obs: &[f64], action: &mut [f32]) {
         self.inner.act(obs, action)
+    }
+    fn reads_obs(&self) -> bool {
+        self.inner.reads_obs()
     }
     fn check(&mut self) -> Result<(), DatasetError> {
         if self.signal.is_some() {
@@ -282,30 +285,15 @@ pub fn collect(
     let r = errors::no_panic(
         &mut (),
         |_| {
-            Ok(py.detach(|| match (env, py_policy.as_mut()) {
-        (envc::AnyEnv::Task(e), Some(p)) => {
-            let mut p = Interruptible::new(p);
-            let r = envc_datasets::record_with(e, &plan, opts, &mut p, |_, _| {});
-            signal = p.signal.take();
-            r
-        }
-        (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
-            "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'".into(),
-        )),
-        (envc::AnyEnv::Task(e), None) => {
-            let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
-            let r = envc_datasets::record_with(e, &plan, opts, &mut p, |_, _| {});
-            signal = p.signal.take();
-            r
-        }
-        (envc::AnyEnv::Maze(e), None) => {
-            let mut p = Interruptible::new(PlanActor::new(&plan.policy, e.action_space())?);
-            let r = envc_datasets::record_with(*e, &plan, opts, &mut p, |_, _| {});
-            signal = p.signal.take();
-            r
-        }
-        (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
-    }))
+            Ok(py.detach(|| {
+                with_policy(
+                    env,
+                    &plan.policy,
+                    py_policy.as_mut(),
+                    &mut signal,
+                    |e, p| envc_datasets::record_with(e, &plan, opts, p, |_, _| {}),
+                )
+            }))
         },
         |_| {},
     )?;
@@ -341,11 +329,30 @@ fn options(
     }
 }
 
-// One per collection, held for its whole life: the size does not matter.
-#[allow(clippy::large_enum_variant)]
-enum DriverCollector {
-    Task(Collector<envc::Env>),
-    Maze(Collector<envc::maze::MazeEnv, MazeKind>),
+/// Run `record` with the collection's one policy: the caller's callable, else the plan's built-in
+/// one, either stopping at a pending signal (kept in `signal`).
+fn with_policy<R>(
+    env: Box<dyn Recordable + Send>,
+    plan: &PlanPolicy,
+    callable: Option<&mut PyPolicy>,
+    signal: &mut Option<PyErr>,
+    record: impl FnOnce(
+        Box<dyn Recordable + Send>,
+        &mut Interruptible<&mut dyn EpisodePolicy>,
+    ) -> Result<R, DatasetError>,
+) -> Result<R, DatasetError> {
+    let mut actor;
+    let inner: &mut dyn EpisodePolicy = match callable {
+        Some(p) => p,
+        None => {
+            actor = PlanActor::new(plan, env.joint().action_space())?;
+            &mut actor
+        }
+    };
+    let mut p = Interruptible::new(inner);
+    let r = record(env, &mut p);
+    *signal = p.signal.take();
+    r
 }
 
 /// The driver of a sharded collection: claims the dataset's staging directory (and holds its
@@ -354,17 +361,17 @@ enum DriverCollector {
 /// collection in the root removes the staging directory.
 #[pyclass(module = "envc._envc", unsendable)]
 pub struct ShardedCollection {
-    collector: Option<DriverCollector>,
+    collector: Option<Collector<Box<dyn Recordable + Send>>>,
     seed: u64,
     staging: String,
 }
 
 impl ShardedCollection {
-    /// The driver of a task env's collector made elsewhere (a dataset spec's build).
-    pub fn of_task(c: Collector<envc::Env>, seed: u64) -> ShardedCollection {
+    /// The driver of a collector made elsewhere (a dataset spec's build).
+    pub fn of(c: Collector<Box<dyn Recordable + Send>>, seed: u64) -> ShardedCollection {
         let staging = c.staging().display().to_string();
         ShardedCollection {
-            collector: Some(DriverCollector::Task(c)),
+            collector: Some(c),
             seed,
             staging,
         }
@@ -411,29 +418,12 @@ impl ShardedCollection {
             env_spec,
         );
         let err = errors::dataset_error;
-        let collector = match env {
-            envc::AnyEnv::Task(e) => {
-                if let PlanPolicy::Replay(_) = &plan.policy {
-                    PlanActor::new(&plan.policy, e.action_space()).map_err(err)?;
-                }
-                DriverCollector::Task(Collector::new(e, opts).map_err(err)?)
-            }
-            envc::AnyEnv::Maze(e) => {
-                if callable {
-                    return Err(errors::argument(
-                        "a callable policy needs a task env (flat observations); mazes take 'zero', 'random' or 'replay'",
-                    ));
-                }
-                DriverCollector::Maze(Collector::new(*e, opts).map_err(err)?)
-            }
-            envc::AnyEnv::Agents(_) => unreachable!("refused by open_env"),
-        };
-        let staging = match &collector {
-            DriverCollector::Task(c) => c.staging(),
-            DriverCollector::Maze(c) => c.staging(),
+        envc_datasets::policy_fits(&*env, callable).map_err(err)?;
+        if let PlanPolicy::Replay(_) = &plan.policy {
+            PlanActor::new(&plan.policy, env.joint().action_space()).map_err(err)?;
         }
-        .display()
-        .to_string();
+        let collector = Collector::new(env, opts).map_err(err)?;
+        let staging = collector.staging().display().to_string();
         Ok(ShardedCollection {
             collector: Some(collector),
             seed,
@@ -471,11 +461,9 @@ impl ShardedCollection {
             .take()
             .ok_or_else(|| errors::argument("the collection is already finished or aborted"))?;
         let dir = py
-            .detach(|| match c {
-                DriverCollector::Task(c) if trim => c.finish_shards_trimmed(&episodes),
-                DriverCollector::Maze(c) if trim => c.finish_shards_trimmed(&episodes),
-                DriverCollector::Task(c) => c.finish_shards(&episodes),
-                DriverCollector::Maze(c) => c.finish_shards(&episodes),
+            .detach(|| match trim {
+                true => c.finish_shards_trimmed(&episodes),
+                false => c.finish_shards(&episodes),
             })
             .map_err(errors::dataset_error)?;
         Ok(dir.display().to_string())
@@ -515,29 +503,14 @@ pub fn collect_shard(
     let r = errors::no_panic(
         &mut (),
         |_| {
-            Ok(py.detach(|| match (env, py_policy.as_mut()) {
-                (envc::AnyEnv::Task(e), Some(p)) => {
-                    let mut p = Interruptible::new(p);
-                    let r = envc_datasets::record_shard(e, seed, range, &staging, format, &mut p);
-                    signal = p.signal.take();
-                    r
-                }
-                (envc::AnyEnv::Maze(_), Some(_)) => Err(DatasetError::Unsupported(
-                    "a callable policy needs a task env (flat observations)".into(),
-                )),
-                (envc::AnyEnv::Task(e), None) => {
-                    let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
-                    let r = envc_datasets::record_shard(e, seed, range, &staging, format, &mut p);
-                    signal = p.signal.take();
-                    r
-                }
-                (envc::AnyEnv::Maze(e), None) => {
-                    let mut p = Interruptible::new(PlanActor::new(&plan_policy, e.action_space())?);
-                    let r = envc_datasets::record_shard(*e, seed, range, &staging, format, &mut p);
-                    signal = p.signal.take();
-                    r
-                }
-                (envc::AnyEnv::Agents(_), _) => unreachable!("refused by open_env"),
+            Ok(py.detach(|| {
+                with_policy(
+                    env,
+                    &plan_policy,
+                    py_policy.as_mut(),
+                    &mut signal,
+                    |e, p| envc_datasets::record_shard(e, seed, range, &staging, format, p),
+                )
             }))
         },
         |_| {},

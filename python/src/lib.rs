@@ -1,8 +1,8 @@
 //! `envc._envc`: the native core of the `envc` Python package. Every spec opens through the one
 //! door (`envc::open`); each kind gets a core object that steps with numpy arrays: one base class,
-//! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a thin subclass
-//! per kind (`TaskCore`, `MazeCore`, `AgentsCore`). The Gymnasium, vector and PettingZoo classes
-//! are Python (`python/envc/`), thin over these cores.
+//! `EnvCore` (`env_core.rs`: what every kind shares, through `envc::JointEnv`), with a subclass per
+//! kind that holds the kind's env (`TaskCore`, `MazeCore`, `MultiAgentCore`). The Gymnasium, vector
+//! and PettingZoo classes are Python (`python/envc/`), thin over these cores.
 
 use envc::JointEnv;
 use pyo3::prelude::*;
@@ -14,6 +14,7 @@ mod dataset_spec;
 mod env_core;
 mod errors;
 mod gpu;
+mod joint_methods;
 mod maze;
 mod mujoco_timer;
 mod multi_agent;
@@ -37,12 +38,16 @@ fn open(
         |_| {},
     )?;
     let kind = env.kind();
-    let base = PyClassInitializer::from(env_core::EnvCore::new(env));
-    let made = match kind {
-        envspec::Kind::Task => Py::new(py, base.add_subclass(task::TaskCore))?.into_any(),
-        envspec::Kind::Maze => Py::new(py, base.add_subclass(maze::MazeCore))?.into_any(),
-        envspec::Kind::Agents => {
-            Py::new(py, base.add_subclass(multi_agent::AgentsCore))?.into_any()
+    let base = PyClassInitializer::from(env_core::EnvCore);
+    let made = match env {
+        envc::AnyEnv::Task(env) => {
+            Py::new(py, base.add_subclass(task::TaskCore { env }))?.into_any()
+        }
+        envc::AnyEnv::Maze(env) => {
+            Py::new(py, base.add_subclass(maze::MazeCore { env }))?.into_any()
+        }
+        envc::AnyEnv::MultiAgent(env) => {
+            Py::new(py, base.add_subclass(multi_agent::MultiAgentCore { env }))?.into_any()
         }
     };
     Ok((kind_name(kind).into(), made))
@@ -65,7 +70,7 @@ fn registry(only: Option<Vec<String>>) -> Vec<RegistryRow> {
                 match envspec::open(&e.id, &[]) {
                     Ok(envc::AnySpec::Task(t)) => (t.max_episode_steps, t.reward_threshold),
                     Ok(envc::AnySpec::Maze(m)) => (m.max_episode_steps, None),
-                    Ok(envc::AnySpec::Agents(a)) => (a.base.max_episode_steps, None),
+                    Ok(envc::AnySpec::MultiAgent(a)) => (a.base.max_episode_steps, None),
                     Err(_) => (None, None),
                 }
             });
@@ -98,7 +103,7 @@ fn describe(
     let max = match &spec {
         envc::AnySpec::Task(t) => t.max_episode_steps,
         envc::AnySpec::Maze(m) => m.max_episode_steps,
-        envc::AnySpec::Agents(a) => a.base.max_episode_steps,
+        envc::AnySpec::MultiAgent(a) => a.base.max_episode_steps,
     };
     Ok((kind_name(spec.kind()).into(), spec.id().to_string(), max))
 }
@@ -107,7 +112,7 @@ pub(crate) fn kind_name(k: envspec::Kind) -> &'static str {
     match k {
         envspec::Kind::Task => "task",
         envspec::Kind::Maze => "maze",
-        envspec::Kind::Agents => "agents",
+        envspec::Kind::MultiAgent => "agents",
     }
 }
 
@@ -219,7 +224,7 @@ fn _envc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<env_core::EnvCore>()?;
     m.add_class::<task::TaskCore>()?;
     m.add_class::<maze::MazeCore>()?;
-    m.add_class::<multi_agent::AgentsCore>()?;
+    m.add_class::<multi_agent::MultiAgentCore>()?;
     m.add_class::<vector::VecCore>()?;
     // The Python hierarchy's SpecError, for code that catches `_envc.SpecError`.
     m.add(

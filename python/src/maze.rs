@@ -2,17 +2,19 @@
 //! that takes goal and reset cells, and the batched goal functions (`compute_reward`,
 //! `compute_terminated`, `compute_truncated`) computed by the env's own goal terms.
 
-use envc::maze::ResetOptions;
+use envc::maze::{MazeEnv, ResetOptions};
 use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
-use crate::env_core::{After, EnvCore, observe, wrong_kind};
+use crate::env_core::{After, EnvCore, KindEnv, ResetOut, guarded};
 use crate::errors;
 
 /// A maze env (`envc.EnvcMazeEnv` wraps it as a Gymnasium-Robotics `GoalEnv`).
 #[pyclass(module = "envc._envc", extends = EnvCore)]
-pub struct MazeCore;
+pub struct MazeCore {
+    /// Boxed: much larger than the other kinds' envs.
+    pub(crate) env: Box<MazeEnv>,
+}
 
 /// Goal (x, y) rows.
 type Goals = Vec<[f64; 2]>;
@@ -54,51 +56,48 @@ impl MazeCore {
     /// continues it; cells are `(row, col)` of free cells. Returns `(obs dict, info)`.
     #[pyo3(signature = (seed = None, goal_cell = None, reset_cell = None))]
     fn reset<'py>(
-        mut slf: PyRefMut<'py, Self>,
+        &mut self,
         py: Python<'py>,
         seed: Option<u64>,
         goal_cell: Option<[usize; 2]>,
         reset_cell: Option<[usize; 2]>,
-    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    ) -> PyResult<ResetOut<'py>> {
         let options = (goal_cell.is_some() || reset_cell.is_some()).then_some(ResetOptions {
             goal_cell,
             reset_cell,
         });
-        slf.as_super().guarded(|env| {
-            let envc::AnyEnv::Maze(maze) = env else {
-                return Err(wrong_kind(env, "maze"));
-            };
+        guarded(&mut *self.env, |maze| {
             crate::mujoco_timer::without_mujoco_timer(|| {
                 maze.reset(seed, options)?;
                 maze.robot().reset_error().map_or(Ok(()), Err)
             })
             .map_err(errors::env_error)?;
-            observe(py, env, After::Reset)
+            maze.observe(py, After::Reset)
         })
     }
 
     /// The goal reward term of every row: `achieved[k]` against `desired[k]` (`[N, 2]` each),
     /// exactly as the step reward.
     fn compute_reward<'py>(
-        slf: PyRef<'py, Self>,
+        &self,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (a, d) = goal_rows(&achieved, &desired)?;
         let mut out = vec![0.0; a.len()];
-        slf.as_super().maze()?.compute_reward(&a, &d, &mut out);
+        self.env.compute_reward(&a, &d, &mut out);
         Ok(PyArray1::from_vec(py, out))
     }
 
     /// The env's termination of every row (reaching the goal, unless the task is continuing).
     fn compute_terminated<'py>(
-        slf: PyRef<'py, Self>,
+        &self,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let maze = slf.as_super().maze()?;
+        let maze = &self.env;
         goal_flags(py, &achieved, &desired, |a, d| {
             maze.compute_terminated(a, d)
         })
@@ -106,44 +105,44 @@ impl MazeCore {
 
     /// The env's truncation of every row (never: the time limit truncates).
     fn compute_truncated<'py>(
-        slf: PyRef<'py, Self>,
+        &self,
         py: Python<'py>,
         achieved: PyReadonlyArray2<'py, f64>,
         desired: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let maze = slf.as_super().maze()?;
+        let maze = &self.env;
         goal_flags(py, &achieved, &desired, |a, d| maze.compute_truncated(a, d))
     }
 
     /// Size of the `observation` entry (the goals have 2 entries).
     #[getter]
-    fn observation_dim(slf: PyRef<'_, Self>) -> PyResult<usize> {
-        Ok(slf.as_super().maze()?.observation_dim())
+    fn observation_dim(&self) -> usize {
+        self.env.observation_dim()
     }
     /// The current goal (the next step's `desired_goal`).
     #[getter]
-    fn goal<'py>(slf: PyRef<'py, Self>, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_slice(py, &slf.as_super().maze()?.goal()))
+    fn goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.env.goal())
     }
     /// `(rows, cols)` of the maze grid.
     #[getter]
-    fn map_shape(slf: PyRef<'_, Self>) -> PyResult<(usize, usize)> {
-        let m = slf.as_super().maze()?.spec();
-        Ok((m.rows(), m.cols()))
+    fn map_shape(&self) -> (usize, usize) {
+        let m = self.env.spec();
+        (m.rows(), m.cols())
     }
     #[getter]
-    fn continuing_task(slf: PyRef<'_, Self>) -> PyResult<bool> {
-        Ok(slf.as_super().maze()?.spec().continuing_task)
+    fn continuing_task(&self) -> bool {
+        self.env.spec().continuing_task
     }
     #[getter]
-    fn reset_target(slf: PyRef<'_, Self>) -> PyResult<bool> {
-        Ok(slf.as_super().maze()?.spec().reset_target)
+    fn reset_target(&self) -> bool {
+        self.env.spec().reset_target
     }
     #[getter]
-    fn reward_type(slf: PyRef<'_, Self>) -> PyResult<&'static str> {
-        Ok(match slf.as_super().maze()?.spec().reward_type {
+    fn reward_type(&self) -> &'static str {
+        match self.env.spec().reward_type {
             envspec::maze::RewardType::Sparse => "sparse",
             envspec::maze::RewardType::Dense => "dense",
-        })
+        }
     }
 }

@@ -19,7 +19,7 @@ pub enum AnyEnv {
     /// A goal-conditioned maze env (boxed: much larger than the others).
     Maze(Box<MazeEnv>),
     /// A multi-agent (MaMuJoCo) env.
-    Agents(MultiAgentEnv),
+    MultiAgent(MultiAgentEnv),
 }
 
 /// Open a bundled id or a spec file of any kind (see `envspec::open`) and build its env.
@@ -40,7 +40,9 @@ impl AnyEnv {
         Ok(match spec {
             AnySpec::Task(s) => AnyEnv::Task(Env::new(std::sync::Arc::new(*s))?),
             AnySpec::Maze(s) => AnyEnv::Maze(Box::new(MazeEnv::new(*s)?)),
-            AnySpec::Agents(s) => AnyEnv::Agents(MultiAgentEnv::new(std::sync::Arc::new(*s))?),
+            AnySpec::MultiAgent(s) => {
+                AnyEnv::MultiAgent(MultiAgentEnv::new(std::sync::Arc::new(*s))?)
+            }
         })
     }
 
@@ -49,7 +51,7 @@ impl AnyEnv {
         match self {
             AnyEnv::Task(e) => e,
             AnyEnv::Maze(e) => &**e,
-            AnyEnv::Agents(e) => e,
+            AnyEnv::MultiAgent(e) => e,
         }
     }
     /// The variant as the trait every kind implements, mutably.
@@ -57,7 +59,7 @@ impl AnyEnv {
         match self {
             AnyEnv::Task(e) => e,
             AnyEnv::Maze(e) => &mut **e,
-            AnyEnv::Agents(e) => e,
+            AnyEnv::MultiAgent(e) => e,
         }
     }
 }

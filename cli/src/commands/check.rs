@@ -54,7 +54,7 @@ pub fn run(args: Args) -> Result<Outcome> {
             Ok(spec) => {
                 let kind = Some(spec.kind());
                 // A factorization is checked at every conf and depth, not only the one it opened.
-                if let envc::AnySpec::Agents(a) = &spec {
+                if let envc::AnySpec::MultiAgent(a) = &spec {
                     let d = crate::kinds::multi_agent::check_confs(a, &overrides);
                     if !d.is_empty() {
                         report_one(&args, &mut report, &mut failed, s, kind, d, None, &[]);

@@ -151,13 +151,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     if env.max_episode_steps().is_none() {
         return Err(crate::target::needs_max_steps("collect", &id, ""));
     }
-    match env {
-        envc::AnyEnv::Task(env) => record(env, &id, &args, format),
-        envc::AnyEnv::Maze(env) => record(*env, &id, &args, format),
-        envc::AnyEnv::Agents(env) => Err(crate::target::unsupported(
+    match envc_datasets::recordable(env) {
+        Ok(env) => record(env, &id, &args, format),
+        Err(env) => Err(crate::target::unsupported(
             "collect",
             &id,
-            envspec::Kind::Agents,
+            envspec::Kind::MultiAgent,
             "records single-agent Minari datasets",
             &format!(
                 "collect its base task instead: `envc collect {} ...`",
@@ -167,8 +166,13 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
 }
 
-fn record<E: Recordable<K>, K>(env: E, id: &str, args: &Args, format: Format) -> Result<Outcome> {
-    let act_dim = env.action_space().dim();
+fn record(
+    env: Box<dyn Recordable + Send>,
+    id: &str,
+    args: &Args,
+    format: Format,
+) -> Result<Outcome> {
+    let act_dim = env.joint().act_dim();
     let policy = match (args.policy, &args.actions) {
         (PolicyKind::Replay, Some(p)) => PlanPolicy::Replay(read_actions(p, &args.spec, act_dim)?),
         (PolicyKind::Replay, None) => bail!("--policy replay needs --actions A.npy"),

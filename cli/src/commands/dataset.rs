@@ -162,10 +162,10 @@ fn show(what: &str, no_episodes: bool) -> Result<Outcome> {
             // A spec or env id is not a dataset: say which command makes one of it.
             if let Ok(spec) = envspec::open(what, &[]) {
                 let help = match spec.kind() {
-                    envspec::Kind::Agents => format!(
+                    envspec::Kind::MultiAgent => format!(
                         "Minari datasets are single-agent: record the base task with `envc collect {} --dataset-id ...`",
                         match &spec {
-                            envc::AnySpec::Agents(a) => {
+                            envc::AnySpec::MultiAgent(a) => {
                                 crate::target::runnable_name(&a.base.id, &a.base.spec_path)
                             }
                             _ => what.to_string(),

@@ -182,9 +182,8 @@ fn diff(args: &Args, tmp: &Path) -> Result<Outcome> {
     }
     let mut report = match kind {
         // Multi-agent specs: the base envs, then every conf's agents.
-        Kind::Agents => {
-            envspec::diff::diff_agents(old_path, new_path).map_err(|d| anyhow::anyhow!("{d}"))?
-        }
+        Kind::MultiAgent => envspec::diff::diff_multi_agent(old_path, new_path)
+            .map_err(|d| anyhow::anyhow!("{d}"))?,
         Kind::Maze => diff_mazes(args, &old, &new)?,
         Kind::Task => diff_tasks(args, old_path, new_path)?,
     };

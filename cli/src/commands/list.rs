@@ -49,7 +49,7 @@ fn row(e: &envspec::registry::Entry) -> Result<Row> {
                 m.max_episode_steps,
             )
         }
-        envc::AnySpec::Agents(a) => (
+        envc::AnySpec::MultiAgent(a) => (
             {
                 // `agents × obs`, or `agents × min..max` when they differ.
                 let dims = a.agents.iter().map(|x| x.obs_dim);

@@ -330,7 +330,7 @@ fn open_env(args: &Args) -> Result<envc::AnyEnv> {
     let mut env = crate::target::env(&args.spec, &sets)?;
     if args.color_agents {
         match &mut env {
-            envc::AnyEnv::Agents(e) => e.color_agents(true),
+            envc::AnyEnv::MultiAgent(e) => e.color_agents(true),
             other => {
                 return Err(crate::target::unsupported(
                     "render --color-agents",

@@ -249,8 +249,8 @@ pub fn run(args: Args) -> Result<Outcome> {
             let rec = crate::kinds::maze::MazeTrajectory::default();
             roll(&mut *env, rec, seed, &as_f64(), out, auto)
         }
-        envc::AnyEnv::Agents(mut env) => {
-            let rec = crate::kinds::multi_agent::AgentsTrajectory::new(&env);
+        envc::AnyEnv::MultiAgent(mut env) => {
+            let rec = crate::kinds::multi_agent::MultiAgentTrajectory::new(&env);
             roll(&mut env, rec, seed, &as_f64(), out, auto)
         }
     }

@@ -110,7 +110,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     let env = match any {
         envc::AnyEnv::Task(env) => env,
         envc::AnyEnv::Maze(env) => return crate::kinds::maze::show(&env),
-        envc::AnyEnv::Agents(env) => return crate::kinds::multi_agent::show(&env),
+        envc::AnyEnv::MultiAgent(env) => return crate::kinds::multi_agent::show(&env),
     };
     let spec = env.spec().clone();
     let cwd = std::env::current_dir().unwrap_or_default();

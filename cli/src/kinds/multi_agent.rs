@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use anyhow::Result;
 use envc::multi_agent::MultiAgentEnv;
-use envspec::agents::AgentsSpec;
+use envspec::multi_agent::MultiAgentSpec;
 use ndarray::{Array1, Array2};
 use ndarray_npy::NpzWriter;
 
@@ -15,7 +15,7 @@ use crate::trajectory::Trajectory;
 /// A multi-agent trajectory (global actions [T, act_dim] go to the agents): `obs.<agent>`
 /// [n+1, dim], `state` `[n+1, state_dim]`; with `--auto-reset` `reset_obs.<agent>`,
 /// `reset_state` and `reset_at` of the resets after the first.
-pub struct AgentsTrajectory {
+pub struct MultiAgentTrajectory {
     obs: Vec<Vec<f64>>,
     state: Vec<f64>,
     reset_at: Vec<i64>,
@@ -23,10 +23,10 @@ pub struct AgentsTrajectory {
     reset_state: Vec<f64>,
 }
 
-impl AgentsTrajectory {
+impl MultiAgentTrajectory {
     pub fn new(env: &MultiAgentEnv) -> Self {
         let n_agents = env.num_agents();
-        AgentsTrajectory {
+        MultiAgentTrajectory {
             obs: vec![vec![]; n_agents],
             state: vec![],
             reset_at: vec![],
@@ -36,7 +36,7 @@ impl AgentsTrajectory {
     }
 }
 
-impl Trajectory for AgentsTrajectory {
+impl Trajectory for MultiAgentTrajectory {
     type Env = MultiAgentEnv;
     fn reset(&mut self, env: &MultiAgentEnv, at: Option<usize>) {
         match at {
@@ -172,7 +172,10 @@ pub fn show(env: &MultiAgentEnv) -> Result<Outcome> {
 
 /// `envc check` of a multi-agent spec beyond the conf it opened with: every conf at k = 0, 1, 2
 /// resolves (unless the user chose a conf). Returns the first conf's diagnostics.
-pub fn check_confs(spec: &AgentsSpec, overrides: &[envc::Override]) -> Vec<envspec::Diagnostic> {
+pub fn check_confs(
+    spec: &MultiAgentSpec,
+    overrides: &[envc::Override],
+) -> Vec<envspec::Diagnostic> {
     let user_conf = overrides.iter().any(|o| o.name == "agent_conf");
     let confs: Vec<String> = if user_conf {
         vec![spec.conf.clone()]
@@ -188,7 +191,7 @@ pub fn check_confs(spec: &AgentsSpec, overrides: &[envc::Override]) -> Vec<envsp
                 .collect();
             o.push(envc::Override::text("agent_conf", c));
             o.push(envc::Override::text("agent_obsk", &k.to_string()));
-            if let Err(d) = envspec::agents::load(&spec.spec_path, &o) {
+            if let Err(d) = envspec::multi_agent::load(&spec.spec_path, &o) {
                 return d.0;
             }
         }

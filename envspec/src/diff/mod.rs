@@ -10,10 +10,9 @@
 //! the runtime adds them to the report.
 //!
 //! Every change is an instance of a rule of [`rules::RULES`] (stable id, category, breaking by
-//! default, description; listed in `docs/diff-rules.md`). Besides task specs, [`diff_agents`]
+//! default, description; listed in `docs/diff-rules.md`). Besides task specs, [`diff_multi_agent`]
 //! compares multi-agent factorizations and [`diff_mazes`] maze specs.
 
-mod agents;
 mod behaviour;
 mod change;
 mod commands;
@@ -22,6 +21,7 @@ mod events;
 mod info;
 mod manipulation;
 mod maze;
+mod multi_agent;
 mod noise;
 mod observation;
 mod params;
@@ -30,9 +30,9 @@ pub mod rules;
 mod sections;
 mod whole;
 
-pub use agents::diff_agents;
 pub use change::{Change, Pos};
 pub use maze::diff_mazes;
+pub use multi_agent::diff_multi_agent;
 pub use report::{Report, Verdict};
 pub use rules::{Category, RULES, Rule, RuleId};
 

@@ -109,7 +109,7 @@ pub(super) fn read_spec(file: &Arc<SourceFile>, root: &Val, d: &mut Diagnostics)
             .help("load it as a maze (`envc::MazeEnv`, or any `envc` command)"),
         );
     }
-    // `[agents]` (a multi-agent factorization) is read by envspec::agents; the single-agent env
+    // `[agents]` (a multi-agent factorization) is read by envspec::multi_agent; the single-agent env
     // of such a spec ignores it.
 
     read_env(top, &whole, &mut spec, d);

@@ -10,7 +10,7 @@ use crate::render::{Frame, RenderMode};
 
 impl JointEnv for MultiAgentEnv {
     fn kind(&self) -> Kind {
-        Kind::Agents
+        Kind::MultiAgent
     }
     fn id(&self) -> &str {
         &self.spec().id

@@ -1,5 +1,5 @@
 //! Multi-agent envs (MaMuJoCo v1 semantics, PettingZoo's parallel API): one single-agent env whose
-//! actuators are split among agents by a factorization (`[agents]`, see `envspec::agents`).
+//! actuators are split among agents by a factorization (`[agents]`, see `envspec::multi_agent`).
 //!
 //! ```no_run
 //! use envc::multi_agent::MultiAgentEnv;
@@ -18,7 +18,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use envspec::agents::AgentsSpec;
+use envspec::multi_agent::MultiAgentSpec;
 use envspec::{Override, ResolvedSpec};
 
 use crate::env::{BoxSpace, Env, Info};
@@ -60,7 +60,7 @@ pub enum MappingError {
 
 /// A multi-agent env over one simulation.
 pub struct MultiAgentEnv {
-    spec: Arc<AgentsSpec>,
+    spec: Arc<MultiAgentSpec>,
     env: Env,
     obs: Vec<Vec<f64>>,
     action: Vec<f64>,
@@ -77,12 +77,12 @@ impl MultiAgentEnv {
         path: impl AsRef<Path>,
         overrides: &[Override],
     ) -> Result<MultiAgentEnv, EnvError> {
-        let spec = envspec::agents::load(path.as_ref(), overrides)?;
+        let spec = envspec::multi_agent::load(path.as_ref(), overrides)?;
         MultiAgentEnv::new(Arc::new(spec))
     }
 
     /// Build the env of a resolved multi-agent spec.
-    pub fn new(spec: Arc<AgentsSpec>) -> Result<MultiAgentEnv, EnvError> {
+    pub fn new(spec: Arc<MultiAgentSpec>) -> Result<MultiAgentEnv, EnvError> {
         let mut base: ResolvedSpec = spec.base.clone();
         // Gymnasium runs mj_rnePostConstraint after every step; envc only when something reads
         // the contact forces, which the agents may do even when the single-agent obs does not.
@@ -130,7 +130,7 @@ impl MultiAgentEnv {
     }
 
     /// The resolved multi-agent spec.
-    pub fn spec(&self) -> &Arc<AgentsSpec> {
+    pub fn spec(&self) -> &Arc<MultiAgentSpec> {
         &self.spec
     }
     /// The numerics profile the underlying env computes under.
@@ -329,7 +329,7 @@ impl MultiAgentEnv {
 
     /// `map_global_state_to_local_observations`: each agent's observation taken from a state
     /// vector. None when some agent observes a value the state does not hold (see
-    /// `envspec::agents::Agent::state_index`).
+    /// `envspec::multi_agent::Agent::state_index`).
     pub fn global_state_to_local(&self, state: &[f64]) -> Option<Vec<Vec<f64>>> {
         if state.len() != self.spec.state_dim() {
             return None;
@@ -385,7 +385,7 @@ impl MultiAgentEnv {
 /// their global positions in `out`. Shared by `step` (into a reused buffer: no allocation) and
 /// `local_actions_to_global`.
 fn scatter_local_actions(
-    spec: &AgentsSpec,
+    spec: &MultiAgentSpec,
     actions: &[&[f64]],
     out: &mut [f64],
 ) -> Result<(), EnvError> {

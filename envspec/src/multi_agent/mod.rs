@@ -65,7 +65,7 @@ pub const AGENT_PARAMS: &[&str] = &["agent_conf", "agent_obsk"];
 
 /// A resolved multi-agent spec: the base env plus the chosen factorization at depth `k`.
 #[derive(Clone, Debug)]
-pub struct AgentsSpec {
+pub struct MultiAgentSpec {
     /// The single-agent env every agent shares (its observation is the global state).
     pub base: ResolvedSpec,
     /// The multi-agent spec file (its `base` is resolved relative to it).
@@ -89,7 +89,7 @@ pub struct AgentsSpec {
     pub first_element_bounds: bool,
 }
 
-impl AgentsSpec {
+impl MultiAgentSpec {
     /// Length of the global state, the base env's observation.
     pub fn state_dim(&self) -> usize {
         self.base.obs_dim
@@ -144,7 +144,7 @@ impl Agent {
 }
 
 /// Load a multi-agent spec with overrides (`agent_conf`, `agent_obsk`, and any base parameter).
-pub fn load(path: &Path, overrides: &[Override]) -> Result<AgentsSpec, Diagnostics> {
+pub fn load(path: &Path, overrides: &[Override]) -> Result<MultiAgentSpec, Diagnostics> {
     let (file, root) = crate::value::read_document(path, None, "spec")?;
     from_document(&file, &root, overrides)
 }
@@ -154,7 +154,7 @@ pub fn from_document(
     file: &Arc<SourceFile>,
     root: &Val,
     overrides: &[Override],
-) -> Result<AgentsSpec, Diagnostics> {
+) -> Result<MultiAgentSpec, Diagnostics> {
     let path = file.path.as_path();
     // Read: the table, its keys, the overrides and `base_params` (every problem is reported
     // together, in this order, unless the base spec itself fails).
@@ -183,7 +183,7 @@ pub fn from_document(
         }
         None => (vec![graph::single_agent(&base)], 0),
     };
-    Ok(AgentsSpec {
+    Ok(MultiAgentSpec {
         base,
         spec_path: path.to_path_buf(),
         id: header.id,
@@ -198,4 +198,4 @@ pub fn from_document(
 }
 
 /// A multi-agent spec shared between threads.
-pub type SharedAgentsSpec = Arc<AgentsSpec>;
+pub type SharedMultiAgentSpec = Arc<MultiAgentSpec>;

@@ -1,5 +1,5 @@
 //! `envc::multi_agent_env!`: typed per-agent observation and action types for one conf of a
-//! multi-agent spec (a spec with `[agents]`, see `envspec::agents`).
+//! multi-agent spec (a spec with `[agents]`, see `envspec::multi_agent`).
 //!
 //! ```text
 //! envc::multi_agent_env!(pub AntQuad = "specs/mamujoco/ant.toml", agent_conf = "4x2", agent_obsk = 1);
@@ -10,7 +10,7 @@
 
 use std::path::Path;
 
-use envspec::agents::AgentsSpec;
+use envspec::multi_agent::MultiAgentSpec;
 use envspec::{Diagnostics, Override};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -54,7 +54,7 @@ pub(crate) fn expand(input: Input) -> TokenStream {
     let overrides = build_overrides(&input, &root);
     // The spec, its base, the model and its includes, through envspec's one reader (`track`).
     let mut reader = envspec::source::Reader::disk();
-    let spec = match reader.run(|| envspec::agents::load(&spec_path, &overrides)) {
+    let spec = match reader.run(|| envspec::multi_agent::load(&spec_path, &overrides)) {
         Ok(s) => s,
         Err(d) => {
             let mut out = errors(&d, span);
@@ -116,8 +116,8 @@ struct AgentTypes {
 /// One agent's observation type (an accessor per segment) and action type (a field per node).
 fn agent_items(
     vis: &syn::Visibility,
-    spec: &AgentsSpec,
-    a: &envspec::agents::Agent,
+    spec: &MultiAgentSpec,
+    a: &envspec::multi_agent::Agent,
     t: &AgentTypes,
 ) -> TokenStream {
     let (obs_ty, act_ty) = (&t.obs, &t.act);
@@ -174,7 +174,7 @@ fn agent_items(
 fn env_items(
     vis: &syn::Visibility,
     name: &Ident,
-    spec: &AgentsSpec,
+    spec: &MultiAgentSpec,
     agents: &[AgentTypes],
     spec_path: &Path,
     overrides: &[Override],

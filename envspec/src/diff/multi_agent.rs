@@ -6,9 +6,9 @@ use std::path::Path;
 
 use super::rules::RuleId;
 use super::{Change, Report};
-use crate::agents::{Agent, AgentsSpec, load};
 use crate::diagnostic::Diagnostics;
 use crate::ir::Segment;
+use crate::multi_agent::{Agent, MultiAgentSpec, load};
 use crate::params::Override;
 use crate::syntax::Spec;
 
@@ -35,7 +35,7 @@ fn actions_text(ag: &Agent) -> String {
 }
 
 /// The base envs' task diff, subjects prefixed with `base`.
-fn base_report(old: &AgentsSpec, new: &AgentsSpec) -> Report {
+fn base_report(old: &MultiAgentSpec, new: &MultiAgentSpec) -> Report {
     match (
         Spec::load(&old.base.spec_path),
         Spec::load(&new.base.spec_path),
@@ -122,7 +122,7 @@ fn key_line(path: &Path, key: &str) -> Option<super::Pos> {
 }
 
 /// Semantic diff of two multi-agent specs (`[agents]` files).
-pub fn diff_agents(old_path: &Path, new_path: &Path) -> Result<Report, Diagnostics> {
+pub fn diff_multi_agent(old_path: &Path, new_path: &Path) -> Result<Report, Diagnostics> {
     let old = load(old_path, &[])?;
     let new = load(new_path, &[])?;
     let mut report = base_report(&old, &new);
