@@ -6,7 +6,8 @@
 //!   (+ `mj_rnePostConstraint` when the spec reads contact forces), same actions, reset at the
 //!   env's observed mean episode length. Where the env's action is not its controls (`[actions]`,
 //!   `[end_effector]`), the raw loop replays the controls and mocap poses the env applied over
-//!   the same actions, so both run the same physics;
+//!   the same actions, and sets the `[hold.*]` joints with the `mj_forward` after them, so both
+//!   run the MuJoCo work the reference's step does;
 //! * **single**: one [`Env`](crate::Env) stepped with the same actions, autoreset on termination/truncation;
 //! * **vector**: a [`VecEnv`] of `envs` envs on `threads` threads (autoreset slots not counted);
 //! * **parallel ceiling**: `threads` raw loops at once, wall time: the multi-core ceiling as the
