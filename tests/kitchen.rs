@@ -196,3 +196,25 @@ fn kitchen_checklist() {
     replay("keep_done");
     replay("noisy_two");
 }
+
+/// A goal of named parts is not stored by the dataset writers yet: collecting it is refused
+/// (E1205) before anything is written.
+#[test]
+fn kitchen_collection_is_refused() {
+    let root = std::env::temp_dir().join(format!("envc-kitchen-ds-{}", std::process::id()));
+    let Ok(env) = envc_datasets::recordable(envc::open("FrankaKitchen-v1", &[]).unwrap()) else {
+        panic!("the Kitchen is a task");
+    };
+    let opts = envc_datasets::CollectOptions {
+        root: Some(root.clone()),
+        dataset_id: "test/kitchen-v0".into(),
+        format: envc_datasets::Format::Arrow,
+        info: envc_datasets::DatasetInfo::default(),
+    };
+    let Err(e) = envc_datasets::Collector::new(env, opts) else {
+        panic!("a goal of parts was recorded");
+    };
+    assert_eq!(e.code(), "E1205", "{e}");
+    assert!(e.to_string().contains("named parts"), "{e}");
+    assert!(!root.exists(), "nothing written");
+}

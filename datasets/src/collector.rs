@@ -178,6 +178,7 @@ impl<E: Recordable> Collector<E> {
     /// stored when its spec names an `[env] entry_point`; `options.info.env_spec` set by the caller
     /// wins.
     pub fn new(env: E, mut options: CollectOptions) -> Result<Collector<E>, DatasetError> {
+        crate::recordable::check_recordable(&env)?;
         options.info.numerics = Some(env.joint().numerics().to_string());
         if options.info.env_spec.is_none() {
             options.info.env_spec = env.env_spec();

@@ -71,7 +71,7 @@ pub use plan::{
 };
 pub use provenance::{RecoverOptions, RecoveredSpec, recover};
 pub use reader::Dataset;
-pub use recordable::{MazeRecording, Recordable, policy_fits, recordable};
+pub use recordable::{MazeRecording, Recordable, check_recordable, policy_fits, recordable};
 pub use shard_episode::ShardEpisode;
 pub use space::{Dtype, Space};
 pub use tensor::{Data, Episode, Tensor};

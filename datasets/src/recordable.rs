@@ -53,6 +53,18 @@ pub trait Recordable {
         obs: &mut Vec<f64>,
         infos: &mut [InfoColumn],
     ) -> Result<JointStep, EnvError>;
+    /// Why the env cannot be recorded yet, if it cannot (collectors refuse it, E1205).
+    fn unrecordable(&self) -> Option<String> {
+        None
+    }
+}
+
+/// E1205 for an env the collectors cannot record yet.
+pub fn check_recordable<E: Recordable + ?Sized>(env: &E) -> Result<(), DatasetError> {
+    match env.unrecordable() {
+        Some(why) => Err(DatasetError::Unsupported(why)),
+        None => Ok(()),
+    }
 }
 
 /// A boxed recordable env is one too (what [`recordable`] gives, to every generic collector).
@@ -90,6 +102,9 @@ impl Recordable for Box<dyn Recordable + Send> {
         infos: &mut [InfoColumn],
     ) -> Result<JointStep, EnvError> {
         (**self).record_step(action, obs, infos)
+    }
+    fn unrecordable(&self) -> Option<String> {
+        (**self).unrecordable()
     }
 }
 
@@ -198,6 +213,17 @@ impl<E: Environment> Recordable for E {
         push_task_obs(obs, self.env());
         push_info(infos, None, self.env().step_info());
         Ok(s)
+    }
+    /// A goal of named parts is a dict of dicts, and its `goal_parts` info entries are lists of
+    /// names: neither is stored yet.
+    fn unrecordable(&self) -> Option<String> {
+        let goal = self.spec().manipulation.goal.as_ref()?;
+        goal.parts.as_ref().map(|_| {
+            format!(
+                "`{}` has a [goal] of named parts (nested dict observations, info lists of names), which envc's datasets do not store yet",
+                self.spec().id
+            )
+        })
     }
 }
 

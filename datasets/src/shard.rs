@@ -78,6 +78,7 @@ impl<E: Recordable> ShardCollector<E> {
         staging: &Path,
         format: Format,
     ) -> Result<ShardCollector<E>, DatasetError> {
+        crate::recordable::check_recordable(&env)?;
         if format == Format::Hdf5 && !format.available() {
             return Err(DatasetError::BackendMissing("hdf5"));
         }
