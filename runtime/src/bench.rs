@@ -335,8 +335,7 @@ impl Bench {
             Actions::in_space(env.physics_env().action_space(), 4096.max(envs * 4))
         };
         let mut vec = match env.kind() {
-            // (a goal task's dict observations are not batched: single env only)
-            crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
+            crate::Kind::Task => Some(VecEnv::new(
                 Arc::clone(&spec),
                 envs,
                 cfg.threads,
