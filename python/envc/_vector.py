@@ -57,6 +57,9 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
       as ``SyncVectorEnv`` concatenates the single env's ``Dict`` space; SAME_STEP's
       ``info["final_obs"]`` holds each ended env's own dict. A goal of named parts
       (``[goal.parts]``, FrankaKitchen-v1) is refused (E0602).
+    * Info keys declared float32 or bool come as ``SyncVectorEnv`` batches the single env's
+      numpy scalars: float32 arrays; for a bool, an object array of ``np.bool_`` (None where an
+      env did not report it).
     * The time limit is the spec's (``max_episode_steps``, as ``TimeLimit`` applies it in the
       reference); ``max_episode_steps=N`` overrides it, ``0`` turns it off.
 
@@ -65,9 +68,9 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
     place by the threads (no copy), which step with the GIL released. Results and infos are
     built in Rust. ``copy=True`` (Gymnasium's default) returns fresh arrays; ``copy=False``
     returns the same arrays every call (observations, rewards, flags, each info key's values and
-    mask), owned by the env and overwritten by the next ``reset`` or ``step``. Bad batches
-    (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` and any call after
-    ``close`` raise ``RuntimeError``.
+    mask, a bool key's object array aside), owned by the env and overwritten by the next
+    ``reset`` or ``step``. Bad batches (wrong shape, NaN) raise ``ValueError``; ``step`` before
+    ``reset`` and any call after ``close`` raise ``RuntimeError``.
     """
 
     def __init__(

@@ -3,8 +3,9 @@
 //!
 //! `copy=True` (Gymnasium's default) returns fresh arrays each call. `copy=False` returns the
 //! same arrays every call, owned by the core and overwritten in place by the next `reset` or
-//! `step` (observations, rewards, flags, each info key's values and `_key` mask); a buffer the
-//! user made unusable (read-only, resized) is replaced by a fresh one. Infos are gathered
+//! `step` (observations, rewards, flags, each info key's values and `_key` mask; not a one-number
+//! bool key's object array); a buffer the user made unusable (read-only, resized) is replaced by
+//! a fresh one. Infos are gathered
 //! key-major in Rust scratch space (key k's values env-major at `offset * N`), zero where an env
 //! did not report the key, as Gymnasium's `_add_info` leaves them.
 //!
@@ -46,6 +47,8 @@ pub struct VecCore {
     f32_scratch: Vec<f32>,
     /// A bool key's values, converted for the call.
     bool_scratch: Vec<bool>,
+    /// `np.False_` and `np.True_`: a one-number bool key's values (see `flag_objects`).
+    np_bools: [Py<PyAny>; 2],
     /// By `Slot`: `[0]` `copy=False`'s arrays (handed out every call); `[1]` `copy=True`'s
     /// next ones, made while the workers step (`prepare`) and each handed out once.
     f64_slots: [Vec<Kept<f64>>; 2],
@@ -74,7 +77,8 @@ struct InfoKey {
     f32_with_f32_actions: bool,
     /// Declared `dtype = "float32"`: always float32, as the single env reports it.
     float32: bool,
-    /// Declared `dtype = "bool"`: numpy bools (`value != 0`), as the single env reports them.
+    /// Declared `dtype = "bool"`: numpy bools (`value != 0`), as the single env reports them
+    /// (batched as `_add_info` batches them: an object array for one number, else bools).
     boolean: bool,
 }
 
@@ -182,6 +186,7 @@ impl VecCore {
         let reset_map = e0.reset_info().keys().map(index).collect::<PyResult<_>>()?;
         let n = num_envs;
         let nkeys = keys.len();
+        let np = py.import("numpy")?;
         Ok(VecCore {
             env: Some(env),
             step_map,
@@ -190,6 +195,10 @@ impl VecCore {
             mask: vec![false; nkeys * n],
             final_values: vec![0.0; offset * n],
             f32_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
+            np_bools: [
+                np.getattr("False_")?.unbind(),
+                np.getattr("True_")?.unbind(),
+            ],
             bool_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
             f64_slots: [0, 1].map(|_| (0..4 + 2 * nkeys).map(|_| None).collect()),
             f32_slots: [0, 1].map(|_| (0..2 + 2 * nkeys).map(|_| None).collect()),

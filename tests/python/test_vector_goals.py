@@ -7,7 +7,8 @@ Gymnasium-Robotics reference, bit for bit.
 exactly: the observation dicts (keys, their order, dtypes, shapes, bits), rewards, flags and
 infos (``is_success`` as float32, its mask; SAME_STEP's ``final_obs`` dicts and
 ``final_info``). A fresh seed each run (``ENVC_LIVE_SEED`` if set) picks seeds and actions; it
-is printed.
+is printed. AdroitHandDoor-v1 (no goal; a ``dtype = "bool"`` info key, ``success``) runs the
+same way: its infos are numpy bools in the reference, so bool arrays in the vector env.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ LIVE_SEED = int(os.environ.get("ENVC_LIVE_SEED", random.SystemRandom().randrange
 print(f"test_vector_goals: ENVC_LIVE_SEED={LIVE_SEED}")
 
 ENV_ID = "FetchPush-v4"
+ENV_IDS = [ENV_ID, "AdroitHandDoor-v1"]
 NUM_ENVS = 4
 STEPS = 120
 MODES = [AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP]
@@ -62,19 +64,20 @@ def same_tree(a, b, what: str, ordered: bool = True) -> None:
     assert a.tobytes() == b.tobytes(), f"{what}: {a} vs reference {b}"
 
 
-def reference(mode: AutoresetMode) -> gym.vector.SyncVectorEnv:
+def reference(env_id: str, mode: AutoresetMode) -> gym.vector.SyncVectorEnv:
     return gym.vector.SyncVectorEnv(
-        [lambda: gym.make(ENV_ID, max_episode_steps=50) for _ in range(NUM_ENVS)],
+        [lambda: gym.make(env_id, max_episode_steps=50) for _ in range(NUM_ENVS)],
         autoreset_mode=mode,
     )
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 @pytest.mark.parametrize("mode", MODES, ids=lambda m: m.value)
-def test_fetch_push_matches_sync_vector_env(mode, dtype):
-    ref = reference(mode)
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_matches_sync_vector_env_over_the_live_reference(env_id, mode, dtype):
+    ref = reference(env_id, mode)
     envs = [
-        envc.make_vec(ENV_ID, NUM_ENVS, num_threads=t, autoreset_mode=mode, max_episode_steps=50)
+        envc.make_vec(env_id, NUM_ENVS, num_threads=t, autoreset_mode=mode, max_episode_steps=50)
         for t in (1, 2)
     ]
     for ours in envs:
@@ -97,7 +100,8 @@ def test_fetch_push_matches_sync_vector_env(mode, dtype):
                 o = ours.reset(**resets[t]())
                 same_tree(o[0], r[0], f"reset {t} threads={k + 1} obs")
                 same_tree(o[1], r[1], f"reset {t} threads={k + 1} info", ordered=False)
-        a = rng.uniform(-1.2, 1.2, size=(NUM_ENVS, 4)).astype(dtype)
+        low, high = ref.single_action_space.low, ref.single_action_space.high
+        a = rng.uniform(1.2 * low, 1.2 * high, size=(NUM_ENVS, low.size)).astype(dtype)
         r = ref.step(a)
         for k, ours in enumerate(envs):
             what = f"{mode.value} {np.dtype(dtype)} threads={k + 1} step {t}"

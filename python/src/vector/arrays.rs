@@ -120,11 +120,14 @@ pub(super) fn prepare(
         }
         .index(nk);
         if key.boolean {
+            // A one-number bool key is an object array, made when it is handed out.
             let at = Slot::Flag {
                 key: k,
                 last: false,
             };
-            fresh(py, &mut bools[at.index(nk)], shape);
+            if key.len > 1 {
+                fresh(py, &mut bools[at.index(nk)], shape);
+            }
         } else if key.float32 || (f32 && key.f32_with_f32_actions) {
             fresh(py, &mut f32s[v], shape);
         } else {

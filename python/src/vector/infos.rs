@@ -78,6 +78,9 @@ impl VecCore {
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.mask.len() / self.keys.len().max(1);
         let key = &self.keys[k];
+        if key.boolean && key.len == 1 {
+            return self.flag_objects(py, k, last);
+        }
         let (off, len) = (key.offset * n, key.len * n);
         let shape: &[usize] = if key.len == 1 { &[n] } else { &[n, key.len] };
         let src = if last {
@@ -118,6 +121,35 @@ impl VecCore {
                 copy,
             )
         }
+    }
+
+    /// A one-number bool key as `_add_info` batches the single env's `np.bool_` scalars (no
+    /// `np.number`, so an object array): `np.True_` or `np.False_` where the env reported the
+    /// key (`last`: where it ended), None elsewhere.
+    fn flag_objects<'py>(
+        &self,
+        py: Python<'py>,
+        k: usize,
+        last: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let env = self.env()?;
+        let n = env.num_envs();
+        let at = self.keys[k].offset * n;
+        let (values, reported) = if last {
+            (&self.final_values[at..at + n], env.has_final())
+        } else {
+            (&self.values[at..at + n], &self.mask[k * n..(k + 1) * n])
+        };
+        let rows = (0..n)
+            .map(|i| {
+                if reported[i] {
+                    self.np_bools[usize::from(values[i] != 0.0)].clone_ref(py)
+                } else {
+                    py.None()
+                }
+            })
+            .collect::<Vec<_>>();
+        Ok(PyArray1::from_vec(py, rows).into_any())
     }
 
     /// The last call's infos in Gymnasium's vector form; `finals`: SameStep's `final_obs` and
