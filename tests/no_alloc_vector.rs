@@ -43,6 +43,8 @@ fn vector_step_does_not_allocate() {
         ("Hopper-v5", Autoreset::NextStep),
         ("Ant-v5", Autoreset::SameStep),
         ("Humanoid-v5", Autoreset::NextStep),
+        // A goal task: its goal rows, SameStep's final ones too (episodes of 50 steps).
+        ("FetchPush-v4", Autoreset::SameStep),
     ] {
         let mut v = VecEnv::make(id, &[], 4, 2, mode).unwrap();
         v.reset(Some(3));

@@ -242,3 +242,97 @@ fn an_interrupted_step_skips_the_envs_not_started_and_needs_a_reset() {
     v.step(&[0.0; 120]).unwrap();
     assert!(v.envs().iter().all(|e| e.elapsed_steps() == 1));
 }
+
+/// One single env's side of `a_goal_task_batches_what_single_envs_stepped_alone_observe`: the
+/// observation, achieved and desired goal it reports now, bitwise.
+fn observed(e: &envc::Env) -> Vec<u64> {
+    let mut achieved = vec![];
+    e.achieved_goal(&mut achieved);
+    [e.obs(), &achieved, e.goal()]
+        .concat()
+        .iter()
+        .map(|v| v.to_bits())
+        .collect()
+}
+
+/// Env i's rows of a vector's observation and goal buffers, bitwise.
+fn rows_of(
+    obs: &[f64],
+    achieved: &[f64],
+    desired: &[f64],
+    i: usize,
+    (od, gd): (usize, usize),
+) -> Vec<u64> {
+    let (o, g) = (i * od..(i + 1) * od, i * gd..(i + 1) * gd);
+    bits(&[&obs[o], &achieved[g.clone()], &desired[g]].concat())
+}
+
+#[test]
+fn a_goal_task_batches_what_single_envs_stepped_alone_observe() {
+    // FetchPush-v4 ([goal]): the goal buffers hold each env's achieved and desired goal after
+    // every reset and step, SameStep's final rows what the ending env observed, across
+    // autoresets (a 20-step limit) and a masked reset.
+    let over = [Override::text("max_episode_steps", "20")];
+    let n = 3;
+    for mode in [Autoreset::NextStep, Autoreset::SameStep] {
+        let mut v = VecEnv::make("FetchPush-v4", &over, n, 2, mode).unwrap();
+        let (od, gd) = (v.obs_dim(), v.goal_dim());
+        assert_eq!(gd, 3);
+        let mut singles: Vec<envc::Env> = (0..n)
+            .map(|_| envc::Env::make("FetchPush-v4", &over).unwrap())
+            .collect();
+        v.reset(Some(5));
+        for (i, e) in singles.iter_mut().enumerate() {
+            e.reset(Some(5 + i as u64));
+        }
+        let mut pending = vec![false; n];
+        let mut ends = 0;
+        for t in 0..50 {
+            if t == 30 {
+                let mask = [true, false, true];
+                let seeds = (0..n as u64).map(|i| Some(100 + i));
+                v.reset_masked(seeds, &mask).unwrap();
+                for i in [0, 2] {
+                    singles[i].reset(Some(100 + i as u64));
+                    pending[i] = false;
+                }
+            }
+            let a: Vec<f64> = (0..n * v.act_dim())
+                .map(|k| (((t * 31 + k * 17) % 13) as f64 - 6.0) / 5.0)
+                .collect();
+            v.step(&a).unwrap();
+            for (i, e) in singles.iter_mut().enumerate() {
+                let what = format!("{mode:?} step {t} env {i}");
+                let (obs, ach, des) = (v.obs(), v.achieved_goals(), v.desired_goals());
+                if pending[i] {
+                    e.reset(None);
+                    pending[i] = false;
+                    assert_eq!(rows_of(obs, ach, des, i, (od, gd)), observed(e), "{what}");
+                    continue;
+                }
+                let s = e.step(&a[i * 4..(i + 1) * 4]).unwrap();
+                let (r, ended) = (s.reward, s.terminated || s.truncated);
+                assert_eq!(v.rewards()[i].to_bits(), r.to_bits(), "{what}: reward");
+                ends += usize::from(ended);
+                if ended && mode == Autoreset::SameStep {
+                    assert!(v.has_final()[i], "{what}");
+                    let last = (
+                        v.final_obs(),
+                        v.final_achieved_goals(),
+                        v.final_desired_goals(),
+                    );
+                    assert_eq!(
+                        rows_of(last.0, last.1, last.2, i, (od, gd)),
+                        observed(e),
+                        "{what}: final"
+                    );
+                    e.reset(None);
+                } else {
+                    pending[i] = ended;
+                }
+                assert_eq!(rows_of(obs, ach, des, i, (od, gd)), observed(e), "{what}");
+            }
+        }
+        assert!(ends >= n * 2, "{mode:?}: only {ends} episodes ended");
+    }
+}

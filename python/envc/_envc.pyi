@@ -394,6 +394,9 @@ class VecCore:
     @property
     def act_high(self) -> _F64: ...
     @property
+    def goal_dim(self) -> int:
+        """The length of a `[goal]` task's goal vectors (0: plain observations)."""
+    @property
     def numerics(self) -> str: ...
     @numerics.setter
     def numerics(self, name: str) -> None: ...
@@ -406,10 +409,14 @@ class VecCore:
         seeds: list[int | None] | None = None,
         mask: list[bool] | None = None,
         copy: bool = True,
-    ) -> tuple[_F64, dict[str, Any]]: ...
+    ) -> tuple[_F64 | dict[str, _F64], dict[str, Any]]:
+        """`(obs, info)`; a `[goal]` task's obs is a dict of `achieved_goal`, `desired_goal`
+        and `observation` batches."""
     def step(
         self, actions: npt.ArrayLike, copy: bool | None = None
-    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]:
+    ) -> tuple[
+        _F64 | dict[str, _F64], _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]
+    ]:
         """One batch step; the core refuses a call while another thread's runs (E1106).
         `copy=None` takes `self.copy`."""
     @property

@@ -52,6 +52,14 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
       step resets at once; ``info["final_obs"]`` and ``info["final_info"]`` hold what it ended on).
     * Infos in Gymnasium's vector form: ``info[key]`` is an array over envs and
       ``info["_" + key]`` the mask of envs that reported it.
+    * A goal-conditioned task (``[goal]``, e.g. ``FetchPush-v4``): observations are dicts of
+      batches, ``{"achieved_goal": (n, g), "desired_goal": (n, g), "observation": (n, obs)}``,
+      as ``SyncVectorEnv`` concatenates the single env's ``Dict`` space; SAME_STEP's
+      ``info["final_obs"]`` holds each ended env's own dict. A goal of named parts
+      (``[goal.parts]``, FrankaKitchen-v1) is refused (E0602).
+    * Info keys declared float32 or bool come as ``SyncVectorEnv`` batches the single env's
+      numpy scalars: float32 arrays; for a bool, an object array of ``np.bool_`` (None where an
+      env did not report it).
     * The time limit is the spec's (``max_episode_steps``, as ``TimeLimit`` applies it in the
       reference); ``max_episode_steps=N`` overrides it, ``0`` turns it off.
 
@@ -60,9 +68,9 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
     place by the threads (no copy), which step with the GIL released. Results and infos are
     built in Rust. ``copy=True`` (Gymnasium's default) returns fresh arrays; ``copy=False``
     returns the same arrays every call (observations, rewards, flags, each info key's values and
-    mask), owned by the env and overwritten by the next ``reset`` or ``step``. Bad batches
-    (wrong shape, NaN) raise ``ValueError``; ``step`` before ``reset`` and any call after
-    ``close`` raise ``RuntimeError``.
+    mask, a bool key's object array aside), owned by the env and overwritten by the next
+    ``reset`` or ``step``. Bad batches (wrong shape, NaN) raise ``ValueError``; ``step`` before
+    ``reset`` and any call after ``close`` raise ``RuntimeError``.
     """
 
     def __init__(
@@ -118,9 +126,14 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
             "render_fps": _fps(core.dt),
             "autoreset_mode": mode,
         }
-        self.single_observation_space = gym.spaces.Box(
-            low=core.obs_low, high=core.obs_high, dtype=np.float64
-        )
+        obs_space = gym.spaces.Box(low=core.obs_low, high=core.obs_high, dtype=np.float64)
+        self.single_observation_space: gym.Space[Any] = obs_space
+        if core.goal_dim:
+            # The single env's Dict (envc.make's: Gymnasium-Robotics' spaces; Dict sorts keys).
+            goal = gym.spaces.Box(-np.inf, np.inf, shape=(core.goal_dim,), dtype=np.float64)
+            self.single_observation_space = gym.spaces.Dict(
+                dict(desired_goal=goal, achieved_goal=goal, observation=obs_space)
+            )
         self.single_action_space = gym.spaces.Box(
             low=core.act_low.astype(np.float32),
             high=core.act_high.astype(np.float32),
@@ -151,7 +164,7 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
         *,
         seed: int | list[int | None] | None = None,
         options: dict[str, Any] | None = None,
-    ) -> tuple[_F64, dict[str, Any]]:
+    ) -> tuple[_F64 | dict[str, _F64], dict[str, Any]]:
         """Reset every env: ``seed=s`` seeds env i with ``s + i``, a list one seed per env.
 
         ``options={"reset_mask": mask}`` (a bool array over envs) resets only the masked envs,
@@ -206,7 +219,9 @@ class EnvcVectorEnv(WithNumerics, gym.vector.VectorEnv):
 
     def step(
         self, actions: npt.ArrayLike
-    ) -> tuple[_F64, _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]:
+    ) -> tuple[
+        _F64 | dict[str, _F64], _F64, npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]
+    ]:
         """Step every env with its row of ``actions`` (``(num_envs, act_dim)``)."""
         return self._core.step(actions)
 

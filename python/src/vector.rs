@@ -3,10 +3,15 @@
 //!
 //! `copy=True` (Gymnasium's default) returns fresh arrays each call. `copy=False` returns the
 //! same arrays every call, owned by the core and overwritten in place by the next `reset` or
-//! `step` (observations, rewards, flags, each info key's values and `_key` mask); a buffer the
-//! user made unusable (read-only, resized) is replaced by a fresh one. Infos are gathered
+//! `step` (observations, rewards, flags, each info key's values and `_key` mask; not a one-number
+//! bool key's object array); a buffer the user made unusable (read-only, resized) is replaced by
+//! a fresh one. Infos are gathered
 //! key-major in Rust scratch space (key k's values env-major at `offset * N`), zero where an env
 //! did not report the key, as Gymnasium's `_add_info` leaves them.
+//!
+//! A goal-conditioned task's (`[goal]`) observations are dicts of three batches, as
+//! `SyncVectorEnv` concatenates them over the single env's `Dict` space (its sorted keys):
+//! `achieved_goal`, `desired_goal`, `observation`. A goal of named parts is refused (E0602).
 
 use numpy::{Element, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -40,6 +45,10 @@ pub struct VecCore {
     final_values: Vec<f64>,
     /// A float32 key's values, converted for the call.
     f32_scratch: Vec<f32>,
+    /// A bool key's values, converted for the call.
+    bool_scratch: Vec<bool>,
+    /// `np.False_` and `np.True_`: a one-number bool key's values (see `flag_objects`).
+    np_bools: [Py<PyAny>; 2],
     /// By `Slot`: `[0]` `copy=False`'s arrays (handed out every call); `[1]` `copy=True`'s
     /// next ones, made while the workers step (`prepare`) and each handed out once.
     f64_slots: [Vec<Kept<f64>>; 2],
@@ -49,6 +58,8 @@ pub struct VecCore {
     final_obs_mask_key: Py<PyString>,
     final_info_key: Py<PyString>,
     final_info_mask_key: Py<PyString>,
+    /// The observation dict's keys (`[goal]`), in `SyncVectorEnv`'s order.
+    goal_keys: [Py<PyString>; 3],
     /// Env steps taken by `step` and `rust_steps`, NextStep's autoreset steps not counted.
     env_steps: u64,
     /// `step`'s `copy` when the call names none (`EnvcVectorEnv.copy`).
@@ -64,6 +75,11 @@ struct InfoKey {
     /// A float32 number when the step's actions are float32 (a float32 action cost, as numpy
     /// computes it in the reference).
     f32_with_f32_actions: bool,
+    /// Declared `dtype = "float32"`: always float32, as the single env reports it.
+    float32: bool,
+    /// Declared `dtype = "bool"`: numpy bools (`value != 0`), as the single env reports them
+    /// (batched as `_add_info` batches them: an object array for one number, else bools).
+    boolean: bool,
 }
 
 fn closed() -> PyErr {
@@ -129,6 +145,21 @@ impl VecCore {
             |_| {},
         )?;
         let spec = env.spec().ok_or_else(closed)?.clone();
+        if spec
+            .manipulation
+            .goal
+            .as_ref()
+            .is_some_and(|g| g.parts.is_some())
+        {
+            // Its goals are dicts of named parts, and its infos lists of names.
+            return Err(errors::coded(
+                "E0602",
+                format!(
+                    "error[E0602]: `{}` has a goal of named parts ([goal.parts]): envc.make_vec does not batch dicts of parts; use gymnasium.vector.SyncVectorEnv over envc.make",
+                    spec.id
+                ),
+            ));
+        }
         let mut keys = Vec::new();
         let mut offset = 0;
         for item in &spec.info {
@@ -138,6 +169,8 @@ impl VecCore {
                 offset,
                 len: item.len,
                 f32_with_f32_actions: f32_cost(&spec, item),
+                float32: item.float32,
+                boolean: item.boolean,
             });
             offset += item.len;
         }
@@ -153,6 +186,7 @@ impl VecCore {
         let reset_map = e0.reset_info().keys().map(index).collect::<PyResult<_>>()?;
         let n = num_envs;
         let nkeys = keys.len();
+        let np = py.import("numpy")?;
         Ok(VecCore {
             env: Some(env),
             step_map,
@@ -161,14 +195,21 @@ impl VecCore {
             mask: vec![false; nkeys * n],
             final_values: vec![0.0; offset * n],
             f32_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
-            f64_slots: [0, 1].map(|_| (0..2 + 2 * nkeys).map(|_| None).collect()),
+            np_bools: [
+                np.getattr("False_")?.unbind(),
+                np.getattr("True_")?.unbind(),
+            ],
+            bool_scratch: Vec::with_capacity(keys.iter().map(|k| k.len).max().unwrap_or(0) * n),
+            f64_slots: [0, 1].map(|_| (0..4 + 2 * nkeys).map(|_| None).collect()),
             f32_slots: [0, 1].map(|_| (0..2 + 2 * nkeys).map(|_| None).collect()),
-            bool_slots: [0, 1].map(|_| (0..3 + nkeys).map(|_| None).collect()),
+            bool_slots: [0, 1].map(|_| (0..3 + 3 * nkeys).map(|_| None).collect()),
             keys,
             final_obs_key: PyString::intern(py, "final_obs").unbind(),
             final_obs_mask_key: PyString::intern(py, "_final_obs").unbind(),
             final_info_key: PyString::intern(py, "final_info").unbind(),
             final_info_mask_key: PyString::intern(py, "_final_info").unbind(),
+            goal_keys: ["achieved_goal", "desired_goal", "observation"]
+                .map(|k| PyString::intern(py, k).unbind()),
             env_steps: 0,
             copy: true,
         })
@@ -356,6 +397,11 @@ impl VecCore {
     fn bytes_per_env(&self) -> PyResult<(u64, u64)> {
         let f = self.env()?.footprint_per_env();
         Ok((f.resident, f.mapped))
+    }
+    /// The length of a `[goal]` task's goal vectors (0 without `[goal]`: plain observations).
+    #[getter]
+    fn goal_dim(&self) -> PyResult<usize> {
+        Ok(self.env()?.goal_dim())
     }
     #[getter]
     fn num_envs(&self) -> PyResult<usize> {

@@ -405,8 +405,7 @@ impl Bench {
             actions = Actions::replayed(&mut env, &env_actions, rows)?;
         }
         let mut vec = match env.kind() {
-            // (a goal task's dict observations are not batched: single env only)
-            crate::Kind::Task if spec.manipulation.goal.is_none() => Some(VecEnv::new(
+            crate::Kind::Task => Some(VecEnv::new(
                 Arc::clone(&spec),
                 envs,
                 cfg.threads,

@@ -10,8 +10,9 @@ use super::InfoKey;
 /// An array the core keeps in a slot (see `Slot`).
 pub(super) type Kept<T> = Option<Py<PyArrayDyn<T>>>;
 
-/// Where `copy=False` keeps each array: `f64_slots` holds observations, rewards, then each key's
-/// values and final values; `bool_slots` the two flags, `has_final`, then each key's mask;
+/// Where `copy=False` keeps each array: `f64_slots` holds observations, rewards, each key's
+/// values and final values, then the achieved and desired goals (`[goal]`); `bool_slots` the two
+/// flags, `has_final`, each key's mask, then a bool key's values and final values (`Flag`);
 /// `f32_slots` each key's float32 values and final values.
 #[derive(Clone, Copy)]
 pub(super) enum Slot {
@@ -22,6 +23,9 @@ pub(super) enum Slot {
     HasFinal,
     Value { key: usize, last: bool },
     Mask(usize),
+    Flag { key: usize, last: bool },
+    Achieved,
+    Desired,
 }
 
 impl Slot {
@@ -32,6 +36,9 @@ impl Slot {
             Slot::HasFinal => 2,
             Slot::Value { key, last } => 2 + key + usize::from(last) * nkeys,
             Slot::Mask(k) => 3 + k,
+            Slot::Flag { key, last } => 3 + nkeys + key + usize::from(last) * nkeys,
+            Slot::Achieved => 2 + 2 * nkeys,
+            Slot::Desired => 3 + 2 * nkeys,
         }
     }
 }
@@ -84,20 +91,24 @@ fn fresh<T: Element>(py: Python<'_>, slot: &mut Option<Py<PyArrayDyn<T>>>, shape
     }
 }
 
-/// `copy=True`'s arrays for the coming step, made while the workers step it: observations,
-/// rewards, flags, each key's values and mask (a key no env reports keeps its arrays for the
-/// next step), in `copy=True`'s slots by `Slot`.
+/// `copy=True`'s arrays for the coming step, made while the workers step it: observations (and
+/// goals), rewards, flags, each key's values and mask (a key no env reports keeps its arrays for
+/// the next step), in `copy=True`'s slots by `Slot`.
 pub(super) fn prepare(
     py: Python<'_>,
     keys: &[InfoKey],
     f64s: &mut [Kept<f64>],
     f32s: &mut [Kept<f32>],
     bools: &mut [Kept<bool>],
-    (n, od): (usize, usize),
+    (n, od, gd): (usize, usize, usize),
     f32: bool,
 ) {
     let nk = keys.len();
     fresh(py, &mut f64s[Slot::Obs.index(nk)], &[n, od]);
+    if gd > 0 {
+        fresh(py, &mut f64s[Slot::Achieved.index(nk)], &[n, gd]);
+        fresh(py, &mut f64s[Slot::Desired.index(nk)], &[n, gd]);
+    }
     fresh(py, &mut f64s[Slot::Rewards.index(nk)], &[n]);
     fresh(py, &mut bools[Slot::Terminated.index(nk)], &[n]);
     fresh(py, &mut bools[Slot::Truncated.index(nk)], &[n]);
@@ -108,7 +119,16 @@ pub(super) fn prepare(
             last: false,
         }
         .index(nk);
-        if f32 && key.f32_with_f32_actions {
+        if key.boolean {
+            // A one-number bool key is an object array, made when it is handed out.
+            let at = Slot::Flag {
+                key: k,
+                last: false,
+            };
+            if key.len > 1 {
+                fresh(py, &mut bools[at.index(nk)], shape);
+            }
+        } else if key.float32 || (f32 && key.f32_with_f32_actions) {
             fresh(py, &mut f32s[v], shape);
         } else {
             fresh(py, &mut f64s[v], shape);

@@ -2,7 +2,7 @@
 
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 
 use super::arrays::{Slot, out_array};
 use super::{InfoKey, VecCore, closed};
@@ -65,8 +65,9 @@ impl VecCore {
         Ok(())
     }
 
-    /// Key k's values over envs as Gymnasium gives them: `(N,)` or `(N, len)`, float32 where
-    /// `f32` and the key is a float32 action cost.
+    /// Key k's values over envs as Gymnasium gives them: `(N,)` or `(N, len)`; float32 for a
+    /// key declared float32, or where `f32` and the key is a float32 action cost; bool for a key
+    /// declared bool (as the single env converts them, and `_add_info` batches numpy scalars).
     fn value_array<'py>(
         &mut self,
         py: Python<'py>,
@@ -77,6 +78,9 @@ impl VecCore {
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.mask.len() / self.keys.len().max(1);
         let key = &self.keys[k];
+        if key.boolean && key.len == 1 {
+            return self.flag_objects(py, k, last);
+        }
         let (off, len) = (key.offset * n, key.len * n);
         let shape: &[usize] = if key.len == 1 { &[n] } else { &[n, key.len] };
         let src = if last {
@@ -85,9 +89,21 @@ impl VecCore {
             &self.values[off..off + len]
         };
         let slot = Slot::Value { key: k, last }.index(self.keys.len());
-        if f32 && key.f32_with_f32_actions {
+        if key.boolean {
+            self.bool_scratch.clear();
+            self.bool_scratch.extend(src.iter().map(|&x| x != 0.0));
+            let slot = Slot::Flag { key: k, last }.index(self.keys.len());
+            out_array(
+                py,
+                &mut self.bool_slots[usize::from(copy)][slot],
+                shape,
+                &self.bool_scratch,
+                copy,
+            )
+        } else if key.float32 || (f32 && key.f32_with_f32_actions) {
             self.f32_scratch.clear();
-            // Exact: the value was computed in float32.
+            // An action cost's is exact (computed in float32); a declared float32 rounds as
+            // `np.float32(value)` does.
             self.f32_scratch.extend(src.iter().map(|&x| x as f32));
             out_array(
                 py,
@@ -105,6 +121,35 @@ impl VecCore {
                 copy,
             )
         }
+    }
+
+    /// A one-number bool key as `_add_info` batches the single env's `np.bool_` scalars (no
+    /// `np.number`, so an object array): `np.True_` or `np.False_` where the env reported the
+    /// key (`last`: where it ended), None elsewhere.
+    fn flag_objects<'py>(
+        &self,
+        py: Python<'py>,
+        k: usize,
+        last: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let env = self.env()?;
+        let n = env.num_envs();
+        let at = self.keys[k].offset * n;
+        let (values, reported) = if last {
+            (&self.final_values[at..at + n], env.has_final())
+        } else {
+            (&self.values[at..at + n], &self.mask[k * n..(k + 1) * n])
+        };
+        let rows = (0..n)
+            .map(|i| {
+                if reported[i] {
+                    self.np_bools[usize::from(values[i] != 0.0)].clone_ref(py)
+                } else {
+                    py.None()
+                }
+            })
+            .collect::<Vec<_>>();
+        Ok(PyArray1::from_vec(py, rows).into_any())
     }
 
     /// The last call's infos in Gymnasium's vector form; `finals`: SameStep's `final_obs` and
@@ -138,19 +183,16 @@ impl VecCore {
             return Ok(info);
         }
         // Gymnasium's form: an object array with each ended env's observation, None elsewhere.
-        let od = env.obs_dim();
-        let (has_final, final_obs) = (env.has_final(), env.final_obs());
+        let has_final = env.has_final();
         let rows = (0..n)
             .map(|i| {
-                if has_final[i] {
-                    PyArray1::from_slice(py, &final_obs[i * od..(i + 1) * od])
-                        .into_any()
-                        .unbind()
+                Ok(if has_final[i] {
+                    final_row(py, env, i, &self.goal_keys)?.unbind()
                 } else {
                     py.None()
-                }
+                })
             })
-            .collect::<Vec<_>>();
+            .collect::<PyResult<Vec<_>>>()?;
         let ended = has_final.to_vec();
         let final_obs = PyArray1::from_vec(py, rows);
         let slot = Slot::HasFinal.index(nkeys);
@@ -181,6 +223,29 @@ impl VecCore {
         info.set_item(mask_key, ended_array(self)?)?;
         Ok(info)
     }
+}
+
+/// Env i's final observation as the single env returned it: an array, or a `[goal]` task's
+/// dict in the single env's key order (`observation`, `achieved_goal`, `desired_goal`).
+fn final_row<'py>(
+    py: Python<'py>,
+    env: &envc::VecEnv,
+    i: usize,
+    [achieved, desired, observation]: &[Py<PyString>; 3],
+) -> PyResult<Bound<'py, PyAny>> {
+    let (od, gd) = (env.obs_dim(), env.goal_dim());
+    let obs = PyArray1::from_slice(py, &env.final_obs()[i * od..(i + 1) * od]).into_any();
+    if gd == 0 {
+        return Ok(obs);
+    }
+    let d = PyDict::new(py);
+    let g = i * gd..(i + 1) * gd;
+    d.set_item(observation.bind(py), obs)?;
+    let a = &env.final_achieved_goals()[g.clone()];
+    d.set_item(achieved.bind(py), PyArray1::from_slice(py, a))?;
+    let w = &env.final_desired_goals()[g];
+    d.set_item(desired.bind(py), PyArray1::from_slice(py, w))?;
+    Ok(d.into_any())
 }
 
 /// Write env i's `info` (its slots mapped to keys by `map`) into the key-major `values`, and

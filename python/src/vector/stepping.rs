@@ -3,7 +3,7 @@
 
 use numpy::{Element, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyTuple};
 
 use super::arrays::{Slot, out_array, prepare};
 use super::{VecCore, closed};
@@ -27,11 +27,11 @@ fn step_interruptible(
         ..
     } = core;
     let env = env.as_mut().ok_or_else(closed)?;
-    let (n, od) = (env.num_envs(), env.obs_dim());
+    let dims = (env.num_envs(), env.obs_dim(), env.goal_dim());
     let overlap = copy && env.threads() > 1;
     let mut meanwhile = || {
         if overlap {
-            Python::attach(|py| prepare(py, keys, f64s, f32s, bools, (n, od), f32));
+            Python::attach(|py| prepare(py, keys, f64s, f32s, bools, dims, f32));
         }
     };
     detached(py, env, |env, check| {
@@ -123,12 +123,31 @@ impl ActionElement for f64 {
 }
 
 impl VecCore {
-    /// The observation batch as numpy (`copy`: a fresh array, else the kept one).
+    /// The observation batch as numpy (`copy`: a fresh array, else the kept one); a `[goal]`
+    /// task's is a dict of three such batches (`SyncVectorEnv`'s keys and order).
     pub(super) fn obs<'py>(&mut self, py: Python<'py>, copy: bool) -> PyResult<Bound<'py, PyAny>> {
         let env = self.env.as_ref().ok_or_else(closed)?;
-        let shape = [env.num_envs(), env.obs_dim()];
-        let slot = &mut self.f64_slots[usize::from(copy)][Slot::Obs.index(self.keys.len())];
-        out_array(py, slot, &shape, env.obs(), copy)
+        let (n, gd, nkeys) = (env.num_envs(), env.goal_dim(), self.keys.len());
+        let slots = &mut self.f64_slots[usize::from(copy)];
+        let obs = out_array(
+            py,
+            &mut slots[Slot::Obs.index(nkeys)],
+            &[n, env.obs_dim()],
+            env.obs(),
+            copy,
+        )?;
+        if gd == 0 {
+            return Ok(obs);
+        }
+        let d = PyDict::new(py);
+        let achieved = (Slot::Achieved, env.achieved_goals());
+        let desired = (Slot::Desired, env.desired_goals());
+        for (key, (slot, rows)) in self.goal_keys[..2].iter().zip([achieved, desired]) {
+            let a = out_array(py, &mut slots[slot.index(nkeys)], &[n, gd], rows, copy)?;
+            d.set_item(key.bind(py), a)?;
+        }
+        d.set_item(self.goal_keys[2].bind(py), obs)?;
+        Ok(d.into_any())
     }
 
     /// `(obs, rewards, terminated, truncated, info)` of the last step.

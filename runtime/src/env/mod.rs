@@ -216,6 +216,15 @@ impl Env {
             out.extend((0..g.achieved.len()).map(|k| self.sim.get(&g.achieved, k)));
         }
     }
+    /// [`Env::achieved_goal`] written into `out` (`spec().goal_dim` entries: a vector env's
+    /// batch row), allocating nothing; `out` is left as it is for an env without `[goal]`.
+    pub fn write_achieved_goal(&self, out: &mut [f64]) {
+        if let Some(g) = &self.spec.manipulation.goal {
+            for (k, x) in out.iter_mut().enumerate().take(g.achieved.len()) {
+                *x = self.sim.get(&g.achieved, k);
+            }
+        }
+    }
     /// MuJoCo warnings raised while loading or running this env (never printed or logged to a file).
     pub fn warnings(&self) -> &[String] {
         &self.warnings

@@ -32,10 +32,12 @@ impl VecEnv {
     }
 
     /// What each env costs: its own footprint and its rows of the batch buffers (observations
-    /// twice here, and [`CALLER_OBS_ROWS`] times more for a caller that copies the batch out).
+    /// and goals twice here, and [`CALLER_OBS_ROWS`] times more for a caller that copies the
+    /// batch out).
     pub(super) fn per_env(first: &Env) -> Footprint {
         let spec = first.spec();
-        let rows = ((2 + CALLER_OBS_ROWS) * spec.obs_dim * 8 + spec.act_dim() * 12 + 64) as u64;
+        let row = spec.obs_dim + 2 * super::goal_dim(spec);
+        let rows = ((2 + CALLER_OBS_ROWS) * row * 8 + spec.act_dim() * 12 + 64) as u64;
         let f = first.footprint();
         Footprint {
             resident: f.resident.saturating_add(rows),

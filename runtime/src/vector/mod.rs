@@ -7,7 +7,9 @@
 //!   the ending step resets at once; the batch holds the reset obs, the ending obs goes to
 //!   [`VecEnv::final_obs`] and its info stays readable through [`VecEnv::final_info`].
 //! * Observations, rewards, terminated and truncated live in contiguous batch buffers
-//!   (env-major) that the caller reads in place.
+//!   (env-major) that the caller reads in place. A goal-conditioned task (`[goal]`) has two more,
+//!   the achieved and desired goals ([`VecEnv::achieved_goals`], [`VecEnv::desired_goals`]),
+//!   written with the observation, SameStep's final ones included.
 //! * [`VecEnv::step_f32`] steps a float32 action batch as a float32 policy steps the reference
 //!   (each env through `Env::step_f32`).
 //!
@@ -68,6 +70,7 @@ pub struct VecEnv {
     terminated: Vec<bool>,
     truncated: Vec<bool>,
     final_obs: Vec<f64>,
+    goals: GoalRows,
     has_final: Vec<bool>,
     pending: Vec<bool>,
     has_reset: bool,
@@ -75,6 +78,24 @@ pub struct VecEnv {
     per_env: crate::env::Footprint,
     /// The process that started the workers (a forked child has none to join).
     pid: u32,
+}
+
+/// `[goal]`: each env's achieved and desired goal, `num_envs × goal_dim` each (empty without
+/// `[goal]`), and the ones SameStep's ending envs ended on.
+struct GoalRows {
+    achieved: Vec<f64>,
+    desired: Vec<f64>,
+    final_achieved: Vec<f64>,
+    final_desired: Vec<f64>,
+}
+
+/// The length of `spec`'s goal vectors: 0 without `[goal]`.
+fn goal_dim(spec: &ResolvedSpec) -> usize {
+    if spec.manipulation.goal.is_some() {
+        spec.goal_dim
+    } else {
+        0
+    }
 }
 
 impl VecEnv {
@@ -131,19 +152,6 @@ impl VecEnv {
     ) -> Result<VecEnv, EnvError> {
         let spec = Arc::clone(first.spec());
         let model = Arc::clone(first.model());
-        if spec.manipulation.goal.is_some() {
-            // The batch buffers are flat observations; a goal task's are dicts.
-            return Err(EnvError::Spec(
-                envspec::Diagnostic::new(
-                    envspec::Code::E0602,
-                    format!(
-                        "`{}` is a goal-conditioned task ([goal]): envc's vector envs do not batch dict observations yet; use gymnasium.vector.SyncVectorEnv over envc.make",
-                        spec.id
-                    ),
-                )
-                .into(),
-            ));
-        }
         VecEnv::check_count(&spec, num_envs)?;
         // Refuse before allocating them all rather than fail (or be killed) part-way.
         let per_env = VecEnv::per_env(&first);
@@ -151,9 +159,9 @@ impl VecEnv {
         let envs = std::iter::once(Ok(first))
             .chain((1..num_envs).map(|_| Env::with_model(Arc::clone(&spec), Arc::clone(&model))))
             .collect::<Result<Vec<Env>, _>>()?;
-        let (n, od, ad) = (num_envs, spec.obs_dim, spec.act_dim());
+        let (n, od, ad, gd) = (num_envs, spec.obs_dim, spec.act_dim(), goal_dim(&spec));
         let mut v = VecEnv {
-            shared: Arc::new(Shared::new(n, od, ad, mode)),
+            shared: Arc::new(Shared::new(n, (od, ad, gd), mode)),
             workers: vec![],
             envs,
             obs: vec![0.0; n * od],
@@ -161,6 +169,12 @@ impl VecEnv {
             terminated: vec![false; n],
             truncated: vec![false; n],
             final_obs: vec![0.0; n * od],
+            goals: GoalRows {
+                achieved: vec![0.0; n * gd],
+                desired: vec![0.0; n * gd],
+                final_achieved: vec![0.0; n * gd],
+                final_desired: vec![0.0; n * gd],
+            },
             has_final: vec![false; n],
             pending: vec![false; n],
             has_reset: false,
@@ -186,6 +200,11 @@ impl VecEnv {
     /// One sub-env's observation length (a row of the batch).
     pub fn obs_dim(&self) -> usize {
         self.shared.job.obs_dim
+    }
+    /// The length of one sub-env's goal vectors (a row of [`VecEnv::achieved_goals`]): 0 for a
+    /// task without `[goal]`.
+    pub fn goal_dim(&self) -> usize {
+        self.shared.job.goal_dim
     }
     /// One sub-env's action length.
     pub fn act_dim(&self) -> usize {
@@ -224,12 +243,12 @@ impl VecEnv {
     /// Reset with one seed (or `None`) per env, like Gymnasium's `reset(seed=[...])`.
     pub fn reset_each(&mut self, seeds: impl IntoIterator<Item = Option<u64>>) -> &[f64] {
         let job = &self.shared.job;
-        let od = job.obs_dim;
         for (i, seed) in seeds.into_iter().take(job.n).enumerate() {
             // SAFETY: no step is running; i < n; slots sized as in `run_one`.
             unsafe {
-                let (obs, _) = (*job.envs.add(i)).reset(seed);
-                std::ptr::copy_nonoverlapping(obs.as_ptr(), job.obs.add(i * od), od);
+                let env = &mut *job.envs.add(i);
+                env.reset(seed);
+                job.observe(i, env, false);
             }
         }
         // SAFETY: as above; each buffer has n entries.
@@ -256,13 +275,13 @@ impl VecEnv {
             return Err(EnvError::NotReset);
         }
         let job = &self.shared.job;
-        let od = job.obs_dim;
         let masked = seeds.into_iter().take(job.n).enumerate().zip(mask);
         for ((i, seed), _) in masked.filter(|(_, m)| **m) {
             // SAFETY: no step is running; i < n; slots sized as in `run_one`.
             unsafe {
-                let (obs, _) = (*job.envs.add(i)).reset(seed);
-                std::ptr::copy_nonoverlapping(obs.as_ptr(), job.obs.add(i * od), od);
+                let env = &mut *job.envs.add(i);
+                env.reset(seed);
+                job.observe(i, env, false);
                 *job.rewards.add(i) = 0.0;
                 *job.terminated.add(i) = false;
                 *job.truncated.add(i) = false;
@@ -347,6 +366,24 @@ impl VecEnv {
     /// [`VecEnv::has_final`] is true (`num_envs × obs_dim`).
     pub fn final_obs(&self) -> &[f64] {
         &self.final_obs
+    }
+    /// `[goal]`: each env's achieved goal with its observation, `num_envs × goal_dim` (empty
+    /// without `[goal]`).
+    pub fn achieved_goals(&self) -> &[f64] {
+        &self.goals.achieved
+    }
+    /// `[goal]`: each env's desired goal (the goal vector its episode is after), as
+    /// [`VecEnv::achieved_goals`].
+    pub fn desired_goals(&self) -> &[f64] {
+        &self.goals.desired
+    }
+    /// SameStep, `[goal]`: the achieved goals each env ended on, beside [`VecEnv::final_obs`].
+    pub fn final_achieved_goals(&self) -> &[f64] {
+        &self.goals.final_achieved
+    }
+    /// SameStep, `[goal]`: the desired goals each env ended with, beside [`VecEnv::final_obs`].
+    pub fn final_desired_goals(&self) -> &[f64] {
+        &self.goals.final_desired
     }
     /// SameStep: which envs ended (and were reset) in the last step.
     pub fn has_final(&self) -> &[bool] {

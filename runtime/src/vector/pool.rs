@@ -34,13 +34,48 @@ pub(super) struct Job {
     pub(super) terminated: *mut bool,
     pub(super) truncated: *mut bool,
     final_obs: *mut f64,
+    /// `[goal]`: each env's achieved and desired goal (`n × goal_dim`), and SameStep's final ones.
+    achieved: *mut f64,
+    desired: *mut f64,
+    final_achieved: *mut f64,
+    final_desired: *mut f64,
     pub(super) has_final: *mut bool,
     /// Env i ended in the previous step (NextStep resets it now).
     pub(super) pending: *mut bool,
     pub(super) n: usize,
     pub(super) obs_dim: usize,
     pub(super) act_dim: usize,
+    /// 0 without `[goal]`.
+    pub(super) goal_dim: usize,
     pub(super) mode: Autoreset,
+}
+
+impl Job {
+    /// Copy env i's observation (and goals) as they are now into its rows of the batch, or of
+    /// SameStep's final rows (`last`).
+    ///
+    /// # Safety
+    /// `i < n`, and no other thread touches env i's rows meanwhile (a claimed env, or no step
+    /// running); the buffers are live.
+    pub(super) unsafe fn observe(&self, i: usize, env: &Env, last: bool) {
+        let (od, gd) = (self.obs_dim, self.goal_dim);
+        let (obs, achieved, desired) = if last {
+            (self.final_obs, self.final_achieved, self.final_desired)
+        } else {
+            (self.obs, self.achieved, self.desired)
+        };
+        // SAFETY: env i's rows of buffers of n × obs_dim and n × goal_dim numbers, touched by
+        // this thread alone (the contract above).
+        unsafe {
+            std::slice::from_raw_parts_mut(obs.add(i * od), od).copy_from_slice(env.obs());
+            if gd > 0 {
+                let row = std::slice::from_raw_parts_mut(achieved.add(i * gd), gd);
+                env.write_achieved_goal(row);
+                std::slice::from_raw_parts_mut(desired.add(i * gd), gd)
+                    .copy_from_slice(&env.goal()[..gd]);
+            }
+        }
+    }
 }
 
 // SAFETY: a Job is only dereferenced for env indices claimed from `Shared::next`, each claimed by
@@ -85,7 +120,7 @@ enum Failure {
 impl Shared {
     /// The pool's state for `n` envs, before the batch buffers are bound (`start_pool`): no step
     /// running, every env claimed.
-    pub(super) fn new(n: usize, od: usize, ad: usize, mode: Autoreset) -> Shared {
+    pub(super) fn new(n: usize, (od, ad, gd): (usize, usize, usize), mode: Autoreset) -> Shared {
         Shared {
             job: Job {
                 envs: std::ptr::null_mut(),
@@ -96,11 +131,16 @@ impl Shared {
                 terminated: std::ptr::null_mut(),
                 truncated: std::ptr::null_mut(),
                 final_obs: std::ptr::null_mut(),
+                achieved: std::ptr::null_mut(),
+                desired: std::ptr::null_mut(),
+                final_achieved: std::ptr::null_mut(),
+                final_desired: std::ptr::null_mut(),
                 has_final: std::ptr::null_mut(),
                 pending: std::ptr::null_mut(),
                 n,
                 obs_dim: od,
                 act_dim: ad,
+                goal_dim: gd,
                 mode,
             },
             next: AtomicUsize::new(n),
@@ -227,12 +267,10 @@ pub(super) fn splitmix(mut x: u64) -> u64 {
 /// # Safety
 /// `i < job.n`, claimed by the calling thread alone, and the buffers are live.
 unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError> {
-    let (od, ad) = (job.obs_dim, job.act_dim);
+    let ad = job.act_dim;
     // SAFETY (all below): disjoint per-env slots of buffers sized n, n×obs_dim or n×act_dim.
     // SAFETY: env i was claimed by this thread alone (`run_one`'s contract); `envs` holds n envs.
     let env = unsafe { &mut *job.envs.add(i) };
-    // SAFETY: as above; `obs` holds n × obs_dim numbers.
-    let obs = unsafe { std::slice::from_raw_parts_mut(job.obs.add(i * od), od) };
     // SAFETY: as above; `pending` holds n flags.
     let pending = unsafe { &mut *job.pending.add(i) };
     // SAFETY: as above; the reward and flag buffers hold n entries.
@@ -244,7 +282,9 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
         )
     };
     if job.mode == Autoreset::NextStep && *pending {
-        obs.copy_from_slice(env.reset(None).0);
+        env.reset(None);
+        // SAFETY: env i is this thread's (`run_one`'s contract).
+        unsafe { job.observe(i, env, false) };
         *reward = 0.0;
         *terminated = false;
         *truncated = false;
@@ -269,7 +309,8 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
     let ended = s.terminated || s.truncated;
     match job.mode {
         Autoreset::NextStep => {
-            obs.copy_from_slice(env.obs());
+            // SAFETY: as above.
+            unsafe { job.observe(i, env, false) };
             *pending = ended;
         }
         Autoreset::SameStep => {
@@ -277,13 +318,12 @@ unsafe fn run_one(job: &Job, i: usize, f32_actions: bool) -> Result<(), EnvError
             let has_final = unsafe { &mut *job.has_final.add(i) };
             *has_final = ended;
             if ended {
-                // SAFETY: as above; `final_obs` holds n × obs_dim numbers.
-                unsafe { std::slice::from_raw_parts_mut(job.final_obs.add(i * od), od) }
-                    .copy_from_slice(env.obs());
-                obs.copy_from_slice(env.reset(None).0);
-            } else {
-                obs.copy_from_slice(env.obs());
+                // SAFETY: as above.
+                unsafe { job.observe(i, env, true) };
+                env.reset(None);
             }
+            // SAFETY: as above.
+            unsafe { job.observe(i, env, false) };
         }
     }
     Ok(())
@@ -305,6 +345,10 @@ impl VecEnv {
         job.terminated = self.terminated.as_mut_ptr();
         job.truncated = self.truncated.as_mut_ptr();
         job.final_obs = self.final_obs.as_mut_ptr();
+        job.achieved = self.goals.achieved.as_mut_ptr();
+        job.desired = self.goals.desired.as_mut_ptr();
+        job.final_achieved = self.goals.final_achieved.as_mut_ptr();
+        job.final_desired = self.goals.final_desired.as_mut_ptr();
         job.has_final = self.has_final.as_mut_ptr();
         job.pending = self.pending.as_mut_ptr();
         for k in 1..threads.clamp(1, n.max(1)) {
