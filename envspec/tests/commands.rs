@@ -52,6 +52,7 @@ fn load(p: &Path) -> Result<envspec::ResolvedSpec, envspec::Diagnostics> {
 fn error(test: &str, edits: &[(&str, &str)]) -> (Code, String, String, Option<String>) {
     let p = joystick(test, edits);
     let d = load(&p).expect_err("the spec is broken");
+    let _ = std::fs::remove_dir_all(p.parent().unwrap());
     assert_eq!(d.len(), 1, "{d}");
     let e = d.iter().next().unwrap();
     let pos = e.position().unwrap();
@@ -207,7 +208,9 @@ fn report(test: &str, edits: &[(&str, &str)]) -> envspec::diff::Report {
     let a = root().join("specs/examples/go1_joystick.toml");
     let b = joystick(test, edits);
     let (sa, sb) = (Spec::load(&a).unwrap(), Spec::load(&b).unwrap());
-    diff(&sa, &load(&a).unwrap(), &sb, &load(&b).unwrap())
+    let rb = load(&b).unwrap();
+    let _ = std::fs::remove_dir_all(b.parent().unwrap());
+    diff(&sa, &load(&a).unwrap(), &sb, &rb)
 }
 
 #[test]

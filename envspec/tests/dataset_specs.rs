@@ -2,8 +2,6 @@
 //! E1801 at their line and column, the read is recorded, and the reference-score rewrite changes
 //! that table only.
 
-use std::path::{Path, PathBuf};
-
 use envspec::Code;
 use envspec::dataset_spec::{self, Budget, DatasetSpec, RefScores, StorageFormat};
 use envspec::source::Reader;
@@ -50,11 +48,9 @@ const PUBLISHED: &[(&str, u64, &str)] = &[
 
 const SPEC: &str = "[dataset]\nid = \"t/x-v0\"\ntier = \"x\"\nenv = \"Hopper-v5\"\nsteps = 10\nseed = 1\n[policy]\nfile = \"p.npz\"\nmode = \"deterministic\"\n[metadata]\nalgorithm_name = \"a\"\nauthor = []\ndescription = \"d\"\n";
 
-/// A scratch directory of this test process.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("envspec-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch directory of this test process, removed when dropped.
+fn scratch(name: &str) -> crate::scratch::ScratchDir {
+    crate::scratch::ScratchDir::new(name)
 }
 
 fn parse(text: &str) -> Result<DatasetSpec, envspec::Diagnostic> {
@@ -207,5 +203,4 @@ fn the_reference_score_rewrite_changes_that_table_only() {
     let e = dataset_spec::edit::with_reference_scores(&path, &same).unwrap_err();
     assert_eq!(e.code, Code::E1801);
     assert_eq!(std::fs::read_to_string(&path).unwrap(), spec);
-    let _ = std::fs::remove_dir_all(Path::new(&dir));
 }

@@ -24,6 +24,8 @@ fn resolve(events: &str) -> Result<ResolvedSpec, Diagnostics> {
     std::fs::write(&path, format!("{}\n{events}", hopper())).unwrap();
     let r = load(&path, &[]);
     std::fs::remove_file(&path).ok();
+    // The last test out removes the directory (another's file keeps it until then).
+    std::fs::remove_dir(&dir).ok();
     r
 }
 

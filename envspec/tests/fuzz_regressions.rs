@@ -4,13 +4,8 @@
 use envspec::Code;
 use envspec::maze::load_maze;
 
-fn scratch(test: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir()
-        .join(format!("envspec-fuzz-regressions-{}", std::process::id()))
-        .join(test);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(test: &str) -> crate::scratch::ScratchDir {
+    crate::scratch::ScratchDir::new(&format!("fuzz-regressions-{test}"))
 }
 
 /// A non-ASCII maze cell: its span ended inside the character (`é` is 2 bytes) and rendering the

@@ -15,9 +15,8 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir()
-            .join(format!("envspec-maze-errors-{}", std::process::id()))
-            .join(test);
+        let dir =
+            std::env::temp_dir().join(format!("envspec-maze-errors-{}-{test}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("maps")).expect("create scratch dir");
         Scratch(dir)

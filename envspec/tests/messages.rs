@@ -11,9 +11,8 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir()
-            .join(format!("envspec-messages-{}", std::process::id()))
-            .join(test);
+        let dir =
+            std::env::temp_dir().join(format!("envspec-messages-{}-{test}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create scratch dir");
         Scratch(dir)

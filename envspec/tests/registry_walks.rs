@@ -2,17 +2,14 @@
 //! files that do not parse, ids Gymnasium refuses and one id in two files. Each is a coded
 //! error, quickly.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use envspec::Code;
 use envspec::registry::register;
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("envc-registry-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn scratch(name: &str) -> crate::scratch::ScratchDir {
+    crate::scratch::ScratchDir::new(&format!("registry-{name}"))
 }
 
 fn spec(dir: &Path, file: &str, id: &str) {

@@ -17,6 +17,7 @@ mod messages;
 mod mjlab_kinds;
 mod noise;
 mod registry_walks;
+mod scratch;
 mod selector_roundtrip;
 mod source_reads;
 mod terrain_errors;

@@ -21,9 +21,8 @@ pub(super) struct Scratch(pub(super) PathBuf);
 
 impl Scratch {
     pub(super) fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir()
-            .join(format!("envspec-bad-input-{}", std::process::id()))
-            .join(test);
+        let dir =
+            std::env::temp_dir().join(format!("envspec-bad-input-{}-{test}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create scratch dir");
         Scratch(dir)
