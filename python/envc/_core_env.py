@@ -10,12 +10,13 @@ from . import _errors
 
 
 class _Closed:
-    """What a closed env steps with: every call raises."""
-
-    # Setting `numerics` on a closed env sets it here (reading any attribute raises).
-    numerics: str
+    """What a closed env steps with: every call raises, and so does setting anything (the
+    numerics profile of a closed env, say)."""
 
     def __getattr__(self, name: str) -> NoReturn:
+        raise _errors.coded("error[E1103]: the env is closed", "E1103")
+
+    def __setattr__(self, name: str, value: Any) -> NoReturn:
         raise _errors.coded("error[E1103]: the env is closed", "E1103")
 
 

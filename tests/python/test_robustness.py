@@ -481,3 +481,17 @@ def test_non_numeric_actions_are_refused_not_coerced():
         vec.step(np.full((2, 3), "0"))
     assert e.value.code == "E1101"
     vec.close()
+
+
+def test_a_closed_env_refuses_everything_setting_numerics_included():
+    env = envc.make("Hopper-v5")
+    profile = env.unwrapped.numerics
+    env.close()
+    for use in (
+        lambda: env.unwrapped.numerics,
+        lambda: setattr(env.unwrapped, "numerics", profile),
+        lambda: env.unwrapped.step(np.zeros(3)),
+    ):
+        with pytest.raises(envc.NotResetError) as e:
+            use()
+        assert e.value.code == "E1103"
