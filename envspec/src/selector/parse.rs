@@ -53,13 +53,13 @@ pub(super) fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), 
         let inner = rest[1..close].trim();
         rest = rest[close + 1..].trim_start();
         let int = |s: &str| -> Result<i64, Diagnostic> {
-            s.trim()
-                .parse::<i64>()
-                .map_err(|_| syntax_error(loc, &format!("`{s}` is not an integer")))
+            s.trim().parse::<i64>().map_err(|_| {
+                syntax_error(loc, &format!("`{}` is too large for an index", s.trim()))
+            })
         };
         // `joint:part` (`qpos[root:z]`, as `envc show` prints a free joint's elements) is a name,
-        // not a slice: a slice's ends are integers or empty.
-        let slice_end = |x: &str| x.trim().is_empty() || x.trim().parse::<i64>().is_ok();
+        // not a slice: a slice's ends are integers (of any size: too large is an error) or empty.
+        let slice_end = |x: &str| x.trim().is_empty() || integer_like(x.trim());
         let idx = if let Some(p) = inner.strip_prefix('$') {
             Index::Param(p.trim().to_string())
         } else if let Some((a, b)) = inner
@@ -86,8 +86,13 @@ pub(super) fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), 
                 return Err(syntax_error(loc, "an empty entry in a `,` list"));
             }
             Index::Names(parts)
-        } else if let Ok(i) = inner.parse::<i64>() {
-            Index::Int(i)
+        } else if integer_like(inner) {
+            Index::Int(int(inner)?)
+        } else if is_decimal(inner) {
+            return Err(syntax_error(
+                loc,
+                &format!("`{inner}` is not an integer: indices count elements"),
+            ));
         } else if inner.is_empty() {
             return Err(syntax_error(loc, "empty `[]`"));
         } else {
@@ -102,4 +107,17 @@ pub(super) fn parse(text: &str, loc: &Location) -> Result<(String, Vec<Index>), 
         ));
     }
     Ok((field.trim().to_string(), indices))
+}
+
+/// An optional `-` and ASCII digits: an index, whatever its size.
+fn integer_like(s: &str) -> bool {
+    let digits = s.strip_prefix('-').unwrap_or(s);
+    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// Digits with a decimal point (`1.5`, `-0.5`): a number that cannot be an index.
+fn is_decimal(s: &str) -> bool {
+    s.split_once('.').is_some_and(|(a, b)| {
+        integer_like(a) && !b.is_empty() && b.bytes().all(|c| c.is_ascii_digit())
+    })
 }
