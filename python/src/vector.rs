@@ -139,27 +139,21 @@ impl VecCore {
         let env = errors::no_panic(
             &mut (),
             |_| {
-                py.detach(move || envc::VecEnv::make(&id, &o, num_envs, threads.max(1), mode))
-                    .map_err(errors::env_error)
+                py.detach(move || {
+                    envc::VecEnv::make_checked(
+                        &id,
+                        &o,
+                        num_envs,
+                        threads.max(1),
+                        mode,
+                        refuse_parts,
+                    )
+                })
+                .map_err(errors::env_error)
             },
             |_| {},
         )?;
         let spec = env.spec().ok_or_else(closed)?.clone();
-        if spec
-            .manipulation
-            .goal
-            .as_ref()
-            .is_some_and(|g| g.parts.is_some())
-        {
-            // Its goals are dicts of named parts, and its infos lists of names.
-            return Err(errors::coded(
-                "E0602",
-                format!(
-                    "error[E0602]: `{}` has a goal of named parts ([goal.parts]): envc.make_vec does not batch dicts of parts; use gymnasium.vector.SyncVectorEnv over envc.make",
-                    spec.id
-                ),
-            ));
-        }
         let mut keys = Vec::new();
         let mut offset = 0;
         for item in &spec.info {
@@ -470,4 +464,28 @@ impl VecCore {
         self.env.as_mut().ok_or_else(closed)?.set_numerics(p);
         Ok(())
     }
+}
+
+/// A goal of named parts is refused before the vector env builds its envs: its goals are dicts
+/// of named parts and its infos lists of names, which the batches do not hold.
+fn refuse_parts(first: &envc::Env) -> Result<(), envc::EnvError> {
+    let spec = first.spec();
+    if !spec
+        .manipulation
+        .goal
+        .as_ref()
+        .is_some_and(|g| g.parts.is_some())
+    {
+        return Ok(());
+    }
+    Err(envc::EnvError::Spec(
+        envspec::Diagnostic::new(
+            envspec::Code::E0602,
+            format!(
+                "`{}` has a goal of named parts ([goal.parts]): envc.make_vec does not batch dicts of parts; use gymnasium.vector.SyncVectorEnv over envc.make",
+                spec.id
+            ),
+        )
+        .into(),
+    ))
 }

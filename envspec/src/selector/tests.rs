@@ -309,11 +309,19 @@ fn unknown_fields_and_names() {
     // `1.5` is no integer, and an integer beyond 64 bits is no index: syntax errors.
     let e = err("qpos[1.5]");
     assert_eq!(e.code, Code::E0401);
-    assert!(e.message.contains("`1.5` is not an integer"), "{}", e.message);
+    assert!(
+        e.message.contains("`1.5` is not an integer"),
+        "{}",
+        e.message
+    );
     for text in ["qpos[99999999999999999999:]", "qpos[99999999999999999999]"] {
         let e = err(text);
         assert_eq!(e.code, Code::E0401, "{text}");
-        assert!(e.message.contains("too large for an index"), "{}", e.message);
+        assert!(
+            e.message.contains("too large for an index"),
+            "{}",
+            e.message
+        );
     }
 }
 

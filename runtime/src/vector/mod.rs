@@ -115,8 +115,24 @@ impl VecEnv {
         threads: usize,
         mode: Autoreset,
     ) -> Result<VecEnv, EnvError> {
+        VecEnv::make_checked(id_or_path, overrides, num_envs, threads, mode, |_| Ok(()))
+    }
+
+    /// [`make`](Self::make), with `check` run on the first env before the others are built (a
+    /// binding refusing what it cannot present, without building `num_envs` envs first).
+    pub fn make_checked(
+        id_or_path: &str,
+        overrides: &[Override],
+        num_envs: usize,
+        threads: usize,
+        mode: Autoreset,
+        check: impl FnOnce(&Env) -> Result<(), EnvError>,
+    ) -> Result<VecEnv, EnvError> {
         match crate::open(id_or_path, overrides)? {
-            crate::AnyEnv::Task(first) => VecEnv::from_env(first, num_envs, threads, mode),
+            crate::AnyEnv::Task(first) => {
+                check(&first)?;
+                VecEnv::from_env(first, num_envs, threads, mode)
+            }
             other => Err(EnvError::Spec(
                 envspec::Diagnostic::new(
                     envspec::Code::E0602,
