@@ -470,12 +470,12 @@ impl VecCore {
 /// of named parts and its infos lists of names, which the batches do not hold.
 fn refuse_parts(first: &envc::Env) -> Result<(), envc::EnvError> {
     let spec = first.spec();
-    if !spec
+    let parts = spec
         .manipulation
         .goal
         .as_ref()
-        .is_some_and(|g| g.parts.is_some())
-    {
+        .and_then(|g| g.parts.as_ref());
+    if parts.is_none() {
         return Ok(());
     }
     Err(envc::EnvError::Spec(
