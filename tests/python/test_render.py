@@ -170,6 +170,25 @@ def test_maze_frames_match_gymnasium_robotics(env_id):
     assert compare(ours, theirs) == (0.0, 0.0), env_id
 
 
+def test_kitchen_frames_match_gymnasium_robotics():
+    """The Kitchen's textured scene from the reference's camera (`DEFAULT_CAMERA_CONFIG`), the
+    arm moving under the same actions."""
+    import sys
+
+    import gymnasium_robotics
+
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "reference"))
+    import robotics_patch  # noqa: F401
+
+    gym.register_envs(gymnasium_robotics)
+    ref = gym.make("FrankaKitchen-v1", render_mode="rgb_array")
+    acts = actions_for("FrankaKitchen-v1", 3, 8)
+    ours = frames(envc.make("FrankaKitchen-v1", render_mode="rgb_array"), 3, acts)
+    theirs = frames(ref, 3, acts)
+    ref.close()
+    assert compare(ours, theirs) == (0.0, 0.0)
+
+
 def test_mamujoco_renders_the_whole_robot_as_the_reference():
     from gymnasium_robotics import mamujoco_v1
 

@@ -239,11 +239,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     let space = env.action_space().clone();
     let act_dim = env.act_dim();
     let replay = replay_actions(&args, &env, act_dim)?;
-    // Gymnasium's render_fps: round(1/dt); the maze classes declare 50.
+    // Gymnasium's render_fps: np.round(1/dt), halves to even (the Kitchen's 12.5 is 12); the
+    // maze classes declare 50.
     let fps = if env.kind() == envspec::Kind::Maze {
         50
     } else {
-        (1.0 / env.dt()).round().max(1.0) as u32
+        (1.0 / env.dt()).round_ties_even().max(1.0) as u32
     };
     let limit = env
         .max_episode_steps()
