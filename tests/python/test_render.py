@@ -170,9 +170,19 @@ def test_maze_frames_match_gymnasium_robotics(env_id):
     assert compare(ours, theirs) == (0.0, 0.0), env_id
 
 
-def test_kitchen_frames_match_gymnasium_robotics():
-    """The Kitchen's textured scene from the reference's camera (`DEFAULT_CAMERA_CONFIG`), the
-    arm moving under the same actions."""
+@pytest.mark.parametrize(
+    "env_id",
+    [
+        "FrankaKitchen-v1",
+        "AdroitHandDoor-v1",
+        "AdroitHandHammer-v1",
+        "AdroitHandPen-v1",
+        "AdroitHandRelocate-v1",
+    ],
+)
+def test_robotics_frames_match_gymnasium_robotics(env_id):
+    """Textured scenes from each reference's camera (its `DEFAULT_CAMERA_CONFIG`, the spec's
+    `default_camera_config`), the robot moving under the same actions."""
     import sys
 
     import gymnasium_robotics
@@ -181,12 +191,12 @@ def test_kitchen_frames_match_gymnasium_robotics():
     import robotics_patch  # noqa: F401
 
     gym.register_envs(gymnasium_robotics)
-    ref = gym.make("FrankaKitchen-v1", render_mode="rgb_array")
-    acts = actions_for("FrankaKitchen-v1", 3, 8)
-    ours = frames(envc.make("FrankaKitchen-v1", render_mode="rgb_array"), 3, acts)
+    ref = gym.make(env_id, render_mode="rgb_array")
+    acts = actions_for(env_id, 3, 8)
+    ours = frames(envc.make(env_id, render_mode="rgb_array"), 3, acts)
     theirs = frames(ref, 3, acts)
     ref.close()
-    assert compare(ours, theirs) == (0.0, 0.0)
+    assert compare(ours, theirs) == (0.0, 0.0), env_id
 
 
 def test_mamujoco_renders_the_whole_robot_as_the_reference():
