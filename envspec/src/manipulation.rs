@@ -32,6 +32,7 @@ pub const END_EFFECTOR_KEYS: &[&str] = &[
 pub const GOAL_TABLE_KEYS: &[&str] = &[
     "achieved",
     "marker",
+    "marker_site",
     "parts",
     "in_play",
     "threshold",
@@ -172,6 +173,9 @@ pub struct GoalTable {
     /// `marker`: a mocap body put at the goal at every reset (a 3-D goal), so the goal is
     /// seen in renders and read as `xpos[marker]`.
     pub marker: Option<String>,
+    /// `marker_site`: a site drawn at the 3-D goal in every render (Gymnasium-Robotics' Fetch
+    /// `_render_callback`: the site moved to the goal, then `mj_forward`); the site's id.
+    pub marker_site: Option<usize>,
     /// `[goal.parts]`: the goal as named parts (observed as dicts of named goals), each with a
     /// fixed desired value, kept as a checklist; `None` for a single goal vector.
     pub parts: Option<GoalParts>,

@@ -155,6 +155,33 @@ fn bad_parts_are_located_coded_errors() {
     ]);
     let (codes, _) = errors(&s, &[]);
     assert!(codes.contains(&Code::E0170), "{codes:?}");
+    // A marker site: beside parts; unknown; on a goal that is not 3-D.
+    let s = spec(&[("[goal]\n", "[goal]\nmarker_site = \"grip\"\n")]);
+    assert_eq!(errors(&s, &[]).0, [Code::E0170]);
+    let single = |site: &str, sel: &str| {
+        spec(&[
+            (
+                "in_play = \"tasks\"\nthreshold = 0.1\nremove_done = \"keep\"\n",
+                &format!("achieved = \"{sel}\"\nmarker_site = \"{site}\"\n"),
+            ),
+            (PARTS, ""),
+            ("[reward.parts]\nkind = \"parts_reached\"\n", ""),
+            (
+                "[info.left]\nkind = \"goal_parts\"\nwhich = \"remaining\"\n",
+                "",
+            ),
+            (
+                "[info.done]\nkind = \"goal_parts\"\nwhich = \"completed\"\nin_reset = false\n",
+                "",
+            ),
+        ])
+    };
+    let r = resolved(&single("grip", "qpos[0:3]"), &[]);
+    assert!(r.manipulation.goal.unwrap().marker_site.is_some());
+    let (codes, msg) = errors(&single("gripp", "qpos[0:3]"), &[]);
+    assert_eq!(codes, [Code::E0170]);
+    assert!(msg.contains("no site `gripp`"), "{msg}");
+    assert_eq!(errors(&single("grip", "qpos[0:2]"), &[]).0, [Code::E0170]);
     // An unknown `which`; an unknown noise order.
     let s = spec(&[("which = \"remaining\"", "which = \"left\"")]);
     assert_eq!(errors(&s, &[]).0, [Code::E0104]);

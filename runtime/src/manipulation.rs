@@ -35,6 +35,9 @@ pub(crate) struct Manip {
     driven: Option<Driven>,
     /// `[goal] marker`'s mocap index.
     marker: Option<usize>,
+    /// `[goal] marker_site`: the site, its body, and the site position the reference keeps in
+    /// its model (each render writes it there, and it persists).
+    marker_site: Option<(usize, usize, [f64; 3])>,
     /// The sites whose `site_euler` / `site_xvelp` and `site_xvelr` something reads: only
     /// those are computed after the physics.
     euler_sites: Vec<usize>,
@@ -84,6 +87,11 @@ impl Manip {
             Some(b) => Some(mocap_of(spec, model, b, "[goal] marker")?),
             None => None,
         };
+        let marker_site = m.goal.as_ref().and_then(|g| g.marker_site).map(|s| {
+            // A site id the resolver found in this model.
+            let body = model.site_bodyid()[s] as usize;
+            (s, body, model.site_pos()[s])
+        });
         let nsite = usize::try_from(model.ffi().nsite).unwrap_or(0);
         let nv = usize::try_from(model.ffi().nv).unwrap_or(0);
         let nbody = usize::try_from(model.ffi().nbody).unwrap_or(0);
@@ -92,6 +100,7 @@ impl Manip {
             records: vec![0.0; m.record_len()],
             driven,
             marker,
+            marker_site,
             euler_sites: vec![],
             xvel_sites: vec![],
             euler_bodies: vec![],
@@ -331,6 +340,39 @@ impl Manip {
                 self.site_xvelr[3 * s..3 * s + 3].copy_from_slice(&self.velocity);
             }
         }
+    }
+
+    /// Whether a render must first run the reference's render callback.
+    pub(crate) fn renders_marker_site(&self) -> bool {
+        self.marker_site.is_some()
+    }
+
+    /// `[goal] marker_site` before a frame, as Gymnasium-Robotics' Fetch `_render_callback`:
+    /// the site's offset from its model position as the data holds it, the model position moved
+    /// so the site lands on the goal, `mj_forward`. The model is shared, so the moved position is
+    /// kept here and the site's frame written into the data after the forward, computed as
+    /// MuJoCo's kinematics do (`xmat · pos`, then `+ xpos`).
+    pub(crate) fn render_marker_site(
+        &mut self,
+        goal: &[f64],
+        data: &mut MjData<std::sync::Arc<MjModel>>,
+    ) -> Result<(), String> {
+        let (Some((s, b, pos)), [gx, gy, gz]) = (&mut self.marker_site, goal) else {
+            return Ok(());
+        };
+        let frame = |d: &MjData<std::sync::Arc<MjModel>>, p: &[f64; 3]| {
+            let (xpos, xmat) = (d.xpos()[*b], d.xmat()[*b]);
+            std::array::from_fn::<f64, 3, _>(|i| {
+                (xmat[3 * i] * p[0] + xmat[3 * i + 1] * p[1] + xmat[3 * i + 2] * p[2]) + xpos[i]
+            })
+        };
+        let was = frame(data, pos);
+        let offset: [f64; 3] = std::array::from_fn(|i| was[i] - pos[i]);
+        *pos = [gx - offset[0], gy - offset[1], gz - offset[2]];
+        crate::mj::call(data, crate::mj::Call::Forward)?;
+        let now = frame(data, pos);
+        data.site_xpos_mut()[*s] = now;
+        Ok(())
     }
 
     /// `[goal] marker`: its mocap body to the goal (at reset, before `mj_forward`).

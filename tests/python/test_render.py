@@ -199,6 +199,40 @@ def test_robotics_frames_match_gymnasium_robotics(env_id):
     assert compare(ours, theirs) == (0.0, 0.0), env_id
 
 
+@pytest.mark.parametrize(
+    "env_id", ["FetchReach-v4", "FetchPush-v4", "FetchSlide-v4", "FetchPickAndPlace-v4"]
+)
+def test_fetch_renders_its_target_and_stays_on_the_reference_while_rendering(env_id):
+    """Fetch's render callback (`[goal] marker_site`): the target site drawn at the goal and an
+    `mj_forward` before every frame. Frames equal the reference's, and rendering every step
+    leaves the observations bit-identical to the reference rendering alike."""
+    import sys
+
+    import gymnasium_robotics
+
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "reference"))
+    import robotics_patch  # noqa: F401
+
+    gym.register_envs(gymnasium_robotics)
+    ref = gym.make(env_id, render_mode="rgb_array")
+    ours = envc.make(env_id, render_mode="rgb_array")
+    rng = np.random.default_rng(4)
+    o, _ = ours.reset(seed=4)
+    r, _ = ref.reset(seed=4)
+    for t in range(60):
+        assert compare([ours.render()], [ref.render()]) == (0.0, 0.0), (env_id, t)
+        a = rng.uniform(-1, 1, 4)
+        o, _, _, trunc, _ = ours.step(a)
+        r, _, _, rtrunc, _ = ref.step(a)
+        for k in r:
+            assert np.array_equal(o[k].view(np.uint64), r[k].view(np.uint64)), (env_id, t, k)
+        assert trunc == rtrunc
+        if trunc:
+            ours.reset()
+            ref.reset()
+    ref.close()
+
+
 def test_mamujoco_renders_the_whole_robot_as_the_reference():
     from gymnasium_robotics import mamujoco_v1
 

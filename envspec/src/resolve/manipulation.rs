@@ -160,16 +160,32 @@ impl Ctx<'_> {
                 Some(body)
             }
         };
+        let marker_site = match s.get("marker_site") {
+            None => None,
+            Some(m) if achieved.len() != 3 => {
+                self.d.push(misfit(
+                    &m.loc,
+                    format!(
+                        "[goal] marker_site: the goal has {} elements; a marker site takes a 3-D goal",
+                        achieved.len()
+                    ),
+                    "expected an `achieved` of 3 elements (a position)",
+                ));
+                return None;
+            }
+            Some(m) => Some(self.site_id(m, "[goal] marker_site")?),
+        };
         Some(GoalTable {
             achieved,
             marker,
+            marker_site,
             parts: None,
         })
     }
 
     /// `[goal]` with `parts`: the achieved goal is the parts' selections end to end.
     fn goal_table_of_parts(&mut self, s: &Section, t: &Val) -> Option<GoalTable> {
-        for key in ["achieved", "marker"] {
+        for key in ["achieved", "marker", "marker_site"] {
             if let Some(v) = s.get(key) {
                 self.d.push(misfit(
                     &v.loc,
@@ -184,6 +200,7 @@ impl Ctx<'_> {
         Some(GoalTable {
             achieved,
             marker: None,
+            marker_site: None,
             parts: Some(parts),
         })
     }

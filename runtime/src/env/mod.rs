@@ -154,6 +154,21 @@ impl Env {
         &mut self,
         mode: crate::render::RenderMode,
     ) -> Result<crate::render::Frame<'_>, EnvError> {
+        // `[goal] marker_site`: the reference's render callback, which also leaves the data
+        // forwarded (what the next step's end-effector action reads).
+        if self.sim.manip.renders_marker_site()
+            && let Err(message) = self
+                .sim
+                .manip
+                .render_marker_site(&self.sim.goal, &mut self.sim.data)
+        {
+            self.has_reset = false;
+            return Err(EnvError::Mujoco {
+                env: self.spec.id.clone(),
+                during: "in a render's mj_forward (reset before stepping again)",
+                message,
+            });
+        }
         self.render_with(mode, |_| {})
     }
     /// `render` after `prep` adjusts visual-only state (a maze's goal marker).
