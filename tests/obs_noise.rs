@@ -15,10 +15,9 @@ use serde_json::{Value, json};
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
-/// A Hopper-model spec with `extra` appended (segments, `[latency]`), written to a fresh file.
-fn spec(name: &str, extra: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("envc-obs-noise-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// A Hopper-model spec with `extra` appended (segments, `[latency]`), written to a fresh file
+/// that is removed once dropped (an env reads it when it is built).
+fn spec(name: &str, extra: &str) -> envc_tests::ScratchFile {
     let xml = Path::new(ROOT).join("assets/gymnasium/hopper.xml");
     let text = format!(
         r#"[env]
@@ -57,9 +56,7 @@ info = "x_velocity"
 {extra}"#,
         xml = xml.display().to_string()
     );
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    path
+    envc_tests::ScratchFile::new("envc-obs-noise", &format!("{name}.toml"), &text)
 }
 
 /// Raw twins (no noise, no clip) and the noisy segments they shadow.

@@ -334,6 +334,7 @@ fn a_layout_change_without_a_version_bump_is_flagged() {
         ])
         .output()
         .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(3), "{out}");
     assert!(

@@ -335,3 +335,34 @@ pub fn allocations(f: impl FnOnce()) -> u64 {
     f();
     COUNT.with(std::cell::Cell::get) - before
 }
+
+/// A file written into a directory of its own under the temporary directory; both are removed
+/// when it is dropped (pass it by value to a function that reads it once, e.g.
+/// `Env::from_spec_file`), so the tests leave nothing behind.
+pub struct ScratchFile {
+    dir: PathBuf,
+    path: PathBuf,
+}
+
+impl ScratchFile {
+    /// `text` as `name` in `<tmp>/<label>-<pid>-<name>/`.
+    pub fn new(label: &str, name: &str, text: &str) -> ScratchFile {
+        let dir = std::env::temp_dir().join(format!("{label}-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("create a scratch directory");
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write a scratch file");
+        ScratchFile { dir, path }
+    }
+}
+
+impl AsRef<Path> for ScratchFile {
+    fn as_ref(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for ScratchFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
