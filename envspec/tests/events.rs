@@ -16,17 +16,13 @@ fn hopper() -> String {
 
 /// Hopper with `events` appended (they start on line 12).
 fn resolve(events: &str) -> Result<ResolvedSpec, Diagnostics> {
-    let dir = std::env::temp_dir().join(format!("envspec-events-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    // One directory per call, removed whole (tests run in parallel threads).
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = N.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-    let path: PathBuf = dir.join(format!("spec{n}.toml"));
+    let dir = crate::scratch::ScratchDir::new(&format!("events-{n}"));
+    let path: PathBuf = dir.join("spec.toml");
     std::fs::write(&path, format!("{}\n{events}", hopper())).unwrap();
-    let r = load(&path, &[]);
-    std::fs::remove_file(&path).ok();
-    // The last test out removes the directory (another's file keeps it until then).
-    std::fs::remove_dir(&dir).ok();
-    r
+    load(&path, &[])
 }
 
 /// The one error's code and line:col.
